@@ -1,0 +1,192 @@
+//! Stage `graph`: over the passes a configuration keeps, every read has a producer (or is
+//! external / a previous-frame read), there are no cycles except through history, and no
+//! two passes overwrite one resource in an undefined order. Yields the execution order.
+//!
+//! A resource has one value per frame: readers see it after all its writers. Writers that
+//! `load` build on the previous writer in file order; two writers that both start afresh
+//! must be ordered by some other dependency.
+
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::ir::*;
+use crate::span::Span;
+use std::collections::{BTreeMap, BTreeSet};
+
+pub struct Ordered {
+    /// Indices into `pipeline.passes`, in execution order.
+    pub order: Vec<usize>,
+    /// Direct predecessors of each kept pass.
+    pub after: BTreeMap<usize, Vec<usize>>,
+}
+
+/// `culled` maps a culled pass index to its reason, to explain missing producers.
+pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, diags: &mut Diagnostics) -> Option<Ordered> {
+    let before = diags.error_count();
+    let mut writers: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    for &i in kept {
+        for w in p.passes[i].written() {
+            let list = writers.entry(w.value.as_str()).or_default();
+            if !list.contains(&i) {
+                list.push(i);
+            }
+        }
+    }
+    // edge (from, to) -> (resource, span of the use in `to`)
+    let mut edges: BTreeMap<(usize, usize), (String, Span)> = BTreeMap::new();
+    for &i in kept {
+        let pass = &p.passes[i];
+        for r in &pass.reads {
+            let name = r.name();
+            let Some(res) = p.resource(name) else { continue };
+            let ws: Vec<usize> = writers.get(name.value.as_str()).cloned().unwrap_or_default();
+            if r.is_prev() {
+                if ws.is_empty() {
+                    diags.push(Diagnostic::error("read-before-write", format!("`{}` is a history resource but no pass writes it, so there is no previous frame to read", name.value), name.span));
+                }
+                continue;
+            }
+            if ws.contains(&i) {
+                diags.push(
+                    Diagnostic::error("cycle", format!("pass `{}` both reads and writes `{}`", pass.name.value, name.value), name.span)
+                        .with_note(format!("to read the previous frame, declare `{}` with `history: true` and read `Prev(\"{}\")`", name.value, name.value)),
+                );
+                continue;
+            }
+            if ws.is_empty() {
+                if res.external() {
+                    continue;
+                }
+                let mut d = Diagnostic::error("read-before-write", format!("`{}` is read by pass `{}` but no pass writes it first", name.value, pass.name.value), name.span)
+                    .with_secondary(res.span, "declared here");
+                let culled_writers: Vec<String> = culled
+                    .iter()
+                    .filter(|(j, _)| p.passes[**j].written().any(|w| w.value == name.value))
+                    .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
+                    .collect();
+                if culled_writers.is_empty() {
+                    d = d.with_note("add a pass that writes it, or mark it `external: true` if the runtime supplies it");
+                }
+                for n in culled_writers {
+                    d = d.with_note(n);
+                }
+                diags.push(d);
+                continue;
+            }
+            for w in ws {
+                edges.entry((w, i)).or_insert((name.value.clone(), name.span));
+            }
+        }
+    }
+    for (res, ws) in &writers {
+        let mut fresh: Vec<usize> = vec![];
+        for (k, &w) in ws.iter().enumerate() {
+            let pass = &p.passes[w];
+            let span = pass.written().find(|n| n.value == *res).map(|n| n.span).unwrap_or(pass.span);
+            if pass.accumulates(res) {
+                if k == 0 {
+                    let r = p.resource(res);
+                    if !r.is_some_and(|r| r.external() || r.history()) {
+                        diags.push(
+                            Diagnostic::error("read-before-write", format!("pass `{}` loads `{res}` but no earlier pass writes it", pass.name.value), span)
+                                .with_note("clear it instead (`clear: (...)`), or write it in an earlier pass"),
+                        );
+                    }
+                } else {
+                    edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span));
+                }
+            } else {
+                fresh.push(w);
+            }
+        }
+        if fresh.len() > 1 {
+            for a in 0..fresh.len() {
+                for b in a + 1..fresh.len() {
+                    let (x, y) = (fresh[a], fresh[b]);
+                    if !reaches(&edges, x, y) && !reaches(&edges, y, x) {
+                        let span_of = |i: usize| p.passes[i].written().find(|n| n.value == *res).map(|n| n.span).unwrap_or(p.passes[i].span);
+                        diags.push(
+                            Diagnostic::error("double-writer", format!("passes `{}` and `{}` both write `{res}` and nothing orders them", p.passes[x].name.value, p.passes[y].name.value), span_of(y))
+                                .with_secondary(span_of(x), "also written here")
+                                .with_note("make the later one `load: Load` to build on the first, give them exclusive `when` conditions, or write different resources"),
+                        );
+                    }
+                }
+            }
+        }
+    }
+    if diags.error_count() > before {
+        return None;
+    }
+    // Kahn's algorithm, preferring file order among ready passes.
+    let mut indeg: BTreeMap<usize, usize> = kept.iter().map(|&i| (i, 0)).collect();
+    for &(_, to) in edges.keys() {
+        *indeg.get_mut(&to).unwrap_or(&mut 0) += 1;
+    }
+    let mut ready: BTreeSet<usize> = indeg.iter().filter(|(_, d)| **d == 0).map(|(i, _)| *i).collect();
+    let mut order = vec![];
+    while let Some(&i) = ready.iter().next() {
+        ready.remove(&i);
+        order.push(i);
+        for (&(from, to), _) in edges.range((i, 0)..(i + 1, 0)) {
+            debug_assert_eq!(from, i);
+            if let Some(d) = indeg.get_mut(&to) {
+                *d -= 1;
+                if *d == 0 {
+                    ready.insert(to);
+                }
+            }
+        }
+    }
+    if order.len() < kept.len() {
+        let left: Vec<usize> = kept.iter().copied().filter(|i| !order.contains(i)).collect();
+        let cycle = find_cycle(&edges, &left);
+        let names: Vec<&str> = cycle.iter().map(|&i| p.passes[i].name.value.as_str()).collect();
+        let (res, span) = edges.get(&(cycle[cycle.len() - 1], cycle[0])).cloned().unwrap_or_default();
+        let mut d = Diagnostic::error("cycle", format!("passes form a cycle: {} -> {}", names.join(" -> "), names[0]), span)
+            .with_label_text(format!("`{}` reads `{res}` written by `{}`", p.passes[cycle[0]].name.value, p.passes[cycle[cycle.len() - 1]].name.value));
+        for w in cycle.windows(2) {
+            if let Some((r, s)) = edges.get(&(w[0], w[1])) {
+                d = d.with_secondary(*s, format!("`{}` reads `{r}` written by `{}`", p.passes[w[1]].name.value, p.passes[w[0]].name.value));
+            }
+        }
+        diags.push(d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`"));
+        return None;
+    }
+    let mut after: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for &(from, to) in edges.keys() {
+        after.entry(to).or_default().push(from);
+    }
+    Some(Ordered { order, after })
+}
+
+fn reaches(edges: &BTreeMap<(usize, usize), (String, Span)>, from: usize, to: usize) -> bool {
+    let mut stack = vec![from];
+    let mut seen = BTreeSet::new();
+    while let Some(n) = stack.pop() {
+        if n == to {
+            return true;
+        }
+        if seen.insert(n) {
+            stack.extend(edges.range((n, 0)..(n + 1, 0)).map(|(&(_, t), _)| t));
+        }
+    }
+    false
+}
+
+/// A cycle among the passes Kahn's algorithm could not order.
+fn find_cycle(edges: &BTreeMap<(usize, usize), (String, Span)>, left: &[usize]) -> Vec<usize> {
+    // Walk successors inside `left` until a node repeats.
+    let mut path = vec![left[0]];
+    loop {
+        let cur = *path.last().unwrap_or(&left[0]);
+        let next = edges.range((cur, 0)..(cur + 1, 0)).map(|(&(_, t), _)| t).find(|t| left.contains(t));
+        match next {
+            Some(n) => {
+                if let Some(pos) = path.iter().position(|&x| x == n) {
+                    return path[pos..].to_vec();
+                }
+                path.push(n);
+            }
+            None => return path,
+        }
+    }
+}

@@ -1,0 +1,128 @@
+//! Checks, each a named stage: `declarations`, `shaders` (naga parse + validate),
+//! `entry-points`, `bindings` (+ parameter blocks), `stage-io`, `limits`, then per
+//! configuration `variants` and `graph` while planning.
+
+pub mod bindings;
+pub mod declarations;
+pub mod entry;
+pub mod graph;
+pub mod io;
+pub mod limits;
+
+use crate::diag::Diagnostics;
+use crate::ir::*;
+use crate::profile::{Feature, Profile};
+use crate::shader::{ShaderLoader, ShaderModule};
+use crate::span::{SourceMap, Spanned};
+use std::collections::BTreeSet;
+use std::sync::Arc;
+
+/// One stage of one version of a pass, resolved to a validated module and entry point.
+#[derive(Clone)]
+pub struct StageShader {
+    pub stage: naga::ShaderStage,
+    pub sref: ShaderRef,
+    pub module: Arc<ShaderModule>,
+    pub entry: usize,
+}
+
+/// A pass with a particular set of shaders: its own, or those a variant option substitutes.
+pub struct PassVersion {
+    /// `Some((variant, option))` when a variant option substitutes this pass's shader.
+    pub option: Option<(String, String)>,
+    pub stages: Vec<StageShader>,
+    pub resolved: bindings::Resolved,
+}
+
+/// A pipeline whose passes have been checked; versions that failed are absent.
+pub struct Checked {
+    pub pipeline: Pipeline,
+    /// Index-aligned with `pipeline.passes`.
+    pub versions: Vec<Vec<PassVersion>>,
+}
+
+impl Checked {
+    pub fn version(&self, pass: usize, selection: &std::collections::BTreeMap<String, String>) -> Option<&PassVersion> {
+        let vs = &self.versions[pass];
+        vs.iter()
+            .find(|v| v.option.as_ref().is_some_and(|(var, opt)| selection.get(var) == Some(opt)))
+            .or_else(|| vs.iter().find(|v| v.option.is_none()))
+    }
+}
+
+/// Variant options a pass's condition mentions; their requirements apply to its shaders.
+fn variant_atoms(c: &Condition, out: &mut Vec<(String, String)>) {
+    match c {
+        Condition::Variant(v, o) => out.push((v.value.clone(), o.value.clone())),
+        Condition::Not(c) => variant_atoms(c, out),
+        Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| variant_atoms(c, out)),
+        _ => {}
+    }
+}
+
+fn option_features(p: &Pipeline, var: &str, opt: &str) -> Vec<Feature> {
+    p.variant(var).and_then(|v| v.option(opt)).map(|o| o.requires.iter().map(|f| f.value).collect()).unwrap_or_default()
+}
+
+pub fn check_pipeline(pipeline: Pipeline, profile: &Profile, loader: &mut ShaderLoader, sources: &mut SourceMap, diags: &mut Diagnostics) -> Checked {
+    declarations::check(&pipeline, profile, diags);
+    let mut versions = vec![];
+    for pass in &pipeline.passes {
+        let mut features: BTreeSet<Feature> = profile.features.clone();
+        let mut atoms = vec![];
+        if let Some(w) = &pass.when {
+            variant_atoms(w, &mut atoms);
+        }
+        for (v, o) in &atoms {
+            features.extend(option_features(&pipeline, v, o));
+        }
+        // The pass's own shaders, then each substitution a variant option makes.
+        let mut wanted: Vec<(Option<(String, String)>, Option<Spanned<String>>)> = vec![(None, None)];
+        for v in &pipeline.variants {
+            for o in &v.options {
+                for (target, file) in &o.shaders {
+                    if target.value == pass.name.value {
+                        wanted.push((Some((v.name.value.clone(), o.name.value.clone())), Some(file.clone())));
+                    }
+                }
+            }
+        }
+        let mut pass_versions = vec![];
+        for (option, file) in wanted {
+            let mut feats = features.clone();
+            if let Some((v, o)) = &option {
+                feats.extend(option_features(&pipeline, v, o));
+            }
+            let mut stages = vec![];
+            let mut ok = true;
+            for (stage, sref) in pass.stages() {
+                let mut sref = sref.clone();
+                if let Some(f) = &file {
+                    if sref.file.value != crate::shader::FULLSCREEN_FILE {
+                        sref.file = f.clone();
+                        // GLSL modules have one entry point, `main`; WGSL keeps the pass's names.
+                        let entry = if crate::shader::is_glsl(&f.value) { "main".to_string() } else { sref.entry.value.clone() };
+                        sref.entry = Spanned::new(entry, f.span);
+                    }
+                }
+                let Some(module) = loader.load(sources, &sref.file, &feats, diags) else {
+                    ok = false;
+                    continue;
+                };
+                match entry::resolve(&module, &sref, stage, pass.kind.word(), diags) {
+                    Some(e) => stages.push(StageShader { stage, sref, module, entry: e }),
+                    None => ok = false,
+                }
+            }
+            if !ok {
+                continue;
+            }
+            io::check(&pipeline, pass, &stages, diags);
+            let Some(resolved) = bindings::resolve(&pipeline, pass, &stages, profile, diags) else { continue };
+            limits::check(&pipeline, pass, &stages, &resolved, profile, diags);
+            pass_versions.push(PassVersion { option, stages, resolved });
+        }
+        versions.push(pass_versions);
+    }
+    Checked { pipeline, versions }
+}

@@ -1,0 +1,206 @@
+//! Diagnostics: a code, a message, labelled spans and notes; rendered rustc-style or as JSON.
+
+use crate::span::{SourceMap, Span};
+use codespan_reporting::diagnostic as cs;
+use serde::Serialize;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    Warning,
+    Error,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Label {
+    pub span: Span,
+    pub message: String,
+    pub primary: bool,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    pub severity: Severity,
+    /// Stable, documented identifier (see README "Diagnostic codes").
+    pub code: &'static str,
+    pub message: String,
+    /// The first primary label is where the diagnostic "is" (file:line:col).
+    pub labels: Vec<Label>,
+    pub notes: Vec<String>,
+}
+
+impl Diagnostic {
+    pub fn error(code: &'static str, message: impl Into<String>, span: Span) -> Self {
+        Self::new(Severity::Error, code, message, span)
+    }
+
+    pub fn warning(code: &'static str, message: impl Into<String>, span: Span) -> Self {
+        Self::new(Severity::Warning, code, message, span)
+    }
+
+    fn new(severity: Severity, code: &'static str, message: impl Into<String>, span: Span) -> Self {
+        Diagnostic {
+            severity,
+            code,
+            message: message.into(),
+            labels: vec![Label { span, message: String::new(), primary: true }],
+            notes: vec![],
+        }
+    }
+
+    /// A diagnostic with no source location (e.g. a file that cannot be read at all).
+    pub fn unlocated(severity: Severity, code: &'static str, message: impl Into<String>) -> Self {
+        Diagnostic { severity, code, message: message.into(), labels: vec![], notes: vec![] }
+    }
+
+    /// Text under the primary label.
+    pub fn with_label_text(mut self, text: impl Into<String>) -> Self {
+        if let Some(l) = self.labels.iter_mut().find(|l| l.primary) {
+            l.message = text.into();
+        }
+        self
+    }
+
+    pub fn with_secondary(mut self, span: Span, text: impl Into<String>) -> Self {
+        self.labels.push(Label { span, message: text.into(), primary: false });
+        self
+    }
+
+    pub fn with_note(mut self, note: impl Into<String>) -> Self {
+        self.notes.push(note.into());
+        self
+    }
+
+    pub fn primary_span(&self) -> Option<Span> {
+        self.labels.iter().find(|l| l.primary).map(|l| l.span)
+    }
+
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// `file:line:col` of the primary label (for tests and one-line output).
+    pub fn location(&self, sources: &SourceMap) -> Option<(String, usize, usize)> {
+        let span = self.primary_span()?;
+        let f = sources.get(span.file);
+        let (l, c) = f.line_col(span.start as usize);
+        Some((f.name.clone(), l, c))
+    }
+
+    /// rustc-style rendering with source snippets.
+    pub fn render(&self, sources: &SourceMap) -> String {
+        let d = match self.severity {
+            Severity::Error => cs::Diagnostic::error(),
+            Severity::Warning => cs::Diagnostic::warning(),
+        }
+        .with_code(self.code)
+        .with_message(&self.message)
+        .with_labels(
+            self.labels
+                .iter()
+                .map(|l| {
+                    let style = if l.primary { cs::LabelStyle::Primary } else { cs::LabelStyle::Secondary };
+                    cs::Label::new(style, l.span.file, l.span.range()).with_message(&l.message)
+                })
+                .collect(),
+        )
+        .with_notes(self.notes.clone());
+        let config = codespan_reporting::term::Config::default();
+        codespan_reporting::term::emit_into_string(&config, sources, &d)
+            .unwrap_or_else(|e| format!("{}[{}]: {} (could not render source: {e})\n", self.severity_word(), self.code, self.message))
+    }
+
+    fn severity_word(&self) -> &'static str {
+        match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        }
+    }
+
+    /// One JSON object: severity, code, message, file, line, column, end, notes.
+    pub fn to_json(&self, sources: &SourceMap) -> serde_json::Value {
+        let mut obj = serde_json::json!({
+            "severity": self.severity,
+            "code": self.code,
+            "message": self.message,
+            "notes": self.notes,
+        });
+        if let Some(span) = self.primary_span() {
+            let f = sources.get(span.file);
+            let (line, column) = f.line_col(span.start as usize);
+            let (end_line, end_column) = f.line_col(span.end as usize);
+            obj["file"] = f.name.clone().into();
+            obj["line"] = line.into();
+            obj["column"] = column.into();
+            obj["end"] = serde_json::json!({ "line": end_line, "column": end_column });
+        } else {
+            obj["file"] = serde_json::Value::Null;
+            obj["line"] = serde_json::Value::Null;
+            obj["column"] = serde_json::Value::Null;
+            obj["end"] = serde_json::Value::Null;
+        }
+        obj
+    }
+}
+
+/// Collects diagnostics from the stages of one compilation.
+#[derive(Clone, Debug, Default)]
+pub struct Diagnostics {
+    pub list: Vec<Diagnostic>,
+}
+
+impl Diagnostics {
+    pub fn push(&mut self, d: Diagnostic) {
+        // The same problem reached from two variant configurations is reported once.
+        if !self.list.contains(&d) {
+            self.list.push(d);
+        }
+    }
+    pub fn extend(&mut self, ds: impl IntoIterator<Item = Diagnostic>) {
+        for d in ds {
+            self.push(d);
+        }
+    }
+    pub fn has_errors(&self) -> bool {
+        self.list.iter().any(|d| d.is_error())
+    }
+    pub fn error_count(&self) -> usize {
+        self.list.iter().filter(|d| d.is_error()).count()
+    }
+    pub fn warning_count(&self) -> usize {
+        self.list.len() - self.error_count()
+    }
+    pub fn errors(&self) -> impl Iterator<Item = &Diagnostic> {
+        self.list.iter().filter(|d| d.is_error())
+    }
+}
+
+/// The closest candidate by edit distance, when close enough to be a plausible typo.
+pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    candidates
+        .into_iter()
+        .map(|c| (strsim::normalized_damerau_levenshtein(&input.to_lowercase(), &c.to_lowercase()), c))
+        .filter(|(score, _)| *score >= 0.6)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, c)| c)
+}
+
+/// "did you mean `x`?" or the list of valid names.
+pub fn suggestion_note<'a>(input: &str, candidates: &[&'a str]) -> String {
+    match did_you_mean(input, candidates.iter().copied()) {
+        Some(s) => format!("did you mean `{s}`?"),
+        None if candidates.is_empty() => "nothing is declared here".to_string(),
+        None => format!("expected one of: {}", candidates.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn suggests_close_names_only() {
+        assert_eq!(did_you_mean("pases", ["passes", "params", "output"]), Some("passes"));
+        assert_eq!(did_you_mean("zzzz", ["passes", "params"]), None);
+    }
+}

@@ -1,0 +1,3 @@
+//! Front ends: each turns a pipeline file into the one IR.
+
+pub mod ron;

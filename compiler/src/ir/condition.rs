@@ -1,0 +1,101 @@
+//! `when` conditions: boolean expressions over what the scene calls for and over toggles.
+
+use crate::span::Spanned;
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum LightKind {
+    Directional,
+    Spot,
+    Point,
+}
+
+impl LightKind {
+    pub const ALL: [LightKind; 3] = [LightKind::Directional, LightKind::Spot, LightKind::Point];
+    pub fn name(self) -> &'static str {
+        match self {
+            LightKind::Directional => "Directional",
+            LightKind::Spot => "Spot",
+            LightKind::Point => "Point",
+        }
+    }
+    pub fn from_name(s: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == s)
+    }
+    pub const NAMES: [&'static str; 3] = ["Directional", "Spot", "Point"];
+}
+
+/// Effects a scene can call for; a pass's `when` may depend on them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Effect {
+    Shadows,
+    AmbientOcclusion,
+    MultiViewAo,
+    Ssr,
+    IndirectDiffuse,
+    IndirectSpecular,
+    Bloom,
+}
+
+impl Effect {
+    pub const ALL: [Effect; 7] = [
+        Effect::Shadows,
+        Effect::AmbientOcclusion,
+        Effect::MultiViewAo,
+        Effect::Ssr,
+        Effect::IndirectDiffuse,
+        Effect::IndirectSpecular,
+        Effect::Bloom,
+    ];
+    pub const NAMES: [&'static str; 7] =
+        ["Shadows", "AmbientOcclusion", "MultiViewAo", "Ssr", "IndirectDiffuse", "IndirectSpecular", "Bloom"];
+    pub fn name(self) -> &'static str {
+        Self::NAMES[Self::ALL.iter().position(|e| *e == self).unwrap_or(0)]
+    }
+    pub fn from_name(s: &str) -> Option<Self> {
+        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Condition {
+    /// At least one light of this kind is in the scene.
+    Light(LightKind),
+    /// The scene calls for this effect.
+    Effect(Effect),
+    /// Some material in the scene is reflective (drives SSR and indirect specular).
+    Reflective,
+    /// A bool parameter's value.
+    Toggle(Spanned<String>),
+    /// A variant has this option chosen.
+    Variant(Spanned<String>, Spanned<String>),
+    Not(Box<Spanned<Condition>>),
+    All(Vec<Spanned<Condition>>),
+    Any(Vec<Spanned<Condition>>),
+}
+
+impl Condition {
+    /// Compact text used in plans and explanations: `All(Effect(Ssr), Not(Reflective))`.
+    pub fn describe(&self) -> String {
+        match self {
+            Condition::Light(k) => format!("Light({})", k.name()),
+            Condition::Effect(e) => format!("Effect({})", e.name()),
+            Condition::Reflective => "Reflective".into(),
+            Condition::Toggle(p) => format!("Toggle({:?})", p.value),
+            Condition::Variant(v, o) => format!("Variant({:?}, {:?})", v.value, o.value),
+            Condition::Not(c) => format!("Not({})", c.describe()),
+            Condition::All(cs) => format!("All({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
+            Condition::Any(cs) => format!("Any({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
+        }
+    }
+
+    /// Every variant atom in the expression (used to tell "variant not chosen" from "condition false").
+    pub fn mentions_variant(&self) -> bool {
+        match self {
+            Condition::Variant(..) => true,
+            Condition::Not(c) => c.mentions_variant(),
+            Condition::All(cs) | Condition::Any(cs) => cs.iter().any(|c| c.mentions_variant()),
+            _ => false,
+        }
+    }
+}

@@ -1,0 +1,62 @@
+//! The pipeline IR: the one data model every front end produces and every check reads.
+//! Every node carries the span of the pipeline-file text it came from.
+
+mod condition;
+mod param;
+mod pass;
+mod resource;
+mod variant;
+
+pub use condition::{Condition, Effect, LightKind};
+pub use param::{Param, ParamType, ParamValue};
+pub use pass::{
+    Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind, Read,
+    ShaderRef,
+};
+pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SizeSpec, TextureDesc, ViewDim};
+pub use variant::{Variant, VariantOption};
+
+use crate::span::{Span, Spanned};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Pipeline {
+    pub name: Spanned<String>,
+    pub params: Vec<Param>,
+    pub samplers: Vec<SamplerDecl>,
+    pub resources: Vec<Resource>,
+    pub passes: Vec<Pass>,
+    pub variants: Vec<Variant>,
+    /// The resource presented or saved.
+    pub output: Spanned<String>,
+    pub span: Span,
+}
+
+impl Pipeline {
+    pub fn param(&self, name: &str) -> Option<&Param> {
+        self.params.iter().find(|p| p.name.value == name)
+    }
+    pub fn resource(&self, name: &str) -> Option<&Resource> {
+        self.resources.iter().find(|r| r.name.value == name)
+    }
+    pub fn sampler(&self, name: &str) -> Option<&SamplerDecl> {
+        self.samplers.iter().find(|s| s.name.value == name)
+    }
+    pub fn pass(&self, name: &str) -> Option<&Pass> {
+        self.passes.iter().find(|p| p.name.value == name)
+    }
+    pub fn variant(&self, name: &str) -> Option<&Variant> {
+        self.variants.iter().find(|v| v.name.value == name)
+    }
+}
+
+/// The identifier a shader uses for a declared name: every character that cannot
+/// appear in a WGSL/GLSL identifier becomes `_` (`gbuf.normal` -> `gbuf_normal`).
+pub fn shader_ident(name: &str) -> String {
+    name.chars().map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' }).collect()
+}
+
+/// Shader identifier of the previous-frame value of a history resource.
+pub fn history_ident(name: &str) -> String {
+    format!("{}_prev", shader_ident(name))
+}

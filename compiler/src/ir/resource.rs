@@ -1,0 +1,152 @@
+//! Declared resources (textures, buffers) and samplers.
+
+use super::LightKind;
+use crate::format::TextureFormat;
+use crate::span::{Span, Spanned};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ViewDim {
+    D2,
+    D2Array,
+    Cube,
+}
+
+impl ViewDim {
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewDim::D2 => "D2",
+            ViewDim::D2Array => "D2Array",
+            ViewDim::Cube => "Cube",
+        }
+    }
+    pub const NAMES: [&'static str; 3] = ["D2", "D2Array", "Cube"];
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum SizeSpec {
+    /// A fraction of the output resolution (1.0 = full size).
+    Viewport { scale: f64 },
+    Fixed { width: u32, height: u32 },
+}
+
+impl SizeSpec {
+    pub fn resolve(&self, viewport: (u32, u32)) -> (u32, u32) {
+        match *self {
+            SizeSpec::Viewport { scale } => (
+                ((viewport.0 as f64 * scale).round() as u32).max(1),
+                ((viewport.1 as f64 * scale).round() as u32).max(1),
+            ),
+            SizeSpec::Fixed { width, height } => (width, height),
+        }
+    }
+    pub fn describe(&self) -> String {
+        match self {
+            SizeSpec::Viewport { scale } if *scale == 1.0 => "viewport".into(),
+            SizeSpec::Viewport { scale } => format!("viewport × {scale}"),
+            SizeSpec::Fixed { width, height } => format!("{width}×{height}"),
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TextureDesc {
+    pub format: Spanned<TextureFormat>,
+    pub size: Spanned<SizeSpec>,
+    pub layers: Spanned<u32>,
+    pub view: Spanned<ViewDim>,
+    pub mips: Spanned<u32>,
+    /// One instance per light of these kinds.
+    pub per_light: Option<Spanned<Vec<LightKind>>>,
+    /// Keeps the previous frame's value, readable as `Prev("name")`.
+    pub history: bool,
+    /// Supplied from outside the graph (by the runtime); no pass needs to write it.
+    pub external: bool,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BufferDesc {
+    /// Size in bytes.
+    pub size: Spanned<u64>,
+    pub per_light: Option<Spanned<Vec<LightKind>>>,
+    pub history: bool,
+    pub external: bool,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ResourceKind {
+    Texture(TextureDesc),
+    Buffer(BufferDesc),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Resource {
+    pub name: Spanned<String>,
+    pub kind: ResourceKind,
+    pub span: Span,
+}
+
+impl Resource {
+    pub fn texture(&self) -> Option<&TextureDesc> {
+        match &self.kind {
+            ResourceKind::Texture(t) => Some(t),
+            ResourceKind::Buffer(_) => None,
+        }
+    }
+    pub fn per_light(&self) -> Option<&Spanned<Vec<LightKind>>> {
+        match &self.kind {
+            ResourceKind::Texture(t) => t.per_light.as_ref(),
+            ResourceKind::Buffer(b) => b.per_light.as_ref(),
+        }
+    }
+    pub fn history(&self) -> bool {
+        match &self.kind {
+            ResourceKind::Texture(t) => t.history,
+            ResourceKind::Buffer(b) => b.history,
+        }
+    }
+    pub fn external(&self) -> bool {
+        match &self.kind {
+            ResourceKind::Texture(t) => t.external,
+            ResourceKind::Buffer(b) => b.external,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum FilterMode {
+    Nearest,
+    Linear,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AddressMode {
+    ClampToEdge,
+    Repeat,
+    MirrorRepeat,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SamplerDecl {
+    pub name: Spanned<String>,
+    pub filter: FilterMode,
+    pub mipmap: FilterMode,
+    pub address: AddressMode,
+    /// A comparison sampler (shadow maps) when set.
+    pub compare: Option<super::CompareFn>,
+    pub span: Span,
+}
+
+impl SamplerDecl {
+    /// The binding kind wgpu needs: comparison, filtering (any linear filter) or non-filtering.
+    pub fn binding_kind(&self) -> crate::plan::SamplerKind {
+        use crate::plan::SamplerKind;
+        if self.compare.is_some() {
+            SamplerKind::Comparison
+        } else if self.filter == FilterMode::Linear || self.mipmap == FilterMode::Linear {
+            SamplerKind::Filtering
+        } else {
+            SamplerKind::NonFiltering
+        }
+    }
+}

@@ -1,0 +1,166 @@
+//! lightbench-compiler: pipeline file -> IR -> checks -> Plan, with no GPU.
+//!
+//! ```text
+//! pipeline file --front end--> IR --checks (naga-validated shaders)--> Checked
+//! Checked + scene features + variant choice + capability profile --plan--> Plan
+//! ```
+
+pub mod check;
+pub mod diag;
+pub mod format;
+pub mod front;
+pub mod ir;
+pub mod plan;
+pub mod profile;
+pub mod scene;
+pub mod shader;
+pub mod span;
+
+use check::Checked;
+use diag::{Diagnostic, Diagnostics, Severity};
+use ir::Pipeline;
+use plan::{Config, Plan};
+use profile::Profile;
+use scene::SceneFeatures;
+use span::SourceMap;
+use std::path::{Path, PathBuf};
+
+/// Everything a compilation touched and reported. Render diagnostics with `sources`.
+#[derive(Default)]
+pub struct Session {
+    pub sources: SourceMap,
+    pub diags: Diagnostics,
+}
+
+/// Where a pipeline's shader paths are resolved: an explicit root, else the first of
+/// `<pipeline dir>/shaders`, `<pipeline dir>/../shaders` that exists, else the pipeline's dir.
+pub fn shader_root_for(pipeline: &Path, explicit: Option<&Path>) -> PathBuf {
+    if let Some(e) = explicit {
+        return e.to_path_buf();
+    }
+    let dir = pipeline.parent().map(Path::to_path_buf).unwrap_or_default();
+    let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
+    for cand in [dir.join("shaders"), dir.join("..").join("shaders")] {
+        if cand.is_dir() {
+            return cand;
+        }
+    }
+    dir
+}
+
+/// Pipeline files under a path: the file itself, or every `.ron`/`.lbp` file below a directory.
+pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
+    if path.is_file() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let mut out = vec![];
+    let mut dirs = vec![path.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d)? {
+            let p = e?.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+impl Session {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Read and parse a pipeline file into IR (front end chosen by extension).
+    pub fn load_pipeline(&mut self, path: &Path) -> Option<Pipeline> {
+        let name = path.display().to_string();
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) => {
+                self.diags.push(Diagnostic::unlocated(Severity::Error, "file-not-found", format!("cannot read pipeline `{name}`: {e}")));
+                return None;
+            }
+        };
+        self.parse_pipeline(&name, text)
+    }
+
+    /// Parse pipeline text; `name` decides the front end by extension and is shown in diagnostics.
+    pub fn parse_pipeline(&mut self, name: &str, text: String) -> Option<Pipeline> {
+        let file = self.sources.add(name, text.clone());
+        match Path::new(name).extension().and_then(|e| e.to_str()) {
+            Some("ron") => front::ron::parse_pipeline(file, &text, &mut self.diags),
+            other => {
+                self.diags.push(Diagnostic::unlocated(
+                    Severity::Error,
+                    "unknown-format",
+                    format!("`{name}`: unknown pipeline format `{}` (expected `.ron`)", other.unwrap_or("")),
+                ));
+                None
+            }
+        }
+    }
+
+    /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
+    pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
+        let mut loader = shader::ShaderLoader::new(shader_root.to_path_buf());
+        check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags)
+    }
+
+    /// Plan one configuration. `None` when it has errors (they are in `diags`).
+    pub fn plan(&mut self, checked: &Checked, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
+        if self.diags.has_errors() {
+            return None;
+        }
+        let selection = plan::build::select(&checked.pipeline, profile, variants, &mut self.diags)?;
+        let cfg = Config { profile, scene, selection };
+        plan::build_plan(checked, &cfg, &mut self.diags)
+    }
+
+    /// Plan every configuration `check` covers: the defaults, then each option of each variant
+    /// (others at their default), for `scene` (or a scene with every feature).
+    pub fn check_configurations(&mut self, checked: &Checked, profile: &Profile, scene: Option<&SceneFeatures>) {
+        let everything = SceneFeatures::everything();
+        let scene = scene.unwrap_or(&everything);
+        let mut configs: Vec<Vec<(String, String)>> = vec![vec![]];
+        for v in &checked.pipeline.variants {
+            for o in &v.options {
+                configs.push(vec![(v.name.value.clone(), o.name.value.clone())]);
+            }
+        }
+        for c in configs {
+            let Some(selection) = plan::build::select(&checked.pipeline, profile, &c, &mut self.diags) else { continue };
+            let cfg = Config { profile, scene, selection };
+            plan::build_plan(checked, &cfg, &mut self.diags);
+        }
+    }
+
+    /// Load, check and plan a pipeline file in one go.
+    pub fn plan_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
+        let p = self.load_pipeline(path)?;
+        let root = shader_root_for(path, shader_root);
+        let checked = self.check(p, &root, profile);
+        if self.diags.has_errors() {
+            return None;
+        }
+        self.plan(&checked, profile, scene, variants)
+    }
+
+    /// Load and check a pipeline file across its configurations (what `lightbench check` does).
+    pub fn check_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: Option<&SceneFeatures>) {
+        let Some(p) = self.load_pipeline(path) else { return };
+        let root = shader_root_for(path, shader_root);
+        let checked = self.check(p, &root, profile);
+        if self.diags.has_errors() {
+            return;
+        }
+        self.check_configurations(&checked, profile, scene);
+    }
+
+    /// All diagnostics rendered rustc-style.
+    pub fn render(&self) -> String {
+        self.diags.list.iter().map(|d| d.render(&self.sources)).collect::<Vec<_>>().join("")
+    }
+}

@@ -1,0 +1,172 @@
+//! `#include "path"` for WGSL and GLSL, with a source map back to every file.
+//!
+//! We chose a small include mechanism over the `wesl` crate: wesl covers WGSL only (our
+//! GLSL 450 shaders need the same helpers), and its module system mangles imported
+//! names, while our binding rule matches shader globals to pipeline resources *by name*.
+//! Textual include-once keeps names intact and the segment table below maps every
+//! naga span back to the file and line it came from.
+
+use crate::diag::Diagnostic;
+use crate::span::{FileId, SourceMap, Span};
+use std::path::Path;
+
+/// A piece of the expanded source that came verbatim from one file.
+#[derive(Clone, Debug)]
+pub struct Segment {
+    pub start: usize,
+    pub len: usize,
+    pub file: FileId,
+    pub file_offset: usize,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Expanded {
+    pub text: String,
+    pub segments: Vec<Segment>,
+    /// Every file that contributed, the root first (for hot reload and hashing).
+    pub files: Vec<FileId>,
+}
+
+impl Expanded {
+    /// Map a byte range of the expanded text back to a file span.
+    pub fn map(&self, range: std::ops::Range<usize>) -> Option<Span> {
+        let seg = self
+            .segments
+            .iter()
+            .find(|s| range.start >= s.start && range.start < s.start + s.len.max(1))
+            .or_else(|| self.segments.last().filter(|s| range.start >= s.start))?;
+        let start = seg.file_offset + (range.start - seg.start).min(seg.len);
+        let end = seg.file_offset + (range.end.max(range.start) - seg.start).min(seg.len);
+        Some(Span::new(seg.file, start, end.max(start)))
+    }
+}
+
+/// Reads shader files for the expander; the compiler reads from disk, tests may read from memory.
+pub trait ShaderFs {
+    fn read(&self, path: &str) -> std::io::Result<String>;
+}
+
+pub struct DiskFs<'a> {
+    pub root: &'a Path,
+}
+
+impl ShaderFs for DiskFs<'_> {
+    fn read(&self, path: &str) -> std::io::Result<String> {
+        if let Some(builtin) = super::builtin_source(path) {
+            return Ok(builtin.to_string());
+        }
+        std::fs::read_to_string(self.root.join(path))
+    }
+}
+
+/// Load `path` (already known to exist as `root_file`) and expand its includes.
+pub fn expand(fs: &dyn ShaderFs, sources: &mut SourceMap, root_file: FileId, root_path: &str) -> Result<Expanded, Diagnostic> {
+    let mut out = Expanded::default();
+    let mut stack = vec![root_path.to_string()];
+    let mut done: Vec<String> = vec![];
+    expand_file(fs, sources, root_file, &mut stack, &mut done, &mut out)?;
+    Ok(out)
+}
+
+fn expand_file(
+    fs: &dyn ShaderFs,
+    sources: &mut SourceMap,
+    file: FileId,
+    stack: &mut Vec<String>,
+    done: &mut Vec<String>,
+    out: &mut Expanded,
+) -> Result<(), Diagnostic> {
+    out.files.push(file);
+    let text = sources.get(file).text.clone();
+    let mut copied_to = 0;
+    let mut line_start = 0;
+    for line in text.split_inclusive('\n') {
+        let this_start = line_start;
+        line_start += line.len();
+        let trimmed = line.trim_start();
+        let Some(rest) = trimmed.strip_prefix("#include") else { continue };
+        let indent = line.len() - trimmed.len();
+        let directive = Span::new(file, this_start + indent, this_start + line.trim_end().len());
+        let rest = rest.trim();
+        let Some(path) = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')) else {
+            return Err(Diagnostic::error("include-syntax", "expected `#include \"path\"`", directive));
+        };
+        // Text before the directive.
+        push(out, &text, file, copied_to, this_start);
+        copied_to = line_start;
+        if stack.iter().any(|s| s == path) {
+            let mut chain: Vec<&str> = stack.iter().map(|s| s.as_str()).collect();
+            chain.push(path);
+            return Err(Diagnostic::error("include-cycle", format!("include cycle: {}", chain.join(" -> ")), directive)
+                .with_label_text(format!("`{path}` is already being included")));
+        }
+        if done.iter().any(|d| d == path) {
+            continue; // include-once: WGSL forbids redefinitions
+        }
+        let child = match sources.find(path) {
+            Some(id) => id,
+            None => match fs.read(path) {
+                Ok(t) => sources.add(path, t),
+                Err(e) => {
+                    return Err(Diagnostic::error("include-not-found", format!("cannot read included file `{path}`: {e}"), directive))
+                }
+            },
+        };
+        stack.push(path.to_string());
+        expand_file(fs, sources, child, stack, done, out)?;
+        stack.pop();
+        done.push(path.to_string());
+        if !out.text.ends_with('\n') {
+            out.text.push('\n');
+        }
+    }
+    push(out, &text, file, copied_to, text.len());
+    Ok(())
+}
+
+fn push(out: &mut Expanded, text: &str, file: FileId, from: usize, to: usize) {
+    if to > from {
+        out.segments.push(Segment { start: out.text.len(), len: to - from, file, file_offset: from });
+        out.text.push_str(&text[from..to]);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    struct Mem(HashMap<&'static str, &'static str>);
+    impl ShaderFs for Mem {
+        fn read(&self, p: &str) -> std::io::Result<String> {
+            self.0.get(p).map(|s| s.to_string()).ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"))
+        }
+    }
+
+    #[test]
+    fn maps_spans_back_to_included_files() {
+        let fs = Mem([("a.wgsl", "#include \"b.wgsl\"\nfn a() {}\n"), ("b.wgsl", "fn b() {}\n")].into());
+        let mut sm = SourceMap::new();
+        let a = sm.add("a.wgsl", fs.read("a.wgsl").unwrap());
+        let e = expand(&fs, &mut sm, a, "a.wgsl").unwrap();
+        assert_eq!(e.text, "fn b() {}\nfn a() {}\n");
+        let sb = e.map(3..4).unwrap();
+        assert_eq!(sm.get(sb.file).name, "b.wgsl");
+        assert_eq!(sb.start, 3);
+        let sa = e.map(13..14).unwrap();
+        assert_eq!(sa.file, a);
+        assert_eq!(sm.get(a).line_col(sa.start as usize), (2, 4));
+    }
+
+    #[test]
+    fn include_cycle_is_reported_at_the_directive() {
+        let fs = Mem([("a.wgsl", "#include \"b.wgsl\"\n"), ("b.wgsl", "\n  #include \"a.wgsl\"\n")].into());
+        let mut sm = SourceMap::new();
+        let a = sm.add("a.wgsl", fs.read("a.wgsl").unwrap());
+        let err = expand(&fs, &mut sm, a, "a.wgsl").unwrap_err();
+        assert_eq!(err.code, "include-cycle");
+        assert!(err.message.contains("a.wgsl -> b.wgsl -> a.wgsl"));
+        let (f, l, c) = err.location(&sm).unwrap();
+        assert_eq!((f.as_str(), l, c), ("b.wgsl", 2, 3));
+    }
+}

@@ -1,0 +1,223 @@
+//! Shaders: load (with includes), parse with naga's WGSL or GLSL 450 front end, validate,
+//! and map every naga error back to the file and line it came from.
+
+pub mod include;
+pub mod reflect;
+
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::profile::Feature;
+use crate::span::{FileId, SourceMap, Span, Spanned};
+use include::{DiskFs, Expanded, ShaderFs};
+use std::collections::{BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The vertex stage every fullscreen pass gets: one triangle covering the target, `uv` at location 0.
+pub const FULLSCREEN_FILE: &str = "<builtin>/fullscreen.wgsl";
+pub const FULLSCREEN_ENTRY: &str = "fullscreen_vs";
+pub const FULLSCREEN_SOURCE: &str = include_str!("fullscreen.wgsl");
+
+pub fn builtin_source(path: &str) -> Option<&'static str> {
+    (path == FULLSCREEN_FILE).then_some(FULLSCREEN_SOURCE)
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum Lang {
+    Wgsl,
+    Glsl(#[serde(skip)] naga::ShaderStage),
+}
+
+pub fn is_glsl(path: &str) -> bool {
+    [".vert", ".frag", ".comp", ".glsl"].iter().any(|e| path.ends_with(e))
+}
+
+fn lang_of(path: &str) -> Result<Lang, String> {
+    let ext = Path::new(path).extension().and_then(|e| e.to_str()).unwrap_or("");
+    match ext {
+        "wgsl" => Ok(Lang::Wgsl),
+        "vert" => Ok(Lang::Glsl(naga::ShaderStage::Vertex)),
+        "frag" => Ok(Lang::Glsl(naga::ShaderStage::Fragment)),
+        "comp" => Ok(Lang::Glsl(naga::ShaderStage::Compute)),
+        "geom" => Err("geometry".into()),
+        "glsl" => Err("a `.glsl` file does not say its stage: name GLSL 450 shaders `.vert`, `.frag` or `.comp`".into()),
+        other => Err(format!("unknown shader language `.{other}`: expected `.wgsl`, or GLSL 450 as `.vert`, `.frag`, `.comp`")),
+    }
+}
+
+/// A parsed and validated shader module.
+pub struct ShaderModule {
+    pub path: String,
+    pub lang: Lang,
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+    /// The expanded source naga saw, and where each part came from.
+    pub expanded: Expanded,
+}
+
+impl ShaderModule {
+    /// A span in the shader's own files for a naga span of the expanded source.
+    pub fn map_span(&self, span: naga::Span) -> Option<Span> {
+        span.to_range().and_then(|r| self.expanded.map(r))
+    }
+    pub fn root_file(&self) -> FileId {
+        self.expanded.files[0]
+    }
+    /// Best location for a global: its declaration.
+    pub fn global_span(&self, h: naga::Handle<naga::GlobalVariable>) -> Span {
+        self.map_span(self.module.global_variables.get_span(h)).unwrap_or(Span::new(self.root_file(), 0, 0))
+    }
+    pub fn entry_span(&self, index: usize) -> Span {
+        let ep = &self.module.entry_points[index];
+        // naga keeps no span on the entry point itself; its function's first statement is close,
+        // the file start is the fallback.
+        ep.function
+            .body
+            .span_iter()
+            .next()
+            .and_then(|(_, s)| self.map_span(*s))
+            .unwrap_or(Span::new(self.root_file(), 0, 0))
+    }
+}
+
+/// Naga capabilities that wgpu gates behind a feature.
+pub fn capabilities(features: &BTreeSet<Feature>) -> naga::valid::Capabilities {
+    use naga::valid::Capabilities as C;
+    let mut caps = C::default();
+    for f in features {
+        caps |= match f {
+            Feature::Multiview => C::MULTIVIEW,
+            Feature::ClipDistances => C::CLIP_DISTANCES,
+            Feature::ShaderF16 => C::SHADER_FLOAT16,
+            Feature::DualSourceBlending => C::DUAL_SOURCE_BLENDING,
+            Feature::CubeArrayTextures => C::CUBE_ARRAY_TEXTURES,
+            _ => C::empty(),
+        };
+    }
+    caps
+}
+
+/// Loads each shader once per capability set; failures are remembered so that a broken
+/// shader used by several passes is reported once.
+pub struct ShaderLoader {
+    pub root: PathBuf,
+    cache: HashMap<(String, u64), Option<Arc<ShaderModule>>>,
+}
+
+impl ShaderLoader {
+    pub fn new(root: PathBuf) -> Self {
+        ShaderLoader { root, cache: HashMap::new() }
+    }
+
+    pub fn load(
+        &mut self,
+        sources: &mut SourceMap,
+        path: &Spanned<String>,
+        features: &BTreeSet<Feature>,
+        diags: &mut Diagnostics,
+    ) -> Option<Arc<ShaderModule>> {
+        let caps = capabilities(features);
+        let key = (path.value.clone(), caps.bits());
+        if let Some(hit) = self.cache.get(&key) {
+            return hit.clone();
+        }
+        let fs = DiskFs { root: &self.root };
+        let result = load_module(&fs, sources, path, caps, diags).map(Arc::new);
+        self.cache.insert(key, result.clone());
+        result
+    }
+}
+
+pub fn load_module(
+    fs: &dyn ShaderFs,
+    sources: &mut SourceMap,
+    path: &Spanned<String>,
+    caps: naga::valid::Capabilities,
+    diags: &mut Diagnostics,
+) -> Option<ShaderModule> {
+    let lang = match lang_of(&path.value) {
+        Ok(l) => l,
+        Err(e) if e == "geometry" => {
+            diags.push(crate::front::ron::geometry_error(path.span));
+            return None;
+        }
+        Err(e) => {
+            diags.push(Diagnostic::error("shader-language", e, path.span));
+            return None;
+        }
+    };
+    let root = match sources.find(&path.value) {
+        Some(id) => id,
+        None => match fs.read(&path.value) {
+            Ok(text) => sources.add(path.value.clone(), text),
+            Err(e) => {
+                diags.push(
+                    Diagnostic::error("shader-not-found", format!("cannot read shader `{}`: {e}", path.value), path.span)
+                        .with_label_text("referenced here"),
+                );
+                return None;
+            }
+        },
+    };
+    let expanded = match include::expand(fs, sources, root, &path.value) {
+        Ok(e) => e,
+        Err(d) => {
+            diags.push(d.with_secondary(path.span, "in the shader used here"));
+            return None;
+        }
+    };
+    let fallback = Span::new(root, 0, 0);
+    let map = |s: naga::Span| s.to_range().and_then(|r| expanded.map(r)).unwrap_or(fallback);
+    let module = match lang {
+        Lang::Wgsl => match naga::front::wgsl::parse_str(&expanded.text) {
+            Ok(m) => m,
+            Err(e) => {
+                let mut labels = e.labels();
+                let (first_span, first_text) = labels.next().map(|(s, t)| (map(s), t.to_string())).unwrap_or((fallback, String::new()));
+                let mut d = Diagnostic::error("wgsl-parse", e.message().to_string(), first_span).with_label_text(first_text);
+                for (s, t) in labels {
+                    d = d.with_secondary(map(s), t);
+                }
+                for n in e.notes() {
+                    d = d.with_note(n);
+                }
+                diags.push(d);
+                return None;
+            }
+        },
+        Lang::Glsl(stage) => {
+            let mut front = naga::front::glsl::Frontend::default();
+            match front.parse(&naga::front::glsl::Options::from(stage), &expanded.text) {
+                Ok(m) => m,
+                Err(errs) => {
+                    for e in errs.errors {
+                        diags.push(Diagnostic::error("glsl-parse", e.kind.to_string(), map(e.meta)));
+                    }
+                    return None;
+                }
+            }
+        }
+    };
+    let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps);
+    let info = match validator.validate(&module) {
+        Ok(i) => i,
+        Err(e) => {
+            let mut spans = e.spans();
+            let (first, first_text) = spans.next().map(|(s, t)| (map(*s), t.clone())).unwrap_or((fallback, String::new()));
+            let mut d = Diagnostic::error("shader-validation", e.as_inner().to_string(), first).with_label_text(first_text);
+            for (s, t) in spans {
+                d = d.with_secondary(map(*s), t.clone());
+            }
+            let mut source = std::error::Error::source(e.as_inner());
+            while let Some(s) = source {
+                d = d.with_note(s.to_string());
+                source = s.source();
+            }
+            if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {
+                d = d.with_note("declare the wgpu feature this needs in the `requires` of the variant option that enables this pass");
+            }
+            diags.push(d);
+            return None;
+        }
+    };
+    Some(ShaderModule { path: path.value.clone(), lang, module, info, expanded })
+}

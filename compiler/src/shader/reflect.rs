@@ -1,0 +1,211 @@
+//! Reflection over a validated naga module: resource globals, entry points, stage IO.
+
+use super::ShaderModule;
+use naga::{AddressSpace, Binding, Handle, ImageClass, ImageDimension, TypeInner};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TexKind {
+    Float,
+    Uint,
+    Sint,
+    Depth,
+}
+
+/// A texture view dimension as the shader declares it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum ShaderDim {
+    D1,
+    D2,
+    D2Array,
+    Cube,
+    CubeArray,
+    D3,
+}
+
+impl ShaderDim {
+    pub fn wgsl_word(self) -> &'static str {
+        match self {
+            ShaderDim::D1 => "1d",
+            ShaderDim::D2 => "2d",
+            ShaderDim::D2Array => "2d_array",
+            ShaderDim::Cube => "cube",
+            ShaderDim::CubeArray => "cube_array",
+            ShaderDim::D3 => "3d",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum BindingTy {
+    Texture { kind: TexKind, dim: ShaderDim, multisampled: bool },
+    StorageTexture { format: naga::StorageFormat, write: bool, read: bool, dim: ShaderDim },
+    Sampler { comparison: bool },
+    Uniform { ty: Handle<naga::Type>, size: u32 },
+    Storage { read_only: bool, size: u32 },
+    Unsupported,
+}
+
+#[derive(Clone, Debug)]
+pub struct GlobalBinding {
+    pub handle: Handle<naga::GlobalVariable>,
+    pub name: String,
+    pub group: u32,
+    pub binding: u32,
+    pub ty: BindingTy,
+    /// The WGSL spelling of the type, for messages.
+    pub type_name: String,
+}
+
+pub fn type_name(m: &naga::Module, ty: Handle<naga::Type>) -> String {
+    use naga::common::wgsl::TypeContext;
+    m.types.type_to_string(ty)
+}
+
+fn dim(d: ImageDimension, arrayed: bool) -> ShaderDim {
+    match (d, arrayed) {
+        (ImageDimension::D1, _) => ShaderDim::D1,
+        (ImageDimension::D2, false) => ShaderDim::D2,
+        (ImageDimension::D2, true) => ShaderDim::D2Array,
+        (ImageDimension::Cube, false) => ShaderDim::Cube,
+        (ImageDimension::Cube, true) => ShaderDim::CubeArray,
+        (ImageDimension::D3, _) => ShaderDim::D3,
+    }
+}
+
+/// Every global with a `@group/@binding`.
+pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
+    let m = &sm.module;
+    let mut layouter = naga::proc::Layouter::default();
+    let _ = layouter.update(m.to_ctx());
+    let mut out = vec![];
+    for (h, g) in m.global_variables.iter() {
+        let Some(rb) = &g.binding else { continue };
+        let inner = &m.types[g.ty].inner;
+        let size = |ty| layouter[ty].size;
+        let ty = match (g.space, inner) {
+            (AddressSpace::Uniform, _) => BindingTy::Uniform { ty: g.ty, size: size(g.ty) },
+            (AddressSpace::Storage { access }, _) => {
+                BindingTy::Storage { read_only: !access.contains(naga::StorageAccess::STORE), size: size(g.ty) }
+            }
+            (AddressSpace::Handle, TypeInner::Image { dim: d, arrayed, class }) => match class {
+                ImageClass::Sampled { kind, multi } => BindingTy::Texture {
+                    kind: match kind {
+                        naga::ScalarKind::Uint => TexKind::Uint,
+                        naga::ScalarKind::Sint => TexKind::Sint,
+                        _ => TexKind::Float,
+                    },
+                    dim: dim(*d, *arrayed),
+                    multisampled: *multi,
+                },
+                ImageClass::Depth { multi } => BindingTy::Texture { kind: TexKind::Depth, dim: dim(*d, *arrayed), multisampled: *multi },
+                ImageClass::Storage { format, access } => BindingTy::StorageTexture {
+                    format: *format,
+                    write: access.contains(naga::StorageAccess::STORE),
+                    read: access.contains(naga::StorageAccess::LOAD),
+                    dim: dim(*d, *arrayed),
+                },
+                ImageClass::External => BindingTy::Unsupported,
+            },
+            (AddressSpace::Handle, TypeInner::Sampler { comparison }) => BindingTy::Sampler { comparison: *comparison },
+            _ => BindingTy::Unsupported,
+        };
+        out.push(GlobalBinding {
+            handle: h,
+            name: g.name.clone().unwrap_or_else(|| format!("<global {}>", h.index())),
+            group: rb.group,
+            binding: rb.binding,
+            ty,
+            type_name: type_name(m, g.ty),
+        });
+    }
+    out
+}
+
+pub fn find_entry(sm: &ShaderModule, name: &str) -> Option<usize> {
+    sm.module.entry_points.iter().position(|e| e.name == name)
+}
+
+pub fn used_by(sm: &ShaderModule, ep: usize, h: Handle<naga::GlobalVariable>) -> bool {
+    !sm.info.get_entry_point(ep)[h].is_empty()
+}
+
+/// (texture, sampler) pairs an entry point samples with, including through helper calls.
+pub fn sampling_pairs(sm: &ShaderModule, ep: usize) -> Vec<(Handle<naga::GlobalVariable>, Handle<naga::GlobalVariable>)> {
+    let mut pairs: Vec<_> = sm.info.get_entry_point(ep).sampling_set.iter().map(|k| (k.image, k.sampler)).collect();
+    pairs.sort_by_key(|(a, b)| (a.index(), b.index()));
+    pairs
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct IoVar {
+    pub location: u32,
+    pub scalar: naga::ScalarKind,
+    pub components: u32,
+    pub name: String,
+}
+
+fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, name: Option<&str>, out: &mut Vec<IoVar>) {
+    match (&m.types[ty].inner, binding) {
+        (TypeInner::Struct { members, .. }, None) => {
+            for mem in members {
+                io_of(m, mem.ty, mem.binding.as_ref(), mem.name.as_deref(), out);
+            }
+        }
+        (inner, Some(Binding::Location { location, .. })) => {
+            let (scalar, components) = match inner {
+                TypeInner::Scalar(s) => (s.kind, 1),
+                TypeInner::Vector { size, scalar } => (scalar.kind, *size as u32),
+                _ => (naga::ScalarKind::Float, 4),
+            };
+            out.push(IoVar { location: *location, scalar, components, name: name.unwrap_or("").to_string() });
+        }
+        _ => {}
+    }
+}
+
+fn builtins_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, out: &mut Vec<naga::BuiltIn>) {
+    match (&m.types[ty].inner, binding) {
+        (TypeInner::Struct { members, .. }, None) => {
+            for mem in members {
+                builtins_of(m, mem.ty, mem.binding.as_ref(), out);
+            }
+        }
+        (_, Some(Binding::BuiltIn(b))) => out.push(*b),
+        _ => {}
+    }
+}
+
+/// Location outputs of an entry point, sorted by location.
+pub fn outputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
+    let f = &sm.module.entry_points[ep].function;
+    let mut out = vec![];
+    if let Some(r) = &f.result {
+        io_of(&sm.module, r.ty, r.binding.as_ref(), None, &mut out);
+    }
+    out.sort_by_key(|v| v.location);
+    out
+}
+
+/// Location inputs of an entry point, sorted by location.
+pub fn inputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
+    let f = &sm.module.entry_points[ep].function;
+    let mut out = vec![];
+    for a in &f.arguments {
+        io_of(&sm.module, a.ty, a.binding.as_ref(), a.name.as_deref(), &mut out);
+    }
+    out.sort_by_key(|v| v.location);
+    out
+}
+
+/// Built-ins an entry point reads or writes (e.g. `view_index`, `clip_distances`).
+pub fn builtins(sm: &ShaderModule, ep: usize) -> Vec<naga::BuiltIn> {
+    let f = &sm.module.entry_points[ep].function;
+    let mut out = vec![];
+    for a in &f.arguments {
+        builtins_of(&sm.module, a.ty, a.binding.as_ref(), &mut out);
+    }
+    if let Some(r) = &f.result {
+        builtins_of(&sm.module, r.ty, r.binding.as_ref(), &mut out);
+    }
+    out
+}

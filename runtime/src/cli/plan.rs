@@ -1,0 +1,111 @@
+//! `lightbench plan`: the Plan for one configuration, as text, JSON or Graphviz.
+
+use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
+use lightbench_compiler::ir::LightKind;
+use lightbench_compiler::plan;
+use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
+use lightbench_compiler::Session;
+use std::path::PathBuf;
+
+pub struct Args {
+    pub file: PathBuf,
+    pub variants: Vec<String>,
+    pub scene: Option<PathBuf>,
+    pub profile: String,
+    pub explain: bool,
+    pub dot: bool,
+    pub json: bool,
+    pub size: Option<String>,
+    pub lights: Option<String>,
+    pub shaders: Option<PathBuf>,
+}
+
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X', '×']).ok_or_else(|| format!("invalid size `{s}`: expected WxH, e.g. 1920x1080"))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("invalid width in `{s}`"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("invalid height in `{s}`"))?;
+    if w == 0 || h == 0 || w > 65536 || h > 65536 {
+        return Err(format!("size `{s}` out of range (1..=65536)"));
+    }
+    Ok((w, h))
+}
+
+fn parse_lights(s: &str) -> Result<Vec<(LightKind, u32)>, String> {
+    let mut out = vec![];
+    for part in s.split(',').filter(|p| !p.is_empty()) {
+        let (k, n) = part.split_once('=').ok_or_else(|| format!("invalid light count `{part}`: expected KIND=N"))?;
+        let kind = match k.trim().to_ascii_lowercase().as_str() {
+            "directional" => LightKind::Directional,
+            "spot" => LightKind::Spot,
+            "point" => LightKind::Point,
+            other => return Err(format!("unknown light kind `{other}`: expected directional, spot or point")),
+        };
+        let n: u32 = n.trim().parse().map_err(|_| format!("invalid count in `{part}`"))?;
+        out.push((kind, n));
+    }
+    Ok(out)
+}
+
+pub fn run(a: Args) -> i32 {
+    let profile = match super::profile(&a.profile) {
+        Ok(p) => p,
+        Err(e) => return usage_error(e),
+    };
+    let mut variants = vec![];
+    for v in &a.variants {
+        match v.split_once('=') {
+            Some((k, val)) if !k.is_empty() && !val.is_empty() => variants.push((k.to_string(), val.to_string())),
+            _ => return usage_error(format!("invalid --variant `{v}`: expected NAME=OPTION")),
+        }
+    }
+    if !a.file.is_file() {
+        return usage_error(format!("no such file: {}", a.file.display()));
+    }
+    let mut s = Session::new();
+    let mut scene = match &a.scene {
+        Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
+            Some(sf) => sf,
+            None => {
+                super::check::emit(&s, Format::Human);
+                return EXIT_ERRORS;
+            }
+        },
+        None => SceneFeatures::everything(),
+    };
+    if let Some(sz) = &a.size {
+        match parse_size(sz) {
+            Ok(v) => scene.size = v,
+            Err(e) => return usage_error(e),
+        }
+    }
+    if let Some(l) = &a.lights {
+        if a.scene.is_some() {
+            return usage_error("--lights is for planning without a scene; the scene's lights are used");
+        }
+        match parse_lights(l) {
+            Ok(v) => {
+                for (k, n) in v {
+                    scene.lights.insert(k, n);
+                }
+            }
+            Err(e) => return usage_error(e),
+        }
+    }
+    let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
+    super::check::emit(&s, Format::Human);
+    let Some(plan) = plan else { return EXIT_ERRORS };
+    if a.dot {
+        print!("{}", plan::to_dot(&plan));
+    } else if a.json {
+        match serde_json::to_string_pretty(&plan) {
+            Ok(j) => println!("{j}"),
+            Err(e) => {
+                eprintln!("error: cannot serialize plan: {e}");
+                return EXIT_ERRORS;
+            }
+        }
+    } else {
+        print!("{}", plan::to_text(&plan, a.explain));
+    }
+    EXIT_OK
+}

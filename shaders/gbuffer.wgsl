@@ -1,0 +1,56 @@
+// G-buffer pass (seed 000 §4.2.1, seed 003 §3.1): world position, normal + roughness,
+// albedo + metallic, emissive.
+#include "lib/frame.wgsl"
+#include "lib/mesh.wgsl"
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+};
+
+struct GBuffer {
+    @location(0) position: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+    @location(2) albedo: vec4<f32>,
+    @location(3) emissive: vec4<f32>,
+};
+
+@vertex
+fn vs_main(v: VertexIn) -> VsOut {
+    let world = world_position(v);
+    var out: VsOut;
+    out.clip = frame.view_proj * world;
+    out.world_pos = world.xyz;
+    out.normal = (mesh.normal_matrix * vec4<f32>(v.normal, 0.0)).xyz;
+    out.uv = v.uv;
+    out.tangent = vec4<f32>((mesh.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);
+    return out;
+}
+
+@fragment
+fn fs_main(in: VsOut) -> GBuffer {
+    let base = material.base_color * textureSample(base_color_map, material_sampler, in.uv);
+    let mr = textureSample(metallic_roughness_map, material_sampler, in.uv);
+    var n = normalize(in.normal);
+    if material.has_normal_map != 0u {
+        // Tangent-space normal map; a degenerate tangent falls back to the vertex normal.
+        let t_len = length(in.tangent.xyz);
+        if t_len > 1e-6 {
+            let t = normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz) / t_len * t_len);
+            let b = cross(n, t) * in.tangent.w;
+            let m = textureSample(normal_map, material_sampler, in.uv).xyz * 2.0 - 1.0;
+            let mapped = normalize(t * m.x * material.normal_scale + b * m.y * material.normal_scale + n * m.z);
+            n = select(n, mapped, all(mapped == mapped));
+        }
+    }
+    let emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, in.uv).rgb;
+    var out: GBuffer;
+    out.position = vec4<f32>(in.world_pos, 1.0);
+    out.normal = vec4<f32>(n, clamp(material.roughness * mr.g, 0.03, 1.0));
+    out.albedo = vec4<f32>(base.rgb, clamp(material.metallic * mr.b, 0.0, 1.0));
+    out.emissive = vec4<f32>(emissive, 1.0);
+    return out;
+}

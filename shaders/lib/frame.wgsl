@@ -1,0 +1,52 @@
+// Standard per-frame bindings the runtime provides to every pass (group 0).
+// A shader binds only what it uses; unused declarations cost nothing.
+
+const LIGHT_DIRECTIONAL: u32 = 0u;
+const LIGHT_SPOT: u32 = 1u;
+const LIGHT_POINT: u32 = 2u;
+
+struct Frame {
+    view: mat4x4<f32>,
+    proj: mat4x4<f32>,
+    view_proj: mat4x4<f32>,
+    inv_view_proj: mat4x4<f32>,
+    // xyz: camera position (world); w: unused
+    camera_pos: vec4<f32>,
+    // x, y: target size in pixels; z, w: their reciprocals
+    resolution: vec4<f32>,
+    time: f32,
+    frame_index: u32,
+    light_count: u32,
+    _pad: u32,
+};
+
+struct Light {
+    // rgb: colour × intensity (linear); w: unused
+    color: vec4<f32>,
+    // xyz: position (spot, point); w: range (windowed attenuation, seed 003 eq. 3.5)
+    position: vec4<f32>,
+    // xyz: direction the light points (directional, spot); w: unused
+    direction: vec4<f32>,
+    // x: cos(inner cone), y: cos(outer cone), z: shadow near plane, w: shadow far plane
+    cone: vec4<f32>,
+    kind: u32,
+    casts_shadows: u32,
+    _pad0: u32,
+    _pad1: u32,
+    // world -> shadow clip space (directional: orthographic, spot: perspective)
+    view_proj: mat4x4<f32>,
+    // point lights: world -> clip space of each cube face (+X, -X, +Y, -Y, +Z, -Z)
+    face_view_proj: array<mat4x4<f32>, 6>,
+};
+
+// Which repetition of a per-light / per-face pass is running.
+struct Instance {
+    light: u32,
+    face: u32,
+    view_count: u32,
+    _pad: u32,
+};
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> instance: Instance;
+@group(0) @binding(2) var<storage, read> lights: array<Light>;

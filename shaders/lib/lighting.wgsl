@@ -1,0 +1,32 @@
+// Lighting helpers shared by the light passes (seed 003 §2.3, §3.2).
+
+// Windowed inverse-square attenuation, seed 003 eq. 3.5: (1 - (d/r)^20) / (1 + d^2).
+// Reaches exactly 0 at the light's range r and is 1 at d = 0 (no division by zero).
+fn attenuation(d: f32, range: f32) -> f32 {
+    let x = clamp(d / max(range, 1e-4), 0.0, 1.0);
+    let x2 = x * x;
+    let x4 = x2 * x2;
+    let x20 = x4 * x4 * x4 * x4 * x4;
+    return (1.0 - x20) / (1.0 + d * d);
+}
+
+// Smooth spot cone falloff between the outer and inner cone angles (cosines).
+fn spot_factor(l: Light, to_surface: vec3<f32>) -> f32 {
+    let c = dot(normalize(to_surface), normalize(l.direction.xyz));
+    return smoothstep(l.cone.y, max(l.cone.x, l.cone.y + 1e-4), c);
+}
+
+// Blinn-Phong (seed 003 §2.3.2): diffuse + specular with the half vector.
+// Roughness maps to a Phong exponent; metals tint the specular with the albedo.
+fn blinn_phong(n: vec3<f32>, l: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, metallic: f32, roughness: f32) -> vec3<f32> {
+    let ndl = max(dot(n, l), 0.0);
+    if ndl <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let h = normalize(l + v);
+    let shininess = 2.0 / max(roughness * roughness * roughness * roughness, 1e-4) - 2.0;
+    let spec_color = mix(vec3<f32>(0.04), albedo, metallic);
+    let spec = pow(max(dot(n, h), 0.0), max(shininess, 1.0)) * (shininess + 8.0) / 25.132741;
+    let diffuse = albedo * (1.0 - metallic);
+    return (diffuse / 3.14159265 + spec_color * spec) * ndl;
+}
