@@ -42,10 +42,30 @@ pub fn shader_root_for(pipeline: &Path, explicit: Option<&Path>) -> PathBuf {
     let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
     for cand in [dir.join("shaders"), dir.join("..").join("shaders")] {
         if cand.is_dir() {
-            return cand;
+            return normalize(&cand);
         }
     }
     dir
+}
+
+/// Remove `.` and `dir/..` pairs lexically so diagnostics show `shaders/x.wgsl`,
+/// not `pipelines/../shaders/x.wgsl` (no file system access, symlinks untouched).
+fn normalize(p: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out: Vec<Component> = vec![];
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    if out.is_empty() {
+        return PathBuf::from(".");
+    }
+    out.iter().collect()
 }
 
 /// Pipeline files under a path: the file itself, or every `.ron`/`.lbp` file below a directory.

@@ -172,17 +172,19 @@ fn reaches(edges: &BTreeMap<(usize, usize), (String, Span)>, from: usize, to: us
     false
 }
 
-/// A cycle among the passes Kahn's algorithm could not order.
+/// A cycle among the passes Kahn's algorithm could not order. Every such pass has an
+/// unordered predecessor among them, so walking predecessors must come back on itself.
 fn find_cycle(edges: &BTreeMap<(usize, usize), (String, Span)>, left: &[usize]) -> Vec<usize> {
-    // Walk successors inside `left` until a node repeats.
     let mut path = vec![left[0]];
     loop {
-        let cur = *path.last().unwrap_or(&left[0]);
-        let next = edges.range((cur, 0)..(cur + 1, 0)).map(|(&(_, t), _)| t).find(|t| left.contains(t));
-        match next {
+        let cur = path[path.len() - 1];
+        let prev = edges.keys().find(|(from, to)| *to == cur && left.contains(from)).map(|(from, _)| *from);
+        match prev {
             Some(n) => {
                 if let Some(pos) = path.iter().position(|&x| x == n) {
-                    return path[pos..].to_vec();
+                    let mut cycle = path[pos..].to_vec();
+                    cycle.reverse(); // predecessors were walked: restore edge direction
+                    return cycle;
                 }
                 path.push(n);
             }

@@ -139,6 +139,13 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
                 Err((format!("variant not chosen: `{}` is `{chosen}`, this pass belongs to `{}`", v.value, o.value), true))
             }
         }
+        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => match eval(inner, p, cfg) {
+            Ok(()) => {
+                let Condition::Variant(v, o) = &inner.value else { return Ok(()) };
+                Err((format!("variant not chosen: `{}` is `{}`, this pass serves the other options", v.value, o.value), true))
+            }
+            Err(_) => Ok(()),
+        },
         Condition::Not(inner) => match eval(inner, p, cfg) {
             Ok(()) => Err((format!("{} holds", inner.describe()), inner.mentions_variant())),
             Err(_) => Ok(()),

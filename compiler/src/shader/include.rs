@@ -44,6 +44,10 @@ impl Expanded {
 /// Reads shader files for the expander; the compiler reads from disk, tests may read from memory.
 pub trait ShaderFs {
     fn read(&self, path: &str) -> std::io::Result<String>;
+    /// The name diagnostics show for a shader path (e.g. the path on disk).
+    fn display(&self, path: &str) -> String {
+        path.to_string()
+    }
 }
 
 pub struct DiskFs<'a> {
@@ -56,6 +60,12 @@ impl ShaderFs for DiskFs<'_> {
             return Ok(builtin.to_string());
         }
         std::fs::read_to_string(self.root.join(path))
+    }
+    fn display(&self, path: &str) -> String {
+        if super::builtin_source(path).is_some() {
+            return path.to_string();
+        }
+        self.root.join(path).display().to_string()
     }
 }
 
@@ -103,10 +113,10 @@ fn expand_file(
         if done.iter().any(|d| d == path) {
             continue; // include-once: WGSL forbids redefinitions
         }
-        let child = match sources.find(path) {
+        let child = match sources.find(&fs.display(path)) {
             Some(id) => id,
             None => match fs.read(path) {
-                Ok(t) => sources.add(path, t),
+                Ok(t) => sources.add(fs.display(path), t),
                 Err(e) => {
                     return Err(Diagnostic::error("include-not-found", format!("cannot read included file `{path}`: {e}"), directive))
                 }

@@ -145,10 +145,10 @@ pub fn load_module(
             return None;
         }
     };
-    let root = match sources.find(&path.value) {
+    let root = match sources.find(&fs.display(&path.value)) {
         Some(id) => id,
         None => match fs.read(&path.value) {
-            Ok(text) => sources.add(path.value.clone(), text),
+            Ok(text) => sources.add(fs.display(&path.value), text),
             Err(e) => {
                 diags.push(
                     Diagnostic::error("shader-not-found", format!("cannot read shader `{}`: {e}", path.value), path.span)

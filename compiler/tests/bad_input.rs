@@ -1,0 +1,618 @@
+//! The bad-input catalogue: each case breaks a small valid project in one way and asserts
+//! the diagnostic code, message and exact file:line:col (1-based, columns in characters).
+
+mod common;
+
+use common::*;
+use lightbench_compiler::profile::Profile;
+
+const PIPELINE: &str = r#"Pipeline(
+    name: "t",
+    params: {
+        "post.exposure": Float(default: 1.0, min: 0.0, max: 8.0),
+    },
+    samplers: {
+        "linear": Sampler(filter: Linear),
+    },
+    resources: {
+        "color": Texture(format: Rgba16Float),
+        "depth": Texture(format: Depth32Float),
+        "out": Texture(format: Rgba8Unorm),
+    },
+    passes: [
+        Raster(name: "scene", shader: "scene.wgsl", color: ["color"], depth: "depth"),
+        Fullscreen(name: "post", shader: "post.wgsl", reads: ["color"], color: ["out"], params: ["post.exposure"]),
+    ],
+    output: "out",
+)
+"#;
+
+const SCENE_WGSL: &str = r#"struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) normal: vec3<f32>,
+};
+
+@vertex
+fn vs_main(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> VsOut {
+    var out: VsOut;
+    out.clip = vec4<f32>(position, 1.0);
+    out.normal = normal;
+    return out;
+}
+
+@fragment
+fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.normal * 0.5 + 0.5, 1.0);
+}
+"#;
+
+const POST_WGSL: &str = r#"struct Params {
+    exposure: f32,
+};
+
+@group(0) @binding(0) var color: texture_2d<f32>;
+@group(0) @binding(1) var linear: sampler;
+@group(0) @binding(2) var<uniform> params: Params;
+
+@fragment
+fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
+    return textureSample(color, linear, uv) * params.exposure;
+}
+"#;
+
+struct Case<'a> {
+    /// (from, to) replacements in the pipeline file; each `from` must occur.
+    pipeline: &'a [(&'a str, &'a str)],
+    /// (from, to) replacements in post.wgsl.
+    post: &'a [(&'a str, &'a str)],
+    /// Extra or replaced files.
+    files: &'a [(&'a str, &'a str)],
+    profile: &'a str,
+}
+
+const BASE: Case = Case { pipeline: &[], post: &[], files: &[], profile: "vulkan" };
+
+fn apply(text: &str, edits: &[(&str, &str)]) -> String {
+    let mut t = text.to_string();
+    for (from, to) in edits {
+        assert!(t.contains(from), "edit target `{from}` not found");
+        t = t.replacen(from, to, 1);
+    }
+    t
+}
+
+fn run(c: &Case) -> Outcome {
+    let pipeline = apply(PIPELINE, c.pipeline);
+    let post = apply(POST_WGSL, c.post);
+    let mut files: Vec<(&str, &str)> = vec![("pipelines/p.ron", &pipeline), ("shaders/scene.wgsl", SCENE_WGSL), ("shaders/post.wgsl", &post)];
+    files.retain(|(p, _)| !c.files.iter().any(|(q, _)| q == p));
+    files.extend_from_slice(c.files);
+    let dir = write_project("bad", &files);
+    let profile = Profile::offline(c.profile).unwrap();
+    check_project(&dir, "pipelines/p.ron", &profile, None)
+}
+
+/// Asserts a diagnostic with this code whose message contains `msg`, at file:line:col.
+fn expect(c: Case, code: &str, msg: &str, file: &str, line: usize, col: usize) {
+    let out = run(&c);
+    let found = out.located();
+    let hit = found.iter().any(|(dc, dm, f, l, co)| dc == code && dm.contains(msg) && f == file && *l == line && *co == col);
+    let got: Vec<String> = found.iter().map(|(c, m, f, l, co)| format!("[{c}] {f}:{l}:{co} {m}")).collect();
+    assert!(hit, "expected [{code}] containing {msg:?} at {file}:{line}:{col}; got:\n{}\n{}", got.join("\n"), out.dump());
+}
+
+#[test]
+fn base_project_is_clean() {
+    let out = run(&BASE);
+    assert!(out.session.diags.list.is_empty(), "{}", out.dump());
+}
+
+#[test]
+fn ron_syntax_error() {
+    expect(Case { pipeline: &[("name: \"t\",", "name: \"t\"")], ..BASE }, "ron-syntax", "expected `,` or `)` after field, found `p`", "pipelines/p.ron", 3, 5);
+}
+
+#[test]
+fn ron_unterminated_string() {
+    expect(Case { pipeline: &[("output: \"out\",", "output: \"out,")], ..BASE }, "ron-syntax", "unterminated string", "pipelines/p.ron", 18, 13);
+}
+
+#[test]
+fn unknown_key_with_suggestion() {
+    expect(Case { pipeline: &[("samplers: {", "samplerz: {")], ..BASE }, "unknown-key", "unknown key `samplerz` in pipeline", "pipelines/p.ron", 6, 5);
+    let out = run(&Case { pipeline: &[("samplers: {", "samplerz: {")], ..BASE });
+    assert!(out.errors()[0].notes.iter().any(|n| n == "did you mean `samplers`?"));
+}
+
+#[test]
+fn unknown_pass_key() {
+    expect(Case { pipeline: &[("color: [\"out\"],", "colour: [\"out\"],")], ..BASE }, "unknown-key", "unknown key `colour` in pass `post`", "pipelines/p.ron", 16, 73);
+}
+
+#[test]
+fn missing_required_key() {
+    expect(Case { pipeline: &[("    output: \"out\",\n", "")], ..BASE }, "missing-key", "pipeline is missing required key `output`", "pipelines/p.ron", 1, 1);
+}
+
+#[test]
+fn wrong_value_type() {
+    expect(Case { pipeline: &[("name: \"t\"", "name: 5")], ..BASE }, "type-mismatch", "expected a string, found an integer", "pipelines/p.ron", 2, 11);
+}
+
+#[test]
+fn unknown_format_with_suggestion() {
+    expect(Case { pipeline: &[("Rgba16Float", "Rgba16Flaot")], ..BASE }, "unknown-value", "unknown texture format `Rgba16Flaot`", "pipelines/p.ron", 10, 34);
+}
+
+#[test]
+fn duplicate_pass_name() {
+    expect(Case { pipeline: &[("name: \"scene\"", "name: \"post\"")], ..BASE }, "duplicate-name", "pass `post` is declared twice", "pipelines/p.ron", 16, 26);
+}
+
+#[test]
+fn missing_shader_file() {
+    expect(Case { pipeline: &[("\"post.wgsl\"", "\"pots.wgsl\"")], ..BASE }, "shader-not-found", "cannot read shader `pots.wgsl`", "pipelines/p.ron", 16, 42);
+}
+
+#[test]
+fn wgsl_parse_error() {
+    expect(Case { post: &[("exposure: f32,", "exposure f32,")], ..BASE }, "wgsl-parse", "expected `:`, found \"f32\"", "shaders/post.wgsl", 2, 14);
+}
+
+#[test]
+fn wgsl_validation_error() {
+    expect(
+        Case { post: &[("textureSample(color, linear, uv) * params.exposure", "params.exposure")], ..BASE },
+        "shader-validation",
+        "Entry point fs_main at Fragment is invalid",
+        "shaders/post.wgsl",
+        11,
+        12,
+    );
+}
+
+#[test]
+fn glsl_error() {
+    let frag = "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";
+    expect(
+        Case { pipeline: &[("shader: \"post.wgsl\", reads: [\"color\"],", "shader: \"post.frag\",")], files: &[("shaders/post.frag", frag)], ..BASE },
+        "glsl-parse",
+        "",
+        "shaders/post.frag",
+        4,
+        20,
+    );
+}
+
+#[test]
+fn missing_entry_point() {
+    expect(Case { pipeline: &[("shader: \"post.wgsl\",", "shader: \"post.wgsl\", fragment: \"fs_mian\",")], ..BASE }, "missing-entry-point", "has no entry point `fs_mian`", "pipelines/p.ron", 16, 65);
+}
+
+#[test]
+fn entry_point_of_wrong_stage() {
+    expect(Case { pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", vertex: \"fs_main\",")], ..BASE }, "wrong-stage", "`fs_main` is a fragment entry point", "pipelines/p.ron", 15, 61);
+}
+
+#[test]
+fn binding_with_no_declared_resource() {
+    expect(
+        Case { post: &[("@group(0) @binding(2)", "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)"), ("* params.exposure", "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)")], ..BASE },
+        "binding-unsatisfied",
+        "shader global `bloom` (@group(0) @binding(3)) is not bound by pass `post`",
+        "shaders/post.wgsl",
+        7,
+        23,
+    );
+}
+
+#[test]
+fn texture_float_vs_depth() {
+    expect(
+        Case { post: &[("var color: texture_2d<f32>;", "var color: texture_depth_2d;"), ("textureSample(color, linear, uv)", "vec4<f32>(textureLoad(color, vec2<i32>(uv), 0))")], ..BASE },
+        "texture-type",
+        "`color` is `texture_depth_2d` but `color` has format Rgba16Float: a depth texture binding needs a depth format",
+        "shaders/post.wgsl",
+        5,
+        23,
+    );
+}
+
+#[test]
+fn texture_2d_vs_cube() {
+    expect(
+        Case { post: &[("var color: texture_2d<f32>;", "var color: texture_cube<f32>;"), ("textureSample(color, linear, uv)", "textureSample(color, linear, vec3<f32>(uv, 1.0))")], ..BASE },
+        "texture-type",
+        "`color` is `texture_cube<f32>` but `color` is declared with view D2 and 1 layer(s)",
+        "shaders/post.wgsl",
+        5,
+        23,
+    );
+}
+
+#[test]
+fn fragment_output_count_mismatch() {
+    expect(
+        Case { pipeline: &[("color: [\"color\"]", "color: [\"color\", \"out\"]")], ..BASE },
+        "fragment-outputs",
+        "writes 1 color output(s) but pass `scene` has 2 color target(s)",
+        "pipelines/p.ron",
+        15,
+        39,
+    );
+}
+
+#[test]
+fn fragment_output_kind_mismatch() {
+    expect(
+        Case { pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: R32Uint)")], ..BASE },
+        "fragment-output-kind",
+        "@location(0) is `vec4<f32>` but target `out` has format R32Uint which needs u32 values",
+        "pipelines/p.ron",
+        16,
+        81,
+    );
+}
+
+#[test]
+fn read_before_write() {
+    expect(
+        Case {
+            pipeline: &[("\"out\": Texture", "\"bloom\": Texture(format: Rgba16Float),\n        \"out\": Texture"), ("reads: [\"color\"]", "reads: [\"color\", \"bloom\"]")],
+            post: &[("@group(0) @binding(2)", "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)"), ("* params.exposure", "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)")],
+            ..BASE
+        },
+        "read-before-write",
+        "`bloom` is read by pass `post` but no pass writes it first",
+        "pipelines/p.ron",
+        17,
+        72,
+    );
+}
+
+const TWO_PASS_CYCLE: &str = r#"
+        Fullscreen(name: "a", shader: "copy.wgsl", reads: ["tmp_b"], color: ["tmp_a"]),
+        Fullscreen(name: "b", shader: "copy.wgsl", bind: {"tmp_b": "tmp_a"}, reads: ["tmp_a"], color: ["tmp_b"]),
+    ],"#;
+const COPY_WGSL: &str = "@group(0) @binding(0) var tmp_b: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    return textureLoad(tmp_b, vec2<i32>(p.xy), 0);\n}\n";
+
+#[test]
+fn cycle_between_passes() {
+    expect(
+        Case {
+            pipeline: &[
+                ("\"out\": Texture", "\"tmp_a\": Texture(format: Rgba16Float),\n        \"tmp_b\": Texture(format: Rgba16Float),\n        \"out\": Texture"),
+                ("reads: [\"color\"]", "reads: [\"color\", \"tmp_a\"]"),
+                ("\n    ],", TWO_PASS_CYCLE),
+            ],
+            post: &[("@group(0) @binding(2)", "@group(0) @binding(3) var tmp_a: texture_2d<f32>;\n@group(0) @binding(2)"), ("* params.exposure", "* params.exposure + textureLoad(tmp_a, vec2<i32>(0), 0)")],
+            files: &[("shaders/copy.wgsl", COPY_WGSL)],
+            ..BASE
+        },
+        "cycle",
+        "passes form a cycle: b -> a -> b",
+        "pipelines/p.ron",
+        20,
+        86,
+    );
+}
+
+#[test]
+fn unordered_double_writer() {
+    expect(
+        Case {
+            pipeline: &[("\n    ],", "\n        Fullscreen(name: \"post2\", shader: \"post.wgsl\", reads: [\"color\"], color: [\"out\"], params: [\"post.exposure\"]),\n    ],")],
+            ..BASE
+        },
+        "double-writer",
+        "passes `post` and `post2` both write `out` and nothing orders them",
+        "pipelines/p.ron",
+        17,
+        82,
+    );
+}
+
+#[test]
+fn attachment_size_mismatch() {
+    expect(
+        Case { pipeline: &[("\"depth\": Texture(format: Depth32Float)", "\"depth\": Texture(format: Depth32Float, size: Fixed(256, 256))")], ..BASE },
+        "attachment-size",
+        "attachments of pass `scene` differ in size: `color` is viewport, `depth` is 256×256",
+        "pipelines/p.ron",
+        15,
+        78,
+    );
+}
+
+#[test]
+fn depth_format_as_color_target() {
+    expect(Case { pipeline: &[("color: [\"color\"], depth", "color: [\"depth\"], depth")], ..BASE }, "depth-as-color", "`depth` has depth format Depth32Float and cannot be a color target", "pipelines/p.ron", 15, 61);
+}
+
+#[test]
+fn color_format_as_depth_target() {
+    expect(Case { pipeline: &[("depth: \"depth\"", "depth: \"out\"")], ..BASE }, "color-as-depth", "`out` has color format Rgba8Unorm and cannot be a depth target", "pipelines/p.ron", 15, 78);
+}
+
+#[test]
+fn blend_on_non_blendable_format() {
+    expect(
+        Case { pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: Rgba32Float)"), ("color: [\"out\"]", "color: [Target(resource: \"out\", blend: Add)]")], ..BASE },
+        "blend-not-blendable",
+        "format Rgba32Float of `out` is not blendable",
+        "pipelines/p.ron",
+        16,
+        112,
+    );
+}
+
+#[test]
+fn too_many_color_attachments() {
+    expect(
+        Case { pipeline: &[("color: [\"color\"], depth", "color: [\"color\", \"c1\", \"c2\", \"c3\", \"c4\", \"c5\", \"c6\", \"c7\", \"c8\"], depth"), ("\"out\": Texture", "\"c1\": Texture(format: R8Unorm), \"c2\": Texture(format: R8Unorm), \"c3\": Texture(format: R8Unorm), \"c4\": Texture(format: R8Unorm),\n        \"c5\": Texture(format: R8Unorm), \"c6\": Texture(format: R8Unorm), \"c7\": Texture(format: R8Unorm), \"c8\": Texture(format: R8Unorm),\n        \"out\": Texture")], ..BASE },
+        "limit-exceeded",
+        "pass `scene` has too many color attachments: 9 exceeds 8",
+        "pipelines/p.ron",
+        17,
+        112,
+    );
+}
+
+#[test]
+fn parameter_type_mismatch_between_file_and_shader() {
+    expect(
+        Case { post: &[("exposure: f32,", "exposure: i32,"), ("* params.exposure", "* f32(params.exposure)")], ..BASE },
+        "param-type-mismatch",
+        "parameter `post.exposure` is Float but shader field `exposure` is `i32`",
+        "pipelines/p.ron",
+        16,
+        98,
+    );
+}
+
+#[test]
+fn shader_field_without_parameter() {
+    expect(
+        Case { post: &[("exposure: f32,", "exposure: f32,\n    gamma: f32,")], ..BASE },
+        "param-missing",
+        "field `gamma` of parameter block `params` has no parameter in pass `post`",
+        "shaders/post.wgsl",
+        8,
+        23,
+    );
+}
+
+#[test]
+fn default_out_of_range() {
+    expect(Case { pipeline: &[("default: 1.0", "default: 9.5")], ..BASE }, "default-out-of-range", "default 9.5 of `post.exposure` is above its max 8", "pipelines/p.ron", 4, 41);
+}
+
+#[test]
+fn unknown_variant_in_condition() {
+    expect(
+        Case { pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], when: Variant(\"tonemapp\", \"x\"))")], ..BASE },
+        "unknown-variant",
+        "no variant named `tonemapp`",
+        "pipelines/p.ron",
+        16,
+        130,
+    );
+}
+
+const VARIANT_NO_FALLBACK: &str = r#"    variants: {
+        "views": Variant(default: "multi", options: {
+            "multi": (requires: [Multiview]),
+            "single": (),
+        }),
+    },
+    output: "out","#;
+
+#[test]
+fn variant_needs_unavailable_feature_without_fallback() {
+    expect(
+        Case { pipeline: &[("    output: \"out\",", VARIANT_NO_FALLBACK)], profile: "webgpu", ..BASE },
+        "variant-unsupported",
+        "variant `views` option `multi` needs feature Multiview, which profile `webgpu` lacks, and declares no fallback",
+        "pipelines/p.ron",
+        20,
+        34,
+    );
+}
+
+#[test]
+fn geometry_shader_request() {
+    expect(
+        Case { pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",")], ..BASE },
+        "geometry-shader",
+        "geometry shaders are not supported",
+        "pipelines/p.ron",
+        15,
+        53,
+    );
+    let out = run(&Case { pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",")], ..BASE });
+    let note = &out.errors()[0].notes[0];
+    assert!(note.contains("multiview") && note.contains("instanced atlas"), "{note}");
+}
+
+#[test]
+fn geometry_shader_file() {
+    expect(
+        Case { pipeline: &[("shader: \"post.wgsl\",", "shader: \"post.geom\",")], files: &[("shaders/post.geom", "#version 450\nvoid main() {}\n")], ..BASE },
+        "geometry-shader",
+        "geometry shaders are not supported",
+        "pipelines/p.ron",
+        16,
+        42,
+    );
+}
+
+#[test]
+fn unknown_effect_in_condition() {
+    expect(
+        Case { pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], when: Effect(Bloomm))")], ..BASE },
+        "unknown-effect",
+        "unknown effect `Bloomm`",
+        "pipelines/p.ron",
+        16,
+        129,
+    );
+}
+
+#[test]
+fn texture_over_the_size_limit() {
+    expect(
+        Case { pipeline: &[("\"depth\": Texture(format: Depth32Float)", "\"depth\": Texture(format: Depth32Float, size: Fixed(16384, 16))")], profile: "webgpu", ..BASE },
+        "texture-too-large",
+        "`depth` is 16384×16, over the 8192 texel limit of profile `webgpu`",
+        "pipelines/p.ron",
+        11,
+        54,
+    );
+}
+
+#[test]
+fn include_cycle() {
+    expect(
+        Case {
+            post: &[("struct Params", "#include \"lib/a.wgsl\"\nstruct Params")],
+            files: &[("shaders/lib/a.wgsl", "#include \"lib/b.wgsl\"\n"), ("shaders/lib/b.wgsl", "// b\n#include \"lib/a.wgsl\"\n")],
+            ..BASE
+        },
+        "include-cycle",
+        "include cycle: post.wgsl -> lib/a.wgsl -> lib/b.wgsl -> lib/a.wgsl",
+        "shaders/lib/b.wgsl",
+        2,
+        1,
+    );
+}
+
+#[test]
+fn missing_include() {
+    expect(Case { post: &[("struct Params", "#include \"lib/nope.wgsl\"\nstruct Params")], ..BASE }, "include-not-found", "cannot read included file `lib/nope.wgsl`", "shaders/post.wgsl", 1, 1);
+}
+
+#[test]
+fn unknown_resource_with_suggestion() {
+    expect(Case { pipeline: &[("reads: [\"color\"]", "reads: [\"colr\"]")], ..BASE }, "unknown-resource", "no resource named `colr`", "pipelines/p.ron", 16, 63);
+}
+
+#[test]
+fn filtering_sampler_on_unfilterable_texture() {
+    expect(
+        Case { pipeline: &[("reads: [\"color\"]", "reads: [\"depth\"]"), ("depth: \"depth\"", "")], post: &[("var color:", "var depth:"), ("textureSample(color,", "textureSample(depth,")], ..BASE },
+        "not-filterable",
+        "`depth` (depth) is sampled with filtering sampler `linear`, but Depth32Float is not filterable",
+        "shaders/post.wgsl",
+        5,
+        23,
+    );
+}
+
+#[test]
+fn comparison_sampler_mismatch() {
+    expect(
+        Case { post: &[("var linear: sampler;", "var linear: sampler_comparison;"), ("var color: texture_2d<f32>;", "var color: texture_depth_2d;"), ("textureSample(color, linear, uv)", "vec4<f32>(textureSampleCompare(color, linear, uv, 0.5))")], pipeline: &[("reads: [\"color\"]", "reads: [\"depth\"]"), ("depth: \"depth\"", ""), ("\"post.wgsl\",", "\"post.wgsl\", bind: {\"color\": \"depth\"},")], ..BASE },
+        "sampler-type",
+        "`linear` is a `sampler_comparison` but sampler `linear` has no `compare`",
+        "shaders/post.wgsl",
+        6,
+        23,
+    );
+}
+
+#[test]
+fn previous_frame_of_non_history_resource() {
+    expect(Case { pipeline: &[("reads: [\"color\"]", "reads: [\"color\", Prev(\"out\")]")], ..BASE }, "not-history", "`Prev(\"out\")` reads the previous frame, but `out` is not a history resource", "pipelines/p.ron", 16, 77);
+}
+
+#[test]
+fn per_light_resource_in_a_pass_that_is_not_per_light() {
+    expect(
+        Case { pipeline: &[("\"color\": Texture(format: Rgba16Float)", "\"color\": Texture(format: Rgba16Float, per_light: [Spot])")], ..BASE },
+        "per-light-mismatch",
+        "`color` has one instance per light, but pass `scene` does not run per light",
+        "pipelines/p.ron",
+        15,
+        61,
+    );
+}
+
+#[test]
+fn output_resource_unknown() {
+    expect(Case { pipeline: &[("output: \"out\"", "output: \"outt\"")], ..BASE }, "unknown-resource", "no resource named `outt`", "pipelines/p.ron", 18, 13);
+}
+
+#[test]
+fn layer_all_needs_multiview() {
+    expect(
+        Case { pipeline: &[("depth: \"depth\"", "depth: Depth(resource: \"depth\", layer: All)")], ..BASE },
+        "layer-select",
+        "`layer: All` renders every layer at once and needs `multiview: N`",
+        "pipelines/p.ron",
+        15,
+        78,
+    );
+}
+
+#[test]
+fn fragment_input_not_written_by_vertex_stage() {
+    expect(
+        Case { post: &[("@location(0) uv: vec2<f32>", "@location(1) uv: vec2<f32>")], ..BASE },
+        "stage-io",
+        "fragment input @location(1) `uv` is not written by vertex entry point `fullscreen_vs`",
+        "pipelines/p.ron",
+        16,
+        42,
+    );
+}
+
+#[test]
+fn vertex_input_the_scene_does_not_provide() {
+    let vs = SCENE_WGSL.replace("@location(1) normal: vec3<f32>) -> VsOut", "@location(1) normal: vec3<f32>, @location(7) extra: f32) -> VsOut");
+    expect(
+        Case { files: &[("shaders/scene.wgsl", Box::leak(vs.into_boxed_str()))], ..BASE },
+        "vertex-input",
+        "vertex input @location(7) is not provided by scene meshes",
+        "pipelines/p.ron",
+        15,
+        39,
+    );
+}
+
+#[test]
+fn storage_write_declared_as_read() {
+    expect(
+        Case {
+            pipeline: &[("\n    ],", "\n        Compute(name: \"fill\", shader: \"fill.wgsl\", reads: [\"color\"], dispatch: Groups(1, 1, 1)),\n    ],"), ("\"color\": Texture(format: Rgba16Float)", "\"color\": Texture(format: Rgba16Float, history: true)")],
+            files: &[("shaders/fill.wgsl", "@group(0) @binding(0) var color: texture_storage_2d<rgba16float, write>;\n@compute @workgroup_size(8, 8, 1)\nfn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {\n    textureStore(color, id.xy, vec4<f32>(1.0));\n}\n")],
+            ..BASE
+        },
+        "binding-access",
+        "`color` is written by the shader but the pass lists `color` under `reads`",
+        "shaders/fill.wgsl",
+        1,
+        23,
+    );
+}
+
+#[test]
+fn unused_read_is_a_warning() {
+    let out = run(&Case { pipeline: &[("reads: [\"color\"]", "reads: [\"color\", \"depth\"]")], ..BASE });
+    let d = out.session.diags.list.iter().find(|d| d.code == "unused-read").expect("warning");
+    assert_eq!(d.severity, lightbench_compiler::diag::Severity::Warning);
+    assert_eq!(d.message, "pass `post` reads `depth` but no entry point uses it");
+    assert_eq!(d.location(&out.session.sources).map(|(_, l, c)| (l, c)), Some((16, 72)));
+    assert!(!out.session.diags.has_errors(), "{}", out.dump());
+}
+
+#[test]
+fn unknown_variant_option_as_default() {
+    expect(
+        Case { pipeline: &[("    output: \"out\",", "    variants: {\"v\": Variant(default: \"b\", options: {\"a\": ()})},\n    output: \"out\",")], ..BASE },
+        "unknown-variant-option",
+        "default `b` is not an option of variant `v`",
+        "pipelines/p.ron",
+        18,
+        38,
+    );
+}

@@ -1,0 +1,74 @@
+//! Test harness: write a pipeline and its shaders into a fresh directory and compile them
+//! exactly as `lightbench check` does.
+
+#![allow(dead_code)]
+
+use lightbench_compiler::diag::Diagnostic;
+use lightbench_compiler::profile::Profile;
+use lightbench_compiler::scene::SceneFeatures;
+use lightbench_compiler::Session;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+static COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+pub fn temp_dir(tag: &str) -> PathBuf {
+    let n = COUNTER.fetch_add(1, Ordering::SeqCst);
+    let d = std::env::temp_dir().join(format!("lightbench-test-{}-{tag}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("pipelines")).unwrap();
+    std::fs::create_dir_all(d.join("shaders")).unwrap();
+    d
+}
+
+/// Files relative to the project dir: `pipelines/x.ron`, `shaders/y.wgsl`.
+pub fn write_project(tag: &str, files: &[(&str, &str)]) -> PathBuf {
+    let d = temp_dir(tag);
+    for (path, text) in files {
+        let p = d.join(path);
+        std::fs::create_dir_all(p.parent().unwrap()).unwrap();
+        std::fs::write(p, text).unwrap();
+    }
+    d
+}
+
+pub struct Outcome {
+    pub session: Session,
+    pub dir: PathBuf,
+}
+
+impl Outcome {
+    /// (code, message, file relative to the project dir, line, column) of each diagnostic.
+    pub fn located(&self) -> Vec<(String, String, String, usize, usize)> {
+        self.session
+            .diags
+            .list
+            .iter()
+            .map(|d| {
+                let (f, l, c) = d.location(&self.session.sources).unwrap_or_default();
+                let rel = Path::new(&f).strip_prefix(&self.dir).map(|p| p.display().to_string()).unwrap_or(f);
+                (d.code.to_string(), d.message.clone(), rel, l, c)
+            })
+            .collect()
+    }
+
+    pub fn errors(&self) -> Vec<&Diagnostic> {
+        self.session.diags.errors().collect()
+    }
+
+    pub fn dump(&self) -> String {
+        self.session.render()
+    }
+}
+
+pub fn check_project(dir: &Path, pipeline: &str, profile: &Profile, scene: Option<&SceneFeatures>) -> Outcome {
+    let mut s = Session::new();
+    let path = dir.join(pipeline);
+    s.check_file(&path, None, profile, scene);
+    Outcome { session: s, dir: dir.to_path_buf() }
+}
+
+/// The repository root (for the bundled pipelines and shaders).
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
