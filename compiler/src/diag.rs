@@ -43,14 +43,24 @@ impl Diagnostic {
             severity,
             code,
             message: message.into(),
-            labels: vec![Label { span, message: String::new(), primary: true }],
+            labels: vec![Label {
+                span,
+                message: String::new(),
+                primary: true,
+            }],
             notes: vec![],
         }
     }
 
     /// A diagnostic with no source location (e.g. a file that cannot be read at all).
     pub fn unlocated(severity: Severity, code: &'static str, message: impl Into<String>) -> Self {
-        Diagnostic { severity, code, message: message.into(), labels: vec![], notes: vec![] }
+        Diagnostic {
+            severity,
+            code,
+            message: message.into(),
+            labels: vec![],
+            notes: vec![],
+        }
     }
 
     /// Text under the primary label.
@@ -62,7 +72,11 @@ impl Diagnostic {
     }
 
     pub fn with_secondary(mut self, span: Span, text: impl Into<String>) -> Self {
-        self.labels.push(Label { span, message: text.into(), primary: false });
+        self.labels.push(Label {
+            span,
+            message: text.into(),
+            primary: false,
+        });
         self
     }
 
@@ -99,15 +113,25 @@ impl Diagnostic {
             self.labels
                 .iter()
                 .map(|l| {
-                    let style = if l.primary { cs::LabelStyle::Primary } else { cs::LabelStyle::Secondary };
+                    let style = if l.primary {
+                        cs::LabelStyle::Primary
+                    } else {
+                        cs::LabelStyle::Secondary
+                    };
                     cs::Label::new(style, l.span.file, l.span.range()).with_message(&l.message)
                 })
                 .collect(),
         )
         .with_notes(self.notes.clone());
         let config = codespan_reporting::term::Config::default();
-        codespan_reporting::term::emit_into_string(&config, sources, &d)
-            .unwrap_or_else(|e| format!("{}[{}]: {} (could not render source: {e})\n", self.severity_word(), self.code, self.message))
+        codespan_reporting::term::emit_into_string(&config, sources, &d).unwrap_or_else(|e| {
+            format!(
+                "{}[{}]: {} (could not render source: {e})\n",
+                self.severity_word(),
+                self.code,
+                self.message
+            )
+        })
     }
 
     fn severity_word(&self) -> &'static str {
@@ -176,10 +200,18 @@ impl Diagnostics {
 }
 
 /// The closest candidate by edit distance, when close enough to be a plausible typo.
-pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+pub fn did_you_mean<'a>(
+    input: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
     candidates
         .into_iter()
-        .map(|c| (strsim::normalized_damerau_levenshtein(&input.to_lowercase(), &c.to_lowercase()), c))
+        .map(|c| {
+            (
+                strsim::normalized_damerau_levenshtein(&input.to_lowercase(), &c.to_lowercase()),
+                c,
+            )
+        })
         .filter(|(score, _)| *score >= 0.6)
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, c)| c)
@@ -190,7 +222,14 @@ pub fn suggestion_note<'a>(input: &str, candidates: &[&'a str]) -> String {
     match did_you_mean(input, candidates.iter().copied()) {
         Some(s) => format!("did you mean `{s}`?"),
         None if candidates.is_empty() => "nothing is declared here".to_string(),
-        None => format!("expected one of: {}", candidates.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")),
+        None => format!(
+            "expected one of: {}",
+            candidates
+                .iter()
+                .map(|c| format!("`{c}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
     }
 }
 
@@ -200,7 +239,10 @@ mod tests {
 
     #[test]
     fn suggests_close_names_only() {
-        assert_eq!(did_you_mean("pases", ["passes", "params", "output"]), Some("passes"));
+        assert_eq!(
+            did_you_mean("pases", ["passes", "params", "output"]),
+            Some("passes")
+        );
         assert_eq!(did_you_mean("zzzz", ["passes", "params"]), None);
     }
 }

@@ -77,19 +77,28 @@ formats! {
 
 impl TextureFormat {
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
+        Self::NAMES
+            .iter()
+            .position(|n| *n == s)
+            .map(|i| Self::ALL[i])
     }
     pub fn is_depth(self) -> bool {
         self.kind() == ScalarKind::Depth
     }
     pub fn is_32bit_float(self) -> bool {
-        matches!(self, TextureFormat::R32Float | TextureFormat::Rg32Float | TextureFormat::Rgba32Float)
+        matches!(
+            self,
+            TextureFormat::R32Float | TextureFormat::Rg32Float | TextureFormat::Rgba32Float
+        )
     }
     /// Can a filtering sampler read it on this profile?
     pub fn filterable(self, profile: &Profile) -> bool {
         self.base_filterable() || (self.is_32bit_float() && profile.has(Feature::Float32Filterable))
     }
     pub fn is_srgb(self) -> bool {
-        matches!(self, TextureFormat::Rgba8UnormSrgb | TextureFormat::Bgra8UnormSrgb)
+        matches!(
+            self,
+            TextureFormat::Rgba8UnormSrgb | TextureFormat::Bgra8UnormSrgb
+        )
     }
 }

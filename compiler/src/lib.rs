@@ -39,7 +39,11 @@ pub fn shader_root_for(pipeline: &Path, explicit: Option<&Path>) -> PathBuf {
         return e.to_path_buf();
     }
     let dir = pipeline.parent().map(Path::to_path_buf).unwrap_or_default();
-    let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
+    let dir = if dir.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        dir
+    };
     for cand in [dir.join("shaders"), dir.join("..").join("shaders")] {
         if cand.is_dir() {
             return normalize(&cand);
@@ -100,7 +104,11 @@ impl Session {
         let text = match std::fs::read_to_string(path) {
             Ok(t) => t,
             Err(e) => {
-                self.diags.push(Diagnostic::unlocated(Severity::Error, "file-not-found", format!("cannot read pipeline `{name}`: {e}")));
+                self.diags.push(Diagnostic::unlocated(
+                    Severity::Error,
+                    "file-not-found",
+                    format!("cannot read pipeline `{name}`: {e}"),
+                ));
                 return None;
             }
         };
@@ -116,7 +124,10 @@ impl Session {
                 self.diags.push(Diagnostic::unlocated(
                     Severity::Error,
                     "unknown-format",
-                    format!("`{name}`: unknown pipeline format `{}` (expected `.ron`)", other.unwrap_or("")),
+                    format!(
+                        "`{name}`: unknown pipeline format `{}` (expected `.ron`)",
+                        other.unwrap_or("")
+                    ),
                 ));
                 None
             }
@@ -126,39 +137,87 @@ impl Session {
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
     pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
         let mut loader = shader::ShaderLoader::new(shader_root.to_path_buf());
-        check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags)
+        check::check_pipeline(
+            pipeline,
+            profile,
+            &mut loader,
+            &mut self.sources,
+            &mut self.diags,
+        )
     }
 
     /// Plan one configuration. `None` when it has errors (they are in `diags`).
-    pub fn plan(&mut self, checked: &Checked, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
+    pub fn plan(
+        &mut self,
+        checked: &Checked,
+        profile: &Profile,
+        scene: &SceneFeatures,
+        variants: &[(String, String)],
+    ) -> Option<Plan> {
         if self.diags.has_errors() {
             return None;
         }
         let selection = plan::build::select(&checked.pipeline, profile, variants, &mut self.diags)?;
-        let cfg = Config { profile, scene, selection };
+        let cfg = Config {
+            profile,
+            scene,
+            selection,
+        };
         plan::build_plan(checked, &cfg, &mut self.diags)
     }
 
     /// Plan every configuration `check` covers: the defaults, then each option of each variant
-    /// (others at their default), for `scene` (or a scene with every feature).
-    pub fn check_configurations(&mut self, checked: &Checked, profile: &Profile, scene: Option<&SceneFeatures>) {
-        let everything = SceneFeatures::everything();
-        let scene = scene.unwrap_or(&everything);
+    /// (others at their default); for `scene`, or else for a scene calling for every effect and
+    /// one calling for none (both with every light kind), so both sides of effect conditions
+    /// are checked.
+    pub fn check_configurations(
+        &mut self,
+        checked: &Checked,
+        profile: &Profile,
+        scene: Option<&SceneFeatures>,
+    ) {
+        let scenes = match scene {
+            Some(s) => vec![s.clone()],
+            None => {
+                let mut plain = SceneFeatures::everything();
+                plain.name = "<no effects>".into();
+                plain.effects.clear();
+                plain.reflective = false;
+                vec![SceneFeatures::everything(), plain]
+            }
+        };
         let mut configs: Vec<Vec<(String, String)>> = vec![vec![]];
         for v in &checked.pipeline.variants {
             for o in &v.options {
                 configs.push(vec![(v.name.value.clone(), o.name.value.clone())]);
             }
         }
-        for c in configs {
-            let Some(selection) = plan::build::select(&checked.pipeline, profile, &c, &mut self.diags) else { continue };
-            let cfg = Config { profile, scene, selection };
-            plan::build_plan(checked, &cfg, &mut self.diags);
+        for scene in &scenes {
+            for c in &configs {
+                let Some(selection) =
+                    plan::build::select(&checked.pipeline, profile, c, &mut self.diags)
+                else {
+                    continue;
+                };
+                let cfg = Config {
+                    profile,
+                    scene,
+                    selection,
+                };
+                plan::build_plan(checked, &cfg, &mut self.diags);
+            }
         }
     }
 
     /// Load, check and plan a pipeline file in one go.
-    pub fn plan_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
+    pub fn plan_file(
+        &mut self,
+        path: &Path,
+        shader_root: Option<&Path>,
+        profile: &Profile,
+        scene: &SceneFeatures,
+        variants: &[(String, String)],
+    ) -> Option<Plan> {
         let p = self.load_pipeline(path)?;
         let root = shader_root_for(path, shader_root);
         let checked = self.check(p, &root, profile);
@@ -169,8 +228,16 @@ impl Session {
     }
 
     /// Load and check a pipeline file across its configurations (what `lightbench check` does).
-    pub fn check_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: Option<&SceneFeatures>) {
-        let Some(p) = self.load_pipeline(path) else { return };
+    pub fn check_file(
+        &mut self,
+        path: &Path,
+        shader_root: Option<&Path>,
+        profile: &Profile,
+        scene: Option<&SceneFeatures>,
+    ) {
+        let Some(p) = self.load_pipeline(path) else {
+            return;
+        };
         let root = shader_root_for(path, shader_root);
         let checked = self.check(p, &root, profile);
         if self.diags.has_errors() {
@@ -181,6 +248,11 @@ impl Session {
 
     /// All diagnostics rendered rustc-style.
     pub fn render(&self) -> String {
-        self.diags.list.iter().map(|d| d.render(&self.sources)).collect::<Vec<_>>().join("")
+        self.diags
+            .list
+            .iter()
+            .map(|d| d.render(&self.sources))
+            .collect::<Vec<_>>()
+            .join("")
     }
 }

@@ -34,7 +34,10 @@ features! {
 
 impl Feature {
     pub fn from_name(s: &str) -> Option<Feature> {
-        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
+        Self::NAMES
+            .iter()
+            .position(|n| *n == s)
+            .map(|i| Self::ALL[i])
     }
 }
 
@@ -118,7 +121,11 @@ impl Profile {
 
     /// WebGPU baseline: no optional features, default limits.
     pub fn webgpu() -> Self {
-        Profile { name: "webgpu".into(), features: BTreeSet::new(), limits: Limits::webgpu() }
+        Profile {
+            name: "webgpu".into(),
+            features: BTreeSet::new(),
+            limits: Limits::webgpu(),
+        }
     }
 
     /// A desktop Vulkan device as wgpu exposes it (what Mesa lavapipe offers in CI).
@@ -147,7 +154,11 @@ impl Profile {
         ]
         .into_iter()
         .collect();
-        Profile { name: "vulkan".into(), features, limits }
+        Profile {
+            name: "vulkan".into(),
+            features,
+            limits,
+        }
     }
 
     /// wgpu's GL backend (e.g. llvmpipe through EGL): no multiview, no timestamps.
@@ -155,8 +166,18 @@ impl Profile {
         let mut limits = Limits::webgpu();
         limits.max_texture_dimension_2d = 8192;
         limits.max_storage_textures_per_shader_stage = 8;
-        let features = [Feature::ClipDistances, Feature::Float32Filterable, Feature::CubeArrayTextures].into_iter().collect();
-        Profile { name: "gl".into(), features, limits }
+        let features = [
+            Feature::ClipDistances,
+            Feature::Float32Filterable,
+            Feature::CubeArrayTextures,
+        ]
+        .into_iter()
+        .collect();
+        Profile {
+            name: "gl".into(),
+            features,
+            limits,
+        }
     }
 
     pub fn offline(name: &str) -> Result<Profile, String> {

@@ -70,7 +70,12 @@ struct Case<'a> {
     profile: &'a str,
 }
 
-const BASE: Case = Case { pipeline: &[], post: &[], files: &[], profile: "vulkan" };
+const BASE: Case = Case {
+    pipeline: &[],
+    post: &[],
+    files: &[],
+    profile: "vulkan",
+};
 
 fn apply(text: &str, edits: &[(&str, &str)]) -> String {
     let mut t = text.to_string();
@@ -84,7 +89,11 @@ fn apply(text: &str, edits: &[(&str, &str)]) -> String {
 fn run(c: &Case) -> Outcome {
     let pipeline = apply(PIPELINE, c.pipeline);
     let post = apply(POST_WGSL, c.post);
-    let mut files: Vec<(&str, &str)> = vec![("pipelines/p.ron", &pipeline), ("shaders/scene.wgsl", SCENE_WGSL), ("shaders/post.wgsl", &post)];
+    let mut files: Vec<(&str, &str)> = vec![
+        ("pipelines/p.ron", &pipeline),
+        ("shaders/scene.wgsl", SCENE_WGSL),
+        ("shaders/post.wgsl", &post),
+    ];
     files.retain(|(p, _)| !c.files.iter().any(|(q, _)| q == p));
     files.extend_from_slice(c.files);
     let dir = write_project("bad", &files);
@@ -96,9 +105,19 @@ fn run(c: &Case) -> Outcome {
 fn expect(c: Case, code: &str, msg: &str, file: &str, line: usize, col: usize) {
     let out = run(&c);
     let found = out.located();
-    let hit = found.iter().any(|(dc, dm, f, l, co)| dc == code && dm.contains(msg) && f == file && *l == line && *co == col);
-    let got: Vec<String> = found.iter().map(|(c, m, f, l, co)| format!("[{c}] {f}:{l}:{co} {m}")).collect();
-    assert!(hit, "expected [{code}] containing {msg:?} at {file}:{line}:{col}; got:\n{}\n{}", got.join("\n"), out.dump());
+    let hit = found.iter().any(|(dc, dm, f, l, co)| {
+        dc == code && dm.contains(msg) && f == file && *l == line && *co == col
+    });
+    let got: Vec<String> = found
+        .iter()
+        .map(|(c, m, f, l, co)| format!("[{c}] {f}:{l}:{co} {m}"))
+        .collect();
+    assert!(
+        hit,
+        "expected [{code}] containing {msg:?} at {file}:{line}:{col}; got:\n{}\n{}",
+        got.join("\n"),
+        out.dump()
+    );
 }
 
 #[test]
@@ -109,60 +128,172 @@ fn base_project_is_clean() {
 
 #[test]
 fn ron_syntax_error() {
-    expect(Case { pipeline: &[("name: \"t\",", "name: \"t\"")], ..BASE }, "ron-syntax", "expected `,` or `)` after field, found `p`", "pipelines/p.ron", 3, 5);
+    expect(
+        Case {
+            pipeline: &[("name: \"t\",", "name: \"t\"")],
+            ..BASE
+        },
+        "ron-syntax",
+        "expected `,` or `)` after field, found `p`",
+        "pipelines/p.ron",
+        3,
+        5,
+    );
 }
 
 #[test]
 fn ron_unterminated_string() {
-    expect(Case { pipeline: &[("output: \"out\",", "output: \"out,")], ..BASE }, "ron-syntax", "unterminated string", "pipelines/p.ron", 18, 13);
+    expect(
+        Case {
+            pipeline: &[("output: \"out\",", "output: \"out,")],
+            ..BASE
+        },
+        "ron-syntax",
+        "unterminated string",
+        "pipelines/p.ron",
+        18,
+        13,
+    );
 }
 
 #[test]
 fn unknown_key_with_suggestion() {
-    expect(Case { pipeline: &[("samplers: {", "samplerz: {")], ..BASE }, "unknown-key", "unknown key `samplerz` in pipeline", "pipelines/p.ron", 6, 5);
-    let out = run(&Case { pipeline: &[("samplers: {", "samplerz: {")], ..BASE });
-    assert!(out.errors()[0].notes.iter().any(|n| n == "did you mean `samplers`?"));
+    expect(
+        Case {
+            pipeline: &[("samplers: {", "samplerz: {")],
+            ..BASE
+        },
+        "unknown-key",
+        "unknown key `samplerz` in pipeline",
+        "pipelines/p.ron",
+        6,
+        5,
+    );
+    let out = run(&Case {
+        pipeline: &[("samplers: {", "samplerz: {")],
+        ..BASE
+    });
+    assert!(out.errors()[0]
+        .notes
+        .iter()
+        .any(|n| n == "did you mean `samplers`?"));
 }
 
 #[test]
 fn unknown_pass_key() {
-    expect(Case { pipeline: &[("color: [\"out\"],", "colour: [\"out\"],")], ..BASE }, "unknown-key", "unknown key `colour` in pass `post`", "pipelines/p.ron", 16, 73);
+    expect(
+        Case {
+            pipeline: &[("color: [\"out\"],", "colour: [\"out\"],")],
+            ..BASE
+        },
+        "unknown-key",
+        "unknown key `colour` in pass `post`",
+        "pipelines/p.ron",
+        16,
+        73,
+    );
 }
 
 #[test]
 fn missing_required_key() {
-    expect(Case { pipeline: &[("    output: \"out\",\n", "")], ..BASE }, "missing-key", "pipeline is missing required key `output`", "pipelines/p.ron", 1, 1);
+    expect(
+        Case {
+            pipeline: &[("    output: \"out\",\n", "")],
+            ..BASE
+        },
+        "missing-key",
+        "pipeline is missing required key `output`",
+        "pipelines/p.ron",
+        1,
+        1,
+    );
 }
 
 #[test]
 fn wrong_value_type() {
-    expect(Case { pipeline: &[("name: \"t\"", "name: 5")], ..BASE }, "type-mismatch", "expected a string, found an integer", "pipelines/p.ron", 2, 11);
+    expect(
+        Case {
+            pipeline: &[("name: \"t\"", "name: 5")],
+            ..BASE
+        },
+        "type-mismatch",
+        "expected a string, found an integer",
+        "pipelines/p.ron",
+        2,
+        11,
+    );
 }
 
 #[test]
 fn unknown_format_with_suggestion() {
-    expect(Case { pipeline: &[("Rgba16Float", "Rgba16Flaot")], ..BASE }, "unknown-value", "unknown texture format `Rgba16Flaot`", "pipelines/p.ron", 10, 34);
+    expect(
+        Case {
+            pipeline: &[("Rgba16Float", "Rgba16Flaot")],
+            ..BASE
+        },
+        "unknown-value",
+        "unknown texture format `Rgba16Flaot`",
+        "pipelines/p.ron",
+        10,
+        34,
+    );
 }
 
 #[test]
 fn duplicate_pass_name() {
-    expect(Case { pipeline: &[("name: \"scene\"", "name: \"post\"")], ..BASE }, "duplicate-name", "pass `post` is declared twice", "pipelines/p.ron", 16, 26);
+    expect(
+        Case {
+            pipeline: &[("name: \"scene\"", "name: \"post\"")],
+            ..BASE
+        },
+        "duplicate-name",
+        "pass `post` is declared twice",
+        "pipelines/p.ron",
+        16,
+        26,
+    );
 }
 
 #[test]
 fn missing_shader_file() {
-    expect(Case { pipeline: &[("\"post.wgsl\"", "\"pots.wgsl\"")], ..BASE }, "shader-not-found", "cannot read shader `pots.wgsl`", "pipelines/p.ron", 16, 42);
+    expect(
+        Case {
+            pipeline: &[("\"post.wgsl\"", "\"pots.wgsl\"")],
+            ..BASE
+        },
+        "shader-not-found",
+        "cannot read shader `pots.wgsl`",
+        "pipelines/p.ron",
+        16,
+        42,
+    );
 }
 
 #[test]
 fn wgsl_parse_error() {
-    expect(Case { post: &[("exposure: f32,", "exposure f32,")], ..BASE }, "wgsl-parse", "expected `:`, found \"f32\"", "shaders/post.wgsl", 2, 14);
+    expect(
+        Case {
+            post: &[("exposure: f32,", "exposure f32,")],
+            ..BASE
+        },
+        "wgsl-parse",
+        "expected `:`, found \"f32\"",
+        "shaders/post.wgsl",
+        2,
+        14,
+    );
 }
 
 #[test]
 fn wgsl_validation_error() {
     expect(
-        Case { post: &[("textureSample(color, linear, uv) * params.exposure", "params.exposure")], ..BASE },
+        Case {
+            post: &[(
+                "textureSample(color, linear, uv) * params.exposure",
+                "params.exposure",
+            )],
+            ..BASE
+        },
         "shader-validation",
         "Entry point fs_main at Fragment is invalid",
         "shaders/post.wgsl",
@@ -173,9 +304,17 @@ fn wgsl_validation_error() {
 
 #[test]
 fn glsl_error() {
-    let frag = "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";
+    let frag =
+        "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";
     expect(
-        Case { pipeline: &[("shader: \"post.wgsl\", reads: [\"color\"],", "shader: \"post.frag\",")], files: &[("shaders/post.frag", frag)], ..BASE },
+        Case {
+            pipeline: &[(
+                "shader: \"post.wgsl\", reads: [\"color\"],",
+                "shader: \"post.frag\",",
+            )],
+            files: &[("shaders/post.frag", frag)],
+            ..BASE
+        },
         "glsl-parse",
         "",
         "shaders/post.frag",
@@ -186,18 +325,56 @@ fn glsl_error() {
 
 #[test]
 fn missing_entry_point() {
-    expect(Case { pipeline: &[("shader: \"post.wgsl\",", "shader: \"post.wgsl\", fragment: \"fs_mian\",")], ..BASE }, "missing-entry-point", "has no entry point `fs_mian`", "pipelines/p.ron", 16, 65);
+    expect(
+        Case {
+            pipeline: &[(
+                "shader: \"post.wgsl\",",
+                "shader: \"post.wgsl\", fragment: \"fs_mian\",",
+            )],
+            ..BASE
+        },
+        "missing-entry-point",
+        "has no entry point `fs_mian`",
+        "pipelines/p.ron",
+        16,
+        65,
+    );
 }
 
 #[test]
 fn entry_point_of_wrong_stage() {
-    expect(Case { pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", vertex: \"fs_main\",")], ..BASE }, "wrong-stage", "`fs_main` is a fragment entry point", "pipelines/p.ron", 15, 61);
+    expect(
+        Case {
+            pipeline: &[(
+                "shader: \"scene.wgsl\",",
+                "shader: \"scene.wgsl\", vertex: \"fs_main\",",
+            )],
+            ..BASE
+        },
+        "wrong-stage",
+        "`fs_main` is a fragment entry point",
+        "pipelines/p.ron",
+        15,
+        61,
+    );
 }
 
 #[test]
 fn binding_with_no_declared_resource() {
     expect(
-        Case { post: &[("@group(0) @binding(2)", "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)"), ("* params.exposure", "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)")], ..BASE },
+        Case {
+            post: &[
+                (
+                    "@group(0) @binding(2)",
+                    "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)",
+                ),
+                (
+                    "* params.exposure",
+                    "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)",
+                ),
+            ],
+            ..BASE
+        },
         "binding-unsatisfied",
         "shader global `bloom` (@group(0) @binding(3)) is not bound by pass `post`",
         "shaders/post.wgsl",
@@ -221,7 +398,19 @@ fn texture_float_vs_depth() {
 #[test]
 fn texture_2d_vs_cube() {
     expect(
-        Case { post: &[("var color: texture_2d<f32>;", "var color: texture_cube<f32>;"), ("textureSample(color, linear, uv)", "textureSample(color, linear, vec3<f32>(uv, 1.0))")], ..BASE },
+        Case {
+            post: &[
+                (
+                    "var color: texture_2d<f32>;",
+                    "var color: texture_cube<f32>;",
+                ),
+                (
+                    "textureSample(color, linear, uv)",
+                    "textureSample(color, linear, vec3<f32>(uv, 1.0))",
+                ),
+            ],
+            ..BASE
+        },
         "texture-type",
         "`color` is `texture_cube<f32>` but `color` is declared with view D2 and 1 layer(s)",
         "shaders/post.wgsl",
@@ -233,7 +422,10 @@ fn texture_2d_vs_cube() {
 #[test]
 fn fragment_output_count_mismatch() {
     expect(
-        Case { pipeline: &[("color: [\"color\"]", "color: [\"color\", \"out\"]")], ..BASE },
+        Case {
+            pipeline: &[("color: [\"color\"]", "color: [\"color\", \"out\"]")],
+            ..BASE
+        },
         "fragment-outputs",
         "writes 1 color output(s) but pass `scene` has 2 color target(s)",
         "pipelines/p.ron",
@@ -245,7 +437,13 @@ fn fragment_output_count_mismatch() {
 #[test]
 fn fragment_output_kind_mismatch() {
     expect(
-        Case { pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: R32Uint)")], ..BASE },
+        Case {
+            pipeline: &[(
+                "\"out\": Texture(format: Rgba8Unorm)",
+                "\"out\": Texture(format: R32Uint)",
+            )],
+            ..BASE
+        },
         "fragment-output-kind",
         "@location(0) is `vec4<f32>` but target `out` has format R32Uint which needs u32 values",
         "pipelines/p.ron",
@@ -258,8 +456,23 @@ fn fragment_output_kind_mismatch() {
 fn read_before_write() {
     expect(
         Case {
-            pipeline: &[("\"out\": Texture", "\"bloom\": Texture(format: Rgba16Float),\n        \"out\": Texture"), ("reads: [\"color\"]", "reads: [\"color\", \"bloom\"]")],
-            post: &[("@group(0) @binding(2)", "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)"), ("* params.exposure", "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)")],
+            pipeline: &[
+                (
+                    "\"out\": Texture",
+                    "\"bloom\": Texture(format: Rgba16Float),\n        \"out\": Texture",
+                ),
+                ("reads: [\"color\"]", "reads: [\"color\", \"bloom\"]"),
+            ],
+            post: &[
+                (
+                    "@group(0) @binding(2)",
+                    "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)",
+                ),
+                (
+                    "* params.exposure",
+                    "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)",
+                ),
+            ],
             ..BASE
         },
         "read-before-write",
@@ -315,7 +528,13 @@ fn unordered_double_writer() {
 #[test]
 fn attachment_size_mismatch() {
     expect(
-        Case { pipeline: &[("\"depth\": Texture(format: Depth32Float)", "\"depth\": Texture(format: Depth32Float, size: Fixed(256, 256))")], ..BASE },
+        Case {
+            pipeline: &[(
+                "\"depth\": Texture(format: Depth32Float)",
+                "\"depth\": Texture(format: Depth32Float, size: Fixed(256, 256))",
+            )],
+            ..BASE
+        },
         "attachment-size",
         "attachments of pass `scene` differ in size: `color` is viewport, `depth` is 256×256",
         "pipelines/p.ron",
@@ -326,18 +545,50 @@ fn attachment_size_mismatch() {
 
 #[test]
 fn depth_format_as_color_target() {
-    expect(Case { pipeline: &[("color: [\"color\"], depth", "color: [\"depth\"], depth")], ..BASE }, "depth-as-color", "`depth` has depth format Depth32Float and cannot be a color target", "pipelines/p.ron", 15, 61);
+    expect(
+        Case {
+            pipeline: &[("color: [\"color\"], depth", "color: [\"depth\"], depth")],
+            ..BASE
+        },
+        "depth-as-color",
+        "`depth` has depth format Depth32Float and cannot be a color target",
+        "pipelines/p.ron",
+        15,
+        61,
+    );
 }
 
 #[test]
 fn color_format_as_depth_target() {
-    expect(Case { pipeline: &[("depth: \"depth\"", "depth: \"out\"")], ..BASE }, "color-as-depth", "`out` has color format Rgba8Unorm and cannot be a depth target", "pipelines/p.ron", 15, 78);
+    expect(
+        Case {
+            pipeline: &[("depth: \"depth\"", "depth: \"out\"")],
+            ..BASE
+        },
+        "color-as-depth",
+        "`out` has color format Rgba8Unorm and cannot be a depth target",
+        "pipelines/p.ron",
+        15,
+        78,
+    );
 }
 
 #[test]
 fn blend_on_non_blendable_format() {
     expect(
-        Case { pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: Rgba32Float)"), ("color: [\"out\"]", "color: [Target(resource: \"out\", blend: Add)]")], ..BASE },
+        Case {
+            pipeline: &[
+                (
+                    "\"out\": Texture(format: Rgba8Unorm)",
+                    "\"out\": Texture(format: Rgba32Float)",
+                ),
+                (
+                    "color: [\"out\"]",
+                    "color: [Target(resource: \"out\", blend: Add)]",
+                ),
+            ],
+            ..BASE
+        },
         "blend-not-blendable",
         "format Rgba32Float of `out` is not blendable",
         "pipelines/p.ron",
@@ -361,7 +612,13 @@ fn too_many_color_attachments() {
 #[test]
 fn parameter_type_mismatch_between_file_and_shader() {
     expect(
-        Case { post: &[("exposure: f32,", "exposure: i32,"), ("* params.exposure", "* f32(params.exposure)")], ..BASE },
+        Case {
+            post: &[
+                ("exposure: f32,", "exposure: i32,"),
+                ("* params.exposure", "* f32(params.exposure)"),
+            ],
+            ..BASE
+        },
         "param-type-mismatch",
         "parameter `post.exposure` is Float but shader field `exposure` is `i32`",
         "pipelines/p.ron",
@@ -373,7 +630,10 @@ fn parameter_type_mismatch_between_file_and_shader() {
 #[test]
 fn shader_field_without_parameter() {
     expect(
-        Case { post: &[("exposure: f32,", "exposure: f32,\n    gamma: f32,")], ..BASE },
+        Case {
+            post: &[("exposure: f32,", "exposure: f32,\n    gamma: f32,")],
+            ..BASE
+        },
         "param-missing",
         "field `gamma` of parameter block `params` has no parameter in pass `post`",
         "shaders/post.wgsl",
@@ -384,13 +644,29 @@ fn shader_field_without_parameter() {
 
 #[test]
 fn default_out_of_range() {
-    expect(Case { pipeline: &[("default: 1.0", "default: 9.5")], ..BASE }, "default-out-of-range", "default 9.5 of `post.exposure` is above its max 8", "pipelines/p.ron", 4, 41);
+    expect(
+        Case {
+            pipeline: &[("default: 1.0", "default: 9.5")],
+            ..BASE
+        },
+        "default-out-of-range",
+        "default 9.5 of `post.exposure` is above its max 8",
+        "pipelines/p.ron",
+        4,
+        41,
+    );
 }
 
 #[test]
 fn unknown_variant_in_condition() {
     expect(
-        Case { pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], when: Variant(\"tonemapp\", \"x\"))")], ..BASE },
+        Case {
+            pipeline: &[(
+                "params: [\"post.exposure\"])",
+                "params: [\"post.exposure\"], when: Variant(\"tonemapp\", \"x\"))",
+            )],
+            ..BASE
+        },
         "unknown-variant",
         "no variant named `tonemapp`",
         "pipelines/p.ron",
@@ -422,22 +698,41 @@ fn variant_needs_unavailable_feature_without_fallback() {
 #[test]
 fn geometry_shader_request() {
     expect(
-        Case { pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",")], ..BASE },
+        Case {
+            pipeline: &[(
+                "shader: \"scene.wgsl\",",
+                "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",",
+            )],
+            ..BASE
+        },
         "geometry-shader",
         "geometry shaders are not supported",
         "pipelines/p.ron",
         15,
         53,
     );
-    let out = run(&Case { pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",")], ..BASE });
+    let out = run(&Case {
+        pipeline: &[(
+            "shader: \"scene.wgsl\",",
+            "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",",
+        )],
+        ..BASE
+    });
     let note = &out.errors()[0].notes[0];
-    assert!(note.contains("multiview") && note.contains("instanced atlas"), "{note}");
+    assert!(
+        note.contains("multiview") && note.contains("instanced atlas"),
+        "{note}"
+    );
 }
 
 #[test]
 fn geometry_shader_file() {
     expect(
-        Case { pipeline: &[("shader: \"post.wgsl\",", "shader: \"post.geom\",")], files: &[("shaders/post.geom", "#version 450\nvoid main() {}\n")], ..BASE },
+        Case {
+            pipeline: &[("shader: \"post.wgsl\",", "shader: \"post.geom\",")],
+            files: &[("shaders/post.geom", "#version 450\nvoid main() {}\n")],
+            ..BASE
+        },
         "geometry-shader",
         "geometry shaders are not supported",
         "pipelines/p.ron",
@@ -449,7 +744,13 @@ fn geometry_shader_file() {
 #[test]
 fn unknown_effect_in_condition() {
     expect(
-        Case { pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], when: Effect(Bloomm))")], ..BASE },
+        Case {
+            pipeline: &[(
+                "params: [\"post.exposure\"])",
+                "params: [\"post.exposure\"], when: Effect(Bloomm))",
+            )],
+            ..BASE
+        },
         "unknown-effect",
         "unknown effect `Bloomm`",
         "pipelines/p.ron",
@@ -461,7 +762,14 @@ fn unknown_effect_in_condition() {
 #[test]
 fn texture_over_the_size_limit() {
     expect(
-        Case { pipeline: &[("\"depth\": Texture(format: Depth32Float)", "\"depth\": Texture(format: Depth32Float, size: Fixed(16384, 16))")], profile: "webgpu", ..BASE },
+        Case {
+            pipeline: &[(
+                "\"depth\": Texture(format: Depth32Float)",
+                "\"depth\": Texture(format: Depth32Float, size: Fixed(16384, 16))",
+            )],
+            profile: "webgpu",
+            ..BASE
+        },
         "texture-too-large",
         "`depth` is 16384×16, over the 8192 texel limit of profile `webgpu`",
         "pipelines/p.ron",
@@ -475,7 +783,10 @@ fn include_cycle() {
     expect(
         Case {
             post: &[("struct Params", "#include \"lib/a.wgsl\"\nstruct Params")],
-            files: &[("shaders/lib/a.wgsl", "#include \"lib/b.wgsl\"\n"), ("shaders/lib/b.wgsl", "// b\n#include \"lib/a.wgsl\"\n")],
+            files: &[
+                ("shaders/lib/a.wgsl", "#include \"lib/b.wgsl\"\n"),
+                ("shaders/lib/b.wgsl", "// b\n#include \"lib/a.wgsl\"\n"),
+            ],
             ..BASE
         },
         "include-cycle",
@@ -488,12 +799,32 @@ fn include_cycle() {
 
 #[test]
 fn missing_include() {
-    expect(Case { post: &[("struct Params", "#include \"lib/nope.wgsl\"\nstruct Params")], ..BASE }, "include-not-found", "cannot read included file `lib/nope.wgsl`", "shaders/post.wgsl", 1, 1);
+    expect(
+        Case {
+            post: &[("struct Params", "#include \"lib/nope.wgsl\"\nstruct Params")],
+            ..BASE
+        },
+        "include-not-found",
+        "cannot read included file `lib/nope.wgsl`",
+        "shaders/post.wgsl",
+        1,
+        1,
+    );
 }
 
 #[test]
 fn unknown_resource_with_suggestion() {
-    expect(Case { pipeline: &[("reads: [\"color\"]", "reads: [\"colr\"]")], ..BASE }, "unknown-resource", "no resource named `colr`", "pipelines/p.ron", 16, 63);
+    expect(
+        Case {
+            pipeline: &[("reads: [\"color\"]", "reads: [\"colr\"]")],
+            ..BASE
+        },
+        "unknown-resource",
+        "no resource named `colr`",
+        "pipelines/p.ron",
+        16,
+        63,
+    );
 }
 
 #[test]
@@ -511,7 +842,28 @@ fn filtering_sampler_on_unfilterable_texture() {
 #[test]
 fn comparison_sampler_mismatch() {
     expect(
-        Case { post: &[("var linear: sampler;", "var linear: sampler_comparison;"), ("var color: texture_2d<f32>;", "var color: texture_depth_2d;"), ("textureSample(color, linear, uv)", "vec4<f32>(textureSampleCompare(color, linear, uv, 0.5))")], pipeline: &[("reads: [\"color\"]", "reads: [\"depth\"]"), ("depth: \"depth\"", ""), ("\"post.wgsl\",", "\"post.wgsl\", bind: {\"color\": \"depth\"},")], ..BASE },
+        Case {
+            post: &[
+                ("var linear: sampler;", "var linear: sampler_comparison;"),
+                (
+                    "var color: texture_2d<f32>;",
+                    "var color: texture_depth_2d;",
+                ),
+                (
+                    "textureSample(color, linear, uv)",
+                    "vec4<f32>(textureSampleCompare(color, linear, uv, 0.5))",
+                ),
+            ],
+            pipeline: &[
+                ("reads: [\"color\"]", "reads: [\"depth\"]"),
+                ("depth: \"depth\"", ""),
+                (
+                    "\"post.wgsl\",",
+                    "\"post.wgsl\", bind: {\"color\": \"depth\"},",
+                ),
+            ],
+            ..BASE
+        },
         "sampler-type",
         "`linear` is a `sampler_comparison` but sampler `linear` has no `compare`",
         "shaders/post.wgsl",
@@ -522,13 +874,29 @@ fn comparison_sampler_mismatch() {
 
 #[test]
 fn previous_frame_of_non_history_resource() {
-    expect(Case { pipeline: &[("reads: [\"color\"]", "reads: [\"color\", Prev(\"out\")]")], ..BASE }, "not-history", "`Prev(\"out\")` reads the previous frame, but `out` is not a history resource", "pipelines/p.ron", 16, 77);
+    expect(
+        Case {
+            pipeline: &[("reads: [\"color\"]", "reads: [\"color\", Prev(\"out\")]")],
+            ..BASE
+        },
+        "not-history",
+        "`Prev(\"out\")` reads the previous frame, but `out` is not a history resource",
+        "pipelines/p.ron",
+        16,
+        77,
+    );
 }
 
 #[test]
 fn per_light_resource_in_a_pass_that_is_not_per_light() {
     expect(
-        Case { pipeline: &[("\"color\": Texture(format: Rgba16Float)", "\"color\": Texture(format: Rgba16Float, per_light: [Spot])")], ..BASE },
+        Case {
+            pipeline: &[(
+                "\"color\": Texture(format: Rgba16Float)",
+                "\"color\": Texture(format: Rgba16Float, per_light: [Spot])",
+            )],
+            ..BASE
+        },
         "per-light-mismatch",
         "`color` has one instance per light, but pass `scene` does not run per light",
         "pipelines/p.ron",
@@ -539,13 +907,29 @@ fn per_light_resource_in_a_pass_that_is_not_per_light() {
 
 #[test]
 fn output_resource_unknown() {
-    expect(Case { pipeline: &[("output: \"out\"", "output: \"outt\"")], ..BASE }, "unknown-resource", "no resource named `outt`", "pipelines/p.ron", 18, 13);
+    expect(
+        Case {
+            pipeline: &[("output: \"out\"", "output: \"outt\"")],
+            ..BASE
+        },
+        "unknown-resource",
+        "no resource named `outt`",
+        "pipelines/p.ron",
+        18,
+        13,
+    );
 }
 
 #[test]
 fn layer_all_needs_multiview() {
     expect(
-        Case { pipeline: &[("depth: \"depth\"", "depth: Depth(resource: \"depth\", layer: All)")], ..BASE },
+        Case {
+            pipeline: &[(
+                "depth: \"depth\"",
+                "depth: Depth(resource: \"depth\", layer: All)",
+            )],
+            ..BASE
+        },
         "layer-select",
         "`layer: All` renders every layer at once and needs `multiview: N`",
         "pipelines/p.ron",
@@ -557,7 +941,10 @@ fn layer_all_needs_multiview() {
 #[test]
 fn fragment_input_not_written_by_vertex_stage() {
     expect(
-        Case { post: &[("@location(0) uv: vec2<f32>", "@location(1) uv: vec2<f32>")], ..BASE },
+        Case {
+            post: &[("@location(0) uv: vec2<f32>", "@location(1) uv: vec2<f32>")],
+            ..BASE
+        },
         "stage-io",
         "fragment input @location(1) `uv` is not written by vertex entry point `fullscreen_vs`",
         "pipelines/p.ron",
@@ -568,9 +955,15 @@ fn fragment_input_not_written_by_vertex_stage() {
 
 #[test]
 fn vertex_input_the_scene_does_not_provide() {
-    let vs = SCENE_WGSL.replace("@location(1) normal: vec3<f32>) -> VsOut", "@location(1) normal: vec3<f32>, @location(7) extra: f32) -> VsOut");
+    let vs = SCENE_WGSL.replace(
+        "@location(1) normal: vec3<f32>) -> VsOut",
+        "@location(1) normal: vec3<f32>, @location(7) extra: f32) -> VsOut",
+    );
     expect(
-        Case { files: &[("shaders/scene.wgsl", Box::leak(vs.into_boxed_str()))], ..BASE },
+        Case {
+            files: &[("shaders/scene.wgsl", Box::leak(vs.into_boxed_str()))],
+            ..BASE
+        },
         "vertex-input",
         "vertex input @location(7) is not provided by scene meshes",
         "pipelines/p.ron",
@@ -597,11 +990,26 @@ fn storage_write_declared_as_read() {
 
 #[test]
 fn unused_read_is_a_warning() {
-    let out = run(&Case { pipeline: &[("reads: [\"color\"]", "reads: [\"color\", \"depth\"]")], ..BASE });
-    let d = out.session.diags.list.iter().find(|d| d.code == "unused-read").expect("warning");
+    let out = run(&Case {
+        pipeline: &[("reads: [\"color\"]", "reads: [\"color\", \"depth\"]")],
+        ..BASE
+    });
+    let d = out
+        .session
+        .diags
+        .list
+        .iter()
+        .find(|d| d.code == "unused-read")
+        .expect("warning");
     assert_eq!(d.severity, lightbench_compiler::diag::Severity::Warning);
-    assert_eq!(d.message, "pass `post` reads `depth` but no entry point uses it");
-    assert_eq!(d.location(&out.session.sources).map(|(_, l, c)| (l, c)), Some((16, 72)));
+    assert_eq!(
+        d.message,
+        "pass `post` reads `depth` but no entry point uses it"
+    );
+    assert_eq!(
+        d.location(&out.session.sources).map(|(_, l, c)| (l, c)),
+        Some((16, 72))
+    );
     assert!(!out.session.diags.has_errors(), "{}", out.dump());
 }
 

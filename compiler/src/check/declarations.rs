@@ -20,17 +20,26 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
     if p.resource(&p.output).is_none() {
         diags.push(unknown_resource(p, &p.output));
     } else if p.resource(&p.output).and_then(|r| r.texture()).is_none() {
-        diags.push(Diagnostic::error("output-not-texture", format!("output `{}` must be a texture", p.output.value), p.output.span));
+        diags.push(Diagnostic::error(
+            "output-not-texture",
+            format!("output `{}` must be a texture", p.output.value),
+            p.output.span,
+        ));
     }
 }
 
 fn params(p: &Pipeline, diags: &mut Diagnostics) {
     for prm in &p.params {
         let d = prm.default.as_floats();
-        let range = |bound: &Option<Spanned<ParamValue>>| bound.as_ref().map(|b| (b.as_floats(), b.span));
+        let range =
+            |bound: &Option<Spanned<ParamValue>>| bound.as_ref().map(|b| (b.as_floats(), b.span));
         if let (Some((lo, ls)), Some((hi, _))) = (range(&prm.min), range(&prm.max)) {
             if lo.iter().zip(&hi).any(|(a, b)| a > b) {
-                diags.push(Diagnostic::error("empty-range", format!("parameter `{}` has min greater than max", prm.name.value), ls));
+                diags.push(Diagnostic::error(
+                    "empty-range",
+                    format!("parameter `{}` has min greater than max", prm.name.value),
+                    ls,
+                ));
                 continue;
             }
         }
@@ -39,10 +48,18 @@ fn params(p: &Pipeline, diags: &mut Diagnostics) {
                 diags.push(
                     Diagnostic::error(
                         "default-out-of-range",
-                        format!("default {} of `{}` is below its min {}", prm.default.describe(), prm.name.value, prm.min.as_ref().map(|m| m.describe()).unwrap_or_default()),
+                        format!(
+                            "default {} of `{}` is below its min {}",
+                            prm.default.describe(),
+                            prm.name.value,
+                            prm.min.as_ref().map(|m| m.describe()).unwrap_or_default()
+                        ),
                         prm.default.span,
                     )
-                    .with_secondary(prm.min.as_ref().map(|m| m.span).unwrap_or(prm.span), "min given here"),
+                    .with_secondary(
+                        prm.min.as_ref().map(|m| m.span).unwrap_or(prm.span),
+                        "min given here",
+                    ),
                 );
             }
         }
@@ -51,15 +68,27 @@ fn params(p: &Pipeline, diags: &mut Diagnostics) {
                 diags.push(
                     Diagnostic::error(
                         "default-out-of-range",
-                        format!("default {} of `{}` is above its max {}", prm.default.describe(), prm.name.value, prm.max.as_ref().map(|m| m.describe()).unwrap_or_default()),
+                        format!(
+                            "default {} of `{}` is above its max {}",
+                            prm.default.describe(),
+                            prm.name.value,
+                            prm.max.as_ref().map(|m| m.describe()).unwrap_or_default()
+                        ),
                         prm.default.span,
                     )
-                    .with_secondary(prm.max.as_ref().map(|m| m.span).unwrap_or(prm.span), "max given here"),
+                    .with_secondary(
+                        prm.max.as_ref().map(|m| m.span).unwrap_or(prm.span),
+                        "max given here",
+                    ),
                 );
             }
         }
         if d.iter().any(|v| !v.is_finite()) {
-            diags.push(Diagnostic::error("non-finite", format!("default of `{}` is not finite", prm.name.value), prm.default.span));
+            diags.push(Diagnostic::error(
+                "non-finite",
+                format!("default of `{}` is not finite", prm.name.value),
+                prm.default.span,
+            ));
         }
     }
 }
@@ -70,17 +99,35 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
         let layers = t.layers.value;
         match t.view.value {
             ViewDim::Cube if layers != 6 => diags.push(
-                Diagnostic::error("cube-layers", format!("cube texture `{}` needs exactly 6 layers, has {layers}", r.name.value), t.layers.span)
-                    .with_note("use `layers: 6` (one layer per face)"),
+                Diagnostic::error(
+                    "cube-layers",
+                    format!(
+                        "cube texture `{}` needs exactly 6 layers, has {layers}",
+                        r.name.value
+                    ),
+                    t.layers.span,
+                )
+                .with_note("use `layers: 6` (one layer per face)"),
             ),
             ViewDim::D2 if layers != 1 => diags.push(
-                Diagnostic::error("view-layers", format!("`{}` has {layers} layers but a D2 view shows one", r.name.value), t.layers.span)
-                    .with_note("use `view: D2Array` for a layered texture"),
+                Diagnostic::error(
+                    "view-layers",
+                    format!(
+                        "`{}` has {layers} layers but a D2 view shows one",
+                        r.name.value
+                    ),
+                    t.layers.span,
+                )
+                .with_note("use `view: D2Array` for a layered texture"),
             ),
             _ => {}
         }
         if layers == 0 {
-            diags.push(Diagnostic::error("value-out-of-range", "a texture needs at least one layer", t.layers.span));
+            diags.push(Diagnostic::error(
+                "value-out-of-range",
+                "a texture needs at least one layer",
+                t.layers.span,
+            ));
         }
         if let SizeSpec::Fixed { width, height } = t.size.value {
             let max = profile.limits.max_texture_dimension_2d;
@@ -88,7 +135,10 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
                 diags.push(
                     Diagnostic::error(
                         "texture-too-large",
-                        format!("`{}` is {width}×{height}, over the {max} texel limit of profile `{}`", r.name.value, profile.name),
+                        format!(
+                            "`{}` is {width}×{height}, over the {max} texel limit of profile `{}`",
+                            r.name.value, profile.name
+                        ),
                         t.size.span,
                     )
                     .with_note("limit: max_texture_dimension_2d"),
@@ -96,32 +146,59 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
             }
             let max_mips = 32 - width.max(height).leading_zeros();
             if t.mips.value > max_mips {
-                diags.push(Diagnostic::error("mip-count", format!("`{}` can have at most {max_mips} mip levels", r.name.value), t.mips.span));
+                diags.push(Diagnostic::error(
+                    "mip-count",
+                    format!("`{}` can have at most {max_mips} mip levels", r.name.value),
+                    t.mips.span,
+                ));
             }
         }
         if t.mips.value == 0 {
-            diags.push(Diagnostic::error("mip-count", "a texture needs at least one mip level", t.mips.span));
+            diags.push(Diagnostic::error(
+                "mip-count",
+                "a texture needs at least one mip level",
+                t.mips.span,
+            ));
         }
         if layers as u64 > profile.limits.max_texture_array_layers {
             diags.push(Diagnostic::error(
                 "too-many-layers",
-                format!("`{}` has {layers} layers, over the limit {} of profile `{}`", r.name.value, profile.limits.max_texture_array_layers, profile.name),
+                format!(
+                    "`{}` has {layers} layers, over the limit {} of profile `{}`",
+                    r.name.value, profile.limits.max_texture_array_layers, profile.name
+                ),
                 t.layers.span,
             ));
         }
         if t.history && t.external {
-            diags.push(Diagnostic::error("history-external", format!("`{}` cannot be both history and external", r.name.value), r.span));
+            diags.push(Diagnostic::error(
+                "history-external",
+                format!("`{}` cannot be both history and external", r.name.value),
+                r.span,
+            ));
         }
     }
     // Two names that map to one shader identifier would make binding by name ambiguous.
     let mut seen: Vec<(String, &Spanned<String>)> = vec![];
-    let names = p.resources.iter().map(|r| &r.name).chain(p.samplers.iter().map(|s| &s.name)).chain(p.params.iter().map(|s| &s.name));
+    let names = p
+        .resources
+        .iter()
+        .map(|r| &r.name)
+        .chain(p.samplers.iter().map(|s| &s.name))
+        .chain(p.params.iter().map(|s| &s.name));
     for n in names {
         let id = shader_ident(n);
         if let Some((_, prev)) = seen.iter().find(|(i, _)| *i == id) {
             diags.push(
-                Diagnostic::error("ambiguous-name", format!("`{}` and `{}` both bind to the shader name `{id}`", prev.value, n.value), n.span)
-                    .with_secondary(prev.span, "first here"),
+                Diagnostic::error(
+                    "ambiguous-name",
+                    format!(
+                        "`{}` and `{}` both bind to the shader name `{id}`",
+                        prev.value, n.value
+                    ),
+                    n.span,
+                )
+                .with_secondary(prev.span, "first here"),
             );
         }
         seen.push((id, n));
@@ -130,7 +207,12 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
 
 fn unknown_resource(p: &Pipeline, name: &Spanned<String>) -> Diagnostic {
     let names: Vec<&str> = p.resources.iter().map(|r| r.name.value.as_str()).collect();
-    Diagnostic::error("unknown-resource", format!("no resource named `{}`", name.value), name.span).with_note(suggestion_note(name, &names))
+    Diagnostic::error(
+        "unknown-resource",
+        format!("no resource named `{}`", name.value),
+        name.span,
+    )
+    .with_note(suggestion_note(name, &names))
 }
 
 fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics) {
@@ -138,27 +220,55 @@ fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics)
         Condition::Toggle(name) => match p.param(name) {
             None => {
                 let names: Vec<&str> = p.params.iter().map(|r| r.name.value.as_str()).collect();
-                diags.push(Diagnostic::error("unknown-param", format!("no parameter named `{}`", name.value), name.span).with_note(suggestion_note(name, &names)));
+                diags.push(
+                    Diagnostic::error(
+                        "unknown-param",
+                        format!("no parameter named `{}`", name.value),
+                        name.span,
+                    )
+                    .with_note(suggestion_note(name, &names)),
+                );
             }
             Some(prm) if prm.ty.value != ParamType::Bool => diags.push(
-                Diagnostic::error("toggle-not-bool", format!("`{}` is a {} parameter; a toggle needs a Bool", name.value, prm.ty.name()), name.span)
-                    .with_secondary(prm.ty.span, "declared here"),
+                Diagnostic::error(
+                    "toggle-not-bool",
+                    format!(
+                        "`{}` is a {} parameter; a toggle needs a Bool",
+                        name.value,
+                        prm.ty.name()
+                    ),
+                    name.span,
+                )
+                .with_secondary(prm.ty.span, "declared here"),
             ),
             _ => {}
         },
         Condition::Variant(v, o) => match p.variant(v) {
             None => {
                 let names: Vec<&str> = p.variants.iter().map(|r| r.name.value.as_str()).collect();
-                diags.push(Diagnostic::error("unknown-variant", format!("no variant named `{}`", v.value), v.span).with_note(suggestion_note(v, &names)));
+                diags.push(
+                    Diagnostic::error(
+                        "unknown-variant",
+                        format!("no variant named `{}`", v.value),
+                        v.span,
+                    )
+                    .with_note(suggestion_note(v, &names)),
+                );
             }
             Some(var) if var.option(o).is_none() => diags.push(
-                Diagnostic::error("unknown-variant-option", format!("variant `{}` has no option `{}`", v.value, o.value), o.span)
-                    .with_note(suggestion_note(o, &var.option_names())),
+                Diagnostic::error(
+                    "unknown-variant-option",
+                    format!("variant `{}` has no option `{}`", v.value, o.value),
+                    o.span,
+                )
+                .with_note(suggestion_note(o, &var.option_names())),
             ),
             _ => {}
         },
         Condition::Not(c) => condition_refs(p, c, diags),
-        Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| condition_refs(p, c, diags)),
+        Condition::All(cs) | Condition::Any(cs) => {
+            cs.iter().for_each(|c| condition_refs(p, c, diags))
+        }
         _ => {}
     }
 }
@@ -175,8 +285,15 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
     for v in &p.variants {
         if v.option(&v.default).is_none() {
             diags.push(
-                Diagnostic::error("unknown-variant-option", format!("default `{}` is not an option of variant `{}`", v.default.value, v.name.value), v.default.span)
-                    .with_note(suggestion_note(&v.default, &v.option_names())),
+                Diagnostic::error(
+                    "unknown-variant-option",
+                    format!(
+                        "default `{}` is not an option of variant `{}`",
+                        v.default.value, v.name.value
+                    ),
+                    v.default.span,
+                )
+                .with_note(suggestion_note(&v.default, &v.option_names())),
             );
         }
         for o in &v.options {
@@ -188,8 +305,15 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
             if let Some(fb) = &o.fallback {
                 if v.option(fb).is_none() {
                     diags.push(
-                        Diagnostic::error("unknown-variant-option", format!("fallback `{}` is not an option of variant `{}`", fb.value, v.name.value), fb.span)
-                            .with_note(suggestion_note(fb, &v.option_names())),
+                        Diagnostic::error(
+                            "unknown-variant-option",
+                            format!(
+                                "fallback `{}` is not an option of variant `{}`",
+                                fb.value, v.name.value
+                            ),
+                            fb.span,
+                        )
+                        .with_note(suggestion_note(fb, &v.option_names())),
                     );
                 } else {
                     // A fallback chain must end.
@@ -197,7 +321,15 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
                     let mut cur = fb.value.as_str();
                     while let Some(next) = v.option(cur) {
                         if seen.contains(&cur) {
-                            diags.push(Diagnostic::error("fallback-cycle", format!("fallbacks of variant `{}` form a cycle: {} -> {cur}", v.name.value, seen.join(" -> ")), fb.span));
+                            diags.push(Diagnostic::error(
+                                "fallback-cycle",
+                                format!(
+                                    "fallbacks of variant `{}` form a cycle: {} -> {cur}",
+                                    v.name.value,
+                                    seen.join(" -> ")
+                                ),
+                                fb.span,
+                            ));
                             break;
                         }
                         seen.push(cur);
@@ -211,7 +343,14 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
             for (pass, _) in &o.shaders {
                 if p.pass(pass).is_none() {
                     let names: Vec<&str> = p.passes.iter().map(|r| r.name.value.as_str()).collect();
-                    diags.push(Diagnostic::error("unknown-pass", format!("no pass named `{}`", pass.value), pass.span).with_note(suggestion_note(pass, &names)));
+                    diags.push(
+                        Diagnostic::error(
+                            "unknown-pass",
+                            format!("no pass named `{}`", pass.value),
+                            pass.span,
+                        )
+                        .with_note(suggestion_note(pass, &names)),
+                    );
                 }
             }
         }
@@ -238,18 +377,43 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     for prm in &pass.params {
         if p.param(prm).is_none() {
             let names: Vec<&str> = p.params.iter().map(|r| r.name.value.as_str()).collect();
-            diags.push(Diagnostic::error("unknown-param", format!("no parameter named `{}`", prm.value), prm.span).with_note(suggestion_note(prm, &names)));
+            diags.push(
+                Diagnostic::error(
+                    "unknown-param",
+                    format!("no parameter named `{}`", prm.value),
+                    prm.span,
+                )
+                .with_note(suggestion_note(prm, &names)),
+            );
         }
     }
     for (_, target) in &pass.bind {
         if p.resource(target).is_none() && p.sampler(target).is_none() && target.value != "params" {
-            let names: Vec<&str> = p.resources.iter().map(|r| r.name.value.as_str()).chain(p.samplers.iter().map(|s| s.name.value.as_str())).collect();
-            diags.push(Diagnostic::error("unknown-resource", format!("no resource or sampler named `{}`", target.value), target.span).with_note(suggestion_note(target, &names)));
+            let names: Vec<&str> = p
+                .resources
+                .iter()
+                .map(|r| r.name.value.as_str())
+                .chain(p.samplers.iter().map(|s| s.name.value.as_str()))
+                .collect();
+            diags.push(
+                Diagnostic::error(
+                    "unknown-resource",
+                    format!("no resource or sampler named `{}`", target.value),
+                    target.span,
+                )
+                .with_note(suggestion_note(target, &names)),
+            );
         }
     }
-    if let PassKind::Compute { dispatch: Dispatch::Size(r) } = &pass.kind {
+    if let PassKind::Compute {
+        dispatch: Dispatch::Size(r),
+    } = &pass.kind
+    {
         if p.resource(r).and_then(|r| r.texture()).is_none() {
-            diags.push(unknown_resource(p, r).with_note("`Size(..)` dispatches need a texture to size from"));
+            diags.push(
+                unknown_resource(p, r)
+                    .with_note("`Size(..)` dispatches need a texture to size from"),
+            );
         }
     }
     if let Some(kinds) = &pass.per_light {
@@ -259,8 +423,17 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             if let Some(rk) = p.resource(name).and_then(|r| r.per_light()) {
                 if let Some(k) = kinds.iter().find(|k| !rk.contains(k)) {
                     diags.push(
-                        Diagnostic::error("per-light-mismatch", format!("pass runs per {} light but `{}` has no instance for {} lights", k.name(), name.value, k.name()), name.span)
-                            .with_secondary(rk.span, "instances exist for these kinds"),
+                        Diagnostic::error(
+                            "per-light-mismatch",
+                            format!(
+                                "pass runs per {} light but `{}` has no instance for {} lights",
+                                k.name(),
+                                name.value,
+                                k.name()
+                            ),
+                            name.span,
+                        )
+                        .with_secondary(rk.span, "instances exist for these kinds"),
                     );
                 }
             }
@@ -269,30 +442,70 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         for name in pass.reads.iter().map(|r| r.name()).chain(pass.written()) {
             if let Some(rk) = p.resource(name).and_then(|r| r.per_light()) {
                 diags.push(
-                    Diagnostic::error("per-light-mismatch", format!("`{}` has one instance per light, but pass `{}` does not run per light", name.value, pass.name.value), name.span)
-                        .with_secondary(rk.span, "per-light resource declared here")
-                        .with_note("add `per_light: [...]` to the pass"),
+                    Diagnostic::error(
+                        "per-light-mismatch",
+                        format!(
+                            "`{}` has one instance per light, but pass `{}` does not run per light",
+                            name.value, pass.name.value
+                        ),
+                        name.span,
+                    )
+                    .with_secondary(rk.span, "per-light resource declared here")
+                    .with_note("add `per_light: [...]` to the pass"),
                 );
             }
         }
     }
 }
 
-fn layer_check(p: &Pipeline, pass: &Pass, res: &Spanned<String>, layer: LayerSel, span: Span, diags: &mut Diagnostics) {
-    let Some(t) = p.resource(res).and_then(|r| r.texture()) else { return };
+fn layer_check(
+    p: &Pipeline,
+    pass: &Pass,
+    res: &Spanned<String>,
+    layer: LayerSel,
+    span: Span,
+    diags: &mut Diagnostics,
+) {
+    let Some(t) = p.resource(res).and_then(|r| r.texture()) else {
+        return;
+    };
     let layers = t.layers.value;
     match layer {
-        LayerSel::Face if !pass.per_face => diags.push(Diagnostic::error("layer-select", "`layer: Face` needs a pass with `per_face: true`", span)),
-        LayerSel::Face if layers < 6 => diags.push(Diagnostic::error("layer-select", format!("`layer: Face` needs 6 layers, `{}` has {layers}", res.value), span)),
-        LayerSel::Index(i) if i >= layers => diags.push(Diagnostic::error("layer-select", format!("layer {i} is out of range: `{}` has {layers}", res.value), span)),
+        LayerSel::Face if !pass.per_face => diags.push(Diagnostic::error(
+            "layer-select",
+            "`layer: Face` needs a pass with `per_face: true`",
+            span,
+        )),
+        LayerSel::Face if layers < 6 => diags.push(Diagnostic::error(
+            "layer-select",
+            format!("`layer: Face` needs 6 layers, `{}` has {layers}", res.value),
+            span,
+        )),
+        LayerSel::Index(i) if i >= layers => diags.push(Diagnostic::error(
+            "layer-select",
+            format!("layer {i} is out of range: `{}` has {layers}", res.value),
+            span,
+        )),
         LayerSel::All => match &pass.kind {
-            PassKind::Raster { multiview: Some(views), .. } if views.value > layers => diags.push(Diagnostic::error(
+            PassKind::Raster {
+                multiview: Some(views),
+                ..
+            } if views.value > layers => diags.push(Diagnostic::error(
                 "layer-select",
-                format!("multiview renders {} views but `{}` has {layers} layers", views.value, res.value),
+                format!(
+                    "multiview renders {} views but `{}` has {layers} layers",
+                    views.value, res.value
+                ),
                 span,
             )),
-            PassKind::Raster { multiview: Some(_), .. } => {}
-            _ => diags.push(Diagnostic::error("layer-select", "`layer: All` renders every layer at once and needs `multiview: N`", span)),
+            PassKind::Raster {
+                multiview: Some(_), ..
+            } => {}
+            _ => diags.push(Diagnostic::error(
+                "layer-select",
+                "`layer: All` renders every layer at once and needs `multiview: N`",
+                span,
+            )),
         },
         _ => {}
     }
@@ -300,26 +513,55 @@ fn layer_check(p: &Pipeline, pass: &Pass, res: &Spanned<String>, layer: LayerSel
 
 fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     let mut size: Option<(SizeSpec, Spanned<String>)> = None;
-    let mut check_size = |t: &TextureDesc, name: &Spanned<String>, diags: &mut Diagnostics| match &size {
-        None => size = Some((t.size.value.clone(), name.clone())),
-        Some((s, first)) if *s != t.size.value => {
-            let first_size = s.describe();
-            diags.push(
-                Diagnostic::error("attachment-size", format!("attachments of pass `{}` differ in size: `{}` is {}, `{}` is {}", pass.name.value, first.value, first_size, name.value, t.size.value.describe()), name.span)
+    let mut check_size =
+        |t: &TextureDesc, name: &Spanned<String>, diags: &mut Diagnostics| match &size {
+            None => size = Some((t.size.value.clone(), name.clone())),
+            Some((s, first)) if *s != t.size.value => {
+                let first_size = s.describe();
+                diags.push(
+                    Diagnostic::error(
+                        "attachment-size",
+                        format!(
+                            "attachments of pass `{}` differ in size: `{}` is {}, `{}` is {}",
+                            pass.name.value,
+                            first.value,
+                            first_size,
+                            name.value,
+                            t.size.value.describe()
+                        ),
+                        name.span,
+                    )
                     .with_secondary(first.span, format!("{first_size}")),
-            );
-        }
-        _ => {}
-    };
-    if matches!(pass.kind, PassKind::Compute { .. }) && (!pass.color.is_empty() || pass.depth.is_some()) {
-        diags.push(Diagnostic::error("compute-attachments", "compute passes have no attachments; write storage resources with `writes`", pass.span));
+                );
+            }
+            _ => {}
+        };
+    if matches!(pass.kind, PassKind::Compute { .. })
+        && (!pass.color.is_empty() || pass.depth.is_some())
+    {
+        diags.push(Diagnostic::error(
+            "compute-attachments",
+            "compute passes have no attachments; write storage resources with `writes`",
+            pass.span,
+        ));
     }
     if matches!(pass.kind, PassKind::Fullscreen) && pass.color.is_empty() {
-        diags.push(Diagnostic::error("no-targets", format!("fullscreen pass `{}` has no color target", pass.name.value), pass.name.span));
+        diags.push(Diagnostic::error(
+            "no-targets",
+            format!("fullscreen pass `{}` has no color target", pass.name.value),
+            pass.name.span,
+        ));
     }
     if let PassKind::Raster { .. } = pass.kind {
         if pass.color.is_empty() && pass.depth.is_none() {
-            diags.push(Diagnostic::error("no-targets", format!("raster pass `{}` has no color or depth target", pass.name.value), pass.name.span));
+            diags.push(Diagnostic::error(
+                "no-targets",
+                format!(
+                    "raster pass `{}` has no color or depth target",
+                    pass.name.value
+                ),
+                pass.name.span,
+            ));
         }
     }
     for c in &pass.color {
@@ -328,24 +570,49 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             continue;
         };
         let Some(t) = res.texture() else {
-            diags.push(Diagnostic::error("not-a-texture", format!("`{}` is a buffer and cannot be a color target", c.resource.value), c.resource.span));
+            diags.push(Diagnostic::error(
+                "not-a-texture",
+                format!(
+                    "`{}` is a buffer and cannot be a color target",
+                    c.resource.value
+                ),
+                c.resource.span,
+            ));
             continue;
         };
         let f: TextureFormat = t.format.value;
         if f.is_depth() {
             diags.push(
-                Diagnostic::error("depth-as-color", format!("`{}` has depth format {} and cannot be a color target", c.resource.value, f.name()), c.resource.span)
-                    .with_secondary(t.format.span, "format declared here")
-                    .with_note("use it as the pass's `depth` target instead"),
+                Diagnostic::error(
+                    "depth-as-color",
+                    format!(
+                        "`{}` has depth format {} and cannot be a color target",
+                        c.resource.value,
+                        f.name()
+                    ),
+                    c.resource.span,
+                )
+                .with_secondary(t.format.span, "format declared here")
+                .with_note("use it as the pass's `depth` target instead"),
             );
             continue;
         }
         if let Some(b) = &c.blend {
             if !f.blendable() {
                 diags.push(
-                    Diagnostic::error("blend-not-blendable", format!("format {} of `{}` is not blendable", f.name(), c.resource.value), b.span)
-                        .with_secondary(t.format.span, "format declared here")
-                        .with_note("blendable formats: 8-bit unorm, 16-bit float, Rgb10a2Unorm, Rg11b10Ufloat"),
+                    Diagnostic::error(
+                        "blend-not-blendable",
+                        format!(
+                            "format {} of `{}` is not blendable",
+                            f.name(),
+                            c.resource.value
+                        ),
+                        b.span,
+                    )
+                    .with_secondary(t.format.span, "format declared here")
+                    .with_note(
+                        "blendable formats: 8-bit unorm, 16-bit float, Rgb10a2Unorm, Rg11b10Ufloat",
+                    ),
                 );
             }
         }
@@ -359,10 +626,25 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         match p.resource(&d.resource) {
             None => diags.push(unknown_resource(p, &d.resource)),
             Some(res) => match res.texture() {
-                None => diags.push(Diagnostic::error("not-a-texture", format!("`{}` is a buffer and cannot be a depth target", d.resource.value), d.resource.span)),
+                None => diags.push(Diagnostic::error(
+                    "not-a-texture",
+                    format!(
+                        "`{}` is a buffer and cannot be a depth target",
+                        d.resource.value
+                    ),
+                    d.resource.span,
+                )),
                 Some(t) if !t.format.value.is_depth() => diags.push(
-                    Diagnostic::error("color-as-depth", format!("`{}` has color format {} and cannot be a depth target", d.resource.value, t.format.value.name()), d.resource.span)
-                        .with_secondary(t.format.span, "format declared here"),
+                    Diagnostic::error(
+                        "color-as-depth",
+                        format!(
+                            "`{}` has color format {} and cannot be a depth target",
+                            d.resource.value,
+                            t.format.value.name()
+                        ),
+                        d.resource.span,
+                    )
+                    .with_secondary(t.format.span, "format declared here"),
                 ),
                 Some(t) => {
                     check_size(t, &d.resource, diags);
@@ -371,12 +653,23 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             },
         }
     }
-    if let PassKind::Raster { multiview: Some(v), .. } = &pass.kind {
+    if let PassKind::Raster {
+        multiview: Some(v), ..
+    } = &pass.kind
+    {
         if pass.per_face {
-            diags.push(Diagnostic::error("multiview-per-face", "a multiview pass renders all faces at once; remove `per_face`", v.span));
+            diags.push(Diagnostic::error(
+                "multiview-per-face",
+                "a multiview pass renders all faces at once; remove `per_face`",
+                v.span,
+            ));
         }
         if v.value < 2 {
-            diags.push(Diagnostic::error("value-out-of-range", "multiview needs at least 2 views", v.span));
+            diags.push(Diagnostic::error(
+                "value-out-of-range",
+                "multiview needs at least 2 views",
+                v.span,
+            ));
         }
     }
 }

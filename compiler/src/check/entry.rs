@@ -14,18 +14,50 @@ pub fn stage_word(s: naga::ShaderStage) -> &'static str {
 }
 
 /// The index of the entry point, or a diagnostic at the reference.
-pub fn resolve(sm: &ShaderModule, sref: &ShaderRef, stage: naga::ShaderStage, pass_kind: &str, diags: &mut Diagnostics) -> Option<usize> {
+pub fn resolve(
+    sm: &ShaderModule,
+    sref: &ShaderRef,
+    stage: naga::ShaderStage,
+    pass_kind: &str,
+    diags: &mut Diagnostics,
+) -> Option<usize> {
     match reflect::find_entry(sm, &sref.entry) {
         None => {
-            let names: Vec<&str> = sm.module.entry_points.iter().filter(|e| e.stage == stage).map(|e| e.name.as_str()).collect();
-            let all: Vec<&str> = sm.module.entry_points.iter().map(|e| e.name.as_str()).collect();
+            let names: Vec<&str> = sm
+                .module
+                .entry_points
+                .iter()
+                .filter(|e| e.stage == stage)
+                .map(|e| e.name.as_str())
+                .collect();
+            let all: Vec<&str> = sm
+                .module
+                .entry_points
+                .iter()
+                .map(|e| e.name.as_str())
+                .collect();
             diags.push(
-                Diagnostic::error("missing-entry-point", format!("shader `{}` has no entry point `{}`", sref.file.value, sref.entry.value), sref.entry.span)
-                    .with_note(if names.is_empty() {
-                        format!("it has no {} entry point at all (entry points: {})", stage_word(stage), if all.is_empty() { "none".into() } else { all.join(", ") })
-                    } else {
-                        suggestion_note(&sref.entry, &names)
-                    }),
+                Diagnostic::error(
+                    "missing-entry-point",
+                    format!(
+                        "shader `{}` has no entry point `{}`",
+                        sref.file.value, sref.entry.value
+                    ),
+                    sref.entry.span,
+                )
+                .with_note(if names.is_empty() {
+                    format!(
+                        "it has no {} entry point at all (entry points: {})",
+                        stage_word(stage),
+                        if all.is_empty() {
+                            "none".into()
+                        } else {
+                            all.join(", ")
+                        }
+                    )
+                } else {
+                    suggestion_note(&sref.entry, &names)
+                }),
             );
             None
         }

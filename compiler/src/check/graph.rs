@@ -19,7 +19,12 @@ pub struct Ordered {
 }
 
 /// `culled` maps a culled pass index to its reason, to explain missing producers.
-pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, diags: &mut Diagnostics) -> Option<Ordered> {
+pub fn order(
+    p: &Pipeline,
+    kept: &[usize],
+    culled: &BTreeMap<usize, String>,
+    diags: &mut Diagnostics,
+) -> Option<Ordered> {
     let before = diags.error_count();
     let mut writers: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
     for &i in kept {
@@ -36,8 +41,13 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
         let pass = &p.passes[i];
         for r in &pass.reads {
             let name = r.name();
-            let Some(res) = p.resource(name) else { continue };
-            let ws: Vec<usize> = writers.get(name.value.as_str()).cloned().unwrap_or_default();
+            let Some(res) = p.resource(name) else {
+                continue;
+            };
+            let ws: Vec<usize> = writers
+                .get(name.value.as_str())
+                .cloned()
+                .unwrap_or_default();
             if r.is_prev() {
                 if ws.is_empty() {
                     diags.push(Diagnostic::error("read-before-write", format!("`{}` is a history resource but no pass writes it, so there is no previous frame to read", name.value), name.span));
@@ -55,12 +65,21 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
                 if res.external() {
                     continue;
                 }
-                let mut d = Diagnostic::error("read-before-write", format!("`{}` is read by pass `{}` but no pass writes it first", name.value, pass.name.value), name.span)
-                    .with_secondary(res.span, "declared here");
+                let mut d = Diagnostic::error(
+                    "read-before-write",
+                    format!(
+                        "`{}` is read by pass `{}` but no pass writes it first",
+                        name.value, pass.name.value
+                    ),
+                    name.span,
+                )
+                .with_secondary(res.span, "declared here");
                 let culled_writers: Vec<String> = culled
                     .iter()
                     .filter(|(j, _)| p.passes[**j].written().any(|w| w.value == name.value))
-                    .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
+                    .map(|(j, why)| {
+                        format!("its writer `{}` was culled: {why}", p.passes[*j].name.value)
+                    })
                     .collect();
                 if culled_writers.is_empty() {
                     d = d.with_note("add a pass that writes it, or mark it `external: true` if the runtime supplies it");
@@ -72,7 +91,9 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
                 continue;
             }
             for w in ws {
-                edges.entry((w, i)).or_insert((name.value.clone(), name.span));
+                edges
+                    .entry((w, i))
+                    .or_insert((name.value.clone(), name.span));
             }
         }
     }
@@ -80,18 +101,33 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
         let mut fresh: Vec<usize> = vec![];
         for (k, &w) in ws.iter().enumerate() {
             let pass = &p.passes[w];
-            let span = pass.written().find(|n| n.value == *res).map(|n| n.span).unwrap_or(pass.span);
+            let span = pass
+                .written()
+                .find(|n| n.value == *res)
+                .map(|n| n.span)
+                .unwrap_or(pass.span);
             if pass.accumulates(res) {
                 if k == 0 {
                     let r = p.resource(res);
                     if !r.is_some_and(|r| r.external() || r.history()) {
                         diags.push(
-                            Diagnostic::error("read-before-write", format!("pass `{}` loads `{res}` but no earlier pass writes it", pass.name.value), span)
-                                .with_note("clear it instead (`clear: (...)`), or write it in an earlier pass"),
+                            Diagnostic::error(
+                                "read-before-write",
+                                format!(
+                                    "pass `{}` loads `{res}` but no earlier pass writes it",
+                                    pass.name.value
+                                ),
+                                span,
+                            )
+                            .with_note(
+                                "clear it instead (`clear: (...)`), or write it in an earlier pass",
+                            ),
                         );
                     }
                 } else {
-                    edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span));
+                    edges
+                        .entry((ws[k - 1], w))
+                        .or_insert((res.to_string(), span));
                 }
             } else {
                 fresh.push(w);
@@ -102,7 +138,13 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
                 for b in a + 1..fresh.len() {
                     let (x, y) = (fresh[a], fresh[b]);
                     if !reaches(&edges, x, y) && !reaches(&edges, y, x) {
-                        let span_of = |i: usize| p.passes[i].written().find(|n| n.value == *res).map(|n| n.span).unwrap_or(p.passes[i].span);
+                        let span_of = |i: usize| {
+                            p.passes[i]
+                                .written()
+                                .find(|n| n.value == *res)
+                                .map(|n| n.span)
+                                .unwrap_or(p.passes[i].span)
+                        };
                         diags.push(
                             Diagnostic::error("double-writer", format!("passes `{}` and `{}` both write `{res}` and nothing orders them", p.passes[x].name.value, p.passes[y].name.value), span_of(y))
                                 .with_secondary(span_of(x), "also written here")
@@ -121,7 +163,11 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
     for &(_, to) in edges.keys() {
         *indeg.get_mut(&to).unwrap_or(&mut 0) += 1;
     }
-    let mut ready: BTreeSet<usize> = indeg.iter().filter(|(_, d)| **d == 0).map(|(i, _)| *i).collect();
+    let mut ready: BTreeSet<usize> = indeg
+        .iter()
+        .filter(|(_, d)| **d == 0)
+        .map(|(i, _)| *i)
+        .collect();
     let mut order = vec![];
     while let Some(&i) = ready.iter().next() {
         ready.remove(&i);
@@ -137,15 +183,43 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
         }
     }
     if order.len() < kept.len() {
-        let left: Vec<usize> = kept.iter().copied().filter(|i| !order.contains(i)).collect();
+        let left: Vec<usize> = kept
+            .iter()
+            .copied()
+            .filter(|i| !order.contains(i))
+            .collect();
         let cycle = find_cycle(&edges, &left);
-        let names: Vec<&str> = cycle.iter().map(|&i| p.passes[i].name.value.as_str()).collect();
-        let (res, span) = edges.get(&(cycle[cycle.len() - 1], cycle[0])).cloned().unwrap_or_default();
-        let mut d = Diagnostic::error("cycle", format!("passes form a cycle: {} -> {}", names.join(" -> "), names[0]), span)
-            .with_label_text(format!("`{}` reads `{res}` written by `{}`", p.passes[cycle[0]].name.value, p.passes[cycle[cycle.len() - 1]].name.value));
+        let names: Vec<&str> = cycle
+            .iter()
+            .map(|&i| p.passes[i].name.value.as_str())
+            .collect();
+        let (res, span) = edges
+            .get(&(cycle[cycle.len() - 1], cycle[0]))
+            .cloned()
+            .unwrap_or_default();
+        let mut d = Diagnostic::error(
+            "cycle",
+            format!(
+                "passes form a cycle: {} -> {}",
+                names.join(" -> "),
+                names[0]
+            ),
+            span,
+        )
+        .with_label_text(format!(
+            "`{}` reads `{res}` written by `{}`",
+            p.passes[cycle[0]].name.value,
+            p.passes[cycle[cycle.len() - 1]].name.value
+        ));
         for w in cycle.windows(2) {
             if let Some((r, s)) = edges.get(&(w[0], w[1])) {
-                d = d.with_secondary(*s, format!("`{}` reads `{r}` written by `{}`", p.passes[w[1]].name.value, p.passes[w[0]].name.value));
+                d = d.with_secondary(
+                    *s,
+                    format!(
+                        "`{}` reads `{r}` written by `{}`",
+                        p.passes[w[1]].name.value, p.passes[w[0]].name.value
+                    ),
+                );
             }
         }
         diags.push(d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`"));
@@ -178,7 +252,10 @@ fn find_cycle(edges: &BTreeMap<(usize, usize), (String, Span)>, left: &[usize]) 
     let mut path = vec![left[0]];
     loop {
         let cur = path[path.len() - 1];
-        let prev = edges.keys().find(|(from, to)| *to == cur && left.contains(from)).map(|(from, _)| *from);
+        let prev = edges
+            .keys()
+            .find(|(from, to)| *to == cur && left.contains(from))
+            .map(|(from, _)| *from);
         match prev {
             Some(n) => {
                 if let Some(pos) = path.iter().position(|&x| x == n) {

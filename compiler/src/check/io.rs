@@ -53,7 +53,10 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
         )
         .with_secondary(fs.module.entry_span(fs.entry), "entry point body");
         if let Some(first) = pass.color.first() {
-            d = d.with_secondary(first.span.to(pass.color[pass.color.len() - 1].span), "color targets");
+            d = d.with_secondary(
+                first.span.to(pass.color[pass.color.len() - 1].span),
+                "color targets",
+            );
         }
         diags.push(d);
         return;
@@ -67,7 +70,9 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
             ));
             continue;
         }
-        let Some(t) = p.resource(&c.resource).and_then(|r| r.texture()) else { continue };
+        let Some(t) = p.resource(&c.resource).and_then(|r| r.texture()) else {
+            continue;
+        };
         let f = t.format.value;
         let want = match f.kind() {
             ScalarKind::Uint => naga::ScalarKind::Uint,
@@ -90,8 +95,18 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
             );
         } else if o.components < f.components() {
             diags.push(
-                Diagnostic::error("fragment-output-kind", format!("@location({i}) has {} component(s) but {} of `{}` has {}", o.components, f.name(), c.resource.value, f.components()), c.resource.span)
-                    .with_secondary(ep_span, "fragment entry point"),
+                Diagnostic::error(
+                    "fragment-output-kind",
+                    format!(
+                        "@location({i}) has {} component(s) but {} of `{}` has {}",
+                        o.components,
+                        f.name(),
+                        c.resource.value,
+                        f.components()
+                    ),
+                    c.resource.span,
+                )
+                .with_secondary(ep_span, "fragment entry point"),
             );
         }
     }
@@ -100,7 +115,9 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
 fn vertex_inputs(pass: &Pass, vs: &StageShader, diags: &mut Diagnostics) {
     let ins = reflect::inputs(&vs.module, vs.entry);
     match &pass.kind {
-        PassKind::Raster { draw: Draw::Scene, .. } => {
+        PassKind::Raster {
+            draw: Draw::Scene, ..
+        } => {
             for i in &ins {
                 match SCENE_VERTEX.iter().find(|v| v.0 == i.location) {
                     None => diags.push(

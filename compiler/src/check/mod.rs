@@ -42,10 +42,18 @@ pub struct Checked {
 }
 
 impl Checked {
-    pub fn version(&self, pass: usize, selection: &std::collections::BTreeMap<String, String>) -> Option<&PassVersion> {
+    pub fn version(
+        &self,
+        pass: usize,
+        selection: &std::collections::BTreeMap<String, String>,
+    ) -> Option<&PassVersion> {
         let vs = &self.versions[pass];
         vs.iter()
-            .find(|v| v.option.as_ref().is_some_and(|(var, opt)| selection.get(var) == Some(opt)))
+            .find(|v| {
+                v.option
+                    .as_ref()
+                    .is_some_and(|(var, opt)| selection.get(var) == Some(opt))
+            })
             .or_else(|| vs.iter().find(|v| v.option.is_none()))
     }
 }
@@ -61,10 +69,19 @@ fn variant_atoms(c: &Condition, out: &mut Vec<(String, String)>) {
 }
 
 fn option_features(p: &Pipeline, var: &str, opt: &str) -> Vec<Feature> {
-    p.variant(var).and_then(|v| v.option(opt)).map(|o| o.requires.iter().map(|f| f.value).collect()).unwrap_or_default()
+    p.variant(var)
+        .and_then(|v| v.option(opt))
+        .map(|o| o.requires.iter().map(|f| f.value).collect())
+        .unwrap_or_default()
 }
 
-pub fn check_pipeline(pipeline: Pipeline, profile: &Profile, loader: &mut ShaderLoader, sources: &mut SourceMap, diags: &mut Diagnostics) -> Checked {
+pub fn check_pipeline(
+    pipeline: Pipeline,
+    profile: &Profile,
+    loader: &mut ShaderLoader,
+    sources: &mut SourceMap,
+    diags: &mut Diagnostics,
+) -> Checked {
     declarations::check(&pipeline, profile, diags);
     let mut versions = vec![];
     for pass in &pipeline.passes {
@@ -77,12 +94,16 @@ pub fn check_pipeline(pipeline: Pipeline, profile: &Profile, loader: &mut Shader
             features.extend(option_features(&pipeline, v, o));
         }
         // The pass's own shaders, then each substitution a variant option makes.
-        let mut wanted: Vec<(Option<(String, String)>, Option<Spanned<String>>)> = vec![(None, None)];
+        let mut wanted: Vec<(Option<(String, String)>, Option<Spanned<String>>)> =
+            vec![(None, None)];
         for v in &pipeline.variants {
             for o in &v.options {
                 for (target, file) in &o.shaders {
                     if target.value == pass.name.value {
-                        wanted.push((Some((v.name.value.clone(), o.name.value.clone())), Some(file.clone())));
+                        wanted.push((
+                            Some((v.name.value.clone(), o.name.value.clone())),
+                            Some(file.clone()),
+                        ));
                     }
                 }
             }
@@ -101,7 +122,11 @@ pub fn check_pipeline(pipeline: Pipeline, profile: &Profile, loader: &mut Shader
                     if sref.file.value != crate::shader::FULLSCREEN_FILE {
                         sref.file = f.clone();
                         // GLSL modules have one entry point, `main`; WGSL keeps the pass's names.
-                        let entry = if crate::shader::is_glsl(&f.value) { "main".to_string() } else { sref.entry.value.clone() };
+                        let entry = if crate::shader::is_glsl(&f.value) {
+                            "main".to_string()
+                        } else {
+                            sref.entry.value.clone()
+                        };
                         sref.entry = Spanned::new(entry, f.span);
                     }
                 }
@@ -110,7 +135,12 @@ pub fn check_pipeline(pipeline: Pipeline, profile: &Profile, loader: &mut Shader
                     continue;
                 };
                 match entry::resolve(&module, &sref, stage, pass.kind.word(), diags) {
-                    Some(e) => stages.push(StageShader { stage, sref, module, entry: e }),
+                    Some(e) => stages.push(StageShader {
+                        stage,
+                        sref,
+                        module,
+                        entry: e,
+                    }),
                     None => ok = false,
                 }
             }
@@ -118,9 +148,15 @@ pub fn check_pipeline(pipeline: Pipeline, profile: &Profile, loader: &mut Shader
                 continue;
             }
             io::check(&pipeline, pass, &stages, diags);
-            let Some(resolved) = bindings::resolve(&pipeline, pass, &stages, profile, diags) else { continue };
+            let Some(resolved) = bindings::resolve(&pipeline, pass, &stages, profile, diags) else {
+                continue;
+            };
             limits::check(&pipeline, pass, &stages, &resolved, profile, diags);
-            pass_versions.push(PassVersion { option, stages, resolved });
+            pass_versions.push(PassVersion {
+                option,
+                stages,
+                resolved,
+            });
         }
         versions.push(pass_versions);
     }

@@ -47,13 +47,23 @@ impl Effect {
         Effect::IndirectSpecular,
         Effect::Bloom,
     ];
-    pub const NAMES: [&'static str; 7] =
-        ["Shadows", "AmbientOcclusion", "MultiViewAo", "Ssr", "IndirectDiffuse", "IndirectSpecular", "Bloom"];
+    pub const NAMES: [&'static str; 7] = [
+        "Shadows",
+        "AmbientOcclusion",
+        "MultiViewAo",
+        "Ssr",
+        "IndirectDiffuse",
+        "IndirectSpecular",
+        "Bloom",
+    ];
     pub fn name(self) -> &'static str {
         Self::NAMES[Self::ALL.iter().position(|e| *e == self).unwrap_or(0)]
     }
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
+        Self::NAMES
+            .iter()
+            .position(|n| *n == s)
+            .map(|i| Self::ALL[i])
     }
 }
 
@@ -84,8 +94,20 @@ impl Condition {
             Condition::Toggle(p) => format!("Toggle({:?})", p.value),
             Condition::Variant(v, o) => format!("Variant({:?}, {:?})", v.value, o.value),
             Condition::Not(c) => format!("Not({})", c.describe()),
-            Condition::All(cs) => format!("All({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
-            Condition::Any(cs) => format!("Any({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
+            Condition::All(cs) => format!(
+                "All({})",
+                cs.iter()
+                    .map(|c| c.describe())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Condition::Any(cs) => format!(
+                "Any({})",
+                cs.iter()
+                    .map(|c| c.describe())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         }
     }
 

@@ -17,7 +17,16 @@ pub enum CompareFn {
 }
 
 impl CompareFn {
-    pub const NAMES: [&'static str; 8] = ["Never", "Less", "LessEqual", "Equal", "Greater", "GreaterEqual", "NotEqual", "Always"];
+    pub const NAMES: [&'static str; 8] = [
+        "Never",
+        "Less",
+        "LessEqual",
+        "Equal",
+        "Greater",
+        "GreaterEqual",
+        "NotEqual",
+        "Always",
+    ];
     pub const ALL: [CompareFn; 8] = [
         CompareFn::Never,
         CompareFn::Less,
@@ -29,7 +38,10 @@ impl CompareFn {
         CompareFn::Always,
     ];
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
+        Self::NAMES
+            .iter()
+            .position(|n| *n == s)
+            .map(|i| Self::ALL[i])
     }
 }
 
@@ -198,12 +210,21 @@ impl Pass {
 
     /// Every resource this pass writes: attachments and storage writes.
     pub fn written(&self) -> impl Iterator<Item = &Spanned<String>> {
-        self.color.iter().map(|c| &c.resource).chain(self.depth.as_ref().map(|d| &d.resource)).chain(self.writes.iter())
+        self.color
+            .iter()
+            .map(|c| &c.resource)
+            .chain(self.depth.as_ref().map(|d| &d.resource))
+            .chain(self.writes.iter())
     }
 
     /// Does this pass's write of `res` build on the earlier content (`load: Load`)?
     pub fn accumulates(&self, res: &str) -> bool {
-        self.color.iter().any(|c| c.resource.value == res && c.load == LoadOp::Load)
-            || self.depth.as_ref().is_some_and(|d| d.resource.value == res && d.load == LoadOp::Load)
+        self.color
+            .iter()
+            .any(|c| c.resource.value == res && c.load == LoadOp::Load)
+            || self
+                .depth
+                .as_ref()
+                .is_some_and(|d| d.resource.value == res && d.load == LoadOp::Load)
     }
 }

@@ -26,8 +26,13 @@ impl ViewDim {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum SizeSpec {
     /// A fraction of the output resolution (1.0 = full size).
-    Viewport { scale: f64 },
-    Fixed { width: u32, height: u32 },
+    Viewport {
+        scale: f64,
+    },
+    Fixed {
+        width: u32,
+        height: u32,
+    },
 }
 
 impl SizeSpec {

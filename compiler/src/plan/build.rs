@@ -24,11 +24,19 @@ pub struct Config<'a> {
 
 /// What an option lacks on this profile, as text; empty when it is supported.
 fn missing(o: &VariantOption, profile: &Profile) -> Vec<String> {
-    let mut out: Vec<String> = o.requires.iter().filter(|f| !profile.has(f.value)).map(|f| format!("feature {}", f.value.name())).collect();
+    let mut out: Vec<String> = o
+        .requires
+        .iter()
+        .filter(|f| !profile.has(f.value))
+        .map(|f| format!("feature {}", f.value.name()))
+        .collect();
     for (name, min) in &o.limits {
         let have = profile.limits.get(name).unwrap_or(0);
         if have < min.value {
-            out.push(format!("limit {} >= {} (has {have})", name.value, min.value));
+            out.push(format!(
+                "limit {} >= {} (has {have})",
+                name.value, min.value
+            ));
         }
     }
     out
@@ -36,17 +44,34 @@ fn missing(o: &VariantOption, profile: &Profile) -> Vec<String> {
 
 /// Stage `variants`: pick each variant's option (requested or default) and fall back along
 /// declared fallbacks while the profile lacks what an option needs.
-pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], diags: &mut Diagnostics) -> Option<Selection> {
+pub fn select(
+    p: &Pipeline,
+    profile: &Profile,
+    requested: &[(String, String)],
+    diags: &mut Diagnostics,
+) -> Option<Selection> {
     let before = diags.error_count();
     for (k, v) in requested {
         match p.variant(k) {
             None => {
                 let names: Vec<&str> = p.variants.iter().map(|v| v.name.value.as_str()).collect();
-                diags.push(Diagnostic::unlocated(Severity::Error, "unknown-variant", format!("pipeline `{}` has no variant `{k}`", p.name.value)).with_note(suggestion_note(k, &names)));
+                diags.push(
+                    Diagnostic::unlocated(
+                        Severity::Error,
+                        "unknown-variant",
+                        format!("pipeline `{}` has no variant `{k}`", p.name.value),
+                    )
+                    .with_note(suggestion_note(k, &names)),
+                );
             }
             Some(var) if var.option(v).is_none() => {
                 diags.push(
-                    Diagnostic::unlocated(Severity::Error, "unknown-variant-option", format!("variant `{k}` has no option `{v}`")).with_note(suggestion_note(v, &var.option_names())),
+                    Diagnostic::unlocated(
+                        Severity::Error,
+                        "unknown-variant-option",
+                        format!("variant `{k}` has no option `{v}`"),
+                    )
+                    .with_note(suggestion_note(v, &var.option_names())),
                 );
             }
             _ => {}
@@ -57,13 +82,21 @@ pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], d
     }
     let mut sel = Selection::default();
     for var in &p.variants {
-        let requested_opt = requested.iter().rev().find(|(k, _)| *k == var.name.value).map(|(_, v)| v.clone());
-        let start = requested_opt.clone().unwrap_or_else(|| var.default.value.clone());
+        let requested_opt = requested
+            .iter()
+            .rev()
+            .find(|(k, _)| *k == var.name.value)
+            .map(|(_, v)| v.clone());
+        let start = requested_opt
+            .clone()
+            .unwrap_or_else(|| var.default.value.clone());
         let mut cur = start.clone();
         let mut reasons = vec![];
         let mut seen = vec![];
         loop {
-            let Some(o) = var.option(&cur) else { return None };
+            let Some(o) = var.option(&cur) else {
+                return None;
+            };
             let lacks = missing(o, profile);
             if lacks.is_empty() {
                 break;
@@ -71,11 +104,22 @@ pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], d
             seen.push(cur.clone());
             match &o.fallback {
                 Some(fb) if !seen.contains(&fb.value) => {
-                    reasons.push(format!("`{cur}` needs {}, which profile `{}` lacks; falling back to `{}`", lacks.join(", "), profile.name, fb.value));
+                    reasons.push(format!(
+                        "`{cur}` needs {}, which profile `{}` lacks; falling back to `{}`",
+                        lacks.join(", "),
+                        profile.name,
+                        fb.value
+                    ));
                     cur = fb.value.clone();
                 }
                 _ => {
-                    let span = o.requires.iter().find(|f| !profile.has(f.value)).map(|f| f.span).or_else(|| o.limits.first().map(|l| l.0.span)).unwrap_or(o.span);
+                    let span = o
+                        .requires
+                        .iter()
+                        .find(|f| !profile.has(f.value))
+                        .map(|f| f.span)
+                        .or_else(|| o.limits.first().map(|l| l.0.span))
+                        .unwrap_or(o.span);
                     let mut d = Diagnostic::error(
                         "variant-unsupported",
                         format!("variant `{}` option `{cur}` needs {}, which profile `{}` lacks, and declares no fallback", var.name.value, lacks.join(", "), profile.name),
@@ -98,7 +142,11 @@ pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], d
             None
         };
         sel.chosen.insert(var.name.value.clone(), cur.clone());
-        sel.notes.push(ChosenVariant { variant: var.name.value.clone(), option: cur, reason });
+        sel.notes.push(ChosenVariant {
+            variant: var.name.value.clone(),
+            option: cur,
+            reason,
+        });
     }
     (diags.error_count() == before).then_some(sel)
 }
@@ -132,22 +180,46 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
             _ => Err((format!("toggle `{}` is off", name.value), false)),
         },
         Condition::Variant(v, o) => {
-            let chosen = cfg.selection.chosen.get(&v.value).cloned().unwrap_or_default();
+            let chosen = cfg
+                .selection
+                .chosen
+                .get(&v.value)
+                .cloned()
+                .unwrap_or_default();
             if chosen == o.value {
                 Ok(())
             } else {
-                Err((format!("variant not chosen: `{}` is `{chosen}`, this pass belongs to `{}`", v.value, o.value), true))
+                Err((
+                    format!(
+                        "variant not chosen: `{}` is `{chosen}`, this pass belongs to `{}`",
+                        v.value, o.value
+                    ),
+                    true,
+                ))
             }
         }
-        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => match eval(inner, p, cfg) {
-            Ok(()) => {
-                let Condition::Variant(v, o) = &inner.value else { return Ok(()) };
-                Err((format!("variant not chosen: `{}` is `{}`, this pass serves the other options", v.value, o.value), true))
+        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => {
+            match eval(inner, p, cfg) {
+                Ok(()) => {
+                    let Condition::Variant(v, o) = &inner.value else {
+                        return Ok(());
+                    };
+                    Err((
+                        format!(
+                            "variant not chosen: `{}` is `{}`, this pass serves the other options",
+                            v.value, o.value
+                        ),
+                        true,
+                    ))
+                }
+                Err(_) => Ok(()),
             }
-            Err(_) => Ok(()),
-        },
+        }
         Condition::Not(inner) => match eval(inner, p, cfg) {
-            Ok(()) => Err((format!("{} holds", inner.describe()), inner.mentions_variant())),
+            Ok(()) => Err((
+                format!("{} holds", inner.describe()),
+                inner.mentions_variant(),
+            )),
             Err(_) => Ok(()),
         },
         Condition::All(cs) => cs.iter().try_for_each(|c| eval(c, p, cfg)),
@@ -163,7 +235,10 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
                     }
                 }
             }
-            Err((format!("none holds: {}", reasons.join("; ")), by_variant && !cs.is_empty()))
+            Err((
+                format!("none holds: {}", reasons.join("; ")),
+                by_variant && !cs.is_empty(),
+            ))
         }
     }
 }
@@ -185,7 +260,11 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     for (i, pass) in p.passes.iter().enumerate() {
         if let Some(w) = &pass.when {
             if let Err((why, by_variant)) = eval(w, p, cfg) {
-                let reason = if by_variant { why } else { format!("condition `{}` is false: {why}", w.describe()) };
+                let reason = if by_variant {
+                    why
+                } else {
+                    format!("condition `{}` is false: {why}", w.describe())
+                };
                 culled.insert(i, reason);
                 continue;
             }
@@ -193,7 +272,13 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         if let Some(kinds) = &pass.per_light {
             if cfg.scene.light_count(kinds) == 0 {
                 let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
-                culled.insert(i, format!("runs per {} light and the scene has none", names.join(" or ")));
+                culled.insert(
+                    i,
+                    format!(
+                        "runs per {} light and the scene has none",
+                        names.join(" or ")
+                    ),
+                );
                 continue;
             }
         }
@@ -226,15 +311,35 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     kept.sort();
     for &i in &candidates {
         if !kept.contains(&i) {
-            let writes: Vec<String> = p.passes[i].written().map(|w| format!("`{}`", w.value)).collect();
-            culled.insert(i, format!("output unreachable: nothing on the way to `{}` reads {}", p.output.value, writes.join(", ")));
+            let writes: Vec<String> = p.passes[i]
+                .written()
+                .map(|w| format!("`{}`", w.value))
+                .collect();
+            culled.insert(
+                i,
+                format!(
+                    "output unreachable: nothing on the way to `{}` reads {}",
+                    p.output.value,
+                    writes.join(", ")
+                ),
+            );
         }
     }
-    if !kept.iter().any(|&i| p.passes[i].written().any(|w| w.value == p.output.value)) {
-        let mut d = Diagnostic::error("output-unreachable", format!("no kept pass writes the output `{}`", p.output.value), p.output.span);
+    if !kept
+        .iter()
+        .any(|&i| p.passes[i].written().any(|w| w.value == p.output.value))
+    {
+        let mut d = Diagnostic::error(
+            "output-unreachable",
+            format!("no kept pass writes the output `{}`", p.output.value),
+            p.output.span,
+        );
         for (i, why) in &culled {
             if p.passes[*i].written().any(|w| w.value == p.output.value) {
-                d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[*i].name.value));
+                d = d.with_note(format!(
+                    "its writer `{}` was culled: {why}",
+                    p.passes[*i].name.value
+                ));
             }
         }
         diags.push(d);
@@ -250,14 +355,29 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             // Its shaders failed to check; the errors are already reported.
             return None;
         };
-        let repetitions = pass.per_light.as_ref().map(|k| cfg.scene.light_count(k)).unwrap_or(1) * if pass.per_face { 6 } else { 1 };
-        let fmt = |name: &str| p.resource(name).and_then(|r| r.texture()).map(|t| t.format.value.name().to_string()).unwrap_or_default();
+        let repetitions = pass
+            .per_light
+            .as_ref()
+            .map(|k| cfg.scene.light_count(k))
+            .unwrap_or(1)
+            * if pass.per_face { 6 } else { 1 };
+        let fmt = |name: &str| {
+            p.resource(name)
+                .and_then(|r| r.texture())
+                .map(|t| t.format.value.name().to_string())
+                .unwrap_or_default()
+        };
         let clear = |l: &LoadOp| match l {
             LoadOp::Clear(v) => Some(v.clone()),
             LoadOp::Load => None,
         };
         let (work, cull, instances, multiview) = match &pass.kind {
-            PassKind::Raster { draw, cull, instances, multiview } => (
+            PassKind::Raster {
+                draw,
+                cull,
+                instances,
+                multiview,
+            } => (
                 match draw {
                     Draw::Scene => "Scene".to_string(),
                     Draw::Vertices(n) => format!("Vertices({n})"),
@@ -277,21 +397,33 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
                 None,
             ),
         };
-        let workgroup_size = version.stages.iter().find(|s| s.stage == naga::ShaderStage::Compute).map(|s| s.module.module.entry_points[s.entry].workgroup_size);
+        let workgroup_size = version
+            .stages
+            .iter()
+            .find(|s| s.stage == naga::ShaderStage::Compute)
+            .map(|s| s.module.module.entry_points[s.entry].workgroup_size);
         passes.push(PlanPass {
             name: pass.name.value.clone(),
             kind: pass.kind.word().to_string(),
             stages: version
                 .stages
                 .iter()
-                .map(|s| PlanStage { stage: crate::check::entry::stage_word(s.stage).into(), file: s.sref.file.value.clone(), entry: s.sref.entry.value.clone() })
+                .map(|s| PlanStage {
+                    stage: crate::check::entry::stage_word(s.stage).into(),
+                    file: s.sref.file.value.clone(),
+                    entry: s.sref.entry.value.clone(),
+                })
                 .collect(),
             work,
             workgroup_size,
             cull,
             instances,
             multiview,
-            per_light: pass.per_light.as_ref().map(|k| k.value.clone()).unwrap_or_default(),
+            per_light: pass
+                .per_light
+                .as_ref()
+                .map(|k| k.value.clone())
+                .unwrap_or_default(),
             per_face: pass.per_face,
             repetitions,
             color: pass
@@ -316,11 +448,25 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
                 depth_compare: Some(format!("{:?}", d.compare)),
                 depth_write: Some(d.write),
             }),
-            reads: pass.reads.iter().map(|r| if r.is_prev() { format!("Prev({})", r.name().value) } else { r.name().value.clone() }).collect(),
+            reads: pass
+                .reads
+                .iter()
+                .map(|r| {
+                    if r.is_prev() {
+                        format!("Prev({})", r.name().value)
+                    } else {
+                        r.name().value.clone()
+                    }
+                })
+                .collect(),
             writes: pass.writes.iter().map(|w| w.value.clone()).collect(),
             bind_groups: version.resolved.groups.clone(),
             uniform_blocks: version.resolved.uniform_blocks.clone(),
-            after: ordered.after.get(&i).map(|v| v.iter().map(|&j| p.passes[j].name.value.clone()).collect()).unwrap_or_default(),
+            after: ordered
+                .after
+                .get(&i)
+                .map(|v| v.iter().map(|&j| p.passes[j].name.value.clone()).collect())
+                .unwrap_or_default(),
         });
     }
 
@@ -334,7 +480,12 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             }
         };
         for pp in &passes {
-            if pp.color.iter().chain(pp.depth.iter()).any(|a| a.resource == r.name.value) {
+            if pp
+                .color
+                .iter()
+                .chain(pp.depth.iter())
+                .any(|a| a.resource == r.name.value)
+            {
                 add("RENDER_ATTACHMENT");
             }
             for g in &pp.bind_groups {
@@ -363,7 +514,11 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             continue;
         }
         let per_light = r.per_light().map(|k| k.value.clone()).unwrap_or_default();
-        let instances = if per_light.is_empty() { 1 } else { cfg.scene.light_count(&per_light) };
+        let instances = if per_light.is_empty() {
+            1
+        } else {
+            cfg.scene.light_count(&per_light)
+        };
         let copies = if r.history() { 2 } else { 1 };
         let pr = match &r.kind {
             ResourceKind::Texture(t) => {
@@ -453,7 +608,13 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             })
             .collect(),
         passes,
-        culled: culled.iter().map(|(i, why)| CulledPass { name: p.passes[*i].name.value.clone(), reason: why.clone() }).collect(),
+        culled: culled
+            .iter()
+            .map(|(i, why)| CulledPass {
+                name: p.passes[*i].name.value.clone(),
+                reason: why.clone(),
+            })
+            .collect(),
         resources,
         output: p.output.value.clone(),
         memory_bytes,

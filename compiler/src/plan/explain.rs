@@ -9,7 +9,11 @@ fn mib(bytes: u64) -> String {
 
 fn binding_word(t: &BindingType) -> String {
     match t {
-        BindingType::Texture { sample_type, view_dimension, .. } => {
+        BindingType::Texture {
+            sample_type,
+            view_dimension,
+            ..
+        } => {
             let st = match sample_type {
                 SampleType::Float { filterable: true } => "float, filterable",
                 SampleType::Float { filterable: false } => "float, unfilterable",
@@ -19,10 +23,23 @@ fn binding_word(t: &BindingType) -> String {
             };
             format!("texture {} ({st})", view_dimension.wgsl_word())
         }
-        BindingType::StorageTexture { format, access, view_dimension } => format!("storage texture {} {format} {access}", view_dimension.wgsl_word()),
+        BindingType::StorageTexture {
+            format,
+            access,
+            view_dimension,
+        } => format!(
+            "storage texture {} {format} {access}",
+            view_dimension.wgsl_word()
+        ),
         BindingType::Sampler(k) => format!("sampler ({k:?})"),
         BindingType::Uniform { min_binding_size } => format!("uniform ({min_binding_size} B)"),
-        BindingType::Storage { read_only, min_binding_size } => format!("storage {} (≥{min_binding_size} B)", if *read_only { "read" } else { "read_write" }),
+        BindingType::Storage {
+            read_only,
+            min_binding_size,
+        } => format!(
+            "storage {} (≥{min_binding_size} B)",
+            if *read_only { "read" } else { "read_write" }
+        ),
     }
 }
 
@@ -43,8 +60,25 @@ fn source_word(s: &BindSource) -> String {
 /// and the full layouts.
 pub fn to_text(plan: &Plan, explain: bool) -> String {
     let mut s = String::new();
-    let lights: Vec<String> = plan.lights.iter().map(|(k, n)| format!("{n} {}", k.name())).collect();
-    let _ = writeln!(s, "plan for pipeline `{}` (profile {}, scene {}, {}×{}, lights: {})", plan.pipeline, plan.profile, plan.scene, plan.resolution.0, plan.resolution.1, if lights.is_empty() { "none".into() } else { lights.join(", ") });
+    let lights: Vec<String> = plan
+        .lights
+        .iter()
+        .map(|(k, n)| format!("{n} {}", k.name()))
+        .collect();
+    let _ = writeln!(
+        s,
+        "plan for pipeline `{}` (profile {}, scene {}, {}×{}, lights: {})",
+        plan.pipeline,
+        plan.profile,
+        plan.scene,
+        plan.resolution.0,
+        plan.resolution.1,
+        if lights.is_empty() {
+            "none".into()
+        } else {
+            lights.join(", ")
+        }
+    );
     if !plan.variants.is_empty() {
         let _ = writeln!(s, "\nvariants:");
         for v in &plan.variants {
@@ -71,14 +105,36 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
                     r += &format!("per {} light", kinds.join("/"));
                 }
                 if p.per_face {
-                    r += if kinds.is_empty() { "per face" } else { ", per face" };
+                    r += if kinds.is_empty() {
+                        "per face"
+                    } else {
+                        ", per face"
+                    };
                 }
                 r + ")"
             }
         };
-        let targets: Vec<String> = p.color.iter().map(|c| c.resource.clone()).chain(p.depth.iter().map(|d| format!("depth {}", d.resource))).chain(p.writes.iter().map(|w| format!("storage {w}"))).collect();
-        let _ = writeln!(s, "  {:>2}. {:<22} {:<10} {}{rep}", i + 1, p.name, p.kind, p.work);
-        let _ = writeln!(s, "      reads [{}] -> writes [{}]", p.reads.join(", "), targets.join(", "));
+        let targets: Vec<String> = p
+            .color
+            .iter()
+            .map(|c| c.resource.clone())
+            .chain(p.depth.iter().map(|d| format!("depth {}", d.resource)))
+            .chain(p.writes.iter().map(|w| format!("storage {w}")))
+            .collect();
+        let _ = writeln!(
+            s,
+            "  {:>2}. {:<22} {:<10} {}{rep}",
+            i + 1,
+            p.name,
+            p.kind,
+            p.work
+        );
+        let _ = writeln!(
+            s,
+            "      reads [{}] -> writes [{}]",
+            p.reads.join(", "),
+            targets.join(", ")
+        );
         if explain {
             for st in &p.stages {
                 let _ = writeln!(s, "      {} {}#{}", st.stage, st.file, st.entry);
@@ -88,13 +144,30 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
             }
             for g in &p.bind_groups {
                 for e in &g.entries {
-                    let _ = writeln!(s, "      @group({}) @binding({}) {:<20} {:<34} <- {}  [{}]", g.group, e.binding, e.name, binding_word(&e.ty), source_word(&e.source), e.visibility.join(", "));
+                    let _ = writeln!(
+                        s,
+                        "      @group({}) @binding({}) {:<20} {:<34} <- {}  [{}]",
+                        g.group,
+                        e.binding,
+                        e.name,
+                        binding_word(&e.ty),
+                        source_word(&e.source),
+                        e.visibility.join(", ")
+                    );
                 }
             }
             for b in &p.uniform_blocks {
-                let _ = writeln!(s, "      block `{}`: {} bytes, align {}", b.global, b.size, b.align);
+                let _ = writeln!(
+                    s,
+                    "      block `{}`: {} bytes, align {}",
+                    b.global, b.size, b.align
+                );
                 for f in &b.fields {
-                    let _ = writeln!(s, "        +{:<4} {:<12} {:<10} = {}", f.offset, f.name, f.ty, f.param);
+                    let _ = writeln!(
+                        s,
+                        "        +{:<4} {:<12} {:<10} = {}",
+                        f.offset, f.name, f.ty, f.param
+                    );
                 }
             }
         }
@@ -137,9 +210,22 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         if r.external {
             extra += " external";
         }
-        let _ = writeln!(s, "  {:<18} {:<44}{extra}  {}  [{}]", r.name, shape, mib(r.bytes), r.usage.join(" | "));
+        let _ = writeln!(
+            s,
+            "  {:<18} {:<44}{extra}  {}  [{}]",
+            r.name,
+            shape,
+            mib(r.bytes),
+            r.usage.join(" | ")
+        );
     }
-    let _ = writeln!(s, "\nmemory: {} at {}×{}", mib(plan.memory_bytes), plan.resolution.0, plan.resolution.1);
+    let _ = writeln!(
+        s,
+        "\nmemory: {} at {}×{}",
+        mib(plan.memory_bytes),
+        plan.resolution.0,
+        plan.resolution.1
+    );
     let _ = writeln!(s, "output: {}", plan.output);
     s
 }
@@ -151,22 +237,65 @@ pub fn to_dot(plan: &Plan) -> String {
     let _ = writeln!(s, "digraph {} {{", q(&plan.pipeline));
     let _ = writeln!(s, "  rankdir=LR;\n  node [fontname=\"sans-serif\"];");
     for p in &plan.passes {
-        let _ = writeln!(s, "  {} [shape=box, style=filled, fillcolor=\"#dde8f5\", label={}];", q(&format!("pass:{}", p.name)), q(&format!("{}\\n{}", p.name, p.kind)));
+        let _ = writeln!(
+            s,
+            "  {} [shape=box, style=filled, fillcolor=\"#dde8f5\", label={}];",
+            q(&format!("pass:{}", p.name)),
+            q(&format!("{}\\n{}", p.name, p.kind))
+        );
         for r in &p.reads {
             let name = r.trim_start_matches("Prev(").trim_end_matches(')');
-            let style = if r.starts_with("Prev(") { " [style=dashed, label=\"prev\"]" } else { "" };
-            let _ = writeln!(s, "  {} -> {}{style};", q(&format!("res:{name}")), q(&format!("pass:{}", p.name)));
+            let style = if r.starts_with("Prev(") {
+                " [style=dashed, label=\"prev\"]"
+            } else {
+                ""
+            };
+            let _ = writeln!(
+                s,
+                "  {} -> {}{style};",
+                q(&format!("res:{name}")),
+                q(&format!("pass:{}", p.name))
+            );
         }
-        for w in p.color.iter().map(|c| &c.resource).chain(p.depth.iter().map(|d| &d.resource)).chain(p.writes.iter()) {
-            let _ = writeln!(s, "  {} -> {};", q(&format!("pass:{}", p.name)), q(&format!("res:{w}")));
+        for w in p
+            .color
+            .iter()
+            .map(|c| &c.resource)
+            .chain(p.depth.iter().map(|d| &d.resource))
+            .chain(p.writes.iter())
+        {
+            let _ = writeln!(
+                s,
+                "  {} -> {};",
+                q(&format!("pass:{}", p.name)),
+                q(&format!("res:{w}"))
+            );
         }
     }
     for r in &plan.resources {
-        let shape = if r.name == plan.output { "doubleoctagon" } else { "ellipse" };
-        let _ = writeln!(s, "  {} [shape={shape}, label={}];", q(&format!("res:{}", r.name)), q(&format!("{}\\n{}", r.name, r.format.clone().unwrap_or_else(|| r.size.clone()))));
+        let shape = if r.name == plan.output {
+            "doubleoctagon"
+        } else {
+            "ellipse"
+        };
+        let _ = writeln!(
+            s,
+            "  {} [shape={shape}, label={}];",
+            q(&format!("res:{}", r.name)),
+            q(&format!(
+                "{}\\n{}",
+                r.name,
+                r.format.clone().unwrap_or_else(|| r.size.clone())
+            ))
+        );
     }
     for c in &plan.culled {
-        let _ = writeln!(s, "  {} [shape=box, style=dashed, fontcolor=gray, label={}];", q(&format!("culled:{}", c.name)), q(&format!("{} (culled)\\n{}", c.name, c.reason)));
+        let _ = writeln!(
+            s,
+            "  {} [shape=box, style=dashed, fontcolor=gray, label={}];",
+            q(&format!("culled:{}", c.name)),
+            q(&format!("{} (culled)\\n{}", c.name, c.reason))
+        );
     }
     s.push_str("}\n");
     s

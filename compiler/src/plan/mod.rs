@@ -28,11 +28,24 @@ pub enum SampleType {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum BindingType {
-    Texture { sample_type: SampleType, view_dimension: ShaderDim, multisampled: bool },
-    StorageTexture { format: String, access: String, view_dimension: ShaderDim },
+    Texture {
+        sample_type: SampleType,
+        view_dimension: ShaderDim,
+        multisampled: bool,
+    },
+    StorageTexture {
+        format: String,
+        access: String,
+        view_dimension: ShaderDim,
+    },
     Sampler(SamplerKind),
-    Uniform { min_binding_size: u32 },
-    Storage { read_only: bool, min_binding_size: u32 },
+    Uniform {
+        min_binding_size: u32,
+    },
+    Storage {
+        read_only: bool,
+        min_binding_size: u32,
+    },
 }
 
 /// What the runtime binds at a slot.

@@ -70,7 +70,12 @@ impl ShaderFs for DiskFs<'_> {
 }
 
 /// Load `path` (already known to exist as `root_file`) and expand its includes.
-pub fn expand(fs: &dyn ShaderFs, sources: &mut SourceMap, root_file: FileId, root_path: &str) -> Result<Expanded, Diagnostic> {
+pub fn expand(
+    fs: &dyn ShaderFs,
+    sources: &mut SourceMap,
+    root_file: FileId,
+    root_path: &str,
+) -> Result<Expanded, Diagnostic> {
     let mut out = Expanded::default();
     let mut stack = vec![root_path.to_string()];
     let mut done: Vec<String> = vec![];
@@ -94,12 +99,22 @@ fn expand_file(
         let this_start = line_start;
         line_start += line.len();
         let trimmed = line.trim_start();
-        let Some(rest) = trimmed.strip_prefix("#include") else { continue };
+        let Some(rest) = trimmed.strip_prefix("#include") else {
+            continue;
+        };
         let indent = line.len() - trimmed.len();
-        let directive = Span::new(file, this_start + indent, this_start + line.trim_end().len());
+        let directive = Span::new(
+            file,
+            this_start + indent,
+            this_start + line.trim_end().len(),
+        );
         let rest = rest.trim();
         let Some(path) = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')) else {
-            return Err(Diagnostic::error("include-syntax", "expected `#include \"path\"`", directive));
+            return Err(Diagnostic::error(
+                "include-syntax",
+                "expected `#include \"path\"`",
+                directive,
+            ));
         };
         // Text before the directive.
         push(out, &text, file, copied_to, this_start);
@@ -107,8 +122,12 @@ fn expand_file(
         if stack.iter().any(|s| s == path) {
             let mut chain: Vec<&str> = stack.iter().map(|s| s.as_str()).collect();
             chain.push(path);
-            return Err(Diagnostic::error("include-cycle", format!("include cycle: {}", chain.join(" -> ")), directive)
-                .with_label_text(format!("`{path}` is already being included")));
+            return Err(Diagnostic::error(
+                "include-cycle",
+                format!("include cycle: {}", chain.join(" -> ")),
+                directive,
+            )
+            .with_label_text(format!("`{path}` is already being included")));
         }
         if done.iter().any(|d| d == path) {
             continue; // include-once: WGSL forbids redefinitions
@@ -118,7 +137,11 @@ fn expand_file(
             None => match fs.read(path) {
                 Ok(t) => sources.add(fs.display(path), t),
                 Err(e) => {
-                    return Err(Diagnostic::error("include-not-found", format!("cannot read included file `{path}`: {e}"), directive))
+                    return Err(Diagnostic::error(
+                        "include-not-found",
+                        format!("cannot read included file `{path}`: {e}"),
+                        directive,
+                    ))
                 }
             },
         };
@@ -136,7 +159,12 @@ fn expand_file(
 
 fn push(out: &mut Expanded, text: &str, file: FileId, from: usize, to: usize) {
     if to > from {
-        out.segments.push(Segment { start: out.text.len(), len: to - from, file, file_offset: from });
+        out.segments.push(Segment {
+            start: out.text.len(),
+            len: to - from,
+            file,
+            file_offset: from,
+        });
         out.text.push_str(&text[from..to]);
     }
 }
@@ -149,13 +177,20 @@ mod tests {
     struct Mem(HashMap<&'static str, &'static str>);
     impl ShaderFs for Mem {
         fn read(&self, p: &str) -> std::io::Result<String> {
-            self.0.get(p).map(|s| s.to_string()).ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"))
+            self.0
+                .get(p)
+                .map(|s| s.to_string())
+                .ok_or_else(|| std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"))
         }
     }
 
     #[test]
     fn maps_spans_back_to_included_files() {
-        let fs = Mem([("a.wgsl", "#include \"b.wgsl\"\nfn a() {}\n"), ("b.wgsl", "fn b() {}\n")].into());
+        let fs = Mem([
+            ("a.wgsl", "#include \"b.wgsl\"\nfn a() {}\n"),
+            ("b.wgsl", "fn b() {}\n"),
+        ]
+        .into());
         let mut sm = SourceMap::new();
         let a = sm.add("a.wgsl", fs.read("a.wgsl").unwrap());
         let e = expand(&fs, &mut sm, a, "a.wgsl").unwrap();
@@ -170,7 +205,11 @@ mod tests {
 
     #[test]
     fn include_cycle_is_reported_at_the_directive() {
-        let fs = Mem([("a.wgsl", "#include \"b.wgsl\"\n"), ("b.wgsl", "\n  #include \"a.wgsl\"\n")].into());
+        let fs = Mem([
+            ("a.wgsl", "#include \"b.wgsl\"\n"),
+            ("b.wgsl", "\n  #include \"a.wgsl\"\n"),
+        ]
+        .into());
         let mut sm = SourceMap::new();
         let a = sm.add("a.wgsl", fs.read("a.wgsl").unwrap());
         let err = expand(&fs, &mut sm, a, "a.wgsl").unwrap_err();

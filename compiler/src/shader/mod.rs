@@ -28,11 +28,16 @@ pub enum Lang {
 }
 
 pub fn is_glsl(path: &str) -> bool {
-    [".vert", ".frag", ".comp", ".glsl"].iter().any(|e| path.ends_with(e))
+    [".vert", ".frag", ".comp", ".glsl"]
+        .iter()
+        .any(|e| path.ends_with(e))
 }
 
 fn lang_of(path: &str) -> Result<Lang, String> {
-    let ext = Path::new(path).extension().and_then(|e| e.to_str()).unwrap_or("");
+    let ext = Path::new(path)
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("");
     match ext {
         "wgsl" => Ok(Lang::Wgsl),
         "vert" => Ok(Lang::Glsl(naga::ShaderStage::Vertex)),
@@ -64,7 +69,8 @@ impl ShaderModule {
     }
     /// Best location for a global: its declaration.
     pub fn global_span(&self, h: naga::Handle<naga::GlobalVariable>) -> Span {
-        self.map_span(self.module.global_variables.get_span(h)).unwrap_or(Span::new(self.root_file(), 0, 0))
+        self.map_span(self.module.global_variables.get_span(h))
+            .unwrap_or(Span::new(self.root_file(), 0, 0))
     }
     pub fn entry_span(&self, index: usize) -> Span {
         let ep = &self.module.entry_points[index];
@@ -105,7 +111,10 @@ pub struct ShaderLoader {
 
 impl ShaderLoader {
     pub fn new(root: PathBuf) -> Self {
-        ShaderLoader { root, cache: HashMap::new() }
+        ShaderLoader {
+            root,
+            cache: HashMap::new(),
+        }
     }
 
     pub fn load(
@@ -151,8 +160,12 @@ pub fn load_module(
             Ok(text) => sources.add(fs.display(&path.value), text),
             Err(e) => {
                 diags.push(
-                    Diagnostic::error("shader-not-found", format!("cannot read shader `{}`: {e}", path.value), path.span)
-                        .with_label_text("referenced here"),
+                    Diagnostic::error(
+                        "shader-not-found",
+                        format!("cannot read shader `{}`: {e}", path.value),
+                        path.span,
+                    )
+                    .with_label_text("referenced here"),
                 );
                 return None;
             }
@@ -166,14 +179,22 @@ pub fn load_module(
         }
     };
     let fallback = Span::new(root, 0, 0);
-    let map = |s: naga::Span| s.to_range().and_then(|r| expanded.map(r)).unwrap_or(fallback);
+    let map = |s: naga::Span| {
+        s.to_range()
+            .and_then(|r| expanded.map(r))
+            .unwrap_or(fallback)
+    };
     let module = match lang {
         Lang::Wgsl => match naga::front::wgsl::parse_str(&expanded.text) {
             Ok(m) => m,
             Err(e) => {
                 let mut labels = e.labels();
-                let (first_span, first_text) = labels.next().map(|(s, t)| (map(s), t.to_string())).unwrap_or((fallback, String::new()));
-                let mut d = Diagnostic::error("wgsl-parse", e.message().to_string(), first_span).with_label_text(first_text);
+                let (first_span, first_text) = labels
+                    .next()
+                    .map(|(s, t)| (map(s), t.to_string()))
+                    .unwrap_or((fallback, String::new()));
+                let mut d = Diagnostic::error("wgsl-parse", e.message().to_string(), first_span)
+                    .with_label_text(first_text);
                 for (s, t) in labels {
                     d = d.with_secondary(map(s), t);
                 }
@@ -190,7 +211,11 @@ pub fn load_module(
                 Ok(m) => m,
                 Err(errs) => {
                     for e in errs.errors {
-                        diags.push(Diagnostic::error("glsl-parse", e.kind.to_string(), map(e.meta)));
+                        diags.push(Diagnostic::error(
+                            "glsl-parse",
+                            e.kind.to_string(),
+                            map(e.meta),
+                        ));
                     }
                     return None;
                 }
@@ -202,8 +227,12 @@ pub fn load_module(
         Ok(i) => i,
         Err(e) => {
             let mut spans = e.spans();
-            let (first, first_text) = spans.next().map(|(s, t)| (map(*s), t.clone())).unwrap_or((fallback, String::new()));
-            let mut d = Diagnostic::error("shader-validation", e.as_inner().to_string(), first).with_label_text(first_text);
+            let (first, first_text) = spans
+                .next()
+                .map(|(s, t)| (map(*s), t.clone()))
+                .unwrap_or((fallback, String::new()));
+            let mut d = Diagnostic::error("shader-validation", e.as_inner().to_string(), first)
+                .with_label_text(first_text);
             for (s, t) in spans {
                 d = d.with_secondary(map(*s), t.clone());
             }
@@ -212,12 +241,20 @@ pub fn load_module(
                 d = d.with_note(s.to_string());
                 source = s.source();
             }
-            if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {
+            if e.as_inner().to_string().contains("apabilit")
+                || d.notes.iter().any(|n| n.contains("apabilit"))
+            {
                 d = d.with_note("declare the wgpu feature this needs in the `requires` of the variant option that enables this pass");
             }
             diags.push(d);
             return None;
         }
     };
-    Some(ShaderModule { path: path.value.clone(), lang, module, info, expanded })
+    Some(ShaderModule {
+        path: path.value.clone(),
+        lang,
+        module,
+        info,
+        expanded,
+    })
 }

@@ -37,11 +37,28 @@ impl ShaderDim {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum BindingTy {
-    Texture { kind: TexKind, dim: ShaderDim, multisampled: bool },
-    StorageTexture { format: naga::StorageFormat, write: bool, read: bool, dim: ShaderDim },
-    Sampler { comparison: bool },
-    Uniform { ty: Handle<naga::Type>, size: u32 },
-    Storage { read_only: bool, size: u32 },
+    Texture {
+        kind: TexKind,
+        dim: ShaderDim,
+        multisampled: bool,
+    },
+    StorageTexture {
+        format: naga::StorageFormat,
+        write: bool,
+        read: bool,
+        dim: ShaderDim,
+    },
+    Sampler {
+        comparison: bool,
+    },
+    Uniform {
+        ty: Handle<naga::Type>,
+        size: u32,
+    },
+    Storage {
+        read_only: bool,
+        size: u32,
+    },
     Unsupported,
 }
 
@@ -83,11 +100,22 @@ pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
         let inner = &m.types[g.ty].inner;
         let size = |ty| layouter[ty].size;
         let ty = match (g.space, inner) {
-            (AddressSpace::Uniform, _) => BindingTy::Uniform { ty: g.ty, size: size(g.ty) },
-            (AddressSpace::Storage { access }, _) => {
-                BindingTy::Storage { read_only: !access.contains(naga::StorageAccess::STORE), size: size(g.ty) }
-            }
-            (AddressSpace::Handle, TypeInner::Image { dim: d, arrayed, class }) => match class {
+            (AddressSpace::Uniform, _) => BindingTy::Uniform {
+                ty: g.ty,
+                size: size(g.ty),
+            },
+            (AddressSpace::Storage { access }, _) => BindingTy::Storage {
+                read_only: !access.contains(naga::StorageAccess::STORE),
+                size: size(g.ty),
+            },
+            (
+                AddressSpace::Handle,
+                TypeInner::Image {
+                    dim: d,
+                    arrayed,
+                    class,
+                },
+            ) => match class {
                 ImageClass::Sampled { kind, multi } => BindingTy::Texture {
                     kind: match kind {
                         naga::ScalarKind::Uint => TexKind::Uint,
@@ -97,7 +125,11 @@ pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
                     dim: dim(*d, *arrayed),
                     multisampled: *multi,
                 },
-                ImageClass::Depth { multi } => BindingTy::Texture { kind: TexKind::Depth, dim: dim(*d, *arrayed), multisampled: *multi },
+                ImageClass::Depth { multi } => BindingTy::Texture {
+                    kind: TexKind::Depth,
+                    dim: dim(*d, *arrayed),
+                    multisampled: *multi,
+                },
                 ImageClass::Storage { format, access } => BindingTy::StorageTexture {
                     format: *format,
                     write: access.contains(naga::StorageAccess::STORE),
@@ -106,12 +138,17 @@ pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
                 },
                 ImageClass::External => BindingTy::Unsupported,
             },
-            (AddressSpace::Handle, TypeInner::Sampler { comparison }) => BindingTy::Sampler { comparison: *comparison },
+            (AddressSpace::Handle, TypeInner::Sampler { comparison }) => BindingTy::Sampler {
+                comparison: *comparison,
+            },
             _ => BindingTy::Unsupported,
         };
         out.push(GlobalBinding {
             handle: h,
-            name: g.name.clone().unwrap_or_else(|| format!("<global {}>", h.index())),
+            name: g
+                .name
+                .clone()
+                .unwrap_or_else(|| format!("<global {}>", h.index())),
             group: rb.group,
             binding: rb.binding,
             ty,
@@ -130,8 +167,17 @@ pub fn used_by(sm: &ShaderModule, ep: usize, h: Handle<naga::GlobalVariable>) ->
 }
 
 /// (texture, sampler) pairs an entry point samples with, including through helper calls.
-pub fn sampling_pairs(sm: &ShaderModule, ep: usize) -> Vec<(Handle<naga::GlobalVariable>, Handle<naga::GlobalVariable>)> {
-    let mut pairs: Vec<_> = sm.info.get_entry_point(ep).sampling_set.iter().map(|k| (k.image, k.sampler)).collect();
+pub fn sampling_pairs(
+    sm: &ShaderModule,
+    ep: usize,
+) -> Vec<(Handle<naga::GlobalVariable>, Handle<naga::GlobalVariable>)> {
+    let mut pairs: Vec<_> = sm
+        .info
+        .get_entry_point(ep)
+        .sampling_set
+        .iter()
+        .map(|k| (k.image, k.sampler))
+        .collect();
     pairs.sort_by_key(|(a, b)| (a.index(), b.index()));
     pairs
 }
@@ -144,7 +190,13 @@ pub struct IoVar {
     pub name: String,
 }
 
-fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, name: Option<&str>, out: &mut Vec<IoVar>) {
+fn io_of(
+    m: &naga::Module,
+    ty: Handle<naga::Type>,
+    binding: Option<&Binding>,
+    name: Option<&str>,
+    out: &mut Vec<IoVar>,
+) {
     match (&m.types[ty].inner, binding) {
         (TypeInner::Struct { members, .. }, None) => {
             for mem in members {
@@ -157,13 +209,23 @@ fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, na
                 TypeInner::Vector { size, scalar } => (scalar.kind, *size as u32),
                 _ => (naga::ScalarKind::Float, 4),
             };
-            out.push(IoVar { location: *location, scalar, components, name: name.unwrap_or("").to_string() });
+            out.push(IoVar {
+                location: *location,
+                scalar,
+                components,
+                name: name.unwrap_or("").to_string(),
+            });
         }
         _ => {}
     }
 }
 
-fn builtins_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, out: &mut Vec<naga::BuiltIn>) {
+fn builtins_of(
+    m: &naga::Module,
+    ty: Handle<naga::Type>,
+    binding: Option<&Binding>,
+    out: &mut Vec<naga::BuiltIn>,
+) {
     match (&m.types[ty].inner, binding) {
         (TypeInner::Struct { members, .. }, None) => {
             for mem in members {
@@ -191,7 +253,13 @@ pub fn inputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
     let f = &sm.module.entry_points[ep].function;
     let mut out = vec![];
     for a in &f.arguments {
-        io_of(&sm.module, a.ty, a.binding.as_ref(), a.name.as_deref(), &mut out);
+        io_of(
+            &sm.module,
+            a.ty,
+            a.binding.as_ref(),
+            a.name.as_deref(),
+            &mut out,
+        );
     }
     out.sort_by_key(|v| v.location);
     out

@@ -46,7 +46,10 @@ impl Outcome {
             .iter()
             .map(|d| {
                 let (f, l, c) = d.location(&self.session.sources).unwrap_or_default();
-                let rel = Path::new(&f).strip_prefix(&self.dir).map(|p| p.display().to_string()).unwrap_or(f);
+                let rel = Path::new(&f)
+                    .strip_prefix(&self.dir)
+                    .map(|p| p.display().to_string())
+                    .unwrap_or(f);
                 (d.code.to_string(), d.message.clone(), rel, l, c)
             })
             .collect()
@@ -61,14 +64,25 @@ impl Outcome {
     }
 }
 
-pub fn check_project(dir: &Path, pipeline: &str, profile: &Profile, scene: Option<&SceneFeatures>) -> Outcome {
+pub fn check_project(
+    dir: &Path,
+    pipeline: &str,
+    profile: &Profile,
+    scene: Option<&SceneFeatures>,
+) -> Outcome {
     let mut s = Session::new();
     let path = dir.join(pipeline);
     s.check_file(&path, None, profile, scene);
-    Outcome { session: s, dir: dir.to_path_buf() }
+    Outcome {
+        session: s,
+        dir: dir.to_path_buf(),
+    }
 }
 
 /// The repository root (for the bundled pipelines and shaders).
 pub fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
 }

@@ -12,7 +12,11 @@ pub const EXIT_ERRORS: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
 
 #[derive(Parser, Debug)]
-#[command(name = "lightbench", version, about = "Build, run and measure real-time lighting pipelines")]
+#[command(
+    name = "lightbench",
+    version,
+    about = "Build, run and measure real-time lighting pipelines"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -80,8 +84,31 @@ pub fn profile(name: &str) -> Result<Profile, String> {
 
 pub fn run(cli: Cli) -> i32 {
     match cli.command {
-        Command::Check { paths, format, profile, scene, shaders } => check::run(&paths, format, &profile, scene.as_deref(), shaders.as_deref()),
-        Command::Plan { file, variants, scene, profile, explain, dot, json, size, lights, shaders } => plan::run(plan::Args {
+        Command::Check {
+            paths,
+            format,
+            profile,
+            scene,
+            shaders,
+        } => check::run(
+            &paths,
+            format,
+            &profile,
+            scene.as_deref(),
+            shaders.as_deref(),
+        ),
+        Command::Plan {
+            file,
+            variants,
+            scene,
+            profile,
+            explain,
+            dot,
+            json,
+            size,
+            lights,
+            shaders,
+        } => plan::run(plan::Args {
             file,
             variants,
             scene,

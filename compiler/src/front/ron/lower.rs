@@ -21,10 +21,13 @@ pub struct Obj {
 
 impl Obj {
     fn take(&mut self, key: &str) -> Option<(Span, Node)> {
-        self.fields.iter_mut().find(|f| f.0 == key && !f.3).map(|f| {
-            f.3 = true;
-            (f.1, f.2.clone())
-        })
+        self.fields
+            .iter_mut()
+            .find(|f| f.0 == key && !f.3)
+            .map(|f| {
+                f.3 = true;
+                (f.1, f.2.clone())
+            })
     }
 }
 
@@ -37,8 +40,12 @@ impl<'d> Lowerer<'d> {
 
     fn type_err<T>(&mut self, expected: &str, node: &Node) -> Res<T> {
         self.err(
-            Diagnostic::error("type-mismatch", format!("expected {expected}, found {}", node.value.kind_word()), node.span)
-                .with_label_text(format!("expected {expected}")),
+            Diagnostic::error(
+                "type-mismatch",
+                format!("expected {expected}, found {}", node.value.kind_word()),
+                node.span,
+            )
+            .with_label_text(format!("expected {expected}")),
         );
         None
     }
@@ -48,15 +55,26 @@ impl<'d> Lowerer<'d> {
         let (name, fields) = match &node.value {
             Value::Struct { name, fields } => (name.clone(), fields.clone()),
             Value::Tuple { name, items } if items.is_empty() => (name.clone(), vec![]),
-            Value::Ident(i) if expected_names.contains(&i.as_str()) => (Some((i.clone(), node.span)), vec![]),
-            _ => return self.type_err(&format!("{what} `{}(...)`", expected_names.first().unwrap_or(&"")), node),
+            Value::Ident(i) if expected_names.contains(&i.as_str()) => {
+                (Some((i.clone(), node.span)), vec![])
+            }
+            _ => {
+                return self.type_err(
+                    &format!("{what} `{}(...)`", expected_names.first().unwrap_or(&"")),
+                    node,
+                )
+            }
         };
         let name_str = match name {
             Some((n, nspan)) => {
                 if !expected_names.is_empty() && !expected_names.contains(&n.as_str()) {
                     self.err(
-                        Diagnostic::error("unknown-kind", format!("unknown {what} kind `{n}`"), nspan)
-                            .with_note(suggestion_note(&n, expected_names)),
+                        Diagnostic::error(
+                            "unknown-kind",
+                            format!("unknown {what} kind `{n}`"),
+                            nspan,
+                        )
+                        .with_note(suggestion_note(&n, expected_names)),
                     );
                     return None;
                 }
@@ -67,12 +85,26 @@ impl<'d> Lowerer<'d> {
         let mut seen: Vec<&str> = vec![];
         for (k, kspan, _) in &fields {
             if seen.contains(&k.as_str()) {
-                self.err(Diagnostic::error("duplicate-key", format!("key `{k}` is given twice in this {what}"), *kspan));
+                self.err(Diagnostic::error(
+                    "duplicate-key",
+                    format!("key `{k}` is given twice in this {what}"),
+                    *kspan,
+                ));
             }
             seen.push(k);
         }
-        let fields = fields.into_iter().map(|(k, s, n)| (k, s, n, false)).collect();
-        Some((name_str, Obj { what: what.to_string(), span: node.span, fields }))
+        let fields = fields
+            .into_iter()
+            .map(|(k, s, n)| (k, s, n, false))
+            .collect();
+        Some((
+            name_str,
+            Obj {
+                what: what.to_string(),
+                span: node.span,
+                fields,
+            },
+        ))
     }
 
     fn finish(&mut self, obj: Obj, allowed: &[&str]) {
@@ -88,8 +120,12 @@ impl<'d> Lowerer<'d> {
                 continue;
             }
             self.err(
-                Diagnostic::error("unknown-key", format!("unknown key `{k}` in {}", obj.what), kspan)
-                    .with_note(suggestion_note(&k, allowed)),
+                Diagnostic::error(
+                    "unknown-key",
+                    format!("unknown key `{k}` in {}", obj.what),
+                    kspan,
+                )
+                .with_note(suggestion_note(&k, allowed)),
             );
         }
     }
@@ -98,8 +134,12 @@ impl<'d> Lowerer<'d> {
         let r = obj.take(key);
         if r.is_none() {
             self.err(
-                Diagnostic::error("missing-key", format!("{} is missing required key `{key}`", obj.what), obj.span)
-                    .with_label_text(format!("`{key}` is required here")),
+                Diagnostic::error(
+                    "missing-key",
+                    format!("{} is missing required key `{key}`", obj.what),
+                    obj.span,
+                )
+                .with_label_text(format!("`{key}` is required here")),
             );
         }
         r
@@ -121,9 +161,15 @@ impl<'d> Lowerer<'d> {
 
     fn u32(&mut self, node: &Node) -> Res<Spanned<u32>> {
         match &node.value {
-            Value::Int(i) if *i >= 0 && *i <= u32::MAX as i64 => Some(Spanned::new(*i as u32, node.span)),
+            Value::Int(i) if *i >= 0 && *i <= u32::MAX as i64 => {
+                Some(Spanned::new(*i as u32, node.span))
+            }
             Value::Int(_) => {
-                self.err(Diagnostic::error("value-out-of-range", "expected a non-negative 32-bit integer", node.span));
+                self.err(Diagnostic::error(
+                    "value-out-of-range",
+                    "expected a non-negative 32-bit integer",
+                    node.span,
+                ));
                 None
             }
             _ => self.type_err("an integer", node),
@@ -147,15 +193,21 @@ impl<'d> Lowerer<'d> {
 
     /// A map with string keys, in file order; duplicate keys are reported.
     fn string_map(&mut self, node: &Node, what: &str) -> Res<Vec<(Spanned<String>, Node)>> {
-        let Value::Map(entries) = &node.value else { return self.type_err("a map `{...}`", node) };
+        let Value::Map(entries) = &node.value else {
+            return self.type_err("a map `{...}`", node);
+        };
         let mut out: Vec<(Spanned<String>, Node)> = vec![];
         for (k, v) in entries {
             let Some(key) = self.string(k) else { continue };
             if let Some((prev, _)) = out.iter().find(|(p, _)| p.value == key.value) {
                 let prev_span = prev.span;
                 self.err(
-                    Diagnostic::error("duplicate-name", format!("{what} `{}` is declared twice", key.value), key.span)
-                        .with_secondary(prev_span, "first declared here"),
+                    Diagnostic::error(
+                        "duplicate-name",
+                        format!("{what} `{}` is declared twice", key.value),
+                        key.span,
+                    )
+                    .with_secondary(prev_span, "first declared here"),
                 );
                 continue;
             }
@@ -165,14 +217,24 @@ impl<'d> Lowerer<'d> {
     }
 
     /// A unit enum value (`Linear`) checked against its names.
-    fn ident<T>(&mut self, node: &Node, what: &str, names: &[&str], parse: impl Fn(&str) -> Option<T>) -> Res<T> {
+    fn ident<T>(
+        &mut self,
+        node: &Node,
+        what: &str,
+        names: &[&str],
+        parse: impl Fn(&str) -> Option<T>,
+    ) -> Res<T> {
         match &node.value {
             Value::Ident(i) => match parse(i) {
                 Some(v) => Some(v),
                 None => {
                     self.err(
-                        Diagnostic::error("unknown-value", format!("unknown {what} `{i}`"), node.span)
-                            .with_note(suggestion_note(i, names)),
+                        Diagnostic::error(
+                            "unknown-value",
+                            format!("unknown {what} `{i}`"),
+                            node.span,
+                        )
+                        .with_note(suggestion_note(i, names)),
                     );
                     None
                 }
@@ -192,7 +254,11 @@ impl<'d> Lowerer<'d> {
             }
         }
         if kinds.is_empty() {
-            self.err(Diagnostic::error("empty-light-kinds", "a per-light list needs at least one light kind", node.span));
+            self.err(Diagnostic::error(
+                "empty-light-kinds",
+                "a per-light list needs at least one light kind",
+                node.span,
+            ));
             return None;
         }
         Some(Spanned::new(kinds, node.span))
@@ -200,27 +266,76 @@ impl<'d> Lowerer<'d> {
 
     pub fn pipeline(&mut self, root: &Node) -> Res<Pipeline> {
         let (_, mut o) = self.obj(root, &["Pipeline"], "pipeline")?;
-        let name = self.required(&mut o, "name").and_then(|(_, n)| self.string(&n));
-        let params = o.take("params").and_then(|(_, n)| self.params(&n)).unwrap_or_default();
-        let samplers = o.take("samplers").and_then(|(_, n)| self.samplers(&n)).unwrap_or_default();
-        let resources = o.take("resources").and_then(|(_, n)| self.resources(&n)).unwrap_or_default();
-        let passes = self.required(&mut o, "passes").and_then(|(_, n)| self.passes(&n)).unwrap_or_default();
-        let variants = o.take("variants").and_then(|(_, n)| self.variants(&n)).unwrap_or_default();
-        let output = self.required(&mut o, "output").and_then(|(_, n)| self.string(&n));
+        let name = self
+            .required(&mut o, "name")
+            .and_then(|(_, n)| self.string(&n));
+        let params = o
+            .take("params")
+            .and_then(|(_, n)| self.params(&n))
+            .unwrap_or_default();
+        let samplers = o
+            .take("samplers")
+            .and_then(|(_, n)| self.samplers(&n))
+            .unwrap_or_default();
+        let resources = o
+            .take("resources")
+            .and_then(|(_, n)| self.resources(&n))
+            .unwrap_or_default();
+        let passes = self
+            .required(&mut o, "passes")
+            .and_then(|(_, n)| self.passes(&n))
+            .unwrap_or_default();
+        let variants = o
+            .take("variants")
+            .and_then(|(_, n)| self.variants(&n))
+            .unwrap_or_default();
+        let output = self
+            .required(&mut o, "output")
+            .and_then(|(_, n)| self.string(&n));
         let span = o.span;
-        self.finish(o, &["name", "params", "samplers", "resources", "passes", "variants", "output"]);
-        Some(Pipeline { name: name?, params, samplers, resources, passes, variants, output: output?, span })
+        self.finish(
+            o,
+            &[
+                "name",
+                "params",
+                "samplers",
+                "resources",
+                "passes",
+                "variants",
+                "output",
+            ],
+        );
+        Some(Pipeline {
+            name: name?,
+            params,
+            samplers,
+            resources,
+            passes,
+            variants,
+            output: output?,
+            span,
+        })
     }
 
     fn params(&mut self, node: &Node) -> Res<Vec<Param>> {
         let entries = self.string_map(node, "parameter")?;
-        Some(entries.into_iter().filter_map(|(name, v)| self.param(name, &v)).collect())
+        Some(
+            entries
+                .into_iter()
+                .filter_map(|(name, v)| self.param(name, &v))
+                .collect(),
+        )
     }
 
     fn param(&mut self, name: Spanned<String>, node: &Node) -> Res<Param> {
         let (kind, mut o) = self.obj(node, &ParamType::NAMES, "parameter")?;
         let kind_span = match &node.value {
-            Value::Struct { name: Some((_, s)), .. } | Value::Tuple { name: Some((_, s)), .. } => *s,
+            Value::Struct {
+                name: Some((_, s)), ..
+            }
+            | Value::Tuple {
+                name: Some((_, s)), ..
+            } => *s,
             _ => node.span,
         };
         let ty = match kind.as_str() {
@@ -234,21 +349,41 @@ impl<'d> Lowerer<'d> {
             _ => {
                 let (_, opts) = self.required(&mut o, "options")?;
                 let items = self.list(&opts)?.to_vec();
-                let names: Vec<String> = items.iter().filter_map(|i| self.string(i).map(|s| s.value)).collect();
+                let names: Vec<String> = items
+                    .iter()
+                    .filter_map(|i| self.string(i).map(|s| s.value))
+                    .collect();
                 if names.is_empty() {
-                    self.err(Diagnostic::error("empty-enum", "an Enum parameter needs at least one option", opts.span));
+                    self.err(Diagnostic::error(
+                        "empty-enum",
+                        "an Enum parameter needs at least one option",
+                        opts.span,
+                    ));
                     return None;
                 }
                 ParamType::Enum(names)
             }
         };
-        let default = self.required(&mut o, "default").and_then(|(_, n)| self.param_value(&ty, &n));
+        let default = self
+            .required(&mut o, "default")
+            .and_then(|(_, n)| self.param_value(&ty, &n));
         let min = o.take("min").and_then(|(_, n)| self.param_value(&ty, &n));
         let max = o.take("max").and_then(|(_, n)| self.param_value(&ty, &n));
-        let doc = o.take("doc").and_then(|(_, n)| self.string(&n)).map(|s| s.value);
+        let doc = o
+            .take("doc")
+            .and_then(|(_, n)| self.string(&n))
+            .map(|s| s.value);
         let span = o.span;
         self.finish(o, &["default", "min", "max", "doc", "options"]);
-        Some(Param { name, ty: Spanned::new(ty, kind_span), default: default?, min, max, doc, span })
+        Some(Param {
+            name,
+            ty: Spanned::new(ty, kind_span),
+            default: default?,
+            min,
+            max,
+            doc,
+            span,
+        })
     }
 
     fn param_value(&mut self, ty: &ParamType, node: &Node) -> Res<Spanned<ParamValue>> {
@@ -261,8 +396,12 @@ impl<'d> Lowerer<'d> {
                 if !opts.contains(s) {
                     let names: Vec<&str> = opts.iter().map(|s| s.as_str()).collect();
                     self.err(
-                        Diagnostic::error("unknown-value", format!("`{s}` is not an option of this Enum"), node.span)
-                            .with_note(suggestion_note(s, &names)),
+                        Diagnostic::error(
+                            "unknown-value",
+                            format!("`{s}` is not an option of this Enum"),
+                            node.span,
+                        )
+                        .with_note(suggestion_note(s, &names)),
                     );
                     return None;
                 }
@@ -273,7 +412,11 @@ impl<'d> Lowerer<'d> {
                 if items.len() != n && !(matches!(t, ParamType::Color) && items.len() == 4) {
                     self.err(Diagnostic::error(
                         "param-type",
-                        format!("a {} value has {n} components, found {}", t.name(), items.len()),
+                        format!(
+                            "a {} value has {n} components, found {}",
+                            t.name(),
+                            items.len()
+                        ),
                         node.span,
                     ));
                     return None;
@@ -293,8 +436,16 @@ impl<'d> Lowerer<'d> {
                     t => format!("a tuple of {} numbers", t.components().unwrap_or(0)),
                 };
                 self.err(
-                    Diagnostic::error("param-type", format!("{} parameter: expected {expected}, found {}", t.name(), node.value.kind_word()), node.span)
-                        .with_label_text(format!("expected {expected}")),
+                    Diagnostic::error(
+                        "param-type",
+                        format!(
+                            "{} parameter: expected {expected}, found {}",
+                            t.name(),
+                            node.value.kind_word()
+                        ),
+                        node.span,
+                    )
+                    .with_label_text(format!("expected {expected}")),
                 );
                 return None;
             }
@@ -306,24 +457,44 @@ impl<'d> Lowerer<'d> {
         let entries = self.string_map(node, "sampler")?;
         let mut out = vec![];
         for (name, v) in entries {
-            let Some((_, mut o)) = self.obj(&v, &["Sampler"], "sampler") else { continue };
-            let filter = o.take("filter").and_then(|(_, n)| self.filter(&n)).unwrap_or(FilterMode::Linear);
-            let mipmap = o.take("mipmap").and_then(|(_, n)| self.filter(&n)).unwrap_or(FilterMode::Nearest);
+            let Some((_, mut o)) = self.obj(&v, &["Sampler"], "sampler") else {
+                continue;
+            };
+            let filter = o
+                .take("filter")
+                .and_then(|(_, n)| self.filter(&n))
+                .unwrap_or(FilterMode::Linear);
+            let mipmap = o
+                .take("mipmap")
+                .and_then(|(_, n)| self.filter(&n))
+                .unwrap_or(FilterMode::Nearest);
             let address = o
                 .take("address")
                 .and_then(|(_, n)| {
-                    self.ident(&n, "address mode", &["ClampToEdge", "Repeat", "MirrorRepeat"], |s| match s {
-                        "ClampToEdge" => Some(AddressMode::ClampToEdge),
-                        "Repeat" => Some(AddressMode::Repeat),
-                        "MirrorRepeat" => Some(AddressMode::MirrorRepeat),
-                        _ => None,
-                    })
+                    self.ident(
+                        &n,
+                        "address mode",
+                        &["ClampToEdge", "Repeat", "MirrorRepeat"],
+                        |s| match s {
+                            "ClampToEdge" => Some(AddressMode::ClampToEdge),
+                            "Repeat" => Some(AddressMode::Repeat),
+                            "MirrorRepeat" => Some(AddressMode::MirrorRepeat),
+                            _ => None,
+                        },
+                    )
                 })
                 .unwrap_or(AddressMode::ClampToEdge);
             let compare = o.take("compare").and_then(|(_, n)| self.compare(&n));
             let span = o.span;
             self.finish(o, &["filter", "mipmap", "address", "compare"]);
-            out.push(SamplerDecl { name, filter, mipmap, address, compare, span });
+            out.push(SamplerDecl {
+                name,
+                filter,
+                mipmap,
+                address,
+                compare,
+                span,
+            });
         }
         Some(out)
     }
@@ -337,34 +508,71 @@ impl<'d> Lowerer<'d> {
     }
 
     fn compare(&mut self, n: &Node) -> Res<CompareFn> {
-        self.ident(n, "compare function", &CompareFn::NAMES, CompareFn::from_name)
+        self.ident(
+            n,
+            "compare function",
+            &CompareFn::NAMES,
+            CompareFn::from_name,
+        )
     }
 
     fn resources(&mut self, node: &Node) -> Res<Vec<Resource>> {
         let entries = self.string_map(node, "resource")?;
-        Some(entries.into_iter().filter_map(|(name, v)| self.resource(name, &v)).collect())
+        Some(
+            entries
+                .into_iter()
+                .filter_map(|(name, v)| self.resource(name, &v))
+                .collect(),
+        )
     }
 
     fn resource(&mut self, name: Spanned<String>, node: &Node) -> Res<Resource> {
         let (kind, mut o) = self.obj(node, &["Texture", "Buffer"], "resource")?;
         let per_light = o.take("per_light").and_then(|(_, n)| self.light_kinds(&n));
-        let history = o.take("history").and_then(|(_, n)| self.bool(&n)).unwrap_or(false);
-        let external = o.take("external").and_then(|(_, n)| self.bool(&n)).unwrap_or(false);
+        let history = o
+            .take("history")
+            .and_then(|(_, n)| self.bool(&n))
+            .unwrap_or(false);
+        let external = o
+            .take("external")
+            .and_then(|(_, n)| self.bool(&n))
+            .unwrap_or(false);
         let span = o.span;
         if kind == "Buffer" {
-            let size = self.required(&mut o, "size").and_then(|(_, n)| match &n.value {
-                Value::Int(i) if *i > 0 => Some(Spanned::new(*i as u64, n.span)),
-                _ => {
-                    self.err(Diagnostic::error("value-out-of-range", "buffer size must be a positive number of bytes", n.span));
-                    None
-                }
-            });
+            let size = self
+                .required(&mut o, "size")
+                .and_then(|(_, n)| match &n.value {
+                    Value::Int(i) if *i > 0 => Some(Spanned::new(*i as u64, n.span)),
+                    _ => {
+                        self.err(Diagnostic::error(
+                            "value-out-of-range",
+                            "buffer size must be a positive number of bytes",
+                            n.span,
+                        ));
+                        None
+                    }
+                });
             self.finish(o, &["size", "per_light", "history", "external"]);
-            return Some(Resource { name, kind: ResourceKind::Buffer(BufferDesc { size: size?, per_light, history, external }), span });
+            return Some(Resource {
+                name,
+                kind: ResourceKind::Buffer(BufferDesc {
+                    size: size?,
+                    per_light,
+                    history,
+                    external,
+                }),
+                span,
+            });
         }
-        let format = self
-            .required(&mut o, "format")
-            .and_then(|(_, n)| self.ident(&n, "texture format", TextureFormat::NAMES, TextureFormat::from_name).map(|f| Spanned::new(f, n.span)));
+        let format = self.required(&mut o, "format").and_then(|(_, n)| {
+            self.ident(
+                &n,
+                "texture format",
+                TextureFormat::NAMES,
+                TextureFormat::from_name,
+            )
+            .map(|f| Spanned::new(f, n.span))
+        });
         let size = match o.take("size") {
             Some((_, n)) => self.size(&n),
             None => Some(Spanned::new(SizeSpec::Viewport { scale: 1.0 }, span)),
@@ -388,32 +596,76 @@ impl<'d> Lowerer<'d> {
             Some((_, n)) => self.u32(&n),
             None => Some(Spanned::new(1, span)),
         };
-        self.finish(o, &["format", "size", "layers", "view", "mips", "per_light", "history", "external"]);
-        let desc = TextureDesc { format: format?, size: size?, layers: layers?, view: view?, mips: mips?, per_light, history, external };
-        Some(Resource { name, kind: ResourceKind::Texture(desc), span })
+        self.finish(
+            o,
+            &[
+                "format",
+                "size",
+                "layers",
+                "view",
+                "mips",
+                "per_light",
+                "history",
+                "external",
+            ],
+        );
+        let desc = TextureDesc {
+            format: format?,
+            size: size?,
+            layers: layers?,
+            view: view?,
+            mips: mips?,
+            per_light,
+            history,
+            external,
+        };
+        Some(Resource {
+            name,
+            kind: ResourceKind::Texture(desc),
+            span,
+        })
     }
 
     fn size(&mut self, n: &Node) -> Res<Spanned<SizeSpec>> {
         let s = match &n.value {
             Value::Ident(i) if i == "Viewport" => SizeSpec::Viewport { scale: 1.0 },
-            Value::Tuple { name: Some((nm, _)), items } if nm == "Viewport" && items.len() == 1 => {
+            Value::Tuple {
+                name: Some((nm, _)),
+                items,
+            } if nm == "Viewport" && items.len() == 1 => {
                 let scale = self.f64(&items[0])?;
                 if !(scale > 0.0 && scale <= 16.0) {
-                    self.err(Diagnostic::error("value-out-of-range", "viewport scale must be in (0, 16]", items[0].span));
+                    self.err(Diagnostic::error(
+                        "value-out-of-range",
+                        "viewport scale must be in (0, 16]",
+                        items[0].span,
+                    ));
                     return None;
                 }
                 SizeSpec::Viewport { scale }
             }
-            Value::Tuple { name: Some((nm, _)), items } if nm == "Fixed" && items.len() == 2 => {
+            Value::Tuple {
+                name: Some((nm, _)),
+                items,
+            } if nm == "Fixed" && items.len() == 2 => {
                 let w = self.u32(&items[0])?;
                 let h = self.u32(&items[1])?;
                 if w.value == 0 || h.value == 0 {
-                    self.err(Diagnostic::error("value-out-of-range", "texture size must be at least 1×1", n.span));
+                    self.err(Diagnostic::error(
+                        "value-out-of-range",
+                        "texture size must be at least 1×1",
+                        n.span,
+                    ));
                     return None;
                 }
-                SizeSpec::Fixed { width: w.value, height: h.value }
+                SizeSpec::Fixed {
+                    width: w.value,
+                    height: h.value,
+                }
             }
-            _ => return self.type_err("`Viewport`, `Viewport(scale)` or `Fixed(width, height)`", n),
+            _ => {
+                return self.type_err("`Viewport`, `Viewport(scale)` or `Fixed(width, height)`", n)
+            }
         };
         Some(Spanned::new(s, n.span))
     }
@@ -426,8 +678,12 @@ impl<'d> Lowerer<'d> {
                 if let Some(prev) = out.iter().find(|q| q.name.value == p.name.value) {
                     let prev_span = prev.name.span;
                     self.err(
-                        Diagnostic::error("duplicate-name", format!("pass `{}` is declared twice", p.name.value), p.name.span)
-                            .with_secondary(prev_span, "first declared here"),
+                        Diagnostic::error(
+                            "duplicate-name",
+                            format!("pass `{}` is declared twice", p.name.value),
+                            p.name.span,
+                        )
+                        .with_secondary(prev_span, "first declared here"),
                     );
                     continue;
                 }
@@ -437,7 +693,14 @@ impl<'d> Lowerer<'d> {
         Some(out)
     }
 
-    fn shader_ref(&mut self, default_file: &Option<Spanned<String>>, node: Option<(Span, Node)>, default_entry: &str, stage: &str, pass_span: Span) -> Res<Option<ShaderRef>> {
+    fn shader_ref(
+        &mut self,
+        default_file: &Option<Spanned<String>>,
+        node: Option<(Span, Node)>,
+        default_entry: &str,
+        stage: &str,
+        pass_span: Span,
+    ) -> Res<Option<ShaderRef>> {
         let (entry_text, span) = match node {
             Some((_, n)) => match &n.value {
                 Value::Ident(i) if i == "None" => return Some(None),
@@ -446,23 +709,42 @@ impl<'d> Lowerer<'d> {
                     (s.value, s.span)
                 }
             },
-            None => (default_entry.to_string(), default_file.as_ref().map(|f| f.span).unwrap_or(pass_span)),
+            None => (
+                default_entry.to_string(),
+                default_file.as_ref().map(|f| f.span).unwrap_or(pass_span),
+            ),
         };
         // `file#entry` names an entry point in another file.
         if let Some((file, entry)) = entry_text.split_once('#') {
-            return Some(Some(ShaderRef { file: Spanned::new(file.to_string(), span), entry: Spanned::new(entry.to_string(), span) }));
+            return Some(Some(ShaderRef {
+                file: Spanned::new(file.to_string(), span),
+                entry: Spanned::new(entry.to_string(), span),
+            }));
         }
         let Some(file) = default_file.clone() else {
-            self.err(Diagnostic::error("missing-key", format!("pass has no `shader` for its {stage} entry point `{entry_text}`"), pass_span));
+            self.err(Diagnostic::error(
+                "missing-key",
+                format!("pass has no `shader` for its {stage} entry point `{entry_text}`"),
+                pass_span,
+            ));
             return None;
         };
-        let entry = if crate::shader::is_glsl(&file.value) && default_entry == entry_text { "main".to_string() } else { entry_text };
-        Some(Some(ShaderRef { file, entry: Spanned::new(entry, span) }))
+        let entry = if crate::shader::is_glsl(&file.value) && default_entry == entry_text {
+            "main".to_string()
+        } else {
+            entry_text
+        };
+        Some(Some(ShaderRef {
+            file,
+            entry: Spanned::new(entry, span),
+        }))
     }
 
     fn pass(&mut self, node: &Node) -> Res<Pass> {
         let (kind_name, mut o) = self.obj(node, &["Raster", "Fullscreen", "Compute"], "pass")?;
-        let name = self.required(&mut o, "name").and_then(|(_, n)| self.string(&n));
+        let name = self
+            .required(&mut o, "name")
+            .and_then(|(_, n)| self.string(&n));
         o.what = match &name {
             Some(n) => format!("pass `{}`", n.value),
             None => "pass".into(),
@@ -470,15 +752,36 @@ impl<'d> Lowerer<'d> {
         let span = o.span;
         let shader = o.take("shader").and_then(|(_, n)| self.string(&n));
         let mut allowed: Vec<&str> = vec![
-            "name", "shader", "reads", "writes", "params", "param_block", "bind", "when", "per_light", "per_face",
+            "name",
+            "shader",
+            "reads",
+            "writes",
+            "params",
+            "param_block",
+            "bind",
+            "when",
+            "per_light",
+            "per_face",
         ];
         let (kind, vertex, fragment, compute) = match kind_name.as_str() {
             "Raster" => {
-                allowed.extend(["vertex", "fragment", "color", "depth", "draw", "cull", "instances", "multiview"]);
+                allowed.extend([
+                    "vertex",
+                    "fragment",
+                    "color",
+                    "depth",
+                    "draw",
+                    "cull",
+                    "instances",
+                    "multiview",
+                ]);
                 let draw = match o.take("draw") {
                     Some((_, n)) => match &n.value {
                         Value::Ident(i) if i == "Scene" => Draw::Scene,
-                        Value::Tuple { name: Some((nm, _)), items } if nm == "Vertices" && items.len() == 1 => {
+                        Value::Tuple {
+                            name: Some((nm, _)),
+                            items,
+                        } if nm == "Vertices" && items.len() == 1 => {
                             Draw::Vertices(self.u32(&items[0])?.value)
                         }
                         _ => return self.type_err("`Scene` or `Vertices(count)`", &n),
@@ -486,12 +789,14 @@ impl<'d> Lowerer<'d> {
                     None => Draw::Scene,
                 };
                 let cull = match o.take("cull") {
-                    Some((_, n)) => self.ident(&n, "cull mode", &["None", "Front", "Back"], |s| match s {
-                        "None" => Some(CullMode::None),
-                        "Front" => Some(CullMode::Front),
-                        "Back" => Some(CullMode::Back),
-                        _ => None,
-                    })?,
+                    Some((_, n)) => {
+                        self.ident(&n, "cull mode", &["None", "Front", "Back"], |s| match s {
+                            "None" => Some(CullMode::None),
+                            "Front" => Some(CullMode::Front),
+                            "Back" => Some(CullMode::Back),
+                            _ => None,
+                        })?
+                    }
                     None => CullMode::Back,
                 };
                 let instances = match o.take("instances") {
@@ -506,8 +811,22 @@ impl<'d> Lowerer<'d> {
                 let v = self.shader_ref(&shader, o.take("vertex"), "vs_main", "vertex", span)?;
                 let fs_default = if has_color { "fs_main" } else { "" };
                 let f_node = o.take("fragment");
-                let f = if f_node.is_none() && !has_color { None } else { self.shader_ref(&shader, f_node, fs_default, "fragment", span)? };
-                (PassKind::Raster { draw, cull, instances, multiview }, v, f, None)
+                let f = if f_node.is_none() && !has_color {
+                    None
+                } else {
+                    self.shader_ref(&shader, f_node, fs_default, "fragment", span)?
+                };
+                (
+                    PassKind::Raster {
+                        draw,
+                        cull,
+                        instances,
+                        multiview,
+                    },
+                    v,
+                    f,
+                    None,
+                )
             }
             "Fullscreen" => {
                 allowed.extend(["fragment"]);
@@ -515,7 +834,8 @@ impl<'d> Lowerer<'d> {
                     file: Spanned::new(crate::shader::FULLSCREEN_FILE.to_string(), span),
                     entry: Spanned::new(crate::shader::FULLSCREEN_ENTRY.to_string(), span),
                 });
-                let f = self.shader_ref(&shader, o.take("fragment"), "fs_main", "fragment", span)?;
+                let f =
+                    self.shader_ref(&shader, o.take("fragment"), "fs_main", "fragment", span)?;
                 (PassKind::Fullscreen, v, f, None)
             }
             _ => {
@@ -523,10 +843,20 @@ impl<'d> Lowerer<'d> {
                 let c = self.shader_ref(&shader, o.take("entry"), "cs_main", "compute", span)?;
                 let dispatch = match self.required(&mut o, "dispatch") {
                     Some((_, n)) => match &n.value {
-                        Value::Tuple { name: Some((nm, _)), items } if nm == "Size" && items.len() == 1 => Dispatch::Size(self.string(&items[0])?),
-                        Value::Tuple { name: Some((nm, _)), items } if nm == "Groups" && items.len() == 3 => {
-                            Dispatch::Groups(self.u32(&items[0])?.value, self.u32(&items[1])?.value, self.u32(&items[2])?.value)
+                        Value::Tuple {
+                            name: Some((nm, _)),
+                            items,
+                        } if nm == "Size" && items.len() == 1 => {
+                            Dispatch::Size(self.string(&items[0])?)
                         }
+                        Value::Tuple {
+                            name: Some((nm, _)),
+                            items,
+                        } if nm == "Groups" && items.len() == 3 => Dispatch::Groups(
+                            self.u32(&items[0])?.value,
+                            self.u32(&items[1])?.value,
+                            self.u32(&items[2])?.value,
+                        ),
                         _ => return self.type_err("`Size(\"resource\")` or `Groups(x, y, z)`", &n),
                     },
                     None => return None,
@@ -534,11 +864,23 @@ impl<'d> Lowerer<'d> {
                 (PassKind::Compute { dispatch }, None, None, c)
             }
         };
-        let reads = o.take("reads").and_then(|(_, n)| self.reads(&n)).unwrap_or_default();
-        let writes = o.take("writes").and_then(|(_, n)| self.string_list(&n)).unwrap_or_default();
-        let color = o.take("color").and_then(|(_, n)| self.color_targets(&n)).unwrap_or_default();
+        let reads = o
+            .take("reads")
+            .and_then(|(_, n)| self.reads(&n))
+            .unwrap_or_default();
+        let writes = o
+            .take("writes")
+            .and_then(|(_, n)| self.string_list(&n))
+            .unwrap_or_default();
+        let color = o
+            .take("color")
+            .and_then(|(_, n)| self.color_targets(&n))
+            .unwrap_or_default();
         let depth = o.take("depth").and_then(|(_, n)| self.depth_target(&n));
-        let params = o.take("params").and_then(|(_, n)| self.string_list(&n)).unwrap_or_default();
+        let params = o
+            .take("params")
+            .and_then(|(_, n)| self.string_list(&n))
+            .unwrap_or_default();
         let param_block = match o.take("param_block") {
             Some((_, n)) => self.string(&n)?,
             None => Spanned::new("params".to_string(), span),
@@ -553,7 +895,10 @@ impl<'d> Lowerer<'d> {
         };
         let when = o.take("when").and_then(|(_, n)| self.condition(&n));
         let per_light = o.take("per_light").and_then(|(_, n)| self.light_kinds(&n));
-        let per_face = o.take("per_face").and_then(|(_, n)| self.bool(&n)).unwrap_or(false);
+        let per_face = o
+            .take("per_face")
+            .and_then(|(_, n)| self.bool(&n))
+            .unwrap_or(false);
         self.finish(o, &allowed);
         Some(Pass {
             name: name?,
@@ -586,7 +931,10 @@ impl<'d> Lowerer<'d> {
         for it in &items {
             match &it.value {
                 Value::Str(s) => out.push(Read::Current(Spanned::new(s.clone(), it.span))),
-                Value::Tuple { name: Some((nm, _)), items } if nm == "Prev" && items.len() == 1 => {
+                Value::Tuple {
+                    name: Some((nm, _)),
+                    items,
+                } if nm == "Prev" && items.len() == 1 => {
                     if let Some(s) = self.string(&items[0]) {
                         out.push(Read::Prev(s));
                     }
@@ -604,7 +952,11 @@ impl<'d> Lowerer<'d> {
         let load = o.take("load");
         match (clear, load) {
             (Some((ks, _)), Some(_)) => {
-                self.err(Diagnostic::error("conflicting-keys", "give either `clear` or `load`, not both", ks));
+                self.err(Diagnostic::error(
+                    "conflicting-keys",
+                    "give either `clear` or `load`, not both",
+                    ks,
+                ));
                 None
             }
             (Some((_, n)), None) => match (&n.value, depth) {
@@ -620,7 +972,9 @@ impl<'d> Lowerer<'d> {
             },
             (None, Some((_, n))) => match &n.value {
                 Value::Ident(i) if i == "Load" => Some(LoadOp::Load),
-                Value::Ident(i) if i == "Clear" => Some(LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] })),
+                Value::Ident(i) if i == "Clear" => {
+                    Some(LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] }))
+                }
                 _ => self.type_err("`Load` or `Clear`", &n),
             },
             (None, None) => Some(LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] })),
@@ -634,7 +988,12 @@ impl<'d> Lowerer<'d> {
                 Value::Ident(i) if i == "Base" => Some(LayerSel::Base),
                 Value::Ident(i) if i == "Face" => Some(LayerSel::Face),
                 Value::Ident(i) if i == "All" => Some(LayerSel::All),
-                Value::Tuple { name: Some((nm, _)), items } if nm == "Index" && items.len() == 1 => Some(LayerSel::Index(self.u32(&items[0])?.value)),
+                Value::Tuple {
+                    name: Some((nm, _)),
+                    items,
+                } if nm == "Index" && items.len() == 1 => {
+                    Some(LayerSel::Index(self.u32(&items[0])?.value))
+                }
                 _ => self.type_err("`Base`, `Face`, `All` or `Index(n)`", &n),
             },
         }
@@ -654,23 +1013,38 @@ impl<'d> Lowerer<'d> {
                 });
                 continue;
             }
-            let Some((_, mut o)) = self.obj(it, &["Target"], "color target") else { continue };
-            let resource = self.required(&mut o, "resource").and_then(|(_, n)| self.string(&n));
+            let Some((_, mut o)) = self.obj(it, &["Target"], "color target") else {
+                continue;
+            };
+            let resource = self
+                .required(&mut o, "resource")
+                .and_then(|(_, n)| self.string(&n));
             let load = self.load(&mut o, false);
             let blend = o.take("blend").and_then(|(_, n)| {
-                self.ident(&n, "blend mode", &["Add", "Alpha", "Multiply"], |s| match s {
-                    "Add" => Some(Blend::Add),
-                    "Alpha" => Some(Blend::Alpha),
-                    "Multiply" => Some(Blend::Multiply),
-                    _ => None,
-                })
+                self.ident(
+                    &n,
+                    "blend mode",
+                    &["Add", "Alpha", "Multiply"],
+                    |s| match s {
+                        "Add" => Some(Blend::Add),
+                        "Alpha" => Some(Blend::Alpha),
+                        "Multiply" => Some(Blend::Multiply),
+                        _ => None,
+                    },
+                )
                 .map(|b| Spanned::new(b, n.span))
             });
             let layer = self.layer(&mut o);
             let span = o.span;
             self.finish(o, &["resource", "clear", "load", "blend", "layer"]);
             if let (Some(resource), Some(load), Some(layer)) = (resource, load, layer) {
-                out.push(ColorTarget { resource, load, blend, layer, span });
+                out.push(ColorTarget {
+                    resource,
+                    load,
+                    blend,
+                    layer,
+                    span,
+                });
             }
         }
         Some(out)
@@ -688,7 +1062,9 @@ impl<'d> Lowerer<'d> {
             });
         }
         let (_, mut o) = self.obj(n, &["Depth"], "depth target")?;
-        let resource = self.required(&mut o, "resource").and_then(|(_, n)| self.string(&n));
+        let resource = self
+            .required(&mut o, "resource")
+            .and_then(|(_, n)| self.string(&n));
         let load = self.load(&mut o, true);
         let compare = match o.take("compare") {
             Some((_, n)) => self.compare(&n),
@@ -700,23 +1076,54 @@ impl<'d> Lowerer<'d> {
         };
         let layer = self.layer(&mut o);
         let span = o.span;
-        self.finish(o, &["resource", "clear", "load", "compare", "write", "layer"]);
-        Some(DepthTarget { resource: resource?, load: load?, compare: compare?, write: write?, layer: layer?, span })
+        self.finish(
+            o,
+            &["resource", "clear", "load", "compare", "write", "layer"],
+        );
+        Some(DepthTarget {
+            resource: resource?,
+            load: load?,
+            compare: compare?,
+            write: write?,
+            layer: layer?,
+            span,
+        })
     }
 
     pub fn condition(&mut self, n: &Node) -> Res<Spanned<Condition>> {
-        const KINDS: [&str; 8] = ["Light", "Effect", "Reflective", "Toggle", "Variant", "Not", "All", "Any"];
+        const KINDS: [&str; 8] = [
+            "Light",
+            "Effect",
+            "Reflective",
+            "Toggle",
+            "Variant",
+            "Not",
+            "All",
+            "Any",
+        ];
         let c = match &n.value {
             Value::Ident(i) if i == "Reflective" => Condition::Reflective,
-            Value::Tuple { name: Some((nm, nspan)), items } => match (nm.as_str(), items.as_slice()) {
-                ("Light", [k]) => Condition::Light(self.ident(k, "light kind", &LightKind::NAMES, LightKind::from_name)?),
+            Value::Tuple {
+                name: Some((nm, nspan)),
+                items,
+            } => match (nm.as_str(), items.as_slice()) {
+                ("Light", [k]) => Condition::Light(self.ident(
+                    k,
+                    "light kind",
+                    &LightKind::NAMES,
+                    LightKind::from_name,
+                )?),
                 ("Effect", [e]) => match &e.value {
                     Value::Ident(i) => match Effect::from_name(i) {
                         Some(e) => Condition::Effect(e),
                         None => {
                             self.err(
-                                Diagnostic::error("unknown-effect", format!("unknown effect `{i}`"), e.span)
-                                    .with_note(suggestion_note(i, &Effect::NAMES)),
+                                Diagnostic::error(
+                                    "unknown-effect",
+                                    format!("unknown effect `{i}`"),
+                                    e.span,
+                                )
+                                .with_note(suggestion_note(i, &Effect::NAMES)),
                             );
                             return None;
                         }
@@ -745,7 +1152,14 @@ impl<'d> Lowerer<'d> {
                     return None;
                 }
                 (k, _) => {
-                    self.err(Diagnostic::error("unknown-kind", format!("unknown condition `{k}`"), *nspan).with_note(suggestion_note(k, &KINDS)));
+                    self.err(
+                        Diagnostic::error(
+                            "unknown-kind",
+                            format!("unknown condition `{k}`"),
+                            *nspan,
+                        )
+                        .with_note(suggestion_note(k, &KINDS)),
+                    );
                     return None;
                 }
             },
@@ -758,15 +1172,30 @@ impl<'d> Lowerer<'d> {
         let entries = self.string_map(n, "variant")?;
         let mut out = vec![];
         for (name, v) in entries {
-            let Some((_, mut o)) = self.obj(&v, &["Variant"], "variant") else { continue };
+            let Some((_, mut o)) = self.obj(&v, &["Variant"], "variant") else {
+                continue;
+            };
             o.what = format!("variant `{}`", name.value);
-            let default = self.required(&mut o, "default").and_then(|(_, n)| self.string(&n));
-            let doc = o.take("doc").and_then(|(_, n)| self.string(&n)).map(|s| s.value);
-            let options = self.required(&mut o, "options").and_then(|(_, n)| self.variant_options(&n));
+            let default = self
+                .required(&mut o, "default")
+                .and_then(|(_, n)| self.string(&n));
+            let doc = o
+                .take("doc")
+                .and_then(|(_, n)| self.string(&n))
+                .map(|s| s.value);
+            let options = self
+                .required(&mut o, "options")
+                .and_then(|(_, n)| self.variant_options(&n));
             let span = o.span;
             self.finish(o, &["default", "doc", "options"]);
             if let (Some(default), Some(options)) = (default, options) {
-                out.push(Variant { name, options, default, doc, span });
+                out.push(Variant {
+                    name,
+                    options,
+                    default,
+                    doc,
+                    span,
+                });
             }
         }
         Some(out)
@@ -776,13 +1205,18 @@ impl<'d> Lowerer<'d> {
         let entries = self.string_map(n, "variant option")?;
         let mut out = vec![];
         for (name, v) in entries {
-            let Some((_, mut o)) = self.obj(&v, &["Option"], "variant option") else { continue };
+            let Some((_, mut o)) = self.obj(&v, &["Option"], "variant option") else {
+                continue;
+            };
             let requires = match o.take("requires") {
                 Some((_, n)) => {
                     let items = self.list(&n)?.to_vec();
                     items
                         .iter()
-                        .filter_map(|i| self.ident(i, "feature", Feature::NAMES, Feature::from_name).map(|f| Spanned::new(f, i.span)))
+                        .filter_map(|i| {
+                            self.ident(i, "feature", Feature::NAMES, Feature::from_name)
+                                .map(|f| Spanned::new(f, i.span))
+                        })
                         .collect()
                 }
                 None => vec![],
@@ -794,8 +1228,15 @@ impl<'d> Lowerer<'d> {
                     for (k, v) in entries {
                         if !crate::profile::Limits::NAMES.contains(&k.value.as_str()) {
                             self.err(
-                                Diagnostic::error("unknown-limit", format!("unknown limit `{}`", k.value), k.span)
-                                    .with_note(suggestion_note(&k.value, crate::profile::Limits::NAMES)),
+                                Diagnostic::error(
+                                    "unknown-limit",
+                                    format!("unknown limit `{}`", k.value),
+                                    k.span,
+                                )
+                                .with_note(suggestion_note(
+                                    &k.value,
+                                    crate::profile::Limits::NAMES,
+                                )),
                             );
                             continue;
                         }
@@ -809,13 +1250,28 @@ impl<'d> Lowerer<'d> {
             };
             let fallback = o.take("fallback").and_then(|(_, n)| self.string(&n));
             let shaders = match o.take("shaders") {
-                Some((_, n)) => self.string_map(&n, "shader substitution")?.into_iter().filter_map(|(k, v)| self.string(&v).map(|v| (k, v))).collect(),
+                Some((_, n)) => self
+                    .string_map(&n, "shader substitution")?
+                    .into_iter()
+                    .filter_map(|(k, v)| self.string(&v).map(|v| (k, v)))
+                    .collect(),
                 None => vec![],
             };
-            let doc = o.take("doc").and_then(|(_, n)| self.string(&n)).map(|s| s.value);
+            let doc = o
+                .take("doc")
+                .and_then(|(_, n)| self.string(&n))
+                .map(|s| s.value);
             let span = o.span;
             self.finish(o, &["requires", "limits", "fallback", "shaders", "doc"]);
-            out.push(VariantOption { name, requires, limits, fallback, shaders, doc, span });
+            out.push(VariantOption {
+                name,
+                requires,
+                limits,
+                fallback,
+                shaders,
+                doc,
+                span,
+            });
         }
         Some(out)
     }

@@ -26,9 +26,15 @@ pub enum Value {
     List(Vec<Node>),
     Map(Vec<(Node, Node)>),
     /// `Name(key: value, ...)` or `(key: value, ...)`.
-    Struct { name: Option<(String, Span)>, fields: Vec<(String, Span, Node)> },
+    Struct {
+        name: Option<(String, Span)>,
+        fields: Vec<(String, Span, Node)>,
+    },
     /// `Name(a, b)` or `(a, b)`; `Name()` and `()` are empty tuples.
-    Tuple { name: Option<(String, Span)>, items: Vec<Node> },
+    Tuple {
+        name: Option<(String, Span)>,
+        items: Vec<Node>,
+    },
 }
 
 impl Value {
@@ -42,7 +48,12 @@ impl Value {
             Value::Ident(i) => format!("`{i}`"),
             Value::List(_) => "a list".into(),
             Value::Map(_) => "a map".into(),
-            Value::Struct { name: Some((n, _)), .. } | Value::Tuple { name: Some((n, _)), .. } => format!("`{n}(...)`"),
+            Value::Struct {
+                name: Some((n, _)), ..
+            }
+            | Value::Tuple {
+                name: Some((n, _)), ..
+            } => format!("`{n}(...)`"),
             Value::Struct { .. } => "a struct".into(),
             Value::Tuple { .. } => "a tuple".into(),
         }
@@ -50,7 +61,13 @@ impl Value {
 }
 
 pub fn parse(file: FileId, src: &str) -> Result<Node, Diagnostic> {
-    let mut p = Parser { src, bytes: src.as_bytes(), pos: 0, file, depth: 0 };
+    let mut p = Parser {
+        src,
+        bytes: src.as_bytes(),
+        pos: 0,
+        file,
+        depth: 0,
+    };
     p.skip_ws()?;
     p.skip_attributes()?;
     let node = p.value()?;
@@ -110,7 +127,11 @@ impl<'a> Parser<'a> {
                     let mut nest = 1;
                     while nest > 0 {
                         if self.pos >= self.bytes.len() {
-                            return Err(Diagnostic::error("ron-syntax", "unterminated block comment", Span::new(self.file, start, start + 2)));
+                            return Err(Diagnostic::error(
+                                "ron-syntax",
+                                "unterminated block comment",
+                                Span::new(self.file, start, start + 2),
+                            ));
                         }
                         if self.bytes[self.pos..].starts_with(b"*/") {
                             nest -= 1;
@@ -162,11 +183,15 @@ impl<'a> Parser<'a> {
         let v = match self.peek() {
             None => return Err(self.err_here("expected a value, found end of file", 0)),
             Some(b'"') => Value::Str(self.string()?),
-            Some(b'r') if matches!(self.bytes.get(self.pos + 1), Some(b'"' | b'#')) => Value::Str(self.raw_string()?),
+            Some(b'r') if matches!(self.bytes.get(self.pos + 1), Some(b'"' | b'#')) => {
+                Value::Str(self.raw_string()?)
+            }
             Some(b'[') => self.list()?,
             Some(b'{') => self.map()?,
             Some(b'(') => self.parens(None)?,
-            Some(c) if c == b'-' || c == b'+' || c == b'.' || c.is_ascii_digit() => self.number()?,
+            Some(c) if c == b'-' || c == b'+' || c == b'.' || c.is_ascii_digit() => {
+                self.number()?
+            }
             Some(c) if c == b'_' || c.is_ascii_alphabetic() => {
                 let ident = self.ident();
                 let ispan = self.span(start);
@@ -185,10 +210,15 @@ impl<'a> Parser<'a> {
                     }
                 }
             }
-            Some(_) => return Err(self.err_here(format!("expected a value, found {}", self.found()), 1)),
+            Some(_) => {
+                return Err(self.err_here(format!("expected a value, found {}", self.found()), 1))
+            }
         };
         self.depth -= 1;
-        Ok(Node { value: v, span: self.span(start) })
+        Ok(Node {
+            value: v,
+            span: self.span(start),
+        })
     }
 
     fn ident(&mut self) -> String {
@@ -211,18 +241,30 @@ impl<'a> Parser<'a> {
         if self.bytes[self.pos..].starts_with(b"inf") {
             self.pos += 3;
             let neg = self.bytes[start] == b'-';
-            return Ok(Value::Float(if neg { f64::NEG_INFINITY } else { f64::INFINITY }));
+            return Ok(Value::Float(if neg {
+                f64::NEG_INFINITY
+            } else {
+                f64::INFINITY
+            }));
         }
         let body = self.pos;
         let mut is_float = false;
         if self.bytes[self.pos..].starts_with(b"0x") {
             self.pos += 2;
             let hs = self.pos;
-            while self.peek().is_some_and(|c| c.is_ascii_hexdigit() || c == b'_') {
+            while self
+                .peek()
+                .is_some_and(|c| c.is_ascii_hexdigit() || c == b'_')
+            {
                 self.pos += 1;
             }
-            let digits: String = self.src[hs..self.pos].chars().filter(|c| *c != '_').collect();
-            let v = i64::from_str_radix(&digits, 16).map_err(|_| Diagnostic::error("ron-syntax", "invalid hexadecimal number", self.span(start)))?;
+            let digits: String = self.src[hs..self.pos]
+                .chars()
+                .filter(|c| *c != '_')
+                .collect();
+            let v = i64::from_str_radix(&digits, 16).map_err(|_| {
+                Diagnostic::error("ron-syntax", "invalid hexadecimal number", self.span(start))
+            })?;
             return Ok(Value::Int(if self.bytes[start] == b'-' { -v } else { v }));
         }
         while let Some(c) = self.peek() {
@@ -239,24 +281,43 @@ impl<'a> Parser<'a> {
             }
         }
         if self.pos == body {
-            return Err(Diagnostic::error("ron-syntax", "expected a number", Span::new(self.file, start, start + 1)));
+            return Err(Diagnostic::error(
+                "ron-syntax",
+                "expected a number",
+                Span::new(self.file, start, start + 1),
+            ));
         }
         // A number glued to letters (`12px`) is a typo, not two tokens.
         if self.peek().is_some_and(|c| c.is_ascii_alphabetic()) {
             while self.peek().is_some_and(|c| c.is_ascii_alphanumeric()) {
                 self.pos += 1;
             }
-            return Err(Diagnostic::error("ron-syntax", format!("invalid number `{}`", &self.src[start..self.pos]), self.span(start)));
+            return Err(Diagnostic::error(
+                "ron-syntax",
+                format!("invalid number `{}`", &self.src[start..self.pos]),
+                self.span(start),
+            ));
         }
-        let text: String = self.src[start..self.pos].chars().filter(|c| *c != '_').collect();
+        let text: String = self.src[start..self.pos]
+            .chars()
+            .filter(|c| *c != '_')
+            .collect();
         if is_float {
-            text.parse::<f64>()
-                .map(Value::Float)
-                .map_err(|_| Diagnostic::error("ron-syntax", format!("invalid number `{text}`"), self.span(start)))
+            text.parse::<f64>().map(Value::Float).map_err(|_| {
+                Diagnostic::error(
+                    "ron-syntax",
+                    format!("invalid number `{text}`"),
+                    self.span(start),
+                )
+            })
         } else {
-            text.parse::<i64>()
-                .map(Value::Int)
-                .map_err(|_| Diagnostic::error("ron-syntax", format!("invalid or out-of-range integer `{text}`"), self.span(start)))
+            text.parse::<i64>().map(Value::Int).map_err(|_| {
+                Diagnostic::error(
+                    "ron-syntax",
+                    format!("invalid or out-of-range integer `{text}`"),
+                    self.span(start),
+                )
+            })
         }
     }
 
@@ -266,7 +327,11 @@ impl<'a> Parser<'a> {
         let mut out = String::new();
         loop {
             let Some(c) = self.src[self.pos..].chars().next() else {
-                return Err(Diagnostic::error("ron-syntax", "unterminated string", Span::new(self.file, start, start + 1)));
+                return Err(Diagnostic::error(
+                    "ron-syntax",
+                    "unterminated string",
+                    Span::new(self.file, start, start + 1),
+                ));
             };
             self.pos += c.len_utf8();
             match c {
@@ -274,7 +339,11 @@ impl<'a> Parser<'a> {
                 '\\' => {
                     let esc_start = self.pos - 1;
                     let Some(e) = self.src[self.pos..].chars().next() else {
-                        return Err(Diagnostic::error("ron-syntax", "unterminated string", Span::new(self.file, start, start + 1)));
+                        return Err(Diagnostic::error(
+                            "ron-syntax",
+                            "unterminated string",
+                            Span::new(self.file, start, start + 1),
+                        ));
                     };
                     self.pos += e.len_utf8();
                     match e {
@@ -288,7 +357,15 @@ impl<'a> Parser<'a> {
                         'u' => {
                             let close = self.src[self.pos..].find('}');
                             let parsed = if self.src[self.pos..].starts_with('{') {
-                                close.and_then(|c| u32::from_str_radix(&self.src[self.pos + 1..self.pos + c], 16).ok()).and_then(char::from_u32)
+                                close
+                                    .and_then(|c| {
+                                        u32::from_str_radix(
+                                            &self.src[self.pos + 1..self.pos + c],
+                                            16,
+                                        )
+                                        .ok()
+                                    })
+                                    .and_then(char::from_u32)
                             } else {
                                 None
                             };
@@ -297,10 +374,22 @@ impl<'a> Parser<'a> {
                                     out.push(ch);
                                     self.pos += close.unwrap_or(0) + 1;
                                 }
-                                None => return Err(Diagnostic::error("ron-syntax", "invalid unicode escape, expected `\\u{XXXX}`", self.span(esc_start))),
+                                None => {
+                                    return Err(Diagnostic::error(
+                                        "ron-syntax",
+                                        "invalid unicode escape, expected `\\u{XXXX}`",
+                                        self.span(esc_start),
+                                    ))
+                                }
                             }
                         }
-                        other => return Err(Diagnostic::error("ron-syntax", format!("unknown escape `\\{other}`"), self.span(esc_start))),
+                        other => {
+                            return Err(Diagnostic::error(
+                                "ron-syntax",
+                                format!("unknown escape `\\{other}`"),
+                                self.span(esc_start),
+                            ))
+                        }
                     }
                 }
                 c => out.push(c),
@@ -327,7 +416,11 @@ impl<'a> Parser<'a> {
                 self.pos += i + close.len();
                 Ok(s)
             }
-            None => Err(Diagnostic::error("ron-syntax", "unterminated raw string", Span::new(self.file, start, start + 1))),
+            None => Err(Diagnostic::error(
+                "ron-syntax",
+                "unterminated raw string",
+                Span::new(self.file, start, start + 1),
+            )),
         }
     }
 
@@ -345,7 +438,12 @@ impl<'a> Parser<'a> {
             match self.peek() {
                 Some(b',') => self.pos += 1,
                 Some(b']') => {}
-                _ => return Err(self.err_here(format!("expected `,` or `]` in list, found {}", self.found()), 1)),
+                _ => {
+                    return Err(self.err_here(
+                        format!("expected `,` or `]` in list, found {}", self.found()),
+                        1,
+                    ))
+                }
             }
         }
     }
@@ -367,7 +465,12 @@ impl<'a> Parser<'a> {
             match self.peek() {
                 Some(b',') => self.pos += 1,
                 Some(b'}') => {}
-                _ => return Err(self.err_here(format!("expected `,` or `}}` in map, found {}", self.found()), 1)),
+                _ => {
+                    return Err(self.err_here(
+                        format!("expected `,` or `}}` in map, found {}", self.found()),
+                        1,
+                    ))
+                }
             }
         }
     }
@@ -377,7 +480,10 @@ impl<'a> Parser<'a> {
         self.pos += 1;
         self.skip_ws()?;
         let save = self.pos;
-        let is_struct = if self.peek().is_some_and(|c| c == b'_' || c.is_ascii_alphabetic()) {
+        let is_struct = if self
+            .peek()
+            .is_some_and(|c| c == b'_' || c.is_ascii_alphabetic())
+        {
             self.ident();
             self.skip_ws()?;
             let r = self.peek() == Some(b':');
@@ -395,8 +501,13 @@ impl<'a> Parser<'a> {
                     return Ok(Value::Struct { name, fields });
                 }
                 let kstart = self.pos;
-                if !self.peek().is_some_and(|c| c == b'_' || c.is_ascii_alphabetic()) {
-                    return Err(self.err_here(format!("expected a field name, found {}", self.found()), 1));
+                if !self
+                    .peek()
+                    .is_some_and(|c| c == b'_' || c.is_ascii_alphabetic())
+                {
+                    return Err(
+                        self.err_here(format!("expected a field name, found {}", self.found()), 1)
+                    );
                 }
                 let key = self.ident();
                 let kspan = self.span(kstart);
@@ -407,7 +518,12 @@ impl<'a> Parser<'a> {
                 match self.peek() {
                     Some(b',') => self.pos += 1,
                     Some(b')') => {}
-                    _ => return Err(self.err_here(format!("expected `,` or `)` after field, found {}", self.found()), 1)),
+                    _ => {
+                        return Err(self.err_here(
+                            format!("expected `,` or `)` after field, found {}", self.found()),
+                            1,
+                        ))
+                    }
                 }
             }
         } else {
@@ -423,7 +539,12 @@ impl<'a> Parser<'a> {
                 match self.peek() {
                     Some(b',') => self.pos += 1,
                     Some(b')') => {}
-                    _ => return Err(self.err_here(format!("expected `,` or `)` in tuple, found {}", self.found()), 1)),
+                    _ => {
+                        return Err(self.err_here(
+                            format!("expected `,` or `)` in tuple, found {}", self.found()),
+                            1,
+                        ))
+                    }
                 }
             }
         }
@@ -438,7 +559,9 @@ mod tests {
     fn parses_nested_values_with_spans() {
         let src = r#"Pipeline(name: "x", list: [1, -2.5, r"raw"], m: {"a": Foo(1, true)}, u: ())"#;
         let n = parse(0, src).unwrap();
-        let Value::Struct { name, fields } = n.value else { panic!() };
+        let Value::Struct { name, fields } = n.value else {
+            panic!()
+        };
         assert_eq!(name.unwrap().0, "Pipeline");
         assert_eq!(fields.len(), 4);
         assert_eq!(&src[fields[0].2.span.range()], "\"x\"");
@@ -454,7 +577,22 @@ mod tests {
 
     #[test]
     fn never_panics_on_garbage() {
-        for s in ["", "(", "\"", "r#\"", "/*", "0x", "-", "[1,", "{1:", "A(b:", "\\u", "\"\\u{zz}\"", "1e", "((((("] {
+        for s in [
+            "",
+            "(",
+            "\"",
+            "r#\"",
+            "/*",
+            "0x",
+            "-",
+            "[1,",
+            "{1:",
+            "A(b:",
+            "\\u",
+            "\"\\u{zz}\"",
+            "1e",
+            "(((((",
+        ] {
             let _ = parse(0, s);
         }
     }

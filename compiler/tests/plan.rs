@@ -1,0 +1,324 @@
+//! Plans of the bundled pipelines: snapshots (reviewed, committed) and the properties the
+//! runtime relies on: layouts, offsets, sample types, culling reasons, fallbacks, memory.
+
+mod common;
+
+use common::*;
+use lightbench_compiler::ir::LightKind;
+use lightbench_compiler::plan::{self, BindSource, BindingType, Plan, SampleType, SamplerKind};
+use lightbench_compiler::profile::Profile;
+use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
+use lightbench_compiler::Session;
+
+fn deferred() -> std::path::PathBuf {
+    repo_root().join("pipelines/deferred.ron")
+}
+
+fn plan_with(profile: &str, scene: Option<&str>, variants: &[(&str, &str)]) -> Plan {
+    let mut s = Session::new();
+    let profile = Profile::offline(profile).unwrap();
+    let scene = match scene {
+        Some(p) => load_scene_features(
+            &repo_root().join(p).display().to_string(),
+            &mut s.sources,
+            &mut s.diags,
+        )
+        .expect("scene"),
+        None => SceneFeatures::everything(),
+    };
+    let v: Vec<(String, String)> = variants
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    let plan = s.plan_file(&deferred(), None, &profile, &scene, &v);
+    assert!(!s.diags.has_errors(), "{}", s.render());
+    plan.expect("plan")
+}
+
+fn binding<'a>(plan: &'a Plan, pass: &str, name: &str) -> &'a plan::PlanBinding {
+    plan.pass(pass)
+        .unwrap_or_else(|| panic!("no pass {pass}"))
+        .bind_groups
+        .iter()
+        .flat_map(|g| g.entries.iter())
+        .find(|e| e.name == name)
+        .unwrap_or_else(|| panic!("no binding {name} in {pass}"))
+}
+
+#[test]
+fn snapshot_deferred_all_features() {
+    insta::assert_snapshot!(
+        "deferred_all_features",
+        plan::to_text(&plan_with("vulkan", None, &[]), true)
+    );
+}
+
+#[test]
+fn snapshot_deferred_sun_only_scene_culls_passes() {
+    let plan = plan_with("vulkan", Some("scenes/sun_only.ron"), &[]);
+    let text = plan::to_text(&plan, true);
+    insta::assert_snapshot!("deferred_sun_only", text);
+    let culled: Vec<(&str, &str)> = plan
+        .culled
+        .iter()
+        .map(|c| (c.name.as_str(), c.reason.as_str()))
+        .collect();
+    assert!(
+        culled.contains(&(
+            "shadow_cube_classic",
+            "runs per Point light and the scene has none"
+        )),
+        "{culled:?}"
+    );
+    assert!(culled.contains(&("light_point", "runs per Point light and the scene has none")));
+    assert!(culled.contains(&(
+        "shadow_cube_multiview",
+        "variant not chosen: `cube_shadow` is `classic`, this pass belongs to `multiview`"
+    )));
+    assert!(plan
+        .pass("light_directional_spot")
+        .is_some_and(|p| p.repetitions == 1));
+    assert!(
+        plan.resource("shadow.cube").is_none(),
+        "unused per-light resources are not allocated"
+    );
+}
+
+#[test]
+fn snapshot_deferred_gl_falls_back_from_multiview() {
+    let plan = plan_with(
+        "gl",
+        None,
+        &[("cube_shadow", "multiview"), ("tonemap", "simple")],
+    );
+    insta::assert_snapshot!("deferred_gl_multiview_simple", plan::to_text(&plan, true));
+    let v = plan
+        .variants
+        .iter()
+        .find(|v| v.variant == "cube_shadow")
+        .unwrap();
+    assert_eq!(v.option, "instanced");
+    assert!(
+        v.reason
+            .as_deref()
+            .unwrap()
+            .contains("`multiview` needs feature Multiview"),
+        "{v:?}"
+    );
+    // The GLSL substitute is used for the tone map.
+    assert_eq!(
+        plan.pass("tonemap").unwrap().stages[1].file,
+        "tonemap_simple.frag"
+    );
+    assert_eq!(plan.pass("tonemap").unwrap().stages[1].entry, "main");
+}
+
+#[test]
+fn webgpu_falls_back_twice_with_reasons() {
+    let plan = plan_with("webgpu", None, &[("cube_shadow", "multiview")]);
+    let v = plan
+        .variants
+        .iter()
+        .find(|v| v.variant == "cube_shadow")
+        .unwrap();
+    assert_eq!(v.option, "classic");
+    let r = v.reason.as_deref().unwrap();
+    assert!(
+        r.contains("falling back to `instanced`")
+            && r.contains("`instanced` needs feature ClipDistances"),
+        "{r}"
+    );
+    assert!(plan.pass("shadow_cube_classic").is_some());
+}
+
+#[test]
+fn layouts_come_from_formats_and_shader_use() {
+    let plan = plan_with("vulkan", None, &[]);
+    // Depth texture read through texture_depth_2d with a comparison sampler.
+    assert_eq!(
+        binding(&plan, "light_directional_spot", "shadow_map").ty,
+        BindingType::Texture {
+            sample_type: SampleType::Depth,
+            view_dimension: lightbench_compiler::shader::reflect::ShaderDim::D2,
+            multisampled: false
+        }
+    );
+    assert_eq!(
+        binding(&plan, "light_directional_spot", "shadow_cmp").ty,
+        BindingType::Sampler(SamplerKind::Comparison)
+    );
+    // Rgba32Float read with textureLoad only: unfilterable, so no optional feature is needed.
+    assert!(matches!(
+        binding(&plan, "light_point", "gbuf_position").ty,
+        BindingType::Texture {
+            sample_type: SampleType::Float { filterable: false },
+            ..
+        }
+    ));
+    // Rgba8Unorm is filterable by format.
+    assert!(matches!(
+        binding(&plan, "ambient", "gbuf_albedo").ty,
+        BindingType::Texture {
+            sample_type: SampleType::Float { filterable: true },
+            ..
+        }
+    ));
+    // Cube view for point shadows.
+    assert!(matches!(
+        binding(&plan, "light_point", "shadow_cube").ty,
+        BindingType::Texture {
+            view_dimension: lightbench_compiler::shader::reflect::ShaderDim::Cube,
+            ..
+        }
+    ));
+    // Visibility from actual entry-point use.
+    assert_eq!(binding(&plan, "gbuffer", "mesh").visibility, vec!["vertex"]);
+    assert_eq!(
+        binding(&plan, "gbuffer", "material").visibility,
+        vec!["fragment"]
+    );
+    assert_eq!(
+        binding(&plan, "luminance", "lum").ty,
+        BindingType::Storage {
+            read_only: false,
+            min_binding_size: 16
+        }
+    );
+    assert_eq!(
+        binding(&plan, "tonemap", "lum").ty,
+        BindingType::Storage {
+            read_only: true,
+            min_binding_size: 16
+        }
+    );
+    assert_eq!(
+        binding(&plan, "shadow_map", "lights").source,
+        BindSource::Lights
+    );
+    // Globals declared by an include but unused by the entry point are not bound.
+    assert!(plan
+        .pass("shadow_map")
+        .unwrap()
+        .bind_groups
+        .iter()
+        .flat_map(|g| &g.entries)
+        .all(|e| e.name != "frame"));
+}
+
+#[test]
+fn uniform_block_offsets_follow_the_shader_struct() {
+    let plan = plan_with("vulkan", None, &[]);
+    let b = &plan.pass("light_directional_spot").unwrap().uniform_blocks[0];
+    let fields: Vec<(&str, &str, u32, u32, &str)> = b
+        .fields
+        .iter()
+        .map(|f| {
+            (
+                f.name.as_str(),
+                f.param.as_str(),
+                f.offset,
+                f.size,
+                f.ty.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        fields,
+        vec![
+            ("bias", "shadow.bias", 0, 4, "f32"),
+            ("pcf", "shadow.pcf", 4, 4, "u32")
+        ]
+    );
+    assert_eq!((b.size, b.align, b.group, b.binding), (8, 4, 2, 5));
+    let a = &plan.pass("ambient").unwrap().uniform_blocks[0];
+    assert_eq!(
+        (a.size, a.align),
+        (16, 16),
+        "vec3<f32> is 16-aligned in uniform space"
+    );
+    assert_eq!(a.fields[0].ty, "vec3<f32>");
+}
+
+#[test]
+fn resources_memory_and_usage() {
+    let plan = plan_with("vulkan", None, &[]);
+    let pos = plan.resource("gbuf.position").unwrap();
+    assert_eq!(pos.bytes, 1280 * 720 * 16);
+    assert_eq!(pos.usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
+    let cube = plan.resource("shadow.cube").unwrap();
+    assert_eq!(
+        (cube.layers, cube.instances, cube.bytes),
+        (6, 1, 512 * 512 * 4 * 6)
+    );
+    assert_eq!(
+        plan.resource("ldr").unwrap().usage,
+        vec!["RENDER_ATTACHMENT", "COPY_SRC"]
+    );
+    assert_eq!(plan.resource("lum").unwrap().usage, vec!["STORAGE"]);
+    assert_eq!(
+        plan.memory_bytes,
+        plan.resources.iter().map(|r| r.bytes).sum::<u64>()
+    );
+}
+
+#[test]
+fn memory_scales_with_lights_and_resolution() {
+    let mut s = Session::new();
+    let mut scene = SceneFeatures::everything();
+    scene.size = (1920, 1080);
+    scene.lights.insert(LightKind::Point, 4);
+    let plan = s
+        .plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[])
+        .unwrap();
+    let cube = plan.resource("shadow.cube").unwrap();
+    assert_eq!((cube.instances, cube.bytes), (4, 4 * 512 * 512 * 4 * 6));
+    assert_eq!(plan.resource("hdr").unwrap().bytes, 1920 * 1080 * 8);
+    assert_eq!(plan.pass("shadow_cube_classic").unwrap().repetitions, 24);
+}
+
+#[test]
+fn execution_order_respects_dependencies() {
+    let plan = plan_with("vulkan", None, &[]);
+    let names: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
+    let pos = |n: &str| names.iter().position(|x| *x == n).unwrap();
+    assert!(pos("gbuffer") < pos("ambient"));
+    assert!(
+        pos("ambient") < pos("light_directional_spot"),
+        "lights load what ambient cleared"
+    );
+    assert!(pos("light_point") < pos("luminance"));
+    assert!(pos("luminance") < pos("tonemap"));
+    assert_eq!(
+        plan.pass("tonemap").unwrap().after,
+        vec![
+            "ambient",
+            "light_directional_spot",
+            "light_point",
+            "luminance"
+        ]
+    );
+}
+
+#[test]
+fn plan_round_trips_through_json() {
+    let plan = plan_with("vulkan", None, &[]);
+    let json = serde_json::to_string(&plan).unwrap();
+    let back: Plan = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, plan);
+}
+
+#[test]
+fn bundled_pipelines_check_clean_on_every_profile() {
+    for profile in Profile::OFFLINE {
+        for f in lightbench_compiler::pipeline_files(&repo_root().join("pipelines")).unwrap() {
+            let mut s = Session::new();
+            s.check_file(&f, None, &Profile::offline(profile).unwrap(), None);
+            assert!(
+                s.diags.list.is_empty(),
+                "{} on {profile}:\n{}",
+                f.display(),
+                s.render()
+            );
+        }
+    }
+}
