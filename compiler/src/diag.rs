@@ -200,35 +200,23 @@ impl Diagnostics {
 }
 
 /// The closest candidate by edit distance, when close enough to be a plausible typo.
-pub fn did_you_mean<'a>(
-    input: &str,
-    candidates: impl IntoIterator<Item = &'a str>,
-) -> Option<&'a str> {
+pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
     candidates
         .into_iter()
-        .map(|c| {
-            (
-                strsim::normalized_damerau_levenshtein(&input.to_lowercase(), &c.to_lowercase()),
-                c,
-            )
-        })
+        .map(|c| (strsim::normalized_damerau_levenshtein(&input.to_lowercase(), &c.to_lowercase()), c))
         .filter(|(score, _)| *score >= 0.6)
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, c)| c)
 }
 
 /// "did you mean `x`?" or the list of valid names.
-pub fn suggestion_note<'a>(input: &str, candidates: &[&'a str]) -> String {
+pub fn suggestion_note(input: &str, candidates: &[&str]) -> String {
     match did_you_mean(input, candidates.iter().copied()) {
         Some(s) => format!("did you mean `{s}`?"),
         None if candidates.is_empty() => "nothing is declared here".to_string(),
         None => format!(
             "expected one of: {}",
-            candidates
-                .iter()
-                .map(|c| format!("`{c}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
+            candidates.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", ")
         ),
     }
 }
@@ -239,10 +227,7 @@ mod tests {
 
     #[test]
     fn suggests_close_names_only() {
-        assert_eq!(
-            did_you_mean("pases", ["passes", "params", "output"]),
-            Some("passes")
-        );
+        assert_eq!(did_you_mean("pases", ["passes", "params", "output"]), Some("passes"));
         assert_eq!(did_you_mean("zzzz", ["passes", "params"]), None);
     }
 }

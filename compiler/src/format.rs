@@ -77,10 +77,7 @@ formats! {
 
 impl TextureFormat {
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::NAMES
-            .iter()
-            .position(|n| *n == s)
-            .map(|i| Self::ALL[i])
+        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
     }
     pub fn is_depth(self) -> bool {
         self.kind() == ScalarKind::Depth
@@ -96,9 +93,6 @@ impl TextureFormat {
         self.base_filterable() || (self.is_32bit_float() && profile.has(Feature::Float32Filterable))
     }
     pub fn is_srgb(self) -> bool {
-        matches!(
-            self,
-            TextureFormat::Rgba8UnormSrgb | TextureFormat::Bgra8UnormSrgb
-        )
+        matches!(self, TextureFormat::Rgba8UnormSrgb | TextureFormat::Bgra8UnormSrgb)
     }
 }

@@ -39,11 +39,7 @@ pub fn shader_root_for(pipeline: &Path, explicit: Option<&Path>) -> PathBuf {
         return e.to_path_buf();
     }
     let dir = pipeline.parent().map(Path::to_path_buf).unwrap_or_default();
-    let dir = if dir.as_os_str().is_empty() {
-        PathBuf::from(".")
-    } else {
-        dir
-    };
+    let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
     for cand in [dir.join("shaders"), dir.join("..").join("shaders")] {
         if cand.is_dir() {
             return normalize(&cand);
@@ -124,10 +120,7 @@ impl Session {
                 self.diags.push(Diagnostic::unlocated(
                     Severity::Error,
                     "unknown-format",
-                    format!(
-                        "`{name}`: unknown pipeline format `{}` (expected `.ron`)",
-                        other.unwrap_or("")
-                    ),
+                    format!("`{name}`: unknown pipeline format `{}` (expected `.ron`)", other.unwrap_or("")),
                 ));
                 None
             }
@@ -137,32 +130,16 @@ impl Session {
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
     pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
         let mut loader = shader::ShaderLoader::new(shader_root.to_path_buf());
-        check::check_pipeline(
-            pipeline,
-            profile,
-            &mut loader,
-            &mut self.sources,
-            &mut self.diags,
-        )
+        check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags)
     }
 
     /// Plan one configuration. `None` when it has errors (they are in `diags`).
-    pub fn plan(
-        &mut self,
-        checked: &Checked,
-        profile: &Profile,
-        scene: &SceneFeatures,
-        variants: &[(String, String)],
-    ) -> Option<Plan> {
+    pub fn plan(&mut self, checked: &Checked, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
         if self.diags.has_errors() {
             return None;
         }
         let selection = plan::build::select(&checked.pipeline, profile, variants, &mut self.diags)?;
-        let cfg = Config {
-            profile,
-            scene,
-            selection,
-        };
+        let cfg = Config { profile, scene, selection };
         plan::build_plan(checked, &cfg, &mut self.diags)
     }
 
@@ -170,14 +147,18 @@ impl Session {
     /// (others at their default); for `scene`, or else for a scene calling for every effect and
     /// one calling for none (both with every light kind), so both sides of effect conditions
     /// are checked.
-    pub fn check_configurations(
-        &mut self,
-        checked: &Checked,
-        profile: &Profile,
-        scene: Option<&SceneFeatures>,
-    ) {
+    pub fn check_configurations(&mut self, checked: &Checked, profile: &Profile, scene: Option<&SceneFeatures>) {
         let scenes = match scene {
             Some(s) => vec![s.clone()],
+            // A scene without effects only changes something if some condition asks for one.
+            None if !checked
+                .pipeline
+                .passes
+                .iter()
+                .any(|p| p.when.as_ref().is_some_and(|w| w.mentions_scene_effects())) =>
+            {
+                vec![SceneFeatures::everything()]
+            }
             None => {
                 let mut plain = SceneFeatures::everything();
                 plain.name = "<no effects>".into();
@@ -192,19 +173,21 @@ impl Session {
                 configs.push(vec![(v.name.value.clone(), o.name.value.clone())]);
             }
         }
+        let mut seen: Vec<std::collections::BTreeMap<String, String>> = vec![];
         for scene in &scenes {
+            seen.clear();
             for c in &configs {
-                let Some(selection) =
-                    plan::build::select(&checked.pipeline, profile, c, &mut self.diags)
-                else {
+                let Some(selection) = plan::build::select(&checked.pipeline, profile, c, &mut self.diags) else {
                     continue;
                 };
-                let cfg = Config {
-                    profile,
-                    scene,
-                    selection,
-                };
-                plan::build_plan(checked, &cfg, &mut self.diags);
+                // Requesting the default option, or one that falls back to an option already
+                // planned, gives a configuration already checked.
+                if seen.contains(&selection.chosen) {
+                    continue;
+                }
+                seen.push(selection.chosen.clone());
+                let cfg = Config { profile, scene, selection };
+                plan::build::schedule(checked, &cfg, &mut self.diags);
             }
         }
     }
@@ -228,13 +211,7 @@ impl Session {
     }
 
     /// Load and check a pipeline file across its configurations (what `lightbench check` does).
-    pub fn check_file(
-        &mut self,
-        path: &Path,
-        shader_root: Option<&Path>,
-        profile: &Profile,
-        scene: Option<&SceneFeatures>,
-    ) {
+    pub fn check_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: Option<&SceneFeatures>) {
         let Some(p) = self.load_pipeline(path) else {
             return;
         };
@@ -248,11 +225,6 @@ impl Session {
 
     /// All diagnostics rendered rustc-style.
     pub fn render(&self) -> String {
-        self.diags
-            .list
-            .iter()
-            .map(|d| d.render(&self.sources))
-            .collect::<Vec<_>>()
-            .join("")
+        self.diags.list.iter().map(|d| d.render(&self.sources)).collect::<Vec<_>>().join("")
     }
 }

@@ -34,10 +34,7 @@ features! {
 
 impl Feature {
     pub fn from_name(s: &str) -> Option<Feature> {
-        Self::NAMES
-            .iter()
-            .position(|n| *n == s)
-            .map(|i| Self::ALL[i])
+        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
     }
 }
 
@@ -166,13 +163,9 @@ impl Profile {
         let mut limits = Limits::webgpu();
         limits.max_texture_dimension_2d = 8192;
         limits.max_storage_textures_per_shader_stage = 8;
-        let features = [
-            Feature::ClipDistances,
-            Feature::Float32Filterable,
-            Feature::CubeArrayTextures,
-        ]
-        .into_iter()
-        .collect();
+        let features = [Feature::ClipDistances, Feature::Float32Filterable, Feature::CubeArrayTextures]
+            .into_iter()
+            .collect();
         Profile {
             name: "gl".into(),
             features,

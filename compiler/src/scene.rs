@@ -2,7 +2,7 @@
 //! reflective materials, output size. Read from a scene file (RON) for culling.
 
 use crate::diag::{suggestion_note, Diagnostic, Diagnostics};
-use crate::front::ron::value::{self, Node, Value};
+use crate::front::ron::value::{self, Value};
 use crate::ir::{Effect, LightKind};
 use crate::span::SourceMap;
 use serde::Serialize;
@@ -32,20 +32,13 @@ impl SceneFeatures {
     }
 
     pub fn light_count(&self, kinds: &[LightKind]) -> u32 {
-        kinds
-            .iter()
-            .map(|k| self.lights.get(k).copied().unwrap_or(0))
-            .sum()
+        kinds.iter().map(|k| self.lights.get(k).copied().unwrap_or(0)).sum()
     }
 }
 
 /// Read the features of a scene file. Keys the compiler does not need (camera, models'
 /// transforms...) belong to the runtime's scene schema and are not checked here.
-pub fn load_scene_features(
-    path: &str,
-    sources: &mut SourceMap,
-    diags: &mut Diagnostics,
-) -> Option<SceneFeatures> {
+pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diagnostics) -> Option<SceneFeatures> {
     let text = match std::fs::read_to_string(path) {
         Ok(t) => t,
         Err(e) => {
@@ -65,20 +58,12 @@ pub fn load_scene_features(
             return None;
         }
     };
-    let Value::Struct { name, fields } = &root.value else {
-        diags.push(Diagnostic::error(
-            "type-mismatch",
-            "expected `Scene(...)`",
-            root.span,
-        ));
+    let Value::Struct { name, fields } = &*root.value else {
+        diags.push(Diagnostic::error("type-mismatch", "expected `Scene(...)`", root.span));
         return None;
     };
     if name.as_ref().is_some_and(|(n, _)| n != "Scene") {
-        diags.push(Diagnostic::error(
-            "type-mismatch",
-            "expected `Scene(...)`",
-            root.span,
-        ));
+        diags.push(Diagnostic::error("type-mismatch", "expected `Scene(...)`", root.span));
         return None;
     }
     let before = diags.error_count();
@@ -94,126 +79,85 @@ pub fn load_scene_features(
         size: (1280, 720),
     };
     let field = |k: &str| fields.iter().find(|f| f.0 == k).map(|f| &f.2);
-    if let Some(Node {
-        value: Value::Str(s),
-        ..
-    }) = field("name")
-    {
+    if let Some(Value::Str(s)) = field("name").map(|n| &*n.value) {
         sf.name = s.clone();
     }
     if let Some(n) = field("size") {
-        match &n.value {
-            Value::Tuple { items, .. } if items.len() == 2 => {
-                match (&items[0].value, &items[1].value) {
-                    (Value::Int(w), Value::Int(h))
-                        if *w > 0 && *h > 0 && *w <= 65536 && *h <= 65536 =>
-                    {
-                        sf.size = (*w as u32, *h as u32)
-                    }
-                    _ => diags.push(Diagnostic::error(
-                        "value-out-of-range",
-                        "scene size must be two positive integers",
-                        n.span,
-                    )),
-                }
-            }
-            _ => diags.push(Diagnostic::error(
-                "type-mismatch",
-                "expected `size: (width, height)`",
-                n.span,
-            )),
+        match &*n.value {
+            Value::Tuple { items, .. } if items.len() == 2 => match (&*items[0].value, &*items[1].value) {
+                (Value::Int(w), Value::Int(h)) if *w > 0 && *h > 0 && *w <= 65536 && *h <= 65536 => sf.size = (*w as u32, *h as u32),
+                _ => diags.push(Diagnostic::error(
+                    "value-out-of-range",
+                    "scene size must be two positive integers",
+                    n.span,
+                )),
+            },
+            _ => diags.push(Diagnostic::error("type-mismatch", "expected `size: (width, height)`", n.span)),
         }
     }
     if let Some(n) = field("lights") {
-        match &n.value {
+        match &*n.value {
             Value::List(items) => {
                 for it in items {
-                    let (kind_name, kspan, lfields) = match &it.value {
+                    let (kind_name, kspan, lfields) = match &*it.value {
                         Value::Struct {
                             name: Some((k, s)),
                             fields,
                         } => (k.clone(), *s, fields.clone()),
-                        Value::Tuple {
-                            name: Some((k, s)),
-                            items,
-                        } if items.is_empty() => (k.clone(), *s, vec![]),
+                        Value::Tuple { name: Some((k, s)), items } if items.is_empty() => (k.clone(), *s, vec![]),
                         _ => {
-                            diags.push(Diagnostic::error(
-                                "type-mismatch",
-                                "expected a light such as `Point(...)`",
-                                it.span,
-                            ));
+                            diags.push(Diagnostic::error("type-mismatch", "expected a light such as `Point(...)`", it.span));
                             continue;
                         }
                     };
                     let Some(kind) = LightKind::from_name(&kind_name) else {
                         diags.push(
-                            Diagnostic::error(
-                                "unknown-kind",
-                                format!("unknown light kind `{kind_name}`"),
-                                kspan,
-                            )
-                            .with_note(suggestion_note(&kind_name, &LightKind::NAMES)),
+                            Diagnostic::error("unknown-kind", format!("unknown light kind `{kind_name}`"), kspan)
+                                .with_note(suggestion_note(&kind_name, &LightKind::NAMES)),
                         );
                         continue;
                     };
                     let on = lfields
                         .iter()
                         .find(|f| f.0 == "on")
-                        .map(|f| !matches!(f.2.value, Value::Bool(false)))
+                        .map(|f| !matches!(*f.2.value, Value::Bool(false)))
                         .unwrap_or(true);
                     if on {
                         *sf.lights.entry(kind).or_insert(0) += 1;
                     }
                 }
             }
-            _ => diags.push(Diagnostic::error(
-                "type-mismatch",
-                "expected a list of lights",
-                n.span,
-            )),
+            _ => diags.push(Diagnostic::error("type-mismatch", "expected a list of lights", n.span)),
         }
     }
     if let Some(n) = field("effects") {
-        match &n.value {
+        match &*n.value {
             Value::List(items) => {
                 for it in items {
-                    match &it.value {
+                    match &*it.value {
                         Value::Ident(e) => match Effect::from_name(e) {
                             Some(e) => {
                                 sf.effects.insert(e);
                             }
                             None => diags.push(
-                                Diagnostic::error(
-                                    "unknown-effect",
-                                    format!("unknown effect `{e}`"),
-                                    it.span,
-                                )
-                                .with_note(suggestion_note(e, &Effect::NAMES)),
+                                Diagnostic::error("unknown-effect", format!("unknown effect `{e}`"), it.span)
+                                    .with_note(suggestion_note(e, &Effect::NAMES)),
                             ),
                         },
-                        _ => diags.push(Diagnostic::error(
-                            "type-mismatch",
-                            "expected an effect name",
-                            it.span,
-                        )),
+                        _ => diags.push(Diagnostic::error("type-mismatch", "expected an effect name", it.span)),
                     }
                 }
             }
-            _ => diags.push(Diagnostic::error(
-                "type-mismatch",
-                "expected a list of effects",
-                n.span,
-            )),
+            _ => diags.push(Diagnostic::error("type-mismatch", "expected a list of effects", n.span)),
         }
     }
     if let Some(n) = field("models") {
-        if let Value::List(items) = &n.value {
+        if let Value::List(items) = &*n.value {
             for it in items {
-                if let Value::Struct { fields, .. } = &it.value {
+                if let Value::Struct { fields, .. } = &*it.value {
                     if fields
                         .iter()
-                        .any(|f| f.0 == "reflective" && matches!(f.2.value, Value::Bool(true)))
+                        .any(|f| f.0 == "reflective" && matches!(*f.2.value, Value::Bool(true)))
                     {
                         sf.reflective = true;
                     }
@@ -221,11 +165,7 @@ pub fn load_scene_features(
             }
         }
     }
-    if let Some(Node {
-        value: Value::Bool(b),
-        ..
-    }) = field("reflective")
-    {
+    if let Some(Value::Bool(b)) = field("reflective").map(|n| &*n.value) {
         sf.reflective |= *b;
     }
     (diags.error_count() == before).then_some(sf)

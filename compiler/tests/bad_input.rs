@@ -105,13 +105,10 @@ fn run(c: &Case) -> Outcome {
 fn expect(c: Case, code: &str, msg: &str, file: &str, line: usize, col: usize) {
     let out = run(&c);
     let found = out.located();
-    let hit = found.iter().any(|(dc, dm, f, l, co)| {
-        dc == code && dm.contains(msg) && f == file && *l == line && *co == col
-    });
-    let got: Vec<String> = found
+    let hit = found
         .iter()
-        .map(|(c, m, f, l, co)| format!("[{c}] {f}:{l}:{co} {m}"))
-        .collect();
+        .any(|(dc, dm, f, l, co)| dc == code && dm.contains(msg) && f == file && *l == line && *co == col);
+    let got: Vec<String> = found.iter().map(|(c, m, f, l, co)| format!("[{c}] {f}:{l}:{co} {m}")).collect();
     assert!(
         hit,
         "expected [{code}] containing {msg:?} at {file}:{line}:{col}; got:\n{}\n{}",
@@ -173,10 +170,7 @@ fn unknown_key_with_suggestion() {
         pipeline: &[("samplers: {", "samplerz: {")],
         ..BASE
     });
-    assert!(out.errors()[0]
-        .notes
-        .iter()
-        .any(|n| n == "did you mean `samplers`?"));
+    assert!(out.errors()[0].notes.iter().any(|n| n == "did you mean `samplers`?"));
 }
 
 #[test]
@@ -288,10 +282,7 @@ fn wgsl_parse_error() {
 fn wgsl_validation_error() {
     expect(
         Case {
-            post: &[(
-                "textureSample(color, linear, uv) * params.exposure",
-                "params.exposure",
-            )],
+            post: &[("textureSample(color, linear, uv) * params.exposure", "params.exposure")],
             ..BASE
         },
         "shader-validation",
@@ -304,14 +295,10 @@ fn wgsl_validation_error() {
 
 #[test]
 fn glsl_error() {
-    let frag =
-        "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";
+    let frag = "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";
     expect(
         Case {
-            pipeline: &[(
-                "shader: \"post.wgsl\", reads: [\"color\"],",
-                "shader: \"post.frag\",",
-            )],
+            pipeline: &[("shader: \"post.wgsl\", reads: [\"color\"],", "shader: \"post.frag\",")],
             files: &[("shaders/post.frag", frag)],
             ..BASE
         },
@@ -327,10 +314,7 @@ fn glsl_error() {
 fn missing_entry_point() {
     expect(
         Case {
-            pipeline: &[(
-                "shader: \"post.wgsl\",",
-                "shader: \"post.wgsl\", fragment: \"fs_mian\",",
-            )],
+            pipeline: &[("shader: \"post.wgsl\",", "shader: \"post.wgsl\", fragment: \"fs_mian\",")],
             ..BASE
         },
         "missing-entry-point",
@@ -345,10 +329,7 @@ fn missing_entry_point() {
 fn entry_point_of_wrong_stage() {
     expect(
         Case {
-            pipeline: &[(
-                "shader: \"scene.wgsl\",",
-                "shader: \"scene.wgsl\", vertex: \"fs_main\",",
-            )],
+            pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", vertex: \"fs_main\",")],
             ..BASE
         },
         "wrong-stage",
@@ -368,10 +349,7 @@ fn binding_with_no_declared_resource() {
                     "@group(0) @binding(2)",
                     "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)",
                 ),
-                (
-                    "* params.exposure",
-                    "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)",
-                ),
+                ("* params.exposure", "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)"),
             ],
             ..BASE
         },
@@ -386,7 +364,16 @@ fn binding_with_no_declared_resource() {
 #[test]
 fn texture_float_vs_depth() {
     expect(
-        Case { post: &[("var color: texture_2d<f32>;", "var color: texture_depth_2d;"), ("textureSample(color, linear, uv)", "vec4<f32>(textureLoad(color, vec2<i32>(uv), 0))")], ..BASE },
+        Case {
+            post: &[
+                ("var color: texture_2d<f32>;", "var color: texture_depth_2d;"),
+                (
+                    "textureSample(color, linear, uv)",
+                    "vec4<f32>(textureLoad(color, vec2<i32>(uv), 0))",
+                ),
+            ],
+            ..BASE
+        },
         "texture-type",
         "`color` is `texture_depth_2d` but `color` has format Rgba16Float: a depth texture binding needs a depth format",
         "shaders/post.wgsl",
@@ -400,10 +387,7 @@ fn texture_2d_vs_cube() {
     expect(
         Case {
             post: &[
-                (
-                    "var color: texture_2d<f32>;",
-                    "var color: texture_cube<f32>;",
-                ),
+                ("var color: texture_2d<f32>;", "var color: texture_cube<f32>;"),
                 (
                     "textureSample(color, linear, uv)",
                     "textureSample(color, linear, vec3<f32>(uv, 1.0))",
@@ -438,10 +422,7 @@ fn fragment_output_count_mismatch() {
 fn fragment_output_kind_mismatch() {
     expect(
         Case {
-            pipeline: &[(
-                "\"out\": Texture(format: Rgba8Unorm)",
-                "\"out\": Texture(format: R32Uint)",
-            )],
+            pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: R32Uint)")],
             ..BASE
         },
         "fragment-output-kind",
@@ -468,10 +449,7 @@ fn read_before_write() {
                     "@group(0) @binding(2)",
                     "@group(0) @binding(3) var bloom: texture_2d<f32>;\n@group(0) @binding(2)",
                 ),
-                (
-                    "* params.exposure",
-                    "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)",
-                ),
+                ("* params.exposure", "* params.exposure + textureLoad(bloom, vec2<i32>(0), 0)"),
             ],
             ..BASE
         },
@@ -494,11 +472,20 @@ fn cycle_between_passes() {
     expect(
         Case {
             pipeline: &[
-                ("\"out\": Texture", "\"tmp_a\": Texture(format: Rgba16Float),\n        \"tmp_b\": Texture(format: Rgba16Float),\n        \"out\": Texture"),
+                (
+                    "\"out\": Texture",
+                    "\"tmp_a\": Texture(format: Rgba16Float),\n        \"tmp_b\": Texture(format: Rgba16Float),\n        \"out\": Texture",
+                ),
                 ("reads: [\"color\"]", "reads: [\"color\", \"tmp_a\"]"),
                 ("\n    ],", TWO_PASS_CYCLE),
             ],
-            post: &[("@group(0) @binding(2)", "@group(0) @binding(3) var tmp_a: texture_2d<f32>;\n@group(0) @binding(2)"), ("* params.exposure", "* params.exposure + textureLoad(tmp_a, vec2<i32>(0), 0)")],
+            post: &[
+                (
+                    "@group(0) @binding(2)",
+                    "@group(0) @binding(3) var tmp_a: texture_2d<f32>;\n@group(0) @binding(2)",
+                ),
+                ("* params.exposure", "* params.exposure + textureLoad(tmp_a, vec2<i32>(0), 0)"),
+            ],
             files: &[("shaders/copy.wgsl", COPY_WGSL)],
             ..BASE
         },
@@ -578,14 +565,8 @@ fn blend_on_non_blendable_format() {
     expect(
         Case {
             pipeline: &[
-                (
-                    "\"out\": Texture(format: Rgba8Unorm)",
-                    "\"out\": Texture(format: Rgba32Float)",
-                ),
-                (
-                    "color: [\"out\"]",
-                    "color: [Target(resource: \"out\", blend: Add)]",
-                ),
+                ("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: Rgba32Float)"),
+                ("color: [\"out\"]", "color: [Target(resource: \"out\", blend: Add)]"),
             ],
             ..BASE
         },
@@ -686,7 +667,11 @@ const VARIANT_NO_FALLBACK: &str = r#"    variants: {
 #[test]
 fn variant_needs_unavailable_feature_without_fallback() {
     expect(
-        Case { pipeline: &[("    output: \"out\",", VARIANT_NO_FALLBACK)], profile: "webgpu", ..BASE },
+        Case {
+            pipeline: &[("    output: \"out\",", VARIANT_NO_FALLBACK)],
+            profile: "webgpu",
+            ..BASE
+        },
         "variant-unsupported",
         "variant `views` option `multi` needs feature Multiview, which profile `webgpu` lacks, and declares no fallback",
         "pipelines/p.ron",
@@ -699,10 +684,7 @@ fn variant_needs_unavailable_feature_without_fallback() {
 fn geometry_shader_request() {
     expect(
         Case {
-            pipeline: &[(
-                "shader: \"scene.wgsl\",",
-                "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",",
-            )],
+            pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",")],
             ..BASE
         },
         "geometry-shader",
@@ -712,17 +694,11 @@ fn geometry_shader_request() {
         53,
     );
     let out = run(&Case {
-        pipeline: &[(
-            "shader: \"scene.wgsl\",",
-            "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",",
-        )],
+        pipeline: &[("shader: \"scene.wgsl\",", "shader: \"scene.wgsl\", geometry: \"layers.wgsl\",")],
         ..BASE
     });
     let note = &out.errors()[0].notes[0];
-    assert!(
-        note.contains("multiview") && note.contains("instanced atlas"),
-        "{note}"
-    );
+    assert!(note.contains("multiview") && note.contains("instanced atlas"), "{note}");
 }
 
 #[test]
@@ -745,10 +721,7 @@ fn geometry_shader_file() {
 fn unknown_effect_in_condition() {
     expect(
         Case {
-            pipeline: &[(
-                "params: [\"post.exposure\"])",
-                "params: [\"post.exposure\"], when: Effect(Bloomm))",
-            )],
+            pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], when: Effect(Bloomm))")],
             ..BASE
         },
         "unknown-effect",
@@ -830,7 +803,11 @@ fn unknown_resource_with_suggestion() {
 #[test]
 fn filtering_sampler_on_unfilterable_texture() {
     expect(
-        Case { pipeline: &[("reads: [\"color\"]", "reads: [\"depth\"]"), ("depth: \"depth\"", "")], post: &[("var color:", "var depth:"), ("textureSample(color,", "textureSample(depth,")], ..BASE },
+        Case {
+            pipeline: &[("reads: [\"color\"]", "reads: [\"depth\"]"), ("depth: \"depth\"", "")],
+            post: &[("var color:", "var depth:"), ("textureSample(color,", "textureSample(depth,")],
+            ..BASE
+        },
         "not-filterable",
         "`depth` (depth) is sampled with filtering sampler `linear`, but Depth32Float is not filterable",
         "shaders/post.wgsl",
@@ -845,10 +822,7 @@ fn comparison_sampler_mismatch() {
         Case {
             post: &[
                 ("var linear: sampler;", "var linear: sampler_comparison;"),
-                (
-                    "var color: texture_2d<f32>;",
-                    "var color: texture_depth_2d;",
-                ),
+                ("var color: texture_2d<f32>;", "var color: texture_depth_2d;"),
                 (
                     "textureSample(color, linear, uv)",
                     "vec4<f32>(textureSampleCompare(color, linear, uv, 0.5))",
@@ -857,10 +831,7 @@ fn comparison_sampler_mismatch() {
             pipeline: &[
                 ("reads: [\"color\"]", "reads: [\"depth\"]"),
                 ("depth: \"depth\"", ""),
-                (
-                    "\"post.wgsl\",",
-                    "\"post.wgsl\", bind: {\"color\": \"depth\"},",
-                ),
+                ("\"post.wgsl\",", "\"post.wgsl\", bind: {\"color\": \"depth\"},"),
             ],
             ..BASE
         },
@@ -924,10 +895,7 @@ fn output_resource_unknown() {
 fn layer_all_needs_multiview() {
     expect(
         Case {
-            pipeline: &[(
-                "depth: \"depth\"",
-                "depth: Depth(resource: \"depth\", layer: All)",
-            )],
+            pipeline: &[("depth: \"depth\"", "depth: Depth(resource: \"depth\", layer: All)")],
             ..BASE
         },
         "layer-select",
@@ -994,29 +962,23 @@ fn unused_read_is_a_warning() {
         pipeline: &[("reads: [\"color\"]", "reads: [\"color\", \"depth\"]")],
         ..BASE
     });
-    let d = out
-        .session
-        .diags
-        .list
-        .iter()
-        .find(|d| d.code == "unused-read")
-        .expect("warning");
+    let d = out.session.diags.list.iter().find(|d| d.code == "unused-read").expect("warning");
     assert_eq!(d.severity, lightbench_compiler::diag::Severity::Warning);
-    assert_eq!(
-        d.message,
-        "pass `post` reads `depth` but no entry point uses it"
-    );
-    assert_eq!(
-        d.location(&out.session.sources).map(|(_, l, c)| (l, c)),
-        Some((16, 72))
-    );
+    assert_eq!(d.message, "pass `post` reads `depth` but no entry point uses it");
+    assert_eq!(d.location(&out.session.sources).map(|(_, l, c)| (l, c)), Some((16, 72)));
     assert!(!out.session.diags.has_errors(), "{}", out.dump());
 }
 
 #[test]
 fn unknown_variant_option_as_default() {
     expect(
-        Case { pipeline: &[("    output: \"out\",", "    variants: {\"v\": Variant(default: \"b\", options: {\"a\": ()})},\n    output: \"out\",")], ..BASE },
+        Case {
+            pipeline: &[(
+                "    output: \"out\",",
+                "    variants: {\"v\": Variant(default: \"b\", options: {\"a\": ()})},\n    output: \"out\",",
+            )],
+            ..BASE
+        },
         "unknown-variant-option",
         "default `b` is not an option of variant `v`",
         "pipelines/p.ron",

@@ -32,8 +32,7 @@ const PIPELINE: &str = r#"Pipeline(
 )
 "#;
 
-const FILL: &str =
-    "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(0.5);\n}\n";
+const FILL: &str = "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(0.5);\n}\n";
 const COMPOSE: &str = "@group(0) @binding(0) var a: texture_2d<f32>;\n@group(0) @binding(1) var ao: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    let i = vec2<i32>(p.xy);\n    return textureLoad(a, i, 0) * textureLoad(ao, i, 0).r;\n}\n";
 
 fn project() -> std::path::PathBuf {
@@ -62,34 +61,27 @@ fn culled_passes_name_their_reason() {
     let dir = project();
     let mut s = Session::new();
     let plan = s
-        .plan_file(
-            &dir.join("pipelines/cull.ron"),
-            None,
-            &Profile::vulkan(),
-            &scene(&[]),
-            &[],
-        )
+        .plan_file(&dir.join("pipelines/cull.ron"), None, &Profile::vulkan(), &scene(&[]), &[])
         .unwrap_or_else(|| panic!("{}", s.render()));
-    let culled: Vec<(&str, &str)> = plan
-        .culled
-        .iter()
-        .map(|c| (c.name.as_str(), c.reason.as_str()))
-        .collect();
+    let culled: Vec<(&str, &str)> = plan.culled.iter().map(|c| (c.name.as_str(), c.reason.as_str())).collect();
     assert_eq!(
         culled,
         vec![
-            ("ssao", "condition `Effect(AmbientOcclusion)` is false: the scene does not call for AmbientOcclusion"),
-            ("debug_view", "condition `Toggle(\"debug.enabled\")` is false: toggle `debug.enabled` is off"),
+            (
+                "ssao",
+                "condition `Effect(AmbientOcclusion)` is false: the scene does not call for AmbientOcclusion"
+            ),
+            (
+                "debug_view",
+                "condition `Toggle(\"debug.enabled\")` is false: toggle `debug.enabled` is off"
+            ),
             ("stats", "output unreachable: nothing on the way to `out` reads `debug`"),
         ]
     );
     let kept: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(kept, vec!["base", "ao_off", "compose"]);
     let text = lightbench_compiler::plan::to_text(&plan, true);
-    assert!(
-        text.contains("stats                      output unreachable"),
-        "{text}"
-    );
+    assert!(text.contains("stats                      output unreachable"), "{text}");
 }
 
 #[test]
@@ -107,11 +99,7 @@ fn the_scene_decides_which_writer_runs() {
         .unwrap();
     assert!(plan.pass("ssao").is_some() && plan.pass("ao_off").is_none());
     assert_eq!(
-        plan.culled
-            .iter()
-            .find(|c| c.name == "ao_off")
-            .unwrap()
-            .reason,
+        plan.culled.iter().find(|c| c.name == "ao_off").unwrap().reason,
         "condition `Not(Effect(AmbientOcclusion))` is false: Effect(AmbientOcclusion) holds"
     );
 }
@@ -125,10 +113,7 @@ fn check_covers_every_configuration_without_a_scene() {
 
 #[test]
 fn missing_producer_names_the_culled_writer() {
-    let p = PIPELINE.replace(
-        ", when: Not(Effect(AmbientOcclusion))",
-        ", when: Effect(Bloom)",
-    );
+    let p = PIPELINE.replace(", when: Not(Effect(AmbientOcclusion))", ", when: Effect(Bloom)");
     let dir = write_project(
         "cull2",
         &[
@@ -139,20 +124,14 @@ fn missing_producer_names_the_culled_writer() {
     );
     let mut s = Session::new();
     assert!(s
-        .plan_file(
-            &dir.join("pipelines/cull.ron"),
-            None,
-            &Profile::vulkan(),
-            &scene(&[]),
-            &[]
-        )
+        .plan_file(&dir.join("pipelines/cull.ron"), None, &Profile::vulkan(), &scene(&[]), &[])
         .is_none());
     let d = s.diags.errors().next().unwrap();
     assert_eq!(d.code, "read-before-write");
     assert!(
-        d.notes.iter().any(|n| n.contains(
-            "its writer `ssao` was culled: condition `Effect(AmbientOcclusion)` is false"
-        )),
+        d.notes
+            .iter()
+            .any(|n| n.contains("its writer `ssao` was culled: condition `Effect(AmbientOcclusion)` is false")),
         "{:?}",
         d.notes
     );
@@ -164,12 +143,7 @@ fn scene_file_features_and_errors() {
     let good = dir.join("s.ron");
     std::fs::write(&good, "Scene(name: \"x\", size: (64, 32), lights: [Point(on: true), Spot(), Point(on: false)], effects: [Ssr], models: [(reflective: true)])").unwrap();
     let mut s = Session::new();
-    let sf = lightbench_compiler::scene::load_scene_features(
-        &good.display().to_string(),
-        &mut s.sources,
-        &mut s.diags,
-    )
-    .unwrap();
+    let sf = lightbench_compiler::scene::load_scene_features(&good.display().to_string(), &mut s.sources, &mut s.diags).unwrap();
     assert_eq!(sf.size, (64, 32));
     assert_eq!(sf.lights.get(&LightKind::Point), Some(&1));
     assert_eq!(sf.lights.get(&LightKind::Spot), Some(&1));
@@ -177,20 +151,9 @@ fn scene_file_features_and_errors() {
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, "Scene(\n    effects: [Ssrr],\n)").unwrap();
     let mut s = Session::new();
-    assert!(lightbench_compiler::scene::load_scene_features(
-        &bad.display().to_string(),
-        &mut s.sources,
-        &mut s.diags
-    )
-    .is_none());
+    assert!(lightbench_compiler::scene::load_scene_features(&bad.display().to_string(), &mut s.sources, &mut s.diags).is_none());
     let d = &s.diags.list[0];
-    assert_eq!(
-        (d.code, d.message.as_str()),
-        ("unknown-effect", "unknown effect `Ssrr`")
-    );
-    assert_eq!(
-        d.location(&s.sources).map(|(_, l, c)| (l, c)),
-        Some((2, 15))
-    );
+    assert_eq!((d.code, d.message.as_str()), ("unknown-effect", "unknown effect `Ssrr`"));
+    assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((2, 15)));
     assert!(d.notes[0].contains("did you mean `Ssr`?"));
 }

@@ -18,18 +18,10 @@ fn plan_with(profile: &str, scene: Option<&str>, variants: &[(&str, &str)]) -> P
     let mut s = Session::new();
     let profile = Profile::offline(profile).unwrap();
     let scene = match scene {
-        Some(p) => load_scene_features(
-            &repo_root().join(p).display().to_string(),
-            &mut s.sources,
-            &mut s.diags,
-        )
-        .expect("scene"),
+        Some(p) => load_scene_features(&repo_root().join(p).display().to_string(), &mut s.sources, &mut s.diags).expect("scene"),
         None => SceneFeatures::everything(),
     };
-    let v: Vec<(String, String)> = variants
-        .iter()
-        .map(|(a, b)| (a.to_string(), b.to_string()))
-        .collect();
+    let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let plan = s.plan_file(&deferred(), None, &profile, &scene, &v);
     assert!(!s.diags.has_errors(), "{}", s.render());
     plan.expect("plan")
@@ -47,10 +39,7 @@ fn binding<'a>(plan: &'a Plan, pass: &str, name: &str) -> &'a plan::PlanBinding 
 
 #[test]
 fn snapshot_deferred_all_features() {
-    insta::assert_snapshot!(
-        "deferred_all_features",
-        plan::to_text(&plan_with("vulkan", None, &[]), true)
-    );
+    insta::assert_snapshot!("deferred_all_features", plan::to_text(&plan_with("vulkan", None, &[]), true));
 }
 
 #[test]
@@ -58,16 +47,9 @@ fn snapshot_deferred_sun_only_scene_culls_passes() {
     let plan = plan_with("vulkan", Some("scenes/sun_only.ron"), &[]);
     let text = plan::to_text(&plan, true);
     insta::assert_snapshot!("deferred_sun_only", text);
-    let culled: Vec<(&str, &str)> = plan
-        .culled
-        .iter()
-        .map(|c| (c.name.as_str(), c.reason.as_str()))
-        .collect();
+    let culled: Vec<(&str, &str)> = plan.culled.iter().map(|c| (c.name.as_str(), c.reason.as_str())).collect();
     assert!(
-        culled.contains(&(
-            "shadow_cube_classic",
-            "runs per Point light and the scene has none"
-        )),
+        culled.contains(&("shadow_cube_classic", "runs per Point light and the scene has none")),
         "{culled:?}"
     );
     assert!(culled.contains(&("light_point", "runs per Point light and the scene has none")));
@@ -75,9 +57,7 @@ fn snapshot_deferred_sun_only_scene_culls_passes() {
         "shadow_cube_multiview",
         "variant not chosen: `cube_shadow` is `classic`, this pass belongs to `multiview`"
     )));
-    assert!(plan
-        .pass("light_directional_spot")
-        .is_some_and(|p| p.repetitions == 1));
+    assert!(plan.pass("light_directional_spot").is_some_and(|p| p.repetitions == 1));
     assert!(
         plan.resource("shadow.cube").is_none(),
         "unused per-light resources are not allocated"
@@ -86,46 +66,27 @@ fn snapshot_deferred_sun_only_scene_culls_passes() {
 
 #[test]
 fn snapshot_deferred_gl_falls_back_from_multiview() {
-    let plan = plan_with(
-        "gl",
-        None,
-        &[("cube_shadow", "multiview"), ("tonemap", "simple")],
-    );
+    let plan = plan_with("gl", None, &[("cube_shadow", "multiview"), ("tonemap", "simple")]);
     insta::assert_snapshot!("deferred_gl_multiview_simple", plan::to_text(&plan, true));
-    let v = plan
-        .variants
-        .iter()
-        .find(|v| v.variant == "cube_shadow")
-        .unwrap();
+    let v = plan.variants.iter().find(|v| v.variant == "cube_shadow").unwrap();
     assert_eq!(v.option, "instanced");
     assert!(
-        v.reason
-            .as_deref()
-            .unwrap()
-            .contains("`multiview` needs feature Multiview"),
+        v.reason.as_deref().unwrap().contains("`multiview` needs feature Multiview"),
         "{v:?}"
     );
     // The GLSL substitute is used for the tone map.
-    assert_eq!(
-        plan.pass("tonemap").unwrap().stages[1].file,
-        "tonemap_simple.frag"
-    );
+    assert_eq!(plan.pass("tonemap").unwrap().stages[1].file, "tonemap_simple.frag");
     assert_eq!(plan.pass("tonemap").unwrap().stages[1].entry, "main");
 }
 
 #[test]
 fn webgpu_falls_back_twice_with_reasons() {
     let plan = plan_with("webgpu", None, &[("cube_shadow", "multiview")]);
-    let v = plan
-        .variants
-        .iter()
-        .find(|v| v.variant == "cube_shadow")
-        .unwrap();
+    let v = plan.variants.iter().find(|v| v.variant == "cube_shadow").unwrap();
     assert_eq!(v.option, "classic");
     let r = v.reason.as_deref().unwrap();
     assert!(
-        r.contains("falling back to `instanced`")
-            && r.contains("`instanced` needs feature ClipDistances"),
+        r.contains("falling back to `instanced`") && r.contains("`instanced` needs feature ClipDistances"),
         "{r}"
     );
     assert!(plan.pass("shadow_cube_classic").is_some());
@@ -173,10 +134,7 @@ fn layouts_come_from_formats_and_shader_use() {
     ));
     // Visibility from actual entry-point use.
     assert_eq!(binding(&plan, "gbuffer", "mesh").visibility, vec!["vertex"]);
-    assert_eq!(
-        binding(&plan, "gbuffer", "material").visibility,
-        vec!["fragment"]
-    );
+    assert_eq!(binding(&plan, "gbuffer", "material").visibility, vec!["fragment"]);
     assert_eq!(
         binding(&plan, "luminance", "lum").ty,
         BindingType::Storage {
@@ -191,10 +149,7 @@ fn layouts_come_from_formats_and_shader_use() {
             min_binding_size: 16
         }
     );
-    assert_eq!(
-        binding(&plan, "shadow_map", "lights").source,
-        BindSource::Lights
-    );
+    assert_eq!(binding(&plan, "shadow_map", "lights").source, BindSource::Lights);
     // Globals declared by an include but unused by the entry point are not bound.
     assert!(plan
         .pass("shadow_map")
@@ -212,30 +167,15 @@ fn uniform_block_offsets_follow_the_shader_struct() {
     let fields: Vec<(&str, &str, u32, u32, &str)> = b
         .fields
         .iter()
-        .map(|f| {
-            (
-                f.name.as_str(),
-                f.param.as_str(),
-                f.offset,
-                f.size,
-                f.ty.as_str(),
-            )
-        })
+        .map(|f| (f.name.as_str(), f.param.as_str(), f.offset, f.size, f.ty.as_str()))
         .collect();
     assert_eq!(
         fields,
-        vec![
-            ("bias", "shadow.bias", 0, 4, "f32"),
-            ("pcf", "shadow.pcf", 4, 4, "u32")
-        ]
+        vec![("bias", "shadow.bias", 0, 4, "f32"), ("pcf", "shadow.pcf", 4, 4, "u32")]
     );
     assert_eq!((b.size, b.align, b.group, b.binding), (8, 4, 2, 5));
     let a = &plan.pass("ambient").unwrap().uniform_blocks[0];
-    assert_eq!(
-        (a.size, a.align),
-        (16, 16),
-        "vec3<f32> is 16-aligned in uniform space"
-    );
+    assert_eq!((a.size, a.align), (16, 16), "vec3<f32> is 16-aligned in uniform space");
     assert_eq!(a.fields[0].ty, "vec3<f32>");
 }
 
@@ -246,19 +186,10 @@ fn resources_memory_and_usage() {
     assert_eq!(pos.bytes, 1280 * 720 * 16);
     assert_eq!(pos.usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
     let cube = plan.resource("shadow.cube").unwrap();
-    assert_eq!(
-        (cube.layers, cube.instances, cube.bytes),
-        (6, 1, 512 * 512 * 4 * 6)
-    );
-    assert_eq!(
-        plan.resource("ldr").unwrap().usage,
-        vec!["RENDER_ATTACHMENT", "COPY_SRC"]
-    );
+    assert_eq!((cube.layers, cube.instances, cube.bytes), (6, 1, 512 * 512 * 4 * 6));
+    assert_eq!(plan.resource("ldr").unwrap().usage, vec!["RENDER_ATTACHMENT", "COPY_SRC"]);
     assert_eq!(plan.resource("lum").unwrap().usage, vec!["STORAGE"]);
-    assert_eq!(
-        plan.memory_bytes,
-        plan.resources.iter().map(|r| r.bytes).sum::<u64>()
-    );
+    assert_eq!(plan.memory_bytes, plan.resources.iter().map(|r| r.bytes).sum::<u64>());
 }
 
 #[test]
@@ -267,9 +198,7 @@ fn memory_scales_with_lights_and_resolution() {
     let mut scene = SceneFeatures::everything();
     scene.size = (1920, 1080);
     scene.lights.insert(LightKind::Point, 4);
-    let plan = s
-        .plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[])
-        .unwrap();
+    let plan = s.plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[]).unwrap();
     let cube = plan.resource("shadow.cube").unwrap();
     assert_eq!((cube.instances, cube.bytes), (4, 4 * 512 * 512 * 4 * 6));
     assert_eq!(plan.resource("hdr").unwrap().bytes, 1920 * 1080 * 8);
@@ -282,20 +211,12 @@ fn execution_order_respects_dependencies() {
     let names: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
     let pos = |n: &str| names.iter().position(|x| *x == n).unwrap();
     assert!(pos("gbuffer") < pos("ambient"));
-    assert!(
-        pos("ambient") < pos("light_directional_spot"),
-        "lights load what ambient cleared"
-    );
+    assert!(pos("ambient") < pos("light_directional_spot"), "lights load what ambient cleared");
     assert!(pos("light_point") < pos("luminance"));
     assert!(pos("luminance") < pos("tonemap"));
     assert_eq!(
         plan.pass("tonemap").unwrap().after,
-        vec![
-            "ambient",
-            "light_directional_spot",
-            "light_point",
-            "luminance"
-        ]
+        vec!["ambient", "light_directional_spot", "light_point", "luminance"]
     );
 }
 
@@ -313,12 +234,7 @@ fn bundled_pipelines_check_clean_on_every_profile() {
         for f in lightbench_compiler::pipeline_files(&repo_root().join("pipelines")).unwrap() {
             let mut s = Session::new();
             s.check_file(&f, None, &Profile::offline(profile).unwrap(), None);
-            assert!(
-                s.diags.list.is_empty(),
-                "{} on {profile}:\n{}",
-                f.display(),
-                s.render()
-            );
+            assert!(s.diags.list.is_empty(), "{} on {profile}:\n{}", f.display(), s.render());
         }
     }
 }

@@ -4,10 +4,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }
 
 fn lightbench(args: &[&str]) -> (i32, String, String) {
@@ -41,9 +38,7 @@ fn check_bundled_pipelines_succeeds() {
     let (code, _, err) = lightbench(&["check", "pipelines/"]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains(
-            "checked 1 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"
-        ),
+        err.contains("checked 1 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
         "{err}"
     );
     for profile in ["webgpu", "gl"] {
@@ -57,94 +52,57 @@ fn check_reports_errors_rustc_style_and_exits_1() {
     let d = temp_project("err", "Pipeline(\n    name: \"x\",\n    resources: {\"out\": Texture(format: Rgba8Unorm)},\n    passes: [Fullscreen(name: \"f\", shader: \"fill.wgsl\", color: [\"outt\"])],\n    output: \"out\",\n)\n");
     let (code, _, err) = lightbench(&["check", d.join("p.ron").to_str().unwrap()]);
     assert_eq!(code, 1, "{err}");
-    assert!(
-        err.contains("error[unknown-resource]: no resource named `outt`"),
-        "{err}"
-    );
-    assert!(
-        err.contains(&format!("┌─ {}:4:65", d.join("p.ron").display())),
-        "{err}"
-    );
+    assert!(err.contains("error[unknown-resource]: no resource named `outt`"), "{err}");
+    assert!(err.contains(&format!("┌─ {}:4:65", d.join("p.ron").display())), "{err}");
     assert!(err.contains("= did you mean `out`?"), "{err}");
 }
 
 #[test]
 fn check_json_is_one_object_per_diagnostic() {
     let d = temp_project("json", "Pipeline(\n    name: \"x\",\n    resources: {\"out\": Texture(format: Rgba8Unorm)},\n    passes: [Fullscreen(name: \"f\", shader: \"fill.wgsl\", color: [\"out\"], colr: 1)],\n    output: \"out\",\n)\n");
-    let (code, out, _) = lightbench(&[
-        "check",
-        "--format",
-        "json",
-        d.join("p.ron").to_str().unwrap(),
-    ]);
+    let (code, out, _) = lightbench(&["check", "--format", "json", d.join("p.ron").to_str().unwrap()]);
     assert_eq!(code, 1);
-    let lines: Vec<serde_json::Value> = out
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("json line"))
-        .collect();
+    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).expect("json line")).collect();
     assert_eq!(lines.len(), 1, "{out}");
     let d0 = &lines[0];
     assert_eq!(d0["severity"], "error");
     assert_eq!(d0["code"], "unknown-key");
     assert_eq!(d0["message"], "unknown key `colr` in pass `f`");
-    assert_eq!(
-        (d0["line"].as_u64(), d0["column"].as_u64()),
-        (Some(4), Some(73))
-    );
-    assert_eq!(
-        (d0["end"]["line"].as_u64(), d0["end"]["column"].as_u64()),
-        (Some(4), Some(77))
-    );
+    assert_eq!((d0["line"].as_u64(), d0["column"].as_u64()), (Some(4), Some(73)));
+    assert_eq!((d0["end"]["line"].as_u64(), d0["end"]["column"].as_u64()), (Some(4), Some(77)));
     assert!(d0["file"].as_str().unwrap().ends_with("p.ron"));
 }
 
 #[test]
 fn usage_errors_exit_2() {
-    assert_eq!(
-        lightbench(&["check", "--profile", "vulcan", "pipelines/"]).0,
-        2
-    );
+    assert_eq!(lightbench(&["check", "--profile", "vulcan", "pipelines/"]).0, 2);
     let (code, _, err) = lightbench(&["check", "--profile", "vulcan", "pipelines/"]);
     assert!(err.contains("did you mean `vulkan`?"), "{err}");
     assert_eq!(code, 2);
     assert_eq!(lightbench(&["check", "does/not/exist"]).0, 2);
     assert_eq!(lightbench(&["check"]).0, 2);
-    assert_eq!(
-        lightbench(&["plan", "pipelines/deferred.ron", "--variant", "nonsense"]).0,
-        2
-    );
-    assert_eq!(
-        lightbench(&["plan", "pipelines/deferred.ron", "--size", "12x"]).0,
-        2
-    );
+    assert_eq!(lightbench(&["plan", "pipelines/deferred.ron", "--variant", "nonsense"]).0, 2);
+    assert_eq!(lightbench(&["plan", "pipelines/deferred.ron", "--size", "12x"]).0, 2);
 }
 
 #[test]
 fn plan_explain_names_culling_reasons() {
-    let (code, out, err) = lightbench(&[
-        "plan",
-        "pipelines/deferred.ron",
-        "--scene",
-        "scenes/sun_only.ron",
-        "--explain",
-    ]);
+    let (code, out, err) = lightbench(&["plan", "pipelines/deferred.ron", "--scene", "scenes/sun_only.ron", "--explain"]);
     assert_eq!(code, 0, "{err}");
     assert!(
         out.contains("shadow_cube_classic        runs per Point light and the scene has none"),
         "{out}"
     );
-    assert!(out.contains("shadow_cube_atlas          variant not chosen: `cube_shadow` is `classic`, this pass belongs to `instanced`"), "{out}");
+    assert!(
+        out.contains("shadow_cube_atlas          variant not chosen: `cube_shadow` is `classic`, this pass belongs to `instanced`"),
+        "{out}"
+    );
     assert!(out.contains("block `params`: 8 bytes, align 4"), "{out}");
 }
 
 #[test]
 fn plan_unknown_variant_is_an_error_with_suggestion() {
-    let (code, _, err) = lightbench(&[
-        "plan",
-        "pipelines/deferred.ron",
-        "--variant",
-        "cube_shadows=classic",
-    ]);
+    let (code, _, err) = lightbench(&["plan", "pipelines/deferred.ron", "--variant", "cube_shadows=classic"]);
     assert_eq!(code, 1);
     assert!(
         err.contains("error[unknown-variant]: pipeline `deferred` has no variant `cube_shadows`"),
@@ -158,8 +116,7 @@ fn plan_dot_and_json() {
     let (code, out, _) = lightbench(&["plan", "pipelines/deferred.ron", "--dot"]);
     assert_eq!(code, 0);
     assert!(
-        out.starts_with("digraph \"deferred\" {")
-            && out.contains("\"pass:gbuffer\" -> \"res:gbuf.normal\";"),
+        out.starts_with("digraph \"deferred\" {") && out.contains("\"pass:gbuffer\" -> \"res:gbuf.normal\";"),
         "{out}"
     );
     let (code, out, _) = lightbench(&[
@@ -185,12 +142,7 @@ fn plan_dot_and_json() {
 
 #[test]
 fn check_with_a_scene_file() {
-    let (code, _, err) = lightbench(&[
-        "check",
-        "--scene",
-        "scenes/sun_only.ron",
-        "pipelines/deferred.ron",
-    ]);
+    let (code, _, err) = lightbench(&["check", "--scene", "scenes/sun_only.ron", "pipelines/deferred.ron"]);
     assert_eq!(code, 0, "{err}");
     let d = temp_project("scene", "Pipeline(name: \"x\", passes: [], output: \"o\")");
     std::fs::write(d.join("bad_scene.ron"), "Scene(lights: [Pointt()])").unwrap();

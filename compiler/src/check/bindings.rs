@@ -6,10 +6,7 @@ use super::StageShader;
 use crate::diag::{did_you_mean, Diagnostic, Diagnostics};
 use crate::format::{ScalarKind, TextureFormat};
 use crate::ir::*;
-use crate::plan::{
-    BindSource, BindingType, PlanBindGroup, PlanBinding, SampleType, SamplerKind, UniformBlock,
-    UniformField,
-};
+use crate::plan::{BindSource, BindingType, PlanBindGroup, PlanBinding, SampleType, SamplerKind, UniformBlock, UniformField};
 use crate::profile::Profile;
 use crate::shader::reflect::{self, BindingTy, GlobalBinding, ShaderDim, TexKind};
 use std::collections::BTreeMap;
@@ -51,18 +48,12 @@ struct Used<'a> {
     stages: Vec<&'static str>,
 }
 
-pub fn resolve(
-    p: &Pipeline,
-    pass: &Pass,
-    stages: &[StageShader],
-    profile: &Profile,
-    diags: &mut Diagnostics,
-) -> Option<Resolved> {
+pub fn resolve(p: &Pipeline, pass: &Pass, stages: &[StageShader], profile: &Profile, diags: &mut Diagnostics) -> Option<Resolved> {
     let before = diags.error_count();
     // Gather used globals across stages, keyed by (group, binding).
     let mut used: BTreeMap<(u32, u32), Used> = BTreeMap::new();
     for st in stages {
-        for g in reflect::resource_globals(&st.module) {
+        for g in st.module.globals.iter().cloned() {
             if !reflect::used_by(&st.module, st.entry, g.handle) {
                 continue;
             }
@@ -70,11 +61,7 @@ pub fn resolve(
             match used.get_mut(&(g.group, g.binding)) {
                 Some(u)
                     if u.g.name != g.name
-                        || u.g.ty != g.ty
-                            && !matches!(
-                                (&u.g.ty, &g.ty),
-                                (BindingTy::Uniform { .. }, BindingTy::Uniform { .. })
-                            ) =>
+                        || u.g.ty != g.ty && !matches!((&u.g.ty, &g.ty), (BindingTy::Uniform { .. }, BindingTy::Uniform { .. })) =>
                 {
                     diags.push(
                         Diagnostic::error(
@@ -85,10 +72,7 @@ pub fn resolve(
                             ),
                             st.module.global_span(g.handle),
                         )
-                        .with_secondary(
-                            u.stage.module.global_span(u.g.handle),
-                            "other declaration",
-                        ),
+                        .with_secondary(u.stage.module.global_span(u.g.handle), "other declaration"),
                     );
                 }
                 Some(u) => {
@@ -114,28 +98,13 @@ pub fn resolve(
     let mut sampled_with: Vec<(String, String)> = vec![];
     for st in stages {
         for (img, smp) in reflect::sampling_pairs(&st.module, st.entry) {
-            let name = |h: naga::Handle<naga::GlobalVariable>| {
-                st.module.module.global_variables[h]
-                    .name
-                    .clone()
-                    .unwrap_or_default()
-            };
+            let name = |h: naga::Handle<naga::GlobalVariable>| st.module.module.global_variables[h].name.clone().unwrap_or_default();
             sampled_with.push((name(img), name(smp)));
         }
     }
 
-    let explicit: BTreeMap<&str, &crate::span::Spanned<String>> = pass
-        .bind
-        .iter()
-        .map(|(k, v)| (k.value.as_str(), v))
-        .collect();
-    let scene_draw = matches!(
-        pass.kind,
-        PassKind::Raster {
-            draw: Draw::Scene,
-            ..
-        }
-    );
+    let explicit: BTreeMap<&str, &crate::span::Spanned<String>> = pass.bind.iter().map(|(k, v)| (k.value.as_str(), v)).collect();
+    let scene_draw = matches!(pass.kind, PassKind::Raster { draw: Draw::Scene, .. });
     let attachments: Vec<&str> = pass
         .color
         .iter()
@@ -164,9 +133,7 @@ pub fn resolve(
                         &mut groups,
                         g,
                         BindSource::Params,
-                        BindingType::Uniform {
-                            min_binding_size: *size,
-                        },
+                        BindingType::Uniform { min_binding_size: *size },
                         &u.stages,
                     );
                 }
@@ -182,20 +149,8 @@ pub fn resolve(
         if target.is_none() && (g.name == FRAME || g.name == INSTANCE) {
             match &g.ty {
                 BindingTy::Uniform { size, .. } => {
-                    let src = if g.name == FRAME {
-                        BindSource::Frame
-                    } else {
-                        BindSource::Instance
-                    };
-                    push(
-                        &mut groups,
-                        g,
-                        src,
-                        BindingType::Uniform {
-                            min_binding_size: *size,
-                        },
-                        &u.stages,
-                    );
+                    let src = if g.name == FRAME { BindSource::Frame } else { BindSource::Instance };
+                    push(&mut groups, g, src, BindingType::Uniform { min_binding_size: *size }, &u.stages);
                 }
                 _ => diags.push(Diagnostic::error(
                     "binding-type",
@@ -207,10 +162,7 @@ pub fn resolve(
         }
         if target.is_none() && g.name == LIGHTS {
             match &g.ty {
-                BindingTy::Storage {
-                    read_only: true,
-                    size,
-                } => push(
+                BindingTy::Storage { read_only: true, size } => push(
                     &mut groups,
                     g,
                     BindSource::Lights,
@@ -233,10 +185,7 @@ pub fn resolve(
                 diags.push(
                     Diagnostic::error(
                         "binding-unsatisfied",
-                        format!(
-                            "per-draw binding `{}` is only provided to `draw: Scene` raster passes",
-                            g.name
-                        ),
+                        format!("per-draw binding `{}` is only provided to `draw: Scene` raster passes", g.name),
                         gspan,
                     )
                     .with_secondary(pass.name.span, "in this pass"),
@@ -245,9 +194,7 @@ pub fn resolve(
             }
             let ty = match &g.ty {
                 BindingTy::Uniform { size, .. } if g.name == "material" || g.name == "mesh" => {
-                    BindingType::Uniform {
-                        min_binding_size: *size,
-                    }
+                    BindingType::Uniform { min_binding_size: *size }
                 }
                 BindingTy::Texture {
                     kind: TexKind::Float,
@@ -258,9 +205,7 @@ pub fn resolve(
                     view_dimension: ShaderDim::D2,
                     multisampled: false,
                 },
-                BindingTy::Sampler { comparison: false } if g.name == "material_sampler" => {
-                    BindingType::Sampler(SamplerKind::Filtering)
-                }
+                BindingTy::Sampler { comparison: false } if g.name == "material_sampler" => BindingType::Sampler(SamplerKind::Filtering),
                 _ => {
                     diags.push(Diagnostic::error(
                         "binding-type",
@@ -273,13 +218,7 @@ pub fn resolve(
                     continue;
                 }
             };
-            push(
-                &mut groups,
-                g,
-                BindSource::Draw(g.name.clone()),
-                ty,
-                &u.stages,
-            );
+            push(&mut groups, g, BindSource::Draw(g.name.clone()), ty, &u.stages);
             continue;
         }
         // 3. samplers
@@ -311,9 +250,15 @@ pub fn resolve(
                     Diagnostic::error(
                         "sampler-type",
                         if comparison {
-                            format!("`{}` is a `sampler_comparison` but sampler `{}` has no `compare`", g.name, decl.name.value)
+                            format!(
+                                "`{}` is a `sampler_comparison` but sampler `{}` has no `compare`",
+                                g.name, decl.name.value
+                            )
                         } else {
-                            format!("`{}` is a plain `sampler` but sampler `{}` is a comparison sampler", g.name, decl.name.value)
+                            format!(
+                                "`{}` is a plain `sampler` but sampler `{}` is a comparison sampler",
+                                g.name, decl.name.value
+                            )
                         },
                         gspan,
                     )
@@ -390,22 +335,12 @@ pub fn resolve(
         }; // reported by declarations
         let decl_span = res.span;
         let ty = match (&g.ty, &res.kind) {
-            (
-                BindingTy::Texture {
-                    kind,
-                    dim,
-                    multisampled,
-                },
-                ResourceKind::Texture(t),
-            ) => {
+            (BindingTy::Texture { kind, dim, multisampled }, ResourceKind::Texture(t)) => {
                 used_reads.push(res_name.clone());
                 if *multisampled {
                     diags.push(Diagnostic::error(
                         "texture-type",
-                        format!(
-                            "`{}` is multisampled; lightbench resources are single-sampled",
-                            g.name
-                        ),
+                        format!("`{}` is multisampled; lightbench resources are single-sampled", g.name),
                         gspan,
                     ));
                     continue;
@@ -437,18 +372,11 @@ pub fn resolve(
                     img == &g.name
                         && p.samplers
                             .iter()
-                            .find(|s| {
-                                shader_ident(&s.name) == *smp
-                                    || explicit
-                                        .get(smp.as_str())
-                                        .is_some_and(|t| t.value == s.name.value)
-                            })
+                            .find(|s| shader_ident(&s.name) == *smp || explicit.get(smp.as_str()).is_some_and(|t| t.value == s.name.value))
                             .is_some_and(|s| s.binding_kind() == SamplerKind::Filtering)
                 });
                 let sample_type = match sample_type {
-                    SampleType::Float { .. } if f.is_depth() => {
-                        SampleType::Float { filterable: false }
-                    }
+                    SampleType::Float { .. } if f.is_depth() => SampleType::Float { filterable: false },
                     SampleType::Float { .. } if f.is_32bit_float() => SampleType::Float {
                         filterable: with_filtering_sampler && f.filterable(profile),
                     },
@@ -459,8 +387,19 @@ pub fn resolve(
                 };
                 if let Err(why) = dim_ok(*dim, t) {
                     diags.push(
-                        Diagnostic::error("texture-type", format!("`{}` is `{}` but `{}` is declared with view {} and {} layer(s): {why}", g.name, g.type_name, res_name, t.view.value.name(), t.layers.value), gspan)
-                            .with_secondary(t.view.span, "view declared here"),
+                        Diagnostic::error(
+                            "texture-type",
+                            format!(
+                                "`{}` is `{}` but `{}` is declared with view {} and {} layer(s): {why}",
+                                g.name,
+                                g.type_name,
+                                res_name,
+                                t.view.value.name(),
+                                t.layers.value
+                            ),
+                            gspan,
+                        )
+                        .with_secondary(t.view.span, "view declared here"),
                     );
                     continue;
                 }
@@ -469,20 +408,31 @@ pub fn resolve(
                     if img != &g.name {
                         continue;
                     }
-                    let decl = p.samplers.iter().find(|s| {
-                        shader_ident(&s.name) == *smp
-                            || explicit
-                                .get(smp.as_str())
-                                .is_some_and(|t| t.value == s.name.value)
-                    });
-                    if let (Some(decl), SampleType::Float { filterable: false }) =
-                        (decl, sample_type)
-                    {
+                    let decl = p
+                        .samplers
+                        .iter()
+                        .find(|s| shader_ident(&s.name) == *smp || explicit.get(smp.as_str()).is_some_and(|t| t.value == s.name.value));
+                    if let (Some(decl), SampleType::Float { filterable: false }) = (decl, sample_type) {
                         if decl.binding_kind() == SamplerKind::Filtering {
                             diags.push(
-                                Diagnostic::error("not-filterable", format!("`{}` ({}) is sampled with filtering sampler `{}`, but {} is not filterable{}", g.name, res_name, decl.name.value, f.name(), if f.is_32bit_float() { " without the Float32Filterable feature" } else { "" }), gspan)
-                                    .with_secondary(decl.span, "filtering sampler declared here")
-                                    .with_note("use a sampler with `filter: Nearest, mipmap: Nearest`, or `textureLoad`"),
+                                Diagnostic::error(
+                                    "not-filterable",
+                                    format!(
+                                        "`{}` ({}) is sampled with filtering sampler `{}`, but {} is not filterable{}",
+                                        g.name,
+                                        res_name,
+                                        decl.name.value,
+                                        f.name(),
+                                        if f.is_32bit_float() {
+                                            " without the Float32Filterable feature"
+                                        } else {
+                                            ""
+                                        }
+                                    ),
+                                    gspan,
+                                )
+                                .with_secondary(decl.span, "filtering sampler declared here")
+                                .with_note("use a sampler with `filter: Nearest, mipmap: Nearest`, or `textureLoad`"),
                             );
                         }
                     }
@@ -532,19 +482,22 @@ pub fn resolve(
                 }
                 if *w && !writable {
                     diags.push(
-                        Diagnostic::error("binding-access", format!("`{}` is written by the shader but the pass lists `{}` under `reads`", g.name, res_name), gspan)
-                            .with_note("list it under `writes`"),
+                        Diagnostic::error(
+                            "binding-access",
+                            format!(
+                                "`{}` is written by the shader but the pass lists `{}` under `reads`",
+                                g.name, res_name
+                            ),
+                            gspan,
+                        )
+                        .with_note("list it under `writes`"),
                     );
                     continue;
                 }
                 if let Err(why) = dim_ok(*dim, t) {
                     diags.push(
-                        Diagnostic::error(
-                            "texture-type",
-                            format!("`{}` is `{}`: {why}", g.name, g.type_name),
-                            gspan,
-                        )
-                        .with_secondary(t.view.span, "view declared here"),
+                        Diagnostic::error("texture-type", format!("`{}` is `{}`: {why}", g.name, g.type_name), gspan)
+                            .with_secondary(t.view.span, "view declared here"),
                     );
                     continue;
                 }
@@ -565,10 +518,7 @@ pub fn resolve(
                     diags.push(
                         Diagnostic::error(
                             "binding-access",
-                            format!(
-                                "`{}` is `read_write` but the pass lists `{}` under `reads`",
-                                g.name, res_name
-                            ),
+                            format!("`{}` is `read_write` but the pass lists `{}` under `reads`", g.name, res_name),
                             gspan,
                         )
                         .with_note("list it under `writes`, or declare it `var<storage, read>`"),
@@ -579,10 +529,7 @@ pub fn resolve(
                     diags.push(
                         Diagnostic::error(
                             "buffer-too-small",
-                            format!(
-                                "`{}` needs at least {size} bytes but `{}` has {}",
-                                g.name, res_name, b.size.value
-                            ),
+                            format!("`{}` needs at least {size} bytes but `{}` has {}", g.name, res_name, b.size.value),
                             gspan,
                         )
                         .with_secondary(b.size.span, "size declared here"),
@@ -603,25 +550,17 @@ pub fn resolve(
                 if b.size.value < *size as u64 {
                     diags.push(Diagnostic::error(
                         "buffer-too-small",
-                        format!(
-                            "`{}` needs at least {size} bytes but `{}` has {}",
-                            g.name, res_name, b.size.value
-                        ),
+                        format!("`{}` needs at least {size} bytes but `{}` has {}", g.name, res_name, b.size.value),
                         gspan,
                     ));
                     continue;
                 }
                 per_stage_count(&mut per_stage, &u.stages, |c| c.uniform_buffers += 1);
-                BindingType::Uniform {
-                    min_binding_size: *size,
-                }
+                BindingType::Uniform { min_binding_size: *size }
             }
             (sty, _) => {
                 let (what, decl) = match &res.kind {
-                    ResourceKind::Texture(t) => (
-                        format!("a {} texture", t.format.value.name()),
-                        t.format.span,
-                    ),
+                    ResourceKind::Texture(t) => (format!("a {} texture", t.format.value.name()), t.format.span),
                     ResourceKind::Buffer(_) => ("a buffer".to_string(), decl_span),
                 };
                 let shader_what = match sty {
@@ -634,10 +573,7 @@ pub fn resolve(
                 diags.push(
                     Diagnostic::error(
                         "binding-type",
-                        format!(
-                            "`{}` is {shader_what} (`{}`) but `{}` is {what}",
-                            g.name, g.type_name, res_name
-                        ),
+                        format!("`{}` is {shader_what} (`{}`) but `{}` is {what}", g.name, g.type_name, res_name),
                         gspan,
                     )
                     .with_secondary(decl, "declared here"),
@@ -664,11 +600,7 @@ pub fn resolve(
             diags.push(
                 Diagnostic::warning(
                     "unused-read",
-                    format!(
-                        "pass `{}` reads `{}` but no entry point uses it",
-                        pass.name.value,
-                        r.name().value
-                    ),
+                    format!("pass `{}` reads `{}` but no entry point uses it", pass.name.value, r.name().value),
                     r.name().span,
                 )
                 .with_note(format!(
@@ -689,9 +621,7 @@ pub fn resolve(
                 "pass `{}` declares parameters but its shaders use no `{}` block",
                 pass.name.value, pass.param_block.value
             ),
-            pass.params[0]
-                .span
-                .to(pass.params[pass.params.len() - 1].span),
+            pass.params[0].span.to(pass.params[pass.params.len() - 1].span),
         ));
     }
     if diags.error_count() > before {
@@ -708,23 +638,13 @@ pub fn resolve(
     })
 }
 
-fn per_stage_count(
-    map: &mut BTreeMap<&'static str, StageCounts>,
-    stages: &[&'static str],
-    f: impl Fn(&mut StageCounts),
-) {
+fn per_stage_count(map: &mut BTreeMap<&'static str, StageCounts>, stages: &[&'static str], f: impl Fn(&mut StageCounts)) {
     for s in stages {
         f(map.entry(s).or_default());
     }
 }
 
-fn push(
-    groups: &mut BTreeMap<u32, Vec<PlanBinding>>,
-    g: &GlobalBinding,
-    source: BindSource,
-    ty: BindingType,
-    stages: &[&'static str],
-) {
+fn push(groups: &mut BTreeMap<u32, Vec<PlanBinding>>, g: &GlobalBinding, source: BindSource, ty: BindingType, stages: &[&'static str]) {
     let mut vis: Vec<String> = stages.iter().map(|s| s.to_string()).collect();
     vis.sort();
     groups.entry(g.group).or_default().push(PlanBinding {
@@ -742,36 +662,27 @@ fn texture_kind_ok(kind: TexKind, f: TextureFormat) -> Result<SampleType, String
         (TexKind::Depth, ScalarKind::Depth) => Ok(SampleType::Depth),
         (TexKind::Depth, _) => Err("a depth texture binding needs a depth format".into()),
         // Depth formats can be read as unfilterable floats (textureLoad / nearest sampling).
-        (TexKind::Float, ScalarKind::Float | ScalarKind::Depth) => {
-            Ok(SampleType::Float { filterable: true })
-        }
+        (TexKind::Float, ScalarKind::Float | ScalarKind::Depth) => Ok(SampleType::Float { filterable: true }),
         (TexKind::Uint, ScalarKind::Uint) => Ok(SampleType::Uint),
         (TexKind::Sint, ScalarKind::Sint) => Ok(SampleType::Sint),
         (TexKind::Float, k) => Err(format!(
             "a float texture cannot read {k:?} texels; use texture_2d<{}>",
             if k == ScalarKind::Uint { "u32" } else { "i32" }
         )),
-        (TexKind::Uint | TexKind::Sint, _) => {
-            Err("the texel type does not match the format".into())
-        }
+        (TexKind::Uint | TexKind::Sint, _) => Err("the texel type does not match the format".into()),
     }
 }
 
 fn dim_ok(dim: ShaderDim, t: &TextureDesc) -> Result<(), String> {
     // A per-light resource is bound one instance (light) at a time, so it looks like a single texture.
-    let ok = match (dim, t.view.value) {
-        (ShaderDim::D2, ViewDim::D2) => true,
-        (ShaderDim::D2Array, ViewDim::D2Array | ViewDim::Cube) => true,
-        (ShaderDim::Cube, ViewDim::Cube) => true,
-        _ => false,
-    };
+    let ok = matches!(
+        (dim, t.view.value),
+        (ShaderDim::D2, ViewDim::D2) | (ShaderDim::D2Array, ViewDim::D2Array | ViewDim::Cube) | (ShaderDim::Cube, ViewDim::Cube)
+    );
     if ok {
         Ok(())
     } else {
-        Err(format!(
-            "a `texture_{}` binding cannot view it",
-            dim.wgsl_word()
-        ))
+        Err(format!("a `texture_{}` binding cannot view it", dim.wgsl_word()))
     }
 }
 
@@ -814,8 +725,7 @@ fn param_block(
         ));
         return None;
     };
-    let mut layouter = naga::proc::Layouter::default();
-    let _ = layouter.update(m.to_ctx());
+    let layouter = &st.module.layouter;
     let align = layouter[ty].alignment.round_up(1);
     let mut fields = vec![];
     let mut matched: Vec<&str> = vec![];
@@ -832,9 +742,16 @@ fn param_block(
                 continue; // explicit padding
             }
             diags.push(
-                Diagnostic::error("param-missing", format!("field `{fname}` of parameter block `{}` has no parameter in pass `{}`", g.name, pass.name.value), gspan)
-                    .with_secondary(pass.name.span, "pass declared here")
-                    .with_note("list the parameter under the pass's `params`, or name padding fields with a leading `_`"),
+                Diagnostic::error(
+                    "param-missing",
+                    format!(
+                        "field `{fname}` of parameter block `{}` has no parameter in pass `{}`",
+                        g.name, pass.name.value
+                    ),
+                    gspan,
+                )
+                .with_secondary(pass.name.span, "pass declared here")
+                .with_note("list the parameter under the pass's `params`, or name padding fields with a leading `_`"),
             );
             ok = false;
             continue;
@@ -873,28 +790,26 @@ fn param_block(
                     ),
                     param_ref.span,
                 )
-                .with_secondary(
-                    gspan,
-                    format!("`{}.{fname}` declared in this block", g.name),
-                )
+                .with_secondary(gspan, format!("`{}.{fname}` declared in this block", g.name))
                 .with_secondary(prm.ty.span, "parameter type declared here")
-                .with_note(format!(
-                    "a {} parameter needs a `{want}` field",
-                    prm.ty.name()
-                )),
+                .with_note(format!("a {} parameter needs a `{want}` field", prm.ty.name())),
             );
             ok = false;
             continue;
         }
         if let (ParamType::Int, "u32") = (&prm.ty.value, tname.as_str()) {
-            let min_ok = prm
-                .min
-                .as_ref()
-                .is_some_and(|m| m.as_floats().first().is_some_and(|v| *v >= 0.0));
+            let min_ok = prm.min.as_ref().is_some_and(|m| m.as_floats().first().is_some_and(|v| *v >= 0.0));
             if !min_ok {
                 diags.push(
-                    Diagnostic::warning("param-sign", format!("Int parameter `{}` goes to `u32` field `{fname}` but has no `min` of 0 or more", prm.name.value), prm.span)
-                        .with_note("give it `min: 0`, or make the field i32"),
+                    Diagnostic::warning(
+                        "param-sign",
+                        format!(
+                            "Int parameter `{}` goes to `u32` field `{fname}` but has no `min` of 0 or more",
+                            prm.name.value
+                        ),
+                        prm.span,
+                    )
+                    .with_note("give it `min: 0`, or make the field i32"),
                 );
             }
         }
@@ -908,12 +823,7 @@ fn param_block(
     }
     for prm in &pass.params {
         if !matched.contains(&prm.value.as_str()) && p.param(prm).is_some() {
-            let last = prm
-                .value
-                .rsplit('.')
-                .next()
-                .unwrap_or(&prm.value)
-                .to_string();
+            let last = prm.value.rsplit('.').next().unwrap_or(&prm.value).to_string();
             diags.push(
                 Diagnostic::error(
                     "param-missing",

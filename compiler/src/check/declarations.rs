@@ -31,8 +31,7 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
 fn params(p: &Pipeline, diags: &mut Diagnostics) {
     for prm in &p.params {
         let d = prm.default.as_floats();
-        let range =
-            |bound: &Option<Spanned<ParamValue>>| bound.as_ref().map(|b| (b.as_floats(), b.span));
+        let range = |bound: &Option<Spanned<ParamValue>>| bound.as_ref().map(|b| (b.as_floats(), b.span));
         if let (Some((lo, ls)), Some((hi, _))) = (range(&prm.min), range(&prm.max)) {
             if lo.iter().zip(&hi).any(|(a, b)| a > b) {
                 diags.push(Diagnostic::error(
@@ -56,10 +55,7 @@ fn params(p: &Pipeline, diags: &mut Diagnostics) {
                         ),
                         prm.default.span,
                     )
-                    .with_secondary(
-                        prm.min.as_ref().map(|m| m.span).unwrap_or(prm.span),
-                        "min given here",
-                    ),
+                    .with_secondary(prm.min.as_ref().map(|m| m.span).unwrap_or(prm.span), "min given here"),
                 );
             }
         }
@@ -76,10 +72,7 @@ fn params(p: &Pipeline, diags: &mut Diagnostics) {
                         ),
                         prm.default.span,
                     )
-                    .with_secondary(
-                        prm.max.as_ref().map(|m| m.span).unwrap_or(prm.span),
-                        "max given here",
-                    ),
+                    .with_secondary(prm.max.as_ref().map(|m| m.span).unwrap_or(prm.span), "max given here"),
                 );
             }
         }
@@ -101,10 +94,7 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
             ViewDim::Cube if layers != 6 => diags.push(
                 Diagnostic::error(
                     "cube-layers",
-                    format!(
-                        "cube texture `{}` needs exactly 6 layers, has {layers}",
-                        r.name.value
-                    ),
+                    format!("cube texture `{}` needs exactly 6 layers, has {layers}", r.name.value),
                     t.layers.span,
                 )
                 .with_note("use `layers: 6` (one layer per face)"),
@@ -112,10 +102,7 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
             ViewDim::D2 if layers != 1 => diags.push(
                 Diagnostic::error(
                     "view-layers",
-                    format!(
-                        "`{}` has {layers} layers but a D2 view shows one",
-                        r.name.value
-                    ),
+                    format!("`{}` has {layers} layers but a D2 view shows one", r.name.value),
                     t.layers.span,
                 )
                 .with_note("use `view: D2Array` for a layered texture"),
@@ -192,10 +179,7 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
             diags.push(
                 Diagnostic::error(
                     "ambiguous-name",
-                    format!(
-                        "`{}` and `{}` both bind to the shader name `{id}`",
-                        prev.value, n.value
-                    ),
+                    format!("`{}` and `{}` both bind to the shader name `{id}`", prev.value, n.value),
                     n.span,
                 )
                 .with_secondary(prev.span, "first here"),
@@ -207,12 +191,7 @@ fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
 
 fn unknown_resource(p: &Pipeline, name: &Spanned<String>) -> Diagnostic {
     let names: Vec<&str> = p.resources.iter().map(|r| r.name.value.as_str()).collect();
-    Diagnostic::error(
-        "unknown-resource",
-        format!("no resource named `{}`", name.value),
-        name.span,
-    )
-    .with_note(suggestion_note(name, &names))
+    Diagnostic::error("unknown-resource", format!("no resource named `{}`", name.value), name.span).with_note(suggestion_note(name, &names))
 }
 
 fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics) {
@@ -221,22 +200,14 @@ fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics)
             None => {
                 let names: Vec<&str> = p.params.iter().map(|r| r.name.value.as_str()).collect();
                 diags.push(
-                    Diagnostic::error(
-                        "unknown-param",
-                        format!("no parameter named `{}`", name.value),
-                        name.span,
-                    )
-                    .with_note(suggestion_note(name, &names)),
+                    Diagnostic::error("unknown-param", format!("no parameter named `{}`", name.value), name.span)
+                        .with_note(suggestion_note(name, &names)),
                 );
             }
             Some(prm) if prm.ty.value != ParamType::Bool => diags.push(
                 Diagnostic::error(
                     "toggle-not-bool",
-                    format!(
-                        "`{}` is a {} parameter; a toggle needs a Bool",
-                        name.value,
-                        prm.ty.name()
-                    ),
+                    format!("`{}` is a {} parameter; a toggle needs a Bool", name.value, prm.ty.name()),
                     name.span,
                 )
                 .with_secondary(prm.ty.span, "declared here"),
@@ -247,12 +218,8 @@ fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics)
             None => {
                 let names: Vec<&str> = p.variants.iter().map(|r| r.name.value.as_str()).collect();
                 diags.push(
-                    Diagnostic::error(
-                        "unknown-variant",
-                        format!("no variant named `{}`", v.value),
-                        v.span,
-                    )
-                    .with_note(suggestion_note(v, &names)),
+                    Diagnostic::error("unknown-variant", format!("no variant named `{}`", v.value), v.span)
+                        .with_note(suggestion_note(v, &names)),
                 );
             }
             Some(var) if var.option(o).is_none() => diags.push(
@@ -266,9 +233,7 @@ fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics)
             _ => {}
         },
         Condition::Not(c) => condition_refs(p, c, diags),
-        Condition::All(cs) | Condition::Any(cs) => {
-            cs.iter().for_each(|c| condition_refs(p, c, diags))
-        }
+        Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| condition_refs(p, c, diags)),
         _ => {}
     }
 }
@@ -287,10 +252,7 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
             diags.push(
                 Diagnostic::error(
                     "unknown-variant-option",
-                    format!(
-                        "default `{}` is not an option of variant `{}`",
-                        v.default.value, v.name.value
-                    ),
+                    format!("default `{}` is not an option of variant `{}`", v.default.value, v.name.value),
                     v.default.span,
                 )
                 .with_note(suggestion_note(&v.default, &v.option_names())),
@@ -307,10 +269,7 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
                     diags.push(
                         Diagnostic::error(
                             "unknown-variant-option",
-                            format!(
-                                "fallback `{}` is not an option of variant `{}`",
-                                fb.value, v.name.value
-                            ),
+                            format!("fallback `{}` is not an option of variant `{}`", fb.value, v.name.value),
                             fb.span,
                         )
                         .with_note(suggestion_note(fb, &v.option_names())),
@@ -344,12 +303,8 @@ fn variants(p: &Pipeline, diags: &mut Diagnostics) {
                 if p.pass(pass).is_none() {
                     let names: Vec<&str> = p.passes.iter().map(|r| r.name.value.as_str()).collect();
                     diags.push(
-                        Diagnostic::error(
-                            "unknown-pass",
-                            format!("no pass named `{}`", pass.value),
-                            pass.span,
-                        )
-                        .with_note(suggestion_note(pass, &names)),
+                        Diagnostic::error("unknown-pass", format!("no pass named `{}`", pass.value), pass.span)
+                            .with_note(suggestion_note(pass, &names)),
                     );
                 }
             }
@@ -363,8 +318,15 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         match p.resource(name) {
             None => diags.push(unknown_resource(p, name)),
             Some(res) if r.is_prev() && !res.history() => diags.push(
-                Diagnostic::error("not-history", format!("`Prev(\"{}\")` reads the previous frame, but `{}` is not a history resource", name.value, name.value), name.span)
-                    .with_secondary(res.span, "add `history: true` here"),
+                Diagnostic::error(
+                    "not-history",
+                    format!(
+                        "`Prev(\"{}\")` reads the previous frame, but `{}` is not a history resource",
+                        name.value, name.value
+                    ),
+                    name.span,
+                )
+                .with_secondary(res.span, "add `history: true` here"),
             ),
             _ => {}
         }
@@ -378,12 +340,8 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         if p.param(prm).is_none() {
             let names: Vec<&str> = p.params.iter().map(|r| r.name.value.as_str()).collect();
             diags.push(
-                Diagnostic::error(
-                    "unknown-param",
-                    format!("no parameter named `{}`", prm.value),
-                    prm.span,
-                )
-                .with_note(suggestion_note(prm, &names)),
+                Diagnostic::error("unknown-param", format!("no parameter named `{}`", prm.value), prm.span)
+                    .with_note(suggestion_note(prm, &names)),
             );
         }
     }
@@ -410,10 +368,7 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     } = &pass.kind
     {
         if p.resource(r).and_then(|r| r.texture()).is_none() {
-            diags.push(
-                unknown_resource(p, r)
-                    .with_note("`Size(..)` dispatches need a texture to size from"),
-            );
+            diags.push(unknown_resource(p, r).with_note("`Size(..)` dispatches need a texture to size from"));
         }
     }
     if let Some(kinds) = &pass.per_light {
@@ -458,14 +413,7 @@ fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     }
 }
 
-fn layer_check(
-    p: &Pipeline,
-    pass: &Pass,
-    res: &Spanned<String>,
-    layer: LayerSel,
-    span: Span,
-    diags: &mut Diagnostics,
-) {
+fn layer_check(p: &Pipeline, pass: &Pass, res: &Spanned<String>, layer: LayerSel, span: Span, diags: &mut Diagnostics) {
     let Some(t) = p.resource(res).and_then(|r| r.texture()) else {
         return;
     };
@@ -488,19 +436,13 @@ fn layer_check(
         )),
         LayerSel::All => match &pass.kind {
             PassKind::Raster {
-                multiview: Some(views),
-                ..
+                multiview: Some(views), ..
             } if views.value > layers => diags.push(Diagnostic::error(
                 "layer-select",
-                format!(
-                    "multiview renders {} views but `{}` has {layers} layers",
-                    views.value, res.value
-                ),
+                format!("multiview renders {} views but `{}` has {layers} layers", views.value, res.value),
                 span,
             )),
-            PassKind::Raster {
-                multiview: Some(_), ..
-            } => {}
+            PassKind::Raster { multiview: Some(_), .. } => {}
             _ => diags.push(Diagnostic::error(
                 "layer-select",
                 "`layer: All` renders every layer at once and needs `multiview: N`",
@@ -513,32 +455,29 @@ fn layer_check(
 
 fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     let mut size: Option<(SizeSpec, Spanned<String>)> = None;
-    let mut check_size =
-        |t: &TextureDesc, name: &Spanned<String>, diags: &mut Diagnostics| match &size {
-            None => size = Some((t.size.value.clone(), name.clone())),
-            Some((s, first)) if *s != t.size.value => {
-                let first_size = s.describe();
-                diags.push(
-                    Diagnostic::error(
-                        "attachment-size",
-                        format!(
-                            "attachments of pass `{}` differ in size: `{}` is {}, `{}` is {}",
-                            pass.name.value,
-                            first.value,
-                            first_size,
-                            name.value,
-                            t.size.value.describe()
-                        ),
-                        name.span,
-                    )
-                    .with_secondary(first.span, format!("{first_size}")),
-                );
-            }
-            _ => {}
-        };
-    if matches!(pass.kind, PassKind::Compute { .. })
-        && (!pass.color.is_empty() || pass.depth.is_some())
-    {
+    let mut check_size = |t: &TextureDesc, name: &Spanned<String>, diags: &mut Diagnostics| match &size {
+        None => size = Some((t.size.value.clone(), name.clone())),
+        Some((s, first)) if *s != t.size.value => {
+            let first_size = s.describe();
+            diags.push(
+                Diagnostic::error(
+                    "attachment-size",
+                    format!(
+                        "attachments of pass `{}` differ in size: `{}` is {}, `{}` is {}",
+                        pass.name.value,
+                        first.value,
+                        first_size,
+                        name.value,
+                        t.size.value.describe()
+                    ),
+                    name.span,
+                )
+                .with_secondary(first.span, first_size.to_string()),
+            );
+        }
+        _ => {}
+    };
+    if matches!(pass.kind, PassKind::Compute { .. }) && (!pass.color.is_empty() || pass.depth.is_some()) {
         diags.push(Diagnostic::error(
             "compute-attachments",
             "compute passes have no attachments; write storage resources with `writes`",
@@ -556,10 +495,7 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         if pass.color.is_empty() && pass.depth.is_none() {
             diags.push(Diagnostic::error(
                 "no-targets",
-                format!(
-                    "raster pass `{}` has no color or depth target",
-                    pass.name.value
-                ),
+                format!("raster pass `{}` has no color or depth target", pass.name.value),
                 pass.name.span,
             ));
         }
@@ -572,10 +508,7 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         let Some(t) = res.texture() else {
             diags.push(Diagnostic::error(
                 "not-a-texture",
-                format!(
-                    "`{}` is a buffer and cannot be a color target",
-                    c.resource.value
-                ),
+                format!("`{}` is a buffer and cannot be a color target", c.resource.value),
                 c.resource.span,
             ));
             continue;
@@ -585,11 +518,7 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             diags.push(
                 Diagnostic::error(
                     "depth-as-color",
-                    format!(
-                        "`{}` has depth format {} and cannot be a color target",
-                        c.resource.value,
-                        f.name()
-                    ),
+                    format!("`{}` has depth format {} and cannot be a color target", c.resource.value, f.name()),
                     c.resource.span,
                 )
                 .with_secondary(t.format.span, "format declared here")
@@ -602,17 +531,11 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
                 diags.push(
                     Diagnostic::error(
                         "blend-not-blendable",
-                        format!(
-                            "format {} of `{}` is not blendable",
-                            f.name(),
-                            c.resource.value
-                        ),
+                        format!("format {} of `{}` is not blendable", f.name(), c.resource.value),
                         b.span,
                     )
                     .with_secondary(t.format.span, "format declared here")
-                    .with_note(
-                        "blendable formats: 8-bit unorm, 16-bit float, Rgb10a2Unorm, Rg11b10Ufloat",
-                    ),
+                    .with_note("blendable formats: 8-bit unorm, 16-bit float, Rgb10a2Unorm, Rg11b10Ufloat"),
                 );
             }
         }
@@ -628,10 +551,7 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             Some(res) => match res.texture() {
                 None => diags.push(Diagnostic::error(
                     "not-a-texture",
-                    format!(
-                        "`{}` is a buffer and cannot be a depth target",
-                        d.resource.value
-                    ),
+                    format!("`{}` is a buffer and cannot be a depth target", d.resource.value),
                     d.resource.span,
                 )),
                 Some(t) if !t.format.value.is_depth() => diags.push(
@@ -653,10 +573,7 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             },
         }
     }
-    if let PassKind::Raster {
-        multiview: Some(v), ..
-    } = &pass.kind
-    {
+    if let PassKind::Raster { multiview: Some(v), .. } = &pass.kind {
         if pass.per_face {
             diags.push(Diagnostic::error(
                 "multiview-per-face",
@@ -665,11 +582,7 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
             ));
         }
         if v.value < 2 {
-            diags.push(Diagnostic::error(
-                "value-out-of-range",
-                "multiview needs at least 2 views",
-                v.span,
-            ));
+            diags.push(Diagnostic::error("value-out-of-range", "multiview needs at least 2 views", v.span));
         }
     }
 }

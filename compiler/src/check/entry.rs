@@ -14,13 +14,7 @@ pub fn stage_word(s: naga::ShaderStage) -> &'static str {
 }
 
 /// The index of the entry point, or a diagnostic at the reference.
-pub fn resolve(
-    sm: &ShaderModule,
-    sref: &ShaderRef,
-    stage: naga::ShaderStage,
-    pass_kind: &str,
-    diags: &mut Diagnostics,
-) -> Option<usize> {
+pub fn resolve(sm: &ShaderModule, sref: &ShaderRef, stage: naga::ShaderStage, pass_kind: &str, diags: &mut Diagnostics) -> Option<usize> {
     match reflect::find_entry(sm, &sref.entry) {
         None => {
             let names: Vec<&str> = sm
@@ -30,30 +24,18 @@ pub fn resolve(
                 .filter(|e| e.stage == stage)
                 .map(|e| e.name.as_str())
                 .collect();
-            let all: Vec<&str> = sm
-                .module
-                .entry_points
-                .iter()
-                .map(|e| e.name.as_str())
-                .collect();
+            let all: Vec<&str> = sm.module.entry_points.iter().map(|e| e.name.as_str()).collect();
             diags.push(
                 Diagnostic::error(
                     "missing-entry-point",
-                    format!(
-                        "shader `{}` has no entry point `{}`",
-                        sref.file.value, sref.entry.value
-                    ),
+                    format!("shader `{}` has no entry point `{}`", sref.file.value, sref.entry.value),
                     sref.entry.span,
                 )
                 .with_note(if names.is_empty() {
                     format!(
                         "it has no {} entry point at all (entry points: {})",
                         stage_word(stage),
-                        if all.is_empty() {
-                            "none".into()
-                        } else {
-                            all.join(", ")
-                        }
+                        if all.is_empty() { "none".into() } else { all.join(", ") }
                     )
                 } else {
                     suggestion_note(&sref.entry, &names)
@@ -67,10 +49,18 @@ pub fn resolve(
                 diags.push(
                     Diagnostic::error(
                         "wrong-stage",
-                        format!("`{}` is a {} entry point, but this {pass_kind} pass needs a {} one here", sref.entry.value, stage_word(ep.stage), stage_word(stage)),
+                        format!(
+                            "`{}` is a {} entry point, but this {pass_kind} pass needs a {} one here",
+                            sref.entry.value,
+                            stage_word(ep.stage),
+                            stage_word(stage)
+                        ),
                         sref.entry.span,
                     )
-                    .with_secondary(sm.entry_span(i), format!("`{}` is declared with @{}", ep.name, stage_word(ep.stage))),
+                    .with_secondary(
+                        sm.entry_span(i),
+                        format!("`{}` is declared with @{}", ep.name, stage_word(ep.stage)),
+                    ),
                 );
                 return None;
             }

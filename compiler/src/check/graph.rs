@@ -19,12 +19,7 @@ pub struct Ordered {
 }
 
 /// `culled` maps a culled pass index to its reason, to explain missing producers.
-pub fn order(
-    p: &Pipeline,
-    kept: &[usize],
-    culled: &BTreeMap<usize, String>,
-    diags: &mut Diagnostics,
-) -> Option<Ordered> {
+pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, diags: &mut Diagnostics) -> Option<Ordered> {
     let before = diags.error_count();
     let mut writers: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
     for &i in kept {
@@ -44,20 +39,31 @@ pub fn order(
             let Some(res) = p.resource(name) else {
                 continue;
             };
-            let ws: Vec<usize> = writers
-                .get(name.value.as_str())
-                .cloned()
-                .unwrap_or_default();
+            let ws: Vec<usize> = writers.get(name.value.as_str()).cloned().unwrap_or_default();
             if r.is_prev() {
                 if ws.is_empty() {
-                    diags.push(Diagnostic::error("read-before-write", format!("`{}` is a history resource but no pass writes it, so there is no previous frame to read", name.value), name.span));
+                    diags.push(Diagnostic::error(
+                        "read-before-write",
+                        format!(
+                            "`{}` is a history resource but no pass writes it, so there is no previous frame to read",
+                            name.value
+                        ),
+                        name.span,
+                    ));
                 }
                 continue;
             }
             if ws.contains(&i) {
                 diags.push(
-                    Diagnostic::error("cycle", format!("pass `{}` both reads and writes `{}`", pass.name.value, name.value), name.span)
-                        .with_note(format!("to read the previous frame, declare `{}` with `history: true` and read `Prev(\"{}\")`", name.value, name.value)),
+                    Diagnostic::error(
+                        "cycle",
+                        format!("pass `{}` both reads and writes `{}`", pass.name.value, name.value),
+                        name.span,
+                    )
+                    .with_note(format!(
+                        "to read the previous frame, declare `{}` with `history: true` and read `Prev(\"{}\")`",
+                        name.value, name.value
+                    )),
                 );
                 continue;
             }
@@ -67,19 +73,14 @@ pub fn order(
                 }
                 let mut d = Diagnostic::error(
                     "read-before-write",
-                    format!(
-                        "`{}` is read by pass `{}` but no pass writes it first",
-                        name.value, pass.name.value
-                    ),
+                    format!("`{}` is read by pass `{}` but no pass writes it first", name.value, pass.name.value),
                     name.span,
                 )
                 .with_secondary(res.span, "declared here");
                 let culled_writers: Vec<String> = culled
                     .iter()
                     .filter(|(j, _)| p.passes[**j].written().any(|w| w.value == name.value))
-                    .map(|(j, why)| {
-                        format!("its writer `{}` was culled: {why}", p.passes[*j].name.value)
-                    })
+                    .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
                     .collect();
                 if culled_writers.is_empty() {
                     d = d.with_note("add a pass that writes it, or mark it `external: true` if the runtime supplies it");
@@ -91,9 +92,7 @@ pub fn order(
                 continue;
             }
             for w in ws {
-                edges
-                    .entry((w, i))
-                    .or_insert((name.value.clone(), name.span));
+                edges.entry((w, i)).or_insert((name.value.clone(), name.span));
             }
         }
     }
@@ -101,11 +100,7 @@ pub fn order(
         let mut fresh: Vec<usize> = vec![];
         for (k, &w) in ws.iter().enumerate() {
             let pass = &p.passes[w];
-            let span = pass
-                .written()
-                .find(|n| n.value == *res)
-                .map(|n| n.span)
-                .unwrap_or(pass.span);
+            let span = pass.written().find(|n| n.value == *res).map(|n| n.span).unwrap_or(pass.span);
             if pass.accumulates(res) {
                 if k == 0 {
                     let r = p.resource(res);
@@ -113,21 +108,14 @@ pub fn order(
                         diags.push(
                             Diagnostic::error(
                                 "read-before-write",
-                                format!(
-                                    "pass `{}` loads `{res}` but no earlier pass writes it",
-                                    pass.name.value
-                                ),
+                                format!("pass `{}` loads `{res}` but no earlier pass writes it", pass.name.value),
                                 span,
                             )
-                            .with_note(
-                                "clear it instead (`clear: (...)`), or write it in an earlier pass",
-                            ),
+                            .with_note("clear it instead (`clear: (...)`), or write it in an earlier pass"),
                         );
                     }
                 } else {
-                    edges
-                        .entry((ws[k - 1], w))
-                        .or_insert((res.to_string(), span));
+                    edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span));
                 }
             } else {
                 fresh.push(w);
@@ -163,11 +151,7 @@ pub fn order(
     for &(_, to) in edges.keys() {
         *indeg.get_mut(&to).unwrap_or(&mut 0) += 1;
     }
-    let mut ready: BTreeSet<usize> = indeg
-        .iter()
-        .filter(|(_, d)| **d == 0)
-        .map(|(i, _)| *i)
-        .collect();
+    let mut ready: BTreeSet<usize> = indeg.iter().filter(|(_, d)| **d == 0).map(|(i, _)| *i).collect();
     let mut order = vec![];
     while let Some(&i) = ready.iter().next() {
         ready.remove(&i);
@@ -183,27 +167,13 @@ pub fn order(
         }
     }
     if order.len() < kept.len() {
-        let left: Vec<usize> = kept
-            .iter()
-            .copied()
-            .filter(|i| !order.contains(i))
-            .collect();
+        let left: Vec<usize> = kept.iter().copied().filter(|i| !order.contains(i)).collect();
         let cycle = find_cycle(&edges, &left);
-        let names: Vec<&str> = cycle
-            .iter()
-            .map(|&i| p.passes[i].name.value.as_str())
-            .collect();
-        let (res, span) = edges
-            .get(&(cycle[cycle.len() - 1], cycle[0]))
-            .cloned()
-            .unwrap_or_default();
+        let names: Vec<&str> = cycle.iter().map(|&i| p.passes[i].name.value.as_str()).collect();
+        let (res, span) = edges.get(&(cycle[cycle.len() - 1], cycle[0])).cloned().unwrap_or_default();
         let mut d = Diagnostic::error(
             "cycle",
-            format!(
-                "passes form a cycle: {} -> {}",
-                names.join(" -> "),
-                names[0]
-            ),
+            format!("passes form a cycle: {} -> {}", names.join(" -> "), names[0]),
             span,
         )
         .with_label_text(format!(
@@ -222,7 +192,9 @@ pub fn order(
                 );
             }
         }
-        diags.push(d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`"));
+        diags.push(
+            d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`"),
+        );
         return None;
     }
     let mut after: BTreeMap<usize, Vec<usize>> = BTreeMap::new();

@@ -48,15 +48,18 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
     if outs.len() != pass.color.len() {
         let mut d = Diagnostic::error(
             "fragment-outputs",
-            format!("fragment entry point `{}` writes {} color output(s) but pass `{}` has {} color target(s)", fs.sref.entry.value, outs.len(), pass.name.value, pass.color.len()),
+            format!(
+                "fragment entry point `{}` writes {} color output(s) but pass `{}` has {} color target(s)",
+                fs.sref.entry.value,
+                outs.len(),
+                pass.name.value,
+                pass.color.len()
+            ),
             ep_span,
         )
         .with_secondary(fs.module.entry_span(fs.entry), "entry point body");
         if let Some(first) = pass.color.first() {
-            d = d.with_secondary(
-                first.span.to(pass.color[pass.color.len() - 1].span),
-                "color targets",
-            );
+            d = d.with_secondary(first.span.to(pass.color[pass.color.len() - 1].span), "color targets");
         }
         diags.push(d);
         return;
@@ -65,7 +68,12 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
         if o.location != i as u32 {
             diags.push(Diagnostic::error(
                 "fragment-outputs",
-                format!("fragment outputs must use locations 0..{}; found @location({}) for target `{}`", pass.color.len(), o.location, c.resource.value),
+                format!(
+                    "fragment outputs must use locations 0..{}; found @location({}) for target `{}`",
+                    pass.color.len(),
+                    o.location,
+                    c.resource.value
+                ),
                 ep_span,
             ));
             continue;
@@ -83,11 +91,17 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
             diags.push(
                 Diagnostic::error(
                     "fragment-output-kind",
-                    format!("@location({i}) is `{}` but target `{}` has format {} which needs {} values", ty_word(o), c.resource.value, f.name(), match want {
-                        naga::ScalarKind::Uint => "u32",
-                        naga::ScalarKind::Sint => "i32",
-                        _ => "f32",
-                    }),
+                    format!(
+                        "@location({i}) is `{}` but target `{}` has format {} which needs {} values",
+                        ty_word(o),
+                        c.resource.value,
+                        f.name(),
+                        match want {
+                            naga::ScalarKind::Uint => "u32",
+                            naga::ScalarKind::Sint => "i32",
+                            _ => "f32",
+                        }
+                    ),
                     c.resource.span,
                 )
                 .with_secondary(ep_span, "fragment entry point")
@@ -115,9 +129,7 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
 fn vertex_inputs(pass: &Pass, vs: &StageShader, diags: &mut Diagnostics) {
     let ins = reflect::inputs(&vs.module, vs.entry);
     match &pass.kind {
-        PassKind::Raster {
-            draw: Draw::Scene, ..
-        } => {
+        PassKind::Raster { draw: Draw::Scene, .. } => {
             for i in &ins {
                 match SCENE_VERTEX.iter().find(|v| v.0 == i.location) {
                     None => diags.push(
@@ -137,7 +149,10 @@ fn vertex_inputs(pass: &Pass, vs: &StageShader, diags: &mut Diagnostics) {
             if let Some(i) = ins.first() {
                 diags.push(Diagnostic::error(
                     "vertex-input",
-                    format!("vertex input @location({}) has no vertex buffer: only `draw: Scene` passes get vertex attributes", i.location),
+                    format!(
+                        "vertex input @location({}) has no vertex buffer: only `draw: Scene` passes get vertex attributes",
+                        i.location
+                    ),
                     vs.sref.entry.span,
                 ));
             }
@@ -150,12 +165,24 @@ fn interstage(vs: &StageShader, fs: &StageShader, diags: &mut Diagnostics) {
     for i in reflect::inputs(&fs.module, fs.entry) {
         match outs.iter().find(|o| o.location == i.location) {
             None => diags.push(
-                Diagnostic::error("stage-io", format!("fragment input @location({}) `{}` is not written by vertex entry point `{}`", i.location, i.name, vs.sref.entry.value), fs.sref.entry.span)
-                    .with_secondary(vs.sref.entry.span, "vertex stage"),
+                Diagnostic::error(
+                    "stage-io",
+                    format!(
+                        "fragment input @location({}) `{}` is not written by vertex entry point `{}`",
+                        i.location, i.name, vs.sref.entry.value
+                    ),
+                    fs.sref.entry.span,
+                )
+                .with_secondary(vs.sref.entry.span, "vertex stage"),
             ),
             Some(o) if o.scalar != i.scalar || o.components != i.components => diags.push(Diagnostic::error(
                 "stage-io",
-                format!("fragment input @location({}) is `{}` but the vertex stage writes `{}`", i.location, ty_word(&i), ty_word(o)),
+                format!(
+                    "fragment input @location({}) is `{}` but the vertex stage writes `{}`",
+                    i.location,
+                    ty_word(&i),
+                    ty_word(o)
+                ),
                 fs.sref.entry.span,
             )),
             _ => {}

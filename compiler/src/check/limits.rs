@@ -6,33 +6,16 @@ use crate::diag::{Diagnostic, Diagnostics};
 use crate::ir::*;
 use crate::profile::Profile;
 
-fn over(
-    what: String,
-    limit: &str,
-    value: u64,
-    max: u64,
-    profile: &Profile,
-    span: crate::span::Span,
-) -> Diagnostic {
+fn over(what: String, limit: &str, value: u64, max: u64, profile: &Profile, span: crate::span::Span) -> Diagnostic {
     Diagnostic::error(
         "limit-exceeded",
-        format!(
-            "{what}: {value} exceeds {max} on profile `{}`",
-            profile.name
-        ),
+        format!("{what}: {value} exceeds {max} on profile `{}`", profile.name),
         span,
     )
     .with_note(format!("limit: {limit}"))
 }
 
-pub fn check(
-    p: &Pipeline,
-    pass: &Pass,
-    stages: &[StageShader],
-    res: &Resolved,
-    profile: &Profile,
-    diags: &mut Diagnostics,
-) {
+pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, profile: &Profile, diags: &mut Diagnostics) {
     let l = &profile.limits;
     let n = pass.color.len() as u64;
     if n > l.max_color_attachments {
@@ -56,10 +39,7 @@ pub fn check(
             .sum();
         if bytes > l.max_color_attachment_bytes_per_sample && !pass.color.is_empty() {
             diags.push(over(
-                format!(
-                    "color attachments of pass `{}` take too many bytes per sample",
-                    pass.name.value
-                ),
+                format!("color attachments of pass `{}` take too many bytes per sample", pass.name.value),
                 "max_color_attachment_bytes_per_sample",
                 bytes,
                 l.max_color_attachment_bytes_per_sample,
@@ -71,11 +51,7 @@ pub fn check(
     let first_span = |group: u32| {
         stages
             .iter()
-            .flat_map(|st| {
-                crate::shader::reflect::resource_globals(&st.module)
-                    .into_iter()
-                    .map(move |g| (st, g))
-            })
+            .flat_map(|st| st.module.globals.iter().cloned().map(move |g| (st, g)))
             .find(|(_, g)| g.group == group)
             .map(|(st, g)| st.module.global_span(g.handle))
             .unwrap_or(pass.name.span)
@@ -153,10 +129,7 @@ pub fn check(
         ] {
             if v > max {
                 diags.push(over(
-                    format!(
-                        "{stage} stage of pass `{}` uses too many {what}",
-                        pass.name.value
-                    ),
+                    format!("{stage} stage of pass `{}` uses too many {what}", pass.name.value),
                     limit,
                     v,
                     max,
@@ -166,28 +139,13 @@ pub fn check(
             }
         }
     }
-    if let Some(cs) = stages
-        .iter()
-        .find(|s| s.stage == naga::ShaderStage::Compute)
-    {
+    if let Some(cs) = stages.iter().find(|s| s.stage == naga::ShaderStage::Compute) {
         let [x, y, z] = cs.module.module.entry_points[cs.entry].workgroup_size;
         let inv = x as u64 * y as u64 * z as u64;
         for (v, max, limit) in [
-            (
-                x as u64,
-                l.max_compute_workgroup_size_x,
-                "max_compute_workgroup_size_x",
-            ),
-            (
-                y as u64,
-                l.max_compute_workgroup_size_y,
-                "max_compute_workgroup_size_y",
-            ),
-            (
-                z as u64,
-                l.max_compute_workgroup_size_z,
-                "max_compute_workgroup_size_z",
-            ),
+            (x as u64, l.max_compute_workgroup_size_x, "max_compute_workgroup_size_x"),
+            (y as u64, l.max_compute_workgroup_size_y, "max_compute_workgroup_size_y"),
+            (z as u64, l.max_compute_workgroup_size_z, "max_compute_workgroup_size_z"),
             (
                 inv,
                 l.max_compute_invocations_per_workgroup,

@@ -17,6 +17,9 @@ use crate::span::{SourceMap, Spanned};
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
+/// `(variant, option)`.
+type VariantChoice = (String, String);
+
 /// One stage of one version of a pass, resolved to a validated module and entry point.
 #[derive(Clone)]
 pub struct StageShader {
@@ -42,18 +45,10 @@ pub struct Checked {
 }
 
 impl Checked {
-    pub fn version(
-        &self,
-        pass: usize,
-        selection: &std::collections::BTreeMap<String, String>,
-    ) -> Option<&PassVersion> {
+    pub fn version(&self, pass: usize, selection: &std::collections::BTreeMap<String, String>) -> Option<&PassVersion> {
         let vs = &self.versions[pass];
         vs.iter()
-            .find(|v| {
-                v.option
-                    .as_ref()
-                    .is_some_and(|(var, opt)| selection.get(var) == Some(opt))
-            })
+            .find(|v| v.option.as_ref().is_some_and(|(var, opt)| selection.get(var) == Some(opt)))
             .or_else(|| vs.iter().find(|v| v.option.is_none()))
     }
 }
@@ -94,16 +89,12 @@ pub fn check_pipeline(
             features.extend(option_features(&pipeline, v, o));
         }
         // The pass's own shaders, then each substitution a variant option makes.
-        let mut wanted: Vec<(Option<(String, String)>, Option<Spanned<String>>)> =
-            vec![(None, None)];
+        let mut wanted: Vec<(Option<VariantChoice>, Option<Spanned<String>>)> = vec![(None, None)];
         for v in &pipeline.variants {
             for o in &v.options {
                 for (target, file) in &o.shaders {
                     if target.value == pass.name.value {
-                        wanted.push((
-                            Some((v.name.value.clone(), o.name.value.clone())),
-                            Some(file.clone()),
-                        ));
+                        wanted.push((Some((v.name.value.clone(), o.name.value.clone())), Some(file.clone())));
                     }
                 }
             }
@@ -152,11 +143,7 @@ pub fn check_pipeline(
                 continue;
             };
             limits::check(&pipeline, pass, &stages, &resolved, profile, diags);
-            pass_versions.push(PassVersion {
-                option,
-                stages,
-                resolved,
-            });
+            pass_versions.push(PassVersion { option, stages, resolved });
         }
         versions.push(pass_versions);
     }

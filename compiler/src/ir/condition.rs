@@ -60,10 +60,7 @@ impl Effect {
         Self::NAMES[Self::ALL.iter().position(|e| *e == self).unwrap_or(0)]
     }
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::NAMES
-            .iter()
-            .position(|n| *n == s)
-            .map(|i| Self::ALL[i])
+        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
     }
 }
 
@@ -94,20 +91,18 @@ impl Condition {
             Condition::Toggle(p) => format!("Toggle({:?})", p.value),
             Condition::Variant(v, o) => format!("Variant({:?}, {:?})", v.value, o.value),
             Condition::Not(c) => format!("Not({})", c.describe()),
-            Condition::All(cs) => format!(
-                "All({})",
-                cs.iter()
-                    .map(|c| c.describe())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            Condition::Any(cs) => format!(
-                "Any({})",
-                cs.iter()
-                    .map(|c| c.describe())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            Condition::All(cs) => format!("All({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
+            Condition::Any(cs) => format!("Any({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
+        }
+    }
+
+    /// Does the value depend on the effects or materials a scene calls for?
+    pub fn mentions_scene_effects(&self) -> bool {
+        match self {
+            Condition::Effect(_) | Condition::Reflective => true,
+            Condition::Not(c) => c.mentions_scene_effects(),
+            Condition::All(cs) | Condition::Any(cs) => cs.iter().any(|c| c.mentions_scene_effects()),
+            _ => false,
         }
     }
 

@@ -9,14 +9,8 @@ mod variant;
 
 pub use condition::{Condition, Effect, LightKind};
 pub use param::{Param, ParamType, ParamValue};
-pub use pass::{
-    Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass,
-    PassKind, Read, ShaderRef,
-};
-pub use resource::{
-    AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SizeSpec,
-    TextureDesc, ViewDim,
-};
+pub use pass::{Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind, Read, ShaderRef};
+pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SizeSpec, TextureDesc, ViewDim};
 pub use variant::{Variant, VariantOption};
 
 use crate::span::{Span, Spanned};
@@ -57,13 +51,7 @@ impl Pipeline {
 /// appear in a WGSL/GLSL identifier becomes `_` (`gbuf.normal` -> `gbuf_normal`).
 pub fn shader_ident(name: &str) -> String {
     name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
+        .map(|c| if c.is_ascii_alphanumeric() || c == '_' { c } else { '_' })
         .collect()
 }
 

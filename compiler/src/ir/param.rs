@@ -30,9 +30,7 @@ impl ParamType {
             ParamType::Enum(_) => "Enum",
         }
     }
-    pub const NAMES: [&'static str; 8] = [
-        "Float", "Int", "Bool", "Vec2", "Vec3", "Vec4", "Color", "Enum",
-    ];
+    pub const NAMES: [&'static str; 8] = ["Float", "Int", "Bool", "Vec2", "Vec3", "Vec4", "Color", "Enum"];
 
     /// Number of components a vector-like type needs in its default.
     pub fn components(&self) -> Option<usize> {
@@ -60,13 +58,7 @@ impl ParamValue {
             ParamValue::Float(f) => format!("{f}"),
             ParamValue::Int(i) => format!("{i}"),
             ParamValue::Bool(b) => format!("{b}"),
-            ParamValue::Vec(v) => format!(
-                "({})",
-                v.iter()
-                    .map(|x| x.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
+            ParamValue::Vec(v) => format!("({})", v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")),
             ParamValue::Enum(s) => format!("{s:?}"),
         }
     }

@@ -38,10 +38,7 @@ impl CompareFn {
         CompareFn::Always,
     ];
     pub fn from_name(s: &str) -> Option<Self> {
-        Self::NAMES
-            .iter()
-            .position(|n| *n == s)
-            .map(|i| Self::ALL[i])
+        Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
     }
 }
 
@@ -219,9 +216,7 @@ impl Pass {
 
     /// Does this pass's write of `res` build on the earlier content (`load: Load`)?
     pub fn accumulates(&self, res: &str) -> bool {
-        self.color
-            .iter()
-            .any(|c| c.resource.value == res && c.load == LoadOp::Load)
+        self.color.iter().any(|c| c.resource.value == res && c.load == LoadOp::Load)
             || self
                 .depth
                 .as_ref()

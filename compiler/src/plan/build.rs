@@ -33,10 +33,7 @@ fn missing(o: &VariantOption, profile: &Profile) -> Vec<String> {
     for (name, min) in &o.limits {
         let have = profile.limits.get(name).unwrap_or(0);
         if have < min.value {
-            out.push(format!(
-                "limit {} >= {} (has {have})",
-                name.value, min.value
-            ));
+            out.push(format!("limit {} >= {} (has {have})", name.value, min.value));
         }
     }
     out
@@ -44,12 +41,7 @@ fn missing(o: &VariantOption, profile: &Profile) -> Vec<String> {
 
 /// Stage `variants`: pick each variant's option (requested or default) and fall back along
 /// declared fallbacks while the profile lacks what an option needs.
-pub fn select(
-    p: &Pipeline,
-    profile: &Profile,
-    requested: &[(String, String)],
-    diags: &mut Diagnostics,
-) -> Option<Selection> {
+pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], diags: &mut Diagnostics) -> Option<Selection> {
     let before = diags.error_count();
     for (k, v) in requested {
         match p.variant(k) {
@@ -82,21 +74,13 @@ pub fn select(
     }
     let mut sel = Selection::default();
     for var in &p.variants {
-        let requested_opt = requested
-            .iter()
-            .rev()
-            .find(|(k, _)| *k == var.name.value)
-            .map(|(_, v)| v.clone());
-        let start = requested_opt
-            .clone()
-            .unwrap_or_else(|| var.default.value.clone());
+        let requested_opt = requested.iter().rev().find(|(k, _)| *k == var.name.value).map(|(_, v)| v.clone());
+        let start = requested_opt.clone().unwrap_or_else(|| var.default.value.clone());
         let mut cur = start.clone();
         let mut reasons = vec![];
         let mut seen = vec![];
         loop {
-            let Some(o) = var.option(&cur) else {
-                return None;
-            };
+            let o = var.option(&cur)?;
             let lacks = missing(o, profile);
             if lacks.is_empty() {
                 break;
@@ -122,10 +106,18 @@ pub fn select(
                         .unwrap_or(o.span);
                     let mut d = Diagnostic::error(
                         "variant-unsupported",
-                        format!("variant `{}` option `{cur}` needs {}, which profile `{}` lacks, and declares no fallback", var.name.value, lacks.join(", "), profile.name),
+                        format!(
+                            "variant `{}` option `{cur}` needs {}, which profile `{}` lacks, and declares no fallback",
+                            var.name.value,
+                            lacks.join(", "),
+                            profile.name
+                        ),
                         span,
                     )
-                    .with_note(format!("add `fallback: \"...\"` to option `{cur}`, or choose another option with --variant {}=...", var.name.value));
+                    .with_note(format!(
+                        "add `fallback: \"...\"` to option `{cur}`, or choose another option with --variant {}=...",
+                        var.name.value
+                    ));
                     if !reasons.is_empty() {
                         d = d.with_note(reasons.join("; "));
                     }
@@ -180,12 +172,7 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
             _ => Err((format!("toggle `{}` is off", name.value), false)),
         },
         Condition::Variant(v, o) => {
-            let chosen = cfg
-                .selection
-                .chosen
-                .get(&v.value)
-                .cloned()
-                .unwrap_or_default();
+            let chosen = cfg.selection.chosen.get(&v.value).cloned().unwrap_or_default();
             if chosen == o.value {
                 Ok(())
             } else {
@@ -198,28 +185,23 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
                 ))
             }
         }
-        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => {
-            match eval(inner, p, cfg) {
-                Ok(()) => {
-                    let Condition::Variant(v, o) = &inner.value else {
-                        return Ok(());
-                    };
-                    Err((
-                        format!(
-                            "variant not chosen: `{}` is `{}`, this pass serves the other options",
-                            v.value, o.value
-                        ),
-                        true,
-                    ))
-                }
-                Err(_) => Ok(()),
+        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => match eval(inner, p, cfg) {
+            Ok(()) => {
+                let Condition::Variant(v, o) = &inner.value else {
+                    return Ok(());
+                };
+                Err((
+                    format!(
+                        "variant not chosen: `{}` is `{}`, this pass serves the other options",
+                        v.value, o.value
+                    ),
+                    true,
+                ))
             }
-        }
+            Err(_) => Ok(()),
+        },
         Condition::Not(inner) => match eval(inner, p, cfg) {
-            Ok(()) => Err((
-                format!("{} holds", inner.describe()),
-                inner.mentions_variant(),
-            )),
+            Ok(()) => Err((format!("{} holds", inner.describe()), inner.mentions_variant())),
             Err(_) => Ok(()),
         },
         Condition::All(cs) => cs.iter().try_for_each(|c| eval(c, p, cfg)),
@@ -235,10 +217,7 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
                     }
                 }
             }
-            Err((
-                format!("none holds: {}", reasons.join("; ")),
-                by_variant && !cs.is_empty(),
-            ))
+            Err((format!("none holds: {}", reasons.join("; ")), by_variant && !cs.is_empty()))
         }
     }
 }
@@ -252,9 +231,15 @@ fn layer_word(l: LayerSel) -> String {
     }
 }
 
-pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Plan> {
+/// Which passes a configuration keeps, in what order, and why the others are culled.
+pub struct Schedule {
+    pub culled: BTreeMap<usize, String>,
+    pub ordered: graph::Ordered,
+}
+
+/// The checks of a configuration without assembling the Plan (what `check` needs).
+pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Schedule> {
     let p = &checked.pipeline;
-    let before = diags.error_count();
     let mut culled: BTreeMap<usize, String> = BTreeMap::new();
     let mut candidates = vec![];
     for (i, pass) in p.passes.iter().enumerate() {
@@ -272,13 +257,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         if let Some(kinds) = &pass.per_light {
             if cfg.scene.light_count(kinds) == 0 {
                 let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
-                culled.insert(
-                    i,
-                    format!(
-                        "runs per {} light and the scene has none",
-                        names.join(" or ")
-                    ),
-                );
+                culled.insert(i, format!("runs per {} light and the scene has none", names.join(" or ")));
                 continue;
             }
         }
@@ -311,10 +290,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     kept.sort();
     for &i in &candidates {
         if !kept.contains(&i) {
-            let writes: Vec<String> = p.passes[i]
-                .written()
-                .map(|w| format!("`{}`", w.value))
-                .collect();
+            let writes: Vec<String> = p.passes[i].written().map(|w| format!("`{}`", w.value)).collect();
             culled.insert(
                 i,
                 format!(
@@ -325,10 +301,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             );
         }
     }
-    if !kept
-        .iter()
-        .any(|&i| p.passes[i].written().any(|w| w.value == p.output.value))
-    {
+    if !kept.iter().any(|&i| p.passes[i].written().any(|w| w.value == p.output.value)) {
         let mut d = Diagnostic::error(
             "output-unreachable",
             format!("no kept pass writes the output `{}`", p.output.value),
@@ -336,17 +309,24 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         );
         for (i, why) in &culled {
             if p.passes[*i].written().any(|w| w.value == p.output.value) {
-                d = d.with_note(format!(
-                    "its writer `{}` was culled: {why}",
-                    p.passes[*i].name.value
-                ));
+                d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[*i].name.value));
             }
         }
         diags.push(d);
         return None;
     }
     let ordered = graph::order(p, &kept, &culled, diags)?;
+    // A pass whose shaders failed to check has no version; its errors are already reported.
+    if ordered.order.iter().any(|&i| checked.version(i, &cfg.selection.chosen).is_none()) {
+        return None;
+    }
+    Some(Schedule { culled, ordered })
+}
 
+pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Plan> {
+    let p = &checked.pipeline;
+    let before = diags.error_count();
+    let Schedule { culled, ordered } = schedule(checked, cfg, diags)?;
     let viewport = cfg.scene.size;
     let mut passes = vec![];
     for &i in &ordered.order {
@@ -355,12 +335,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             // Its shaders failed to check; the errors are already reported.
             return None;
         };
-        let repetitions = pass
-            .per_light
-            .as_ref()
-            .map(|k| cfg.scene.light_count(k))
-            .unwrap_or(1)
-            * if pass.per_face { 6 } else { 1 };
+        let repetitions = pass.per_light.as_ref().map(|k| cfg.scene.light_count(k)).unwrap_or(1) * if pass.per_face { 6 } else { 1 };
         let fmt = |name: &str| {
             p.resource(name)
                 .and_then(|r| r.texture())
@@ -419,11 +394,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             cull,
             instances,
             multiview,
-            per_light: pass
-                .per_light
-                .as_ref()
-                .map(|k| k.value.clone())
-                .unwrap_or_default(),
+            per_light: pass.per_light.as_ref().map(|k| k.value.clone()).unwrap_or_default(),
             per_face: pass.per_face,
             repetitions,
             color: pass
@@ -480,12 +451,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             }
         };
         for pp in &passes {
-            if pp
-                .color
-                .iter()
-                .chain(pp.depth.iter())
-                .any(|a| a.resource == r.name.value)
-            {
+            if pp.color.iter().chain(pp.depth.iter()).any(|a| a.resource == r.name.value) {
                 add("RENDER_ATTACHMENT");
             }
             for g in &pp.bind_groups {

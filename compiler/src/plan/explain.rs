@@ -27,19 +27,13 @@ fn binding_word(t: &BindingType) -> String {
             format,
             access,
             view_dimension,
-        } => format!(
-            "storage texture {} {format} {access}",
-            view_dimension.wgsl_word()
-        ),
+        } => format!("storage texture {} {format} {access}", view_dimension.wgsl_word()),
         BindingType::Sampler(k) => format!("sampler ({k:?})"),
         BindingType::Uniform { min_binding_size } => format!("uniform ({min_binding_size} B)"),
         BindingType::Storage {
             read_only,
             min_binding_size,
-        } => format!(
-            "storage {} (≥{min_binding_size} B)",
-            if *read_only { "read" } else { "read_write" }
-        ),
+        } => format!("storage {} (≥{min_binding_size} B)", if *read_only { "read" } else { "read_write" }),
     }
 }
 
@@ -60,11 +54,7 @@ fn source_word(s: &BindSource) -> String {
 /// and the full layouts.
 pub fn to_text(plan: &Plan, explain: bool) -> String {
     let mut s = String::new();
-    let lights: Vec<String> = plan
-        .lights
-        .iter()
-        .map(|(k, n)| format!("{n} {}", k.name()))
-        .collect();
+    let lights: Vec<String> = plan.lights.iter().map(|(k, n)| format!("{n} {}", k.name())).collect();
     let _ = writeln!(
         s,
         "plan for pipeline `{}` (profile {}, scene {}, {}×{}, lights: {})",
@@ -73,11 +63,7 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         plan.scene,
         plan.resolution.0,
         plan.resolution.1,
-        if lights.is_empty() {
-            "none".into()
-        } else {
-            lights.join(", ")
-        }
+        if lights.is_empty() { "none".into() } else { lights.join(", ") }
     );
     if !plan.variants.is_empty() {
         let _ = writeln!(s, "\nvariants:");
@@ -105,11 +91,7 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
                     r += &format!("per {} light", kinds.join("/"));
                 }
                 if p.per_face {
-                    r += if kinds.is_empty() {
-                        "per face"
-                    } else {
-                        ", per face"
-                    };
+                    r += if kinds.is_empty() { "per face" } else { ", per face" };
                 }
                 r + ")"
             }
@@ -121,20 +103,8 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
             .chain(p.depth.iter().map(|d| format!("depth {}", d.resource)))
             .chain(p.writes.iter().map(|w| format!("storage {w}")))
             .collect();
-        let _ = writeln!(
-            s,
-            "  {:>2}. {:<22} {:<10} {}{rep}",
-            i + 1,
-            p.name,
-            p.kind,
-            p.work
-        );
-        let _ = writeln!(
-            s,
-            "      reads [{}] -> writes [{}]",
-            p.reads.join(", "),
-            targets.join(", ")
-        );
+        let _ = writeln!(s, "  {:>2}. {:<22} {:<10} {}{rep}", i + 1, p.name, p.kind, p.work);
+        let _ = writeln!(s, "      reads [{}] -> writes [{}]", p.reads.join(", "), targets.join(", "));
         if explain {
             for st in &p.stages {
                 let _ = writeln!(s, "      {} {}#{}", st.stage, st.file, st.entry);
@@ -157,17 +127,9 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
                 }
             }
             for b in &p.uniform_blocks {
-                let _ = writeln!(
-                    s,
-                    "      block `{}`: {} bytes, align {}",
-                    b.global, b.size, b.align
-                );
+                let _ = writeln!(s, "      block `{}`: {} bytes, align {}", b.global, b.size, b.align);
                 for f in &b.fields {
-                    let _ = writeln!(
-                        s,
-                        "        +{:<4} {:<12} {:<10} = {}",
-                        f.offset, f.name, f.ty, f.param
-                    );
+                    let _ = writeln!(s, "        +{:<4} {:<12} {:<10} = {}", f.offset, f.name, f.ty, f.param);
                 }
             }
         }
@@ -250,12 +212,7 @@ pub fn to_dot(plan: &Plan) -> String {
             } else {
                 ""
             };
-            let _ = writeln!(
-                s,
-                "  {} -> {}{style};",
-                q(&format!("res:{name}")),
-                q(&format!("pass:{}", p.name))
-            );
+            let _ = writeln!(s, "  {} -> {}{style};", q(&format!("res:{name}")), q(&format!("pass:{}", p.name)));
         }
         for w in p
             .color
@@ -264,29 +221,16 @@ pub fn to_dot(plan: &Plan) -> String {
             .chain(p.depth.iter().map(|d| &d.resource))
             .chain(p.writes.iter())
         {
-            let _ = writeln!(
-                s,
-                "  {} -> {};",
-                q(&format!("pass:{}", p.name)),
-                q(&format!("res:{w}"))
-            );
+            let _ = writeln!(s, "  {} -> {};", q(&format!("pass:{}", p.name)), q(&format!("res:{w}")));
         }
     }
     for r in &plan.resources {
-        let shape = if r.name == plan.output {
-            "doubleoctagon"
-        } else {
-            "ellipse"
-        };
+        let shape = if r.name == plan.output { "doubleoctagon" } else { "ellipse" };
         let _ = writeln!(
             s,
             "  {} [shape={shape}, label={}];",
             q(&format!("res:{}", r.name)),
-            q(&format!(
-                "{}\\n{}",
-                r.name,
-                r.format.clone().unwrap_or_else(|| r.size.clone())
-            ))
+            q(&format!("{}\\n{}", r.name, r.format.clone().unwrap_or_else(|| r.size.clone())))
         );
     }
     for c in &plan.culled {

@@ -70,12 +70,7 @@ impl ShaderFs for DiskFs<'_> {
 }
 
 /// Load `path` (already known to exist as `root_file`) and expand its includes.
-pub fn expand(
-    fs: &dyn ShaderFs,
-    sources: &mut SourceMap,
-    root_file: FileId,
-    root_path: &str,
-) -> Result<Expanded, Diagnostic> {
+pub fn expand(fs: &dyn ShaderFs, sources: &mut SourceMap, root_file: FileId, root_path: &str) -> Result<Expanded, Diagnostic> {
     let mut out = Expanded::default();
     let mut stack = vec![root_path.to_string()];
     let mut done: Vec<String> = vec![];
@@ -103,18 +98,10 @@ fn expand_file(
             continue;
         };
         let indent = line.len() - trimmed.len();
-        let directive = Span::new(
-            file,
-            this_start + indent,
-            this_start + line.trim_end().len(),
-        );
+        let directive = Span::new(file, this_start + indent, this_start + line.trim_end().len());
         let rest = rest.trim();
         let Some(path) = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')) else {
-            return Err(Diagnostic::error(
-                "include-syntax",
-                "expected `#include \"path\"`",
-                directive,
-            ));
+            return Err(Diagnostic::error("include-syntax", "expected `#include \"path\"`", directive));
         };
         // Text before the directive.
         push(out, &text, file, copied_to, this_start);
@@ -122,12 +109,10 @@ fn expand_file(
         if stack.iter().any(|s| s == path) {
             let mut chain: Vec<&str> = stack.iter().map(|s| s.as_str()).collect();
             chain.push(path);
-            return Err(Diagnostic::error(
-                "include-cycle",
-                format!("include cycle: {}", chain.join(" -> ")),
-                directive,
-            )
-            .with_label_text(format!("`{path}` is already being included")));
+            return Err(
+                Diagnostic::error("include-cycle", format!("include cycle: {}", chain.join(" -> ")), directive)
+                    .with_label_text(format!("`{path}` is already being included")),
+            );
         }
         if done.iter().any(|d| d == path) {
             continue; // include-once: WGSL forbids redefinitions
@@ -186,11 +171,7 @@ mod tests {
 
     #[test]
     fn maps_spans_back_to_included_files() {
-        let fs = Mem([
-            ("a.wgsl", "#include \"b.wgsl\"\nfn a() {}\n"),
-            ("b.wgsl", "fn b() {}\n"),
-        ]
-        .into());
+        let fs = Mem([("a.wgsl", "#include \"b.wgsl\"\nfn a() {}\n"), ("b.wgsl", "fn b() {}\n")].into());
         let mut sm = SourceMap::new();
         let a = sm.add("a.wgsl", fs.read("a.wgsl").unwrap());
         let e = expand(&fs, &mut sm, a, "a.wgsl").unwrap();
@@ -205,11 +186,7 @@ mod tests {
 
     #[test]
     fn include_cycle_is_reported_at_the_directive() {
-        let fs = Mem([
-            ("a.wgsl", "#include \"b.wgsl\"\n"),
-            ("b.wgsl", "\n  #include \"a.wgsl\"\n"),
-        ]
-        .into());
+        let fs = Mem([("a.wgsl", "#include \"b.wgsl\"\n"), ("b.wgsl", "\n  #include \"a.wgsl\"\n")].into());
         let mut sm = SourceMap::new();
         let a = sm.add("a.wgsl", fs.read("a.wgsl").unwrap());
         let err = expand(&fs, &mut sm, a, "a.wgsl").unwrap_err();

@@ -28,16 +28,11 @@ pub enum Lang {
 }
 
 pub fn is_glsl(path: &str) -> bool {
-    [".vert", ".frag", ".comp", ".glsl"]
-        .iter()
-        .any(|e| path.ends_with(e))
+    [".vert", ".frag", ".comp", ".glsl"].iter().any(|e| path.ends_with(e))
 }
 
 fn lang_of(path: &str) -> Result<Lang, String> {
-    let ext = Path::new(path)
-        .extension()
-        .and_then(|e| e.to_str())
-        .unwrap_or("");
+    let ext = Path::new(path).extension().and_then(|e| e.to_str()).unwrap_or("");
     match ext {
         "wgsl" => Ok(Lang::Wgsl),
         "vert" => Ok(Lang::Glsl(naga::ShaderStage::Vertex)),
@@ -45,18 +40,36 @@ fn lang_of(path: &str) -> Result<Lang, String> {
         "comp" => Ok(Lang::Glsl(naga::ShaderStage::Compute)),
         "geom" => Err("geometry".into()),
         "glsl" => Err("a `.glsl` file does not say its stage: name GLSL 450 shaders `.vert`, `.frag` or `.comp`".into()),
-        other => Err(format!("unknown shader language `.{other}`: expected `.wgsl`, or GLSL 450 as `.vert`, `.frag`, `.comp`")),
+        other => Err(format!(
+            "unknown shader language `.{other}`: expected `.wgsl`, or GLSL 450 as `.vert`, `.frag`, `.comp`"
+        )),
     }
 }
 
-/// A parsed and validated shader module.
+/// What naga produced for a module: independent of where its text came from.
+pub struct Compiled {
+    pub module: naga::Module,
+    pub info: naga::valid::ModuleInfo,
+    /// Type layouts (size, alignment) as naga computes them for host-shareable types.
+    pub layouter: naga::proc::Layouter,
+    /// Resource globals, reflected once.
+    pub globals: Vec<reflect::GlobalBinding>,
+}
+
+/// A parsed and validated shader module, with the source map of this session.
 pub struct ShaderModule {
     pub path: String,
     pub lang: Lang,
-    pub module: naga::Module,
-    pub info: naga::valid::ModuleInfo,
+    pub compiled: Arc<Compiled>,
     /// The expanded source naga saw, and where each part came from.
     pub expanded: Expanded,
+}
+
+impl std::ops::Deref for ShaderModule {
+    type Target = Compiled;
+    fn deref(&self) -> &Compiled {
+        &self.compiled
+    }
 }
 
 impl ShaderModule {
@@ -160,12 +173,8 @@ pub fn load_module(
             Ok(text) => sources.add(fs.display(&path.value), text),
             Err(e) => {
                 diags.push(
-                    Diagnostic::error(
-                        "shader-not-found",
-                        format!("cannot read shader `{}`: {e}", path.value),
-                        path.span,
-                    )
-                    .with_label_text("referenced here"),
+                    Diagnostic::error("shader-not-found", format!("cannot read shader `{}`: {e}", path.value), path.span)
+                        .with_label_text("referenced here"),
                 );
                 return None;
             }
@@ -179,11 +188,35 @@ pub fn load_module(
         }
     };
     let fallback = Span::new(root, 0, 0);
-    let map = |s: naga::Span| {
-        s.to_range()
-            .and_then(|r| expanded.map(r))
-            .unwrap_or(fallback)
+    // The built-in fullscreen stage is the same in every session: compile it once per process.
+    static BUILTIN: std::sync::OnceLock<Arc<Compiled>> = std::sync::OnceLock::new();
+    let compiled = match builtin_source(&path.value) {
+        Some(_) => match BUILTIN.get() {
+            Some(c) => c.clone(),
+            None => {
+                let c = compile(lang, &expanded, caps, fallback, diags)?;
+                BUILTIN.get_or_init(|| c).clone()
+            }
+        },
+        None => compile(lang, &expanded, caps, fallback, diags)?,
     };
+    Some(ShaderModule {
+        path: path.value.clone(),
+        lang,
+        compiled,
+        expanded,
+    })
+}
+
+/// Parse and validate expanded source, mapping naga's errors back through `expanded`.
+fn compile(
+    lang: Lang,
+    expanded: &Expanded,
+    caps: naga::valid::Capabilities,
+    fallback: Span,
+    diags: &mut Diagnostics,
+) -> Option<Arc<Compiled>> {
+    let map = |s: naga::Span| s.to_range().and_then(|r| expanded.map(r)).unwrap_or(fallback);
     let module = match lang {
         Lang::Wgsl => match naga::front::wgsl::parse_str(&expanded.text) {
             Ok(m) => m,
@@ -193,8 +226,7 @@ pub fn load_module(
                     .next()
                     .map(|(s, t)| (map(s), t.to_string()))
                     .unwrap_or((fallback, String::new()));
-                let mut d = Diagnostic::error("wgsl-parse", e.message().to_string(), first_span)
-                    .with_label_text(first_text);
+                let mut d = Diagnostic::error("wgsl-parse", e.message().to_string(), first_span).with_label_text(first_text);
                 for (s, t) in labels {
                     d = d.with_secondary(map(s), t);
                 }
@@ -211,11 +243,7 @@ pub fn load_module(
                 Ok(m) => m,
                 Err(errs) => {
                     for e in errs.errors {
-                        diags.push(Diagnostic::error(
-                            "glsl-parse",
-                            e.kind.to_string(),
-                            map(e.meta),
-                        ));
+                        diags.push(Diagnostic::error("glsl-parse", e.kind.to_string(), map(e.meta)));
                     }
                     return None;
                 }
@@ -227,12 +255,8 @@ pub fn load_module(
         Ok(i) => i,
         Err(e) => {
             let mut spans = e.spans();
-            let (first, first_text) = spans
-                .next()
-                .map(|(s, t)| (map(*s), t.clone()))
-                .unwrap_or((fallback, String::new()));
-            let mut d = Diagnostic::error("shader-validation", e.as_inner().to_string(), first)
-                .with_label_text(first_text);
+            let (first, first_text) = spans.next().map(|(s, t)| (map(*s), t.clone())).unwrap_or((fallback, String::new()));
+            let mut d = Diagnostic::error("shader-validation", e.as_inner().to_string(), first).with_label_text(first_text);
             for (s, t) in spans {
                 d = d.with_secondary(map(*s), t.clone());
             }
@@ -241,20 +265,27 @@ pub fn load_module(
                 d = d.with_note(s.to_string());
                 source = s.source();
             }
-            if e.as_inner().to_string().contains("apabilit")
-                || d.notes.iter().any(|n| n.contains("apabilit"))
-            {
+            if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {
                 d = d.with_note("declare the wgpu feature this needs in the `requires` of the variant option that enables this pass");
             }
             diags.push(d);
             return None;
         }
     };
-    Some(ShaderModule {
-        path: path.value.clone(),
-        lang,
+    let mut layouter = naga::proc::Layouter::default();
+    if let Err(e) = layouter.update(module.to_ctx()) {
+        diags.push(Diagnostic::error(
+            "shader-validation",
+            format!("cannot lay out types: {e}"),
+            fallback,
+        ));
+        return None;
+    }
+    let globals = reflect::resource_globals_of(&module, &layouter);
+    Some(Arc::new(Compiled {
         module,
         info,
-        expanded,
-    })
+        layouter,
+        globals,
+    }))
 }

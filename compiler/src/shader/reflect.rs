@@ -89,11 +89,8 @@ fn dim(d: ImageDimension, arrayed: bool) -> ShaderDim {
     }
 }
 
-/// Every global with a `@group/@binding`.
-pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
-    let m = &sm.module;
-    let mut layouter = naga::proc::Layouter::default();
-    let _ = layouter.update(m.to_ctx());
+/// Every global with a `@group/@binding` (computed once per module: see `ShaderModule::globals`).
+pub fn resource_globals_of(m: &naga::Module, layouter: &naga::proc::Layouter) -> Vec<GlobalBinding> {
     let mut out = vec![];
     for (h, g) in m.global_variables.iter() {
         let Some(rb) = &g.binding else { continue };
@@ -108,14 +105,7 @@ pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
                 read_only: !access.contains(naga::StorageAccess::STORE),
                 size: size(g.ty),
             },
-            (
-                AddressSpace::Handle,
-                TypeInner::Image {
-                    dim: d,
-                    arrayed,
-                    class,
-                },
-            ) => match class {
+            (AddressSpace::Handle, TypeInner::Image { dim: d, arrayed, class }) => match class {
                 ImageClass::Sampled { kind, multi } => BindingTy::Texture {
                     kind: match kind {
                         naga::ScalarKind::Uint => TexKind::Uint,
@@ -138,17 +128,12 @@ pub fn resource_globals(sm: &ShaderModule) -> Vec<GlobalBinding> {
                 },
                 ImageClass::External => BindingTy::Unsupported,
             },
-            (AddressSpace::Handle, TypeInner::Sampler { comparison }) => BindingTy::Sampler {
-                comparison: *comparison,
-            },
+            (AddressSpace::Handle, TypeInner::Sampler { comparison }) => BindingTy::Sampler { comparison: *comparison },
             _ => BindingTy::Unsupported,
         };
         out.push(GlobalBinding {
             handle: h,
-            name: g
-                .name
-                .clone()
-                .unwrap_or_else(|| format!("<global {}>", h.index())),
+            name: g.name.clone().unwrap_or_else(|| format!("<global {}>", h.index())),
             group: rb.group,
             binding: rb.binding,
             ty,
@@ -167,10 +152,7 @@ pub fn used_by(sm: &ShaderModule, ep: usize, h: Handle<naga::GlobalVariable>) ->
 }
 
 /// (texture, sampler) pairs an entry point samples with, including through helper calls.
-pub fn sampling_pairs(
-    sm: &ShaderModule,
-    ep: usize,
-) -> Vec<(Handle<naga::GlobalVariable>, Handle<naga::GlobalVariable>)> {
+pub fn sampling_pairs(sm: &ShaderModule, ep: usize) -> Vec<(Handle<naga::GlobalVariable>, Handle<naga::GlobalVariable>)> {
     let mut pairs: Vec<_> = sm
         .info
         .get_entry_point(ep)
@@ -190,13 +172,7 @@ pub struct IoVar {
     pub name: String,
 }
 
-fn io_of(
-    m: &naga::Module,
-    ty: Handle<naga::Type>,
-    binding: Option<&Binding>,
-    name: Option<&str>,
-    out: &mut Vec<IoVar>,
-) {
+fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, name: Option<&str>, out: &mut Vec<IoVar>) {
     match (&m.types[ty].inner, binding) {
         (TypeInner::Struct { members, .. }, None) => {
             for mem in members {
@@ -220,12 +196,7 @@ fn io_of(
     }
 }
 
-fn builtins_of(
-    m: &naga::Module,
-    ty: Handle<naga::Type>,
-    binding: Option<&Binding>,
-    out: &mut Vec<naga::BuiltIn>,
-) {
+fn builtins_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, out: &mut Vec<naga::BuiltIn>) {
     match (&m.types[ty].inner, binding) {
         (TypeInner::Struct { members, .. }, None) => {
             for mem in members {
@@ -253,13 +224,7 @@ pub fn inputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
     let f = &sm.module.entry_points[ep].function;
     let mut out = vec![];
     for a in &f.arguments {
-        io_of(
-            &sm.module,
-            a.ty,
-            a.binding.as_ref(),
-            a.name.as_deref(),
-            &mut out,
-        );
+        io_of(&sm.module, a.ty, a.binding.as_ref(), a.name.as_deref(), &mut out);
     }
     out.sort_by_key(|v| v.location);
     out

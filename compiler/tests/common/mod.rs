@@ -46,10 +46,7 @@ impl Outcome {
             .iter()
             .map(|d| {
                 let (f, l, c) = d.location(&self.session.sources).unwrap_or_default();
-                let rel = Path::new(&f)
-                    .strip_prefix(&self.dir)
-                    .map(|p| p.display().to_string())
-                    .unwrap_or(f);
+                let rel = Path::new(&f).strip_prefix(&self.dir).map(|p| p.display().to_string()).unwrap_or(f);
                 (d.code.to_string(), d.message.clone(), rel, l, c)
             })
             .collect()
@@ -64,12 +61,7 @@ impl Outcome {
     }
 }
 
-pub fn check_project(
-    dir: &Path,
-    pipeline: &str,
-    profile: &Profile,
-    scene: Option<&SceneFeatures>,
-) -> Outcome {
+pub fn check_project(dir: &Path, pipeline: &str, profile: &Profile, scene: Option<&SceneFeatures>) -> Outcome {
     let mut s = Session::new();
     let path = dir.join(pipeline);
     s.check_file(&path, None, profile, scene);
@@ -81,8 +73,5 @@ pub fn check_project(
 
 /// The repository root (for the bundled pipelines and shaders).
 pub fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }

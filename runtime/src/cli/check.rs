@@ -5,13 +5,7 @@ use lightbench_compiler::scene::load_scene_features;
 use lightbench_compiler::{pipeline_files, Session};
 use std::path::{Path, PathBuf};
 
-pub fn run(
-    paths: &[PathBuf],
-    format: Format,
-    profile: &str,
-    scene: Option<&Path>,
-    shaders: Option<&Path>,
-) -> i32 {
+pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&Path>, shaders: Option<&Path>) -> i32 {
     let profile = match super::profile(profile) {
         Ok(p) => p,
         Err(e) => return usage_error(e),
@@ -22,9 +16,7 @@ pub fn run(
             return usage_error(format!("no such file or directory: {}", p.display()));
         }
         match pipeline_files(p) {
-            Ok(f) if f.is_empty() => {
-                return usage_error(format!("no pipeline files (.ron, .lbp) in {}", p.display()))
-            }
+            Ok(f) if f.is_empty() => return usage_error(format!("no pipeline files (.ron, .lbp) in {}", p.display())),
             Ok(f) => files.extend(f),
             Err(e) => return usage_error(format!("cannot list {}: {e}", p.display())),
         }
@@ -34,16 +26,13 @@ pub fn run(
     for f in &files {
         let mut s = Session::new();
         let scene_features = match scene {
-            Some(path) => {
-                match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags)
-                {
-                    Some(sf) => Some(sf),
-                    None => {
-                        emit(&s, format);
-                        return EXIT_ERRORS;
-                    }
+            Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
+                Some(sf) => Some(sf),
+                None => {
+                    emit(&s, format);
+                    return EXIT_ERRORS;
                 }
-            }
+            },
             None => None,
         };
         s.check_file(f, shaders, &profile, scene_features.as_ref());

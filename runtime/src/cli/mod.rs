@@ -12,11 +12,7 @@ pub const EXIT_ERRORS: i32 = 1;
 pub const EXIT_USAGE: i32 = 2;
 
 #[derive(Parser, Debug)]
-#[command(
-    name = "lightbench",
-    version,
-    about = "Build, run and measure real-time lighting pipelines"
-)]
+#[command(name = "lightbench", version, about = "Build, run and measure real-time lighting pipelines")]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -90,13 +86,7 @@ pub fn run(cli: Cli) -> i32 {
             profile,
             scene,
             shaders,
-        } => check::run(
-            &paths,
-            format,
-            &profile,
-            scene.as_deref(),
-            shaders.as_deref(),
-        ),
+        } => check::run(&paths, format, &profile, scene.as_deref(), shaders.as_deref()),
         Command::Plan {
             file,
             variants,

@@ -24,14 +24,8 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X', '×'])
         .ok_or_else(|| format!("invalid size `{s}`: expected WxH, e.g. 1920x1080"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("invalid width in `{s}`"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("invalid height in `{s}`"))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("invalid width in `{s}`"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("invalid height in `{s}`"))?;
     if w == 0 || h == 0 || w > 65536 || h > 65536 {
         return Err(format!("size `{s}` out of range (1..=65536)"));
     }
@@ -48,16 +42,9 @@ fn parse_lights(s: &str) -> Result<Vec<(LightKind, u32)>, String> {
             "directional" => LightKind::Directional,
             "spot" => LightKind::Spot,
             "point" => LightKind::Point,
-            other => {
-                return Err(format!(
-                    "unknown light kind `{other}`: expected directional, spot or point"
-                ))
-            }
+            other => return Err(format!("unknown light kind `{other}`: expected directional, spot or point")),
         };
-        let n: u32 = n
-            .trim()
-            .parse()
-            .map_err(|_| format!("invalid count in `{part}`"))?;
+        let n: u32 = n.trim().parse().map_err(|_| format!("invalid count in `{part}`"))?;
         out.push((kind, n));
     }
     Ok(out)
@@ -71,9 +58,7 @@ pub fn run(a: Args) -> i32 {
     let mut variants = vec![];
     for v in &a.variants {
         match v.split_once('=') {
-            Some((k, val)) if !k.is_empty() && !val.is_empty() => {
-                variants.push((k.to_string(), val.to_string()))
-            }
+            Some((k, val)) if !k.is_empty() && !val.is_empty() => variants.push((k.to_string(), val.to_string())),
             _ => return usage_error(format!("invalid --variant `{v}`: expected NAME=OPTION")),
         }
     }
@@ -82,15 +67,13 @@ pub fn run(a: Args) -> i32 {
     }
     let mut s = Session::new();
     let mut scene = match &a.scene {
-        Some(path) => {
-            match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
-                Some(sf) => sf,
-                None => {
-                    super::check::emit(&s, Format::Human);
-                    return EXIT_ERRORS;
-                }
+        Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
+            Some(sf) => sf,
+            None => {
+                super::check::emit(&s, Format::Human);
+                return EXIT_ERRORS;
             }
-        }
+        },
         None => SceneFeatures::everything(),
     };
     if let Some(sz) = &a.size {
@@ -101,9 +84,7 @@ pub fn run(a: Args) -> i32 {
     }
     if let Some(l) = &a.lights {
         if a.scene.is_some() {
-            return usage_error(
-                "--lights is for planning without a scene; the scene's lights are used",
-            );
+            return usage_error("--lights is for planning without a scene; the scene's lights are used");
         }
         match parse_lights(l) {
             Ok(v) => {

@@ -21,13 +21,10 @@ pub struct Obj {
 
 impl Obj {
     fn take(&mut self, key: &str) -> Option<(Span, Node)> {
-        self.fields
-            .iter_mut()
-            .find(|f| f.0 == key && !f.3)
-            .map(|f| {
-                f.3 = true;
-                (f.1, f.2.clone())
-            })
+        self.fields.iter_mut().find(|f| f.0 == key && !f.3).map(|f| {
+            f.3 = true;
+            (f.1, f.2.clone())
+        })
     }
 }
 
@@ -52,29 +49,18 @@ impl<'d> Lowerer<'d> {
 
     /// Open `Name(...)` (or an anonymous `(...)` when `name` allows it) as an object.
     fn obj(&mut self, node: &Node, expected_names: &[&str], what: &str) -> Res<(String, Obj)> {
-        let (name, fields) = match &node.value {
+        let (name, fields) = match &*node.value {
             Value::Struct { name, fields } => (name.clone(), fields.clone()),
             Value::Tuple { name, items } if items.is_empty() => (name.clone(), vec![]),
-            Value::Ident(i) if expected_names.contains(&i.as_str()) => {
-                (Some((i.clone(), node.span)), vec![])
-            }
-            _ => {
-                return self.type_err(
-                    &format!("{what} `{}(...)`", expected_names.first().unwrap_or(&"")),
-                    node,
-                )
-            }
+            Value::Ident(i) if expected_names.contains(&i.as_str()) => (Some((i.clone(), node.span)), vec![]),
+            _ => return self.type_err(&format!("{what} `{}(...)`", expected_names.first().unwrap_or(&"")), node),
         };
         let name_str = match name {
             Some((n, nspan)) => {
                 if !expected_names.is_empty() && !expected_names.contains(&n.as_str()) {
                     self.err(
-                        Diagnostic::error(
-                            "unknown-kind",
-                            format!("unknown {what} kind `{n}`"),
-                            nspan,
-                        )
-                        .with_note(suggestion_note(&n, expected_names)),
+                        Diagnostic::error("unknown-kind", format!("unknown {what} kind `{n}`"), nspan)
+                            .with_note(suggestion_note(&n, expected_names)),
                     );
                     return None;
                 }
@@ -93,10 +79,7 @@ impl<'d> Lowerer<'d> {
             }
             seen.push(k);
         }
-        let fields = fields
-            .into_iter()
-            .map(|(k, s, n)| (k, s, n, false))
-            .collect();
+        let fields = fields.into_iter().map(|(k, s, n)| (k, s, n, false)).collect();
         Some((
             name_str,
             Obj {
@@ -120,12 +103,8 @@ impl<'d> Lowerer<'d> {
                 continue;
             }
             self.err(
-                Diagnostic::error(
-                    "unknown-key",
-                    format!("unknown key `{k}` in {}", obj.what),
-                    kspan,
-                )
-                .with_note(suggestion_note(&k, allowed)),
+                Diagnostic::error("unknown-key", format!("unknown key `{k}` in {}", obj.what), kspan)
+                    .with_note(suggestion_note(&k, allowed)),
             );
         }
     }
@@ -134,36 +113,30 @@ impl<'d> Lowerer<'d> {
         let r = obj.take(key);
         if r.is_none() {
             self.err(
-                Diagnostic::error(
-                    "missing-key",
-                    format!("{} is missing required key `{key}`", obj.what),
-                    obj.span,
-                )
-                .with_label_text(format!("`{key}` is required here")),
+                Diagnostic::error("missing-key", format!("{} is missing required key `{key}`", obj.what), obj.span)
+                    .with_label_text(format!("`{key}` is required here")),
             );
         }
         r
     }
 
     fn string(&mut self, node: &Node) -> Res<Spanned<String>> {
-        match &node.value {
+        match &*node.value {
             Value::Str(s) => Some(Spanned::new(s.clone(), node.span)),
             _ => self.type_err("a string", node),
         }
     }
 
     fn bool(&mut self, node: &Node) -> Res<bool> {
-        match &node.value {
+        match &*node.value {
             Value::Bool(b) => Some(*b),
             _ => self.type_err("`true` or `false`", node),
         }
     }
 
     fn u32(&mut self, node: &Node) -> Res<Spanned<u32>> {
-        match &node.value {
-            Value::Int(i) if *i >= 0 && *i <= u32::MAX as i64 => {
-                Some(Spanned::new(*i as u32, node.span))
-            }
+        match &*node.value {
+            Value::Int(i) if *i >= 0 && *i <= u32::MAX as i64 => Some(Spanned::new(*i as u32, node.span)),
             Value::Int(_) => {
                 self.err(Diagnostic::error(
                     "value-out-of-range",
@@ -177,7 +150,7 @@ impl<'d> Lowerer<'d> {
     }
 
     fn f64(&mut self, node: &Node) -> Res<f64> {
-        match &node.value {
+        match &*node.value {
             Value::Int(i) => Some(*i as f64),
             Value::Float(f) => Some(*f),
             _ => self.type_err("a number", node),
@@ -185,7 +158,7 @@ impl<'d> Lowerer<'d> {
     }
 
     fn list<'n>(&mut self, node: &'n Node) -> Res<&'n [Node]> {
-        match &node.value {
+        match &*node.value {
             Value::List(items) => Some(items),
             _ => self.type_err("a list `[...]`", node),
         }
@@ -193,7 +166,7 @@ impl<'d> Lowerer<'d> {
 
     /// A map with string keys, in file order; duplicate keys are reported.
     fn string_map(&mut self, node: &Node, what: &str) -> Res<Vec<(Spanned<String>, Node)>> {
-        let Value::Map(entries) = &node.value else {
+        let Value::Map(entries) = &*node.value else {
             return self.type_err("a map `{...}`", node);
         };
         let mut out: Vec<(Spanned<String>, Node)> = vec![];
@@ -202,12 +175,8 @@ impl<'d> Lowerer<'d> {
             if let Some((prev, _)) = out.iter().find(|(p, _)| p.value == key.value) {
                 let prev_span = prev.span;
                 self.err(
-                    Diagnostic::error(
-                        "duplicate-name",
-                        format!("{what} `{}` is declared twice", key.value),
-                        key.span,
-                    )
-                    .with_secondary(prev_span, "first declared here"),
+                    Diagnostic::error("duplicate-name", format!("{what} `{}` is declared twice", key.value), key.span)
+                        .with_secondary(prev_span, "first declared here"),
                 );
                 continue;
             }
@@ -217,24 +186,13 @@ impl<'d> Lowerer<'d> {
     }
 
     /// A unit enum value (`Linear`) checked against its names.
-    fn ident<T>(
-        &mut self,
-        node: &Node,
-        what: &str,
-        names: &[&str],
-        parse: impl Fn(&str) -> Option<T>,
-    ) -> Res<T> {
-        match &node.value {
+    fn ident<T>(&mut self, node: &Node, what: &str, names: &[&str], parse: impl Fn(&str) -> Option<T>) -> Res<T> {
+        match &*node.value {
             Value::Ident(i) => match parse(i) {
                 Some(v) => Some(v),
                 None => {
                     self.err(
-                        Diagnostic::error(
-                            "unknown-value",
-                            format!("unknown {what} `{i}`"),
-                            node.span,
-                        )
-                        .with_note(suggestion_note(i, names)),
+                        Diagnostic::error("unknown-value", format!("unknown {what} `{i}`"), node.span).with_note(suggestion_note(i, names)),
                     );
                     None
                 }
@@ -266,45 +224,18 @@ impl<'d> Lowerer<'d> {
 
     pub fn pipeline(&mut self, root: &Node) -> Res<Pipeline> {
         let (_, mut o) = self.obj(root, &["Pipeline"], "pipeline")?;
-        let name = self
-            .required(&mut o, "name")
-            .and_then(|(_, n)| self.string(&n));
-        let params = o
-            .take("params")
-            .and_then(|(_, n)| self.params(&n))
-            .unwrap_or_default();
-        let samplers = o
-            .take("samplers")
-            .and_then(|(_, n)| self.samplers(&n))
-            .unwrap_or_default();
-        let resources = o
-            .take("resources")
-            .and_then(|(_, n)| self.resources(&n))
-            .unwrap_or_default();
+        let name = self.required(&mut o, "name").and_then(|(_, n)| self.string(&n));
+        let params = o.take("params").and_then(|(_, n)| self.params(&n)).unwrap_or_default();
+        let samplers = o.take("samplers").and_then(|(_, n)| self.samplers(&n)).unwrap_or_default();
+        let resources = o.take("resources").and_then(|(_, n)| self.resources(&n)).unwrap_or_default();
         let passes = self
             .required(&mut o, "passes")
             .and_then(|(_, n)| self.passes(&n))
             .unwrap_or_default();
-        let variants = o
-            .take("variants")
-            .and_then(|(_, n)| self.variants(&n))
-            .unwrap_or_default();
-        let output = self
-            .required(&mut o, "output")
-            .and_then(|(_, n)| self.string(&n));
+        let variants = o.take("variants").and_then(|(_, n)| self.variants(&n)).unwrap_or_default();
+        let output = self.required(&mut o, "output").and_then(|(_, n)| self.string(&n));
         let span = o.span;
-        self.finish(
-            o,
-            &[
-                "name",
-                "params",
-                "samplers",
-                "resources",
-                "passes",
-                "variants",
-                "output",
-            ],
-        );
+        self.finish(o, &["name", "params", "samplers", "resources", "passes", "variants", "output"]);
         Some(Pipeline {
             name: name?,
             params,
@@ -319,23 +250,13 @@ impl<'d> Lowerer<'d> {
 
     fn params(&mut self, node: &Node) -> Res<Vec<Param>> {
         let entries = self.string_map(node, "parameter")?;
-        Some(
-            entries
-                .into_iter()
-                .filter_map(|(name, v)| self.param(name, &v))
-                .collect(),
-        )
+        Some(entries.into_iter().filter_map(|(name, v)| self.param(name, &v)).collect())
     }
 
     fn param(&mut self, name: Spanned<String>, node: &Node) -> Res<Param> {
         let (kind, mut o) = self.obj(node, &ParamType::NAMES, "parameter")?;
-        let kind_span = match &node.value {
-            Value::Struct {
-                name: Some((_, s)), ..
-            }
-            | Value::Tuple {
-                name: Some((_, s)), ..
-            } => *s,
+        let kind_span = match &*node.value {
+            Value::Struct { name: Some((_, s)), .. } | Value::Tuple { name: Some((_, s)), .. } => *s,
             _ => node.span,
         };
         let ty = match kind.as_str() {
@@ -349,10 +270,7 @@ impl<'d> Lowerer<'d> {
             _ => {
                 let (_, opts) = self.required(&mut o, "options")?;
                 let items = self.list(&opts)?.to_vec();
-                let names: Vec<String> = items
-                    .iter()
-                    .filter_map(|i| self.string(i).map(|s| s.value))
-                    .collect();
+                let names: Vec<String> = items.iter().filter_map(|i| self.string(i).map(|s| s.value)).collect();
                 if names.is_empty() {
                     self.err(Diagnostic::error(
                         "empty-enum",
@@ -364,15 +282,10 @@ impl<'d> Lowerer<'d> {
                 ParamType::Enum(names)
             }
         };
-        let default = self
-            .required(&mut o, "default")
-            .and_then(|(_, n)| self.param_value(&ty, &n));
+        let default = self.required(&mut o, "default").and_then(|(_, n)| self.param_value(&ty, &n));
         let min = o.take("min").and_then(|(_, n)| self.param_value(&ty, &n));
         let max = o.take("max").and_then(|(_, n)| self.param_value(&ty, &n));
-        let doc = o
-            .take("doc")
-            .and_then(|(_, n)| self.string(&n))
-            .map(|s| s.value);
+        let doc = o.take("doc").and_then(|(_, n)| self.string(&n)).map(|s| s.value);
         let span = o.span;
         self.finish(o, &["default", "min", "max", "doc", "options"]);
         Some(Param {
@@ -387,7 +300,7 @@ impl<'d> Lowerer<'d> {
     }
 
     fn param_value(&mut self, ty: &ParamType, node: &Node) -> Res<Spanned<ParamValue>> {
-        let v = match (ty, &node.value) {
+        let v = match (ty, &*node.value) {
             (ParamType::Float, Value::Float(f)) => ParamValue::Float(*f),
             (ParamType::Float, Value::Int(i)) => ParamValue::Float(*i as f64),
             (ParamType::Int, Value::Int(i)) => ParamValue::Int(*i),
@@ -396,12 +309,8 @@ impl<'d> Lowerer<'d> {
                 if !opts.contains(s) {
                     let names: Vec<&str> = opts.iter().map(|s| s.as_str()).collect();
                     self.err(
-                        Diagnostic::error(
-                            "unknown-value",
-                            format!("`{s}` is not an option of this Enum"),
-                            node.span,
-                        )
-                        .with_note(suggestion_note(s, &names)),
+                        Diagnostic::error("unknown-value", format!("`{s}` is not an option of this Enum"), node.span)
+                            .with_note(suggestion_note(s, &names)),
                     );
                     return None;
                 }
@@ -412,11 +321,7 @@ impl<'d> Lowerer<'d> {
                 if items.len() != n && !(matches!(t, ParamType::Color) && items.len() == 4) {
                     self.err(Diagnostic::error(
                         "param-type",
-                        format!(
-                            "a {} value has {n} components, found {}",
-                            t.name(),
-                            items.len()
-                        ),
+                        format!("a {} value has {n} components, found {}", t.name(), items.len()),
                         node.span,
                     ));
                     return None;
@@ -438,11 +343,7 @@ impl<'d> Lowerer<'d> {
                 self.err(
                     Diagnostic::error(
                         "param-type",
-                        format!(
-                            "{} parameter: expected {expected}, found {}",
-                            t.name(),
-                            node.value.kind_word()
-                        ),
+                        format!("{} parameter: expected {expected}, found {}", t.name(), node.value.kind_word()),
                         node.span,
                     )
                     .with_label_text(format!("expected {expected}")),
@@ -460,28 +361,17 @@ impl<'d> Lowerer<'d> {
             let Some((_, mut o)) = self.obj(&v, &["Sampler"], "sampler") else {
                 continue;
             };
-            let filter = o
-                .take("filter")
-                .and_then(|(_, n)| self.filter(&n))
-                .unwrap_or(FilterMode::Linear);
-            let mipmap = o
-                .take("mipmap")
-                .and_then(|(_, n)| self.filter(&n))
-                .unwrap_or(FilterMode::Nearest);
+            let filter = o.take("filter").and_then(|(_, n)| self.filter(&n)).unwrap_or(FilterMode::Linear);
+            let mipmap = o.take("mipmap").and_then(|(_, n)| self.filter(&n)).unwrap_or(FilterMode::Nearest);
             let address = o
                 .take("address")
                 .and_then(|(_, n)| {
-                    self.ident(
-                        &n,
-                        "address mode",
-                        &["ClampToEdge", "Repeat", "MirrorRepeat"],
-                        |s| match s {
-                            "ClampToEdge" => Some(AddressMode::ClampToEdge),
-                            "Repeat" => Some(AddressMode::Repeat),
-                            "MirrorRepeat" => Some(AddressMode::MirrorRepeat),
-                            _ => None,
-                        },
-                    )
+                    self.ident(&n, "address mode", &["ClampToEdge", "Repeat", "MirrorRepeat"], |s| match s {
+                        "ClampToEdge" => Some(AddressMode::ClampToEdge),
+                        "Repeat" => Some(AddressMode::Repeat),
+                        "MirrorRepeat" => Some(AddressMode::MirrorRepeat),
+                        _ => None,
+                    })
                 })
                 .unwrap_or(AddressMode::ClampToEdge);
             let compare = o.take("compare").and_then(|(_, n)| self.compare(&n));
@@ -508,50 +398,32 @@ impl<'d> Lowerer<'d> {
     }
 
     fn compare(&mut self, n: &Node) -> Res<CompareFn> {
-        self.ident(
-            n,
-            "compare function",
-            &CompareFn::NAMES,
-            CompareFn::from_name,
-        )
+        self.ident(n, "compare function", &CompareFn::NAMES, CompareFn::from_name)
     }
 
     fn resources(&mut self, node: &Node) -> Res<Vec<Resource>> {
         let entries = self.string_map(node, "resource")?;
-        Some(
-            entries
-                .into_iter()
-                .filter_map(|(name, v)| self.resource(name, &v))
-                .collect(),
-        )
+        Some(entries.into_iter().filter_map(|(name, v)| self.resource(name, &v)).collect())
     }
 
     fn resource(&mut self, name: Spanned<String>, node: &Node) -> Res<Resource> {
         let (kind, mut o) = self.obj(node, &["Texture", "Buffer"], "resource")?;
         let per_light = o.take("per_light").and_then(|(_, n)| self.light_kinds(&n));
-        let history = o
-            .take("history")
-            .and_then(|(_, n)| self.bool(&n))
-            .unwrap_or(false);
-        let external = o
-            .take("external")
-            .and_then(|(_, n)| self.bool(&n))
-            .unwrap_or(false);
+        let history = o.take("history").and_then(|(_, n)| self.bool(&n)).unwrap_or(false);
+        let external = o.take("external").and_then(|(_, n)| self.bool(&n)).unwrap_or(false);
         let span = o.span;
         if kind == "Buffer" {
-            let size = self
-                .required(&mut o, "size")
-                .and_then(|(_, n)| match &n.value {
-                    Value::Int(i) if *i > 0 => Some(Spanned::new(*i as u64, n.span)),
-                    _ => {
-                        self.err(Diagnostic::error(
-                            "value-out-of-range",
-                            "buffer size must be a positive number of bytes",
-                            n.span,
-                        ));
-                        None
-                    }
-                });
+            let size = self.required(&mut o, "size").and_then(|(_, n)| match &*n.value {
+                Value::Int(i) if *i > 0 => Some(Spanned::new(*i as u64, n.span)),
+                _ => {
+                    self.err(Diagnostic::error(
+                        "value-out-of-range",
+                        "buffer size must be a positive number of bytes",
+                        n.span,
+                    ));
+                    None
+                }
+            });
             self.finish(o, &["size", "per_light", "history", "external"]);
             return Some(Resource {
                 name,
@@ -565,13 +437,8 @@ impl<'d> Lowerer<'d> {
             });
         }
         let format = self.required(&mut o, "format").and_then(|(_, n)| {
-            self.ident(
-                &n,
-                "texture format",
-                TextureFormat::NAMES,
-                TextureFormat::from_name,
-            )
-            .map(|f| Spanned::new(f, n.span))
+            self.ident(&n, "texture format", TextureFormat::NAMES, TextureFormat::from_name)
+                .map(|f| Spanned::new(f, n.span))
         });
         let size = match o.take("size") {
             Some((_, n)) => self.size(&n),
@@ -596,19 +463,7 @@ impl<'d> Lowerer<'d> {
             Some((_, n)) => self.u32(&n),
             None => Some(Spanned::new(1, span)),
         };
-        self.finish(
-            o,
-            &[
-                "format",
-                "size",
-                "layers",
-                "view",
-                "mips",
-                "per_light",
-                "history",
-                "external",
-            ],
-        );
+        self.finish(o, &["format", "size", "layers", "view", "mips", "per_light", "history", "external"]);
         let desc = TextureDesc {
             format: format?,
             size: size?,
@@ -627,7 +482,7 @@ impl<'d> Lowerer<'d> {
     }
 
     fn size(&mut self, n: &Node) -> Res<Spanned<SizeSpec>> {
-        let s = match &n.value {
+        let s = match &*n.value {
             Value::Ident(i) if i == "Viewport" => SizeSpec::Viewport { scale: 1.0 },
             Value::Tuple {
                 name: Some((nm, _)),
@@ -651,11 +506,7 @@ impl<'d> Lowerer<'d> {
                 let w = self.u32(&items[0])?;
                 let h = self.u32(&items[1])?;
                 if w.value == 0 || h.value == 0 {
-                    self.err(Diagnostic::error(
-                        "value-out-of-range",
-                        "texture size must be at least 1×1",
-                        n.span,
-                    ));
+                    self.err(Diagnostic::error("value-out-of-range", "texture size must be at least 1×1", n.span));
                     return None;
                 }
                 SizeSpec::Fixed {
@@ -663,9 +514,7 @@ impl<'d> Lowerer<'d> {
                     height: h.value,
                 }
             }
-            _ => {
-                return self.type_err("`Viewport`, `Viewport(scale)` or `Fixed(width, height)`", n)
-            }
+            _ => return self.type_err("`Viewport`, `Viewport(scale)` or `Fixed(width, height)`", n),
         };
         Some(Spanned::new(s, n.span))
     }
@@ -678,12 +527,8 @@ impl<'d> Lowerer<'d> {
                 if let Some(prev) = out.iter().find(|q| q.name.value == p.name.value) {
                     let prev_span = prev.name.span;
                     self.err(
-                        Diagnostic::error(
-                            "duplicate-name",
-                            format!("pass `{}` is declared twice", p.name.value),
-                            p.name.span,
-                        )
-                        .with_secondary(prev_span, "first declared here"),
+                        Diagnostic::error("duplicate-name", format!("pass `{}` is declared twice", p.name.value), p.name.span)
+                            .with_secondary(prev_span, "first declared here"),
                     );
                     continue;
                 }
@@ -702,7 +547,7 @@ impl<'d> Lowerer<'d> {
         pass_span: Span,
     ) -> Res<Option<ShaderRef>> {
         let (entry_text, span) = match node {
-            Some((_, n)) => match &n.value {
+            Some((_, n)) => match &*n.value {
                 Value::Ident(i) if i == "None" => return Some(None),
                 _ => {
                     let s = self.string(&n)?;
@@ -742,9 +587,7 @@ impl<'d> Lowerer<'d> {
 
     fn pass(&mut self, node: &Node) -> Res<Pass> {
         let (kind_name, mut o) = self.obj(node, &["Raster", "Fullscreen", "Compute"], "pass")?;
-        let name = self
-            .required(&mut o, "name")
-            .and_then(|(_, n)| self.string(&n));
+        let name = self.required(&mut o, "name").and_then(|(_, n)| self.string(&n));
         o.what = match &name {
             Some(n) => format!("pass `{}`", n.value),
             None => "pass".into(),
@@ -765,38 +608,25 @@ impl<'d> Lowerer<'d> {
         ];
         let (kind, vertex, fragment, compute) = match kind_name.as_str() {
             "Raster" => {
-                allowed.extend([
-                    "vertex",
-                    "fragment",
-                    "color",
-                    "depth",
-                    "draw",
-                    "cull",
-                    "instances",
-                    "multiview",
-                ]);
+                allowed.extend(["vertex", "fragment", "color", "depth", "draw", "cull", "instances", "multiview"]);
                 let draw = match o.take("draw") {
-                    Some((_, n)) => match &n.value {
+                    Some((_, n)) => match &*n.value {
                         Value::Ident(i) if i == "Scene" => Draw::Scene,
                         Value::Tuple {
                             name: Some((nm, _)),
                             items,
-                        } if nm == "Vertices" && items.len() == 1 => {
-                            Draw::Vertices(self.u32(&items[0])?.value)
-                        }
+                        } if nm == "Vertices" && items.len() == 1 => Draw::Vertices(self.u32(&items[0])?.value),
                         _ => return self.type_err("`Scene` or `Vertices(count)`", &n),
                     },
                     None => Draw::Scene,
                 };
                 let cull = match o.take("cull") {
-                    Some((_, n)) => {
-                        self.ident(&n, "cull mode", &["None", "Front", "Back"], |s| match s {
-                            "None" => Some(CullMode::None),
-                            "Front" => Some(CullMode::Front),
-                            "Back" => Some(CullMode::Back),
-                            _ => None,
-                        })?
-                    }
+                    Some((_, n)) => self.ident(&n, "cull mode", &["None", "Front", "Back"], |s| match s {
+                        "None" => Some(CullMode::None),
+                        "Front" => Some(CullMode::Front),
+                        "Back" => Some(CullMode::Back),
+                        _ => None,
+                    })?,
                     None => CullMode::Back,
                 };
                 let instances = match o.take("instances") {
@@ -834,29 +664,24 @@ impl<'d> Lowerer<'d> {
                     file: Spanned::new(crate::shader::FULLSCREEN_FILE.to_string(), span),
                     entry: Spanned::new(crate::shader::FULLSCREEN_ENTRY.to_string(), span),
                 });
-                let f =
-                    self.shader_ref(&shader, o.take("fragment"), "fs_main", "fragment", span)?;
+                let f = self.shader_ref(&shader, o.take("fragment"), "fs_main", "fragment", span)?;
                 (PassKind::Fullscreen, v, f, None)
             }
             _ => {
                 allowed.extend(["entry", "dispatch"]);
                 let c = self.shader_ref(&shader, o.take("entry"), "cs_main", "compute", span)?;
                 let dispatch = match self.required(&mut o, "dispatch") {
-                    Some((_, n)) => match &n.value {
+                    Some((_, n)) => match &*n.value {
                         Value::Tuple {
                             name: Some((nm, _)),
                             items,
-                        } if nm == "Size" && items.len() == 1 => {
-                            Dispatch::Size(self.string(&items[0])?)
+                        } if nm == "Size" && items.len() == 1 => Dispatch::Size(self.string(&items[0])?),
+                        Value::Tuple {
+                            name: Some((nm, _)),
+                            items,
+                        } if nm == "Groups" && items.len() == 3 => {
+                            Dispatch::Groups(self.u32(&items[0])?.value, self.u32(&items[1])?.value, self.u32(&items[2])?.value)
                         }
-                        Value::Tuple {
-                            name: Some((nm, _)),
-                            items,
-                        } if nm == "Groups" && items.len() == 3 => Dispatch::Groups(
-                            self.u32(&items[0])?.value,
-                            self.u32(&items[1])?.value,
-                            self.u32(&items[2])?.value,
-                        ),
                         _ => return self.type_err("`Size(\"resource\")` or `Groups(x, y, z)`", &n),
                     },
                     None => return None,
@@ -864,23 +689,11 @@ impl<'d> Lowerer<'d> {
                 (PassKind::Compute { dispatch }, None, None, c)
             }
         };
-        let reads = o
-            .take("reads")
-            .and_then(|(_, n)| self.reads(&n))
-            .unwrap_or_default();
-        let writes = o
-            .take("writes")
-            .and_then(|(_, n)| self.string_list(&n))
-            .unwrap_or_default();
-        let color = o
-            .take("color")
-            .and_then(|(_, n)| self.color_targets(&n))
-            .unwrap_or_default();
+        let reads = o.take("reads").and_then(|(_, n)| self.reads(&n)).unwrap_or_default();
+        let writes = o.take("writes").and_then(|(_, n)| self.string_list(&n)).unwrap_or_default();
+        let color = o.take("color").and_then(|(_, n)| self.color_targets(&n)).unwrap_or_default();
         let depth = o.take("depth").and_then(|(_, n)| self.depth_target(&n));
-        let params = o
-            .take("params")
-            .and_then(|(_, n)| self.string_list(&n))
-            .unwrap_or_default();
+        let params = o.take("params").and_then(|(_, n)| self.string_list(&n)).unwrap_or_default();
         let param_block = match o.take("param_block") {
             Some((_, n)) => self.string(&n)?,
             None => Spanned::new("params".to_string(), span),
@@ -895,10 +708,7 @@ impl<'d> Lowerer<'d> {
         };
         let when = o.take("when").and_then(|(_, n)| self.condition(&n));
         let per_light = o.take("per_light").and_then(|(_, n)| self.light_kinds(&n));
-        let per_face = o
-            .take("per_face")
-            .and_then(|(_, n)| self.bool(&n))
-            .unwrap_or(false);
+        let per_face = o.take("per_face").and_then(|(_, n)| self.bool(&n)).unwrap_or(false);
         self.finish(o, &allowed);
         Some(Pass {
             name: name?,
@@ -929,7 +739,7 @@ impl<'d> Lowerer<'d> {
         let items = self.list(n)?.to_vec();
         let mut out = vec![];
         for it in &items {
-            match &it.value {
+            match &*it.value {
                 Value::Str(s) => out.push(Read::Current(Spanned::new(s.clone(), it.span))),
                 Value::Tuple {
                     name: Some((nm, _)),
@@ -952,14 +762,10 @@ impl<'d> Lowerer<'d> {
         let load = o.take("load");
         match (clear, load) {
             (Some((ks, _)), Some(_)) => {
-                self.err(Diagnostic::error(
-                    "conflicting-keys",
-                    "give either `clear` or `load`, not both",
-                    ks,
-                ));
+                self.err(Diagnostic::error("conflicting-keys", "give either `clear` or `load`, not both", ks));
                 None
             }
-            (Some((_, n)), None) => match (&n.value, depth) {
+            (Some((_, n)), None) => match (&*n.value, depth) {
                 (Value::Tuple { name: None, items }, false) if items.len() == 4 => {
                     let mut v = vec![];
                     for i in items {
@@ -970,11 +776,9 @@ impl<'d> Lowerer<'d> {
                 (_, true) => Some(LoadOp::Clear(vec![self.f64(&n)?])),
                 _ => self.type_err("an RGBA tuple `(r, g, b, a)`", &n),
             },
-            (None, Some((_, n))) => match &n.value {
+            (None, Some((_, n))) => match &*n.value {
                 Value::Ident(i) if i == "Load" => Some(LoadOp::Load),
-                Value::Ident(i) if i == "Clear" => {
-                    Some(LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] }))
-                }
+                Value::Ident(i) if i == "Clear" => Some(LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] })),
                 _ => self.type_err("`Load` or `Clear`", &n),
             },
             (None, None) => Some(LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] })),
@@ -984,16 +788,14 @@ impl<'d> Lowerer<'d> {
     fn layer(&mut self, o: &mut Obj) -> Res<LayerSel> {
         match o.take("layer") {
             None => Some(LayerSel::Base),
-            Some((_, n)) => match &n.value {
+            Some((_, n)) => match &*n.value {
                 Value::Ident(i) if i == "Base" => Some(LayerSel::Base),
                 Value::Ident(i) if i == "Face" => Some(LayerSel::Face),
                 Value::Ident(i) if i == "All" => Some(LayerSel::All),
                 Value::Tuple {
                     name: Some((nm, _)),
                     items,
-                } if nm == "Index" && items.len() == 1 => {
-                    Some(LayerSel::Index(self.u32(&items[0])?.value))
-                }
+                } if nm == "Index" && items.len() == 1 => Some(LayerSel::Index(self.u32(&items[0])?.value)),
                 _ => self.type_err("`Base`, `Face`, `All` or `Index(n)`", &n),
             },
         }
@@ -1003,7 +805,7 @@ impl<'d> Lowerer<'d> {
         let items = self.list(n)?.to_vec();
         let mut out = vec![];
         for it in &items {
-            if let Value::Str(s) = &it.value {
+            if let Value::Str(s) = &*it.value {
                 out.push(ColorTarget {
                     resource: Spanned::new(s.clone(), it.span),
                     load: LoadOp::Clear(vec![0.0; 4]),
@@ -1016,22 +818,15 @@ impl<'d> Lowerer<'d> {
             let Some((_, mut o)) = self.obj(it, &["Target"], "color target") else {
                 continue;
             };
-            let resource = self
-                .required(&mut o, "resource")
-                .and_then(|(_, n)| self.string(&n));
+            let resource = self.required(&mut o, "resource").and_then(|(_, n)| self.string(&n));
             let load = self.load(&mut o, false);
             let blend = o.take("blend").and_then(|(_, n)| {
-                self.ident(
-                    &n,
-                    "blend mode",
-                    &["Add", "Alpha", "Multiply"],
-                    |s| match s {
-                        "Add" => Some(Blend::Add),
-                        "Alpha" => Some(Blend::Alpha),
-                        "Multiply" => Some(Blend::Multiply),
-                        _ => None,
-                    },
-                )
+                self.ident(&n, "blend mode", &["Add", "Alpha", "Multiply"], |s| match s {
+                    "Add" => Some(Blend::Add),
+                    "Alpha" => Some(Blend::Alpha),
+                    "Multiply" => Some(Blend::Multiply),
+                    _ => None,
+                })
                 .map(|b| Spanned::new(b, n.span))
             });
             let layer = self.layer(&mut o);
@@ -1051,7 +846,7 @@ impl<'d> Lowerer<'d> {
     }
 
     fn depth_target(&mut self, n: &Node) -> Res<DepthTarget> {
-        if let Value::Str(s) = &n.value {
+        if let Value::Str(s) = &*n.value {
             return Some(DepthTarget {
                 resource: Spanned::new(s.clone(), n.span),
                 load: LoadOp::Clear(vec![1.0]),
@@ -1062,9 +857,7 @@ impl<'d> Lowerer<'d> {
             });
         }
         let (_, mut o) = self.obj(n, &["Depth"], "depth target")?;
-        let resource = self
-            .required(&mut o, "resource")
-            .and_then(|(_, n)| self.string(&n));
+        let resource = self.required(&mut o, "resource").and_then(|(_, n)| self.string(&n));
         let load = self.load(&mut o, true);
         let compare = match o.take("compare") {
             Some((_, n)) => self.compare(&n),
@@ -1076,10 +869,7 @@ impl<'d> Lowerer<'d> {
         };
         let layer = self.layer(&mut o);
         let span = o.span;
-        self.finish(
-            o,
-            &["resource", "clear", "load", "compare", "write", "layer"],
-        );
+        self.finish(o, &["resource", "clear", "load", "compare", "write", "layer"]);
         Some(DepthTarget {
             resource: resource?,
             load: load?,
@@ -1091,39 +881,21 @@ impl<'d> Lowerer<'d> {
     }
 
     pub fn condition(&mut self, n: &Node) -> Res<Spanned<Condition>> {
-        const KINDS: [&str; 8] = [
-            "Light",
-            "Effect",
-            "Reflective",
-            "Toggle",
-            "Variant",
-            "Not",
-            "All",
-            "Any",
-        ];
-        let c = match &n.value {
+        const KINDS: [&str; 8] = ["Light", "Effect", "Reflective", "Toggle", "Variant", "Not", "All", "Any"];
+        let c = match &*n.value {
             Value::Ident(i) if i == "Reflective" => Condition::Reflective,
             Value::Tuple {
                 name: Some((nm, nspan)),
                 items,
             } => match (nm.as_str(), items.as_slice()) {
-                ("Light", [k]) => Condition::Light(self.ident(
-                    k,
-                    "light kind",
-                    &LightKind::NAMES,
-                    LightKind::from_name,
-                )?),
-                ("Effect", [e]) => match &e.value {
+                ("Light", [k]) => Condition::Light(self.ident(k, "light kind", &LightKind::NAMES, LightKind::from_name)?),
+                ("Effect", [e]) => match &*e.value {
                     Value::Ident(i) => match Effect::from_name(i) {
                         Some(e) => Condition::Effect(e),
                         None => {
                             self.err(
-                                Diagnostic::error(
-                                    "unknown-effect",
-                                    format!("unknown effect `{i}`"),
-                                    e.span,
-                                )
-                                .with_note(suggestion_note(i, &Effect::NAMES)),
+                                Diagnostic::error("unknown-effect", format!("unknown effect `{i}`"), e.span)
+                                    .with_note(suggestion_note(i, &Effect::NAMES)),
                             );
                             return None;
                         }
@@ -1153,12 +925,7 @@ impl<'d> Lowerer<'d> {
                 }
                 (k, _) => {
                     self.err(
-                        Diagnostic::error(
-                            "unknown-kind",
-                            format!("unknown condition `{k}`"),
-                            *nspan,
-                        )
-                        .with_note(suggestion_note(k, &KINDS)),
+                        Diagnostic::error("unknown-kind", format!("unknown condition `{k}`"), *nspan).with_note(suggestion_note(k, &KINDS)),
                     );
                     return None;
                 }
@@ -1176,16 +943,9 @@ impl<'d> Lowerer<'d> {
                 continue;
             };
             o.what = format!("variant `{}`", name.value);
-            let default = self
-                .required(&mut o, "default")
-                .and_then(|(_, n)| self.string(&n));
-            let doc = o
-                .take("doc")
-                .and_then(|(_, n)| self.string(&n))
-                .map(|s| s.value);
-            let options = self
-                .required(&mut o, "options")
-                .and_then(|(_, n)| self.variant_options(&n));
+            let default = self.required(&mut o, "default").and_then(|(_, n)| self.string(&n));
+            let doc = o.take("doc").and_then(|(_, n)| self.string(&n)).map(|s| s.value);
+            let options = self.required(&mut o, "options").and_then(|(_, n)| self.variant_options(&n));
             let span = o.span;
             self.finish(o, &["default", "doc", "options"]);
             if let (Some(default), Some(options)) = (default, options) {
@@ -1228,15 +988,8 @@ impl<'d> Lowerer<'d> {
                     for (k, v) in entries {
                         if !crate::profile::Limits::NAMES.contains(&k.value.as_str()) {
                             self.err(
-                                Diagnostic::error(
-                                    "unknown-limit",
-                                    format!("unknown limit `{}`", k.value),
-                                    k.span,
-                                )
-                                .with_note(suggestion_note(
-                                    &k.value,
-                                    crate::profile::Limits::NAMES,
-                                )),
+                                Diagnostic::error("unknown-limit", format!("unknown limit `{}`", k.value), k.span)
+                                    .with_note(suggestion_note(&k.value, crate::profile::Limits::NAMES)),
                             );
                             continue;
                         }
@@ -1257,10 +1010,7 @@ impl<'d> Lowerer<'d> {
                     .collect(),
                 None => vec![],
             };
-            let doc = o
-                .take("doc")
-                .and_then(|(_, n)| self.string(&n))
-                .map(|s| s.value);
+            let doc = o.take("doc").and_then(|(_, n)| self.string(&n)).map(|s| s.value);
             let span = o.span;
             self.finish(o, &["requires", "limits", "fallback", "shaders", "doc"]);
             out.push(VariantOption {

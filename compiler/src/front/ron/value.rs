@@ -11,7 +11,8 @@ use crate::span::{FileId, Span};
 
 #[derive(Clone, Debug)]
 pub struct Node {
-    pub value: Value,
+    /// Shared so that lowering can hand subtrees around without deep copies.
+    pub value: std::rc::Rc<Value>,
     pub span: Span,
 }
 
@@ -48,12 +49,7 @@ impl Value {
             Value::Ident(i) => format!("`{i}`"),
             Value::List(_) => "a list".into(),
             Value::Map(_) => "a map".into(),
-            Value::Struct {
-                name: Some((n, _)), ..
-            }
-            | Value::Tuple {
-                name: Some((n, _)), ..
-            } => format!("`{n}(...)`"),
+            Value::Struct { name: Some((n, _)), .. } | Value::Tuple { name: Some((n, _)), .. } => format!("`{n}(...)`"),
             Value::Struct { .. } => "a struct".into(),
             Value::Tuple { .. } => "a tuple".into(),
         }
@@ -183,15 +179,11 @@ impl<'a> Parser<'a> {
         let v = match self.peek() {
             None => return Err(self.err_here("expected a value, found end of file", 0)),
             Some(b'"') => Value::Str(self.string()?),
-            Some(b'r') if matches!(self.bytes.get(self.pos + 1), Some(b'"' | b'#')) => {
-                Value::Str(self.raw_string()?)
-            }
+            Some(b'r') if matches!(self.bytes.get(self.pos + 1), Some(b'"' | b'#')) => Value::Str(self.raw_string()?),
             Some(b'[') => self.list()?,
             Some(b'{') => self.map()?,
             Some(b'(') => self.parens(None)?,
-            Some(c) if c == b'-' || c == b'+' || c == b'.' || c.is_ascii_digit() => {
-                self.number()?
-            }
+            Some(c) if c == b'-' || c == b'+' || c == b'.' || c.is_ascii_digit() => self.number()?,
             Some(c) if c == b'_' || c.is_ascii_alphabetic() => {
                 let ident = self.ident();
                 let ispan = self.span(start);
@@ -210,13 +202,11 @@ impl<'a> Parser<'a> {
                     }
                 }
             }
-            Some(_) => {
-                return Err(self.err_here(format!("expected a value, found {}", self.found()), 1))
-            }
+            Some(_) => return Err(self.err_here(format!("expected a value, found {}", self.found()), 1)),
         };
         self.depth -= 1;
         Ok(Node {
-            value: v,
+            value: std::rc::Rc::new(v),
             span: self.span(start),
         })
     }
@@ -241,30 +231,19 @@ impl<'a> Parser<'a> {
         if self.bytes[self.pos..].starts_with(b"inf") {
             self.pos += 3;
             let neg = self.bytes[start] == b'-';
-            return Ok(Value::Float(if neg {
-                f64::NEG_INFINITY
-            } else {
-                f64::INFINITY
-            }));
+            return Ok(Value::Float(if neg { f64::NEG_INFINITY } else { f64::INFINITY }));
         }
         let body = self.pos;
         let mut is_float = false;
         if self.bytes[self.pos..].starts_with(b"0x") {
             self.pos += 2;
             let hs = self.pos;
-            while self
-                .peek()
-                .is_some_and(|c| c.is_ascii_hexdigit() || c == b'_')
-            {
+            while self.peek().is_some_and(|c| c.is_ascii_hexdigit() || c == b'_') {
                 self.pos += 1;
             }
-            let digits: String = self.src[hs..self.pos]
-                .chars()
-                .filter(|c| *c != '_')
-                .collect();
-            let v = i64::from_str_radix(&digits, 16).map_err(|_| {
-                Diagnostic::error("ron-syntax", "invalid hexadecimal number", self.span(start))
-            })?;
+            let digits: String = self.src[hs..self.pos].chars().filter(|c| *c != '_').collect();
+            let v = i64::from_str_radix(&digits, 16)
+                .map_err(|_| Diagnostic::error("ron-syntax", "invalid hexadecimal number", self.span(start)))?;
             return Ok(Value::Int(if self.bytes[start] == b'-' { -v } else { v }));
         }
         while let Some(c) = self.peek() {
@@ -298,26 +277,15 @@ impl<'a> Parser<'a> {
                 self.span(start),
             ));
         }
-        let text: String = self.src[start..self.pos]
-            .chars()
-            .filter(|c| *c != '_')
-            .collect();
+        let text: String = self.src[start..self.pos].chars().filter(|c| *c != '_').collect();
         if is_float {
-            text.parse::<f64>().map(Value::Float).map_err(|_| {
-                Diagnostic::error(
-                    "ron-syntax",
-                    format!("invalid number `{text}`"),
-                    self.span(start),
-                )
-            })
+            text.parse::<f64>()
+                .map(Value::Float)
+                .map_err(|_| Diagnostic::error("ron-syntax", format!("invalid number `{text}`"), self.span(start)))
         } else {
-            text.parse::<i64>().map(Value::Int).map_err(|_| {
-                Diagnostic::error(
-                    "ron-syntax",
-                    format!("invalid or out-of-range integer `{text}`"),
-                    self.span(start),
-                )
-            })
+            text.parse::<i64>()
+                .map(Value::Int)
+                .map_err(|_| Diagnostic::error("ron-syntax", format!("invalid or out-of-range integer `{text}`"), self.span(start)))
         }
     }
 
@@ -358,13 +326,7 @@ impl<'a> Parser<'a> {
                             let close = self.src[self.pos..].find('}');
                             let parsed = if self.src[self.pos..].starts_with('{') {
                                 close
-                                    .and_then(|c| {
-                                        u32::from_str_radix(
-                                            &self.src[self.pos + 1..self.pos + c],
-                                            16,
-                                        )
-                                        .ok()
-                                    })
+                                    .and_then(|c| u32::from_str_radix(&self.src[self.pos + 1..self.pos + c], 16).ok())
                                     .and_then(char::from_u32)
                             } else {
                                 None
@@ -438,12 +400,7 @@ impl<'a> Parser<'a> {
             match self.peek() {
                 Some(b',') => self.pos += 1,
                 Some(b']') => {}
-                _ => {
-                    return Err(self.err_here(
-                        format!("expected `,` or `]` in list, found {}", self.found()),
-                        1,
-                    ))
-                }
+                _ => return Err(self.err_here(format!("expected `,` or `]` in list, found {}", self.found()), 1)),
             }
         }
     }
@@ -465,12 +422,7 @@ impl<'a> Parser<'a> {
             match self.peek() {
                 Some(b',') => self.pos += 1,
                 Some(b'}') => {}
-                _ => {
-                    return Err(self.err_here(
-                        format!("expected `,` or `}}` in map, found {}", self.found()),
-                        1,
-                    ))
-                }
+                _ => return Err(self.err_here(format!("expected `,` or `}}` in map, found {}", self.found()), 1)),
             }
         }
     }
@@ -480,10 +432,7 @@ impl<'a> Parser<'a> {
         self.pos += 1;
         self.skip_ws()?;
         let save = self.pos;
-        let is_struct = if self
-            .peek()
-            .is_some_and(|c| c == b'_' || c.is_ascii_alphabetic())
-        {
+        let is_struct = if self.peek().is_some_and(|c| c == b'_' || c.is_ascii_alphabetic()) {
             self.ident();
             self.skip_ws()?;
             let r = self.peek() == Some(b':');
@@ -501,13 +450,8 @@ impl<'a> Parser<'a> {
                     return Ok(Value::Struct { name, fields });
                 }
                 let kstart = self.pos;
-                if !self
-                    .peek()
-                    .is_some_and(|c| c == b'_' || c.is_ascii_alphabetic())
-                {
-                    return Err(
-                        self.err_here(format!("expected a field name, found {}", self.found()), 1)
-                    );
+                if !self.peek().is_some_and(|c| c == b'_' || c.is_ascii_alphabetic()) {
+                    return Err(self.err_here(format!("expected a field name, found {}", self.found()), 1));
                 }
                 let key = self.ident();
                 let kspan = self.span(kstart);
@@ -518,12 +462,7 @@ impl<'a> Parser<'a> {
                 match self.peek() {
                     Some(b',') => self.pos += 1,
                     Some(b')') => {}
-                    _ => {
-                        return Err(self.err_here(
-                            format!("expected `,` or `)` after field, found {}", self.found()),
-                            1,
-                        ))
-                    }
+                    _ => return Err(self.err_here(format!("expected `,` or `)` after field, found {}", self.found()), 1)),
                 }
             }
         } else {
@@ -539,12 +478,7 @@ impl<'a> Parser<'a> {
                 match self.peek() {
                     Some(b',') => self.pos += 1,
                     Some(b')') => {}
-                    _ => {
-                        return Err(self.err_here(
-                            format!("expected `,` or `)` in tuple, found {}", self.found()),
-                            1,
-                        ))
-                    }
+                    _ => return Err(self.err_here(format!("expected `,` or `)` in tuple, found {}", self.found()), 1)),
                 }
             }
         }
@@ -559,10 +493,8 @@ mod tests {
     fn parses_nested_values_with_spans() {
         let src = r#"Pipeline(name: "x", list: [1, -2.5, r"raw"], m: {"a": Foo(1, true)}, u: ())"#;
         let n = parse(0, src).unwrap();
-        let Value::Struct { name, fields } = n.value else {
-            panic!()
-        };
-        assert_eq!(name.unwrap().0, "Pipeline");
+        let Value::Struct { name, fields } = &*n.value else { panic!() };
+        assert_eq!(name.as_ref().unwrap().0, "Pipeline");
         assert_eq!(fields.len(), 4);
         assert_eq!(&src[fields[0].2.span.range()], "\"x\"");
         assert_eq!(&src[fields[1].1.range()], "list");
