@@ -1,5 +1,6 @@
-// G-buffer pass (seed 000 §4.2.1, seed 003 §3.1): world position, normal + roughness,
-// albedo + metallic, emissive.
+// G-buffer pass (seed 000 §4.2.1, seed 003 §3.1): normal + roughness, albedo + metallic,
+// emission. World positions are reconstructed from depth (the packed layout of seed 003 §5.2),
+// which keeps the targets at 20 bytes per pixel.
 #include "lib/frame.wgsl"
 #include "lib/mesh.wgsl"
 
@@ -12,10 +13,9 @@ struct VsOut {
 };
 
 struct GBuffer {
-    @location(0) position: vec4<f32>,
-    @location(1) normal: vec4<f32>,
-    @location(2) albedo: vec4<f32>,
-    @location(3) emissive: vec4<f32>,
+    @location(0) normal: vec4<f32>,
+    @location(1) albedo: vec4<f32>,
+    @location(2) emissive: vec4<f32>,
 };
 
 @vertex
@@ -48,7 +48,6 @@ fn fs_main(in: VsOut) -> GBuffer {
     }
     let emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, in.uv).rgb;
     var out: GBuffer;
-    out.position = vec4<f32>(in.world_pos, 1.0);
     out.normal = vec4<f32>(n, clamp(material.roughness * mr.g, 0.03, 1.0));
     out.albedo = vec4<f32>(base.rgb, clamp(material.metallic * mr.b, 0.0, 1.0));
     out.emissive = vec4<f32>(emissive, 1.0);

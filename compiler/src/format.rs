@@ -92,6 +92,11 @@ impl TextureFormat {
     pub fn filterable(self, profile: &Profile) -> bool {
         self.base_filterable() || (self.is_32bit_float() && profile.has(Feature::Float32Filterable))
     }
+    /// Usable as a color attachment on this profile.
+    pub fn renderable(self, profile: &Profile) -> bool {
+        !self.is_depth() && (self != TextureFormat::Rg11b10Ufloat || profile.has(Feature::Rg11b10UfloatRenderable))
+    }
+
     pub fn is_srgb(self) -> bool {
         matches!(self, TextureFormat::Rgba8UnormSrgb | TextureFormat::Bgra8UnormSrgb)
     }

@@ -25,6 +25,15 @@ use scene::SceneFeatures;
 use span::SourceMap;
 use std::path::{Path, PathBuf};
 
+/// A Plan together with the validated naga modules of its stages: what the runtime executes.
+pub struct Executable {
+    pub plan: Plan,
+    /// (pass name, stage: "vertex" | "fragment" | "compute") -> module; entry names are in the plan.
+    pub modules: std::collections::BTreeMap<(String, String), std::sync::Arc<shader::ShaderModule>>,
+    /// Every file that went into it (pipeline, shaders, includes), for manifests and reloading.
+    pub files: Vec<String>,
+}
+
 /// Everything a compilation touched and reported. Render diagnostics with `sources`.
 #[derive(Default)]
 pub struct Session {
@@ -208,6 +217,44 @@ impl Session {
             return None;
         }
         self.plan(&checked, profile, scene, variants)
+    }
+
+    /// Load, check and plan a pipeline file, keeping the shader modules for execution.
+    pub fn executable(
+        &mut self,
+        path: &Path,
+        shader_root: Option<&Path>,
+        profile: &Profile,
+        scene: &SceneFeatures,
+        variants: &[(String, String)],
+    ) -> Option<Executable> {
+        let p = self.load_pipeline(path)?;
+        let root = shader_root_for(path, shader_root);
+        let checked = self.check(p, &root, profile);
+        if self.diags.has_errors() {
+            return None;
+        }
+        let plan = self.plan(&checked, profile, scene, variants)?;
+        let chosen: std::collections::BTreeMap<String, String> =
+            plan.variants.iter().map(|v| (v.variant.clone(), v.option.clone())).collect();
+        let mut modules = std::collections::BTreeMap::new();
+        for (i, pass) in checked.pipeline.passes.iter().enumerate() {
+            if plan.pass(&pass.name.value).is_none() {
+                continue;
+            }
+            let version = checked.version(i, &chosen)?;
+            for st in &version.stages {
+                modules.insert(
+                    (pass.name.value.clone(), check::entry::stage_word(st.stage).to_string()),
+                    st.module.clone(),
+                );
+            }
+        }
+        let files = (0..self.sources.len())
+            .map(|i| self.sources.get(i).name.clone())
+            .filter(|n| !n.starts_with("<builtin>"))
+            .collect();
+        Some(Executable { plan, modules, files })
     }
 
     /// Load and check a pipeline file across its configurations (what `lightbench check` does).

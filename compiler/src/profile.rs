@@ -29,6 +29,7 @@ features! {
     DepthClipControl => "DEPTH_CLIP_CONTROL",
     DualSourceBlending => "DUAL_SOURCE_BLENDING",
     CubeArrayTextures => "CUBE_ARRAY_TEXTURES",
+    Rg11b10UfloatRenderable => "RG11B10UFLOAT_RENDERABLE",
     GeometryShader => "(none: WGSL, naga and wgpu have no geometry stage)",
 }
 

@@ -1,5 +1,8 @@
-//! lightbench: run, measure and compare lighting pipelines. This crate holds the CLI; the
-//! GPU runtime (executing Plans with wgpu) lands here next. The GPU-free commands
-//! (`check`, `plan`) never create a device.
+//! lightbench: run, measure and compare lighting pipelines. `check` and `plan` never create
+//! a GPU device; `render` executes the compiled Plan with wgpu.
 
 pub mod cli;
+pub mod gpu;
+pub mod io;
+pub mod render;
+pub mod scene;

@@ -15,7 +15,7 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
     variants(p, diags);
     for pass in &p.passes {
         pass_refs(p, pass, diags);
-        targets(p, pass, diags);
+        targets(p, pass, profile, diags);
     }
     if p.resource(&p.output).is_none() {
         diags.push(unknown_resource(p, &p.output));
@@ -453,7 +453,7 @@ fn layer_check(p: &Pipeline, pass: &Pass, res: &Spanned<String>, layer: LayerSel
     }
 }
 
-fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
+fn targets(p: &Pipeline, pass: &Pass, profile: &Profile, diags: &mut Diagnostics) {
     let mut size: Option<(SizeSpec, Spanned<String>)> = None;
     let mut check_size = |t: &TextureDesc, name: &Spanned<String>, diags: &mut Diagnostics| match &size {
         None => size = Some((t.size.value.clone(), name.clone())),
@@ -525,6 +525,22 @@ fn targets(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
                 .with_note("use it as the pass's `depth` target instead"),
             );
             continue;
+        }
+        if !f.renderable(profile) {
+            diags.push(
+                Diagnostic::error(
+                    "format-not-renderable",
+                    format!(
+                        "format {} of `{}` cannot be rendered to on profile `{}`",
+                        f.name(),
+                        c.resource.value,
+                        profile.name
+                    ),
+                    c.resource.span,
+                )
+                .with_secondary(t.format.span, "format declared here")
+                .with_note("Rg11b10Ufloat needs the Rg11b10UfloatRenderable feature; Rgba16Float renders everywhere"),
+            );
         }
         if let Some(b) = &c.blend {
             if !f.blendable() {

@@ -1,7 +1,8 @@
 //! Command-line interface. Exit codes: 0 success, 1 errors in the input, 2 usage errors.
 
 mod check;
-mod plan;
+pub mod plan;
+mod render;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use lightbench_compiler::profile::Profile;
@@ -16,6 +17,12 @@ pub const EXIT_USAGE: i32 = 2;
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
+pub enum DumpFormat {
+    Exr,
+    Png,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
@@ -72,6 +79,59 @@ pub enum Command {
         #[arg(long)]
         shaders: Option<PathBuf>,
     },
+    /// Render a pipeline on a scene with the GPU (headless) and save the output image.
+    Render {
+        /// Pipeline file (.ron).
+        #[arg(long, default_value = "pipelines/deferred.ron")]
+        pipeline: PathBuf,
+        /// Scene file (.ron) or built-in scene: cornell, colonnade, many_lights.
+        #[arg(long, default_value = "cornell")]
+        scene: String,
+        /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
+        #[arg(long = "variant", value_name = "K=V")]
+        variants: Vec<String>,
+        /// Output size, overriding the scene's.
+        #[arg(long, value_name = "WxH")]
+        size: Option<String>,
+        /// Frames to render (history and animation advance by 1/60 s per frame).
+        #[arg(long, default_value_t = 1)]
+        frames: u32,
+        /// Output image: .png (sRGB) or .exr (linear float).
+        #[arg(long, default_value = "lightbench.png")]
+        out: PathBuf,
+        /// Resources to read back after the last frame, comma-separated (every light and layer).
+        #[arg(long, value_name = "NAME,NAME...")]
+        dump: Option<String>,
+        #[arg(long, default_value = "dump")]
+        dump_dir: PathBuf,
+        /// Image type of dumps: exr (every channel, linear float) or png (8-bit, clamped).
+        #[arg(long, value_enum, default_value = "exr")]
+        dump_format: DumpFormat,
+        /// Print a per-pass table: GPU ms (timestamp queries) and CPU encode µs.
+        #[arg(long)]
+        timings: bool,
+        #[arg(long, value_name = "FILE")]
+        timings_json: Option<PathBuf>,
+        /// Write a manifest: pipeline and shader hashes, variants, params, adapter, scene.
+        #[arg(long, value_name = "FILE")]
+        manifest: Option<PathBuf>,
+        #[arg(long)]
+        shaders: Option<PathBuf>,
+        #[arg(long, value_enum)]
+        backend: Option<crate::gpu::device::BackendChoice>,
+        /// Pick the adapter whose name contains this text.
+        #[arg(long)]
+        adapter: Option<String>,
+    },
+    /// Scene utilities.
+    #[command(subcommand)]
+    Scene(SceneCommand),
+}
+
+#[derive(Subcommand, Debug)]
+pub enum SceneCommand {
+    /// Write a built-in scene as glTF (.gltf with a .bin beside it).
+    Export { name: String, out: PathBuf },
 }
 
 pub fn profile(name: &str) -> Result<Profile, String> {
@@ -110,6 +170,54 @@ pub fn run(cli: Cli) -> i32 {
             lights,
             shaders,
         }),
+        Command::Render {
+            pipeline,
+            scene,
+            variants,
+            size,
+            frames,
+            out,
+            dump,
+            dump_dir,
+            dump_format,
+            timings,
+            timings_json,
+            manifest,
+            shaders,
+            backend,
+            adapter,
+        } => render::run(render::Args {
+            pipeline,
+            scene,
+            variants,
+            size,
+            frames,
+            out,
+            dump,
+            dump_dir,
+            dump_format,
+            timings,
+            timings_json,
+            manifest,
+            shaders,
+            device: crate::gpu::DeviceOptions { backend, adapter },
+        }),
+        Command::Scene(SceneCommand::Export { name, out }) => match crate::scene::builtin::by_name(&name) {
+            None => usage_error(format!(
+                "unknown built-in scene `{name}` (expected one of {})",
+                crate::scene::builtin::NAMES.join(", ")
+            )),
+            Some(scene) => match crate::scene::export::export(&scene, &out) {
+                Ok(()) => {
+                    eprintln!("wrote {}", out.display());
+                    EXIT_OK
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    EXIT_ERRORS
+                }
+            },
+        },
     }
 }
 

@@ -1,0 +1,110 @@
+//! The standard blocks the runtime writes for every pass, byte-for-byte as declared in
+//! `shaders/lib/frame.wgsl` and `shaders/lib/mesh.wgsl` (a test checks them against naga's
+//! layout of those structs).
+
+use bytemuck::{Pod, Zeroable};
+
+pub const LIGHT_DIRECTIONAL: u32 = 0;
+pub const LIGHT_SPOT: u32 = 1;
+pub const LIGHT_POINT: u32 = 2;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct FrameBlock {
+    pub view: [[f32; 4]; 4],
+    pub proj: [[f32; 4]; 4],
+    pub view_proj: [[f32; 4]; 4],
+    pub inv_view_proj: [[f32; 4]; 4],
+    pub camera_pos: [f32; 4],
+    pub resolution: [f32; 4],
+    pub time: f32,
+    pub frame_index: u32,
+    pub light_count: u32,
+    pub _pad: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct LightBlock {
+    pub color: [f32; 4],
+    pub position: [f32; 4],
+    pub direction: [f32; 4],
+    pub cone: [f32; 4],
+    pub kind: u32,
+    pub casts_shadows: u32,
+    pub _pad0: u32,
+    pub _pad1: u32,
+    pub view_proj: [[f32; 4]; 4],
+    pub face_view_proj: [[[f32; 4]; 4]; 6],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct InstanceBlock {
+    pub light: u32,
+    pub face: u32,
+    pub view_count: u32,
+    pub _pad: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MeshBlock {
+    pub model: [[f32; 4]; 4],
+    pub normal_matrix: [[f32; 4]; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct MaterialBlock {
+    pub base_color: [f32; 4],
+    pub emissive: [f32; 4],
+    pub metallic: f32,
+    pub roughness: f32,
+    pub normal_scale: f32,
+    pub has_normal_map: u32,
+}
+
+/// Interleaved scene vertex: locations 0..3 of the standard vertex layout.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+    pub tangent: [f32; 4],
+}
+
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Parse the shader library and compare naga's layout of each struct with ours.
+    #[test]
+    fn blocks_match_the_wgsl_declarations() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders/lib");
+        let src = std::fs::read_to_string(root.join("frame.wgsl")).unwrap() + &std::fs::read_to_string(root.join("mesh.wgsl")).unwrap();
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).unwrap();
+        let size_of = |name: &str| {
+            let (h, _) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap();
+            layouter[h].size as usize
+        };
+        assert_eq!(size_of("Frame"), std::mem::size_of::<FrameBlock>());
+        assert_eq!(size_of("Light"), std::mem::size_of::<LightBlock>());
+        assert_eq!(size_of("Instance"), std::mem::size_of::<InstanceBlock>());
+        assert_eq!(size_of("Mesh"), std::mem::size_of::<MeshBlock>());
+        assert_eq!(size_of("Material"), std::mem::size_of::<MaterialBlock>());
+        // Member offsets of the light block, the most intricate one.
+        let (_, light) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Light")).unwrap();
+        let naga::TypeInner::Struct { members, .. } = &light.inner else {
+            panic!()
+        };
+        let offsets: Vec<u32> = members.iter().map(|m| m.offset).collect();
+        assert_eq!(offsets, vec![0, 16, 32, 48, 64, 68, 72, 76, 80, 144]);
+    }
+}

@@ -1,0 +1,341 @@
+//! Adapter and device: pick an adapter, request the features the pipelines can use, and
+//! derive the capability profile the compiler checks variants against.
+
+use lightbench_compiler::profile::{Feature, Limits, Profile};
+use std::sync::{Arc, Mutex};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum BackendChoice {
+    Vulkan,
+    Gl,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct DeviceOptions {
+    pub backend: Option<BackendChoice>,
+    /// Substring of the adapter name to pick.
+    pub adapter: Option<String>,
+}
+
+pub struct Gpu {
+    pub adapter: wgpu::Adapter,
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub info: wgpu::AdapterInfo,
+    pub profile: Profile,
+    /// Errors wgpu raised outside an error scope, kept instead of panicking.
+    pub uncaptured: Arc<Mutex<Vec<String>>>,
+    /// What the capability probes found (features exposed but not working).
+    pub notes: Vec<String>,
+}
+
+/// wgpu features lightbench asks for when the adapter has them.
+const WANTED: &[(wgpu::Features, Feature)] = &[
+    (wgpu::Features::MULTIVIEW, Feature::Multiview),
+    (wgpu::Features::CLIP_DISTANCES, Feature::ClipDistances),
+    (wgpu::Features::TIMESTAMP_QUERY, Feature::TimestampQuery),
+    (wgpu::Features::SHADER_F16, Feature::ShaderF16),
+    (wgpu::Features::FLOAT32_FILTERABLE, Feature::Float32Filterable),
+    (wgpu::Features::DEPTH_CLIP_CONTROL, Feature::DepthClipControl),
+    (wgpu::Features::DUAL_SOURCE_BLENDING, Feature::DualSourceBlending),
+    (wgpu::Features::RG11B10UFLOAT_RENDERABLE, Feature::Rg11b10UfloatRenderable),
+];
+
+impl Gpu {
+    pub fn new(opts: &DeviceOptions) -> Result<Gpu, String> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = match opts.backend {
+            Some(BackendChoice::Vulkan) => wgpu::Backends::VULKAN,
+            Some(BackendChoice::Gl) => wgpu::Backends::GL,
+            None => wgpu::Backends::PRIMARY | wgpu::Backends::GL,
+        };
+        let instance = wgpu::Instance::new(desc);
+        let adapters = pollster::block_on(instance.enumerate_adapters(desc_backends(opts)));
+        if adapters.is_empty() {
+            return Err(format!(
+                "no GPU adapter found{} (install Mesa's lavapipe: apt-get install mesa-vulkan-drivers)",
+                match opts.backend {
+                    Some(BackendChoice::Vulkan) => " for the Vulkan backend",
+                    Some(BackendChoice::Gl) => " for the GL backend",
+                    None => "",
+                }
+            ));
+        }
+        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        let adapter = match &opts.adapter {
+            Some(sub) => adapters
+                .into_iter()
+                .find(|a| a.get_info().name.to_lowercase().contains(&sub.to_lowercase()))
+                .ok_or_else(|| format!("no adapter matches `{sub}`; available: {}", names.join(", ")))?,
+            // Hardware first, then software, then anything.
+            None => {
+                let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
+                    wgpu::DeviceType::DiscreteGpu => 0,
+                    wgpu::DeviceType::IntegratedGpu => 1,
+                    wgpu::DeviceType::VirtualGpu => 2,
+                    wgpu::DeviceType::Cpu => 3,
+                    wgpu::DeviceType::Other => 4,
+                };
+                let backend_rank = |a: &wgpu::Adapter| (a.get_info().backend != wgpu::Backend::Vulkan) as u8;
+                adapters
+                    .into_iter()
+                    .min_by_key(|a| (rank(a), backend_rank(a)))
+                    .ok_or("no adapter")?
+            }
+        };
+        let info = adapter.get_info();
+        let available = adapter.features();
+        let mut required = wgpu::Features::empty();
+        let mut features = std::collections::BTreeSet::new();
+        for (wf, f) in WANTED {
+            if available.contains(*wf) {
+                required |= *wf;
+                features.insert(*f);
+            }
+        }
+        let alimits = adapter.limits();
+        let mut limits = wgpu::Limits::default();
+        limits.max_multiview_view_count = alimits.max_multiview_view_count.min(6);
+        limits.max_bind_groups = alimits.max_bind_groups.min(8);
+        limits.max_texture_dimension_2d = alimits.max_texture_dimension_2d;
+        limits.max_texture_array_layers = alimits.max_texture_array_layers;
+        limits.max_storage_buffer_binding_size = alimits.max_storage_buffer_binding_size;
+        limits.max_sampled_textures_per_shader_stage = alimits.max_sampled_textures_per_shader_stage;
+        limits.max_storage_textures_per_shader_stage = alimits.max_storage_textures_per_shader_stage;
+        limits.max_compute_invocations_per_workgroup = alimits.max_compute_invocations_per_workgroup;
+        limits.max_compute_workgroup_size_x = alimits.max_compute_workgroup_size_x;
+        limits.max_compute_workgroup_size_y = alimits.max_compute_workgroup_size_y;
+        if alimits.max_multiview_view_count < 6 {
+            // Multiview with fewer than 6 views cannot render a cube in one pass.
+            required.remove(wgpu::Features::MULTIVIEW);
+            features.remove(&Feature::Multiview);
+            limits.max_multiview_view_count = 0;
+        }
+        if adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES)
+        {
+            features.insert(Feature::CubeArrayTextures);
+        }
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("lightbench"),
+            required_features: required,
+            required_limits: limits.clone(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| format!("cannot open device on {}: {e}", info.name))?;
+        let mut notes = vec![];
+        if required.contains(wgpu::Features::MULTIVIEW) && !multiview_works(&device, &queue) {
+            // Seen on Mesa 22 lavapipe: the feature is exposed but every view lands in layer 0.
+            features.remove(&Feature::Multiview);
+            limits.max_multiview_view_count = 0;
+            notes.push(
+                "MULTIVIEW is exposed but renders every view into layer 0 on this driver (probe failed); treated as unavailable"
+                    .to_string(),
+            );
+        }
+        let uncaptured = Arc::new(Mutex::new(vec![]));
+        let sink = uncaptured.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            if let Ok(mut v) = sink.lock() {
+                v.push(e.to_string());
+            }
+        }));
+        let profile = Profile {
+            name: format!("{} ({:?})", info.name, info.backend),
+            features,
+            limits: profile_limits(&limits),
+        };
+        Ok(Gpu {
+            adapter,
+            device,
+            queue,
+            info,
+            profile,
+            uncaptured,
+            notes,
+        })
+    }
+
+    /// For humans: name, backend, the features that matter here, and probe findings.
+    pub fn describe(&self) -> String {
+        let feats: Vec<&str> = self.profile.features.iter().map(|f| f.name()).collect();
+        let mut s = format!(
+            "adapter: {} ({:?}, {:?}); features: {}",
+            self.info.name,
+            self.info.backend,
+            self.info.device_type,
+            if feats.is_empty() { "none".into() } else { feats.join(", ") }
+        );
+        for n in &self.notes {
+            s += &format!("\nnote: {n}");
+        }
+        s
+    }
+
+    /// Errors raised outside error scopes since the last call.
+    pub fn take_uncaptured(&self) -> Vec<String> {
+        self.uncaptured.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default()
+    }
+}
+
+fn desc_backends(opts: &DeviceOptions) -> wgpu::Backends {
+    match opts.backend {
+        Some(BackendChoice::Vulkan) => wgpu::Backends::VULKAN,
+        Some(BackendChoice::Gl) => wgpu::Backends::GL,
+        None => wgpu::Backends::PRIMARY | wgpu::Backends::GL,
+    }
+}
+
+/// The compiler's view of the device limits.
+pub fn profile_limits(l: &wgpu::Limits) -> Limits {
+    Limits {
+        max_texture_dimension_2d: l.max_texture_dimension_2d as u64,
+        max_texture_array_layers: l.max_texture_array_layers as u64,
+        max_bind_groups: l.max_bind_groups as u64,
+        max_bindings_per_bind_group: l.max_bindings_per_bind_group as u64,
+        max_color_attachments: l.max_color_attachments as u64,
+        max_color_attachment_bytes_per_sample: l.max_color_attachment_bytes_per_sample as u64,
+        max_uniform_buffer_binding_size: l.max_uniform_buffer_binding_size as u64,
+        max_storage_buffer_binding_size: l.max_storage_buffer_binding_size as u64,
+        max_sampled_textures_per_shader_stage: l.max_sampled_textures_per_shader_stage as u64,
+        max_samplers_per_shader_stage: l.max_samplers_per_shader_stage as u64,
+        max_storage_textures_per_shader_stage: l.max_storage_textures_per_shader_stage as u64,
+        max_uniform_buffers_per_shader_stage: l.max_uniform_buffers_per_shader_stage as u64,
+        max_storage_buffers_per_shader_stage: l.max_storage_buffers_per_shader_stage as u64,
+        max_compute_workgroup_size_x: l.max_compute_workgroup_size_x as u64,
+        max_compute_workgroup_size_y: l.max_compute_workgroup_size_y as u64,
+        max_compute_workgroup_size_z: l.max_compute_workgroup_size_z as u64,
+        max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup as u64,
+        max_multiview_view_count: l.max_multiview_view_count as u64,
+    }
+}
+
+/// Render two views into a 2-layer target and check that view 1 reached layer 1.
+fn multiview_works(device: &wgpu::Device, queue: &wgpu::Queue) -> bool {
+    const SRC: &str = "struct O { @builtin(position) p: vec4<f32>, @location(0) @interpolate(flat) v: u32 };
+@vertex fn vs(@builtin(vertex_index) i: u32, @builtin(view_index) view: u32) -> O {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return O(vec4<f32>(uv * 2.0 - 1.0, 0.5, 1.0), view);
+}
+@fragment fn fs(o: O) -> @location(0) vec4<f32> { return vec4<f32>(f32(o.v + 1u) * 0.25); }";
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("multiview probe"),
+        source: wgpu::ShaderSource::Wgsl(SRC.into()),
+    });
+    let mask = std::num::NonZeroU32::new(0b11);
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("multiview probe"),
+        layout: None,
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: Default::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format: wgpu::TextureFormat::R8Unorm,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: mask,
+        cache: None,
+    });
+    let tex = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("multiview probe"),
+        size: wgpu::Extent3d {
+            width: 4,
+            height: 4,
+            depth_or_array_layers: 2,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R8Unorm,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = tex.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        array_layer_count: Some(2),
+        ..Default::default()
+    });
+    let buf = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: 256 * 4 * 2,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: None,
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: mask,
+        });
+        rp.set_pipeline(&pipeline);
+        rp.draw(0..3, 0..1);
+    }
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture: &tex,
+            mip_level: 0,
+            origin: wgpu::Origin3d::ZERO,
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buf,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(256),
+                rows_per_image: Some(4),
+            },
+        },
+        wgpu::Extent3d {
+            width: 4,
+            height: 4,
+            depth_or_array_layers: 2,
+        },
+    );
+    queue.submit([enc.finish()]);
+    if pollster::block_on(scope.pop()).is_some() {
+        return false;
+    }
+    let slice = buf.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    if device.poll(wgpu::PollType::wait_indefinitely()).is_err() {
+        return false;
+    }
+    let ok = match slice.get_mapped_range() {
+        Ok(data) => {
+            let (l0, l1) = (data[0] as i32, data[256 * 4] as i32);
+            (l0 - 64).abs() <= 2 && (l1 - 128).abs() <= 2
+        }
+        Err(_) => false,
+    };
+    buf.unmap();
+    ok
+}

@@ -1,0 +1,188 @@
+//! Reading textures and buffers back to the CPU as f32 values.
+
+use super::Gpu;
+use crate::io::Image;
+
+fn texel_bytes(f: wgpu::TextureFormat) -> Result<u32, String> {
+    use wgpu::TextureFormat as F;
+    Ok(match f {
+        F::R8Unorm => 1,
+        F::Rg8Unorm | F::R16Float | F::Depth16Unorm => 2,
+        F::Rgba8Unorm
+        | F::Rgba8UnormSrgb
+        | F::Bgra8Unorm
+        | F::Bgra8UnormSrgb
+        | F::Rgb10a2Unorm
+        | F::Rg11b10Ufloat
+        | F::Rg16Float
+        | F::R32Float
+        | F::R32Uint
+        | F::R32Sint
+        | F::Depth32Float => 4,
+        F::Rgba16Float | F::Rg32Float | F::Rg32Uint | F::Rgba16Uint => 8,
+        F::Rgba32Float | F::Rgba32Uint => 16,
+        other => return Err(format!("reading back {other:?} is not supported")),
+    })
+}
+
+/// Unsigned float with `m` mantissa bits and a 5-bit exponent (Rg11b10Ufloat channels).
+fn small_float(bits: u32, m: u32) -> f32 {
+    let mant = bits & ((1 << m) - 1);
+    let exp = (bits >> m) & 0x1f;
+    match exp {
+        0 => mant as f32 / (1 << m) as f32 * 2f32.powi(-14),
+        31 => {
+            if mant == 0 {
+                f32::INFINITY
+            } else {
+                f32::NAN
+            }
+        }
+        e => (1.0 + mant as f32 / (1 << m) as f32) * 2f32.powi(e as i32 - 15),
+    }
+}
+
+fn decode(f: wgpu::TextureFormat, t: &[u8]) -> [f32; 4] {
+    use wgpu::TextureFormat as F;
+    let u8n = |i: usize| t[i] as f32 / 255.0;
+    let h = |i: usize| half::f16::from_le_bytes([t[2 * i], t[2 * i + 1]]).to_f32();
+    let f32_at = |i: usize| f32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
+    let u32_at = |i: usize| u32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
+    match f {
+        F::R8Unorm => [u8n(0), 0.0, 0.0, 1.0],
+        F::Rg8Unorm => [u8n(0), u8n(1), 0.0, 1.0],
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => [u8n(0), u8n(1), u8n(2), u8n(3)],
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => [u8n(2), u8n(1), u8n(0), u8n(3)],
+        F::Rgb10a2Unorm => {
+            let v = u32_at(0);
+            [
+                (v & 1023) as f32 / 1023.0,
+                ((v >> 10) & 1023) as f32 / 1023.0,
+                ((v >> 20) & 1023) as f32 / 1023.0,
+                (v >> 30) as f32 / 3.0,
+            ]
+        }
+        F::Rg11b10Ufloat => {
+            let v = u32_at(0);
+            [
+                small_float(v & 0x7ff, 6),
+                small_float((v >> 11) & 0x7ff, 6),
+                small_float(v >> 22, 5),
+                1.0,
+            ]
+        }
+        F::R16Float => [h(0), 0.0, 0.0, 1.0],
+        F::Rg16Float => [h(0), h(1), 0.0, 1.0],
+        F::Rgba16Float => [h(0), h(1), h(2), h(3)],
+        F::R32Float | F::Depth32Float => [f32_at(0), 0.0, 0.0, 1.0],
+        F::Depth16Unorm => [u16::from_le_bytes([t[0], t[1]]) as f32 / 65535.0, 0.0, 0.0, 1.0],
+        F::Rg32Float => [f32_at(0), f32_at(1), 0.0, 1.0],
+        F::Rgba32Float => [f32_at(0), f32_at(1), f32_at(2), f32_at(3)],
+        F::R32Uint => [u32_at(0) as f32, 0.0, 0.0, 1.0],
+        F::R32Sint => [u32_at(0) as i32 as f32, 0.0, 0.0, 1.0],
+        F::Rg32Uint => [u32_at(0) as f32, u32_at(1) as f32, 0.0, 1.0],
+        F::Rgba32Uint => [u32_at(0) as f32, u32_at(1) as f32, u32_at(2) as f32, u32_at(3) as f32],
+        F::Rgba16Uint => {
+            let u = |i: usize| u16::from_le_bytes([t[2 * i], t[2 * i + 1]]) as f32;
+            [u(0), u(1), u(2), u(3)]
+        }
+        _ => [f32::NAN; 4],
+    }
+}
+
+/// Mip 0 of one array layer.
+pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image, String> {
+    let f = tex.format();
+    let bpp = texel_bytes(f)?;
+    let (w, h) = (tex.width(), tex.height());
+    let row = (w * bpp).div_ceil(256) * 256;
+    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size: (row * h) as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture: tex,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+            aspect: if f.is_depth_stencil_format() {
+                wgpu::TextureAspect::DepthOnly
+            } else {
+                wgpu::TextureAspect::All
+            },
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buf,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+    );
+    let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    gpu.queue.submit([enc.finish()]);
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(format!("reading back a {f:?} texture: {e}"));
+    }
+    let slice = buf.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
+    let data = slice.get_mapped_range().map_err(|e| e.to_string())?;
+    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            let o = (y * row + x * bpp) as usize;
+            rgba.extend_from_slice(&decode(f, &data[o..o + bpp as usize]));
+        }
+    }
+    drop(data);
+    buf.unmap();
+    Ok(Image {
+        width: w,
+        height: h,
+        rgba,
+        srgb: f.is_srgb(),
+    })
+}
+
+pub fn read_buffer(gpu: &Gpu, src: &wgpu::Buffer) -> Result<Vec<f32>, String> {
+    let size = src.size();
+    let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("readback"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = gpu.device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(src, 0, &buf, 0, size);
+    gpu.queue.submit([enc.finish()]);
+    let slice = buf.slice(..);
+    slice.map_async(wgpu::MapMode::Read, |_| {});
+    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
+    let out = bytemuck::cast_slice::<u8, f32>(&slice.get_mapped_range().map_err(|e| e.to_string())?).to_vec();
+    buf.unmap();
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::small_float;
+
+    #[test]
+    fn eleven_bit_floats_decode() {
+        // 1.0 = exponent 15, mantissa 0
+        assert_eq!(small_float(15 << 6, 6), 1.0);
+        assert_eq!(small_float((16 << 6) | 32, 6), 3.0);
+        assert_eq!(small_float(0, 6), 0.0);
+        assert!(small_float(31 << 6, 6).is_infinite());
+    }
+}

@@ -1,0 +1,154 @@
+//! Files lightbench writes: always atomically (temporary file in the same directory, then
+//! rename), so a crash never leaves a half-written image or manifest.
+
+use std::io::Write;
+use std::path::Path;
+
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| format!("{}: not a file path", path.display()))?;
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(format!("cannot write {}: {e}", path.display()));
+    }
+    Ok(())
+}
+
+/// A read-back image: RGBA f32 texels, row-major, top row first.
+#[derive(Clone, Debug)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<f32>,
+    /// The values are sRGB-encoded (an `*Srgb` format); PNG stores them as they are.
+    pub srgb: bool,
+}
+
+impl Image {
+    pub fn pixel(&self, x: u32, y: u32) -> [f32; 4] {
+        let i = ((y * self.width + x) * 4) as usize;
+        [self.rgba[i], self.rgba[i + 1], self.rgba[i + 2], self.rgba[i + 3]]
+    }
+
+    /// Values in linear light (sRGB decoded where needed).
+    pub fn linear(&self) -> Vec<f32> {
+        if !self.srgb {
+            return self.rgba.clone();
+        }
+        self.rgba
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| if i % 4 == 3 { v } else { srgb_to_linear(v) })
+            .collect()
+    }
+
+    /// Texels that are NaN or infinite.
+    pub fn non_finite(&self) -> usize {
+        self.rgba.iter().filter(|v| !v.is_finite()).count()
+    }
+
+    /// Mean of the first three channels over a rectangle (inclusive-exclusive), linear.
+    pub fn mean_rgb(&self, x0: u32, y0: u32, x1: u32, y1: u32) -> f32 {
+        let lin = self.linear();
+        let mut sum = 0.0f64;
+        let mut n = 0usize;
+        for y in y0..y1.min(self.height) {
+            for x in x0..x1.min(self.width) {
+                let i = ((y * self.width + x) * 4) as usize;
+                sum += (lin[i] + lin[i + 1] + lin[i + 2]) as f64 / 3.0;
+                n += 1;
+            }
+        }
+        if n == 0 {
+            0.0
+        } else {
+            (sum / n as f64) as f32
+        }
+    }
+
+    /// Save by extension: `.png` (8-bit, sRGB) or `.exr` (linear float).
+    pub fn save(&self, path: &Path) -> Result<(), String> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        match ext.as_deref() {
+            Some("png") => {
+                let data: Vec<u8> = self
+                    .rgba
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &v)| {
+                        // Linear data is encoded to sRGB for PNG; alpha stays linear.
+                        let v = if self.srgb || i % 4 == 3 { v } else { linear_to_srgb(v) };
+                        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+                    })
+                    .collect();
+                let img = image::RgbaImage::from_raw(self.width, self.height, data).ok_or("image size mismatch")?;
+                img.write_to(&mut bytes, image::ImageFormat::Png)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+            }
+            Some("exr") => {
+                let img = image::Rgba32FImage::from_raw(self.width, self.height, self.linear()).ok_or("image size mismatch")?;
+                image::DynamicImage::ImageRgba32F(img)
+                    .write_to(&mut bytes, image::ImageFormat::OpenExr)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+            }
+            _ => return Err(format!("{}: unknown image type; use .png or .exr", path.display())),
+        }
+        write_atomic(path, &bytes.into_inner())
+    }
+
+    /// Load a PNG as linear-or-sRGB floats (sRGB: values as stored).
+    pub fn load_png(path: &Path) -> Result<Image, String> {
+        let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgba8();
+        Ok(Image {
+            width: img.width(),
+            height: img.height(),
+            rgba: img.as_raw().iter().map(|&b| b as f32 / 255.0).collect(),
+            srgb: true,
+        })
+    }
+}
+
+pub fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+pub fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.0031308 {
+        v * 12.92
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Root-mean-square error over RGB of two same-sized images, in the stored encoding.
+pub fn rmse(a: &Image, b: &Image) -> Option<f64> {
+    if a.width != b.width || a.height != b.height {
+        return None;
+    }
+    let mut sum = 0.0f64;
+    let mut n = 0usize;
+    for (i, (x, y)) in a.rgba.iter().zip(&b.rgba).enumerate() {
+        if i % 4 == 3 {
+            continue;
+        }
+        sum += ((x - y) as f64).powi(2);
+        n += 1;
+    }
+    Some((sum / n.max(1) as f64).sqrt())
+}

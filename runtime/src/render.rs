@@ -1,0 +1,48 @@
+//! Compile a pipeline for a scene on a live device and render it: the path every command
+//! and test that draws goes through.
+
+use crate::gpu::{Executor, Gpu};
+use crate::scene::Scene;
+use lightbench_compiler::{Executable, Session};
+use std::path::Path;
+
+/// Compile `pipeline` for `scene` against the live adapter's capabilities. Diagnostics
+/// come back rendered, as `lightbench check` shows them.
+pub fn compile(
+    gpu: &Gpu,
+    pipeline: &Path,
+    shader_root: Option<&Path>,
+    scene: &Scene,
+    variants: &[(String, String)],
+) -> Result<(Executable, String), String> {
+    let mut s = Session::new();
+    let exe = s.executable(pipeline, shader_root, &gpu.profile, &scene.features(), variants);
+    let report = s.render();
+    match exe {
+        Some(e) => Ok((e, report)),
+        None => Err(if report.is_empty() {
+            format!("{}: could not be compiled", pipeline.display())
+        } else {
+            report
+        }),
+    }
+}
+
+/// Build an executor and render `frames` frames (time advancing 1/60 s per frame).
+pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result<Executor, String> {
+    let mut ex = Executor::new(gpu, exe, scene)?;
+    for f in 0..frames.max(1) {
+        ex.render_frame(gpu, f as f32 / 60.0)?;
+    }
+    Ok(ex)
+}
+
+/// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}

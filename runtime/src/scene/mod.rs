@@ -1,0 +1,161 @@
+//! Scenes: meshes with materials, lights, a camera, the output size and the effects the scene
+//! calls for. Built in code, read from a scene file (RON), or loaded from glTF.
+
+pub mod builtin;
+pub mod export;
+pub mod file;
+pub mod geometry;
+pub mod gltf_load;
+pub mod light;
+pub mod math;
+
+pub use light::{Animation, Light};
+
+use crate::gpu::blocks::Vertex;
+use glam::{Mat4, Vec3};
+use lightbench_compiler::ir::{Effect, LightKind};
+use lightbench_compiler::scene::SceneFeatures;
+use std::collections::BTreeSet;
+
+#[derive(Clone, Debug)]
+pub struct Camera {
+    pub position: Vec3,
+    /// Degrees; 0 looks down -Z, positive turns left (towards -X).
+    pub yaw: f32,
+    /// Degrees; positive looks up.
+    pub pitch: f32,
+    /// Vertical field of view in degrees.
+    pub fov: f32,
+    pub near: f32,
+    pub far: f32,
+}
+
+impl Camera {
+    pub fn forward(&self) -> Vec3 {
+        let (y, p) = (self.yaw.to_radians(), self.pitch.to_radians());
+        Vec3::new(-y.sin() * p.cos(), p.sin(), -y.cos() * p.cos()).normalize()
+    }
+    pub fn view(&self) -> Mat4 {
+        math::look_to(self.position, self.forward(), light::safe_up(self.forward()))
+    }
+    pub fn proj(&self, aspect: f32) -> Mat4 {
+        math::perspective(self.fov.to_radians(), aspect, self.near, self.far)
+    }
+}
+
+/// 8-bit RGBA texels; `srgb` for colour data (base colour, emission).
+#[derive(Clone, Debug)]
+pub struct ImageData {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+    pub srgb: bool,
+}
+
+#[derive(Clone, Debug)]
+pub struct Material {
+    pub name: String,
+    pub base_color: [f32; 4],
+    pub base_color_texture: Option<usize>,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub metallic_roughness_texture: Option<usize>,
+    pub emissive: [f32; 3],
+    pub emissive_texture: Option<usize>,
+    pub normal_texture: Option<usize>,
+    pub normal_scale: f32,
+}
+
+impl Material {
+    pub fn color(name: &str, rgb: [f32; 3], roughness: f32) -> Self {
+        Material {
+            name: name.into(),
+            base_color: [rgb[0], rgb[1], rgb[2], 1.0],
+            base_color_texture: None,
+            metallic: 0.0,
+            roughness,
+            metallic_roughness_texture: None,
+            emissive: [0.0; 3],
+            emissive_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+        }
+    }
+}
+
+/// One drawable: geometry in object space, its placement and material.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    pub name: String,
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+    pub material: usize,
+    pub transform: Mat4,
+    /// Fraction of the triangles drawn (seed 000 §6.1: triangle-count experiments).
+    pub triangle_fraction: f32,
+    pub reflective: bool,
+}
+
+impl Mesh {
+    /// Index count actually drawn: the fraction, rounded down to whole triangles.
+    pub fn drawn_indices(&self) -> u32 {
+        let tris = self.indices.len() / 3;
+        let n = ((tris as f64) * self.triangle_fraction.clamp(0.0, 1.0) as f64).floor() as usize;
+        (n * 3) as u32
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub name: String,
+    pub size: (u32, u32),
+    pub camera: Camera,
+    pub meshes: Vec<Mesh>,
+    pub materials: Vec<Material>,
+    pub textures: Vec<ImageData>,
+    pub lights: Vec<Light>,
+    pub effects: BTreeSet<Effect>,
+}
+
+impl Scene {
+    /// Axis-aligned bounds of every mesh in world space.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for m in &self.meshes {
+            for v in &m.vertices {
+                let p = m.transform.transform_point3(Vec3::from(v.position));
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        }
+        if lo.x > hi.x {
+            return (Vec3::splat(-1.0), Vec3::splat(1.0));
+        }
+        (lo, hi)
+    }
+
+    /// Lights that are on, in scene order: the light array the shaders index.
+    pub fn active_lights(&self) -> Vec<&Light> {
+        self.lights.iter().filter(|l| l.on).collect()
+    }
+
+    /// What the compiler needs to cull and size the plan.
+    pub fn features(&self) -> SceneFeatures {
+        let mut lights = std::collections::BTreeMap::new();
+        for l in self.active_lights() {
+            *lights.entry(l.kind).or_insert(0u32) += 1;
+        }
+        SceneFeatures {
+            name: self.name.clone(),
+            lights,
+            effects: self.effects.clone(),
+            reflective: self.meshes.iter().any(|m| m.reflective),
+            size: self.size,
+        }
+    }
+
+    pub fn light_count(&self, kind: LightKind) -> usize {
+        self.active_lights().iter().filter(|l| l.kind == kind).count()
+    }
+}

@@ -1,0 +1,38 @@
+//! Shared by the GPU tests: one device per test binary, compile + render helpers.
+//! These tests need a real adapter (lavapipe in CI) and fail, never skip, without one.
+
+#![allow(dead_code)]
+
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::io::Image;
+use lightbench::scene::Scene;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, OnceLock};
+
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
+
+/// The device is shared; tests take turns (lavapipe renders on the CPU anyway).
+pub fn gpu() -> std::sync::MutexGuard<'static, Gpu> {
+    static GPU: OnceLock<Mutex<Gpu>> = OnceLock::new();
+    GPU.get_or_init(|| {
+        Mutex::new(Gpu::new(&DeviceOptions::default()).unwrap_or_else(|e| panic!("GPU tests need an adapter (CI installs lavapipe): {e}")))
+    })
+    .lock()
+    .unwrap_or_else(|e| e.into_inner())
+}
+
+pub fn deferred() -> PathBuf {
+    root().join("pipelines/deferred.ron")
+}
+
+pub fn render_with(gpu: &Gpu, pipeline: &Path, scene: &Scene, variants: &[(&str, &str)], frames: u32) -> Executor {
+    let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    let (exe, _) = lightbench::render::compile(gpu, pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
+    lightbench::render::render(gpu, &exe, scene, frames).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn output(gpu: &Gpu, ex: &Executor) -> Image {
+    ex.read_texture(gpu, &ex.plan.output, 0, 0).unwrap()
+}
