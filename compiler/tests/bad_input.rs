@@ -986,3 +986,15 @@ fn unknown_variant_option_as_default() {
         38,
     );
 }
+
+#[test]
+fn format_not_renderable_on_profile() {
+    expect(
+        Case { pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: Rg11b10Ufloat)")], profile: "webgpu", ..BASE },
+        "format-not-renderable",
+        "format Rg11b10Ufloat of `out` cannot be rendered to on profile `webgpu`",
+        "pipelines/p.ron",
+        16,
+        81,
+    );
+}

@@ -108,9 +108,9 @@ fn layouts_come_from_formats_and_shader_use() {
         binding(&plan, "light_directional_spot", "shadow_cmp").ty,
         BindingType::Sampler(SamplerKind::Comparison)
     );
-    // Rgba32Float read with textureLoad only: unfilterable, so no optional feature is needed.
+    // Depth32Float read as texture_2d<f32> (textureLoad): an unfilterable float, as wgpu requires.
     assert!(matches!(
-        binding(&plan, "light_point", "gbuf_position").ty,
+        binding(&plan, "light_point", "gbuf_depth").ty,
         BindingType::Texture {
             sample_type: SampleType::Float { filterable: false },
             ..
@@ -182,9 +182,10 @@ fn uniform_block_offsets_follow_the_shader_struct() {
 #[test]
 fn resources_memory_and_usage() {
     let plan = plan_with("vulkan", None, &[]);
-    let pos = plan.resource("gbuf.position").unwrap();
-    assert_eq!(pos.bytes, 1280 * 720 * 16);
-    assert_eq!(pos.usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
+    let normal = plan.resource("gbuf.normal").unwrap();
+    assert_eq!(normal.bytes, 1280 * 720 * 8);
+    assert_eq!(normal.usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
+    assert_eq!(plan.resource("gbuf.depth").unwrap().usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
     let cube = plan.resource("shadow.cube").unwrap();
     assert_eq!((cube.layers, cube.instances, cube.bytes), (6, 1, 512 * 512 * 4 * 6));
     assert_eq!(plan.resource("ldr").unwrap().usage, vec!["RENDER_ATTACHMENT", "COPY_SRC"]);
