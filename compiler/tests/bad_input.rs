@@ -990,7 +990,11 @@ fn unknown_variant_option_as_default() {
 #[test]
 fn format_not_renderable_on_profile() {
     expect(
-        Case { pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: Rg11b10Ufloat)")], profile: "webgpu", ..BASE },
+        Case {
+            pipeline: &[("\"out\": Texture(format: Rgba8Unorm)", "\"out\": Texture(format: Rg11b10Ufloat)")],
+            profile: "webgpu",
+            ..BASE
+        },
         "format-not-renderable",
         "format Rg11b10Ufloat of `out` cannot be rendered to on profile `webgpu`",
         "pipelines/p.ron",

@@ -185,7 +185,10 @@ fn resources_memory_and_usage() {
     let normal = plan.resource("gbuf.normal").unwrap();
     assert_eq!(normal.bytes, 1280 * 720 * 8);
     assert_eq!(normal.usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
-    assert_eq!(plan.resource("gbuf.depth").unwrap().usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
+    assert_eq!(
+        plan.resource("gbuf.depth").unwrap().usage,
+        vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]
+    );
     let cube = plan.resource("shadow.cube").unwrap();
     assert_eq!((cube.layers, cube.instances, cube.bytes), (6, 1, 512 * 512 * 4 * 6));
     assert_eq!(plan.resource("ldr").unwrap().usage, vec!["RENDER_ATTACHMENT", "COPY_SRC"]);

@@ -135,6 +135,18 @@ impl Scene {
         (lo, hi)
     }
 
+    /// Pixel (x right, y down) where the camera sees a world point, if it is in front.
+    pub fn project(&self, p: Vec3) -> Option<(f32, f32)> {
+        let (w, h) = self.size;
+        let vp = self.camera.proj(w as f32 / h.max(1) as f32) * self.camera.view();
+        let c = vp * p.extend(1.0);
+        if c.w <= 0.0 {
+            return None;
+        }
+        let ndc = c.truncate() / c.w;
+        Some(((ndc.x + 1.0) * 0.5 * w as f32, (1.0 - ndc.y) * 0.5 * h as f32))
+    }
+
     /// Lights that are on, in scene order: the light array the shaders index.
     pub fn active_lights(&self) -> Vec<&Light> {
         self.lights.iter().filter(|l| l.on).collect()

@@ -1,0 +1,321 @@
+//! Rendering on a real adapter (lavapipe in CI): shadows where the geometry puts them, spot
+//! cones where the angle says, no NaN/Inf anywhere, goldens, variants, backends, timings.
+
+mod gpu_common;
+
+use glam::{Mat4, Quat, Vec3};
+use gpu_common::*;
+use lightbench::io::{rmse, Image};
+use lightbench::scene::geometry::{cuboid, quad};
+use lightbench::scene::{builtin, Camera, Light, Material, Mesh, Scene};
+
+fn mesh(name: &str, (vertices, indices): (Vec<lightbench::gpu::blocks::Vertex>, Vec<u32>), transform: Mat4) -> Mesh {
+    Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material: 0,
+        transform,
+        triangle_fraction: 1.0,
+        reflective: false,
+    }
+}
+
+/// A 6×6 white floor seen from above and in front, an optional box, and one light.
+fn stage(boxes: &[(Vec3, Vec3)], light: Light) -> Scene {
+    let (mut vs, mut is) = (vec![], vec![]);
+    quad(Vec3::ZERO, Vec3::X * 3.0, Vec3::NEG_Z * 3.0, &mut vs, &mut is);
+    let mut meshes = vec![mesh("floor", (vs, is), Mat4::IDENTITY)];
+    for (i, (center, half)) in boxes.iter().enumerate() {
+        meshes.push(mesh(&format!("box{i}"), cuboid(*half), Mat4::from_translation(*center)));
+    }
+    Scene {
+        name: "stage".into(),
+        size: (128, 128),
+        camera: Camera {
+            position: Vec3::new(0.0, 5.0, 4.0),
+            yaw: 0.0,
+            pitch: -50.0,
+            fov: 55.0,
+            near: 0.1,
+            far: 50.0,
+        },
+        meshes,
+        materials: vec![Material::color("white", [0.8, 0.8, 0.8], 0.9)],
+        textures: vec![],
+        lights: vec![light],
+        effects: Default::default(),
+    }
+}
+
+/// Mean linear HDR value in a 5×5 window around where the camera sees `p`.
+fn hdr_at(gpu: &lightbench::gpu::Gpu, ex: &lightbench::gpu::Executor, scene: &Scene, p: Vec3) -> f32 {
+    hdr_window(gpu, ex, scene, p, 2)
+}
+
+fn hdr_window(gpu: &lightbench::gpu::Gpu, ex: &lightbench::gpu::Executor, scene: &Scene, p: Vec3, r: u32) -> f32 {
+    let img = ex.read_texture(gpu, "hdr", 0, 0).unwrap();
+    let (x, y) = scene.project(p).expect("point in view");
+    let (x, y) = (x as u32, y as u32);
+    img.mean_rgb(x.saturating_sub(r), y.saturating_sub(r), x + r + 1, y + r + 1)
+}
+
+#[test]
+fn point_light_shadow_behind_an_occluder() {
+    let g = gpu();
+    let light = Light::point(Vec3::new(0.0, 2.0, 0.0), Vec3::ONE, 4.0, 8.0);
+    let occluder = [(Vec3::new(0.0, 1.0, 0.0), Vec3::splat(0.3))];
+    let behind = Vec3::new(0.0, 0.0, 0.0);
+    for variant in ["classic", "instanced"] {
+        let with = stage(&occluder, light.clone());
+        let without = stage(&[], light.clone());
+        let a = hdr_at(
+            &g,
+            &render_with(&g, &deferred(), &with, &[("cube_shadow", variant)], 1),
+            &with,
+            behind,
+        );
+        let b = hdr_at(
+            &g,
+            &render_with(&g, &deferred(), &without, &[("cube_shadow", variant)], 1),
+            &without,
+            behind,
+        );
+        assert!(b > 0.05, "{variant}: the floor under the light should be lit ({b})");
+        assert!(a < 0.2 * b, "{variant}: shadowed {a} vs unshadowed {b}");
+        // Off to the side the occluder changes nothing.
+        let side = Vec3::new(1.5, 0.0, 0.5);
+        let sa = hdr_at(
+            &g,
+            &render_with(&g, &deferred(), &with, &[("cube_shadow", variant)], 1),
+            &with,
+            side,
+        );
+        let sb = hdr_at(
+            &g,
+            &render_with(&g, &deferred(), &without, &[("cube_shadow", variant)], 1),
+            &without,
+            side,
+        );
+        assert!((sa - sb).abs() < 0.05 * sb.max(1e-3), "{variant}: {sa} vs {sb}");
+    }
+}
+
+#[test]
+fn directional_shadow_falls_under_the_box() {
+    let g = gpu();
+    // Straight down: the lookAt up vector must not be parallel to the light direction.
+    let sun = Light::directional(Vec3::NEG_Y, Vec3::ONE, 2.0);
+    let scene = stage(&[(Vec3::new(0.8, 1.0, 0.0), Vec3::splat(0.3))], sun);
+    let ex = render_with(&g, &deferred(), &scene, &[], 1);
+    let under = hdr_at(&g, &ex, &scene, Vec3::new(0.8, 0.0, 0.0));
+    let mirror = hdr_at(&g, &ex, &scene, Vec3::new(-0.8, 0.0, 0.0));
+    let beside = hdr_at(&g, &ex, &scene, Vec3::new(0.8, 0.0, 0.8));
+    assert!(mirror > 0.1, "open floor is lit: {mirror}");
+    assert!(under < 0.2 * mirror, "under the box {under} vs open floor {mirror}");
+    assert!(beside > 0.8 * mirror, "beside the box footprint is lit: {beside} vs {mirror}");
+}
+
+#[test]
+fn spot_cone_edge_is_where_the_angle_says() {
+    let g = gpu();
+    let h = 3.0f32;
+    let (inner, outer) = (18.0f32, 20.0f32);
+    let spot = Light::spot(Vec3::new(0.0, h, 0.0), Vec3::NEG_Y, inner, outer, Vec3::ONE, 8.0, 10.0);
+    let scene = stage(&[], spot);
+    let ex = render_with(&g, &deferred(), &scene, &[], 1);
+    let r_inner = h * inner.to_radians().tan();
+    let r_outer = h * outer.to_radians().tan();
+    for dir in [Vec3::X, Vec3::NEG_X, Vec3::NEG_Z] {
+        // Single pixels: a window would straddle the edge where the floor is foreshortened.
+        let inside = hdr_window(&g, &ex, &scene, dir * (r_inner * 0.9), 0);
+        let outside = hdr_window(&g, &ex, &scene, dir * (r_outer * 1.1), 0);
+        // Far outside the cone only the ambient term remains.
+        let ambient = hdr_at(&g, &ex, &scene, dir * 2.4);
+        assert!(
+            inside > 4.0 * ambient,
+            "inside the cone is lit along {dir}: {inside} vs ambient {ambient}"
+        );
+        assert!(
+            (outside - ambient).abs() < 0.02 * inside,
+            "just outside the cone along {dir}: {outside}, ambient {ambient}, inside {inside}"
+        );
+    }
+}
+
+/// Every texture slice and buffer of the plan, all finite.
+fn assert_all_finite(g: &lightbench::gpu::Gpu, ex: &lightbench::gpu::Executor, what: &str) {
+    for r in &ex.plan.resources {
+        for (inst, layer) in ex.slices(&r.name).unwrap() {
+            if r.kind == "buffer" {
+                let words = ex.read_buffer(g, &r.name, inst).unwrap();
+                assert!(
+                    words.iter().all(|w| w.is_finite()),
+                    "{what}: buffer {} has non-finite values: {words:?}",
+                    r.name
+                );
+            } else {
+                let img: Image = ex.read_texture(g, &r.name, inst, layer).unwrap();
+                assert_eq!(img.non_finite(), 0, "{what}: {} instance {inst} layer {layer} has NaN/Inf", r.name);
+            }
+        }
+    }
+}
+
+#[test]
+fn no_nan_or_inf_in_any_resource() {
+    let g = gpu();
+    let mut colonnade = builtin::colonnade();
+    colonnade.size = (128, 64);
+    let mut dark = builtin::cornell();
+    for l in &mut dark.lights {
+        l.on = false; // black frame: log-average luminance of nothing
+    }
+    let cases: Vec<(&str, Scene, &str)> = vec![
+        ("cornell classic", builtin::cornell(), "classic"),
+        ("cornell instanced", builtin::cornell(), "instanced"),
+        ("colonnade", colonnade, "classic"),
+        ("many lights", builtin::many_lights(6), "classic"),
+        ("black frame", dark, "classic"),
+    ];
+    for (what, scene, variant) in cases {
+        let ex = render_with(&g, &deferred(), &scene, &[("cube_shadow", variant)], 2);
+        assert_all_finite(&g, &ex, what);
+    }
+}
+
+#[test]
+fn golden_cornell_matches() {
+    let g = gpu();
+    let scene = builtin::cornell();
+    let ex = render_with(&g, &deferred(), &scene, &[], 1);
+    let img = output(&g, &ex);
+    let path = root().join("runtime/tests/golden/cornell_deferred_128.png");
+    if std::env::var_os("LIGHTBENCH_BLESS").is_some() {
+        img.save(&path).unwrap();
+    }
+    let golden = Image::load_png(&path).unwrap_or_else(|e| panic!("{e}: render it with LIGHTBENCH_BLESS=1, review it, commit it"));
+    // Compare in the stored (8-bit sRGB) encoding.
+    let ours = Image {
+        rgba: img.rgba.iter().map(|v| (v.clamp(0.0, 1.0) * 255.0).round() / 255.0).collect(),
+        ..img.clone()
+    };
+    let e = rmse(&ours, &golden).expect("same size");
+    assert!(e < 0.01, "RMSE {e:.4} against {}", path.display());
+}
+
+#[test]
+fn cube_shadow_variants_agree() {
+    let g = gpu();
+    let scene = builtin::cornell();
+    let hdr = |v: &str| {
+        render_with(&g, &deferred(), &scene, &[("cube_shadow", v)], 1)
+            .read_texture(&g, "hdr", 0, 0)
+            .unwrap()
+    };
+    let classic = hdr("classic");
+    let instanced = hdr("instanced");
+    let e = rmse(&classic, &instanced).unwrap();
+    assert!(e < 0.02, "classic vs instanced RMSE {e}");
+}
+
+#[test]
+fn timings_list_every_executed_pass_and_no_culled_one() {
+    let g = gpu();
+    let scene = builtin::cornell();
+    let ex = render_with(&g, &deferred(), &scene, &[], 1);
+    let timed: Vec<&str> = ex.last_timings.iter().map(|t| t.pass.as_str()).collect();
+    let planned: Vec<&str> = ex.plan.passes.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(timed, planned);
+    for t in &ex.last_timings {
+        let ms = t.gpu_ms.expect("lavapipe has timestamp queries");
+        assert!(ms.is_finite() && ms >= 0.0, "{t:?}");
+    }
+    for c in &ex.plan.culled {
+        assert!(!timed.contains(&c.name.as_str()), "culled pass {} was timed", c.name);
+    }
+    assert!(
+        ex.plan.culled.iter().any(|c| c.name == "shadow_map"),
+        "no directional/spot light in the Cornell box"
+    );
+    assert_eq!(
+        ex.last_timings
+            .iter()
+            .find(|t| t.pass == "shadow_cube_classic")
+            .unwrap()
+            .repetitions,
+        6
+    );
+}
+
+#[test]
+fn replacing_the_plan_keeps_unchanged_resources() {
+    let g = gpu();
+    let scene = builtin::cornell();
+    let ex = render_with(&g, &deferred(), &scene, &[], 1);
+    let before = output(&g, &ex);
+    let v = vec![("tonemap".to_string(), "simple".to_string())];
+    let (exe, _) = lightbench::render::compile(&g, &deferred(), None, &scene, &v).unwrap();
+    let mut ex = ex.replace(&g, &exe).unwrap();
+    for name in ["gbuf.normal", "gbuf.depth", "hdr", "shadow.cube", "ldr"] {
+        assert!(
+            ex.pool.reused.iter().any(|r| r == name),
+            "{name} was recreated; reused: {:?}",
+            ex.pool.reused
+        );
+    }
+    ex.render_frame(&g, 0.0).unwrap();
+    let after = output(&g, &ex);
+    assert_eq!(after.non_finite(), 0);
+    // A different operator: the images differ, but not wildly.
+    let e = rmse(&before, &after).unwrap();
+    assert!(e > 1e-4 && e < 0.25, "RMSE {e}");
+}
+
+#[test]
+fn black_frame_tone_maps_to_black() {
+    let g = gpu();
+    let mut scene = builtin::cornell();
+    scene.lights.clear();
+    let mut ex = render_with(&g, &deferred(), &scene, &[], 1);
+    // No light and no ambient term: the log-average luminance is that of a black frame.
+    let black = lightbench_compiler::ir::ParamValue::Vec(vec![0.0, 0.0, 0.0]);
+    ex.write_params(&g, &[("ambient.color".to_string(), black)].into_iter().collect());
+    ex.render_frame(&g, 0.0).unwrap();
+    let lum = ex.read_buffer(&g, "lum", 0).unwrap();
+    assert!(
+        lum[0].is_finite() && lum[0] > 0.0 && lum[0] < 1e-3,
+        "log-average of a black frame: {lum:?}"
+    );
+    let img = output(&g, &ex);
+    assert_eq!(img.non_finite(), 0);
+    assert!(img.mean_rgb(0, 0, 128, 128) < 0.02, "{}", img.mean_rgb(0, 0, 128, 128));
+}
+
+#[test]
+fn gl_backend_falls_back_from_multiview_and_renders_alike() {
+    let vk = gpu();
+    let gl = lightbench::gpu::Gpu::new(&lightbench::gpu::DeviceOptions {
+        backend: Some(lightbench::gpu::device::BackendChoice::Gl),
+        adapter: None,
+    })
+    .unwrap_or_else(|e| panic!("the GL backend (llvmpipe through EGL) must be available: {e}"));
+    assert!(!gl.profile.has(lightbench_compiler::profile::Feature::Multiview));
+    let scene = builtin::cornell();
+    let v = vec![("cube_shadow".to_string(), "multiview".to_string())];
+    let (exe, _) = lightbench::render::compile(&gl, &deferred(), None, &scene, &v).unwrap();
+    let chosen = exe.plan.variants.iter().find(|c| c.variant == "cube_shadow").unwrap();
+    assert_ne!(chosen.option, "multiview");
+    assert!(
+        chosen.reason.as_deref().unwrap_or("").contains("needs feature Multiview"),
+        "{chosen:?}"
+    );
+    let ex = lightbench::render::render(&gl, &exe, &scene, 1).unwrap();
+    let on_gl = ex.read_texture(&gl, "hdr", 0, 0).unwrap();
+    let on_vk = render_with(&vk, &deferred(), &scene, &[], 1)
+        .read_texture(&vk, "hdr", 0, 0)
+        .unwrap();
+    assert_eq!(on_gl.non_finite(), 0);
+    let e = rmse(&on_gl, &on_vk).unwrap();
+    assert!(e < 0.03, "GL vs Vulkan RMSE {e}");
+}
