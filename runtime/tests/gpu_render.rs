@@ -3,7 +3,7 @@
 
 mod gpu_common;
 
-use glam::{Mat4, Quat, Vec3};
+use glam::{Mat4, Vec3};
 use gpu_common::*;
 use lightbench::io::{rmse, Image};
 use lightbench::scene::geometry::{cuboid, quad};

@@ -94,17 +94,20 @@ impl Gpu {
             }
         }
         let alimits = adapter.limits();
-        let mut limits = wgpu::Limits::default();
-        limits.max_multiview_view_count = alimits.max_multiview_view_count.min(6);
-        limits.max_bind_groups = alimits.max_bind_groups.min(8);
-        limits.max_texture_dimension_2d = alimits.max_texture_dimension_2d;
-        limits.max_texture_array_layers = alimits.max_texture_array_layers;
-        limits.max_storage_buffer_binding_size = alimits.max_storage_buffer_binding_size;
-        limits.max_sampled_textures_per_shader_stage = alimits.max_sampled_textures_per_shader_stage;
-        limits.max_storage_textures_per_shader_stage = alimits.max_storage_textures_per_shader_stage;
-        limits.max_compute_invocations_per_workgroup = alimits.max_compute_invocations_per_workgroup;
-        limits.max_compute_workgroup_size_x = alimits.max_compute_workgroup_size_x;
-        limits.max_compute_workgroup_size_y = alimits.max_compute_workgroup_size_y;
+        // Ask for what the adapter has where pipelines may need more than the defaults.
+        let mut limits = wgpu::Limits {
+            max_multiview_view_count: alimits.max_multiview_view_count.min(6),
+            max_bind_groups: alimits.max_bind_groups.min(8),
+            max_texture_dimension_2d: alimits.max_texture_dimension_2d,
+            max_texture_array_layers: alimits.max_texture_array_layers,
+            max_storage_buffer_binding_size: alimits.max_storage_buffer_binding_size,
+            max_sampled_textures_per_shader_stage: alimits.max_sampled_textures_per_shader_stage,
+            max_storage_textures_per_shader_stage: alimits.max_storage_textures_per_shader_stage,
+            max_compute_invocations_per_workgroup: alimits.max_compute_invocations_per_workgroup,
+            max_compute_workgroup_size_x: alimits.max_compute_workgroup_size_x,
+            max_compute_workgroup_size_y: alimits.max_compute_workgroup_size_y,
+            ..Default::default()
+        };
         if alimits.max_multiview_view_count < 6 {
             // Multiview with fewer than 6 views cannot render a cube in one pass.
             required.remove(wgpu::Features::MULTIVIEW);
@@ -199,8 +202,8 @@ pub fn profile_limits(l: &wgpu::Limits) -> Limits {
         max_bindings_per_bind_group: l.max_bindings_per_bind_group as u64,
         max_color_attachments: l.max_color_attachments as u64,
         max_color_attachment_bytes_per_sample: l.max_color_attachment_bytes_per_sample as u64,
-        max_uniform_buffer_binding_size: l.max_uniform_buffer_binding_size as u64,
-        max_storage_buffer_binding_size: l.max_storage_buffer_binding_size as u64,
+        max_uniform_buffer_binding_size: l.max_uniform_buffer_binding_size,
+        max_storage_buffer_binding_size: l.max_storage_buffer_binding_size,
         max_sampled_textures_per_shader_stage: l.max_sampled_textures_per_shader_stage as u64,
         max_samplers_per_shader_stage: l.max_samplers_per_shader_stage as u64,
         max_storage_textures_per_shader_stage: l.max_storage_textures_per_shader_stage as u64,

@@ -5,25 +5,60 @@
 use super::Scene;
 use crate::io::write_atomic;
 use lightbench_compiler::ir::LightKind;
-use serde_json::json;
+use serde_json::{json, Value};
 use std::path::Path;
+
+const ARRAY_BUFFER: u32 = 34962;
+const ELEMENT_ARRAY_BUFFER: u32 = 34963;
+const FLOAT: u32 = 5126;
+const UNSIGNED_INT: u32 = 5125;
+
+/// The binary buffer with its views and accessors, filled as meshes are added.
+#[derive(Default)]
+struct Buffers {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Buffers {
+    fn view(&mut self, data: &[u8], target: u32) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": data.len(), "target": target}));
+        self.bin.extend_from_slice(data);
+        self.views.len() - 1
+    }
+
+    fn accessor(
+        &mut self,
+        data: &[u8],
+        target: u32,
+        component: u32,
+        count: usize,
+        ty: &str,
+        bounds: Option<([f32; 3], [f32; 3])>,
+    ) -> usize {
+        let view = self.view(data, target);
+        let mut a = json!({"bufferView": view, "componentType": component, "count": count, "type": ty});
+        if let Some((lo, hi)) = bounds {
+            a["min"] = json!(lo);
+            a["max"] = json!(hi);
+        }
+        self.accessors.push(a);
+        self.accessors.len() - 1
+    }
+}
 
 pub fn export(scene: &Scene, out: &Path) -> Result<(), String> {
     if !scene.textures.is_empty() {
         return Err(format!("{}: exporting textured scenes is not supported yet", out.display()));
     }
     let bin_name = format!("{}.bin", out.file_stem().and_then(|s| s.to_str()).unwrap_or("scene"));
-    let mut bin: Vec<u8> = vec![];
-    let (mut accessors, mut views, mut meshes, mut nodes) = (vec![], vec![], vec![], vec![]);
-    let mut push_view = |bin: &mut Vec<u8>, data: &[u8], target: u32| {
-        while bin.len() % 4 != 0 {
-            bin.push(0);
-        }
-        let offset = bin.len();
-        bin.extend_from_slice(data);
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": data.len(), "target": target}));
-        views.len() - 1
-    };
+    let mut b = Buffers::default();
+    let (mut meshes, mut nodes) = (vec![], vec![]);
     for (i, m) in scene.meshes.iter().enumerate() {
         let mut lo = [f32::INFINITY; 3];
         let mut hi = [f32::NEG_INFINITY; 3];
@@ -38,41 +73,29 @@ pub fn export(scene: &Scene, out: &Path) -> Result<(), String> {
         let nor: Vec<f32> = m.vertices.iter().flat_map(|v| v.normal).collect();
         let uv: Vec<f32> = m.vertices.iter().flat_map(|v| v.uv).collect();
         let tan: Vec<f32> = m.vertices.iter().flat_map(|v| v.tangent).collect();
-        let attr = |bin: &mut Vec<u8>,
-                    data: &[f32],
-                    ty: &str,
-                    accessors: &mut Vec<serde_json::Value>,
-                    push_view: &mut dyn FnMut(&mut Vec<u8>, &[u8], u32) -> usize,
-                    minmax: bool| {
-            let view = push_view(bin, bytemuck::cast_slice(data), 34962);
-            let mut a = json!({"bufferView": view, "componentType": 5126, "count": n, "type": ty});
-            if minmax {
-                a["min"] = json!(lo);
-                a["max"] = json!(hi);
-            }
-            accessors.push(a);
-            accessors.len() - 1
-        };
-        let p = attr(&mut bin, &pos, "VEC3", &mut accessors, &mut push_view, true);
-        let no = attr(&mut bin, &nor, "VEC3", &mut accessors, &mut push_view, false);
-        let t = attr(&mut bin, &uv, "VEC2", &mut accessors, &mut push_view, false);
-        let ta = attr(&mut bin, &tan, "VEC4", &mut accessors, &mut push_view, false);
-        let iv = push_view(&mut bin, bytemuck::cast_slice(&m.indices), 34963);
-        accessors.push(json!({"bufferView": iv, "componentType": 5125, "count": m.indices.len(), "type": "SCALAR"}));
-        let idx = accessors.len() - 1;
+        let p = b.accessor(bytemuck::cast_slice(&pos), ARRAY_BUFFER, FLOAT, n, "VEC3", Some((lo, hi)));
+        let no = b.accessor(bytemuck::cast_slice(&nor), ARRAY_BUFFER, FLOAT, n, "VEC3", None);
+        let t = b.accessor(bytemuck::cast_slice(&uv), ARRAY_BUFFER, FLOAT, n, "VEC2", None);
+        let ta = b.accessor(bytemuck::cast_slice(&tan), ARRAY_BUFFER, FLOAT, n, "VEC4", None);
+        let idx = b.accessor(
+            bytemuck::cast_slice(&m.indices),
+            ELEMENT_ARRAY_BUFFER,
+            UNSIGNED_INT,
+            m.indices.len(),
+            "SCALAR",
+            None,
+        );
         meshes.push(json!({"name": m.name, "primitives": [{"attributes": {"POSITION": p, "NORMAL": no, "TEXCOORD_0": t, "TANGENT": ta}, "indices": idx, "material": m.material}]}));
         nodes.push(json!({"name": m.name, "mesh": i, "matrix": m.transform.to_cols_array()}));
     }
-    let materials: Vec<serde_json::Value> = scene
+    let materials: Vec<Value> = scene
         .materials
         .iter()
         .map(|m| json!({"name": m.name, "pbrMetallicRoughness": {"baseColorFactor": m.base_color, "metallicFactor": m.metallic, "roughnessFactor": m.roughness}, "emissiveFactor": m.emissive}))
         .collect();
     let mut lights = vec![];
-    for l in &scene.lights {
-        if !l.on {
-            continue; // the glTF extension has no "off"
-        }
+    for l in scene.lights.iter().filter(|l| l.on) {
+        // The glTF extension has no "off": switched-off lights are left out.
         let mut j = json!({"color": l.color.to_array(), "intensity": l.intensity});
         match l.kind {
             LightKind::Directional => j["type"] = json!("directional"),
@@ -101,12 +124,12 @@ pub fn export(scene: &Scene, out: &Path) -> Result<(), String> {
         "nodes": nodes,
         "meshes": meshes,
         "materials": materials,
-        "accessors": accessors,
-        "bufferViews": views,
-        "buffers": [{"uri": bin_name, "byteLength": bin.len()}],
+        "accessors": b.accessors,
+        "bufferViews": b.views,
+        "buffers": [{"uri": bin_name, "byteLength": b.bin.len()}],
     });
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    write_atomic(&dir.join(&bin_name), &bin)?;
+    write_atomic(&dir.join(&bin_name), &b.bin)?;
     let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
     write_atomic(out, text.as_bytes())
 }

@@ -5,10 +5,10 @@
 //!     name: "room",
 //!     size: (256, 256),
 //!     camera: (position: (0.0, 1.0, 3.6), yaw: 0.0, pitch: 0.0, fov: 40.0, near: 0.05, far: 20.0),
-//!     builtin: Some("cornell"),           // start from a built-in scene (optional)
+//!     builtin: "cornell",                 // start from a built-in scene (optional)
 //!     models: [(path: "chair.gltf", translation: (0.3, 0.0, 0.0), rotation: (45.0, 0.0, 0.0), scale: 0.5, triangles: 1.0)],
 //!     lights: [Point(position: (0.0, 1.8, 0.0), color: (1.0, 1.0, 1.0), intensity: 4.0, range: 6.0,
-//!                    animation: Some(Orbit(center: (0.0, 1.8, 0.0), radius: 0.5, speed: 30.0)))],
+//!                    animation: Orbit(center: (0.0, 1.8, 0.0), radius: 0.5, speed: 30.0))],
 //!     effects: [Shadows],
 //! )
 //! ```
@@ -163,8 +163,11 @@ pub fn load(spec: &str) -> Result<Scene, String> {
 
 pub fn load_file(path: &Path) -> Result<Scene, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let f: SceneFile =
-        ron::from_str(&text).map_err(|e| format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code))?;
+    // Optional fields are written plainly (`name: "x"`, not `name: Some("x")`).
+    let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+    let f: SceneFile = options
+        .from_str(&text)
+        .map_err(|e| format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code))?;
     let mut scene = match &f.builtin {
         Some(b) => builtin::by_name(b).ok_or_else(|| {
             format!(
@@ -202,7 +205,9 @@ pub fn load_file(path: &Path) -> Result<Scene, String> {
         scene.size = (w, h);
     }
     if let Some(c) = &f.camera {
-        if !(c.fov > 0.0 && c.fov < 180.0) || !(c.near > 0.0 && c.far > c.near) {
+        // Written so that NaN fails too.
+        let valid = c.fov > 0.0 && c.fov < 180.0 && c.near > 0.0 && c.far > c.near;
+        if !valid {
             return Err(format!("{}: camera needs 0 < fov < 180 and 0 < near < far", path.display()));
         }
         scene.camera = Camera {
@@ -256,7 +261,8 @@ pub fn load_file(path: &Path) -> Result<Scene, String> {
             LightFile::Spot(l) => (LightKind::Spot, l),
             LightFile::Point(l) => (LightKind::Point, l),
         };
-        if !(lf.range > 0.0) || !(lf.intensity >= 0.0) || !(lf.inner <= lf.outer) {
+        let valid = lf.range > 0.0 && lf.intensity >= 0.0 && lf.inner <= lf.outer;
+        if !valid {
             return Err(format!(
                 "{}: a light needs range > 0, intensity >= 0 and inner <= outer",
                 path.display()
