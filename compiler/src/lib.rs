@@ -125,11 +125,15 @@ impl Session {
         let file = self.sources.add(name, text.clone());
         match Path::new(name).extension().and_then(|e| e.to_str()) {
             Some("ron") => front::ron::parse_pipeline(file, &text, &mut self.diags),
+            Some("lbp") => front::lbp::parse_pipeline(file, &text, &mut self.diags),
             other => {
                 self.diags.push(Diagnostic::unlocated(
                     Severity::Error,
                     "unknown-format",
-                    format!("`{name}`: unknown pipeline format `{}` (expected `.ron`)", other.unwrap_or("")),
+                    format!(
+                        "`{name}`: unknown pipeline format `{}` (expected `.ron` or `.lbp`)",
+                        other.unwrap_or("")
+                    ),
                 ));
                 None
             }

@@ -9,7 +9,9 @@ mod variant;
 
 pub use condition::{Condition, Effect, LightKind};
 pub use param::{Param, ParamType, ParamValue};
-pub use pass::{Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind, Read, ShaderRef};
+pub use pass::{
+    default_entry, Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind, Read, ShaderRef,
+};
 pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SizeSpec, TextureDesc, ViewDim};
 pub use variant::{Variant, VariantOption};
 
@@ -30,6 +32,23 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
+    /// Equal as data: the same pipeline whatever file, front end or layout it came from.
+    pub fn same_as(&self, other: &Pipeline) -> bool {
+        fn strip(v: serde_json::Value) -> serde_json::Value {
+            match v {
+                serde_json::Value::Object(m) => {
+                    serde_json::Value::Object(m.into_iter().filter(|(k, _)| k != "span").map(|(k, v)| (k, strip(v))).collect())
+                }
+                serde_json::Value::Array(a) => serde_json::Value::Array(a.into_iter().map(strip).collect()),
+                v => v,
+            }
+        }
+        match (serde_json::to_value(self), serde_json::to_value(other)) {
+            (Ok(a), Ok(b)) => strip(a) == strip(b),
+            _ => false,
+        }
+    }
+
     pub fn param(&self, name: &str) -> Option<&Param> {
         self.params.iter().find(|p| p.name.value == name)
     }

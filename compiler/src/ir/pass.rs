@@ -140,6 +140,19 @@ impl PassKind {
     }
 }
 
+/// The entry point a stage gets when the pipeline file names none: `main` for GLSL,
+/// `vs_main` / `fs_main` / `cs_main` for WGSL.
+pub fn default_entry(stage: naga::ShaderStage, file: &str) -> &'static str {
+    if crate::shader::is_glsl(file) {
+        return "main";
+    }
+    match stage {
+        naga::ShaderStage::Vertex => "vs_main",
+        naga::ShaderStage::Fragment => "fs_main",
+        _ => "cs_main",
+    }
+}
+
 /// A shader module and an entry point in it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShaderRef {

@@ -1,6 +1,7 @@
 //! Command-line interface. Exit codes: 0 success, 1 errors in the input, 2 usage errors.
 
 mod check;
+mod convert;
 pub mod plan;
 mod render;
 
@@ -81,7 +82,7 @@ pub enum Command {
     },
     /// Render a pipeline on a scene with the GPU (headless) and save the output image.
     Render {
-        /// Pipeline file (.ron).
+        /// Pipeline file (.ron or .lbp).
         #[arg(long, default_value = "pipelines/deferred.ron")]
         pipeline: PathBuf,
         /// Scene file (.ron) or built-in scene: cornell, colonnade, many_lights.
@@ -126,6 +127,23 @@ pub enum Command {
     /// Scene utilities.
     #[command(subcommand)]
     Scene(SceneCommand),
+    /// Convert a pipeline between RON and LBP without losing anything (comments are kept).
+    Convert {
+        input: PathBuf,
+        /// Target format: ron or lbp.
+        #[arg(long)]
+        to: String,
+        /// Output file (default: standard output).
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+    },
+    /// Rewrite an .lbp pipeline in canonical layout (idempotent).
+    Fmt {
+        file: PathBuf,
+        /// Do not write; exit 1 if the file is not formatted.
+        #[arg(long)]
+        check: bool,
+    },
 }
 
 #[derive(Subcommand, Debug)]
@@ -202,6 +220,8 @@ pub fn run(cli: Cli) -> i32 {
             shaders,
             device: crate::gpu::DeviceOptions { backend, adapter },
         }),
+        Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
+        Command::Fmt { file, check } => convert::fmt(&file, check),
         Command::Scene(SceneCommand::Export { name, out }) => match crate::scene::builtin::by_name(&name) {
             None => usage_error(format!(
                 "unknown built-in scene `{name}` (expected one of {})",

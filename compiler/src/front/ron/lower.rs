@@ -538,47 +538,41 @@ impl<'d> Lowerer<'d> {
         Some(out)
     }
 
+    /// A stage's shader: `file#entry` names another file; a given entry is used as written;
+    /// with none, the stage's default entry of the pass's shader (`main` for GLSL).
     fn shader_ref(
         &mut self,
         default_file: &Option<Spanned<String>>,
         node: Option<(Span, Node)>,
-        default_entry: &str,
-        stage: &str,
+        stage: naga::ShaderStage,
         pass_span: Span,
     ) -> Res<Option<ShaderRef>> {
-        let (entry_text, span) = match node {
+        let (given, span) = match node {
             Some((_, n)) => match &*n.value {
                 Value::Ident(i) if i == "None" => return Some(None),
                 _ => {
                     let s = self.string(&n)?;
-                    (s.value, s.span)
+                    (Some(s.value), s.span)
                 }
             },
-            None => (
-                default_entry.to_string(),
-                default_file.as_ref().map(|f| f.span).unwrap_or(pass_span),
-            ),
+            None => (None, default_file.as_ref().map(|f| f.span).unwrap_or(pass_span)),
         };
-        // `file#entry` names an entry point in another file.
-        if let Some((file, entry)) = entry_text.split_once('#') {
+        if let Some((file, entry)) = given.as_deref().and_then(|t| t.split_once('#')) {
             return Some(Some(ShaderRef {
                 file: Spanned::new(file.to_string(), span),
                 entry: Spanned::new(entry.to_string(), span),
             }));
         }
+        let word = crate::check::entry::stage_word(stage);
         let Some(file) = default_file.clone() else {
             self.err(Diagnostic::error(
                 "missing-key",
-                format!("pass has no `shader` for its {stage} entry point `{entry_text}`"),
+                format!("pass has no `shader` for its {word} stage"),
                 pass_span,
             ));
             return None;
         };
-        let entry = if crate::shader::is_glsl(&file.value) && default_entry == entry_text {
-            "main".to_string()
-        } else {
-            entry_text
-        };
+        let entry = given.unwrap_or_else(|| default_entry(stage, &file.value).to_string());
         Some(Some(ShaderRef {
             file,
             entry: Spanned::new(entry, span),
@@ -638,13 +632,12 @@ impl<'d> Lowerer<'d> {
                     None => None,
                 };
                 let has_color = o.fields.iter().any(|f| f.0 == "color");
-                let v = self.shader_ref(&shader, o.take("vertex"), "vs_main", "vertex", span)?;
-                let fs_default = if has_color { "fs_main" } else { "" };
+                let v = self.shader_ref(&shader, o.take("vertex"), naga::ShaderStage::Vertex, span)?;
                 let f_node = o.take("fragment");
                 let f = if f_node.is_none() && !has_color {
                     None
                 } else {
-                    self.shader_ref(&shader, f_node, fs_default, "fragment", span)?
+                    self.shader_ref(&shader, f_node, naga::ShaderStage::Fragment, span)?
                 };
                 (
                     PassKind::Raster {
@@ -664,12 +657,12 @@ impl<'d> Lowerer<'d> {
                     file: Spanned::new(crate::shader::FULLSCREEN_FILE.to_string(), span),
                     entry: Spanned::new(crate::shader::FULLSCREEN_ENTRY.to_string(), span),
                 });
-                let f = self.shader_ref(&shader, o.take("fragment"), "fs_main", "fragment", span)?;
+                let f = self.shader_ref(&shader, o.take("fragment"), naga::ShaderStage::Fragment, span)?;
                 (PassKind::Fullscreen, v, f, None)
             }
             _ => {
                 allowed.extend(["entry", "dispatch"]);
-                let c = self.shader_ref(&shader, o.take("entry"), "cs_main", "compute", span)?;
+                let c = self.shader_ref(&shader, o.take("entry"), naga::ShaderStage::Compute, span)?;
                 let dispatch = match self.required(&mut o, "dispatch") {
                     Some((_, n)) => match &*n.value {
                         Value::Tuple {

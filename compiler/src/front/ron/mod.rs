@@ -1,6 +1,7 @@
 //! The RON front end: text -> spanned RON tree -> IR.
 
 mod lower;
+pub mod print;
 pub mod value;
 
 pub use lower::geometry_error;

@@ -1,0 +1,109 @@
+//! Comments of a pipeline file, kept by the formatter and converters: each comment is
+//! re-emitted before the item that follows it in the source.
+
+use crate::span::Span;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Comment {
+    pub start: usize,
+    /// The text without its `//` or `/* */` markers, one entry per line.
+    pub lines: Vec<String>,
+}
+
+/// Every `//` and `/* */` comment outside string literals, in order.
+pub fn collect(src: &str) -> Vec<Comment> {
+    let b = src.as_bytes();
+    let mut out = vec![];
+    let mut i = 0;
+    while i < b.len() {
+        match b[i] {
+            b'"' => {
+                i += 1;
+                while i < b.len() && b[i] != b'"' {
+                    if b[i] == b'\\' {
+                        i += 1;
+                    }
+                    i += 1;
+                }
+                i += 1;
+            }
+            b'/' if b.get(i + 1) == Some(&b'/') => {
+                let start = i;
+                let end = src[i..].find('\n').map(|n| i + n).unwrap_or(src.len());
+                out.push(Comment {
+                    start,
+                    lines: vec![src[i + 2..end].trim_end().to_string()],
+                });
+                i = end;
+            }
+            b'/' if b.get(i + 1) == Some(&b'*') => {
+                let start = i;
+                let end = src[i + 2..].find("*/").map(|n| i + 2 + n).unwrap_or(src.len());
+                out.push(Comment {
+                    start,
+                    lines: src[i + 2..end].lines().map(|l| l.trim().to_string()).collect(),
+                });
+                i = (end + 2).min(src.len());
+            }
+            _ => i += 1,
+        }
+    }
+    out
+}
+
+/// Hands out comments in source order: `before(span)` takes every comment starting before
+/// the item, `rest()` whatever is left at the end.
+pub struct Comments {
+    list: Vec<Comment>,
+    next: usize,
+}
+
+impl Comments {
+    pub fn new(src: Option<&str>) -> Self {
+        Comments {
+            list: src.map(collect).unwrap_or_default(),
+            next: 0,
+        }
+    }
+
+    pub fn before(&mut self, span: Span) -> Vec<Comment> {
+        let mut out = vec![];
+        while self.next < self.list.len() && self.list[self.next].start < span.start as usize {
+            out.push(self.list[self.next].clone());
+            self.next += 1;
+        }
+        out
+    }
+
+    pub fn rest(&mut self) -> Vec<Comment> {
+        let out = self.list[self.next..].to_vec();
+        self.next = self.list.len();
+        out
+    }
+}
+
+/// Write comments as `//` lines at an indent.
+pub fn emit(out: &mut String, comments: &[Comment], indent: &str) {
+    for c in comments {
+        for l in &c.lines {
+            if l.is_empty() {
+                out.push_str(&format!("{indent}//\n"));
+            } else {
+                out.push_str(&format!("{indent}//{}{l}\n", if l.starts_with(' ') { "" } else { " " }));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_comments_but_not_in_strings() {
+        let c = collect("a // one\n\"x // no\" /* two\n  three */ b");
+        assert_eq!(c.len(), 2);
+        assert_eq!(c[0].lines, vec![" one"]);
+        assert_eq!(c[1].lines, vec!["two", "three"]);
+    }
+}

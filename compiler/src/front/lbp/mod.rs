@@ -1,0 +1,121 @@
+//! The LBP front end: a small pipeline language (grammar in `lbp.pest`) lowered to the same
+//! IR as RON, with every node's span; pest's errors become located diagnostics.
+
+mod lower;
+pub mod print;
+
+use crate::diag::{Diagnostic, Diagnostics};
+use crate::ir::Pipeline;
+use crate::span::{FileId, Span};
+use pest::Parser;
+
+#[derive(pest_derive::Parser)]
+#[grammar = "front/lbp/lbp.pest"]
+pub struct LbpParser;
+
+/// Words for grammar rules in "expected ..." messages.
+fn rule_word(r: &Rule) -> &'static str {
+    match r {
+        Rule::EOI => "end of file",
+        Rule::pipeline_decl => "`pipeline NAME`",
+        Rule::param => "`param`",
+        Rule::sampler => "`sampler`",
+        Rule::texture => "`texture`",
+        Rule::buffer => "`buffer`",
+        Rule::pass => "a pass (`raster`, `fullscreen`, `compute`)",
+        Rule::pass_kind => "`raster`, `fullscreen` or `compute`",
+        Rule::variant => "`variant`",
+        Rule::option => "`option`",
+        Rule::output => "`output`",
+        Rule::name | Rule::dotted | Rule::ident => "a name",
+        Rule::names => "names",
+        Rule::string | Rule::doc => "a string",
+        Rule::number => "a number",
+        Rule::uint => "a whole number",
+        Rule::bool => "`true` or `false`",
+        Rule::tuple => "a tuple `(a, b, ...)`",
+        Rule::value => "a value",
+        Rule::param_type | Rule::enum_type => "a parameter type",
+        Rule::range => "`in MIN..MAX`",
+        Rule::size | Rule::fixed | Rule::viewport => "a size (`viewport`, `viewport*S` or `WxH`)",
+        Rule::texture_opt | Rule::flag | Rule::layers | Rule::mips => "a texture option",
+        Rule::buffer_opt => "a buffer option",
+        Rule::per_light => "`per_light(...)`",
+        Rule::sampler_opt | Rule::sampler_word | Rule::mipmap => "a sampler option",
+        Rule::compare => "`compare`",
+        Rule::vertex | Rule::fragment | Rule::entry => "an entry point",
+        Rule::stage_ref => "an entry point name or \"file#entry\"",
+        Rule::draw
+        | Rule::cull
+        | Rule::instances
+        | Rule::multiview
+        | Rule::color
+        | Rule::depth
+        | Rule::reads
+        | Rule::writes
+        | Rule::params
+        | Rule::param_block
+        | Rule::bind
+        | Rule::when
+        | Rule::per_face
+        | Rule::dispatch => "a pass property",
+        Rule::target | Rule::target_opt | Rule::clear | Rule::load | Rule::blend | Rule::layer | Rule::nowrite => "a target option",
+        Rule::read | Rule::prev => "a resource or `prev(NAME)`",
+        Rule::binding => "`shader_name = resource`",
+        Rule::cond | Rule::not_cond | Rule::all_cond | Rule::any_cond | Rule::call_cond | Rule::reflective => "a condition",
+        Rule::groups | Rule::size_of => "`groups(x, y, z)` or `size(NAME)`",
+        Rule::option_opt | Rule::requires | Rule::limit | Rule::limit_item | Rule::fallback | Rule::shaders | Rule::shader_sub => {
+            "an option property"
+        }
+        _ => "something else",
+    }
+}
+
+fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagnostic {
+    let (start, end) = match e.location {
+        pest::error::InputLocation::Pos(p) => (p, p),
+        pest::error::InputLocation::Span((a, b)) => (a, b),
+    };
+    // Point at the offending token (or the end of the file).
+    let tok_end = text[start..]
+        .find(|c: char| c.is_whitespace() || "(){},:=".contains(c))
+        .map(|n| start + n.max(1))
+        .unwrap_or(text.len());
+    let end = end.max(tok_end.min(text.len()));
+    let found = if start >= text.len() {
+        "end of file".to_string()
+    } else {
+        format!("`{}`", &text[start..end.max(start + 1).min(text.len())])
+    };
+    let message = match &e.variant {
+        pest::error::ErrorVariant::ParsingError { positives, .. } => {
+            let mut words: Vec<&str> = positives.iter().map(rule_word).collect();
+            words.dedup();
+            words.retain(|w| *w != "something else");
+            if words.is_empty() {
+                format!("unexpected {found}")
+            } else {
+                format!("expected {}, found {found}", words.join(" or "))
+            }
+        }
+        pest::error::ErrorVariant::CustomError { message } => message.clone(),
+    };
+    Diagnostic::error("lbp-syntax", message, Span::new(file, start, end.max(start)))
+}
+
+/// Parse LBP text already in the source map. Problems go to `diags`.
+pub fn parse_pipeline(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<Pipeline> {
+    let pairs = match LbpParser::parse(Rule::file, text) {
+        Ok(p) => p,
+        Err(e) => {
+            diags.push(syntax_error(file, text, e));
+            return None;
+        }
+    };
+    let before = diags.error_count();
+    let p = lower::Lowerer { file, diags }.file(pairs);
+    if diags.error_count() > before {
+        return None;
+    }
+    p
+}
