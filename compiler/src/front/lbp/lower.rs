@@ -11,6 +11,34 @@ use pest::iterators::{Pair, Pairs};
 type P<'i> = Pair<'i, Rule>;
 type Res<T> = Option<T>;
 
+/// A color or depth target as written; color targets ignore `compare` and `write`.
+struct Target {
+    resource: Spanned<String>,
+    load: LoadOp,
+    blend: Option<Spanned<Blend>>,
+    layer: LayerSel,
+    compare: CompareFn,
+    write: bool,
+    span: Span,
+}
+
+/// Children of a pair without punctuation (which exists as rules only for error positions).
+trait Kids<'i> {
+    fn kids(self) -> std::iter::Filter<Pairs<'i, Rule>, fn(&P<'i>) -> bool>;
+}
+
+impl<'i> Kids<'i> for P<'i> {
+    fn kids(self) -> std::iter::Filter<Pairs<'i, Rule>, fn(&P<'i>) -> bool> {
+        fn keep(p: &P) -> bool {
+            !matches!(
+                p.as_rule(),
+                Rule::colon | Rule::equals | Rule::open_brace | Rule::close_brace | Rule::open_paren | Rule::close_paren
+            )
+        }
+        self.into_inner().filter(keep as fn(&P<'i>) -> bool)
+    }
+}
+
 /// Remove and return the property of this rule, if the pass has it.
 fn take<'i>(props: &mut Vec<P<'i>>, r: Rule) -> Option<P<'i>> {
     props.iter().position(|p| p.as_rule() == r).map(|i| props.remove(i))
@@ -65,7 +93,7 @@ impl Lowerer<'_> {
 
     fn string(&mut self, p: P) -> Res<Spanned<String>> {
         let span = self.span(&p);
-        let inner = p.into_inner().next().map(|i| i.as_str()).unwrap_or("");
+        let inner = p.kids().next().map(|i| i.as_str()).unwrap_or("");
         match unescape(inner) {
             Ok(s) => Some(Spanned::new(s, span)),
             Err(e) => {
@@ -78,7 +106,7 @@ impl Lowerer<'_> {
     /// A `name`: dotted identifier or quoted string.
     fn name(&mut self, p: P) -> Res<Spanned<String>> {
         let span = self.span(&p);
-        let inner = p.into_inner().next()?;
+        let inner = p.kids().next()?;
         match inner.as_rule() {
             Rule::string => self.string(inner),
             _ => Some(Spanned::new(inner.as_str().to_string(), span)),
@@ -86,7 +114,7 @@ impl Lowerer<'_> {
     }
 
     fn names(&mut self, p: P) -> Vec<Spanned<String>> {
-        p.into_inner().filter_map(|n| self.name(n)).collect()
+        p.kids().filter_map(|n| self.name(n)).collect()
     }
 
     fn uint(&mut self, p: &P) -> Res<Spanned<u32>> {
@@ -143,16 +171,14 @@ impl Lowerer<'_> {
     pub fn file(&mut self, mut pairs: Pairs<Rule>) -> Res<Pipeline> {
         let file = pairs.next()?;
         let span = self.span(&file);
-        let mut items = file.into_inner();
+        let mut items = file.kids();
         let decl = items.next()?;
-        let name = self.name(decl.into_inner().next()?)?;
-        let (mut params, mut samplers, mut resources, mut passes, mut variants): (
-            Vec<Param>,
-            Vec<SamplerDecl>,
-            Vec<Resource>,
-            Vec<Pass>,
-            Vec<Variant>,
-        ) = Default::default();
+        let name = self.name(decl.kids().next()?)?;
+        let mut params: Vec<Param> = vec![];
+        let mut samplers: Vec<SamplerDecl> = vec![];
+        let mut resources: Vec<Resource> = vec![];
+        let mut passes: Vec<Pass> = vec![];
+        let mut variants: Vec<Variant> = vec![];
         let mut output: Option<Spanned<String>> = None;
         for it in items {
             match it.as_rule() {
@@ -212,7 +238,7 @@ impl Lowerer<'_> {
                 }
                 Rule::output => {
                     let sp = self.span(&it);
-                    let n = it.into_inner().next().and_then(|n| self.name(n));
+                    let n = it.kids().next().and_then(|n| self.name(n));
                     if let Some(prev) = &output {
                         self.err(
                             Diagnostic::error("duplicate-key", "the pipeline has two `output` lines", sp)
@@ -250,14 +276,14 @@ impl Lowerer<'_> {
 
     fn param(&mut self, p: P) -> Res<Param> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let name = self.name(it.next()?)?;
         let ty_pair = it.next()?;
         let ty_span = self.span(&ty_pair);
-        let inner = ty_pair.into_inner().next()?;
+        let inner = ty_pair.kids().next()?;
         let ty = match inner.as_rule() {
             Rule::enum_type => {
-                let opts: Vec<String> = inner.into_inner().filter_map(|n| self.name(n)).map(|s| s.value).collect();
+                let opts: Vec<String> = inner.kids().filter_map(|n| self.name(n)).map(|s| s.value).collect();
                 ParamType::Enum(opts)
             }
             _ => self.word(&inner, "parameter type", &ParamType::NAMES, |s| match s {
@@ -276,28 +302,20 @@ impl Lowerer<'_> {
         for rest in it {
             match rest.as_rule() {
                 Rule::range => {
-                    let text = rest.as_str().to_string();
-                    let parts: Vec<P> = rest.into_inner().collect();
-                    // `in A..B`, `in A..`, `in ..B`: which side a lone value is on comes from the dots.
-                    let lone_is_max = text.trim_start_matches("in").trim_start().starts_with("..");
-                    match parts.len() {
-                        2 => {
-                            let mut ps = parts.into_iter();
-                            min = ps.next().and_then(|v| self.param_value(&ty, v));
-                            max = ps.next().and_then(|v| self.param_value(&ty, v));
+                    let max_only = rest.as_str().starts_with("max");
+                    let parts: Vec<P> = rest.kids().collect();
+                    let mut ps = parts.into_iter();
+                    match (ps.next(), ps.next()) {
+                        (Some(a), Some(b)) => {
+                            min = self.param_value(&ty, a);
+                            max = self.param_value(&ty, b);
                         }
-                        1 => {
-                            let v = parts.into_iter().next().and_then(|v| self.param_value(&ty, v));
-                            if lone_is_max {
-                                max = v
-                            } else {
-                                min = v
-                            }
-                        }
+                        (Some(a), None) if max_only => max = self.param_value(&ty, a),
+                        (Some(a), None) => min = self.param_value(&ty, a),
                         _ => {}
                     }
                 }
-                Rule::doc => doc = rest.into_inner().next().and_then(|s| self.string(s)).map(|s| s.value),
+                Rule::doc => doc = rest.kids().next().and_then(|s| self.string(s)).map(|s| s.value),
                 _ => {}
             }
         }
@@ -314,7 +332,7 @@ impl Lowerer<'_> {
 
     fn param_value(&mut self, ty: &ParamType, p: P) -> Res<Spanned<ParamValue>> {
         let span = self.span(&p);
-        let inner = p.into_inner().next()?;
+        let inner = p.kids().next()?;
         let v = match (ty, inner.as_rule()) {
             (ParamType::Float, Rule::number) => ParamValue::Float(self.number(&inner)?),
             (ParamType::Int, Rule::number) => match inner.as_str().parse::<i64>() {
@@ -329,7 +347,7 @@ impl Lowerer<'_> {
                 }
             },
             (ParamType::Bool, Rule::bool) => ParamValue::Bool(inner.as_str() == "true"),
-            (ParamType::Enum(opts), Rule::ident | Rule::string) => {
+            (ParamType::Enum(opts), Rule::dotted | Rule::string) => {
                 let s = if inner.as_rule() == Rule::string {
                     self.string(inner)?.value
                 } else {
@@ -347,7 +365,7 @@ impl Lowerer<'_> {
             }
             (t, Rule::tuple) if t.components().is_some() => {
                 let n = t.components().unwrap_or(0);
-                let items: Vec<P> = inner.into_inner().collect();
+                let items: Vec<P> = inner.kids().collect();
                 if items.len() != n && !(matches!(t, ParamType::Color) && items.len() == 4) {
                     self.err(Diagnostic::error(
                         "param-type",
@@ -383,7 +401,7 @@ impl Lowerer<'_> {
 
     fn sampler(&mut self, p: P) -> Res<SamplerDecl> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let name = self.name(it.next()?)?;
         let (mut filter, mut mipmap, mut address, mut compare) = (FilterMode::Linear, FilterMode::Nearest, AddressMode::ClampToEdge, None);
         let filter_of = |s: &str| match s {
@@ -392,14 +410,14 @@ impl Lowerer<'_> {
             _ => None,
         };
         for opt in it {
-            let o = opt.into_inner().next()?;
+            let o = opt.kids().next()?;
             match o.as_rule() {
                 Rule::mipmap => {
-                    let w = o.into_inner().next()?;
+                    let w = o.kids().next()?;
                     mipmap = self.word(&w, "mipmap filter", &["Nearest", "Linear"], filter_of)?;
                 }
                 Rule::compare => {
-                    let w = o.into_inner().next()?;
+                    let w = o.kids().next()?;
                     compare = Some(self.word(&w, "compare function", &CompareFn::NAMES, CompareFn::from_name)?);
                 }
                 _ => match o.as_str() {
@@ -434,7 +452,7 @@ impl Lowerer<'_> {
     fn per_light(&mut self, p: P) -> Res<Spanned<Vec<LightKind>>> {
         let span = self.span(&p);
         let mut kinds = vec![];
-        for k in p.into_inner() {
+        for k in p.kids() {
             let kind = self.word(&k, "light kind", &LightKind::NAMES, LightKind::from_name)?;
             if !kinds.contains(&kind) {
                 kinds.push(kind);
@@ -445,7 +463,7 @@ impl Lowerer<'_> {
 
     fn texture(&mut self, p: P) -> Res<Resource> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let name = self.name(it.next()?)?;
         let fp = it.next()?;
         let format = Spanned::new(
@@ -454,10 +472,10 @@ impl Lowerer<'_> {
         );
         let sp = it.next()?;
         let size_span = self.span(&sp);
-        let s = sp.into_inner().next()?;
+        let s = sp.kids().next()?;
         let size = match s.as_rule() {
             Rule::fixed => {
-                let mut d = s.into_inner();
+                let mut d = s.kids();
                 let w = self.uint(&d.next()?)?.value;
                 let h = self.uint(&d.next()?)?.value;
                 if w == 0 || h == 0 {
@@ -470,7 +488,7 @@ impl Lowerer<'_> {
                 }
                 SizeSpec::Fixed { width: w, height: h }
             }
-            _ => match s.into_inner().next() {
+            _ => match s.kids().next() {
                 None => SizeSpec::Viewport { scale: 1.0 },
                 Some(n) => {
                     let scale = self.number(&n)?;
@@ -497,10 +515,10 @@ impl Lowerer<'_> {
             external: false,
         };
         for opt in it {
-            let o = opt.into_inner().next()?;
+            let o = opt.kids().next()?;
             match o.as_rule() {
-                Rule::layers => desc.layers = self.uint(&o.into_inner().next()?)?,
-                Rule::mips => desc.mips = self.uint(&o.into_inner().next()?)?,
+                Rule::layers => desc.layers = self.uint(&o.kids().next()?)?,
+                Rule::mips => desc.mips = self.uint(&o.kids().next()?)?,
                 Rule::per_light => desc.per_light = Some(self.per_light(o)?),
                 _ => match o.as_str() {
                     "D2" => desc.view = Spanned::new(ViewDim::D2, self.span(&o)),
@@ -531,7 +549,7 @@ impl Lowerer<'_> {
 
     fn buffer(&mut self, p: P) -> Res<Resource> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let name = self.name(it.next()?)?;
         let sp = it.next()?;
         let size = match sp.as_str().parse::<u64>() {
@@ -552,7 +570,7 @@ impl Lowerer<'_> {
             external: false,
         };
         for opt in it {
-            let o = opt.into_inner().next()?;
+            let o = opt.kids().next()?;
             match o.as_rule() {
                 Rule::per_light => desc.per_light = Some(self.per_light(o)?),
                 _ => match o.as_str() {
@@ -579,7 +597,7 @@ impl Lowerer<'_> {
         let (text, span) = match given {
             Some(p) => {
                 let span = self.span(&p);
-                let inner = p.into_inner().next()?;
+                let inner = p.kids().next()?;
                 let t = if inner.as_rule() == Rule::string {
                     self.string(inner)?.value
                 } else {
@@ -610,20 +628,20 @@ impl Lowerer<'_> {
         })
     }
 
-    fn target(&mut self, p: P, depth: bool) -> Res<(Spanned<String>, LoadOp, Option<Spanned<Blend>>, LayerSel, CompareFn, bool, Span)> {
+    fn target(&mut self, p: P, depth: bool) -> Res<Target> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let resource = self.name(it.next()?)?;
         let mut load = LoadOp::Clear(if depth { vec![1.0] } else { vec![0.0; 4] });
         let (mut blend, mut layer, mut compare, mut write) = (None, LayerSel::Base, CompareFn::Less, true);
         for opt in it {
-            let o = opt.into_inner().next()?;
+            let o = opt.kids().next()?;
             let ospan = self.span(&o);
             match o.as_rule() {
                 Rule::clear => {
-                    let t = o.into_inner().next()?;
+                    let t = o.kids().next()?;
                     let mut v = vec![];
-                    for n in t.into_inner() {
+                    for n in t.kids() {
                         v.push(self.number(&n)?);
                     }
                     if v.len() != if depth { 1 } else { 4 } {
@@ -642,7 +660,7 @@ impl Lowerer<'_> {
                 }
                 Rule::load => load = LoadOp::Load,
                 Rule::blend if !depth => {
-                    let w = o.into_inner().next()?;
+                    let w = o.kids().next()?;
                     let b = self.word(&w, "blend mode", &["Add", "Alpha", "Multiply"], |s| match s {
                         "Add" => Some(Blend::Add),
                         "Alpha" => Some(Blend::Alpha),
@@ -652,7 +670,7 @@ impl Lowerer<'_> {
                     blend = Some(Spanned::new(b, ospan));
                 }
                 Rule::layer => {
-                    let w = o.into_inner().next()?;
+                    let w = o.kids().next()?;
                     layer = if w.as_rule() == Rule::uint {
                         LayerSel::Index(self.uint(&w)?.value)
                     } else {
@@ -665,7 +683,7 @@ impl Lowerer<'_> {
                     };
                 }
                 Rule::compare if depth => {
-                    let w = o.into_inner().next()?;
+                    let w = o.kids().next()?;
                     compare = self.word(&w, "compare function", &CompareFn::NAMES, CompareFn::from_name)?;
                 }
                 Rule::nowrite if depth => write = false,
@@ -683,12 +701,20 @@ impl Lowerer<'_> {
                 }
             }
         }
-        Some((resource, load, blend, layer, compare, write, span))
+        Some(Target {
+            resource,
+            load,
+            blend,
+            layer,
+            compare,
+            write,
+            span,
+        })
     }
 
     fn pass(&mut self, p: P) -> Res<Pass> {
         let span = self.span(&p);
-        let mut it = p.into_inner().peekable();
+        let mut it = p.kids().peekable();
         let kind_word = it.next()?.as_str().to_string();
         let name = self.name(it.next()?)?;
         let shader = match it.peek().map(|n| n.as_rule()) {
@@ -736,9 +762,9 @@ impl Lowerer<'_> {
             "raster" => {
                 let draw = match take(&mut props, Rule::draw) {
                     Some(d) => {
-                        let inner = d.into_inner().next()?;
+                        let inner = d.kids().next()?;
                         match inner.as_rule() {
-                            Rule::vertices => Draw::Vertices(self.uint(&inner.into_inner().next()?)?.value),
+                            Rule::vertices => Draw::Vertices(self.uint(&inner.kids().next()?)?.value),
                             _ if inner.as_str() == "Scene" => Draw::Scene,
                             _ => {
                                 self.err(
@@ -753,7 +779,7 @@ impl Lowerer<'_> {
                 };
                 let cull = match take(&mut props, Rule::cull) {
                     Some(c) => {
-                        let w = c.into_inner().next()?;
+                        let w = c.kids().next()?;
                         self.word(&w, "cull mode", &["None", "Front", "Back"], |s| match s {
                             "None" => Some(CullMode::None),
                             "Front" => Some(CullMode::Front),
@@ -764,22 +790,22 @@ impl Lowerer<'_> {
                     None => CullMode::Back,
                 };
                 let instances = match take(&mut props, Rule::instances) {
-                    Some(n) => self.uint(&n.into_inner().next()?)?.value.max(1),
+                    Some(n) => self.uint(&n.kids().next()?)?.value.max(1),
                     None => 1,
                 };
                 let multiview = match take(&mut props, Rule::multiview) {
-                    Some(n) => Some(self.uint(&n.into_inner().next()?)?),
+                    Some(n) => Some(self.uint(&n.kids().next()?)?),
                     None => None,
                 };
                 let v = self.stage(
                     &shader,
-                    take(&mut props, Rule::vertex).and_then(|p| p.into_inner().next()),
+                    take(&mut props, Rule::vertex).and_then(|p| p.kids().next()),
                     naga::ShaderStage::Vertex,
                     span,
                 )?;
                 let f = match take(&mut props, Rule::fragment) {
                     Some(fp) => {
-                        let inner = fp.into_inner().next()?;
+                        let inner = fp.kids().next()?;
                         if inner.as_rule() == Rule::none {
                             None
                         } else {
@@ -806,12 +832,12 @@ impl Lowerer<'_> {
                     file: Spanned::new(crate::shader::FULLSCREEN_FILE.to_string(), span),
                     entry: Spanned::new(crate::shader::FULLSCREEN_ENTRY.to_string(), span),
                 };
-                let fg = take(&mut props, Rule::fragment).and_then(|p| p.into_inner().next());
+                let fg = take(&mut props, Rule::fragment).and_then(|p| p.kids().next());
                 let f = self.stage(&shader, fg, naga::ShaderStage::Fragment, span)?;
                 (PassKind::Fullscreen, Some(v), Some(f), None)
             }
             _ => {
-                let eg = take(&mut props, Rule::entry).and_then(|p| p.into_inner().next());
+                let eg = take(&mut props, Rule::entry).and_then(|p| p.kids().next());
                 let c = self.stage(&shader, eg, naga::ShaderStage::Compute, span)?;
                 let Some(d) = take(&mut props, Rule::dispatch) else {
                     self.err(
@@ -820,17 +846,17 @@ impl Lowerer<'_> {
                     );
                     return None;
                 };
-                let inner = d.into_inner().next()?;
+                let inner = d.kids().next()?;
                 let dispatch = match inner.as_rule() {
                     Rule::groups => {
-                        let mut g = inner.into_inner();
+                        let mut g = inner.kids();
                         Dispatch::Groups(
                             self.uint(&g.next()?)?.value,
                             self.uint(&g.next()?)?.value,
                             self.uint(&g.next()?)?.value,
                         )
                     }
-                    _ => Dispatch::Size(self.name(inner.into_inner().next()?)?),
+                    _ => Dispatch::Size(self.name(inner.kids().next()?)?),
                 };
                 (PassKind::Compute { dispatch }, None, None, Some(c))
             }
@@ -856,50 +882,50 @@ impl Lowerer<'_> {
         for item in props {
             match item.as_rule() {
                 Rule::reads => {
-                    for r in item.into_inner() {
-                        let inner = r.into_inner().next()?;
+                    for r in item.kids() {
+                        let inner = r.kids().next()?;
                         if inner.as_rule() == Rule::prev {
-                            pass.reads.push(Read::Prev(self.name(inner.into_inner().next()?)?));
+                            pass.reads.push(Read::Prev(self.name(inner.kids().next()?)?));
                         } else {
                             pass.reads.push(Read::Current(self.name(inner)?));
                         }
                     }
                 }
-                Rule::writes => pass.writes = self.names(item.into_inner().next()?),
-                Rule::params => pass.params = self.names(item.into_inner().next()?),
-                Rule::param_block => pass.param_block = self.name(item.into_inner().next()?)?,
+                Rule::writes => pass.writes = self.names(item.kids().next()?),
+                Rule::params => pass.params = self.names(item.kids().next()?),
+                Rule::param_block => pass.param_block = self.name(item.kids().next()?)?,
                 Rule::bind => {
-                    for b in item.into_inner() {
-                        let mut kv = b.into_inner();
+                    for b in item.kids() {
+                        let mut kv = b.kids();
                         let k = self.name(kv.next()?)?;
                         let v = self.name(kv.next()?)?;
                         pass.bind.push((k, v));
                     }
                 }
-                Rule::when => pass.when = Some(self.cond(item.into_inner().next()?)?),
+                Rule::when => pass.when = Some(self.cond(item.kids().next()?)?),
                 Rule::per_light => pass.per_light = Some(self.per_light(item)?),
                 Rule::per_face => pass.per_face = true,
                 Rule::color => {
-                    for t in item.into_inner() {
-                        let (resource, load, blend, layer, _, _, span) = self.target(t, false)?;
+                    for t in item.kids() {
+                        let t = self.target(t, false)?;
                         pass.color.push(ColorTarget {
-                            resource,
-                            load,
-                            blend,
-                            layer,
-                            span,
+                            resource: t.resource,
+                            load: t.load,
+                            blend: t.blend,
+                            layer: t.layer,
+                            span: t.span,
                         });
                     }
                 }
                 Rule::depth => {
-                    let (resource, load, _, layer, compare, write, span) = self.target(item.into_inner().next()?, true)?;
+                    let t = self.target(item.kids().next()?, true)?;
                     pass.depth = Some(DepthTarget {
-                        resource,
-                        load,
-                        compare,
-                        write,
-                        layer,
-                        span,
+                        resource: t.resource,
+                        load: t.load,
+                        compare: t.compare,
+                        write: t.write,
+                        layer: t.layer,
+                        span: t.span,
                     });
                 }
                 _ => {}
@@ -910,14 +936,14 @@ impl Lowerer<'_> {
 
     fn cond(&mut self, p: P) -> Res<Spanned<Condition>> {
         let span = self.span(&p);
-        let inner = p.into_inner().next()?;
+        let inner = p.kids().next()?;
         let c = match inner.as_rule() {
             Rule::reflective => Condition::Reflective,
-            Rule::not_cond => Condition::Not(Box::new(self.cond(inner.into_inner().next()?)?)),
+            Rule::not_cond => Condition::Not(Box::new(self.cond(inner.kids().next()?)?)),
             Rule::all_cond | Rule::any_cond => {
                 let all = inner.as_rule() == Rule::all_cond;
                 let mut cs = vec![];
-                for c in inner.into_inner() {
+                for c in inner.kids() {
                     cs.push(self.cond(c)?);
                 }
                 if all {
@@ -927,7 +953,7 @@ impl Lowerer<'_> {
                 }
             }
             _ => {
-                let mut it = inner.into_inner();
+                let mut it = inner.kids();
                 let f = it.next()?;
                 let fname = f.as_str().to_string();
                 let args: Vec<P> = it.collect();
@@ -980,14 +1006,14 @@ impl Lowerer<'_> {
 
     fn variant(&mut self, p: P) -> Res<Variant> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let name = self.name(it.next()?)?;
         let default = self.name(it.next()?)?;
         let mut doc = None;
         let mut options: Vec<VariantOption> = vec![];
         for item in it {
             match item.as_rule() {
-                Rule::doc => doc = item.into_inner().next().and_then(|s| self.string(s)).map(|s| s.value),
+                Rule::doc => doc = item.kids().next().and_then(|s| self.string(s)).map(|s| s.value),
                 Rule::option => {
                     let Some(o) = self.option(item) else { continue };
                     let prev = options.iter().find(|q| q.name.value == o.name.value).map(|q| q.name.span);
@@ -1011,7 +1037,7 @@ impl Lowerer<'_> {
 
     fn option(&mut self, p: P) -> Res<VariantOption> {
         let span = self.span(&p);
-        let mut it = p.into_inner();
+        let mut it = p.kids();
         let name = self.name(it.next()?)?;
         let mut o = VariantOption {
             name,
@@ -1024,19 +1050,19 @@ impl Lowerer<'_> {
         };
         for item in it {
             match item.as_rule() {
-                Rule::doc => o.doc = item.into_inner().next().and_then(|s| self.string(s)).map(|s| s.value),
+                Rule::doc => o.doc = item.kids().next().and_then(|s| self.string(s)).map(|s| s.value),
                 Rule::option_opt => {
-                    let inner = item.into_inner().next()?;
+                    let inner = item.kids().next()?;
                     match inner.as_rule() {
                         Rule::requires => {
-                            for f in inner.into_inner() {
+                            for f in inner.kids() {
                                 let feat = self.word(&f, "feature", Feature::NAMES, Feature::from_name)?;
                                 o.requires.push(Spanned::new(feat, self.span(&f)));
                             }
                         }
                         Rule::limit => {
-                            for li in inner.into_inner() {
-                                let mut kv = li.into_inner();
+                            for li in inner.kids() {
+                                let mut kv = li.kids();
                                 let k = kv.next()?;
                                 let kspan = self.span(&k);
                                 if !crate::profile::Limits::NAMES.contains(&k.as_str()) {
@@ -1051,10 +1077,10 @@ impl Lowerer<'_> {
                                     .push((Spanned::new(k.as_str().to_string(), kspan), Spanned::new(v.value as u64, v.span)));
                             }
                         }
-                        Rule::fallback => o.fallback = Some(self.name(inner.into_inner().next()?)?),
+                        Rule::fallback => o.fallback = Some(self.name(inner.kids().next()?)?),
                         _ => {
-                            for sub in inner.into_inner() {
-                                let mut kv = sub.into_inner();
+                            for sub in inner.kids() {
+                                let mut kv = sub.kids();
                                 let k = self.name(kv.next()?)?;
                                 let v = self.string(kv.next()?)?;
                                 o.shaders.push((k, v));

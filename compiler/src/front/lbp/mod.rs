@@ -17,6 +17,12 @@ pub struct LbpParser;
 fn rule_word(r: &Rule) -> &'static str {
     match r {
         Rule::EOI => "end of file",
+        Rule::colon => "`:`",
+        Rule::equals => "`=`",
+        Rule::open_brace => "`{`",
+        Rule::close_brace => "`}`",
+        Rule::open_paren => "`(`",
+        Rule::close_paren => "`)`",
         Rule::pipeline_decl => "`pipeline NAME`",
         Rule::param => "`param`",
         Rule::sampler => "`sampler`",
@@ -36,7 +42,7 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::tuple => "a tuple `(a, b, ...)`",
         Rule::value => "a value",
         Rule::param_type | Rule::enum_type => "a parameter type",
-        Rule::range => "`in MIN..MAX`",
+        Rule::range => "`in MIN..MAX`, `min V` or `max V`",
         Rule::size | Rule::fixed | Rule::viewport => "a size (`viewport`, `viewport*S` or `WxH`)",
         Rule::texture_opt | Rule::flag | Rule::layers | Rule::mips => "a texture option",
         Rule::buffer_opt => "a buffer option",

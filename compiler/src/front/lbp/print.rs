@@ -124,10 +124,17 @@ pub fn print(p: &Pipeline, source: Option<&str>) -> String {
             t => t.name().to_string(),
         };
         let mut line = format!("param {}: {ty} = {}", name(&prm.name), value(&prm.default));
-        if prm.min.is_some() || prm.max.is_some() {
-            let lo = prm.min.as_ref().map(|v| value(v)).unwrap_or_default();
-            let hi = prm.max.as_ref().map(|v| value(v)).unwrap_or_default();
-            let _ = write!(line, " in {lo}..{hi}");
+        match (&prm.min, &prm.max) {
+            (Some(lo), Some(hi)) => {
+                let _ = write!(line, " in {}..{}", value(lo), value(hi));
+            }
+            (Some(lo), None) => {
+                let _ = write!(line, " min {}", value(lo));
+            }
+            (None, Some(hi)) => {
+                let _ = write!(line, " max {}", value(hi));
+            }
+            (None, None) => {}
         }
         if let Some(d) = &prm.doc {
             let _ = write!(line, " {}", quote(d));

@@ -1,0 +1,648 @@
+//! The LBP language: same IR as RON for the bundled pipelines, lossless conversion both ways,
+//! an idempotent formatter that keeps comments, located errors, and no panics on any input.
+
+mod common;
+
+use common::*;
+use lightbench_compiler::front::{lbp, ron};
+use lightbench_compiler::ir::Pipeline;
+use lightbench_compiler::Session;
+
+fn parse(name: &str, text: &str) -> (Option<Pipeline>, Session) {
+    let mut s = Session::new();
+    let p = s.parse_pipeline(name, text.to_string());
+    (p, s)
+}
+
+fn parse_ok(name: &str, text: &str) -> Pipeline {
+    let (p, s) = parse(name, text);
+    assert!(!s.diags.has_errors(), "{}\n{text}", s.render());
+    p.expect("pipeline")
+}
+
+#[test]
+fn bundled_pipelines_ron_and_lbp_give_the_same_ir() {
+    let dir = repo_root().join("pipelines");
+    let mut pairs = 0;
+    for f in lightbench_compiler::pipeline_files(&dir).unwrap() {
+        if f.extension().and_then(|e| e.to_str()) != Some("ron") {
+            continue;
+        }
+        let lbp_path = f.with_extension("lbp");
+        assert!(lbp_path.is_file(), "{} has no .lbp twin", f.display());
+        let ron_text = std::fs::read_to_string(&f).unwrap();
+        let lbp_text = std::fs::read_to_string(&lbp_path).unwrap();
+        let from_ron = parse_ok("p.ron", &ron_text);
+        let from_lbp = parse_ok("p.lbp", &lbp_text);
+        assert!(from_ron.same_as(&from_lbp), "{}: RON and LBP differ", f.display());
+        // RON -> LBP -> RON -> IR is the same IR.
+        let as_lbp = lbp::print::print(&from_ron, Some(&ron_text));
+        let back = ron::print::print(&parse_ok("p.lbp", &as_lbp), Some(&as_lbp));
+        assert!(
+            parse_ok("p.ron", &back).same_as(&from_ron),
+            "RON -> LBP -> RON changed the IR:\n{back}"
+        );
+        // The shipped .lbp is in canonical form, and formatting is idempotent.
+        assert_eq!(
+            lbp::print::print(&from_lbp, Some(&lbp_text)),
+            lbp_text,
+            "{} is not formatted",
+            lbp_path.display()
+        );
+        pairs += 1;
+    }
+    assert!(pairs >= 1);
+}
+
+#[test]
+fn formatting_keeps_comments_and_is_idempotent() {
+    let src = "// top\npipeline p // trailing\n/* block\n   two */\ntexture out: Rgba8Unorm viewport\nfullscreen f \"f.wgsl\" {\n  // inside\n  color out\n}\n// before output\noutput out\n// last\n";
+    let once = lbp::print::print(&parse_ok("p.lbp", src), Some(src));
+    for c in [
+        "// top",
+        "// trailing",
+        "// block",
+        "// two",
+        "    // inside",
+        "// before output",
+        "// last",
+    ] {
+        assert!(once.contains(c), "lost `{c}`:\n{once}");
+    }
+    let twice = lbp::print::print(&parse_ok("p.lbp", &once), Some(&once));
+    assert_eq!(once, twice);
+}
+
+#[test]
+fn names_that_are_not_identifiers_are_quoted() {
+    let src = "pipeline \"my pipe\"\n\ntexture \"out put\": Rgba8Unorm viewport\ntexture \"none\": R8Unorm 4x4\n\nfullscreen f \"f.wgsl\" {\n    reads \"none\"\n    color \"out put\"\n}\n\noutput \"out put\"\n";
+    let p = parse_ok("p.lbp", src);
+    assert_eq!(p.name.value, "my pipe");
+    assert_eq!(lbp::print::print(&p, Some(src)), src);
+}
+
+/// (source, code, message fragment, line, column)
+const BAD: &[(&str, &str, &str, usize, usize)] = &[
+    (
+        "pipeline p\ntexture out Rgba8Unorm viewport\noutput out\n",
+        "lbp-syntax",
+        "expected",
+        2,
+        13,
+    ),
+    (
+        "pipeline p\ntexure out: Rgba8Unorm viewport\noutput out\n",
+        "lbp-syntax",
+        "expected end of file or `param`",
+        2,
+        1,
+    ),
+    (
+        "pipeline p\nparam doc: Float = 1 \"unterminated\noutput out\n",
+        "lbp-syntax",
+        "expected",
+        2,
+        22,
+    ),
+    (
+        "pipeline p\ntexture out: Rgba8Unorm viewport\ntexture out: R8Unorm 4x4\noutput out\n",
+        "duplicate-name",
+        "resource `out` is declared twice",
+        3,
+        9,
+    ),
+    (
+        "pipeline p\nparam x: Int = 1.5\noutput out\n",
+        "param-type",
+        "Int parameter: `1.5` is not a whole number",
+        2,
+        16,
+    ),
+    (
+        "pipeline p\ntexture t: R8Unorm 99999999999x4\noutput t\n",
+        "bad-number",
+        "`99999999999` is not a 32-bit whole number",
+        2,
+        20,
+    ),
+    (
+        "pipeline p\ntexture t: Rgba8Unrom viewport\noutput t\n",
+        "unknown-value",
+        "unknown texture format `Rgba8Unrom`",
+        2,
+        12,
+    ),
+    ("pipeline p\noption a\noutput out\n", "lbp-syntax", "expected", 2, 1),
+    (
+        "pipeline p\ncompute c \"c.wgsl\" {\n    color out\n    dispatch groups(1, 1, 1)\n    cull None\n}\noutput out\n",
+        "misplaced",
+        "`cull` is not a property of compute passes",
+        5,
+        5,
+    ),
+    (
+        "pipeline p\nfullscreen f \"f.wgsl\" {\n    color out\n    color out\n}\noutput out\n",
+        "duplicate-key",
+        "`color` is given twice in pass `f`",
+        4,
+        5,
+    ),
+    (
+        "pipeline p\nfullscreen f \"f.wgsl\" {\n    color out\n    when effect(Bloomm)\n}\noutput out\n",
+        "unknown-effect",
+        "unknown effect `Bloomm`",
+        4,
+        17,
+    ),
+    (
+        "pipeline p\nfullscreen f \"f.wgsl\" {\n    color out\n    when lite(Point)\n}\noutput out\n",
+        "unknown-kind",
+        "unknown condition `lite`",
+        4,
+        10,
+    ),
+    (
+        "pipeline p\ntexture out: Rgba8Unorm viewport\n",
+        "missing-key",
+        "pipeline has no `output` line",
+        3,
+        1,
+    ),
+    (
+        "pipeline p\ncompute c \"c.wgsl\" {\n    writes out\n}\noutput out\n",
+        "missing-key",
+        "compute pass `c` has no `dispatch`",
+        2,
+        9,
+    ),
+    (
+        "pipeline p\nvariant v = a {\n    option a requires(Multiveiw)\n}\noutput out\n",
+        "unknown-value",
+        "unknown feature `Multiveiw`",
+        3,
+        23,
+    ),
+    (
+        "pipeline p\nparam s: Float = 1 \"bad \\q escape\"\noutput out\n",
+        "lbp-syntax",
+        "unknown escape `\\q`",
+        2,
+        20,
+    ),
+    (
+        "pipeline p\nfullscreen f \"f.wgsl\" {\n    color out compare Less\n}\noutput out\n",
+        "misplaced",
+        "`compare` does not apply to a color target",
+        3,
+        15,
+    ),
+    (
+        "pipeline p\nparam m: enum(a, b) = c\noutput out\n",
+        "unknown-value",
+        "`c` is not an option of this Enum",
+        2,
+        23,
+    ),
+    (
+        "pipeline p\ntexture t: R8Unorm viewport*0\noutput t\n",
+        "value-out-of-range",
+        "viewport scale must be in (0, 16]",
+        2,
+        29,
+    ),
+    ("", "lbp-syntax", "expected `pipeline NAME`", 1, 1),
+];
+
+#[test]
+fn bad_lbp_inputs_are_located() {
+    let mut failures = vec![];
+    for (i, (src, code, msg, line, col)) in BAD.iter().enumerate() {
+        let (_, s) = parse("bad.lbp", src);
+        let hit = s.diags.list.iter().any(|d| {
+            let loc = d.location(&s.sources).map(|(_, l, c)| (l, c));
+            d.code == *code && d.message.contains(msg) && loc == Some((*line, *col))
+        });
+        if !hit {
+            let got: Vec<String> = s
+                .diags
+                .list
+                .iter()
+                .map(|d| {
+                    let (_, l, c) = d.location(&s.sources).unwrap_or_default();
+                    format!("[{}] {l}:{c} {}", d.code, d.message)
+                })
+                .collect();
+            failures.push(format!("case {i}: expected [{code}] {msg:?} at {line}:{col}, got {got:?}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(BAD.len() >= 12);
+}
+
+#[test]
+fn semantic_errors_point_into_lbp_files() {
+    // The same checks as for RON, located in the .lbp text.
+    let dir = write_project(
+        "lbp-sem",
+        &[
+            ("pipelines/p.lbp", "pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {\n    reads missing\n    color out\n}\noutput out\n"),
+            ("shaders/fill.wgsl", "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0);\n}\n"),
+        ],
+    );
+    let out = check_project(&dir, "pipelines/p.lbp", &lightbench_compiler::profile::Profile::vulkan(), None);
+    let found = out.located();
+    assert!(
+        found.iter().any(|(c, m, f, l, co)| c == "unknown-resource"
+            && m == "no resource named `missing`"
+            && f == "pipelines/p.lbp"
+            && (*l, *co) == (4, 11)),
+        "{found:?}"
+    );
+}
+
+mod generated {
+    //! Random valid IRs: print as LBP (and RON), parse, same IR; the formatter is idempotent.
+
+    use super::*;
+    use lightbench_compiler::format::TextureFormat;
+    use lightbench_compiler::ir::*;
+    use lightbench_compiler::profile::{Feature, Limits};
+    use lightbench_compiler::span::{Span, Spanned};
+    use proptest::prelude::*;
+
+    fn sp<T>(v: T) -> Spanned<T> {
+        Spanned::new(v, Span::default())
+    }
+
+    fn ident() -> impl Strategy<Value = String> {
+        "[a-z_][a-z0-9_]{0,5}(\\.[a-z][a-z0-9]{0,4})?"
+    }
+
+    /// Names, sometimes needing quotes.
+    fn name() -> impl Strategy<Value = String> {
+        prop_oneof![4 => ident(), 1 => "[ -~]{1,8}".prop_filter("no hash", |s| !s.contains('#'))]
+    }
+
+    fn text() -> impl Strategy<Value = String> {
+        "[ -~äé\\n\\t]{0,16}"
+    }
+
+    fn float() -> impl Strategy<Value = f64> {
+        prop_oneof![-1e6..1e6f64, Just(0.0), Just(1.0), (-1000i32..1000).prop_map(|i| i as f64 / 8.0)]
+    }
+
+    fn kinds() -> impl Strategy<Value = Vec<LightKind>> {
+        proptest::sample::subsequence(LightKind::ALL.to_vec(), 1..=3)
+    }
+
+    fn param(n: String) -> impl Strategy<Value = Param> {
+        let ty = prop_oneof![
+            Just(ParamType::Float),
+            Just(ParamType::Int),
+            Just(ParamType::Bool),
+            Just(ParamType::Vec2),
+            Just(ParamType::Vec3),
+            Just(ParamType::Vec4),
+            Just(ParamType::Color),
+            proptest::collection::btree_set(name(), 1..4).prop_map(|s| ParamType::Enum(s.into_iter().collect())),
+        ];
+        (ty, any::<u64>(), proptest::option::of(text()), any::<bool>()).prop_flat_map(move |(ty, seed, doc, ranged)| {
+            let value = |ty: &ParamType, seed: u64| -> BoxedStrategy<ParamValue> {
+                match ty {
+                    ParamType::Float => float().prop_map(ParamValue::Float).boxed(),
+                    ParamType::Int => any::<i64>().prop_map(ParamValue::Int).boxed(),
+                    ParamType::Bool => any::<bool>().prop_map(ParamValue::Bool).boxed(),
+                    ParamType::Enum(opts) => Just(ParamValue::Enum(opts[seed as usize % opts.len()].clone())).boxed(),
+                    t => proptest::collection::vec(float(), t.components().unwrap_or(1))
+                        .prop_map(ParamValue::Vec)
+                        .boxed(),
+                }
+            };
+            let n = n.clone();
+            (
+                value(&ty, seed),
+                proptest::option::of(value(&ty, seed / 3)),
+                proptest::option::of(value(&ty, seed / 7)),
+            )
+                .prop_map(move |(d, lo, hi)| Param {
+                    name: sp(n.clone()),
+                    ty: sp(ty.clone()),
+                    default: sp(d),
+                    min: if ranged { lo.map(sp) } else { None },
+                    max: if ranged { hi.map(sp) } else { None },
+                    doc: doc.clone(),
+                    span: Span::default(),
+                })
+        })
+    }
+
+    fn resource(n: String) -> impl Strategy<Value = Resource> {
+        let texture = (
+            proptest::sample::select(TextureFormat::ALL.to_vec()),
+            prop_oneof![
+                (1u32..5000, 1u32..5000).prop_map(|(w, h)| SizeSpec::Fixed { width: w, height: h }),
+                (1u32..64).prop_map(|s| SizeSpec::Viewport { scale: s as f64 / 4.0 })
+            ],
+            1u32..300,
+            proptest::sample::select(vec![ViewDim::D2, ViewDim::D2Array, ViewDim::Cube]),
+            1u32..12,
+            proptest::option::of(kinds()),
+            any::<bool>(),
+            any::<bool>(),
+        )
+            .prop_map(|(f, size, layers, view, mips, per, history, external)| {
+                ResourceKind::Texture(TextureDesc {
+                    format: sp(f),
+                    size: sp(size),
+                    layers: sp(layers),
+                    view: sp(view),
+                    mips: sp(mips),
+                    per_light: per.map(sp),
+                    history,
+                    external,
+                })
+            });
+        let buffer =
+            (1u64..1 << 40, proptest::option::of(kinds()), any::<bool>(), any::<bool>()).prop_map(|(size, per, history, external)| {
+                ResourceKind::Buffer(BufferDesc {
+                    size: sp(size),
+                    per_light: per.map(sp),
+                    history,
+                    external,
+                })
+            });
+        prop_oneof![3 => texture, 1 => buffer].prop_map(move |kind| Resource {
+            name: sp(n.clone()),
+            kind,
+            span: Span::default(),
+        })
+    }
+
+    fn cond() -> impl Strategy<Value = Condition> {
+        let leaf = prop_oneof![
+            proptest::sample::select(LightKind::ALL.to_vec()).prop_map(Condition::Light),
+            proptest::sample::select(Effect::ALL.to_vec()).prop_map(Condition::Effect),
+            Just(Condition::Reflective),
+            name().prop_map(|n| Condition::Toggle(sp(n))),
+            (name(), name()).prop_map(|(a, b)| Condition::Variant(sp(a), sp(b))),
+        ];
+        leaf.prop_recursive(3, 12, 3, |inner| {
+            prop_oneof![
+                inner.clone().prop_map(|c| Condition::Not(Box::new(sp(c)))),
+                proptest::collection::vec(inner.clone(), 0..3).prop_map(|cs| Condition::All(cs.into_iter().map(sp).collect())),
+                proptest::collection::vec(inner, 0..3).prop_map(|cs| Condition::Any(cs.into_iter().map(sp).collect())),
+            ]
+        })
+    }
+
+    fn layer() -> impl Strategy<Value = LayerSel> {
+        prop_oneof![
+            Just(LayerSel::Base),
+            Just(LayerSel::Face),
+            Just(LayerSel::All),
+            (0u32..10).prop_map(LayerSel::Index)
+        ]
+    }
+
+    fn file() -> impl Strategy<Value = String> {
+        prop_oneof![4 => "[a-z_]{1,6}\\.wgsl", 1 => "[a-z]{1,4}\\.frag", 1 => "[a-z]{1,4}\\.comp"]
+    }
+
+    fn entry() -> impl Strategy<Value = String> {
+        prop_oneof![
+            "[a-z_][a-z0-9_]{0,6}",
+            Just("fs_main".to_string()),
+            Just("main".to_string()),
+            Just("vs_main".to_string())
+        ]
+    }
+
+    fn pass(n: String) -> impl Strategy<Value = Pass> {
+        let color = proptest::collection::vec(
+            (
+                name(),
+                prop_oneof![Just(LoadOp::Load), proptest::collection::vec(float(), 4).prop_map(LoadOp::Clear)],
+                proptest::option::of(proptest::sample::select(vec![Blend::Add, Blend::Alpha, Blend::Multiply])),
+                layer(),
+            )
+                .prop_map(|(r, load, blend, layer)| ColorTarget {
+                    resource: sp(r),
+                    load,
+                    blend: blend.map(sp),
+                    layer,
+                    span: Span::default(),
+                }),
+            0..3,
+        );
+        let depth = proptest::option::of(
+            (
+                name(),
+                prop_oneof![Just(LoadOp::Load), float().prop_map(|x| LoadOp::Clear(vec![x]))],
+                proptest::sample::select(CompareFn::ALL.to_vec()),
+                any::<bool>(),
+                layer(),
+            )
+                .prop_map(|(r, load, compare, write, layer)| DepthTarget {
+                    resource: sp(r),
+                    load,
+                    compare,
+                    write,
+                    layer,
+                    span: Span::default(),
+                }),
+        );
+        let common = (
+            proptest::collection::vec(
+                (name(), any::<bool>()).prop_map(|(n, p)| if p { Read::Prev(sp(n)) } else { Read::Current(sp(n)) }),
+                0..3,
+            ),
+            proptest::collection::vec(name().prop_map(sp), 0..2),
+            color,
+            depth,
+            proptest::collection::vec(name().prop_map(sp), 0..3),
+            prop_oneof![3 => Just("params".to_string()), 1 => name()],
+            proptest::collection::vec((name(), name()).prop_map(|(a, b)| (sp(a), sp(b))), 0..2),
+            proptest::option::of(cond()),
+            proptest::option::of(kinds()),
+            any::<bool>(),
+        );
+        let kind = prop_oneof![
+            (
+                proptest::sample::select(vec![CullMode::None, CullMode::Front, CullMode::Back]),
+                1u32..8,
+                proptest::option::of(2u32..7),
+                proptest::option::of(1u32..100)
+            )
+                .prop_map(|(cull, instances, mv, verts)| PassKind::Raster {
+                    draw: verts.map(Draw::Vertices).unwrap_or(Draw::Scene),
+                    cull,
+                    instances,
+                    multiview: mv.map(sp)
+                }),
+            Just(PassKind::Fullscreen),
+            prop_oneof![
+                (0u32..64, 0u32..64, 0u32..64).prop_map(|(x, y, z)| Dispatch::Groups(x, y, z)),
+                name().prop_map(|n| Dispatch::Size(sp(n)))
+            ]
+            .prop_map(|dispatch| PassKind::Compute { dispatch }),
+        ];
+        (kind, common, file(), file(), entry(), entry(), any::<u8>()).prop_map(move |(kind, c, f1, f2, e1, e2, pick)| {
+            let (reads, writes, color, depth, params, block, bind, when, per_light, per_face) = c;
+            let r = |f: &str, e: &str| ShaderRef {
+                file: sp(f.to_string()),
+                entry: sp(e.to_string()),
+            };
+            let (vertex, fragment, compute) = match &kind {
+                PassKind::Raster { .. } => {
+                    let frag = match pick % 3 {
+                        0 => None,
+                        1 => Some(r(&f1, &e2)),
+                        _ => Some(r(&f2, &e2)),
+                    };
+                    (Some(r(&f1, &e1)), frag, None)
+                }
+                PassKind::Fullscreen => (
+                    Some(r(
+                        lightbench_compiler::shader::FULLSCREEN_FILE,
+                        lightbench_compiler::shader::FULLSCREEN_ENTRY,
+                    )),
+                    Some(r(&f1, &e1)),
+                    None,
+                ),
+                PassKind::Compute { .. } => (None, None, Some(r(&f1, &e1))),
+            };
+            Pass {
+                name: sp(n.clone()),
+                kind,
+                vertex,
+                fragment,
+                compute,
+                reads,
+                writes,
+                color,
+                depth,
+                params,
+                param_block: sp(block),
+                bind,
+                when: when.map(sp),
+                per_light: per_light.map(sp),
+                per_face,
+                span: Span::default(),
+            }
+        })
+    }
+
+    fn variant(n: String) -> impl Strategy<Value = Variant> {
+        let option = |n: String| {
+            (
+                proptest::collection::vec(proptest::sample::select(Feature::ALL.to_vec()).prop_map(sp), 0..3),
+                proptest::collection::vec(
+                    (proptest::sample::select(Limits::NAMES.to_vec()), 0u64..100000).prop_map(|(k, v)| (sp(k.to_string()), sp(v))),
+                    0..2,
+                ),
+                proptest::option::of(name().prop_map(sp)),
+                proptest::collection::vec((name(), file()).prop_map(|(a, b)| (sp(a), sp(b))), 0..2),
+                proptest::option::of(text()),
+            )
+                .prop_map(move |(requires, limits, fallback, shaders, doc)| VariantOption {
+                    name: sp(n.clone()),
+                    requires,
+                    limits,
+                    fallback,
+                    shaders,
+                    doc,
+                    span: Span::default(),
+                })
+        };
+        (proptest::collection::btree_set(name(), 0..4), name(), proptest::option::of(text())).prop_flat_map(move |(opts, default, doc)| {
+            let n = n.clone();
+            let opts: Vec<BoxedStrategy<VariantOption>> = opts.into_iter().map(|o| option(o).boxed()).collect();
+            opts.prop_map(move |options| Variant {
+                name: sp(n.clone()),
+                options,
+                default: sp(default.clone()),
+                doc: doc.clone(),
+                span: Span::default(),
+            })
+        })
+    }
+
+    fn pipeline() -> impl Strategy<Value = Pipeline> {
+        let names = |r: std::ops::Range<usize>| proptest::collection::btree_set(name(), r).prop_map(|s| s.into_iter().collect::<Vec<_>>());
+        (name(), names(0..4), names(0..3), names(0..5), names(0..4), names(0..3), name()).prop_flat_map(
+            |(pname, ps, ss, rs, passes, vs, out)| {
+                let params: Vec<BoxedStrategy<Param>> = ps.into_iter().map(|n| param(n).boxed()).collect();
+                let samplers: Vec<BoxedStrategy<SamplerDecl>> = ss
+                    .into_iter()
+                    .map(|n| {
+                        (
+                            proptest::sample::select(vec![FilterMode::Nearest, FilterMode::Linear]),
+                            proptest::sample::select(vec![FilterMode::Nearest, FilterMode::Linear]),
+                            proptest::sample::select(vec![AddressMode::ClampToEdge, AddressMode::Repeat, AddressMode::MirrorRepeat]),
+                            proptest::option::of(proptest::sample::select(CompareFn::ALL.to_vec())),
+                        )
+                            .prop_map(move |(filter, mipmap, address, compare)| SamplerDecl {
+                                name: sp(n.clone()),
+                                filter,
+                                mipmap,
+                                address,
+                                compare,
+                                span: Span::default(),
+                            })
+                            .boxed()
+                    })
+                    .collect();
+                let resources: Vec<BoxedStrategy<Resource>> = rs.into_iter().map(|n| resource(n).boxed()).collect();
+                let passes: Vec<BoxedStrategy<Pass>> = passes.into_iter().map(|n| pass(n).boxed()).collect();
+                let variants: Vec<BoxedStrategy<Variant>> = vs.into_iter().map(|n| variant(n).boxed()).collect();
+                let (pname, out) = (pname.clone(), out.clone());
+                (params, samplers, resources, passes, variants).prop_map(move |(params, samplers, resources, passes, variants)| Pipeline {
+                    name: sp(pname.clone()),
+                    params,
+                    samplers,
+                    resources,
+                    passes,
+                    variants,
+                    output: sp(out.clone()),
+                    span: Span::default(),
+                })
+            },
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(192))]
+
+        #[test]
+        fn lbp_print_parse_round_trips(p in pipeline()) {
+            let text = lbp::print::print(&p, None);
+            let back = parse_ok("gen.lbp", &text);
+            prop_assert!(back.same_as(&p), "LBP round trip changed the IR:\n{}", text);
+            // fmt is idempotent.
+            let again = lbp::print::print(&back, Some(&text));
+            prop_assert_eq!(&again, &text);
+            // And through RON.
+            let ron_text = ron::print::print(&p, None);
+            let from_ron = parse_ok("gen.ron", &ron_text);
+            prop_assert!(from_ron.same_as(&p), "RON round trip changed the IR:\n{}", ron_text);
+        }
+
+        #[test]
+        fn lbp_parser_never_panics(bytes in proptest::collection::vec(any::<u8>(), 0..300)) {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let (_, s) = parse("fuzz.lbp", &text);
+            let _ = s.render();
+        }
+
+        #[test]
+        fn mutated_lbp_never_panics(cut in 0usize..4000, pos in 0usize..4000, c in proptest::sample::select(vec!['(', ')', '"', ',', ':', '{', '}', 'x', '1', ' ', '/', '\\', '.', '=', '\n'])) {
+            let src = std::fs::read_to_string(repo_root().join("pipelines/deferred.lbp")).unwrap();
+            let mut chars: Vec<char> = src.chars().collect();
+            let pos = pos % chars.len();
+            chars[pos] = c;
+            let text: String = chars[..cut.min(chars.len())].iter().collect();
+            let (_, s) = parse("fuzz.lbp", &text);
+            let _ = s.render();
+        }
+    }
+}
