@@ -38,7 +38,7 @@ fn check_bundled_pipelines_succeeds() {
     let (code, _, err) = lightbench(&["check", "pipelines/"]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("checked 1 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
+        err.contains("checked 2 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
         "{err}"
     );
     for profile in ["webgpu", "gl"] {
@@ -157,4 +157,34 @@ fn check_with_a_scene_file() {
         err.contains("unknown light kind `Pointt`") && err.contains("did you mean `Point`?"),
         "{err}"
     );
+}
+
+#[test]
+fn convert_and_fmt() {
+    let d = std::env::temp_dir().join(format!("lightbench-cli-convert-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let lbp = d.join("deferred.lbp");
+    let (code, _, err) = lightbench(&["convert", "pipelines/deferred.ron", "--to", "lbp", "-o", lbp.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    // The converted file is the shipped twin, comments included.
+    assert_eq!(std::fs::read_to_string(&lbp).unwrap(), std::fs::read_to_string(root().join("pipelines/deferred.lbp")).unwrap());
+    let (code, ron_out, _) = lightbench(&["convert", lbp.to_str().unwrap(), "--to", "ron"]);
+    assert_eq!(code, 0);
+    assert!(ron_out.starts_with("// Deferred shading") && ron_out.contains("Pipeline(\n    name: \"deferred\","), "{ron_out}");
+    assert_eq!(lightbench(&["fmt", "--check", "pipelines/deferred.lbp"]).0, 0);
+    // A messy file is rewritten, and then it is formatted.
+    let messy = d.join("messy.lbp");
+    std::fs::write(&messy, "pipeline   m   // name\ntexture out:Rgba8Unorm   viewport\n\n\n\noutput out").unwrap();
+    assert_eq!(lightbench(&["fmt", "--check", messy.to_str().unwrap()]).0, 1);
+    assert_eq!(lightbench(&["fmt", messy.to_str().unwrap()]).0, 0);
+    assert_eq!(std::fs::read_to_string(&messy).unwrap(), "pipeline m\n\n// name\ntexture out: Rgba8Unorm viewport\n\noutput out\n");
+    assert_eq!(lightbench(&["fmt", "--check", messy.to_str().unwrap()]).0, 0);
+    // Errors are located and exit 1; usage errors exit 2.
+    std::fs::write(&messy, "pipeline m\ntexture out Rgba8Unorm viewport\noutput out\n").unwrap();
+    let (code, _, err) = lightbench(&["fmt", messy.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("error[lbp-syntax]: expected `:`") && err.contains("messy.lbp:2:13"), "{err}");
+    assert_eq!(lightbench(&["convert", "pipelines/deferred.ron", "--to", "yaml"]).0, 2);
+    assert_eq!(lightbench(&["fmt", "pipelines/deferred.ron"]).0, 2);
 }
