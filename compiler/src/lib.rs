@@ -205,6 +205,14 @@ impl Session {
         }
     }
 
+    /// Load and check a pipeline file; `None` when it has errors (they are in `diags`).
+    fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
+        let p = self.load_pipeline(path)?;
+        let root = shader_root_for(path, shader_root);
+        let checked = self.check(p, &root, profile);
+        (!self.diags.has_errors()).then_some(checked)
+    }
+
     /// Load, check and plan a pipeline file in one go.
     pub fn plan_file(
         &mut self,
@@ -214,12 +222,7 @@ impl Session {
         scene: &SceneFeatures,
         variants: &[(String, String)],
     ) -> Option<Plan> {
-        let p = self.load_pipeline(path)?;
-        let root = shader_root_for(path, shader_root);
-        let checked = self.check(p, &root, profile);
-        if self.diags.has_errors() {
-            return None;
-        }
+        let checked = self.load_checked(path, shader_root, profile)?;
         self.plan(&checked, profile, scene, variants)
     }
 
@@ -232,12 +235,7 @@ impl Session {
         scene: &SceneFeatures,
         variants: &[(String, String)],
     ) -> Option<Executable> {
-        let p = self.load_pipeline(path)?;
-        let root = shader_root_for(path, shader_root);
-        let checked = self.check(p, &root, profile);
-        if self.diags.has_errors() {
-            return None;
-        }
+        let checked = self.load_checked(path, shader_root, profile)?;
         let plan = self.plan(&checked, profile, scene, variants)?;
         let chosen: std::collections::BTreeMap<String, String> =
             plan.variants.iter().map(|v| (v.variant.clone(), v.option.clone())).collect();
@@ -263,14 +261,9 @@ impl Session {
 
     /// Load and check a pipeline file across its configurations (what `lightbench check` does).
     pub fn check_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: Option<&SceneFeatures>) {
-        let Some(p) = self.load_pipeline(path) else {
+        let Some(checked) = self.load_checked(path, shader_root, profile) else {
             return;
         };
-        let root = shader_root_for(path, shader_root);
-        let checked = self.check(p, &root, profile);
-        if self.diags.has_errors() {
-            return;
-        }
         self.check_configurations(&checked, profile, scene);
     }
 

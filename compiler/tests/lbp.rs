@@ -114,7 +114,7 @@ const BAD: &[(&str, &str, &str, usize, usize)] = &[
     (
         "pipeline p\nparam x: Int = 1.5\noutput out\n",
         "param-type",
-        "Int parameter: `1.5` is not a whole number",
+        "Int parameter: expected a whole number, found the number 1.5",
         2,
         16,
     ),

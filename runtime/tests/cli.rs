@@ -168,23 +168,39 @@ fn convert_and_fmt() {
     let (code, _, err) = lightbench(&["convert", "pipelines/deferred.ron", "--to", "lbp", "-o", lbp.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     // The converted file is the shipped twin, comments included.
-    assert_eq!(std::fs::read_to_string(&lbp).unwrap(), std::fs::read_to_string(root().join("pipelines/deferred.lbp")).unwrap());
+    assert_eq!(
+        std::fs::read_to_string(&lbp).unwrap(),
+        std::fs::read_to_string(root().join("pipelines/deferred.lbp")).unwrap()
+    );
     let (code, ron_out, _) = lightbench(&["convert", lbp.to_str().unwrap(), "--to", "ron"]);
     assert_eq!(code, 0);
-    assert!(ron_out.starts_with("// Deferred shading") && ron_out.contains("Pipeline(\n    name: \"deferred\","), "{ron_out}");
+    assert!(
+        ron_out.starts_with("// Deferred shading") && ron_out.contains("Pipeline(\n    name: \"deferred\","),
+        "{ron_out}"
+    );
     assert_eq!(lightbench(&["fmt", "--check", "pipelines/deferred.lbp"]).0, 0);
     // A messy file is rewritten, and then it is formatted.
     let messy = d.join("messy.lbp");
-    std::fs::write(&messy, "pipeline   m   // name\ntexture out:Rgba8Unorm   viewport\n\n\n\noutput out").unwrap();
+    std::fs::write(
+        &messy,
+        "pipeline   m   // name\ntexture out:Rgba8Unorm   viewport\n\n\n\noutput out",
+    )
+    .unwrap();
     assert_eq!(lightbench(&["fmt", "--check", messy.to_str().unwrap()]).0, 1);
     assert_eq!(lightbench(&["fmt", messy.to_str().unwrap()]).0, 0);
-    assert_eq!(std::fs::read_to_string(&messy).unwrap(), "pipeline m\n\n// name\ntexture out: Rgba8Unorm viewport\n\noutput out\n");
+    assert_eq!(
+        std::fs::read_to_string(&messy).unwrap(),
+        "pipeline m\n\n// name\ntexture out: Rgba8Unorm viewport\n\noutput out\n"
+    );
     assert_eq!(lightbench(&["fmt", "--check", messy.to_str().unwrap()]).0, 0);
     // Errors are located and exit 1; usage errors exit 2.
     std::fs::write(&messy, "pipeline m\ntexture out Rgba8Unorm viewport\noutput out\n").unwrap();
     let (code, _, err) = lightbench(&["fmt", messy.to_str().unwrap()]);
     assert_eq!(code, 1);
-    assert!(err.contains("error[lbp-syntax]: expected `:`") && err.contains("messy.lbp:2:13"), "{err}");
+    assert!(
+        err.contains("error[lbp-syntax]: expected `:`") && err.contains("messy.lbp:2:13"),
+        "{err}"
+    );
     assert_eq!(lightbench(&["convert", "pipelines/deferred.ron", "--to", "yaml"]).0, 2);
     assert_eq!(lightbench(&["fmt", "pipelines/deferred.ron"]).0, 2);
 }

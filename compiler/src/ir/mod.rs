@@ -8,7 +8,7 @@ mod resource;
 mod variant;
 
 pub use condition::{Condition, Effect, LightKind};
-pub use param::{Param, ParamType, ParamValue};
+pub use param::{Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
     default_entry, Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind, Read, ShaderRef,
 };

@@ -73,6 +73,84 @@ impl ParamValue {
     }
 }
 
+/// A value as a front end read it, before it is checked against the declared type.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Literal {
+    Int(i64),
+    Float(f64),
+    Bool(bool),
+    Text(String),
+    Tuple(Vec<f64>),
+    /// Anything else, described for the message (e.g. "a list").
+    Other(String),
+}
+
+impl Literal {
+    fn describe(&self) -> String {
+        match self {
+            Literal::Int(i) => format!("the integer {i}"),
+            Literal::Float(f) => format!("the number {f}"),
+            Literal::Bool(b) => format!("`{b}`"),
+            Literal::Text(s) => format!("{s:?}"),
+            Literal::Tuple(v) => format!("a tuple of {}", v.len()),
+            Literal::Other(w) => w.clone(),
+        }
+    }
+}
+
+/// Why a literal does not fit a parameter type: a diagnostic code, message and optional note.
+pub struct ValueError {
+    pub code: &'static str,
+    pub message: String,
+    pub note: Option<String>,
+}
+
+impl ParamType {
+    /// The value a literal gives this type, with the checks both front ends share.
+    pub fn value_of(&self, lit: Literal) -> Result<ParamValue, ValueError> {
+        let err = |code, message: String| Err(ValueError { code, message, note: None });
+        match (self, lit) {
+            (ParamType::Float, Literal::Float(f)) => Ok(ParamValue::Float(f)),
+            (ParamType::Float, Literal::Int(i)) => Ok(ParamValue::Float(i as f64)),
+            (ParamType::Int, Literal::Int(i)) => Ok(ParamValue::Int(i)),
+            (ParamType::Bool, Literal::Bool(b)) => Ok(ParamValue::Bool(b)),
+            (ParamType::Enum(opts), Literal::Text(s)) => {
+                if opts.contains(&s) {
+                    Ok(ParamValue::Enum(s))
+                } else {
+                    let names: Vec<&str> = opts.iter().map(|o| o.as_str()).collect();
+                    Err(ValueError {
+                        code: "unknown-value",
+                        message: format!("`{s}` is not an option of this Enum"),
+                        note: Some(crate::diag::suggestion_note(&s, &names)),
+                    })
+                }
+            }
+            (t, Literal::Tuple(v)) if t.components().is_some() => {
+                let n = t.components().unwrap_or(0);
+                if v.len() == n || (matches!(t, ParamType::Color) && v.len() == 4) {
+                    Ok(ParamValue::Vec(v))
+                } else {
+                    err("param-type", format!("a {} value has {n} components, found {}", t.name(), v.len()))
+                }
+            }
+            (t, lit) => {
+                let expected = match t {
+                    ParamType::Float => "a number".to_string(),
+                    ParamType::Int => "a whole number".to_string(),
+                    ParamType::Bool => "`true` or `false`".to_string(),
+                    ParamType::Enum(_) => "one of the Enum's options".to_string(),
+                    t => format!("a tuple of {} numbers", t.components().unwrap_or(0)),
+                };
+                err(
+                    "param-type",
+                    format!("{} parameter: expected {expected}, found {}", t.name(), lit.describe()),
+                )
+            }
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Param {
     pub name: Spanned<String>,

@@ -53,77 +53,9 @@ pub enum Command {
         shaders: Option<PathBuf>,
     },
     /// Print the Plan for one configuration: passes kept and culled, layouts, resources, memory.
-    Plan {
-        file: PathBuf,
-        /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
-        #[arg(long = "variant", value_name = "K=V")]
-        variants: Vec<String>,
-        #[arg(long)]
-        scene: Option<PathBuf>,
-        #[arg(long, default_value = "vulkan")]
-        profile: String,
-        /// Say why each variant option was chosen and each pass culled; show full layouts.
-        #[arg(long)]
-        explain: bool,
-        /// Print a Graphviz graph instead.
-        #[arg(long, conflicts_with_all = ["explain", "json"])]
-        dot: bool,
-        /// Print the Plan as JSON (what the runtime consumes).
-        #[arg(long)]
-        json: bool,
-        /// Resolution for sizes and the memory estimate (default: the scene's, else 1280x720).
-        #[arg(long, value_name = "WxH")]
-        size: Option<String>,
-        /// Lights per kind for the memory estimate when no scene is given, e.g. point=4,spot=2.
-        #[arg(long, value_name = "KIND=N,...")]
-        lights: Option<String>,
-        #[arg(long)]
-        shaders: Option<PathBuf>,
-    },
+    Plan(plan::Args),
     /// Render a pipeline on a scene with the GPU (headless) and save the output image.
-    Render {
-        /// Pipeline file (.ron or .lbp).
-        #[arg(long, default_value = "pipelines/deferred.ron")]
-        pipeline: PathBuf,
-        /// Scene file (.ron) or built-in scene: cornell, colonnade, many_lights.
-        #[arg(long, default_value = "cornell")]
-        scene: String,
-        /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
-        #[arg(long = "variant", value_name = "K=V")]
-        variants: Vec<String>,
-        /// Output size, overriding the scene's.
-        #[arg(long, value_name = "WxH")]
-        size: Option<String>,
-        /// Frames to render (history and animation advance by 1/60 s per frame).
-        #[arg(long, default_value_t = 1)]
-        frames: u32,
-        /// Output image: .png (sRGB) or .exr (linear float).
-        #[arg(long, default_value = "lightbench.png")]
-        out: PathBuf,
-        /// Resources to read back after the last frame, comma-separated (every light and layer).
-        #[arg(long, value_name = "NAME,NAME...")]
-        dump: Option<String>,
-        #[arg(long, default_value = "dump")]
-        dump_dir: PathBuf,
-        /// Image type of dumps: exr (every channel, linear float) or png (8-bit, clamped).
-        #[arg(long, value_enum, default_value = "exr")]
-        dump_format: DumpFormat,
-        /// Print a per-pass table: GPU ms (timestamp queries) and CPU encode µs.
-        #[arg(long)]
-        timings: bool,
-        #[arg(long, value_name = "FILE")]
-        timings_json: Option<PathBuf>,
-        /// Write a manifest: pipeline and shader hashes, variants, params, adapter, scene.
-        #[arg(long, value_name = "FILE")]
-        manifest: Option<PathBuf>,
-        #[arg(long)]
-        shaders: Option<PathBuf>,
-        #[arg(long, value_enum)]
-        backend: Option<crate::gpu::device::BackendChoice>,
-        /// Pick the adapter whose name contains this text.
-        #[arg(long)]
-        adapter: Option<String>,
-    },
+    Render(render::Args),
     /// Scene utilities.
     #[command(subcommand)]
     Scene(SceneCommand),
@@ -165,61 +97,8 @@ pub fn run(cli: Cli) -> i32 {
             scene,
             shaders,
         } => check::run(&paths, format, &profile, scene.as_deref(), shaders.as_deref()),
-        Command::Plan {
-            file,
-            variants,
-            scene,
-            profile,
-            explain,
-            dot,
-            json,
-            size,
-            lights,
-            shaders,
-        } => plan::run(plan::Args {
-            file,
-            variants,
-            scene,
-            profile,
-            explain,
-            dot,
-            json,
-            size,
-            lights,
-            shaders,
-        }),
-        Command::Render {
-            pipeline,
-            scene,
-            variants,
-            size,
-            frames,
-            out,
-            dump,
-            dump_dir,
-            dump_format,
-            timings,
-            timings_json,
-            manifest,
-            shaders,
-            backend,
-            adapter,
-        } => render::run(render::Args {
-            pipeline,
-            scene,
-            variants,
-            size,
-            frames,
-            out,
-            dump,
-            dump_dir,
-            dump_format,
-            timings,
-            timings_json,
-            manifest,
-            shaders,
-            device: crate::gpu::DeviceOptions { backend, adapter },
-        }),
+        Command::Plan(args) => plan::run(args),
+        Command::Render(args) => render::run(args),
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
         Command::Scene(SceneCommand::Export { name, out }) => match crate::scene::builtin::by_name(&name) {

@@ -7,16 +7,32 @@ use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
 use lightbench_compiler::Session;
 use std::path::PathBuf;
 
+#[derive(clap::Args, Debug)]
 pub struct Args {
     pub file: PathBuf,
+    /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
+    #[arg(long = "variant", value_name = "K=V")]
     pub variants: Vec<String>,
+    #[arg(long)]
     pub scene: Option<PathBuf>,
+    #[arg(long, default_value = "vulkan")]
     pub profile: String,
+    /// Say why each variant option was chosen and each pass culled; show full layouts.
+    #[arg(long)]
     pub explain: bool,
+    /// Print a Graphviz graph instead.
+    #[arg(long, conflicts_with_all = ["explain", "json"])]
     pub dot: bool,
+    /// Print the Plan as JSON (what the runtime consumes).
+    #[arg(long)]
     pub json: bool,
+    /// Resolution for sizes and the memory estimate (default: the scene's, else 1280x720).
+    #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
+    /// Lights per kind for the memory estimate when no scene is given, e.g. point=4,spot=2.
+    #[arg(long, value_name = "KIND=N,...")]
     pub lights: Option<String>,
+    #[arg(long)]
     pub shaders: Option<PathBuf>,
 }
 

@@ -8,21 +8,49 @@ use crate::render::{compile, fnv1a, render};
 use crate::scene::file as scene_file;
 use std::path::{Path, PathBuf};
 
+#[derive(clap::Args, Debug)]
 pub struct Args {
+    /// Pipeline file (.ron or .lbp).
+    #[arg(long, default_value = "pipelines/deferred.ron")]
     pub pipeline: PathBuf,
+    /// Scene file (.ron) or built-in scene: cornell, colonnade, many_lights.
+    #[arg(long, default_value = "cornell")]
     pub scene: String,
+    /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
+    #[arg(long = "variant", value_name = "K=V")]
     pub variants: Vec<String>,
+    /// Output size, overriding the scene's.
+    #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
+    /// Frames to render (history and animation advance by 1/60 s per frame).
+    #[arg(long, default_value_t = 1)]
     pub frames: u32,
+    /// Output image: .png (sRGB) or .exr (linear float).
+    #[arg(long, default_value = "lightbench.png")]
     pub out: PathBuf,
+    /// Resources to read back after the last frame, comma-separated (every light and layer).
+    #[arg(long, value_name = "NAME,NAME...")]
     pub dump: Option<String>,
+    #[arg(long, default_value = "dump")]
     pub dump_dir: PathBuf,
+    /// Image type of dumps: exr (every channel, linear float) or png (8-bit, clamped).
+    #[arg(long, value_enum, default_value = "exr")]
     pub dump_format: super::DumpFormat,
+    /// Print a per-pass table: GPU ms (timestamp queries) and CPU encode µs.
+    #[arg(long)]
     pub timings: bool,
+    #[arg(long, value_name = "FILE")]
     pub timings_json: Option<PathBuf>,
+    /// Write a manifest: pipeline and shader hashes, variants, params, adapter, scene.
+    #[arg(long, value_name = "FILE")]
     pub manifest: Option<PathBuf>,
+    #[arg(long)]
     pub shaders: Option<PathBuf>,
-    pub device: DeviceOptions,
+    #[arg(long, value_enum)]
+    pub backend: Option<crate::gpu::device::BackendChoice>,
+    /// Pick the adapter whose name contains this text.
+    #[arg(long)]
+    pub adapter: Option<String>,
 }
 
 pub fn run(a: Args) -> i32 {
@@ -59,7 +87,10 @@ pub fn run(a: Args) -> i32 {
             Err(e) => return usage_error(e),
         }
     }
-    let gpu = match Gpu::new(&a.device) {
+    let gpu = match Gpu::new(&DeviceOptions {
+        backend: a.backend,
+        adapter: a.adapter.clone(),
+    }) {
         Ok(g) => g,
         Err(e) => {
             eprintln!("error: {e}");

@@ -159,12 +159,17 @@ impl Lowerer<'_> {
         }
     }
 
-    fn dup(&mut self, what: &str, prev: Option<Span>, span: Span, name: &str) {
-        if let Some(prev) = prev {
-            self.err(
-                Diagnostic::error("duplicate-name", format!("{what} `{name}` is declared twice"), span)
-                    .with_secondary(prev, "first declared here"),
-            );
+    /// Add a declaration unless one of the same name exists (then report both places).
+    fn push_unique<T>(&mut self, list: &mut Vec<T>, item: Option<T>, what: &str, name: impl Fn(&T) -> &Spanned<String>) {
+        let Some(item) = item else { return };
+        let n = name(&item);
+        match list.iter().find(|q| name(q).value == n.value) {
+            Some(prev) => {
+                let d = Diagnostic::error("duplicate-name", format!("{what} `{}` is declared twice", n.value), n.span)
+                    .with_secondary(name(prev).span, "first declared here");
+                self.err(d);
+            }
+            None => list.push(item),
         }
     }
 
@@ -183,58 +188,28 @@ impl Lowerer<'_> {
         for it in items {
             match it.as_rule() {
                 Rule::param => {
-                    if let Some(p) = self.param(it) {
-                        let prev = params.iter().find(|q| q.name.value == p.name.value).map(|q| q.name.span);
-                        if prev.is_some() {
-                            self.dup("parameter", prev, p.name.span, &p.name.value.clone());
-                        } else {
-                            params.push(p);
-                        }
-                    }
+                    let p = self.param(it);
+                    self.push_unique(&mut params, p, "parameter", |p| &p.name);
                 }
                 Rule::sampler => {
-                    if let Some(s) = self.sampler(it) {
-                        let prev = samplers.iter().find(|q| q.name.value == s.name.value).map(|q| q.name.span);
-                        if prev.is_some() {
-                            self.dup("sampler", prev, s.name.span, &s.name.value.clone());
-                        } else {
-                            samplers.push(s);
-                        }
-                    }
+                    let smp = self.sampler(it);
+                    self.push_unique(&mut samplers, smp, "sampler", |s| &s.name);
                 }
-                Rule::texture | Rule::buffer => {
-                    if let Some(r) = if it.as_rule() == Rule::texture {
-                        self.texture(it)
-                    } else {
-                        self.buffer(it)
-                    } {
-                        let prev = resources.iter().find(|q| q.name.value == r.name.value).map(|q| q.name.span);
-                        if prev.is_some() {
-                            self.dup("resource", prev, r.name.span, &r.name.value.clone());
-                        } else {
-                            resources.push(r);
-                        }
-                    }
+                Rule::texture => {
+                    let r = self.texture(it);
+                    self.push_unique(&mut resources, r, "resource", |r| &r.name);
+                }
+                Rule::buffer => {
+                    let r = self.buffer(it);
+                    self.push_unique(&mut resources, r, "resource", |r| &r.name);
                 }
                 Rule::pass => {
-                    if let Some(p) = self.pass(it) {
-                        let prev = passes.iter().find(|q| q.name.value == p.name.value).map(|q| q.name.span);
-                        if prev.is_some() {
-                            self.dup("pass", prev, p.name.span, &p.name.value.clone());
-                        } else {
-                            passes.push(p);
-                        }
-                    }
+                    let p = self.pass(it);
+                    self.push_unique(&mut passes, p, "pass", |p| &p.name);
                 }
                 Rule::variant => {
-                    if let Some(v) = self.variant(it) {
-                        let prev = variants.iter().find(|q| q.name.value == v.name.value).map(|q| q.name.span);
-                        if prev.is_some() {
-                            self.dup("variant", prev, v.name.span, &v.name.value.clone());
-                        } else {
-                            variants.push(v);
-                        }
-                    }
+                    let v = self.variant(it);
+                    self.push_unique(&mut variants, v, "variant", |v| &v.name);
                 }
                 Rule::output => {
                     let sp = self.span(&it);
@@ -333,70 +308,33 @@ impl Lowerer<'_> {
     fn param_value(&mut self, ty: &ParamType, p: P) -> Res<Spanned<ParamValue>> {
         let span = self.span(&p);
         let inner = p.kids().next()?;
-        let v = match (ty, inner.as_rule()) {
-            (ParamType::Float, Rule::number) => ParamValue::Float(self.number(&inner)?),
-            (ParamType::Int, Rule::number) => match inner.as_str().parse::<i64>() {
-                Ok(i) => ParamValue::Int(i),
-                Err(_) => {
-                    self.err(Diagnostic::error(
-                        "param-type",
-                        format!("Int parameter: `{}` is not a whole number", inner.as_str()),
-                        span,
-                    ));
-                    return None;
-                }
+        let lit = match inner.as_rule() {
+            Rule::number => match inner.as_str().parse::<i64>() {
+                Ok(i) => Literal::Int(i),
+                Err(_) => Literal::Float(self.number(&inner)?),
             },
-            (ParamType::Bool, Rule::bool) => ParamValue::Bool(inner.as_str() == "true"),
-            (ParamType::Enum(opts), Rule::dotted | Rule::string) => {
-                let s = if inner.as_rule() == Rule::string {
-                    self.string(inner)?.value
-                } else {
-                    inner.as_str().to_string()
-                };
-                if !opts.contains(&s) {
-                    let names: Vec<&str> = opts.iter().map(|s| s.as_str()).collect();
-                    self.err(
-                        Diagnostic::error("unknown-value", format!("`{s}` is not an option of this Enum"), span)
-                            .with_note(suggestion_note(&s, &names)),
-                    );
-                    return None;
+            Rule::bool => Literal::Bool(inner.as_str() == "true"),
+            Rule::string => Literal::Text(self.string(inner)?.value),
+            Rule::dotted => Literal::Text(inner.as_str().to_string()),
+            _ => {
+                let mut v = vec![];
+                for n in inner.kids() {
+                    v.push(self.number(&n)?);
                 }
-                ParamValue::Enum(s)
-            }
-            (t, Rule::tuple) if t.components().is_some() => {
-                let n = t.components().unwrap_or(0);
-                let items: Vec<P> = inner.kids().collect();
-                if items.len() != n && !(matches!(t, ParamType::Color) && items.len() == 4) {
-                    self.err(Diagnostic::error(
-                        "param-type",
-                        format!("a {} value has {n} components, found {}", t.name(), items.len()),
-                        span,
-                    ));
-                    return None;
-                }
-                let mut comps = vec![];
-                for i in &items {
-                    comps.push(self.number(i)?);
-                }
-                ParamValue::Vec(comps)
-            }
-            (t, _) => {
-                let expected = match t {
-                    ParamType::Float => "a number".to_string(),
-                    ParamType::Int => "a whole number".to_string(),
-                    ParamType::Bool => "`true` or `false`".to_string(),
-                    ParamType::Enum(_) => "one of the Enum's options".to_string(),
-                    t => format!("a tuple of {} numbers", t.components().unwrap_or(0)),
-                };
-                self.err(Diagnostic::error(
-                    "param-type",
-                    format!("{} parameter: expected {expected}, found `{}`", t.name(), inner.as_str()),
-                    span,
-                ));
-                return None;
+                Literal::Tuple(v)
             }
         };
-        Some(Spanned::new(v, span))
+        match ty.value_of(lit) {
+            Ok(v) => Some(Spanned::new(v, span)),
+            Err(e) => {
+                let mut d = Diagnostic::error(e.code, e.message, span);
+                if let Some(n) = e.note {
+                    d = d.with_note(n);
+                }
+                self.err(d);
+                None
+            }
+        }
     }
 
     fn sampler(&mut self, p: P) -> Res<SamplerDecl> {
@@ -1015,13 +953,8 @@ impl Lowerer<'_> {
             match item.as_rule() {
                 Rule::doc => doc = item.kids().next().and_then(|s| self.string(s)).map(|s| s.value),
                 Rule::option => {
-                    let Some(o) = self.option(item) else { continue };
-                    let prev = options.iter().find(|q| q.name.value == o.name.value).map(|q| q.name.span);
-                    if prev.is_some() {
-                        self.dup("variant option", prev, o.name.span, &o.name.value.clone());
-                    } else {
-                        options.push(o);
-                    }
+                    let o = self.option(item);
+                    self.push_unique(&mut options, o, "variant option", |o| &o.name);
                 }
                 _ => {}
             }

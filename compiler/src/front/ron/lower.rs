@@ -300,58 +300,31 @@ impl<'d> Lowerer<'d> {
     }
 
     fn param_value(&mut self, ty: &ParamType, node: &Node) -> Res<Spanned<ParamValue>> {
-        let v = match (ty, &*node.value) {
-            (ParamType::Float, Value::Float(f)) => ParamValue::Float(*f),
-            (ParamType::Float, Value::Int(i)) => ParamValue::Float(*i as f64),
-            (ParamType::Int, Value::Int(i)) => ParamValue::Int(*i),
-            (ParamType::Bool, Value::Bool(b)) => ParamValue::Bool(*b),
-            (ParamType::Enum(opts), Value::Str(s)) => {
-                if !opts.contains(s) {
-                    let names: Vec<&str> = opts.iter().map(|s| s.as_str()).collect();
-                    self.err(
-                        Diagnostic::error("unknown-value", format!("`{s}` is not an option of this Enum"), node.span)
-                            .with_note(suggestion_note(s, &names)),
-                    );
-                    return None;
-                }
-                ParamValue::Enum(s.clone())
-            }
-            (t, Value::Tuple { name: None, items }) if t.components().is_some() => {
-                let n = t.components().unwrap_or(0);
-                if items.len() != n && !(matches!(t, ParamType::Color) && items.len() == 4) {
-                    self.err(Diagnostic::error(
-                        "param-type",
-                        format!("a {} value has {n} components, found {}", t.name(), items.len()),
-                        node.span,
-                    ));
-                    return None;
-                }
-                let mut comps = vec![];
+        let lit = match &*node.value {
+            Value::Int(i) => Literal::Int(*i),
+            Value::Float(f) => Literal::Float(*f),
+            Value::Bool(b) => Literal::Bool(*b),
+            Value::Str(s) => Literal::Text(s.clone()),
+            Value::Tuple { name: None, items } => {
+                let mut v = vec![];
                 for it in items {
-                    comps.push(self.f64(it)?);
+                    v.push(self.f64(it)?);
                 }
-                ParamValue::Vec(comps)
+                Literal::Tuple(v)
             }
-            (t, _) => {
-                let expected = match t {
-                    ParamType::Float => "a float".to_string(),
-                    ParamType::Int => "an integer".to_string(),
-                    ParamType::Bool => "`true` or `false`".to_string(),
-                    ParamType::Enum(_) => "an option name as a string".to_string(),
-                    t => format!("a tuple of {} numbers", t.components().unwrap_or(0)),
-                };
-                self.err(
-                    Diagnostic::error(
-                        "param-type",
-                        format!("{} parameter: expected {expected}, found {}", t.name(), node.value.kind_word()),
-                        node.span,
-                    )
-                    .with_label_text(format!("expected {expected}")),
-                );
-                return None;
-            }
+            other => Literal::Other(other.kind_word()),
         };
-        Some(Spanned::new(v, node.span))
+        match ty.value_of(lit) {
+            Ok(v) => Some(Spanned::new(v, node.span)),
+            Err(e) => {
+                let mut d = Diagnostic::error(e.code, e.message, node.span);
+                if let Some(n) = e.note {
+                    d = d.with_note(n);
+                }
+                self.err(d);
+                None
+            }
+        }
     }
 
     fn samplers(&mut self, node: &Node) -> Res<Vec<SamplerDecl>> {
