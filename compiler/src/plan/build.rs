@@ -222,15 +222,6 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
     }
 }
 
-fn layer_word(l: LayerSel) -> String {
-    match l {
-        LayerSel::Base => "Base".into(),
-        LayerSel::Face => "Face".into(),
-        LayerSel::All => "All".into(),
-        LayerSel::Index(i) => format!("Index({i})"),
-    }
-}
-
 /// Which passes a configuration keeps, in what order, and why the others are culled.
 pub struct Schedule {
     pub culled: BTreeMap<usize, String>,
@@ -346,6 +337,11 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             LoadOp::Clear(v) => Some(v.clone()),
             LoadOp::Load => None,
         };
+        let workgroup_size = version
+            .stages
+            .iter()
+            .find(|s| s.stage == naga::ShaderStage::Compute)
+            .map(|s| s.module.module.entry_points[s.entry].workgroup_size);
         let (work, cull, instances, multiview) = match &pass.kind {
             PassKind::Raster {
                 draw,
@@ -354,29 +350,37 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
                 multiview,
             } => (
                 match draw {
-                    Draw::Scene => "Scene".to_string(),
-                    Draw::Vertices(n) => format!("Vertices({n})"),
+                    Draw::Scene => Work::Scene,
+                    Draw::Vertices(n) => Work::Vertices(*n),
                 },
-                Some(format!("{cull:?}")),
+                Some(*cull),
                 *instances,
                 multiview.as_ref().map(|m| m.value),
             ),
-            PassKind::Fullscreen => ("Fullscreen".into(), None, 1, None),
-            PassKind::Compute { dispatch } => (
-                match dispatch {
-                    Dispatch::Size(r) => format!("Size({})", r.value),
-                    Dispatch::Groups(x, y, z) => format!("Groups({x}, {y}, {z})"),
-                },
-                None,
-                1,
-                None,
-            ),
+            PassKind::Fullscreen => (Work::Fullscreen, None, 1, None),
+            PassKind::Compute { dispatch } => {
+                let work = match dispatch {
+                    // One invocation per texel: workgroups to cover the resource at this resolution.
+                    Dispatch::Size(r) => {
+                        let wg = workgroup_size.unwrap_or([1, 1, 1]);
+                        let extent = p
+                            .resource(r)
+                            .and_then(|r| r.texture())
+                            .map(|t| t.size.value.resolve(viewport))
+                            .unwrap_or((1, 1));
+                        Work::Dispatch {
+                            groups: [extent.0.div_ceil(wg[0].max(1)), extent.1.div_ceil(wg[1].max(1)), 1],
+                            sized_from: Some(r.value.clone()),
+                        }
+                    }
+                    Dispatch::Groups(x, y, z) => Work::Dispatch {
+                        groups: [*x, *y, *z],
+                        sized_from: None,
+                    },
+                };
+                (work, None, 1, None)
+            }
         };
-        let workgroup_size = version
-            .stages
-            .iter()
-            .find(|s| s.stage == naga::ShaderStage::Compute)
-            .map(|s| s.module.module.entry_points[s.entry].workgroup_size);
         passes.push(PlanPass {
             name: pass.name.value.clone(),
             kind: pass.kind.word().to_string(),
@@ -404,8 +408,8 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
                     resource: c.resource.value.clone(),
                     format: fmt(&c.resource),
                     clear: clear(&c.load),
-                    blend: c.blend.as_ref().map(|b| format!("{:?}", b.value)),
-                    layer: layer_word(c.layer),
+                    blend: c.blend.as_ref().map(|b| b.value),
+                    layer: c.layer,
                     depth_compare: None,
                     depth_write: None,
                 })
@@ -415,8 +419,8 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
                 format: fmt(&d.resource),
                 clear: clear(&d.load),
                 blend: None,
-                layer: layer_word(d.layer),
-                depth_compare: Some(format!("{:?}", d.compare)),
+                layer: d.layer,
+                depth_compare: Some(d.compare),
                 depth_write: Some(d.write),
             }),
             reads: pass
@@ -567,10 +571,10 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             .map(|s| PlanSampler {
                 name: s.name.value.clone(),
                 kind: s.binding_kind(),
-                filter: format!("{:?}", s.filter),
-                mipmap: format!("{:?}", s.mipmap),
-                address: format!("{:?}", s.address),
-                compare: s.compare.map(|c| format!("{c:?}")),
+                filter: s.filter,
+                mipmap: s.mipmap,
+                address: s.address,
+                compare: s.compare,
             })
             .collect(),
         passes,

@@ -3,6 +3,23 @@
 use super::*;
 use std::fmt::Write;
 
+/// How a pass's work reads in plans: `Scene`, `Vertices(3)`, `Fullscreen`, `Groups(2, 1, 1) from Size(hdr)`.
+pub fn work_word(w: &Work) -> String {
+    match w {
+        Work::Scene => "Scene".into(),
+        Work::Vertices(n) => format!("Vertices({n})"),
+        Work::Fullscreen => "Fullscreen".into(),
+        Work::Dispatch {
+            groups: [x, y, z],
+            sized_from: None,
+        } => format!("Groups({x}, {y}, {z})"),
+        Work::Dispatch {
+            groups: [x, y, z],
+            sized_from: Some(r),
+        } => format!("Groups({x}, {y}, {z}) from Size({r})"),
+    }
+}
+
 fn mib(bytes: u64) -> String {
     format!("{:.2} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
@@ -103,7 +120,7 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
             .chain(p.depth.iter().map(|d| format!("depth {}", d.resource)))
             .chain(p.writes.iter().map(|w| format!("storage {w}")))
             .collect();
-        let _ = writeln!(s, "  {:>2}. {:<22} {:<10} {}{rep}", i + 1, p.name, p.kind, p.work);
+        let _ = writeln!(s, "  {:>2}. {:<22} {:<10} {}{rep}", i + 1, p.name, p.kind, work_word(&p.work));
         let _ = writeln!(s, "      reads [{}] -> writes [{}]", p.reads.join(", "), targets.join(", "));
         if explain {
             for st in &p.stages {

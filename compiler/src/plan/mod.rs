@@ -5,9 +5,10 @@ pub mod build;
 mod explain;
 
 pub use build::{build_plan, Config, Selection};
+pub use explain::work_word;
 pub use explain::{to_dot, to_text};
 
-use crate::ir::{LightKind, ParamType, ParamValue};
+use crate::ir::{AddressMode, Blend, CompareFn, CullMode, FilterMode, LayerSel, LightKind, ParamType, ParamValue};
 use crate::shader::reflect::ShaderDim;
 use serde::{Deserialize, Serialize};
 
@@ -120,11 +121,24 @@ pub struct PlanAttachment {
     pub format: String,
     /// `None` = load; `Some(values)` = clear to these values.
     pub clear: Option<Vec<f64>>,
-    pub blend: Option<String>,
-    /// `Base`, `Face`, `All` or `Index(n)`.
-    pub layer: String,
-    pub depth_compare: Option<String>,
+    pub blend: Option<Blend>,
+    pub layer: LayerSel,
+    /// Depth attachments only.
+    pub depth_compare: Option<CompareFn>,
     pub depth_write: Option<bool>,
+}
+
+/// What a pass does once its bindings are set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Work {
+    /// Draw every scene mesh (indexed, with the standard vertex layout).
+    Scene,
+    /// Draw this many vertices with no vertex buffers.
+    Vertices(u32),
+    /// One triangle covering the targets.
+    Fullscreen,
+    /// Compute workgroups; `sized_from` names the resource the count was derived from.
+    Dispatch { groups: [u32; 3], sized_from: Option<String> },
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -132,10 +146,9 @@ pub struct PlanPass {
     pub name: String,
     pub kind: String,
     pub stages: Vec<PlanStage>,
-    /// `Scene`, `Vertices(n)`, `Fullscreen`, `Size(resource)` or `Groups(x, y, z)`.
-    pub work: String,
+    pub work: Work,
     pub workgroup_size: Option<[u32; 3]>,
-    pub cull: Option<String>,
+    pub cull: Option<CullMode>,
     pub instances: u32,
     pub multiview: Option<u32>,
     pub per_light: Vec<LightKind>,
@@ -203,10 +216,10 @@ pub struct PlanParam {
 pub struct PlanSampler {
     pub name: String,
     pub kind: SamplerKind,
-    pub filter: String,
-    pub mipmap: String,
-    pub address: String,
-    pub compare: Option<String>,
+    pub filter: FilterMode,
+    pub mipmap: FilterMode,
+    pub address: AddressMode,
+    pub compare: Option<CompareFn>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

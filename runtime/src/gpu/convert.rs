@@ -1,5 +1,6 @@
 //! Plan values (names and enums from the compiler) to wgpu types.
 
+use lightbench_compiler::ir::{AddressMode, Blend, CompareFn, CullMode, FilterMode};
 use lightbench_compiler::plan::{BindingType, SampleType, SamplerKind};
 use lightbench_compiler::shader::reflect::ShaderDim;
 
@@ -44,32 +45,33 @@ pub fn view_dim(d: ShaderDim) -> wgpu::TextureViewDimension {
     }
 }
 
-pub fn compare(name: &str) -> Result<wgpu::CompareFunction, String> {
+pub fn compare(c: CompareFn) -> wgpu::CompareFunction {
     use wgpu::CompareFunction as C;
-    Ok(match name {
-        "Never" => C::Never,
-        "Less" => C::Less,
-        "LessEqual" => C::LessEqual,
-        "Equal" => C::Equal,
-        "Greater" => C::Greater,
-        "GreaterEqual" => C::GreaterEqual,
-        "NotEqual" => C::NotEqual,
-        "Always" => C::Always,
-        other => return Err(format!("unknown compare function `{other}`")),
-    })
+    match c {
+        CompareFn::Never => C::Never,
+        CompareFn::Less => C::Less,
+        CompareFn::LessEqual => C::LessEqual,
+        CompareFn::Equal => C::Equal,
+        CompareFn::Greater => C::Greater,
+        CompareFn::GreaterEqual => C::GreaterEqual,
+        CompareFn::NotEqual => C::NotEqual,
+        CompareFn::Always => C::Always,
+    }
 }
 
-pub fn blend(name: &str) -> Result<wgpu::BlendState, String> {
+pub fn blend(b: Blend) -> wgpu::BlendState {
     use wgpu::{BlendComponent as C, BlendFactor as F, BlendOperation as O};
-    let add = C {
-        src_factor: F::One,
-        dst_factor: F::One,
-        operation: O::Add,
-    };
-    Ok(match name {
-        "Add" => wgpu::BlendState { color: add, alpha: add },
-        "Alpha" => wgpu::BlendState::ALPHA_BLENDING,
-        "Multiply" => {
+    match b {
+        Blend::Add => {
+            let add = C {
+                src_factor: F::One,
+                dst_factor: F::One,
+                operation: O::Add,
+            };
+            wgpu::BlendState { color: add, alpha: add }
+        }
+        Blend::Alpha => wgpu::BlendState::ALPHA_BLENDING,
+        Blend::Multiply => {
             let m = C {
                 src_factor: F::Dst,
                 dst_factor: F::Zero,
@@ -77,8 +79,37 @@ pub fn blend(name: &str) -> Result<wgpu::BlendState, String> {
             };
             wgpu::BlendState { color: m, alpha: m }
         }
-        other => return Err(format!("unknown blend mode `{other}`")),
-    })
+    }
+}
+
+pub fn filter(f: FilterMode) -> wgpu::FilterMode {
+    match f {
+        FilterMode::Nearest => wgpu::FilterMode::Nearest,
+        FilterMode::Linear => wgpu::FilterMode::Linear,
+    }
+}
+
+pub fn mipmap_filter(f: FilterMode) -> wgpu::MipmapFilterMode {
+    match f {
+        FilterMode::Nearest => wgpu::MipmapFilterMode::Nearest,
+        FilterMode::Linear => wgpu::MipmapFilterMode::Linear,
+    }
+}
+
+pub fn address(a: AddressMode) -> wgpu::AddressMode {
+    match a {
+        AddressMode::ClampToEdge => wgpu::AddressMode::ClampToEdge,
+        AddressMode::Repeat => wgpu::AddressMode::Repeat,
+        AddressMode::MirrorRepeat => wgpu::AddressMode::MirrorRepeat,
+    }
+}
+
+pub fn cull(c: CullMode) -> Option<wgpu::Face> {
+    match c {
+        CullMode::None => None,
+        CullMode::Front => Some(wgpu::Face::Front),
+        CullMode::Back => Some(wgpu::Face::Back),
+    }
 }
 
 pub fn stages(vis: &[String]) -> wgpu::ShaderStages {

@@ -8,8 +8,8 @@ use super::scene_gpu::SceneGpu;
 use super::{convert, Gpu};
 use crate::io::Image;
 use crate::scene::{Light, Scene};
-use lightbench_compiler::ir::{LightKind, ParamValue};
-use lightbench_compiler::plan::{BindSource, BindingType, Plan, PlanAttachment, PlanBinding, PlanPass};
+use lightbench_compiler::ir::{CompareFn, LayerSel, LightKind, ParamValue};
+use lightbench_compiler::plan::{BindSource, BindingType, Plan, PlanAttachment, PlanBinding, PlanPass, Work};
 use lightbench_compiler::shader::ShaderModule;
 use lightbench_compiler::Executable;
 use std::collections::{BTreeMap, HashMap};
@@ -125,24 +125,7 @@ impl Executor {
         let scene_gpu = err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, scene))??;
         let mut samplers = HashMap::new();
         for s in &plan.samplers {
-            let filter = |f: &str| {
-                if f == "Linear" {
-                    wgpu::FilterMode::Linear
-                } else {
-                    wgpu::FilterMode::Nearest
-                }
-            };
-            let mip = if s.mipmap == "Linear" {
-                wgpu::MipmapFilterMode::Linear
-            } else {
-                wgpu::MipmapFilterMode::Nearest
-            };
-            let address = match s.address.as_str() {
-                "Repeat" => wgpu::AddressMode::Repeat,
-                "MirrorRepeat" => wgpu::AddressMode::MirrorRepeat,
-                _ => wgpu::AddressMode::ClampToEdge,
-            };
-            let compare = s.compare.as_deref().map(convert::compare).transpose()?;
+            let address = convert::address(s.address);
             samplers.insert(
                 s.name.clone(),
                 device.create_sampler(&wgpu::SamplerDescriptor {
@@ -150,10 +133,10 @@ impl Executor {
                     address_mode_u: address,
                     address_mode_v: address,
                     address_mode_w: address,
-                    mag_filter: filter(&s.filter),
-                    min_filter: filter(&s.filter),
-                    mipmap_filter: mip,
-                    compare,
+                    mag_filter: convert::filter(s.filter),
+                    min_filter: convert::filter(s.filter),
+                    mipmap_filter: convert::mipmap_filter(s.mipmap),
+                    compare: s.compare.map(convert::compare),
                     ..Default::default()
                 }),
             );
@@ -330,18 +313,11 @@ impl Executor {
         let e = self.pool.get(&a.resource)?;
         let inst = self.instance_of(&a.resource, light);
         let layers = e.key.layers;
-        let (dim, range) = match a.layer.as_str() {
-            "All" => (wgpu::TextureViewDimension::D2Array, (0, layers)),
-            "Face" => (wgpu::TextureViewDimension::D2, (face, 1)),
-            "Base" => (wgpu::TextureViewDimension::D2, (0, 1)),
-            other => {
-                let n: u32 = other
-                    .trim_start_matches("Index(")
-                    .trim_end_matches(')')
-                    .parse()
-                    .map_err(|_| format!("bad layer `{other}`"))?;
-                (wgpu::TextureViewDimension::D2, (n, 1))
-            }
+        let (dim, range) = match a.layer {
+            LayerSel::All => (wgpu::TextureViewDimension::D2Array, (0, layers)),
+            LayerSel::Face => (wgpu::TextureViewDimension::D2, (face, 1)),
+            LayerSel::Base => (wgpu::TextureViewDimension::D2, (0, 1)),
+            LayerSel::Index(n) => (wgpu::TextureViewDimension::D2, (n, 1)),
         };
         let tex = e
             .texture(inst, false, parity)
@@ -431,7 +407,7 @@ impl Executor {
             Ok((self.shader(gpu, m, modules), entry))
         };
         let multiview = pp.multiview.and_then(|n| NonZeroU32::new((1u32 << n) - 1));
-        let (pipeline, dispatch) = if pp.kind == "compute" {
+        let (pipeline, dispatch) = if let Work::Dispatch { groups, .. } = &pp.work {
             let (m, entry) = module_of("compute")?;
             let p = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(&pp.name),
@@ -441,28 +417,7 @@ impl Executor {
                 compilation_options: Default::default(),
                 cache: None,
             });
-            let wg = pp.workgroup_size.unwrap_or([1, 1, 1]);
-            let dispatch = if let Some(res) = pp.work.strip_prefix("Size(").and_then(|s| s.strip_suffix(')')) {
-                let r = self
-                    .plan
-                    .resource(res)
-                    .ok_or_else(|| format!("dispatch size from unknown `{res}`"))?;
-                [r.extent.0.div_ceil(wg[0].max(1)), r.extent.1.div_ceil(wg[1].max(1)), 1]
-            } else {
-                let nums: Vec<u32> = pp
-                    .work
-                    .trim_start_matches("Groups(")
-                    .trim_end_matches(')')
-                    .split(',')
-                    .filter_map(|s| s.trim().parse().ok())
-                    .collect();
-                [
-                    nums.first().copied().unwrap_or(1),
-                    nums.get(1).copied().unwrap_or(1),
-                    nums.get(2).copied().unwrap_or(1),
-                ]
-            };
-            (PipelineKind::Compute(p), dispatch)
+            (PipelineKind::Compute(p), *groups)
         } else {
             let (vm, ventry) = module_of("vertex")?;
             let frag = if pp.stages.iter().any(|s| s.stage == "fragment") {
@@ -476,7 +431,7 @@ impl Executor {
                 .map(|c| {
                     Ok(Some(wgpu::ColorTargetState {
                         format: convert::format(&c.format)?,
-                        blend: c.blend.as_deref().map(convert::blend).transpose()?,
+                        blend: c.blend.map(convert::blend),
                         write_mask: wgpu::ColorWrites::ALL,
                     }))
                 })
@@ -488,7 +443,7 @@ impl Executor {
                     Ok::<_, String>(wgpu::DepthStencilState {
                         format: convert::format(&d.format)?,
                         depth_write_enabled: Some(d.depth_write.unwrap_or(true)),
-                        depth_compare: Some(convert::compare(d.depth_compare.as_deref().unwrap_or("Less"))?),
+                        depth_compare: Some(convert::compare(d.depth_compare.unwrap_or(CompareFn::Less))),
                         stencil: Default::default(),
                         bias: Default::default(),
                     })
@@ -499,7 +454,7 @@ impl Executor {
                 step_mode: wgpu::VertexStepMode::Vertex,
                 attributes: &VERTEX_ATTRIBUTES,
             })];
-            let buffers: &[Option<wgpu::VertexBufferLayout>] = if pp.work == "Scene" { &vertex_layout } else { &[] };
+            let buffers: &[Option<wgpu::VertexBufferLayout>] = if pp.work == Work::Scene { &vertex_layout } else { &[] };
             let p = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(&pp.name),
                 layout: Some(&pipeline_layout),
@@ -512,11 +467,7 @@ impl Executor {
                 primitive: wgpu::PrimitiveState {
                     topology: wgpu::PrimitiveTopology::TriangleList,
                     front_face: wgpu::FrontFace::Ccw,
-                    cull_mode: match pp.cull.as_deref() {
-                        Some("Back") => Some(wgpu::Face::Back),
-                        Some("Front") => Some(wgpu::Face::Front),
-                        _ => None,
-                    },
+                    cull_mode: pp.cull.and_then(convert::cull),
                     ..Default::default()
                 },
                 depth_stencil: depth,
@@ -814,25 +765,19 @@ impl Executor {
                         for (g, bg) in &rep.groups[parity] {
                             rp.set_bind_group(*g, bg, &[]);
                         }
-                        if pass.plan.work == "Scene" {
-                            for (mi, mesh) in self.scene_gpu.meshes.iter().enumerate() {
-                                if let Some((g, list)) = &pass.draw_groups {
-                                    rp.set_bind_group(*g, &list[mi], &[]);
+                        match &pass.plan.work {
+                            Work::Scene => {
+                                for (mi, mesh) in self.scene_gpu.meshes.iter().enumerate() {
+                                    if let Some((g, list)) = &pass.draw_groups {
+                                        rp.set_bind_group(*g, &list[mi], &[]);
+                                    }
+                                    rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+                                    rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                                    rp.draw_indexed(0..mesh.index_count, 0, 0..pass.plan.instances.max(1));
                                 }
-                                rp.set_vertex_buffer(0, mesh.vertices.slice(..));
-                                rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
-                                rp.draw_indexed(0..mesh.index_count, 0, 0..pass.plan.instances.max(1));
                             }
-                        } else if let Some(n) = pass
-                            .plan
-                            .work
-                            .strip_prefix("Vertices(")
-                            .and_then(|s| s.strip_suffix(')'))
-                            .and_then(|s| s.parse::<u32>().ok())
-                        {
-                            rp.draw(0..n, 0..pass.plan.instances.max(1));
-                        } else {
-                            rp.draw(0..3, 0..1);
+                            Work::Vertices(n) => rp.draw(0..*n, 0..pass.plan.instances.max(1)),
+                            Work::Fullscreen | Work::Dispatch { .. } => rp.draw(0..3, 0..1),
                         }
                     }
                 }
