@@ -1005,10 +1005,16 @@ fn format_not_renderable_on_profile() {
 
 #[test]
 fn repeated_pass_clearing_a_shared_target_warns() {
-    let out = run(&Case { pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], per_light: [Point])")], ..BASE });
+    let out = run(&Case {
+        pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], per_light: [Point])")],
+        ..BASE
+    });
     let d = out.session.diags.list.iter().find(|d| d.code == "repeated-clear").expect("warning");
     assert_eq!(d.severity, lightbench_compiler::diag::Severity::Warning);
-    assert_eq!(d.message, "pass `post` runs once per light and clears `out` each time: only the last repetition's output remains");
+    assert_eq!(
+        d.message,
+        "pass `post` runs once per light and clears `out` each time: only the last repetition's output remains"
+    );
     assert_eq!(d.location(&out.session.sources).map(|(_, l, c)| (l, c)), Some((16, 81)));
     assert!(!out.session.diags.has_errors(), "{}", out.dump());
 }

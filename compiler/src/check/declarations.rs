@@ -591,15 +591,28 @@ fn targets(p: &Pipeline, pass: &Pass, profile: &Profile, diags: &mut Diagnostics
     }
     // A repeated pass that clears a shared target keeps only its last repetition's output.
     if pass.per_light.is_some() || pass.per_face {
-        let targets = pass.color.iter().map(|c| (&c.resource, &c.load, c.layer, c.span)).chain(pass.depth.iter().map(|d| (&d.resource, &d.load, d.layer, d.span)));
+        let targets = pass
+            .color
+            .iter()
+            .map(|c| (&c.resource, &c.load, c.layer, c.span))
+            .chain(pass.depth.iter().map(|d| (&d.resource, &d.load, d.layer, d.span)));
         for (res, load, layer, span) in targets {
             let per_instance = p.resource(res).and_then(|r| r.per_light()).is_some() && pass.per_light.is_some();
             let per_face = layer == LayerSel::Face;
             let covered = per_instance && (per_face || !pass.per_face);
             if matches!(load, LoadOp::Clear(_)) && !covered && !(per_face && pass.per_light.is_none()) {
                 diags.push(
-                    Diagnostic::warning("repeated-clear", format!("pass `{}` runs once per {} and clears `{}` each time: only the last repetition's output remains", pass.name.value, if pass.per_face { "face" } else { "light" }, res.value), span)
-                        .with_note("use `load: Load` (with `blend: Add` to accumulate), or make the target per light / per face"),
+                    Diagnostic::warning(
+                        "repeated-clear",
+                        format!(
+                            "pass `{}` runs once per {} and clears `{}` each time: only the last repetition's output remains",
+                            pass.name.value,
+                            if pass.per_face { "face" } else { "light" },
+                            res.value
+                        ),
+                        span,
+                    )
+                    .with_note("use `load: Load` (with `blend: Add` to accumulate), or make the target per light / per face"),
                 );
             }
         }
