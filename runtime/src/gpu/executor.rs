@@ -504,7 +504,13 @@ impl Executor {
                 let mut groups: [Vec<(u32, wgpu::BindGroup)>; 2] = [vec![], vec![]];
                 let mut color: [Vec<wgpu::TextureView>; 2] = [vec![], vec![]];
                 let mut depth: [Option<wgpu::TextureView>; 2] = [None, None];
-                for parity in 0..2u32 {
+                // History resources swap every frame; without them both parities are the same.
+                let parities = if self.pool.entries.values().any(|e| e.key.copies == 2) {
+                    2
+                } else {
+                    1
+                };
+                for parity in 0..parities {
                     for g in &pp.bind_groups {
                         if Some(g.group) == draw_group {
                             continue;
@@ -519,6 +525,11 @@ impl Executor {
                     if let Some(d) = &pp.depth {
                         depth[parity as usize] = Some(self.attachment_view(d, light, face, parity)?);
                     }
+                }
+                if parities == 1 {
+                    groups[1] = groups[0].clone();
+                    color[1] = color[0].clone();
+                    depth[1] = depth[0].clone();
                 }
                 reps.push(Rep { groups, color, depth });
                 *slot += 1;
