@@ -39,6 +39,9 @@ pub struct Executable {
 pub struct Session {
     pub sources: SourceMap,
     pub diags: Diagnostics,
+    /// Compiled shaders, shareable between sessions (`with_cache`) so that a run checking
+    /// several pipelines validates each shared shader once.
+    pub compiled: std::sync::Arc<shader::CompileCache>,
 }
 
 /// Where a pipeline's shader paths are resolved: an explicit root, else the first of
@@ -103,6 +106,14 @@ impl Session {
         Self::default()
     }
 
+    /// A session that shares compiled shaders with others holding the same cache.
+    pub fn with_cache(compiled: std::sync::Arc<shader::CompileCache>) -> Self {
+        Session {
+            compiled,
+            ..Self::default()
+        }
+    }
+
     /// Read and parse a pipeline file into IR (front end chosen by extension).
     pub fn load_pipeline(&mut self, path: &Path) -> Option<Pipeline> {
         let name = path.display().to_string();
@@ -142,7 +153,7 @@ impl Session {
 
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
     pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
-        let mut loader = shader::ShaderLoader::new(shader_root.to_path_buf());
+        let mut loader = shader::ShaderLoader::new(shader_root.to_path_buf(), self.compiled.clone());
         check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags)
     }
 

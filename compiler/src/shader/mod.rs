@@ -21,7 +21,7 @@ pub fn builtin_source(path: &str) -> Option<&'static str> {
     (path == FULLSCREEN_FILE).then_some(FULLSCREEN_SOURCE)
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
 pub enum Lang {
     Wgsl,
     Glsl(#[serde(skip)] naga::ShaderStage),
@@ -115,18 +115,51 @@ pub fn capabilities(features: &BTreeSet<Feature>) -> naga::valid::Capabilities {
     caps
 }
 
+/// Compiled modules by (language, capabilities, expanded source): pipelines checked in one
+/// run that share shaders validate each of them once. Failures are not kept, so each session
+/// reports its own located errors.
+#[derive(Default)]
+pub struct CompileCache {
+    /// (language, capabilities, hash of the source) -> (source, module); the source is
+    /// compared on a hit, so a hash collision can only cost a recompile.
+    map: std::sync::Mutex<HashMap<CacheKey, (String, Arc<Compiled>)>>,
+}
+
+type CacheKey = (Lang, u64, u64);
+
+fn cache_key(lang: Lang, caps: u64, text: &str) -> CacheKey {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::hash::DefaultHasher::new();
+    text.hash(&mut h);
+    (lang, caps, h.finish())
+}
+
+impl CompileCache {
+    fn get(&self, key: &CacheKey, text: &str) -> Option<Arc<Compiled>> {
+        let m = self.map.lock().ok()?;
+        m.get(key).filter(|(src, _)| src == text).map(|(_, c)| c.clone())
+    }
+    fn put(&self, key: CacheKey, text: &str, c: Arc<Compiled>) {
+        if let Ok(mut m) = self.map.lock() {
+            m.insert(key, (text.to_string(), c));
+        }
+    }
+}
+
 /// Loads each shader once per capability set; failures are remembered so that a broken
 /// shader used by several passes is reported once.
 pub struct ShaderLoader {
     pub root: PathBuf,
     cache: HashMap<(String, u64), Option<Arc<ShaderModule>>>,
+    compiled: Arc<CompileCache>,
 }
 
 impl ShaderLoader {
-    pub fn new(root: PathBuf) -> Self {
+    pub fn new(root: PathBuf, compiled: Arc<CompileCache>) -> Self {
         ShaderLoader {
             root,
             cache: HashMap::new(),
+            compiled,
         }
     }
 
@@ -143,7 +176,7 @@ impl ShaderLoader {
             return hit.clone();
         }
         let fs = DiskFs { root: &self.root };
-        let result = load_module(&fs, sources, path, caps, diags).map(Arc::new);
+        let result = load_module(&fs, sources, path, caps, &self.compiled, diags).map(Arc::new);
         self.cache.insert(key, result.clone());
         result
     }
@@ -154,6 +187,7 @@ pub fn load_module(
     sources: &mut SourceMap,
     path: &Spanned<String>,
     caps: naga::valid::Capabilities,
+    cache: &CompileCache,
     diags: &mut Diagnostics,
 ) -> Option<ShaderModule> {
     let lang = match lang_of(&path.value) {
@@ -188,17 +222,14 @@ pub fn load_module(
         }
     };
     let fallback = Span::new(root, 0, 0);
-    // The built-in fullscreen stage is the same in every session: compile it once per process.
-    static BUILTIN: std::sync::OnceLock<Arc<Compiled>> = std::sync::OnceLock::new();
-    let compiled = match builtin_source(&path.value) {
-        Some(_) => match BUILTIN.get() {
-            Some(c) => c.clone(),
-            None => {
-                let c = compile(lang, &expanded, caps, fallback, diags)?;
-                BUILTIN.get_or_init(|| c).clone()
-            }
-        },
-        None => compile(lang, &expanded, caps, fallback, diags)?,
+    let key = cache_key(lang, caps.bits(), &expanded.text);
+    let compiled = match cache.get(&key, &expanded.text) {
+        Some(c) => c,
+        None => {
+            let c = compile(lang, &expanded, caps, fallback, diags)?;
+            cache.put(key, &expanded.text, c.clone());
+            c
+        }
     };
     Some(ShaderModule {
         path: path.value.clone(),

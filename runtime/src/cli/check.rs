@@ -23,8 +23,10 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&Path
     }
     let mut errors = 0;
     let mut warnings = 0;
+    // Pipelines in one run share compiled shaders.
+    let compiled = std::sync::Arc::new(lightbench_compiler::shader::CompileCache::default());
     for f in &files {
-        let mut s = Session::new();
+        let mut s = Session::with_cache(compiled.clone());
         let scene_features = match scene {
             Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
                 Some(sf) => Some(sf),

@@ -1,0 +1,67 @@
+//! Pipelines checked in one run share compiled shaders; errors stay located per session.
+
+mod common;
+
+use common::*;
+use lightbench_compiler::profile::Profile;
+use lightbench_compiler::shader::CompileCache;
+use lightbench_compiler::Session;
+use std::sync::Arc;
+
+const FILL: &str = "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0);\n}\n";
+
+fn pipeline(name: &str) -> String {
+    format!("Pipeline(name: \"{name}\", resources: {{\"out\": Texture(format: Rgba8Unorm)}}, passes: [Fullscreen(name: \"f\", shader: \"fill.wgsl\", color: [\"out\"])], output: \"out\")")
+}
+
+#[test]
+fn shared_cache_compiles_a_shader_once() {
+    let dir = write_project(
+        "cache",
+        &[
+            ("pipelines/a.ron", &pipeline("a")),
+            ("pipelines/b.ron", &pipeline("b")),
+            ("shaders/fill.wgsl", FILL),
+        ],
+    );
+    let cache = Arc::new(CompileCache::default());
+    let scene = lightbench_compiler::scene::SceneFeatures::everything();
+    let mut modules = vec![];
+    for p in ["a", "b"] {
+        let mut s = Session::with_cache(cache.clone());
+        let exe = s
+            .executable(&dir.join(format!("pipelines/{p}.ron")), None, &Profile::vulkan(), &scene, &[])
+            .unwrap();
+        modules.push(exe.modules[&("f".to_string(), "fragment".to_string())].clone());
+    }
+    assert!(
+        Arc::ptr_eq(&modules[0].compiled, &modules[1].compiled),
+        "the second pipeline reused the compiled module"
+    );
+    // Each session still has its own source map: spans point into its own files.
+    assert_ne!(Arc::as_ptr(&modules[0]), Arc::as_ptr(&modules[1]));
+}
+
+#[test]
+fn broken_shader_is_reported_in_every_session() {
+    let dir = write_project(
+        "cache-err",
+        &[
+            ("pipelines/a.ron", &pipeline("a")),
+            ("pipelines/b.ron", &pipeline("b")),
+            (
+                "shaders/fill.wgsl",
+                "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return 1.0;\n}\n",
+            ),
+        ],
+    );
+    let cache = Arc::new(CompileCache::default());
+    for p in ["a", "b"] {
+        let mut s = Session::with_cache(cache.clone());
+        s.check_file(&dir.join(format!("pipelines/{p}.ron")), None, &Profile::vulkan(), None);
+        let d = s.diags.errors().next().expect("error in each session");
+        assert_eq!(d.code, "wgsl-parse");
+        let (f, l, _) = d.location(&s.sources).unwrap();
+        assert!(f.ends_with("fill.wgsl") && l == 3, "{f}:{l}");
+    }
+}
