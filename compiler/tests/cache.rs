@@ -51,7 +51,7 @@ fn broken_shader_is_reported_in_every_session() {
             ("pipelines/b.ron", &pipeline("b")),
             (
                 "shaders/fill.wgsl",
-                "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return 1.0;\n}\n",
+                "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0) +;\n}\n",
             ),
         ],
     );
