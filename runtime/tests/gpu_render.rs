@@ -319,3 +319,96 @@ fn gl_backend_falls_back_from_multiview_and_renders_alike() {
     let e = rmse(&on_gl, &on_vk).unwrap();
     assert!(e < 0.03, "GL vs Vulkan RMSE {e}");
 }
+
+/// Does the segment from `a` to `b` pass through the box `half` placed by `model`?
+fn segment_hits_box(a: Vec3, b: Vec3, model: Mat4, half: Vec3) -> bool {
+    let inv = model.inverse();
+    let (la, lb) = (inv.transform_point3(a), inv.transform_point3(b));
+    let d = lb - la;
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    for k in 0..3 {
+        if d[k].abs() < 1e-9 {
+            if la[k].abs() > half[k] {
+                return false;
+            }
+            continue;
+        }
+        let (mut e, mut f) = ((-half[k] - la[k]) / d[k], (half[k] - la[k]) / d[k]);
+        if e > f {
+            std::mem::swap(&mut e, &mut f);
+        }
+        t0 = t0.max(e);
+        t1 = t1.min(f);
+        if t0 > t1 {
+            return false;
+        }
+    }
+    // Stop short of the end point so the surface itself does not count.
+    t0 < 0.999
+}
+
+#[test]
+fn cornell_point_shadow_lies_where_the_tall_box_blocks_the_light() {
+    let g = gpu();
+    let with_box = builtin::cornell();
+    let mut without = builtin::cornell();
+    without.meshes.retain(|m| m.name != "tall_box");
+    let mut dark = builtin::cornell();
+    dark.lights[0].on = false;
+    let tall = with_box.meshes.iter().find(|m| m.name == "tall_box").unwrap().transform;
+    let short = with_box.meshes.iter().find(|m| m.name == "short_box").unwrap().transform;
+    let (tall_half, short_half) = (Vec3::new(0.3, 0.6, 0.3), Vec3::splat(0.3));
+    let light = with_box.lights[0].position;
+    let cam = with_box.camera.position;
+    let hdr = |scene: &Scene| render_with(&g, &deferred(), scene, &[], 1).read_texture(&g, "hdr", 0, 0).unwrap();
+    let (a, b, ambient) = (hdr(&with_box), hdr(&without), hdr(&dark));
+    let (mut shadow_ok, mut shadow_bad, mut lit_ok, mut lit_bad) = (0, 0, 0, 0);
+    // Points on the left wall and the floor are in shadow exactly when the light's view of
+    // them crosses the tall box; only points the camera sees past both boxes are compared.
+    for i in 1..20 {
+        for j in 1..20 {
+            let (u, v) = (i as f32 / 20.0, j as f32 / 20.0);
+            for p in [
+                Vec3::new(-0.999, 2.0 * v, 1.0 - 2.0 * u),
+                Vec3::new(2.0 * u - 1.0, 0.001, 1.0 - 2.0 * v),
+            ] {
+                if segment_hits_box(cam, p, tall, tall_half) || segment_hits_box(cam, p, short, short_half) {
+                    continue;
+                }
+                let Some((x, y)) = with_box.project(p) else { continue };
+                let (x, y) = (x as u32, y as u32);
+                if x < 1 || y < 1 || x + 2 >= a.width || y + 2 >= a.height {
+                    continue;
+                }
+                let at = |img: &Image| img.mean_rgb(x - 1, y - 1, x + 2, y + 2);
+                // Direct light only: the ambient term is the same in all three images.
+                let (da, db) = (at(&a) - at(&ambient), at(&b) - at(&ambient));
+                if db < 0.005 {
+                    continue; // facing away from the light: nothing to compare
+                }
+                if segment_hits_box(light, p, tall, tall_half) {
+                    if da < 0.25 * db {
+                        shadow_ok += 1
+                    } else {
+                        shadow_bad += 1
+                    }
+                } else if !segment_hits_box(light, p, short, short_half) {
+                    if (da - db).abs() < 0.1 * db + 0.002 {
+                        lit_ok += 1
+                    } else {
+                        lit_bad += 1
+                    }
+                }
+            }
+        }
+    }
+    // A 3×3 window straddling the shadow's edge may disagree; nearly all samples must not.
+    assert!(
+        shadow_ok >= 5 && shadow_bad * 10 <= shadow_ok,
+        "in the tall box's shadow: {shadow_ok} dark, {shadow_bad} not"
+    );
+    assert!(
+        lit_ok >= 50 && lit_bad * 10 <= lit_ok,
+        "outside it: {lit_ok} unchanged, {lit_bad} changed"
+    );
+}
