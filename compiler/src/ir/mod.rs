@@ -10,7 +10,8 @@ mod variant;
 pub use condition::{Condition, Effect, LightKind};
 pub use param::{Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
-    default_entry, Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind, Read, ShaderRef,
+    default_entry, written_entry, Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind,
+    Read, ShaderRef,
 };
 pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SizeSpec, TextureDesc, ViewDim};
 pub use variant::{Variant, VariantOption};

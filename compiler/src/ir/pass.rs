@@ -153,6 +153,19 @@ pub fn default_entry(stage: naga::ShaderStage, file: &str) -> &'static str {
     }
 }
 
+/// How a pipeline file writes a stage whose pass names `pass_file` as its shader: `None` when
+/// the default entry applies, `file#entry` for another file, else the entry name. Both printers
+/// use it, so RON and LBP agree on what is implied.
+pub fn written_entry(r: &ShaderRef, pass_file: Option<&str>, stage: naga::ShaderStage, default_applies: bool) -> Option<String> {
+    if Some(r.file.value.as_str()) != pass_file {
+        return Some(format!("{}#{}", r.file.value, r.entry.value));
+    }
+    if default_applies && r.entry.value == default_entry(stage, &r.file.value) {
+        return None;
+    }
+    Some(r.entry.value.clone())
+}
+
 /// A shader module and an entry point in it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShaderRef {

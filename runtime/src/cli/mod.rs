@@ -120,6 +120,16 @@ pub fn run(cli: Cli) -> i32 {
     }
 }
 
+/// `--variant NAME=OPTION` arguments.
+pub fn parse_variants(args: &[String]) -> Result<Vec<(String, String)>, String> {
+    args.iter()
+        .map(|v| match v.split_once('=') {
+            Some((k, val)) if !k.is_empty() && !val.is_empty() => Ok((k.to_string(), val.to_string())),
+            _ => Err(format!("invalid --variant `{v}`: expected NAME=OPTION")),
+        })
+        .collect()
+}
+
 pub fn usage_error(msg: impl std::fmt::Display) -> i32 {
     eprintln!("error: {msg}");
     EXIT_USAGE

@@ -54,13 +54,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> i32 {
-    let mut variants = vec![];
-    for v in &a.variants {
-        match v.split_once('=') {
-            Some((k, val)) if !k.is_empty() && !val.is_empty() => variants.push((k.to_string(), val.to_string())),
-            _ => return usage_error(format!("invalid --variant `{v}`: expected NAME=OPTION")),
-        }
-    }
+    let variants = match super::parse_variants(&a.variants) {
+        Ok(v) => v,
+        Err(e) => return usage_error(e),
+    };
     if !matches!(
         a.out
             .extension()

@@ -44,11 +44,7 @@ const WANTED: &[(wgpu::Features, Feature)] = &[
 impl Gpu {
     pub fn new(opts: &DeviceOptions) -> Result<Gpu, String> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        desc.backends = match opts.backend {
-            Some(BackendChoice::Vulkan) => wgpu::Backends::VULKAN,
-            Some(BackendChoice::Gl) => wgpu::Backends::GL,
-            None => wgpu::Backends::PRIMARY | wgpu::Backends::GL,
-        };
+        desc.backends = desc_backends(opts);
         let instance = wgpu::Instance::new(desc);
         let adapters = pollster::block_on(instance.enumerate_adapters(desc_backends(opts)));
         if adapters.is_empty() {

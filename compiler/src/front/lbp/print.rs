@@ -91,17 +91,7 @@ pub fn main_file(p: &Pass) -> Option<&str> {
 
 /// How a stage is written given the pass's shader file; `None` when the default applies.
 fn stage(r: &ShaderRef, file: Option<&str>, stage: naga::ShaderStage, default_applies: bool) -> Option<String> {
-    if Some(r.file.value.as_str()) != file {
-        return Some(quote(&format!("{}#{}", r.file.value, r.entry.value)));
-    }
-    if default_applies && r.entry.value == default_entry(stage, &r.file.value) {
-        return None;
-    }
-    Some(if r.entry.value.contains('#') {
-        quote(&r.entry.value)
-    } else {
-        name(&r.entry.value)
-    })
+    written_entry(r, file, stage, default_applies).map(|t| if t.contains('#') { quote(&t) } else { name(&t) })
 }
 
 pub fn print(p: &Pipeline, source: Option<&str>) -> String {

@@ -57,13 +57,7 @@ fn layer(l: LayerSel) -> Option<String> {
 }
 
 fn stage(key: &str, r: &ShaderRef, file: Option<&str>, stage: naga::ShaderStage, default_applies: bool) -> Option<String> {
-    if Some(r.file.value.as_str()) != file {
-        return Some(format!("{key}: {}", quote(&format!("{}#{}", r.file.value, r.entry.value))));
-    }
-    if default_applies && r.entry.value == default_entry(stage, &r.file.value) {
-        return None;
-    }
-    Some(format!("{key}: {}", quote(&r.entry.value)))
+    written_entry(r, file, stage, default_applies).map(|t| format!("{key}: {}", quote(&t)))
 }
 
 pub fn print(p: &Pipeline, source: Option<&str>) -> String {
