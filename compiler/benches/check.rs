@@ -3,9 +3,10 @@
 //! (goal: <= 1.10×). Not a test: figures depend on the machine.
 
 use lightbench_compiler::profile::Profile;
-use lightbench_compiler::shader::include::{self, DiskFs};
+use lightbench_compiler::shader::include::{self, ShaderFs};
 use lightbench_compiler::span::SourceMap;
-use lightbench_compiler::{pipeline_files, shader_root_for, Session};
+use lightbench_compiler::vfs::DiskVfs;
+use lightbench_compiler::{pipeline_files, shader_root_for, Session, Workspace};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -28,10 +29,19 @@ fn shader_files(files: &[PathBuf]) -> Vec<String> {
     names.into_iter().collect()
 }
 
+/// Shader files under a root on disk, for the baseline.
+struct Disk<'a>(&'a Path);
+
+impl ShaderFs for Disk<'_> {
+    fn read(&self, path: &str) -> std::io::Result<String> {
+        std::fs::read_to_string(self.0.join(path))
+    }
+}
+
 /// Read each file from disk, splice in its includes (naga has no include mechanism, so the
 /// baseline gets the same text and the same file reads as `check`), parse and validate.
 fn naga_alone(root: &Path, shaders: &[String]) {
-    let fs = DiskFs { root };
+    let fs = Disk(root);
     for name in shaders {
         let mut sm = SourceMap::new();
         let id = sm.add(name.clone(), std::fs::read_to_string(root.join(name)).unwrap());
@@ -51,10 +61,10 @@ fn naga_alone(root: &Path, shaders: &[String]) {
 }
 
 fn check_all(files: &[PathBuf], profile: &Profile) {
-    // As `lightbench check` does: one compiled-shader cache for the run.
-    let compiled = std::sync::Arc::new(lightbench_compiler::shader::CompileCache::default());
+    // As `lightbench check` does: one workspace (compiled-shader cache) for the run.
+    let ws = Workspace::disk();
     for f in files {
-        let mut s = Session::with_cache(compiled.clone());
+        let mut s = ws.session();
         s.check_file(f, None, profile, None);
         assert!(!s.diags.has_errors(), "{}", s.render());
     }
@@ -64,7 +74,7 @@ fn main() {
     // `cargo bench` passes `--bench`; other arguments (filters) are ignored.
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf();
     let files = pipeline_files(&root.join("pipelines")).unwrap();
-    let shader_root = shader_root_for(&files[0], None);
+    let shader_root = shader_root_for(&DiskVfs, &files[0], None);
     // Two baselines: naga over each pipeline's shader files (what running naga pipeline by
     // pipeline costs), and naga over the distinct files of all pipelines (no file twice).
     let per_pipeline: Vec<Vec<String>> = files.iter().map(|f| shader_files(std::slice::from_ref(f))).collect();
@@ -110,7 +120,7 @@ fn main() {
         let mut t_parse = vec![];
         for _ in 0..rounds {
             let t = Instant::now();
-            let _ = lightbench_compiler::front::ron::value::parse(0, &text);
+            let _ = lightbench_compiler::front::ron::parse::parse(0, &text);
             t_parse.push(t.elapsed());
         }
         println!("ron parse only {:?}", median(t_parse));

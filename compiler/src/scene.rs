@@ -1,10 +1,11 @@
 //! What a scene calls for, as far as the compiler cares: light kinds and counts, effects,
 //! reflective materials, output size. Read from a scene file (RON) for culling.
 
-use crate::diag::{suggestion_note, Diagnostic, Diagnostics};
-use crate::front::ron::value::{self, Value};
+use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
+use crate::front::ron::parse as value;
 use crate::ir::{Effect, LightKind};
 use crate::span::SourceMap;
+use crate::syntax::tree::Value;
 use serde::Serialize;
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -44,7 +45,7 @@ pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diag
         Err(e) => {
             diags.push(Diagnostic::unlocated(
                 crate::diag::Severity::Error,
-                "file-not-found",
+                Code::FileNotFound,
                 format!("cannot read scene `{path}`: {e}"),
             ));
             return None;
@@ -59,11 +60,11 @@ pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diag
         }
     };
     let Value::Struct { name, fields } = &*root.value else {
-        diags.push(Diagnostic::error("type-mismatch", "expected `Scene(...)`", root.span));
+        diags.push(Diagnostic::error(Code::TypeMismatch, "expected `Scene(...)`", root.span));
         return None;
     };
     if name.as_ref().is_some_and(|(n, _)| n != "Scene") {
-        diags.push(Diagnostic::error("type-mismatch", "expected `Scene(...)`", root.span));
+        diags.push(Diagnostic::error(Code::TypeMismatch, "expected `Scene(...)`", root.span));
         return None;
     }
     let before = diags.error_count();
@@ -87,12 +88,12 @@ pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diag
             Value::Tuple { items, .. } if items.len() == 2 => match (&*items[0].value, &*items[1].value) {
                 (Value::Int(w), Value::Int(h)) if *w > 0 && *h > 0 && *w <= 65536 && *h <= 65536 => sf.size = (*w as u32, *h as u32),
                 _ => diags.push(Diagnostic::error(
-                    "value-out-of-range",
+                    Code::ValueOutOfRange,
                     "scene size must be two positive integers",
                     n.span,
                 )),
             },
-            _ => diags.push(Diagnostic::error("type-mismatch", "expected `size: (width, height)`", n.span)),
+            _ => diags.push(Diagnostic::error(Code::TypeMismatch, "expected `size: (width, height)`", n.span)),
         }
     }
     if let Some(n) = field("lights") {
@@ -106,13 +107,17 @@ pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diag
                         } => (k.clone(), *s, fields.clone()),
                         Value::Tuple { name: Some((k, s)), items } if items.is_empty() => (k.clone(), *s, vec![]),
                         _ => {
-                            diags.push(Diagnostic::error("type-mismatch", "expected a light such as `Point(...)`", it.span));
+                            diags.push(Diagnostic::error(
+                                Code::TypeMismatch,
+                                "expected a light such as `Point(...)`",
+                                it.span,
+                            ));
                             continue;
                         }
                     };
                     let Some(kind) = LightKind::from_name(&kind_name) else {
                         diags.push(
-                            Diagnostic::error("unknown-kind", format!("unknown light kind `{kind_name}`"), kspan)
+                            Diagnostic::error(Code::UnknownKind, format!("unknown light kind `{kind_name}`"), kspan)
                                 .with_note(suggestion_note(&kind_name, &LightKind::NAMES)),
                         );
                         continue;
@@ -127,7 +132,7 @@ pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diag
                     }
                 }
             }
-            _ => diags.push(Diagnostic::error("type-mismatch", "expected a list of lights", n.span)),
+            _ => diags.push(Diagnostic::error(Code::TypeMismatch, "expected a list of lights", n.span)),
         }
     }
     if let Some(n) = field("effects") {
@@ -140,15 +145,15 @@ pub fn load_scene_features(path: &str, sources: &mut SourceMap, diags: &mut Diag
                                 sf.effects.insert(e);
                             }
                             None => diags.push(
-                                Diagnostic::error("unknown-effect", format!("unknown effect `{e}`"), it.span)
+                                Diagnostic::error(Code::UnknownEffect, format!("unknown effect `{e}`"), it.span)
                                     .with_note(suggestion_note(e, &Effect::NAMES)),
                             ),
                         },
-                        _ => diags.push(Diagnostic::error("type-mismatch", "expected an effect name", it.span)),
+                        _ => diags.push(Diagnostic::error(Code::TypeMismatch, "expected an effect name", it.span)),
                     }
                 }
             }
-            _ => diags.push(Diagnostic::error("type-mismatch", "expected a list of effects", n.span)),
+            _ => diags.push(Diagnostic::error(Code::TypeMismatch, "expected a list of effects", n.span)),
         }
     }
     if let Some(n) = field("models") {

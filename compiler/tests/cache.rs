@@ -4,8 +4,7 @@ mod common;
 
 use common::*;
 use lightbench_compiler::profile::Profile;
-use lightbench_compiler::shader::CompileCache;
-use lightbench_compiler::Session;
+use lightbench_compiler::Workspace;
 use std::sync::Arc;
 
 const FILL: &str = "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0);\n}\n";
@@ -24,15 +23,15 @@ fn shared_cache_compiles_a_shader_once() {
             ("shaders/fill.wgsl", FILL),
         ],
     );
-    let cache = Arc::new(CompileCache::default());
+    let ws = Workspace::disk();
     let scene = lightbench_compiler::scene::SceneFeatures::everything();
     let mut modules = vec![];
     for p in ["a", "b"] {
-        let mut s = Session::with_cache(cache.clone());
+        let mut s = ws.session();
         let exe = s
             .executable(&dir.join(format!("pipelines/{p}.ron")), None, &Profile::vulkan(), &scene, &[])
             .unwrap();
-        modules.push(exe.modules[&("f".to_string(), "fragment".to_string())].clone());
+        modules.push(exe.modules[0][1].clone());
     }
     assert!(
         Arc::ptr_eq(&modules[0].compiled, &modules[1].compiled),
@@ -55,9 +54,9 @@ fn broken_shader_is_reported_in_every_session() {
             ),
         ],
     );
-    let cache = Arc::new(CompileCache::default());
+    let ws = Workspace::disk();
     for p in ["a", "b"] {
-        let mut s = Session::with_cache(cache.clone());
+        let mut s = ws.session();
         s.check_file(&dir.join(format!("pipelines/{p}.ron")), None, &Profile::vulkan(), None);
         let d = s.diags.errors().next().expect("error in each session");
         assert_eq!(d.code, "wgsl-parse");

@@ -153,7 +153,7 @@ fn scene_file_features_and_errors() {
     let mut s = Session::new();
     assert!(lightbench_compiler::scene::load_scene_features(&bad.display().to_string(), &mut s.sources, &mut s.diags).is_none());
     let d = &s.diags.list[0];
-    assert_eq!((d.code, d.message.as_str()), ("unknown-effect", "unknown effect `Ssrr`"));
+    assert_eq!((d.code.as_str(), d.message.as_str()), ("unknown-effect", "unknown effect `Ssrr`"));
     assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((2, 15)));
     assert!(d.notes[0].contains("did you mean `Ssr`?"));
 }

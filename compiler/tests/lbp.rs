@@ -164,14 +164,14 @@ const BAD: &[(&str, &str, &str, usize, usize)] = &[
     (
         "pipeline p\ntexture out: Rgba8Unorm viewport\n",
         "missing-key",
-        "pipeline has no `output` line",
+        "pipeline is missing required key `output`",
         3,
         1,
     ),
     (
         "pipeline p\ncompute c \"c.wgsl\" {\n    writes out\n}\noutput out\n",
         "missing-key",
-        "compute pass `c` has no `dispatch`",
+        "pass `c` is missing required key `dispatch`",
         2,
         9,
     ),
@@ -208,7 +208,7 @@ const BAD: &[(&str, &str, &str, usize, usize)] = &[
         "value-out-of-range",
         "viewport scale must be in (0, 16]",
         2,
-        29,
+        20,
     ),
     ("", "lbp-syntax", "expected `pipeline NAME`", 1, 1),
 ];
@@ -217,7 +217,11 @@ const BAD: &[(&str, &str, &str, usize, usize)] = &[
 fn bad_lbp_inputs_are_located() {
     let mut failures = vec![];
     for (i, (src, code, msg, line, col)) in BAD.iter().enumerate() {
-        let (_, s) = parse("bad.lbp", src);
+        // Parsing and the declarations check: what needs no shader.
+        let (p, mut s) = parse("bad.lbp", src);
+        if let Some(p) = &p {
+            lightbench_compiler::check::declarations::check(p, &lightbench_compiler::profile::Profile::vulkan(), &mut s.diags);
+        }
         let hit = s.diags.list.iter().any(|d| {
             let loc = d.location(&s.sources).map(|(_, l, c)| (l, c));
             d.code == *code && d.message.contains(msg) && loc == Some((*line, *col))
@@ -417,11 +421,14 @@ mod generated {
         ]
     }
 
-    fn pass(n: String) -> impl Strategy<Value = Pass> {
+    fn targets() -> impl Strategy<Value = Targets> {
         let color = proptest::collection::vec(
             (
                 name(),
-                prop_oneof![Just(LoadOp::Load), proptest::collection::vec(float(), 4).prop_map(LoadOp::Clear)],
+                prop_oneof![
+                    Just(Load::Load),
+                    (float(), float(), float(), float()).prop_map(|(a, b, c, d)| Load::Clear([a, b, c, d]))
+                ],
                 proptest::option::of(proptest::sample::select(vec![Blend::Add, Blend::Alpha, Blend::Multiply])),
                 layer(),
             )
@@ -437,7 +444,7 @@ mod generated {
         let depth = proptest::option::of(
             (
                 name(),
-                prop_oneof![Just(LoadOp::Load), float().prop_map(|x| LoadOp::Clear(vec![x]))],
+                prop_oneof![Just(Load::Load), float().prop_map(Load::Clear)],
                 proptest::sample::select(CompareFn::ALL.to_vec()),
                 any::<bool>(),
                 layer(),
@@ -451,14 +458,64 @@ mod generated {
                     span: Span::default(),
                 }),
         );
+        (color, depth).prop_map(|(color, depth)| Targets { color, depth })
+    }
+
+    fn kind() -> impl Strategy<Value = PassKind> {
+        let r = |f: &str, e: &str| ShaderRef {
+            file: sp(f.to_string()),
+            entry: sp(e.to_string()),
+        };
+        let raster = (
+            proptest::sample::select(vec![CullMode::None, CullMode::Front, CullMode::Back]),
+            1u32..8,
+            proptest::option::of(2u32..7),
+            proptest::option::of(1u32..100),
+            targets(),
+            (file(), file(), entry(), entry(), any::<u8>()),
+        )
+            .prop_map(move |(cull, instances, mv, verts, targets, (f1, f2, e1, e2, pick))| {
+                let fragment = match pick % 3 {
+                    0 => None,
+                    1 => Some(r(&f1, &e2)),
+                    _ => Some(r(&f2, &e2)),
+                };
+                PassKind::Raster(Raster {
+                    vertex: r(&f1, &e1),
+                    fragment,
+                    targets,
+                    draw: verts.map(Draw::Vertices).unwrap_or(Draw::Scene),
+                    cull,
+                    instances: sp(instances),
+                    multiview: mv.map(sp),
+                })
+            });
+        let fullscreen = (targets(), file(), entry()).prop_map(move |(targets, f, e)| {
+            PassKind::Fullscreen(Fullscreen {
+                fragment: r(&f, &e),
+                targets,
+            })
+        });
+        let dispatch = prop_oneof![
+            (0u32..64, 0u32..64, 0u32..64).prop_map(|(x, y, z)| Dispatch::Groups(x, y, z)),
+            name().prop_map(|n| Dispatch::Size(sp(n)))
+        ];
+        let compute = (dispatch, file(), entry()).prop_map(move |(dispatch, f, e)| {
+            PassKind::Compute(Compute {
+                entry: r(&f, &e),
+                dispatch,
+            })
+        });
+        prop_oneof![raster, fullscreen, compute]
+    }
+
+    fn pass(n: String) -> impl Strategy<Value = Pass> {
         let common = (
             proptest::collection::vec(
                 (name(), any::<bool>()).prop_map(|(n, p)| if p { Read::Prev(sp(n)) } else { Read::Current(sp(n)) }),
                 0..3,
             ),
             proptest::collection::vec(name().prop_map(sp), 0..2),
-            color,
-            depth,
             proptest::collection::vec(name().prop_map(sp), 0..3),
             prop_oneof![3 => Just("params".to_string()), 1 => name()],
             proptest::collection::vec((name(), name()).prop_map(|(a, b)| (sp(a), sp(b))), 0..2),
@@ -466,61 +523,13 @@ mod generated {
             proptest::option::of(kinds()),
             any::<bool>(),
         );
-        let kind = prop_oneof![
-            (
-                proptest::sample::select(vec![CullMode::None, CullMode::Front, CullMode::Back]),
-                1u32..8,
-                proptest::option::of(2u32..7),
-                proptest::option::of(1u32..100)
-            )
-                .prop_map(|(cull, instances, mv, verts)| PassKind::Raster {
-                    draw: verts.map(Draw::Vertices).unwrap_or(Draw::Scene),
-                    cull,
-                    instances,
-                    multiview: mv.map(sp)
-                }),
-            Just(PassKind::Fullscreen),
-            prop_oneof![
-                (0u32..64, 0u32..64, 0u32..64).prop_map(|(x, y, z)| Dispatch::Groups(x, y, z)),
-                name().prop_map(|n| Dispatch::Size(sp(n)))
-            ]
-            .prop_map(|dispatch| PassKind::Compute { dispatch }),
-        ];
-        (kind, common, file(), file(), entry(), entry(), any::<u8>()).prop_map(move |(kind, c, f1, f2, e1, e2, pick)| {
-            let (reads, writes, color, depth, params, block, bind, when, per_light, per_face) = c;
-            let r = |f: &str, e: &str| ShaderRef {
-                file: sp(f.to_string()),
-                entry: sp(e.to_string()),
-            };
-            let (vertex, fragment, compute) = match &kind {
-                PassKind::Raster { .. } => {
-                    let frag = match pick % 3 {
-                        0 => None,
-                        1 => Some(r(&f1, &e2)),
-                        _ => Some(r(&f2, &e2)),
-                    };
-                    (Some(r(&f1, &e1)), frag, None)
-                }
-                PassKind::Fullscreen => (
-                    Some(r(
-                        lightbench_compiler::shader::FULLSCREEN_FILE,
-                        lightbench_compiler::shader::FULLSCREEN_ENTRY,
-                    )),
-                    Some(r(&f1, &e1)),
-                    None,
-                ),
-                PassKind::Compute { .. } => (None, None, Some(r(&f1, &e1))),
-            };
+        (kind(), common).prop_map(move |(kind, c)| {
+            let (reads, writes, params, block, bind, when, per_light, per_face) = c;
             Pass {
                 name: sp(n.clone()),
                 kind,
-                vertex,
-                fragment,
-                compute,
                 reads,
                 writes,
-                color,
-                depth,
                 params,
                 param_block: sp(block),
                 bind,

@@ -4,8 +4,9 @@
 mod common;
 
 use common::*;
-use lightbench_compiler::ir::LightKind;
-use lightbench_compiler::plan::{self, BindSource, BindingType, Plan, SampleType, SamplerKind};
+use lightbench_compiler::ir::{LightKind, SamplerKind, Stage};
+use lightbench_compiler::layout::{BindSource, BindingType, FieldType, SampleType, ShaderDim};
+use lightbench_compiler::plan::{self, Plan, Usage};
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
 use lightbench_compiler::Session;
@@ -100,7 +101,7 @@ fn layouts_come_from_formats_and_shader_use() {
         binding(&plan, "light_directional_spot", "shadow_map").ty,
         BindingType::Texture {
             sample_type: SampleType::Depth,
-            view_dimension: lightbench_compiler::shader::reflect::ShaderDim::D2,
+            view_dimension: ShaderDim::D2,
             multisampled: false
         }
     );
@@ -128,13 +129,13 @@ fn layouts_come_from_formats_and_shader_use() {
     assert!(matches!(
         binding(&plan, "light_point", "shadow_cube").ty,
         BindingType::Texture {
-            view_dimension: lightbench_compiler::shader::reflect::ShaderDim::Cube,
+            view_dimension: ShaderDim::Cube,
             ..
         }
     ));
     // Visibility from actual entry-point use.
-    assert_eq!(binding(&plan, "gbuffer", "mesh").visibility, vec!["vertex"]);
-    assert_eq!(binding(&plan, "gbuffer", "material").visibility, vec!["fragment"]);
+    assert_eq!(binding(&plan, "gbuffer", "mesh").visibility, vec![Stage::Vertex]);
+    assert_eq!(binding(&plan, "gbuffer", "material").visibility, vec![Stage::Fragment]);
     assert_eq!(
         binding(&plan, "luminance", "lum").ty,
         BindingType::Storage {
@@ -167,7 +168,7 @@ fn uniform_block_offsets_follow_the_shader_struct() {
     let fields: Vec<(&str, &str, u32, u32, &str)> = b
         .fields
         .iter()
-        .map(|f| (f.name.as_str(), f.param.as_str(), f.offset, f.size, f.ty.as_str()))
+        .map(|f| (f.name.as_str(), plan.param(f.param).name.as_str(), f.offset, f.size, f.ty.wgsl()))
         .collect();
     assert_eq!(
         fields,
@@ -176,7 +177,7 @@ fn uniform_block_offsets_follow_the_shader_struct() {
     assert_eq!((b.size, b.align, b.group, b.binding), (8, 4, 2, 5));
     let a = &plan.pass("ambient").unwrap().uniform_blocks[0];
     assert_eq!((a.size, a.align), (16, 16), "vec3<f32> is 16-aligned in uniform space");
-    assert_eq!(a.fields[0].ty, "vec3<f32>");
+    assert_eq!(a.fields[0].ty, FieldType::Vec3F32);
 }
 
 #[test]
@@ -184,15 +185,13 @@ fn resources_memory_and_usage() {
     let plan = plan_with("vulkan", None, &[]);
     let normal = plan.resource("gbuf.normal").unwrap();
     assert_eq!(normal.bytes, 1280 * 720 * 8);
-    assert_eq!(normal.usage, vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]);
-    assert_eq!(
-        plan.resource("gbuf.depth").unwrap().usage,
-        vec!["RENDER_ATTACHMENT", "TEXTURE_BINDING"]
-    );
+    let usage = |name: &str| plan.resource(name).unwrap().usage.iter().copied().collect::<Vec<_>>();
+    assert_eq!(usage("gbuf.normal"), vec![Usage::RenderAttachment, Usage::TextureBinding]);
+    assert_eq!(usage("gbuf.depth"), vec![Usage::RenderAttachment, Usage::TextureBinding]);
     let cube = plan.resource("shadow.cube").unwrap();
-    assert_eq!((cube.layers, cube.instances, cube.bytes), (6, 1, 512 * 512 * 4 * 6));
-    assert_eq!(plan.resource("ldr").unwrap().usage, vec!["RENDER_ATTACHMENT", "COPY_SRC"]);
-    assert_eq!(plan.resource("lum").unwrap().usage, vec!["STORAGE"]);
+    assert_eq!((cube.layers(), cube.instances, cube.bytes), (6, 1, 512 * 512 * 4 * 6));
+    assert_eq!(usage("ldr"), vec![Usage::RenderAttachment, Usage::CopySrc]);
+    assert_eq!(usage("lum"), vec![Usage::Storage]);
     assert_eq!(plan.memory_bytes, plan.resources.iter().map(|r| r.bytes).sum::<u64>());
 }
 
@@ -218,10 +217,14 @@ fn execution_order_respects_dependencies() {
     assert!(pos("ambient") < pos("light_directional_spot"), "lights load what ambient cleared");
     assert!(pos("light_point") < pos("luminance"));
     assert!(pos("luminance") < pos("tonemap"));
-    assert_eq!(
-        plan.pass("tonemap").unwrap().after,
-        vec!["ambient", "light_directional_spot", "light_point", "luminance"]
-    );
+    let after: Vec<&str> = plan
+        .pass("tonemap")
+        .unwrap()
+        .after
+        .iter()
+        .map(|a| plan.passes[a.0 as usize].name.as_str())
+        .collect();
+    assert_eq!(after, vec!["ambient", "light_directional_spot", "light_point", "luminance"]);
 }
 
 #[test]

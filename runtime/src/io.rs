@@ -1,16 +1,17 @@
 //! Files lightbench writes: always atomically (temporary file in the same directory, then
 //! rename), so a crash never leaves a half-written image or manifest.
 
+use crate::error::{Error, Result};
 use std::io::Write;
 use std::path::Path;
 
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let name = path
         .file_name()
         .and_then(|n| n.to_str())
-        .ok_or_else(|| format!("{}: not a file path", path.display()))?;
+        .ok_or_else(|| Error::io(path, "not a file path"))?;
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -20,7 +21,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     })();
     if let Err(e) = result {
         let _ = std::fs::remove_file(&tmp);
-        return Err(format!("cannot write {}: {e}", path.display()));
+        return Err(Error::io(path, format!("cannot write: {e}")));
     }
     Ok(())
 }
@@ -78,7 +79,7 @@ impl Image {
     }
 
     /// Save by extension: `.png` (8-bit, sRGB) or `.exr` (linear float).
-    pub fn save(&self, path: &Path) -> Result<(), String> {
+    pub fn save(&self, path: &Path) -> Result<()> {
         let ext = path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
         let mut bytes = std::io::Cursor::new(Vec::new());
         match ext.as_deref() {
@@ -93,24 +94,25 @@ impl Image {
                         (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
                     })
                     .collect();
-                let img = image::RgbaImage::from_raw(self.width, self.height, data).ok_or("image size mismatch")?;
-                img.write_to(&mut bytes, image::ImageFormat::Png)
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                let img =
+                    image::RgbaImage::from_raw(self.width, self.height, data).ok_or_else(|| Error::io(path, "image size mismatch"))?;
+                img.write_to(&mut bytes, image::ImageFormat::Png).map_err(|e| Error::io(path, e))?;
             }
             Some("exr") => {
-                let img = image::Rgba32FImage::from_raw(self.width, self.height, self.linear()).ok_or("image size mismatch")?;
+                let img = image::Rgba32FImage::from_raw(self.width, self.height, self.linear())
+                    .ok_or_else(|| Error::io(path, "image size mismatch"))?;
                 image::DynamicImage::ImageRgba32F(img)
                     .write_to(&mut bytes, image::ImageFormat::OpenExr)
-                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                    .map_err(|e| Error::io(path, e))?;
             }
-            _ => return Err(format!("{}: unknown image type; use .png or .exr", path.display())),
+            _ => return Err(Error::io(path, "unknown image type; use .png or .exr")),
         }
         write_atomic(path, &bytes.into_inner())
     }
 
     /// Load a PNG as linear-or-sRGB floats (sRGB: values as stored).
-    pub fn load_png(path: &Path) -> Result<Image, String> {
-        let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?.to_rgba8();
+    pub fn load_png(path: &Path) -> Result<Image> {
+        let img = image::open(path).map_err(|e| Error::io(path, e))?.to_rgba8();
         Ok(Image {
             width: img.width(),
             height: img.height(),

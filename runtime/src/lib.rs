@@ -1,7 +1,11 @@
 //! lightbench: run, measure and compare lighting pipelines. `check` and `plan` never create
 //! a GPU device; `render` executes the compiled Plan with wgpu.
 
+pub use error::{Error, Result};
+
+pub mod blocks;
 pub mod cli;
+pub mod error;
 pub mod gpu;
 pub mod io;
 pub mod render;

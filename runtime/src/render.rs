@@ -1,38 +1,50 @@
 //! Compile a pipeline for a scene on a live device and render it: the path every command
 //! and test that draws goes through.
 
+use crate::error::{Error, Result};
 use crate::gpu::{Executor, Gpu};
 use crate::scene::Scene;
-use lightbench_compiler::{Executable, Session};
+use lightbench_compiler::{Executable, Workspace};
 use std::path::Path;
 
-/// Compile `pipeline` for `scene` against the live adapter's capabilities. Diagnostics
-/// come back rendered, as `lightbench check` shows them.
+/// Compile `pipeline` for `scene` against the live adapter's capabilities, in `ws` (whose
+/// compiled modules later compilations reuse). Warnings come back rendered as `lightbench
+/// check` shows them; errors as `Error::Compile`.
+pub fn compile_in(
+    ws: &Workspace,
+    gpu: &Gpu,
+    pipeline: &Path,
+    shader_root: Option<&Path>,
+    scene: &Scene,
+    variants: &[(String, String)],
+) -> Result<(Executable, String)> {
+    let mut s = ws.session();
+    let exe = s.executable(pipeline, shader_root, &gpu.profile, &scene.features(), variants);
+    let report = s.render();
+    match exe {
+        Some(e) => Ok((e, report)),
+        None if report.is_empty() => Err(Error::Compile(format!("{}: could not be compiled", pipeline.display()))),
+        None => Err(Error::Compile(report)),
+    }
+}
+
+/// `compile_in` a workspace of its own, reading the disk.
 pub fn compile(
     gpu: &Gpu,
     pipeline: &Path,
     shader_root: Option<&Path>,
     scene: &Scene,
     variants: &[(String, String)],
-) -> Result<(Executable, String), String> {
-    let mut s = Session::new();
-    let exe = s.executable(pipeline, shader_root, &gpu.profile, &scene.features(), variants);
-    let report = s.render();
-    match exe {
-        Some(e) => Ok((e, report)),
-        None => Err(if report.is_empty() {
-            format!("{}: could not be compiled", pipeline.display())
-        } else {
-            report
-        }),
-    }
+) -> Result<(Executable, String)> {
+    compile_in(&Workspace::disk(), gpu, pipeline, shader_root, scene, variants)
 }
 
 /// Build an executor and render `frames` frames (time advancing 1/60 s per frame).
-pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result<Executor, String> {
+pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result<Executor> {
     let mut ex = Executor::new(gpu, exe, scene)?;
     for f in 0..frames.max(1) {
-        ex.render_frame(gpu, f as f32 / 60.0)?;
+        let inputs = ex.inputs(f as f32 / 60.0);
+        ex.render_frame(gpu, &inputs)?;
     }
     Ok(ex)
 }

@@ -34,5 +34,5 @@ pub fn render_with(gpu: &Gpu, pipeline: &Path, scene: &Scene, variants: &[(&str,
 }
 
 pub fn output(gpu: &Gpu, ex: &Executor) -> Image {
-    ex.read_texture(gpu, &ex.plan.output, 0, 0).unwrap()
+    ex.read_texture(gpu, &ex.plan().output_resource().name, 0, 0).unwrap()
 }

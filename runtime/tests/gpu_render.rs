@@ -9,7 +9,7 @@ use lightbench::io::{rmse, Image};
 use lightbench::scene::geometry::{cuboid, quad};
 use lightbench::scene::{builtin, Camera, Light, Material, Mesh, Scene};
 
-fn mesh(name: &str, (vertices, indices): (Vec<lightbench::gpu::blocks::Vertex>, Vec<u32>), transform: Mat4) -> Mesh {
+fn mesh(name: &str, (vertices, indices): (Vec<lightbench::blocks::Vertex>, Vec<u32>), transform: Mat4) -> Mesh {
     Mesh {
         name: name.into(),
         vertices,
@@ -145,9 +145,9 @@ fn spot_cone_edge_is_where_the_angle_says() {
 
 /// Every texture slice and buffer of the plan, all finite.
 fn assert_all_finite(g: &lightbench::gpu::Gpu, ex: &lightbench::gpu::Executor, what: &str) {
-    for r in &ex.plan.resources {
+    for r in &ex.plan().resources {
         for (inst, layer) in ex.slices(&r.name).unwrap() {
-            if r.kind == "buffer" {
+            if r.is_buffer() {
                 let words = ex.read_buffer(g, &r.name, inst).unwrap();
                 assert!(
                     words.iter().all(|w| w.is_finite()),
@@ -225,17 +225,17 @@ fn timings_list_every_executed_pass_and_no_culled_one() {
     let scene = builtin::cornell();
     let ex = render_with(&g, &deferred(), &scene, &[], 1);
     let timed: Vec<&str> = ex.last_timings.iter().map(|t| t.pass.as_str()).collect();
-    let planned: Vec<&str> = ex.plan.passes.iter().map(|p| p.name.as_str()).collect();
+    let planned: Vec<&str> = ex.plan().passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(timed, planned);
     for t in &ex.last_timings {
         let ms = t.gpu_ms.expect("lavapipe has timestamp queries");
         assert!(ms.is_finite() && ms >= 0.0, "{t:?}");
     }
-    for c in &ex.plan.culled {
+    for c in &ex.plan().culled {
         assert!(!timed.contains(&c.name.as_str()), "culled pass {} was timed", c.name);
     }
     assert!(
-        ex.plan.culled.iter().any(|c| c.name == "shadow_map"),
+        ex.plan().culled.iter().any(|c| c.name == "shadow_map"),
         "no directional/spot light in the Cornell box"
     );
     assert_eq!(
@@ -256,15 +256,16 @@ fn replacing_the_plan_keeps_unchanged_resources() {
     let before = output(&g, &ex);
     let v = vec![("tonemap".to_string(), "simple".to_string())];
     let (exe, _) = lightbench::render::compile(&g, &deferred(), None, &scene, &v).unwrap();
-    let mut ex = ex.replace(&g, &exe).unwrap();
+    let mut ex = ex;
+    let report = ex.replace(&g, &exe).unwrap();
     for name in ["gbuf.normal", "gbuf.depth", "hdr", "shadow.cube", "ldr"] {
         assert!(
-            ex.pool.reused.iter().any(|r| r == name),
+            report.resources_reused.iter().any(|r| r == name),
             "{name} was recreated; reused: {:?}",
-            ex.pool.reused
+            report.resources_reused
         );
     }
-    ex.render_frame(&g, 0.0).unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
     let after = output(&g, &ex);
     assert_eq!(after.non_finite(), 0);
     // A different operator: the images differ, but not wildly.
@@ -280,8 +281,8 @@ fn black_frame_tone_maps_to_black() {
     let mut ex = render_with(&g, &deferred(), &scene, &[], 1);
     // No light and no ambient term: the log-average luminance is that of a black frame.
     let black = lightbench_compiler::ir::ParamValue::Vec(vec![0.0, 0.0, 0.0]);
-    ex.write_params(&g, &[("ambient.color".to_string(), black)].into_iter().collect());
-    ex.render_frame(&g, 0.0).unwrap();
+    ex.set_param("ambient.color", black).unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
     let lum = ex.read_buffer(&g, "lum", 0).unwrap();
     assert!(
         lum[0].is_finite() && lum[0] > 0.0 && lum[0] < 1e-3,

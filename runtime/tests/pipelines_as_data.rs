@@ -54,7 +54,7 @@ fn a_grayscale_post_pass_needs_no_rust() {
     let g = gpu();
     let scene = builtin::cornell();
     let ex = render_with(&g, &pipeline, &scene, &[], 1);
-    assert_eq!(ex.plan.passes.last().unwrap().name, "grayscale");
+    assert_eq!(ex.plan().passes.last().unwrap().name, "grayscale");
     let img = output(&g, &ex);
     let mut lo = f32::MAX;
     let mut hi = f32::MIN;

@@ -110,12 +110,12 @@ fn scene_file_errors_name_the_file_and_position() {
     let dir = temp("scene");
     let p = dir.join("bad.ron");
     std::fs::write(&p, "Scene(\n    size: (64, 64),\n    lightz: [],\n)\n").unwrap();
-    let err = file::load_file(&p).unwrap_err();
+    let err = file::load_file(&p).unwrap_err().to_string();
     assert!(err.starts_with(&format!("{}:3:", p.display())), "{err}");
     assert!(err.contains("lightz"), "{err}");
     let (code, err) = render_cli(&p, &dir);
     assert_eq!(code, 1, "{err}");
-    let missing = file::load("no_such_scene").unwrap_err();
+    let missing = file::load("no_such_scene").unwrap_err().to_string();
     assert!(missing.contains("cornell, colonnade, many_lights"), "{missing}");
 }
 

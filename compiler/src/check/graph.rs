@@ -6,7 +6,7 @@
 //! `load` build on the previous writer in file order; two writers that both start afresh
 //! must be ordered by some other dependency.
 
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
 use crate::span::Span;
 use std::collections::{BTreeMap, BTreeSet};
@@ -43,7 +43,7 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
             if r.is_prev() {
                 if ws.is_empty() {
                     diags.push(Diagnostic::error(
-                        "read-before-write",
+                        Code::ReadBeforeWrite,
                         format!(
                             "`{}` is a history resource but no pass writes it, so there is no previous frame to read",
                             name.value
@@ -56,7 +56,7 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
             if ws.contains(&i) {
                 diags.push(
                     Diagnostic::error(
-                        "cycle",
+                        Code::Cycle,
                         format!("pass `{}` both reads and writes `{}`", pass.name.value, name.value),
                         name.span,
                     )
@@ -72,7 +72,7 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
                     continue;
                 }
                 let mut d = Diagnostic::error(
-                    "read-before-write",
+                    Code::ReadBeforeWrite,
                     format!("`{}` is read by pass `{}` but no pass writes it first", name.value, pass.name.value),
                     name.span,
                 )
@@ -107,7 +107,7 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
                     if !r.is_some_and(|r| r.external() || r.history()) {
                         diags.push(
                             Diagnostic::error(
-                                "read-before-write",
+                                Code::ReadBeforeWrite,
                                 format!("pass `{}` loads `{res}` but no earlier pass writes it", pass.name.value),
                                 span,
                             )
@@ -134,7 +134,7 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
                                 .unwrap_or(p.passes[i].span)
                         };
                         diags.push(
-                            Diagnostic::error("double-writer", format!("passes `{}` and `{}` both write `{res}` and nothing orders them", p.passes[x].name.value, p.passes[y].name.value), span_of(y))
+                            Diagnostic::error(Code::DoubleWriter, format!("passes `{}` and `{}` both write `{res}` and nothing orders them", p.passes[x].name.value, p.passes[y].name.value), span_of(y))
                                 .with_secondary(span_of(x), "also written here")
                                 .with_note("make the later one `load: Load` to build on the first, give them exclusive `when` conditions, or write different resources"),
                         );
@@ -172,7 +172,7 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
         let names: Vec<&str> = cycle.iter().map(|&i| p.passes[i].name.value.as_str()).collect();
         let (res, span) = edges.get(&(cycle[cycle.len() - 1], cycle[0])).cloned().unwrap_or_default();
         let mut d = Diagnostic::error(
-            "cycle",
+            Code::Cycle,
             format!("passes form a cycle: {} -> {}", names.join(" -> "), names[0]),
             span,
         )

@@ -2,7 +2,7 @@
 //! scene's vertex layout, and vertex outputs against fragment inputs.
 
 use super::StageShader;
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::format::ScalarKind;
 use crate::ir::*;
 use crate::shader::reflect::{self, IoVar};
@@ -30,14 +30,14 @@ fn ty_word(v: &IoVar) -> String {
 }
 
 pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], diags: &mut Diagnostics) {
-    let find = |s: naga::ShaderStage| stages.iter().find(|st| st.stage == s);
-    if let Some(fs) = find(naga::ShaderStage::Fragment) {
+    let find = |s: Stage| stages.iter().find(|st| st.stage == s);
+    if let Some(fs) = find(Stage::Fragment) {
         fragment_outputs(p, pass, fs, diags);
-        if let Some(vs) = find(naga::ShaderStage::Vertex) {
+        if let Some(vs) = find(Stage::Vertex) {
             interstage(vs, fs, diags);
         }
     }
-    if let Some(vs) = find(naga::ShaderStage::Vertex) {
+    if let Some(vs) = find(Stage::Vertex) {
         vertex_inputs(pass, vs, diags);
     }
 }
@@ -45,32 +45,32 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], diags: &mut Diag
 fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Diagnostics) {
     let outs = reflect::outputs(&fs.module, fs.entry);
     let ep_span = fs.sref.entry.span;
-    if outs.len() != pass.color.len() {
+    if outs.len() != pass.color().len() {
         let mut d = Diagnostic::error(
-            "fragment-outputs",
+            Code::FragmentOutputs,
             format!(
                 "fragment entry point `{}` writes {} color output(s) but pass `{}` has {} color target(s)",
                 fs.sref.entry.value,
                 outs.len(),
                 pass.name.value,
-                pass.color.len()
+                pass.color().len()
             ),
             ep_span,
         )
         .with_secondary(fs.module.entry_span(fs.entry), "entry point body");
-        if let Some(first) = pass.color.first() {
-            d = d.with_secondary(first.span.to(pass.color[pass.color.len() - 1].span), "color targets");
+        if let Some(first) = pass.color().first() {
+            d = d.with_secondary(first.span.to(pass.color()[pass.color().len() - 1].span), "color targets");
         }
         diags.push(d);
         return;
     }
-    for (i, (o, c)) in outs.iter().zip(&pass.color).enumerate() {
+    for (i, (o, c)) in outs.iter().zip(pass.color()).enumerate() {
         if o.location != i as u32 {
             diags.push(Diagnostic::error(
-                "fragment-outputs",
+                Code::FragmentOutputs,
                 format!(
                     "fragment outputs must use locations 0..{}; found @location({}) for target `{}`",
-                    pass.color.len(),
+                    pass.color().len(),
                     o.location,
                     c.resource.value
                 ),
@@ -90,7 +90,7 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
         if o.scalar != want {
             diags.push(
                 Diagnostic::error(
-                    "fragment-output-kind",
+                    Code::FragmentOutputKind,
                     format!(
                         "@location({i}) is `{}` but target `{}` has format {} which needs {} values",
                         ty_word(o),
@@ -110,7 +110,7 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
         } else if o.components < f.components() {
             diags.push(
                 Diagnostic::error(
-                    "fragment-output-kind",
+                    Code::FragmentOutputKind,
                     format!(
                         "@location({i}) has {} component(s) but {} of `{}` has {}",
                         o.components,
@@ -129,15 +129,15 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
 fn vertex_inputs(pass: &Pass, vs: &StageShader, diags: &mut Diagnostics) {
     let ins = reflect::inputs(&vs.module, vs.entry);
     match &pass.kind {
-        PassKind::Raster { draw: Draw::Scene, .. } => {
+        PassKind::Raster(r) if r.draw == Draw::Scene => {
             for i in &ins {
                 match SCENE_VERTEX.iter().find(|v| v.0 == i.location) {
                     None => diags.push(
-                        Diagnostic::error("vertex-input", format!("vertex input @location({}) is not provided by scene meshes", i.location), vs.sref.entry.span)
+                        Diagnostic::error(Code::VertexInput, format!("vertex input @location({}) is not provided by scene meshes", i.location), vs.sref.entry.span)
                             .with_note("scene vertices: @location(0) position: vec3<f32>, @location(1) normal: vec3<f32>, @location(2) uv: vec2<f32>, @location(3) tangent: vec4<f32>"),
                     ),
                     Some(&(_, name, kind, n)) if kind != i.scalar || n != i.components => diags.push(Diagnostic::error(
-                        "vertex-input",
+                        Code::VertexInput,
                         format!("vertex input @location({}) is `{}` but the scene's {name} is vec{n}<f32>", i.location, ty_word(i)),
                         vs.sref.entry.span,
                     )),
@@ -148,7 +148,7 @@ fn vertex_inputs(pass: &Pass, vs: &StageShader, diags: &mut Diagnostics) {
         _ => {
             if let Some(i) = ins.first() {
                 diags.push(Diagnostic::error(
-                    "vertex-input",
+                    Code::VertexInput,
                     format!(
                         "vertex input @location({}) has no vertex buffer: only `draw: Scene` passes get vertex attributes",
                         i.location
@@ -166,7 +166,7 @@ fn interstage(vs: &StageShader, fs: &StageShader, diags: &mut Diagnostics) {
         match outs.iter().find(|o| o.location == i.location) {
             None => diags.push(
                 Diagnostic::error(
-                    "stage-io",
+                    Code::StageIo,
                     format!(
                         "fragment input @location({}) `{}` is not written by vertex entry point `{}`",
                         i.location, i.name, vs.sref.entry.value
@@ -176,7 +176,7 @@ fn interstage(vs: &StageShader, fs: &StageShader, diags: &mut Diagnostics) {
                 .with_secondary(vs.sref.entry.span, "vertex stage"),
             ),
             Some(o) if o.scalar != i.scalar || o.components != i.components => diags.push(Diagnostic::error(
-                "stage-io",
+                Code::StageIo,
                 format!(
                     "fragment input @location({}) is `{}` but the vertex stage writes `{}`",
                     i.location,

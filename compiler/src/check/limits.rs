@@ -2,13 +2,13 @@
 
 use super::bindings::Resolved;
 use super::StageShader;
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
 use crate::profile::Profile;
 
 fn over(what: String, limit: &str, value: u64, max: u64, profile: &Profile, span: crate::span::Span) -> Diagnostic {
     Diagnostic::error(
-        "limit-exceeded",
+        Code::LimitExceeded,
         format!("{what}: {value} exceeds {max} on profile `{}`", profile.name),
         span,
     )
@@ -17,11 +17,11 @@ fn over(what: String, limit: &str, value: u64, max: u64, profile: &Profile, span
 
 pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, profile: &Profile, diags: &mut Diagnostics) {
     let l = &profile.limits;
-    let n = pass.color.len() as u64;
+    let n = pass.color().len() as u64;
     if n > l.max_color_attachments {
-        let span = pass.color[l.max_color_attachments as usize]
+        let span = pass.color()[l.max_color_attachments as usize]
             .span
-            .to(pass.color[pass.color.len() - 1].span);
+            .to(pass.color()[pass.color().len() - 1].span);
         diags.push(over(
             format!("pass `{}` has too many color attachments", pass.name.value),
             "max_color_attachments",
@@ -32,19 +32,19 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, 
         ));
     } else {
         let bytes: u64 = pass
-            .color
+            .color()
             .iter()
             .filter_map(|c| p.resource(&c.resource)?.texture())
             .map(|t| t.format.value.bytes().max(4) as u64)
             .sum();
-        if bytes > l.max_color_attachment_bytes_per_sample && !pass.color.is_empty() {
+        if bytes > l.max_color_attachment_bytes_per_sample && !pass.color().is_empty() {
             diags.push(over(
                 format!("color attachments of pass `{}` take too many bytes per sample", pass.name.value),
                 "max_color_attachment_bytes_per_sample",
                 bytes,
                 l.max_color_attachment_bytes_per_sample,
                 profile,
-                pass.color[0].span.to(pass.color[pass.color.len() - 1].span),
+                pass.color()[0].span.to(pass.color()[pass.color().len() - 1].span),
             ));
         }
     }
@@ -129,7 +129,7 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, 
         ] {
             if v > max {
                 diags.push(over(
-                    format!("{stage} stage of pass `{}` uses too many {what}", pass.name.value),
+                    format!("{} stage of pass `{}` uses too many {what}", stage.word(), pass.name.value),
                     limit,
                     v,
                     max,
@@ -139,7 +139,7 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, 
             }
         }
     }
-    if let Some(cs) = stages.iter().find(|s| s.stage == naga::ShaderStage::Compute) {
+    if let Some(cs) = stages.iter().find(|s| s.stage == Stage::Compute) {
         let [x, y, z] = cs.module.module.entry_points[cs.entry].workgroup_size;
         let inv = x as u64 * y as u64 * z as u64;
         for (v, max, limit) in [

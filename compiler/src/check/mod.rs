@@ -14,7 +14,7 @@ use crate::ir::*;
 use crate::profile::{Feature, Profile};
 use crate::shader::{ShaderLoader, ShaderModule};
 use crate::span::{SourceMap, Spanned};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::Arc;
 
 /// `(variant, option)`.
@@ -23,7 +23,7 @@ type VariantChoice = (String, String);
 /// One stage of one version of a pass, resolved to a validated module and entry point.
 #[derive(Clone)]
 pub struct StageShader {
-    pub stage: naga::ShaderStage,
+    pub stage: Stage,
     pub sref: ShaderRef,
     pub module: Arc<ShaderModule>,
     pub entry: usize,
@@ -45,7 +45,7 @@ pub struct Checked {
 }
 
 impl Checked {
-    pub fn version(&self, pass: usize, selection: &std::collections::BTreeMap<String, String>) -> Option<&PassVersion> {
+    pub fn version(&self, pass: usize, selection: &BTreeMap<String, String>) -> Option<&PassVersion> {
         let vs = &self.versions[pass];
         vs.iter()
             .find(|v| v.option.as_ref().is_some_and(|(var, opt)| selection.get(var) == Some(opt)))
@@ -78,74 +78,101 @@ pub fn check_pipeline(
     diags: &mut Diagnostics,
 ) -> Checked {
     declarations::check(&pipeline, profile, diags);
-    let mut versions = vec![];
-    for pass in &pipeline.passes {
-        let mut features: BTreeSet<Feature> = profile.features.clone();
-        let mut atoms = vec![];
-        if let Some(w) = &pass.when {
-            variant_atoms(w, &mut atoms);
-        }
-        for (v, o) in &atoms {
-            features.extend(option_features(&pipeline, v, o));
-        }
-        // The pass's own shaders, then each substitution a variant option makes.
-        let mut wanted: Vec<(Option<VariantChoice>, Option<Spanned<String>>)> = vec![(None, None)];
-        for v in &pipeline.variants {
-            for o in &v.options {
-                for (target, file) in &o.shaders {
-                    if target.value == pass.name.value {
-                        wanted.push((Some((v.name.value.clone(), o.name.value.clone())), Some(file.clone())));
-                    }
-                }
-            }
-        }
-        let mut pass_versions = vec![];
-        for (option, file) in wanted {
-            let mut feats = features.clone();
-            if let Some((v, o)) = &option {
-                feats.extend(option_features(&pipeline, v, o));
-            }
-            let mut stages = vec![];
-            let mut ok = true;
-            for (stage, sref) in pass.stages() {
-                let mut sref = sref.clone();
-                if let Some(f) = &file {
-                    if sref.file.value != crate::shader::FULLSCREEN_FILE {
-                        sref.file = f.clone();
-                        // GLSL modules have one entry point, `main`; WGSL keeps the pass's names.
-                        let entry = if crate::shader::is_glsl(&f.value) {
-                            "main".to_string()
-                        } else {
-                            sref.entry.value.clone()
-                        };
-                        sref.entry = Spanned::new(entry, f.span);
-                    }
-                }
-                let Some(module) = loader.load(sources, &sref.file, &feats, diags) else {
-                    ok = false;
-                    continue;
-                };
-                match entry::resolve(&module, &sref, stage, pass.kind.word(), diags) {
-                    Some(e) => stages.push(StageShader {
-                        stage,
-                        sref,
-                        module,
-                        entry: e,
-                    }),
-                    None => ok = false,
-                }
-            }
-            if !ok {
-                continue;
-            }
-            io::check(&pipeline, pass, &stages, diags);
-            let Some(resolved) = bindings::resolve(&pipeline, pass, &stages, profile, diags) else {
-                continue;
-            };
-            limits::check(&pipeline, pass, &stages, &resolved, profile, diags);
-            pass_versions.push(PassVersion { option, stages, resolved });
-        }
-        versions.push(pass_versions);
-    }
+    let versions = pipeline
+        .passes
+        .iter()
+        .map(|pass| pass_versions(&pipeline, pass, profile, loader, sources, diags))
+        .collect();
     Checked { pipeline, versions }
+}
+
+/// The pass's own shaders, then each substitution a variant option makes.
+fn wanted_versions(p: &Pipeline, pass: &Pass) -> Vec<(Option<VariantChoice>, Option<Spanned<String>>)> {
+    let mut wanted = vec![(None, None)];
+    for v in &p.variants {
+        for o in &v.options {
+            for (target, file) in &o.shaders {
+                if target.value == pass.name.value {
+                    wanted.push((Some((v.name.value.clone(), o.name.value.clone())), Some(file.clone())));
+                }
+            }
+        }
+    }
+    wanted
+}
+
+/// Check every version of a pass; versions whose shaders fail are left out.
+fn pass_versions(
+    p: &Pipeline,
+    pass: &Pass,
+    profile: &Profile,
+    loader: &mut ShaderLoader,
+    sources: &mut SourceMap,
+    diags: &mut Diagnostics,
+) -> Vec<PassVersion> {
+    // The requirements of the variant options a pass's condition mentions apply to its shaders.
+    let mut features: BTreeSet<Feature> = profile.features.clone();
+    let mut atoms = vec![];
+    if let Some(w) = &pass.when {
+        variant_atoms(w, &mut atoms);
+    }
+    for (v, o) in &atoms {
+        features.extend(option_features(p, v, o));
+    }
+    let mut out = vec![];
+    for (option, file) in wanted_versions(p, pass) {
+        let mut feats = features.clone();
+        if let Some((v, o)) = &option {
+            feats.extend(option_features(p, v, o));
+        }
+        let Some(stages) = load_stages(pass, file.as_ref(), &feats, loader, sources, diags) else {
+            continue;
+        };
+        io::check(p, pass, &stages, diags);
+        let Some(resolved) = bindings::resolve(p, pass, &stages, profile, diags) else {
+            continue;
+        };
+        limits::check(p, pass, &stages, &resolved, profile, diags);
+        out.push(PassVersion { option, stages, resolved });
+    }
+    out
+}
+
+/// Load and resolve each stage's module and entry point, with `file` substituted for the
+/// pass's own shader (GLSL modules have one entry point, `main`; WGSL keeps the pass's names).
+fn load_stages(
+    pass: &Pass,
+    file: Option<&Spanned<String>>,
+    features: &BTreeSet<Feature>,
+    loader: &mut ShaderLoader,
+    sources: &mut SourceMap,
+    diags: &mut Diagnostics,
+) -> Option<Vec<StageShader>> {
+    let mut stages = vec![];
+    let mut ok = true;
+    for (stage, mut sref) in pass.stages() {
+        if let Some(f) = file.filter(|_| sref.file.value != FULLSCREEN_FILE) {
+            sref.file = f.clone();
+            let entry = if is_glsl(&f.value) {
+                "main".to_string()
+            } else {
+                sref.entry.value.clone()
+            };
+            sref.entry = Spanned::new(entry, f.span);
+        }
+        let Some(module) = loader.load(sources, &sref.file, features, diags) else {
+            ok = false;
+            continue;
+        };
+        match entry::resolve(&module, &sref, stage, pass.kind.word(), diags) {
+            Some(e) => stages.push(StageShader {
+                stage,
+                sref,
+                module,
+                entry: e,
+            }),
+            None => ok = false,
+        }
+    }
+    ok.then_some(stages)
 }

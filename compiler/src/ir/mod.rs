@@ -5,15 +5,17 @@ mod condition;
 mod param;
 mod pass;
 mod resource;
+mod stage;
 mod variant;
 
 pub use condition::{Condition, Effect, LightKind};
 pub use param::{Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
-    default_entry, written_entry, Blend, ColorTarget, CompareFn, CullMode, DepthTarget, Dispatch, Draw, LayerSel, LoadOp, Pass, PassKind,
-    Read, ShaderRef,
+    default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel, Load,
+    Pass, PassKind, Raster, Read, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,
 };
-pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SizeSpec, TextureDesc, ViewDim};
+pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SamplerKind, SizeSpec, TextureDesc, ViewDim};
+pub use stage::{naga_stage_word, Stage};
 pub use variant::{Variant, VariantOption};
 
 use crate::span::{Span, Spanned};

@@ -1,5 +1,6 @@
 //! Typed parameters: the values a pass's uniform block carries.
 
+use crate::diag::Code;
 use crate::span::{Span, Spanned};
 use serde::{Deserialize, Serialize};
 
@@ -31,6 +32,45 @@ impl ParamType {
         }
     }
     pub const NAMES: [&'static str; 8] = ["Float", "Int", "Bool", "Vec2", "Vec3", "Vec4", "Color", "Enum"];
+
+    /// The type a kind name gives, for every kind but `Enum` (which needs its options).
+    pub fn from_name(s: &str) -> Option<Self> {
+        Some(match s {
+            "Float" => ParamType::Float,
+            "Int" => ParamType::Int,
+            "Bool" => ParamType::Bool,
+            "Vec2" => ParamType::Vec2,
+            "Vec3" => ParamType::Vec3,
+            "Vec4" => ParamType::Vec4,
+            "Color" => ParamType::Color,
+            _ => return None,
+        })
+    }
+
+    /// Does a value (e.g. a `--param` override) have this type? `Err` says why not.
+    pub fn accepts(&self, v: &ParamValue) -> Result<(), String> {
+        let ok = match (self, v) {
+            (ParamType::Float, ParamValue::Float(_)) | (ParamType::Int, ParamValue::Int(_)) | (ParamType::Bool, ParamValue::Bool(_)) => {
+                true
+            }
+            (ParamType::Enum(opts), ParamValue::Enum(s)) => {
+                if !opts.contains(s) {
+                    return Err(format!("`{s}` is not one of {}", opts.join(", ")));
+                }
+                true
+            }
+            (t, ParamValue::Vec(c)) => match t.components() {
+                Some(n) => c.len() == n || (matches!(t, ParamType::Color) && c.len() == 4),
+                None => false,
+            },
+            _ => false,
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(format!("a {} parameter cannot take {}", self.name(), v.describe()))
+        }
+    }
 
     /// Number of components a vector-like type needs in its default.
     pub fn components(&self) -> Option<usize> {
@@ -100,7 +140,7 @@ impl Literal {
 
 /// Why a literal does not fit a parameter type: a diagnostic code, message and optional note.
 pub struct ValueError {
-    pub code: &'static str,
+    pub code: Code,
     pub message: String,
     pub note: Option<String>,
 }
@@ -114,24 +154,17 @@ impl ParamType {
             (ParamType::Float, Literal::Int(i)) => Ok(ParamValue::Float(i as f64)),
             (ParamType::Int, Literal::Int(i)) => Ok(ParamValue::Int(i)),
             (ParamType::Bool, Literal::Bool(b)) => Ok(ParamValue::Bool(b)),
-            (ParamType::Enum(opts), Literal::Text(s)) => {
-                if opts.contains(&s) {
-                    Ok(ParamValue::Enum(s))
-                } else {
-                    let names: Vec<&str> = opts.iter().map(|o| o.as_str()).collect();
-                    Err(ValueError {
-                        code: "unknown-value",
-                        message: format!("`{s}` is not an option of this Enum"),
-                        note: Some(crate::diag::suggestion_note(&s, &names)),
-                    })
-                }
-            }
+            // Membership in the options is checked with the declarations.
+            (ParamType::Enum(_), Literal::Text(s)) => Ok(ParamValue::Enum(s)),
             (t, Literal::Tuple(v)) if t.components().is_some() => {
                 let n = t.components().unwrap_or(0);
                 if v.len() == n || (matches!(t, ParamType::Color) && v.len() == 4) {
                     Ok(ParamValue::Vec(v))
                 } else {
-                    err("param-type", format!("a {} value has {n} components, found {}", t.name(), v.len()))
+                    err(
+                        Code::ParamType,
+                        format!("a {} value has {n} components, found {}", t.name(), v.len()),
+                    )
                 }
             }
             (t, lit) => {
@@ -143,7 +176,7 @@ impl ParamType {
                     t => format!("a tuple of {} numbers", t.components().unwrap_or(0)),
                 };
                 err(
-                    "param-type",
+                    Code::ParamType,
                     format!("{} parameter: expected {expected}, found {}", t.name(), lit.describe()),
                 )
             }

@@ -1,10 +1,11 @@
-//! Passes: raster (draws the scene), fullscreen (one triangle), compute (dispatch).
+//! Passes: raster (draws the scene or procedural vertices), fullscreen (one triangle),
+//! compute (dispatch). Each kind carries only its own data.
 
-use super::{Condition, LightKind};
+use super::{Condition, LightKind, Stage};
 use crate::span::{Span, Spanned};
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum CompareFn {
     Never,
     Less,
@@ -40,17 +41,39 @@ impl CompareFn {
     pub fn from_name(s: &str) -> Option<Self> {
         Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
     }
+    pub fn name(self) -> &'static str {
+        Self::NAMES[Self::ALL.iter().position(|c| *c == self).unwrap_or(0)]
+    }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum CullMode {
     None,
     Front,
     Back,
 }
 
+impl CullMode {
+    pub const NAMES: [&'static str; 3] = ["None", "Front", "Back"];
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "None" => Some(CullMode::None),
+            "Front" => Some(CullMode::Front),
+            "Back" => Some(CullMode::Back),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            CullMode::None => "None",
+            CullMode::Front => "Front",
+            CullMode::Back => "Back",
+        }
+    }
+}
+
 /// Blend presets; enough for light accumulation and compositing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Blend {
     /// dst + src (light accumulation).
     Add,
@@ -60,14 +83,40 @@ pub enum Blend {
     Multiply,
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum LoadOp {
-    Clear(Vec<f64>),
+impl Blend {
+    pub const NAMES: [&'static str; 3] = ["Add", "Alpha", "Multiply"];
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "Add" => Some(Blend::Add),
+            "Alpha" => Some(Blend::Alpha),
+            "Multiply" => Some(Blend::Multiply),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Blend::Add => "Add",
+            Blend::Alpha => "Alpha",
+            Blend::Multiply => "Multiply",
+        }
+    }
+}
+
+/// How an attachment starts: cleared to a value (RGBA for color, depth for depth) or loaded.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Load<T> {
+    Clear(T),
     Load,
 }
 
+impl<T> Load<T> {
+    pub fn is_load(&self) -> bool {
+        matches!(self, Load::Load)
+    }
+}
+
 /// Which layer(s) of an attachment a pass renders into.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum LayerSel {
     /// Layer 0 (or the current light's instance of a per-light resource).
     Base,
@@ -82,7 +131,7 @@ pub enum LayerSel {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ColorTarget {
     pub resource: Spanned<String>,
-    pub load: LoadOp,
+    pub load: Load<[f64; 4]>,
     pub blend: Option<Spanned<Blend>>,
     pub layer: LayerSel,
     pub span: Span,
@@ -91,11 +140,18 @@ pub struct ColorTarget {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DepthTarget {
     pub resource: Spanned<String>,
-    pub load: LoadOp,
+    pub load: Load<f64>,
     pub compare: CompareFn,
     pub write: bool,
     pub layer: LayerSel,
     pub span: Span,
+}
+
+/// What a raster or fullscreen pass renders into.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Targets {
+    pub color: Vec<ColorTarget>,
+    pub depth: Option<DepthTarget>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -114,64 +170,79 @@ pub enum Dispatch {
     Groups(u32, u32, u32),
 }
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum PassKind {
-    Raster {
-        draw: Draw,
-        cull: CullMode,
-        /// Instances per draw (the instanced cube-shadow atlas draws each mesh 6 times).
-        instances: u32,
-        /// Render all views of a multiview attachment in one pass.
-        multiview: Option<Spanned<u32>>,
-    },
-    Fullscreen,
-    Compute {
-        dispatch: Dispatch,
-    },
-}
-
-impl PassKind {
-    pub fn word(&self) -> &'static str {
-        match self {
-            PassKind::Raster { .. } => "raster",
-            PassKind::Fullscreen => "fullscreen",
-            PassKind::Compute { .. } => "compute",
-        }
-    }
-}
-
-/// The entry point a stage gets when the pipeline file names none: `main` for GLSL,
-/// `vs_main` / `fs_main` / `cs_main` for WGSL.
-pub fn default_entry(stage: naga::ShaderStage, file: &str) -> &'static str {
-    if crate::shader::is_glsl(file) {
-        return "main";
-    }
-    match stage {
-        naga::ShaderStage::Vertex => "vs_main",
-        naga::ShaderStage::Fragment => "fs_main",
-        _ => "cs_main",
-    }
-}
-
-/// How a pipeline file writes a stage whose pass names `pass_file` as its shader: `None` when
-/// the default entry applies, `file#entry` for another file, else the entry name. Both printers
-/// use it, so RON and LBP agree on what is implied.
-pub fn written_entry(r: &ShaderRef, pass_file: Option<&str>, stage: naga::ShaderStage, default_applies: bool) -> Option<String> {
-    if Some(r.file.value.as_str()) != pass_file {
-        return Some(format!("{}#{}", r.file.value, r.entry.value));
-    }
-    if default_applies && r.entry.value == default_entry(stage, &r.file.value) {
-        return None;
-    }
-    Some(r.entry.value.clone())
-}
-
 /// A shader module and an entry point in it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShaderRef {
     /// Path relative to the shader root (`shaders/`).
     pub file: Spanned<String>,
     pub entry: Spanned<String>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Raster {
+    pub vertex: ShaderRef,
+    /// `None`: depth-only.
+    pub fragment: Option<ShaderRef>,
+    pub targets: Targets,
+    pub draw: Draw,
+    pub cull: CullMode,
+    /// Instances per draw (the instanced cube-shadow atlas draws each mesh 6 times).
+    pub instances: Spanned<u32>,
+    /// Render all views of a multiview attachment in one pass.
+    pub multiview: Option<Spanned<u32>>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fullscreen {
+    /// The vertex stage is built in (one triangle, `uv` at location 0).
+    pub fragment: ShaderRef,
+    pub targets: Targets,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Compute {
+    pub entry: ShaderRef,
+    pub dispatch: Dispatch,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum PassKind {
+    Raster(Raster),
+    Fullscreen(Fullscreen),
+    Compute(Compute),
+}
+
+impl PassKind {
+    /// `raster`, `fullscreen` or `compute`.
+    pub fn word(&self) -> &'static str {
+        match self {
+            PassKind::Raster(_) => "raster",
+            PassKind::Fullscreen(_) => "fullscreen",
+            PassKind::Compute(_) => "compute",
+        }
+    }
+}
+
+/// The vertex stage every fullscreen pass gets: one triangle covering the target, `uv` at location 0.
+pub const FULLSCREEN_FILE: &str = "<builtin>/fullscreen.wgsl";
+pub const FULLSCREEN_ENTRY: &str = "fullscreen_vs";
+
+/// GLSL 450 shader files, by extension (one stage per file, entry point `main`).
+pub fn is_glsl(path: &str) -> bool {
+    [".vert", ".frag", ".comp", ".glsl"].iter().any(|e| path.ends_with(e))
+}
+
+/// The entry point a stage gets when the pipeline file names none: `main` for GLSL,
+/// `vs_main` / `fs_main` / `cs_main` for WGSL.
+pub fn default_entry(stage: Stage, file: &str) -> &'static str {
+    if is_glsl(file) {
+        return "main";
+    }
+    match stage {
+        Stage::Vertex => "vs_main",
+        Stage::Fragment => "fs_main",
+        Stage::Compute => "cs_main",
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -197,15 +268,10 @@ impl Read {
 pub struct Pass {
     pub name: Spanned<String>,
     pub kind: PassKind,
-    pub vertex: Option<ShaderRef>,
-    pub fragment: Option<ShaderRef>,
-    pub compute: Option<ShaderRef>,
     /// Sampled textures and read-only buffers.
     pub reads: Vec<Read>,
     /// Storage textures and buffers written (compute, or fragment with storage).
     pub writes: Vec<Spanned<String>>,
-    pub color: Vec<ColorTarget>,
-    pub depth: Option<DepthTarget>,
     /// Parameters in this pass's uniform block.
     pub params: Vec<Spanned<String>>,
     /// Name of the shader global holding the parameter block.
@@ -221,31 +287,67 @@ pub struct Pass {
 }
 
 impl Pass {
-    pub fn stages(&self) -> impl Iterator<Item = (naga::ShaderStage, &ShaderRef)> {
-        [
-            (naga::ShaderStage::Vertex, self.vertex.as_ref()),
-            (naga::ShaderStage::Fragment, self.fragment.as_ref()),
-            (naga::ShaderStage::Compute, self.compute.as_ref()),
-        ]
-        .into_iter()
-        .filter_map(|(s, r)| r.map(|r| (s, r)))
+    /// The pass's stages in pipeline order; a fullscreen pass's vertex stage is the built-in one.
+    pub fn stages(&self) -> Vec<(Stage, ShaderRef)> {
+        match &self.kind {
+            PassKind::Raster(r) => {
+                let mut v = vec![(Stage::Vertex, r.vertex.clone())];
+                v.extend(r.fragment.clone().map(|f| (Stage::Fragment, f)));
+                v
+            }
+            PassKind::Fullscreen(f) => vec![
+                (
+                    Stage::Vertex,
+                    ShaderRef {
+                        file: Spanned::new(FULLSCREEN_FILE.to_string(), self.span),
+                        entry: Spanned::new(FULLSCREEN_ENTRY.to_string(), self.span),
+                    },
+                ),
+                (Stage::Fragment, f.fragment.clone()),
+            ],
+            PassKind::Compute(c) => vec![(Stage::Compute, c.entry.clone())],
+        }
+    }
+
+    /// The stage whose file the pass's `shader` names: vertex for raster, fragment for
+    /// fullscreen, compute for compute.
+    pub fn main_stage(&self) -> &ShaderRef {
+        match &self.kind {
+            PassKind::Raster(r) => &r.vertex,
+            PassKind::Fullscreen(f) => &f.fragment,
+            PassKind::Compute(c) => &c.entry,
+        }
+    }
+
+    /// Color and depth targets (none for compute passes).
+    pub fn targets(&self) -> Option<&Targets> {
+        match &self.kind {
+            PassKind::Raster(r) => Some(&r.targets),
+            PassKind::Fullscreen(f) => Some(&f.targets),
+            PassKind::Compute(_) => None,
+        }
+    }
+
+    pub fn color(&self) -> &[ColorTarget] {
+        self.targets().map(|t| t.color.as_slice()).unwrap_or(&[])
+    }
+
+    pub fn depth(&self) -> Option<&DepthTarget> {
+        self.targets().and_then(|t| t.depth.as_ref())
     }
 
     /// Every resource this pass writes: attachments and storage writes.
     pub fn written(&self) -> impl Iterator<Item = &Spanned<String>> {
-        self.color
+        self.color()
             .iter()
             .map(|c| &c.resource)
-            .chain(self.depth.as_ref().map(|d| &d.resource))
+            .chain(self.depth().map(|d| &d.resource))
             .chain(self.writes.iter())
     }
 
     /// Does this pass's write of `res` build on the earlier content (`load: Load`)?
     pub fn accumulates(&self, res: &str) -> bool {
-        self.color.iter().any(|c| c.resource.value == res && c.load == LoadOp::Load)
-            || self
-                .depth
-                .as_ref()
-                .is_some_and(|d| d.resource.value == res && d.load == LoadOp::Load)
+        self.color().iter().any(|c| c.resource.value == res && c.load.is_load())
+            || self.depth().is_some_and(|d| d.resource.value == res && d.load.is_load())
     }
 }

@@ -5,7 +5,7 @@ use crate::format::TextureFormat;
 use crate::span::{Span, Spanned};
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ViewDim {
     D2,
     D2Array,
@@ -21,6 +21,14 @@ impl ViewDim {
         }
     }
     pub const NAMES: [&'static str; 3] = ["D2", "D2Array", "Cube"];
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "D2" => Some(ViewDim::D2),
+            "D2Array" => Some(ViewDim::D2Array),
+            "Cube" => Some(ViewDim::Cube),
+            _ => None,
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -118,17 +126,61 @@ impl Resource {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum FilterMode {
     Nearest,
     Linear,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+impl FilterMode {
+    pub const NAMES: [&'static str; 2] = ["Nearest", "Linear"];
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "Nearest" => Some(FilterMode::Nearest),
+            "Linear" => Some(FilterMode::Linear),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            FilterMode::Nearest => "Nearest",
+            FilterMode::Linear => "Linear",
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum AddressMode {
     ClampToEdge,
     Repeat,
     MirrorRepeat,
+}
+
+impl AddressMode {
+    pub const NAMES: [&'static str; 3] = ["ClampToEdge", "Repeat", "MirrorRepeat"];
+    pub fn from_name(s: &str) -> Option<Self> {
+        match s {
+            "ClampToEdge" => Some(AddressMode::ClampToEdge),
+            "Repeat" => Some(AddressMode::Repeat),
+            "MirrorRepeat" => Some(AddressMode::MirrorRepeat),
+            _ => None,
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            AddressMode::ClampToEdge => "ClampToEdge",
+            AddressMode::Repeat => "Repeat",
+            AddressMode::MirrorRepeat => "MirrorRepeat",
+        }
+    }
+}
+
+/// The sampler binding kind wgpu needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum SamplerKind {
+    Filtering,
+    NonFiltering,
+    Comparison,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -144,8 +196,7 @@ pub struct SamplerDecl {
 
 impl SamplerDecl {
     /// The binding kind wgpu needs: comparison, filtering (any linear filter) or non-filtering.
-    pub fn binding_kind(&self) -> crate::plan::SamplerKind {
-        use crate::plan::SamplerKind;
+    pub fn binding_kind(&self) -> SamplerKind {
         if self.compare.is_some() {
             SamplerKind::Comparison
         } else if self.filter == FilterMode::Linear || self.mipmap == FilterMode::Linear {

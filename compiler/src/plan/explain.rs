@@ -1,22 +1,27 @@
-//! Human-readable and Graphviz renderings of a Plan.
+//! Human-readable and Graphviz renderings of a Plan (`plan --explain`, `plan --dot`).
 
 use super::*;
+use crate::layout::{BindingType, SampleType};
 use std::fmt::Write;
 
 /// How a pass's work reads in plans: `Scene`, `Vertices(3)`, `Fullscreen`, `Groups(2, 1, 1) from Size(hdr)`.
-pub fn work_word(w: &Work) -> String {
+pub fn work_word(plan: &Plan, w: &Work) -> String {
     match w {
-        Work::Scene => "Scene".into(),
-        Work::Vertices(n) => format!("Vertices({n})"),
-        Work::Fullscreen => "Fullscreen".into(),
-        Work::Dispatch {
+        Work::Raster { draw: Draw::Scene, .. } => "Scene".into(),
+        Work::Raster {
+            draw: Draw::Vertices(n), ..
+        } => format!("Vertices({n})"),
+        Work::Fullscreen { .. } => "Fullscreen".into(),
+        Work::Compute {
             groups: [x, y, z],
             sized_from: None,
+            ..
         } => format!("Groups({x}, {y}, {z})"),
-        Work::Dispatch {
+        Work::Compute {
             groups: [x, y, z],
             sized_from: Some(r),
-        } => format!("Groups({x}, {y}, {z}) from Size({r})"),
+            ..
+        } => format!("Groups({x}, {y}, {z}) from Size({})", plan.res(*r).name),
     }
 }
 
@@ -44,7 +49,7 @@ fn binding_word(t: &BindingType) -> String {
             format,
             access,
             view_dimension,
-        } => format!("storage texture {} {format} {access}", view_dimension.wgsl_word()),
+        } => format!("storage texture {} {} {access:?}", view_dimension.wgsl_word(), format.name()),
         BindingType::Sampler(k) => format!("sampler ({k:?})"),
         BindingType::Uniform { min_binding_size } => format!("uniform ({min_binding_size} B)"),
         BindingType::Storage {
@@ -54,17 +59,30 @@ fn binding_word(t: &BindingType) -> String {
     }
 }
 
-fn source_word(s: &BindSource) -> String {
+fn source_word(plan: &Plan, s: &PlanSource) -> String {
     match s {
-        BindSource::Resource(n) => n.clone(),
-        BindSource::Prev(n) => format!("Prev({n})"),
-        BindSource::Sampler(n) => format!("sampler {n}"),
+        BindSource::Resource(r) => plan.res(*r).name.clone(),
+        BindSource::Prev(r) => format!("Prev({})", plan.res(*r).name),
+        BindSource::Sampler(n) => format!("sampler {}", plan.sampler(*n).name),
         BindSource::Params => "params".into(),
         BindSource::Frame => "<frame>".into(),
         BindSource::Instance => "<instance>".into(),
         BindSource::Lights => "<lights>".into(),
-        BindSource::Draw(n) => format!("<draw.{n}>"),
+        BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
+}
+
+fn read_word(plan: &Plan, r: &PlanRead) -> String {
+    let name = &plan.res(r.resource).name;
+    if r.prev {
+        format!("Prev({name})")
+    } else {
+        name.clone()
+    }
+}
+
+fn words<T>(items: &[T], f: impl Fn(&T) -> String) -> String {
+    items.iter().map(f).collect::<Vec<_>>().join(", ")
 }
 
 /// The plan as text. `explain` adds why each variant option was chosen and each pass culled,
@@ -86,117 +104,32 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         let _ = writeln!(s, "\nvariants:");
         for v in &plan.variants {
             match (&v.reason, explain) {
-                (Some(r), true) => {
-                    let _ = writeln!(s, "  {} = {}  ({r})", v.variant, v.option);
-                }
-                _ => {
-                    let _ = writeln!(s, "  {} = {}", v.variant, v.option);
-                }
+                (Some(r), true) => writeln!(s, "  {} = {}  ({r})", v.variant, v.option),
+                _ => writeln!(s, "  {} = {}", v.variant, v.option),
             }
+            .ok();
         }
     }
     let _ = writeln!(s, "\npasses ({} kept, in order):", plan.passes.len());
     for (i, p) in plan.passes.iter().enumerate() {
-        let rep = match (p.per_light.is_empty(), p.per_face) {
-            (true, false) => String::new(),
-            _ => {
-                let kinds: Vec<&str> = p.per_light.iter().map(|k| k.name()).collect();
-                let mut r = String::from(" ×");
-                r += &p.repetitions.to_string();
-                r += " (";
-                if !kinds.is_empty() {
-                    r += &format!("per {} light", kinds.join("/"));
-                }
-                if p.per_face {
-                    r += if kinds.is_empty() { "per face" } else { ", per face" };
-                }
-                r + ")"
-            }
-        };
-        let targets: Vec<String> = p
-            .color
-            .iter()
-            .map(|c| c.resource.clone())
-            .chain(p.depth.iter().map(|d| format!("depth {}", d.resource)))
-            .chain(p.writes.iter().map(|w| format!("storage {w}")))
-            .collect();
-        let _ = writeln!(s, "  {:>2}. {:<22} {:<10} {}{rep}", i + 1, p.name, p.kind, work_word(&p.work));
-        let _ = writeln!(s, "      reads [{}] -> writes [{}]", p.reads.join(", "), targets.join(", "));
+        pass_text(&mut s, plan, i, p);
         if explain {
-            for st in &p.stages {
-                let _ = writeln!(s, "      {} {}#{}", st.stage, st.file, st.entry);
-            }
-            if !p.after.is_empty() {
-                let _ = writeln!(s, "      after: {}", p.after.join(", "));
-            }
-            for g in &p.bind_groups {
-                for e in &g.entries {
-                    let _ = writeln!(
-                        s,
-                        "      @group({}) @binding({}) {:<20} {:<34} <- {}  [{}]",
-                        g.group,
-                        e.binding,
-                        e.name,
-                        binding_word(&e.ty),
-                        source_word(&e.source),
-                        e.visibility.join(", ")
-                    );
-                }
-            }
-            for b in &p.uniform_blocks {
-                let _ = writeln!(s, "      block `{}`: {} bytes, align {}", b.global, b.size, b.align);
-                for f in &b.fields {
-                    let _ = writeln!(s, "        +{:<4} {:<12} {:<10} = {}", f.offset, f.name, f.ty, f.param);
-                }
-            }
+            pass_layouts(&mut s, plan, p);
         }
     }
     if !plan.culled.is_empty() {
         let _ = writeln!(s, "\nculled ({}):", plan.culled.len());
         for c in &plan.culled {
-            if explain {
-                let _ = writeln!(s, "  {:<26} {}", c.name, c.reason);
-            } else {
-                let _ = writeln!(s, "  {}", c.name);
+            match explain {
+                true => writeln!(s, "  {:<26} {}", c.name, c.reason),
+                false => writeln!(s, "  {}", c.name),
             }
+            .ok();
         }
     }
     let _ = writeln!(s, "\nresources:");
     for r in &plan.resources {
-        let mut shape = match &r.format {
-            Some(f) => format!("{f} {} ({}×{})", r.size, r.extent.0, r.extent.1),
-            None => r.size.clone(),
-        };
-        if r.layers > 1 {
-            shape += &format!(" ×{} layers", r.layers);
-        }
-        if let Some(v) = &r.view {
-            if v != "D2" {
-                shape += &format!(" {v}");
-            }
-        }
-        if r.mips > 1 {
-            shape += &format!(" {} mips", r.mips);
-        }
-        let mut extra = String::new();
-        if !r.per_light.is_empty() {
-            let k: Vec<&str> = r.per_light.iter().map(|k| k.name()).collect();
-            extra += &format!(" per {} light ×{}", k.join("/"), r.instances);
-        }
-        if r.history {
-            extra += " history ×2";
-        }
-        if r.external {
-            extra += " external";
-        }
-        let _ = writeln!(
-            s,
-            "  {:<18} {:<44}{extra}  {}  [{}]",
-            r.name,
-            shape,
-            mib(r.bytes),
-            r.usage.join(" | ")
-        );
+        let _ = writeln!(s, "  {}", resource_line(r));
     }
     let _ = writeln!(
         s,
@@ -205,8 +138,140 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         plan.resolution.0,
         plan.resolution.1
     );
-    let _ = writeln!(s, "output: {}", plan.output);
+    let _ = writeln!(s, "output: {}", plan.output_resource().name);
     s
+}
+
+/// ` ×6 (per Point light, per face)` for repeated passes.
+fn repetitions(p: &PlanPass) -> String {
+    if p.per_light.is_empty() && !p.per_face {
+        return String::new();
+    }
+    let kinds: Vec<&str> = p.per_light.iter().map(|k| k.name()).collect();
+    let mut parts = vec![];
+    if !kinds.is_empty() {
+        parts.push(format!("per {} light", kinds.join("/")));
+    }
+    if p.per_face {
+        parts.push("per face".to_string());
+    }
+    format!(" ×{} ({})", p.repetitions, parts.join(", "))
+}
+
+/// Everything a pass writes, as text: attachments, then storage.
+fn written(plan: &Plan, p: &PlanPass) -> Vec<String> {
+    let t = p.work.targets();
+    let color = t.into_iter().flat_map(|t| &t.color).map(|c| plan.res(c.resource).name.clone());
+    let depth = t
+        .and_then(|t| t.depth.as_ref())
+        .map(|d| format!("depth {}", plan.res(d.resource).name));
+    color
+        .chain(depth)
+        .chain(p.writes.iter().map(|w| format!("storage {}", plan.res(*w).name)))
+        .collect()
+}
+
+fn pass_text(s: &mut String, plan: &Plan, i: usize, p: &PlanPass) {
+    let _ = writeln!(
+        s,
+        "  {:>2}. {:<22} {:<10} {}{}",
+        i + 1,
+        p.name,
+        p.work.kind_word(),
+        work_word(plan, &p.work),
+        repetitions(p)
+    );
+    let _ = writeln!(
+        s,
+        "      reads [{}] -> writes [{}]",
+        words(&p.reads, |r| read_word(plan, r)),
+        written(plan, p).join(", ")
+    );
+}
+
+fn pass_layouts(s: &mut String, plan: &Plan, p: &PlanPass) {
+    for st in &p.stages {
+        let _ = writeln!(s, "      {} {}#{}", st.stage.word(), st.file, st.entry);
+    }
+    if !p.after.is_empty() {
+        let _ = writeln!(s, "      after: {}", words(&p.after, |a| plan.passes[a.0 as usize].name.clone()));
+    }
+    for g in &p.bind_groups {
+        for e in &g.entries {
+            let _ = writeln!(
+                s,
+                "      @group({}) @binding({}) {:<20} {:<34} <- {}  [{}]",
+                g.group,
+                e.binding,
+                e.name,
+                binding_word(&e.ty),
+                source_word(plan, &e.source),
+                words(&e.visibility, |v| v.word().to_string())
+            );
+        }
+    }
+    for b in &p.uniform_blocks {
+        let _ = writeln!(s, "      block `{}`: {} bytes, align {}", b.global, b.size, b.align);
+        for f in &b.fields {
+            let _ = writeln!(
+                s,
+                "        +{:<4} {:<12} {:<10} = {}",
+                f.offset,
+                f.name,
+                f.ty.wgsl(),
+                plan.param(f.param).name
+            );
+        }
+    }
+}
+
+/// `Rgba16Float viewport (128×128) ×6 layers Cube` or `16 bytes`.
+pub fn shape_word(r: &PlanResource) -> String {
+    match &r.shape {
+        ResourceShape::Texture {
+            format,
+            size,
+            extent,
+            layers,
+            view,
+            mips,
+        } => {
+            let mut shape = format!("{} {} ({}×{})", format.name(), size.describe(), extent.0, extent.1);
+            if *layers > 1 {
+                shape += &format!(" ×{layers} layers");
+            }
+            if *view != ViewDim::D2 {
+                shape += &format!(" {}", view.name());
+            }
+            if *mips > 1 {
+                shape += &format!(" {mips} mips");
+            }
+            shape
+        }
+        ResourceShape::Buffer { size } => format!("{size} bytes"),
+    }
+}
+
+fn resource_line(r: &PlanResource) -> String {
+    let mut extra = String::new();
+    if !r.per_light.is_empty() {
+        let k: Vec<&str> = r.per_light.iter().map(|k| k.name()).collect();
+        extra += &format!(" per {} light ×{}", k.join("/"), r.instances);
+    }
+    if r.history {
+        extra += " history ×2";
+    }
+    if r.external {
+        extra += " external";
+    }
+    let usage: Vec<&str> = r.usage.iter().map(|u| u.name()).collect();
+    format!(
+        "{:<18} {:<44}{extra}  {}  [{}]",
+        r.name,
+        shape_word(r),
+        mib(r.bytes),
+        usage.join(" | ")
+    )
 }
 
 /// Graphviz: passes as boxes, resources as ellipses, culled passes dashed.
@@ -216,38 +281,35 @@ pub fn to_dot(plan: &Plan) -> String {
     let _ = writeln!(s, "digraph {} {{", q(&plan.pipeline));
     let _ = writeln!(s, "  rankdir=LR;\n  node [fontname=\"sans-serif\"];");
     for p in &plan.passes {
+        let node = q(&format!("pass:{}", p.name));
         let _ = writeln!(
             s,
-            "  {} [shape=box, style=filled, fillcolor=\"#dde8f5\", label={}];",
-            q(&format!("pass:{}", p.name)),
-            q(&format!("{}\\n{}", p.name, p.kind))
+            "  {node} [shape=box, style=filled, fillcolor=\"#dde8f5\", label={}];",
+            q(&format!("{}\\n{}", p.name, p.work.kind_word()))
         );
         for r in &p.reads {
-            let name = r.trim_start_matches("Prev(").trim_end_matches(')');
-            let style = if r.starts_with("Prev(") {
-                " [style=dashed, label=\"prev\"]"
-            } else {
-                ""
-            };
-            let _ = writeln!(s, "  {} -> {}{style};", q(&format!("res:{name}")), q(&format!("pass:{}", p.name)));
+            let style = if r.prev { " [style=dashed, label=\"prev\"]" } else { "" };
+            let _ = writeln!(s, "  {} -> {node}{style};", q(&format!("res:{}", plan.res(r.resource).name)));
         }
-        for w in p
-            .color
-            .iter()
-            .map(|c| &c.resource)
-            .chain(p.depth.iter().map(|d| &d.resource))
-            .chain(p.writes.iter())
-        {
-            let _ = writeln!(s, "  {} -> {};", q(&format!("pass:{}", p.name)), q(&format!("res:{w}")));
+        for w in p.written() {
+            let _ = writeln!(s, "  {node} -> {};", q(&format!("res:{}", plan.res(w).name)));
         }
     }
     for r in &plan.resources {
-        let shape = if r.name == plan.output { "doubleoctagon" } else { "ellipse" };
+        let shape = if r.name == plan.output_resource().name {
+            "doubleoctagon"
+        } else {
+            "ellipse"
+        };
+        let detail = match &r.shape {
+            ResourceShape::Texture { format, .. } => format.name().to_string(),
+            ResourceShape::Buffer { size } => format!("{size} bytes"),
+        };
         let _ = writeln!(
             s,
             "  {} [shape={shape}, label={}];",
             q(&format!("res:{}", r.name)),
-            q(&format!("{}\\n{}", r.name, r.format.clone().unwrap_or_else(|| r.size.clone())))
+            q(&format!("{}\\n{detail}", r.name))
         );
     }
     for c in &plan.culled {

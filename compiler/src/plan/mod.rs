@@ -1,168 +1,162 @@
-//! The Plan: everything the runtime needs to execute one configuration of a pipeline,
-//! and nothing it would have to decide itself. Serializable and stable for snapshots.
+//! The Plan: everything the runtime needs to execute one configuration of a pipeline, and
+//! nothing it would have to decide itself. Typed throughout: passes, resources and samplers
+//! are addressed by index, names are kept for display. Serializable and stable for snapshots.
 
-pub mod build;
+mod build;
+mod cull;
 mod explain;
+mod params;
+mod passes;
+mod resources;
+mod select;
 
-pub use build::{build_plan, Config, Selection};
-pub use explain::work_word;
-pub use explain::{to_dot, to_text};
+pub use build::{build_plan, Config};
+pub use cull::{schedule, Schedule};
+pub use explain::{to_dot, to_text, work_word};
+pub use params::{ParamError, ParamValues};
+pub use select::{select, Selection};
 
-use crate::ir::{AddressMode, Blend, CompareFn, CullMode, FilterMode, LayerSel, LightKind, ParamType, ParamValue};
-use crate::shader::reflect::ShaderDim;
+use crate::format::TextureFormat;
+use crate::ir::{
+    AddressMode, Blend, CompareFn, CullMode, Draw, FilterMode, LayerSel, LightKind, Load, ParamType, ParamValue, SamplerKind, SizeSpec,
+    Stage, ViewDim,
+};
+use crate::layout::{BindGroupLayout, BindSource, Binding, UniformBlock};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeSet;
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SamplerKind {
-    Filtering,
-    NonFiltering,
-    Comparison,
-}
+/// Index of a pass in `Plan::passes` (execution order).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct PassId(pub u32);
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SampleType {
-    Float { filterable: bool },
-    Depth,
-    Uint,
-    Sint,
-}
+/// Index of a resource in `Plan::resources`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct ResourceId(pub u32);
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum BindingType {
-    Texture {
-        sample_type: SampleType,
-        view_dimension: ShaderDim,
-        multisampled: bool,
-    },
-    StorageTexture {
-        format: String,
-        access: String,
-        view_dimension: ShaderDim,
-    },
-    Sampler(SamplerKind),
-    Uniform {
-        min_binding_size: u32,
-    },
-    Storage {
-        read_only: bool,
-        min_binding_size: u32,
-    },
-}
+/// Index of a sampler in `Plan::samplers`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct SamplerId(pub u32);
 
-/// What the runtime binds at a slot.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum BindSource {
-    /// A declared resource (the current light's instance for per-light resources).
-    Resource(String),
-    /// The previous frame's value of a history resource.
-    Prev(String),
-    Sampler(String),
-    /// This pass's parameter block (see `uniform_blocks`).
-    Params,
-    /// The standard per-frame block (camera, resolution, time, light count).
-    Frame,
-    /// The standard per-repetition block (light index, face, view count).
-    Instance,
-    /// The scene's light array (storage, read-only).
-    Lights,
-    /// A per-draw slot of the mesh being drawn (`mesh`, `material`, `base_color_map`, ...).
-    Draw(String),
-}
+pub use crate::layout::ParamId;
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PlanBinding {
-    pub binding: u32,
-    /// The shader global's name.
-    pub name: String,
-    pub source: BindSource,
-    pub ty: BindingType,
-    /// Stages whose entry points use it: "vertex", "fragment", "compute".
-    pub visibility: Vec<String>,
-}
+pub type PlanBindGroup = BindGroupLayout<ResourceId, SamplerId>;
+pub type PlanBinding = Binding<ResourceId, SamplerId>;
+pub type PlanSource = BindSource<ResourceId, SamplerId>;
 
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PlanBindGroup {
-    pub group: u32,
-    pub entries: Vec<PlanBinding>,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct UniformField {
-    /// Field name in the shader struct.
-    pub name: String,
-    /// Pipeline parameter written there.
-    pub param: String,
-    pub offset: u32,
-    pub size: u32,
-    /// WGSL type, e.g. `vec3<f32>`; bools and enums are `u32`.
-    pub ty: String,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct UniformBlock {
-    pub global: String,
-    pub group: u32,
-    pub binding: u32,
-    pub size: u32,
-    pub align: u32,
-    pub fields: Vec<UniformField>,
-}
-
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PlanStage {
-    pub stage: String,
+    pub stage: Stage,
     pub file: String,
     pub entry: String,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PlanAttachment {
-    pub resource: String,
-    pub format: String,
-    /// `None` = load; `Some(values)` = clear to these values.
-    pub clear: Option<Vec<f64>>,
+pub struct ColorAttachment {
+    pub resource: ResourceId,
+    pub format: TextureFormat,
+    pub load: Load<[f64; 4]>,
     pub blend: Option<Blend>,
     pub layer: LayerSel,
-    /// Depth attachments only.
-    pub depth_compare: Option<CompareFn>,
-    pub depth_write: Option<bool>,
 }
 
-/// What a pass does once its bindings are set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DepthAttachment {
+    pub resource: ResourceId,
+    pub format: TextureFormat,
+    pub load: Load<f64>,
+    pub compare: CompareFn,
+    pub write: bool,
+    pub layer: LayerSel,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PlanTargets {
+    pub color: Vec<ColorAttachment>,
+    pub depth: Option<DepthAttachment>,
+}
+
+/// What a pass does once its bindings are set; each kind carries only its own data.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Work {
-    /// Draw every scene mesh (indexed, with the standard vertex layout).
-    Scene,
-    /// Draw this many vertices with no vertex buffers.
-    Vertices(u32),
+    /// Draw the scene's meshes (indexed, standard vertex layout) or a fixed vertex count.
+    Raster {
+        draw: Draw,
+        cull: CullMode,
+        instances: u32,
+        /// Views rendered at once into the layers of the attachments.
+        multiview: Option<u32>,
+        targets: PlanTargets,
+    },
     /// One triangle covering the targets.
-    Fullscreen,
-    /// Compute workgroups; `sized_from` names the resource the count was derived from.
-    Dispatch { groups: [u32; 3], sized_from: Option<String> },
+    Fullscreen { targets: PlanTargets },
+    /// Compute workgroups; `sized_from` is the resource the count was derived from.
+    Compute {
+        groups: [u32; 3],
+        workgroup_size: [u32; 3],
+        sized_from: Option<ResourceId>,
+    },
+}
+
+impl Work {
+    pub fn targets(&self) -> Option<&PlanTargets> {
+        match self {
+            Work::Raster { targets, .. } | Work::Fullscreen { targets } => Some(targets),
+            Work::Compute { .. } => None,
+        }
+    }
+    /// `raster`, `fullscreen` or `compute`.
+    pub fn kind_word(&self) -> &'static str {
+        match self {
+            Work::Raster { .. } => "raster",
+            Work::Fullscreen { .. } => "fullscreen",
+            Work::Compute { .. } => "compute",
+        }
+    }
+    pub fn multiview(&self) -> Option<u32> {
+        match self {
+            Work::Raster { multiview, .. } => *multiview,
+            _ => None,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PlanRead {
+    pub resource: ResourceId,
+    /// The previous frame's value of a history resource.
+    pub prev: bool,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlanPass {
     pub name: String,
-    pub kind: String,
-    pub stages: Vec<PlanStage>,
     pub work: Work,
-    pub workgroup_size: Option<[u32; 3]>,
-    pub cull: Option<CullMode>,
-    pub instances: u32,
-    pub multiview: Option<u32>,
+    pub stages: Vec<PlanStage>,
     pub per_light: Vec<LightKind>,
     pub per_face: bool,
     /// How many times the pass runs for this scene (lights × faces).
     pub repetitions: u32,
-    pub color: Vec<PlanAttachment>,
-    pub depth: Option<PlanAttachment>,
-    pub reads: Vec<String>,
-    pub writes: Vec<String>,
+    pub reads: Vec<PlanRead>,
+    /// Storage writes (attachments are in the work's targets).
+    pub writes: Vec<ResourceId>,
     pub bind_groups: Vec<PlanBindGroup>,
     pub uniform_blocks: Vec<UniformBlock>,
     /// Passes whose results this one needs (after culling).
-    pub after: Vec<String>,
+    pub after: Vec<PassId>,
+}
+
+impl PlanPass {
+    pub fn stage(&self, s: Stage) -> Option<&PlanStage> {
+        self.stages.iter().find(|x| x.stage == s)
+    }
+    /// Every resource the pass writes: color and depth attachments, then storage writes.
+    pub fn written(&self) -> Vec<ResourceId> {
+        let t = self.work.targets();
+        t.into_iter()
+            .flat_map(|t| t.color.iter().map(|c| c.resource).chain(t.depth.as_ref().map(|d| d.resource)))
+            .chain(self.writes.iter().copied())
+            .collect()
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -172,26 +166,73 @@ pub struct CulledPass {
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ResourceShape {
+    Texture {
+        format: TextureFormat,
+        /// The size rule, and the size at the plan's resolution.
+        size: SizeSpec,
+        extent: (u32, u32),
+        layers: u32,
+        view: ViewDim,
+        mips: u32,
+    },
+    Buffer {
+        /// Bytes of one instance.
+        size: u64,
+    },
+}
+
+/// How passes use a resource (the runtime maps these to wgpu usage flags).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub enum Usage {
+    RenderAttachment,
+    TextureBinding,
+    StorageBinding,
+    Storage,
+    Uniform,
+    CopySrc,
+    CopyDst,
+}
+
+impl Usage {
+    pub fn name(self) -> &'static str {
+        match self {
+            Usage::RenderAttachment => "RENDER_ATTACHMENT",
+            Usage::TextureBinding => "TEXTURE_BINDING",
+            Usage::StorageBinding => "STORAGE_BINDING",
+            Usage::Storage => "STORAGE",
+            Usage::Uniform => "UNIFORM",
+            Usage::CopySrc => "COPY_SRC",
+            Usage::CopyDst => "COPY_DST",
+        }
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlanResource {
     pub name: String,
-    /// `texture` or `buffer`.
-    pub kind: String,
-    pub format: Option<String>,
-    /// The size rule: `viewport`, `viewport × 0.5`, `512×512` or `N bytes`.
-    pub size: String,
-    /// The size at the plan's resolution.
-    pub extent: (u32, u32),
-    pub layers: u32,
-    pub view: Option<String>,
-    pub mips: u32,
+    pub shape: ResourceShape,
     pub per_light: Vec<LightKind>,
     /// Instances for this scene: one per matching light, else one.
     pub instances: u32,
     pub history: bool,
     pub external: bool,
-    /// wgpu usage flags derived from how passes use it.
-    pub usage: Vec<String>,
+    pub usage: BTreeSet<Usage>,
+    /// Memory of every instance and history copy.
     pub bytes: u64,
+}
+
+impl PlanResource {
+    pub fn is_buffer(&self) -> bool {
+        matches!(self.shape, ResourceShape::Buffer { .. })
+    }
+    /// Array layers (1 for buffers).
+    pub fn layers(&self) -> u32 {
+        match self.shape {
+            ResourceShape::Texture { layers, .. } => layers,
+            ResourceShape::Buffer { .. } => 1,
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -230,13 +271,14 @@ pub struct Plan {
     pub resolution: (u32, u32),
     pub lights: Vec<(LightKind, u32)>,
     pub variants: Vec<ChosenVariant>,
+    /// Every declared parameter, in declaration order (`ParamId` indexes it).
     pub params: Vec<PlanParam>,
     pub samplers: Vec<PlanSampler>,
     /// Passes in execution order.
     pub passes: Vec<PlanPass>,
     pub culled: Vec<CulledPass>,
     pub resources: Vec<PlanResource>,
-    pub output: String,
+    pub output: ResourceId,
     pub memory_bytes: u64,
 }
 
@@ -244,7 +286,22 @@ impl Plan {
     pub fn pass(&self, name: &str) -> Option<&PlanPass> {
         self.passes.iter().find(|p| p.name == name)
     }
+    pub fn resource_id(&self, name: &str) -> Option<ResourceId> {
+        self.resources.iter().position(|r| r.name == name).map(|i| ResourceId(i as u32))
+    }
     pub fn resource(&self, name: &str) -> Option<&PlanResource> {
         self.resources.iter().find(|r| r.name == name)
+    }
+    pub fn res(&self, id: ResourceId) -> &PlanResource {
+        &self.resources[id.0 as usize]
+    }
+    pub fn sampler(&self, id: SamplerId) -> &PlanSampler {
+        &self.samplers[id.0 as usize]
+    }
+    pub fn param(&self, id: ParamId) -> &PlanParam {
+        &self.params[id.0 as usize]
+    }
+    pub fn output_resource(&self) -> &PlanResource {
+        self.res(self.output)
     }
 }

@@ -6,9 +6,8 @@
 //! Textual include-once keeps names intact and the segment table below maps every
 //! naga span back to the file and line it came from.
 
-use crate::diag::Diagnostic;
+use crate::diag::{Code, Diagnostic};
 use crate::span::{FileId, SourceMap, Span};
-use std::path::Path;
 
 /// A piece of the expanded source that came verbatim from one file.
 #[derive(Clone, Debug)]
@@ -41,31 +40,12 @@ impl Expanded {
     }
 }
 
-/// Reads shader files for the expander; the compiler reads from disk, tests may read from memory.
+/// Reads shader files for the expander (through the workspace's virtual file system).
 pub trait ShaderFs {
     fn read(&self, path: &str) -> std::io::Result<String>;
     /// The name diagnostics show for a shader path (e.g. the path on disk).
     fn display(&self, path: &str) -> String {
         path.to_string()
-    }
-}
-
-pub struct DiskFs<'a> {
-    pub root: &'a Path,
-}
-
-impl ShaderFs for DiskFs<'_> {
-    fn read(&self, path: &str) -> std::io::Result<String> {
-        if let Some(builtin) = super::builtin_source(path) {
-            return Ok(builtin.to_string());
-        }
-        std::fs::read_to_string(self.root.join(path))
-    }
-    fn display(&self, path: &str) -> String {
-        if super::builtin_source(path).is_some() {
-            return path.to_string();
-        }
-        self.root.join(path).display().to_string()
     }
 }
 
@@ -101,7 +81,7 @@ fn expand_file(
         let directive = Span::new(file, this_start + indent, this_start + line.trim_end().len());
         let rest = rest.trim();
         let Some(path) = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')) else {
-            return Err(Diagnostic::error("include-syntax", "expected `#include \"path\"`", directive));
+            return Err(Diagnostic::error(Code::IncludeSyntax, "expected `#include \"path\"`", directive));
         };
         // Text before the directive.
         push(out, &text, file, copied_to, this_start);
@@ -110,7 +90,7 @@ fn expand_file(
             let mut chain: Vec<&str> = stack.iter().map(|s| s.as_str()).collect();
             chain.push(path);
             return Err(
-                Diagnostic::error("include-cycle", format!("include cycle: {}", chain.join(" -> ")), directive)
+                Diagnostic::error(Code::IncludeCycle, format!("include cycle: {}", chain.join(" -> ")), directive)
                     .with_label_text(format!("`{path}` is already being included")),
             );
         }
@@ -123,7 +103,7 @@ fn expand_file(
                 Ok(t) => sources.add(fs.display(path), t),
                 Err(e) => {
                     return Err(Diagnostic::error(
-                        "include-not-found",
+                        Code::IncludeNotFound,
                         format!("cannot read included file `{path}`: {e}"),
                         directive,
                     ))

@@ -1,20 +1,22 @@
 //! Shaders: load (with includes), parse with naga's WGSL or GLSL 450 front end, validate,
-//! and map every naga error back to the file and line it came from.
+//! and map every naga error back to the file and line it came from. Compiled modules are
+//! kept in a content-hashed cache that a long-running process shares between compilations.
 
+pub mod cache;
 pub mod include;
 pub mod reflect;
 
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::profile::Feature;
 use crate::span::{FileId, SourceMap, Span, Spanned};
-use include::{DiskFs, Expanded, ShaderFs};
+use crate::vfs::Vfs;
+pub use cache::{CacheStats, ModuleCache};
+use include::{Expanded, ShaderFs};
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// The vertex stage every fullscreen pass gets: one triangle covering the target, `uv` at location 0.
-pub const FULLSCREEN_FILE: &str = "<builtin>/fullscreen.wgsl";
-pub const FULLSCREEN_ENTRY: &str = "fullscreen_vs";
+pub use crate::ir::{is_glsl, FULLSCREEN_ENTRY, FULLSCREEN_FILE};
 pub const FULLSCREEN_SOURCE: &str = include_str!("fullscreen.wgsl");
 
 pub fn builtin_source(path: &str) -> Option<&'static str> {
@@ -25,10 +27,6 @@ pub fn builtin_source(path: &str) -> Option<&'static str> {
 pub enum Lang {
     Wgsl,
     Glsl(#[serde(skip)] naga::ShaderStage),
-}
-
-pub fn is_glsl(path: &str) -> bool {
-    [".vert", ".frag", ".comp", ".glsl"].iter().any(|e| path.ends_with(e))
 }
 
 fn lang_of(path: &str) -> Result<Lang, String> {
@@ -60,6 +58,9 @@ pub struct Compiled {
 pub struct ShaderModule {
     pub path: String,
     pub lang: Lang,
+    /// Identity of the compiled module: language, capabilities and expanded source. Equal
+    /// hashes mean the same naga module (the runtime keys its pipeline cache by it).
+    pub hash: u64,
     pub compiled: Arc<Compiled>,
     /// The expanded source naga saw, and where each part came from.
     pub expanded: Expanded,
@@ -115,51 +116,50 @@ pub fn capabilities(features: &BTreeSet<Feature>) -> naga::valid::Capabilities {
     caps
 }
 
-/// Compiled modules by (language, capabilities, expanded source): pipelines checked in one
-/// run that share shaders validate each of them once. Failures are not kept, so each session
-/// reports its own located errors.
-#[derive(Default)]
-pub struct CompileCache {
-    /// (language, capabilities, hash of the source) -> (source, module); the source is
-    /// compared on a hit, so a hash collision can only cost a recompile.
-    map: std::sync::Mutex<HashMap<CacheKey, (String, Arc<Compiled>)>>,
+/// Shader files under a root, read through the virtual file system. Every path read (or
+/// tried) is recorded: a watcher needs the files that do not exist yet too.
+pub struct RootedFs<'a> {
+    pub vfs: &'a dyn Vfs,
+    pub root: &'a Path,
+    pub read: std::cell::RefCell<BTreeSet<PathBuf>>,
 }
 
-type CacheKey = (Lang, u64, u64);
-
-fn cache_key(lang: Lang, caps: u64, text: &str) -> CacheKey {
-    use std::hash::{Hash, Hasher};
-    let mut h = std::hash::DefaultHasher::new();
-    text.hash(&mut h);
-    (lang, caps, h.finish())
-}
-
-impl CompileCache {
-    fn get(&self, key: &CacheKey, text: &str) -> Option<Arc<Compiled>> {
-        let m = self.map.lock().ok()?;
-        m.get(key).filter(|(src, _)| src == text).map(|(_, c)| c.clone())
-    }
-    fn put(&self, key: CacheKey, text: &str, c: Arc<Compiled>) {
-        if let Ok(mut m) = self.map.lock() {
-            m.insert(key, (text.to_string(), c));
+impl ShaderFs for RootedFs<'_> {
+    fn read(&self, path: &str) -> std::io::Result<String> {
+        if let Some(builtin) = builtin_source(path) {
+            return Ok(builtin.to_string());
         }
+        let full = self.root.join(path);
+        self.read.borrow_mut().insert(full.clone());
+        self.vfs.read(&full)
+    }
+    fn display(&self, path: &str) -> String {
+        if builtin_source(path).is_some() {
+            return path.to_string();
+        }
+        self.root.join(path).display().to_string()
     }
 }
 
-/// Loads each shader once per capability set; failures are remembered so that a broken
-/// shader used by several passes is reported once.
+/// Loads each shader once per capability set in one compilation; failures are remembered
+/// so that a broken shader used by several passes is reported once.
 pub struct ShaderLoader {
     pub root: PathBuf,
+    vfs: Arc<dyn Vfs>,
     cache: HashMap<(String, u64), Option<Arc<ShaderModule>>>,
-    compiled: Arc<CompileCache>,
+    compiled: Arc<ModuleCache>,
+    /// Every shader and included file read (or tried).
+    pub dependencies: BTreeSet<PathBuf>,
 }
 
 impl ShaderLoader {
-    pub fn new(root: PathBuf, compiled: Arc<CompileCache>) -> Self {
+    pub fn new(root: PathBuf, vfs: Arc<dyn Vfs>, compiled: Arc<ModuleCache>) -> Self {
         ShaderLoader {
             root,
+            vfs,
             cache: HashMap::new(),
             compiled,
+            dependencies: BTreeSet::new(),
         }
     }
 
@@ -175,8 +175,13 @@ impl ShaderLoader {
         if let Some(hit) = self.cache.get(&key) {
             return hit.clone();
         }
-        let fs = DiskFs { root: &self.root };
+        let fs = RootedFs {
+            vfs: self.vfs.as_ref(),
+            root: &self.root,
+            read: Default::default(),
+        };
         let result = load_module(&fs, sources, path, caps, &self.compiled, diags).map(Arc::new);
+        self.dependencies.extend(fs.read.into_inner());
         self.cache.insert(key, result.clone());
         result
     }
@@ -187,32 +192,33 @@ pub fn load_module(
     sources: &mut SourceMap,
     path: &Spanned<String>,
     caps: naga::valid::Capabilities,
-    cache: &CompileCache,
+    cache: &ModuleCache,
     diags: &mut Diagnostics,
 ) -> Option<ShaderModule> {
     let lang = match lang_of(&path.value) {
         Ok(l) => l,
         Err(e) if e == "geometry" => {
-            diags.push(crate::front::ron::geometry_error(path.span));
+            diags.push(crate::diag::geometry_shader(path.span));
             return None;
         }
         Err(e) => {
-            diags.push(Diagnostic::error("shader-language", e, path.span));
+            diags.push(Diagnostic::error(Code::ShaderLanguage, e, path.span));
             return None;
         }
     };
-    let root = match sources.find(&fs.display(&path.value)) {
-        Some(id) => id,
-        None => match fs.read(&path.value) {
-            Ok(text) => sources.add(fs.display(&path.value), text),
-            Err(e) => {
-                diags.push(
-                    Diagnostic::error("shader-not-found", format!("cannot read shader `{}`: {e}", path.value), path.span)
-                        .with_label_text("referenced here"),
-                );
-                return None;
-            }
+    // Read every time (a long-running process must see edits); the source map keeps one copy.
+    let root = match fs.read(&path.value) {
+        Ok(text) => match sources.find(&fs.display(&path.value)) {
+            Some(id) if sources.get(id).text == text => id,
+            _ => sources.add(fs.display(&path.value), text),
         },
+        Err(e) => {
+            diags.push(
+                Diagnostic::error(Code::ShaderNotFound, format!("cannot read shader `{}`: {e}", path.value), path.span)
+                    .with_label_text("referenced here"),
+            );
+            return None;
+        }
     };
     let expanded = match include::expand(fs, sources, root, &path.value) {
         Ok(e) => e,
@@ -222,7 +228,7 @@ pub fn load_module(
         }
     };
     let fallback = Span::new(root, 0, 0);
-    let key = cache_key(lang, caps.bits(), &expanded.text);
+    let key = cache::key(lang, caps.bits(), &expanded.text);
     let compiled = match cache.get(&key, &expanded.text) {
         Some(c) => c,
         None => {
@@ -234,6 +240,7 @@ pub fn load_module(
     Some(ShaderModule {
         path: path.value.clone(),
         lang,
+        hash: key.hash(),
         compiled,
         expanded,
     })
@@ -257,7 +264,7 @@ fn compile(
                     .next()
                     .map(|(s, t)| (map(s), t.to_string()))
                     .unwrap_or((fallback, String::new()));
-                let mut d = Diagnostic::error("wgsl-parse", e.message().to_string(), first_span).with_label_text(first_text);
+                let mut d = Diagnostic::error(Code::WgslParse, e.message().to_string(), first_span).with_label_text(first_text);
                 for (s, t) in labels {
                     d = d.with_secondary(map(s), t);
                 }
@@ -274,7 +281,7 @@ fn compile(
                 Ok(m) => m,
                 Err(errs) => {
                     for e in errs.errors {
-                        diags.push(Diagnostic::error("glsl-parse", e.kind.to_string(), map(e.meta)));
+                        diags.push(Diagnostic::error(Code::GlslParse, e.kind.to_string(), map(e.meta)));
                     }
                     return None;
                 }
@@ -287,7 +294,7 @@ fn compile(
         Err(e) => {
             let mut spans = e.spans();
             let (first, first_text) = spans.next().map(|(s, t)| (map(*s), t.clone())).unwrap_or((fallback, String::new()));
-            let mut d = Diagnostic::error("shader-validation", e.as_inner().to_string(), first).with_label_text(first_text);
+            let mut d = Diagnostic::error(Code::ShaderValidation, e.as_inner().to_string(), first).with_label_text(first_text);
             for (s, t) in spans {
                 d = d.with_secondary(map(*s), t.clone());
             }
@@ -306,7 +313,7 @@ fn compile(
     let mut layouter = naga::proc::Layouter::default();
     if let Err(e) = layouter.update(module.to_ctx()) {
         diags.push(Diagnostic::error(
-            "shader-validation",
+            Code::ShaderValidation,
             format!("cannot lay out types: {e}"),
             fallback,
         ));

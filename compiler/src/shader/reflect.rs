@@ -1,6 +1,7 @@
 //! Reflection over a validated naga module: resource globals, entry points, stage IO.
 
 use super::ShaderModule;
+pub use crate::layout::ShaderDim;
 use naga::{AddressSpace, Binding, Handle, ImageClass, ImageDimension, TypeInner};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -9,30 +10,6 @@ pub enum TexKind {
     Uint,
     Sint,
     Depth,
-}
-
-/// A texture view dimension as the shader declares it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum ShaderDim {
-    D1,
-    D2,
-    D2Array,
-    Cube,
-    CubeArray,
-    D3,
-}
-
-impl ShaderDim {
-    pub fn wgsl_word(self) -> &'static str {
-        match self {
-            ShaderDim::D1 => "1d",
-            ShaderDim::D2 => "2d",
-            ShaderDim::D2Array => "2d_array",
-            ShaderDim::Cube => "cube",
-            ShaderDim::CubeArray => "cube_array",
-            ShaderDim::D3 => "3d",
-        }
-    }
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -2,7 +2,7 @@
 
 use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
 use lightbench_compiler::scene::load_scene_features;
-use lightbench_compiler::{pipeline_files, Session};
+use lightbench_compiler::{pipeline_files, Session, Workspace};
 use std::path::{Path, PathBuf};
 
 pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&Path>, shaders: Option<&Path>) -> i32 {
@@ -24,9 +24,9 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&Path
     let mut errors = 0;
     let mut warnings = 0;
     // Pipelines in one run share compiled shaders.
-    let compiled = std::sync::Arc::new(lightbench_compiler::shader::CompileCache::default());
+    let ws = Workspace::disk();
     for f in &files {
-        let mut s = Session::with_cache(compiled.clone());
+        let mut s = ws.session();
         let scene_features = match scene {
             Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
                 Some(sf) => Some(sf),

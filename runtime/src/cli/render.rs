@@ -2,10 +2,12 @@
 //! and a manifest.
 
 use super::{usage_error, EXIT_ERRORS, EXIT_OK};
-use crate::gpu::{DeviceOptions, Gpu};
+use crate::error::{Error, Result};
+use crate::gpu::{DeviceOptions, Executor, Gpu};
 use crate::io::write_atomic;
 use crate::render::{compile, fnv1a, render};
-use crate::scene::file as scene_file;
+use crate::scene::{file as scene_file, Scene};
+use lightbench_compiler::Executable;
 use std::path::{Path, PathBuf};
 
 #[derive(clap::Args, Debug)]
@@ -58,88 +60,70 @@ pub fn run(a: Args) -> i32 {
         Ok(v) => v,
         Err(e) => return usage_error(e),
     };
-    if !matches!(
-        a.out
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .as_deref(),
-        Some("png" | "exr")
-    ) {
+    let ext = a.out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
+    if !matches!(ext.as_deref(), Some("png" | "exr")) {
         return usage_error(format!("--out {}: use a .png or .exr file name", a.out.display()));
     }
     if !a.pipeline.is_file() {
         return usage_error(format!("no such pipeline file: {}", a.pipeline.display()));
     }
-    let mut scene = match scene_file::load(&a.scene) {
+    let size = match a.size.as_deref().map(super::plan::parse_size).transpose() {
         Ok(s) => s,
+        Err(e) => return usage_error(e),
+    };
+    match execute(&a, &variants, size) {
+        Ok(()) => EXIT_OK,
+        Err(Error::Compile(report)) => {
+            eprint!("{report}");
+            EXIT_ERRORS
+        }
         Err(e) => {
             eprintln!("error: {e}");
-            return EXIT_ERRORS;
-        }
-    };
-    if let Some(sz) = &a.size {
-        match super::plan::parse_size(sz) {
-            Ok(v) => scene.size = v,
-            Err(e) => return usage_error(e),
+            EXIT_ERRORS
         }
     }
-    let gpu = match Gpu::new(&DeviceOptions {
+}
+
+fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
+    let mut scene = scene_file::load(&a.scene)?;
+    if let Some(sz) = size {
+        scene.size = sz;
+    }
+    let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,
         adapter: a.adapter.clone(),
-    }) {
-        Ok(g) => g,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return EXIT_ERRORS;
-        }
-    };
+    })?;
     eprintln!("{}", gpu.describe());
-    let (exe, warnings) = match compile(&gpu, &a.pipeline, a.shaders.as_deref(), &scene, &variants) {
-        Ok(x) => x,
-        Err(report) => {
-            eprint!("{report}");
-            return EXIT_ERRORS;
-        }
-    };
+    let (exe, warnings) = compile(&gpu, &a.pipeline, a.shaders.as_deref(), &scene, variants)?;
     eprint!("{warnings}");
     for v in &exe.plan.variants {
         if let Some(r) = &v.reason {
             eprintln!("variant {} = {} ({r})", v.variant, v.option);
         }
     }
-    let ex = match render(&gpu, &exe, &scene, a.frames) {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return EXIT_ERRORS;
-        }
-    };
-    let out = match ex.read_texture(&gpu, &exe.plan.output, 0, 0) {
-        Ok(img) => img,
-        Err(e) => {
-            eprintln!("error: reading the output `{}`: {e}", exe.plan.output);
-            return EXIT_ERRORS;
-        }
-    };
-    if let Err(e) = out.save(&a.out) {
-        eprintln!("error: {e}");
-        return EXIT_ERRORS;
-    }
+    let ex = render(&gpu, &exe, &scene, a.frames)?;
+    let output = &exe.plan.output_resource().name;
+    let img = ex.read_texture(&gpu, output, 0, 0)?;
+    img.save(&a.out)?;
     eprintln!(
         "wrote {} ({}×{}, {} frame(s), scene {})",
         a.out.display(),
-        out.width,
-        out.height,
+        img.width,
+        img.height,
         a.frames.max(1),
         scene.name
     );
     if let Some(list) = &a.dump {
-        if let Err(e) = dump(&gpu, &ex, list, &a.dump_dir, a.dump_format) {
-            eprintln!("error: {e}");
-            return EXIT_ERRORS;
-        }
+        dump(&gpu, &ex, list, &a.dump_dir, a.dump_format)?;
     }
+    timings(a, &ex)?;
+    if let Some(p) = &a.manifest {
+        manifest(p, a, &gpu, &exe, &scene)?;
+    }
+    Ok(())
+}
+
+fn timings(a: &Args, ex: &Executor) -> Result<()> {
     if a.timings {
         println!("{:<26} {:>5} {:>10} {:>12}", "pass", "reps", "GPU ms", "CPU enc µs");
         for t in &ex.last_timings {
@@ -148,44 +132,48 @@ pub fn run(a: Args) -> i32 {
         }
     }
     if let Some(p) = &a.timings_json {
-        let text = serde_json::to_string_pretty(&ex.last_timings).unwrap_or_default();
-        if let Err(e) = write_atomic(p, text.as_bytes()) {
-            eprintln!("error: {e}");
-            return EXIT_ERRORS;
-        }
+        let text = serde_json::to_string_pretty(&ex.last_timings).map_err(|e| Error::io(p, e))?;
+        write_atomic(p, text.as_bytes())?;
     }
-    if let Some(p) = &a.manifest {
-        let files: Vec<serde_json::Value> = exe
-            .files
-            .iter()
-            .map(|f| serde_json::json!({"file": f, "fnv1a64": std::fs::read(f).map(|b| format!("{:016x}", fnv1a(&b))).unwrap_or_else(|_| "unreadable".into())}))
-            .collect();
-        let m = serde_json::json!({
-            "pipeline": a.pipeline.display().to_string(),
-            "files": files,
-            "variants": exe.plan.variants,
-            "params": exe.plan.params.iter().map(|p| serde_json::json!({"name": p.name, "value": p.default})).collect::<Vec<_>>(),
-            "adapter": {"name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend), "driver": gpu.info.driver, "features": gpu.profile.features.iter().map(|f| f.name()).collect::<Vec<_>>()},
-            "scene": scene.name,
-            "size": [scene.size.0, scene.size.1],
-            "frames": a.frames.max(1),
-            "output": a.out.display().to_string(),
-        });
-        if let Err(e) = write_atomic(p, serde_json::to_string_pretty(&m).unwrap_or_default().as_bytes()) {
-            eprintln!("error: {e}");
-            return EXIT_ERRORS;
-        }
-    }
-    EXIT_OK
+    Ok(())
+}
+
+fn manifest(p: &Path, a: &Args, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<()> {
+    let files: Vec<serde_json::Value> = exe
+        .files
+        .iter()
+        .map(|f| {
+            let hash = std::fs::read(f)
+                .map(|b| format!("{:016x}", fnv1a(&b)))
+                .unwrap_or_else(|_| "unreadable".into());
+            serde_json::json!({"file": f.display().to_string(), "fnv1a64": hash})
+        })
+        .collect();
+    let m = serde_json::json!({
+        "pipeline": a.pipeline.display().to_string(),
+        "files": files,
+        "variants": exe.plan.variants,
+        "params": exe.plan.params.iter().map(|p| serde_json::json!({"name": p.name, "value": p.default})).collect::<Vec<_>>(),
+        "adapter": {"name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend), "driver": gpu.info.driver, "features": gpu.profile.features.iter().map(|f| f.name()).collect::<Vec<_>>()},
+        "scene": scene.name,
+        "size": [scene.size.0, scene.size.1],
+        "frames": a.frames.max(1),
+        "output": a.out.display().to_string(),
+    });
+    let text = serde_json::to_string_pretty(&m).map_err(|e| Error::io(p, e))?;
+    write_atomic(p, text.as_bytes())
 }
 
 /// Write each named resource: every light instance and layer, as EXR (all channels, linear)
 /// or PNG (8-bit, clamped); buffers as JSON arrays of f32.
-fn dump(gpu: &Gpu, ex: &crate::gpu::Executor, list: &str, dir: &Path, format: super::DumpFormat) -> Result<(), String> {
+fn dump(gpu: &Gpu, ex: &Executor, list: &str, dir: &Path, format: super::DumpFormat) -> Result<()> {
     for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
-        let res = ex.plan.resource(name).ok_or_else(|| {
-            let names: Vec<&str> = ex.plan.resources.iter().map(|r| r.name.as_str()).collect();
-            format!("--dump: `{name}` is not a resource of this plan (resources: {})", names.join(", "))
+        let res = ex.plan().resource(name).ok_or_else(|| {
+            let names: Vec<&str> = ex.plan().resources.iter().map(|r| r.name.as_str()).collect();
+            Error::Resource(format!(
+                "--dump: `{name}` is not a resource of this plan (resources: {})",
+                names.join(", ")
+            ))
         })?;
         let safe: String = name
             .chars()
@@ -202,15 +190,14 @@ fn dump(gpu: &Gpu, ex: &crate::gpu::Executor, list: &str, dir: &Path, format: su
             if !res.per_light.is_empty() {
                 file += &format!(".light{inst}");
             }
-            if res.layers > 1 {
+            if res.layers() > 1 {
                 file += &format!(".layer{layer}");
             }
-            if res.kind == "buffer" {
+            if res.is_buffer() {
                 let words = ex.read_buffer(gpu, name, inst)?;
-                write_atomic(
-                    &dir.join(format!("{file}.json")),
-                    serde_json::to_string(&words).unwrap_or_default().as_bytes(),
-                )?;
+                let path = dir.join(format!("{file}.json"));
+                let text = serde_json::to_string(&words).map_err(|e| Error::io(&path, e))?;
+                write_atomic(&path, text.as_bytes())?;
                 continue;
             }
             let img = ex.read_texture(gpu, name, inst, layer)?;

@@ -1,37 +1,38 @@
-//! Plan values (names and enums from the compiler) to wgpu types.
+//! Typed Plan values (the compiler's enums) to wgpu types: total mappings, no names parsed.
 
-use lightbench_compiler::ir::{AddressMode, Blend, CompareFn, CullMode, FilterMode};
-use lightbench_compiler::plan::{BindingType, SampleType, SamplerKind};
-use lightbench_compiler::shader::reflect::ShaderDim;
+use lightbench_compiler::format::TextureFormat;
+use lightbench_compiler::ir::{AddressMode, Blend, CompareFn, CullMode, FilterMode, SamplerKind, Stage};
+use lightbench_compiler::layout::{BindingType, SampleType, ShaderDim, StorageAccess};
+use lightbench_compiler::plan::Usage;
 
-pub fn format(name: &str) -> Result<wgpu::TextureFormat, String> {
+pub fn format(f: TextureFormat) -> wgpu::TextureFormat {
     use wgpu::TextureFormat as F;
-    Ok(match name {
-        "R8Unorm" => F::R8Unorm,
-        "Rg8Unorm" => F::Rg8Unorm,
-        "Rgba8Unorm" => F::Rgba8Unorm,
-        "Rgba8UnormSrgb" => F::Rgba8UnormSrgb,
-        "Bgra8Unorm" => F::Bgra8Unorm,
-        "Bgra8UnormSrgb" => F::Bgra8UnormSrgb,
-        "Rgb10a2Unorm" => F::Rgb10a2Unorm,
-        "Rg11b10Ufloat" => F::Rg11b10Ufloat,
-        "R16Float" => F::R16Float,
-        "Rg16Float" => F::Rg16Float,
-        "Rgba16Float" => F::Rgba16Float,
-        "R32Float" => F::R32Float,
-        "Rg32Float" => F::Rg32Float,
-        "Rgba32Float" => F::Rgba32Float,
-        "R32Uint" => F::R32Uint,
-        "Rg32Uint" => F::Rg32Uint,
-        "Rgba32Uint" => F::Rgba32Uint,
-        "R32Sint" => F::R32Sint,
-        "Rgba16Uint" => F::Rgba16Uint,
-        "Depth16Unorm" => F::Depth16Unorm,
-        "Depth24Plus" => F::Depth24Plus,
-        "Depth32Float" => F::Depth32Float,
-        "Depth24PlusStencil8" => F::Depth24PlusStencil8,
-        other => return Err(format!("texture format `{other}` has no wgpu equivalent")),
-    })
+    use TextureFormat as T;
+    match f {
+        T::R8Unorm => F::R8Unorm,
+        T::Rg8Unorm => F::Rg8Unorm,
+        T::Rgba8Unorm => F::Rgba8Unorm,
+        T::Rgba8UnormSrgb => F::Rgba8UnormSrgb,
+        T::Bgra8Unorm => F::Bgra8Unorm,
+        T::Bgra8UnormSrgb => F::Bgra8UnormSrgb,
+        T::Rgb10a2Unorm => F::Rgb10a2Unorm,
+        T::Rg11b10Ufloat => F::Rg11b10Ufloat,
+        T::R16Float => F::R16Float,
+        T::Rg16Float => F::Rg16Float,
+        T::Rgba16Float => F::Rgba16Float,
+        T::R32Float => F::R32Float,
+        T::Rg32Float => F::Rg32Float,
+        T::Rgba32Float => F::Rgba32Float,
+        T::R32Uint => F::R32Uint,
+        T::Rg32Uint => F::Rg32Uint,
+        T::Rgba32Uint => F::Rgba32Uint,
+        T::R32Sint => F::R32Sint,
+        T::Rgba16Uint => F::Rgba16Uint,
+        T::Depth16Unorm => F::Depth16Unorm,
+        T::Depth24Plus => F::Depth24Plus,
+        T::Depth32Float => F::Depth32Float,
+        T::Depth24PlusStencil8 => F::Depth24PlusStencil8,
+    }
 }
 
 pub fn view_dim(d: ShaderDim) -> wgpu::TextureViewDimension {
@@ -112,21 +113,20 @@ pub fn cull(c: CullMode) -> Option<wgpu::Face> {
     }
 }
 
-pub fn stages(vis: &[String]) -> wgpu::ShaderStages {
+pub fn stages(vis: &[Stage]) -> wgpu::ShaderStages {
     let mut s = wgpu::ShaderStages::empty();
     for v in vis {
-        s |= match v.as_str() {
-            "vertex" => wgpu::ShaderStages::VERTEX,
-            "fragment" => wgpu::ShaderStages::FRAGMENT,
-            "compute" => wgpu::ShaderStages::COMPUTE,
-            _ => wgpu::ShaderStages::empty(),
+        s |= match v {
+            Stage::Vertex => wgpu::ShaderStages::VERTEX,
+            Stage::Fragment => wgpu::ShaderStages::FRAGMENT,
+            Stage::Compute => wgpu::ShaderStages::COMPUTE,
         };
     }
     s
 }
 
-pub fn binding_type(t: &BindingType) -> Result<wgpu::BindingType, String> {
-    Ok(match t {
+pub fn binding_type(t: &BindingType) -> wgpu::BindingType {
+    match t {
         BindingType::Texture {
             sample_type,
             view_dimension,
@@ -146,12 +146,12 @@ pub fn binding_type(t: &BindingType) -> Result<wgpu::BindingType, String> {
             access,
             view_dimension,
         } => wgpu::BindingType::StorageTexture {
-            access: match access.as_str() {
-                "ReadOnly" => wgpu::StorageTextureAccess::ReadOnly,
-                "ReadWrite" => wgpu::StorageTextureAccess::ReadWrite,
-                _ => wgpu::StorageTextureAccess::WriteOnly,
+            access: match access {
+                StorageAccess::ReadOnly => wgpu::StorageTextureAccess::ReadOnly,
+                StorageAccess::ReadWrite => wgpu::StorageTextureAccess::ReadWrite,
+                StorageAccess::WriteOnly => wgpu::StorageTextureAccess::WriteOnly,
             },
-            format: format(f)?,
+            format: format(*f),
             view_dimension: view_dim(*view_dimension),
         },
         BindingType::Sampler(k) => wgpu::BindingType::Sampler(match k {
@@ -172,19 +172,20 @@ pub fn binding_type(t: &BindingType) -> Result<wgpu::BindingType, String> {
             has_dynamic_offset: false,
             min_binding_size: std::num::NonZeroU64::new(*min_binding_size as u64),
         },
-    })
+    }
 }
 
-pub fn usage(names: &[String]) -> wgpu::TextureUsages {
+/// Texture usages (buffer usages of a Plan resource have no texture equivalent).
+pub fn usage(usages: &std::collections::BTreeSet<Usage>) -> wgpu::TextureUsages {
     let mut u = wgpu::TextureUsages::empty();
-    for n in names {
-        u |= match n.as_str() {
-            "RENDER_ATTACHMENT" => wgpu::TextureUsages::RENDER_ATTACHMENT,
-            "TEXTURE_BINDING" => wgpu::TextureUsages::TEXTURE_BINDING,
-            "STORAGE_BINDING" => wgpu::TextureUsages::STORAGE_BINDING,
-            "COPY_SRC" => wgpu::TextureUsages::COPY_SRC,
-            "COPY_DST" => wgpu::TextureUsages::COPY_DST,
-            _ => wgpu::TextureUsages::empty(),
+    for n in usages {
+        u |= match n {
+            Usage::RenderAttachment => wgpu::TextureUsages::RENDER_ATTACHMENT,
+            Usage::TextureBinding => wgpu::TextureUsages::TEXTURE_BINDING,
+            Usage::StorageBinding => wgpu::TextureUsages::STORAGE_BINDING,
+            Usage::CopySrc => wgpu::TextureUsages::COPY_SRC,
+            Usage::CopyDst => wgpu::TextureUsages::COPY_DST,
+            Usage::Storage | Usage::Uniform => wgpu::TextureUsages::empty(),
         };
     }
     u

@@ -1,6 +1,7 @@
 //! Adapter and device: pick an adapter, request the features the pipelines can use, and
 //! derive the capability profile the compiler checks variants against.
 
+use crate::error::{Error, Result};
 use lightbench_compiler::profile::{Feature, Limits, Profile};
 use std::sync::{Arc, Mutex};
 
@@ -42,73 +43,25 @@ const WANTED: &[(wgpu::Features, Feature)] = &[
 ];
 
 impl Gpu {
-    pub fn new(opts: &DeviceOptions) -> Result<Gpu, String> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        desc.backends = desc_backends(opts);
-        let instance = wgpu::Instance::new(desc);
-        let adapters = pollster::block_on(instance.enumerate_adapters(desc_backends(opts)));
-        if adapters.is_empty() {
-            return Err(format!(
-                "no GPU adapter found{} (install Mesa's lavapipe: apt-get install mesa-vulkan-drivers)",
-                match opts.backend {
-                    Some(BackendChoice::Vulkan) => " for the Vulkan backend",
-                    Some(BackendChoice::Gl) => " for the GL backend",
-                    None => "",
-                }
-            ));
-        }
-        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
-        let adapter = match &opts.adapter {
-            Some(sub) => adapters
-                .into_iter()
-                .find(|a| a.get_info().name.to_lowercase().contains(&sub.to_lowercase()))
-                .ok_or_else(|| format!("no adapter matches `{sub}`; available: {}", names.join(", ")))?,
-            // Hardware first, then software, then anything.
-            None => {
-                let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
-                    wgpu::DeviceType::DiscreteGpu => 0,
-                    wgpu::DeviceType::IntegratedGpu => 1,
-                    wgpu::DeviceType::VirtualGpu => 2,
-                    wgpu::DeviceType::Cpu => 3,
-                    wgpu::DeviceType::Other => 4,
-                };
-                let backend_rank = |a: &wgpu::Adapter| (a.get_info().backend != wgpu::Backend::Vulkan) as u8;
-                adapters
-                    .into_iter()
-                    .min_by_key(|a| (rank(a), backend_rank(a)))
-                    .ok_or("no adapter")?
-            }
-        };
+    /// Pick an adapter (hardware first) and open a device with the features and limits
+    /// pipelines can use.
+    pub fn new(opts: &DeviceOptions) -> Result<Gpu> {
+        let adapter = choose_adapter(opts)?;
+        let (device, queue) = open_device(&adapter)?;
+        Gpu::from_parts(adapter, device, queue)
+    }
+
+    /// Wrap a device someone else opened (a windowed viewer shares its device this way):
+    /// the capability profile comes from the device's features and limits, checked by probes.
+    pub fn from_parts(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Result<Gpu> {
         let info = adapter.get_info();
-        let available = adapter.features();
-        let mut required = wgpu::Features::empty();
-        let mut features = std::collections::BTreeSet::new();
-        for (wf, f) in WANTED {
-            if available.contains(*wf) {
-                required |= *wf;
-                features.insert(*f);
-            }
-        }
-        let alimits = adapter.limits();
-        // Ask for what the adapter has where pipelines may need more than the defaults.
-        let mut limits = wgpu::Limits {
-            max_multiview_view_count: alimits.max_multiview_view_count.min(6),
-            max_bind_groups: alimits.max_bind_groups.min(8),
-            max_texture_dimension_2d: alimits.max_texture_dimension_2d,
-            max_texture_array_layers: alimits.max_texture_array_layers,
-            max_storage_buffer_binding_size: alimits.max_storage_buffer_binding_size,
-            max_sampled_textures_per_shader_stage: alimits.max_sampled_textures_per_shader_stage,
-            max_storage_textures_per_shader_stage: alimits.max_storage_textures_per_shader_stage,
-            max_compute_invocations_per_workgroup: alimits.max_compute_invocations_per_workgroup,
-            max_compute_workgroup_size_x: alimits.max_compute_workgroup_size_x,
-            max_compute_workgroup_size_y: alimits.max_compute_workgroup_size_y,
-            ..Default::default()
-        };
-        if alimits.max_multiview_view_count < 6 {
+        let enabled = device.features();
+        let mut features: std::collections::BTreeSet<Feature> =
+            WANTED.iter().filter(|(wf, _)| enabled.contains(*wf)).map(|(_, f)| *f).collect();
+        let mut limits = device.limits();
+        if limits.max_multiview_view_count < 6 {
             // Multiview with fewer than 6 views cannot render a cube in one pass.
-            required.remove(wgpu::Features::MULTIVIEW);
             features.remove(&Feature::Multiview);
-            limits.max_multiview_view_count = 0;
         }
         if adapter
             .get_downlevel_capabilities()
@@ -117,17 +70,8 @@ impl Gpu {
         {
             features.insert(Feature::CubeArrayTextures);
         }
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("lightbench"),
-            required_features: required,
-            required_limits: limits.clone(),
-            experimental_features: wgpu::ExperimentalFeatures::disabled(),
-            memory_hints: wgpu::MemoryHints::Performance,
-            trace: wgpu::Trace::Off,
-        }))
-        .map_err(|e| format!("cannot open device on {}: {e}", info.name))?;
         let mut notes = vec![];
-        if required.contains(wgpu::Features::MULTIVIEW) && !multiview_works(&device, &queue) {
+        if features.contains(&Feature::Multiview) && !multiview_works(&device, &queue) {
             // Seen on Mesa 22 lavapipe: the feature is exposed but every view lands in layer 0.
             features.remove(&Feature::Multiview);
             limits.max_multiview_view_count = 0;
@@ -179,6 +123,85 @@ impl Gpu {
     pub fn take_uncaptured(&self) -> Vec<String> {
         self.uncaptured.lock().map(|mut v| std::mem::take(&mut *v)).unwrap_or_default()
     }
+}
+
+fn choose_adapter(opts: &DeviceOptions) -> Result<wgpu::Adapter> {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = desc_backends(opts);
+    let instance = wgpu::Instance::new(desc);
+    let adapters = pollster::block_on(instance.enumerate_adapters(desc_backends(opts)));
+    if adapters.is_empty() {
+        return Err(Error::Adapter(format!(
+            "no GPU adapter found{} (install Mesa's lavapipe: apt-get install mesa-vulkan-drivers)",
+            match opts.backend {
+                Some(BackendChoice::Vulkan) => " for the Vulkan backend",
+                Some(BackendChoice::Gl) => " for the GL backend",
+                None => "",
+            }
+        )));
+    }
+    let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+    if let Some(sub) = &opts.adapter {
+        return adapters
+            .into_iter()
+            .find(|a| a.get_info().name.to_lowercase().contains(&sub.to_lowercase()))
+            .ok_or_else(|| Error::Adapter(format!("no adapter matches `{sub}`; available: {}", names.join(", "))));
+    }
+    // Hardware first, then software, then anything; Vulkan before other backends.
+    let rank = |a: &wgpu::Adapter| {
+        let info = a.get_info();
+        let kind = match info.device_type {
+            wgpu::DeviceType::DiscreteGpu => 0,
+            wgpu::DeviceType::IntegratedGpu => 1,
+            wgpu::DeviceType::VirtualGpu => 2,
+            wgpu::DeviceType::Cpu => 3,
+            wgpu::DeviceType::Other => 4,
+        };
+        (kind, (info.backend != wgpu::Backend::Vulkan) as u8)
+    };
+    adapters
+        .into_iter()
+        .min_by_key(rank)
+        .ok_or_else(|| Error::Adapter("no adapter".into()))
+}
+
+/// Open a device asking for every wanted feature the adapter has, and its limits where
+/// pipelines may need more than the defaults.
+fn open_device(adapter: &wgpu::Adapter) -> Result<(wgpu::Device, wgpu::Queue)> {
+    let available = adapter.features();
+    let mut required = wgpu::Features::empty();
+    for (wf, _) in WANTED {
+        if available.contains(*wf) {
+            required |= *wf;
+        }
+    }
+    let a = adapter.limits();
+    let mut limits = wgpu::Limits {
+        max_multiview_view_count: a.max_multiview_view_count.min(6),
+        max_bind_groups: a.max_bind_groups.min(8),
+        max_texture_dimension_2d: a.max_texture_dimension_2d,
+        max_texture_array_layers: a.max_texture_array_layers,
+        max_storage_buffer_binding_size: a.max_storage_buffer_binding_size,
+        max_sampled_textures_per_shader_stage: a.max_sampled_textures_per_shader_stage,
+        max_storage_textures_per_shader_stage: a.max_storage_textures_per_shader_stage,
+        max_compute_invocations_per_workgroup: a.max_compute_invocations_per_workgroup,
+        max_compute_workgroup_size_x: a.max_compute_workgroup_size_x,
+        max_compute_workgroup_size_y: a.max_compute_workgroup_size_y,
+        ..Default::default()
+    };
+    if a.max_multiview_view_count < 6 {
+        required.remove(wgpu::Features::MULTIVIEW);
+        limits.max_multiview_view_count = 0;
+    }
+    pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        label: Some("lightbench"),
+        required_features: required,
+        required_limits: limits,
+        experimental_features: wgpu::ExperimentalFeatures::disabled(),
+        memory_hints: wgpu::MemoryHints::Performance,
+        trace: wgpu::Trace::Off,
+    }))
+    .map_err(|e| Error::Adapter(format!("cannot open device on {}: {e}", adapter.get_info().name)))
 }
 
 fn desc_backends(opts: &DeviceOptions) -> wgpu::Backends {

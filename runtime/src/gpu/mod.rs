@@ -1,12 +1,35 @@
-//! Executing Plans with wgpu.
+//! Executing Plans with wgpu: the device, the resource pool, pipelines cached across Plans,
+//! bind groups, frame encoding, timing and read-back.
 
-pub mod blocks;
+mod bind_groups;
 pub mod convert;
 pub mod device;
+mod encode;
 pub mod executor;
+mod pipelines;
 pub mod pool;
 pub mod readback;
 pub mod scene_gpu;
+mod timing;
 
 pub use device::{DeviceOptions, Gpu};
-pub use executor::{Executor, PassTiming};
+pub use executor::{Executor, FrameInputs, ReloadReport};
+pub use timing::PassTiming;
+
+use crate::error::{Error, Result};
+
+/// Run `f` inside error scopes for every error kind and report the first error with `what`.
+pub(crate) fn err_scope<T>(gpu: &Gpu, what: &str, f: impl FnOnce() -> T) -> Result<T> {
+    let oom = gpu.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let internal = gpu.device.push_error_scope(wgpu::ErrorFilter::Internal);
+    let validation = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = f();
+    let errors: Vec<wgpu::Error> = [validation.pop(), internal.pop(), oom.pop()]
+        .into_iter()
+        .filter_map(pollster::block_on)
+        .collect();
+    match errors.first() {
+        Some(e) => Err(Error::gpu(what, e)),
+        None => Ok(out),
+    }
+}

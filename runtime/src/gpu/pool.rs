@@ -1,50 +1,48 @@
 //! GPU resources of a Plan: one texture (or buffer) per instance (per light for per-light
 //! resources), two for history resources (this frame and the previous one). When a new Plan
-//! replaces the running one, resources whose descriptors did not change are kept.
+//! replaces the running one, resources whose descriptors did not change are shared with the
+//! old pool (wgpu objects are reference-counted), so the old pool stays whole if the
+//! replacement fails.
 
 use super::convert;
-use lightbench_compiler::plan::{Plan, PlanResource};
-use std::collections::HashMap;
+use lightbench_compiler::plan::{Plan, PlanResource, ResourceId, ResourceShape, Usage};
+use std::collections::BTreeSet;
 
 /// Everything that decides whether a texture or buffer can be reused.
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Key {
-    pub kind: String,
-    pub format: Option<String>,
-    pub extent: (u32, u32),
-    pub layers: u32,
-    pub mips: u32,
-    pub usage: Vec<String>,
+    pub shape: ResourceShape,
+    pub usage: BTreeSet<Usage>,
     pub instances: u32,
     pub copies: u32,
-    pub bytes: u64,
 }
 
 impl Key {
     pub fn of(r: &PlanResource) -> Key {
         Key {
-            kind: r.kind.clone(),
-            format: r.format.clone(),
-            extent: r.extent,
-            layers: r.layers,
-            mips: r.mips,
+            shape: r.shape.clone(),
             usage: r.usage.clone(),
             instances: r.instances.max(1),
             copies: if r.history { 2 } else { 1 },
-            bytes: r.bytes,
+        }
+    }
+    pub fn layers(&self) -> u32 {
+        match self.shape {
+            ResourceShape::Texture { layers, .. } => layers,
+            ResourceShape::Buffer { .. } => 1,
         }
     }
 }
 
+#[derive(Clone)]
 pub enum Storage {
-    Textures {
-        format: wgpu::TextureFormat,
-        list: Vec<wgpu::Texture>,
-    },
+    Textures(Vec<wgpu::Texture>),
     Buffers(Vec<wgpu::Buffer>),
 }
 
+#[derive(Clone)]
 pub struct Entry {
+    pub name: String,
     pub key: Key,
     pub storage: Storage,
 }
@@ -57,86 +55,110 @@ impl Entry {
     }
     pub fn texture(&self, instance: u32, prev: bool, parity: u32) -> Option<&wgpu::Texture> {
         match &self.storage {
-            Storage::Textures { list, .. } => list.get(self.index(instance, prev, parity)),
+            Storage::Textures(list) => list.get(self.index(instance, prev, parity)),
             Storage::Buffers(_) => None,
         }
     }
     pub fn buffer(&self, instance: u32, prev: bool, parity: u32) -> Option<&wgpu::Buffer> {
         match &self.storage {
             Storage::Buffers(list) => list.get(self.index(instance, prev, parity)),
-            Storage::Textures { .. } => None,
+            Storage::Textures(_) => None,
         }
     }
 }
 
-#[derive(Default)]
+/// The resources of one Plan, indexed like `Plan::resources`.
+#[derive(Clone, Default)]
 pub struct Pool {
-    pub entries: HashMap<String, Entry>,
-    /// Resources kept from the previous Plan by the last `build` (for tests and logs).
+    pub entries: Vec<Entry>,
+    /// Resources taken from the previous Plan by the last `build` (for reports and tests).
     pub reused: Vec<String>,
+    /// Resources created by the last `build`.
+    pub created: Vec<String>,
 }
 
 impl Pool {
-    /// Create the resources of `plan`, taking unchanged ones from `old`.
-    pub fn build(device: &wgpu::Device, plan: &Plan, mut old: Pool) -> Result<Pool, String> {
+    /// The resources of `plan`, sharing unchanged ones with `old`.
+    pub fn build(device: &wgpu::Device, plan: &Plan, old: &Pool) -> Pool {
         let mut pool = Pool::default();
         for r in &plan.resources {
             let key = Key::of(r);
-            if let Some(e) = old.entries.remove(&r.name) {
-                if e.key == key {
-                    pool.reused.push(r.name.clone());
-                    pool.entries.insert(r.name.clone(), e);
-                    continue;
-                }
+            if let Some(e) = old.entries.iter().find(|e| e.name == r.name && e.key == key) {
+                pool.reused.push(r.name.clone());
+                pool.entries.push(e.clone());
+                continue;
             }
-            let count = key.instances * key.copies;
-            let storage = if r.kind == "buffer" {
-                let list = (0..count)
-                    .map(|i| {
-                        device.create_buffer(&wgpu::BufferDescriptor {
-                            label: Some(&format!("{}#{i}", r.name)),
-                            size: (r.bytes / count as u64).max(4).div_ceil(4) * 4,
-                            usage: wgpu::BufferUsages::STORAGE
-                                | wgpu::BufferUsages::UNIFORM
-                                | wgpu::BufferUsages::COPY_SRC
-                                | wgpu::BufferUsages::COPY_DST,
-                            mapped_at_creation: false,
-                        })
+            pool.created.push(r.name.clone());
+            pool.entries.push(Entry {
+                name: r.name.clone(),
+                storage: create(device, r, &key),
+                key,
+            });
+        }
+        pool
+    }
+
+    pub fn get(&self, id: ResourceId) -> Option<&Entry> {
+        self.entries.get(id.0 as usize)
+    }
+
+    pub fn by_name(&self, name: &str) -> Option<&Entry> {
+        self.entries.iter().find(|e| e.name == name)
+    }
+
+    /// History resources swap every frame; without them both parities bind the same.
+    pub fn has_history(&self) -> bool {
+        self.entries.iter().any(|e| e.key.copies == 2)
+    }
+}
+
+fn create(device: &wgpu::Device, r: &PlanResource, key: &Key) -> Storage {
+    let count = key.instances * key.copies;
+    match &r.shape {
+        ResourceShape::Buffer { size } => Storage::Buffers(
+            (0..count)
+                .map(|i| {
+                    device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some(&format!("{}#{i}", r.name)),
+                        size: (*size).max(4).div_ceil(4) * 4,
+                        usage: wgpu::BufferUsages::STORAGE
+                            | wgpu::BufferUsages::UNIFORM
+                            | wgpu::BufferUsages::COPY_SRC
+                            | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
                     })
-                    .collect();
-                Storage::Buffers(list)
-            } else {
-                let format = convert::format(r.format.as_deref().unwrap_or(""))?;
-                // Everything can be read back (--dump); external resources are filled by copy.
-                let usage = convert::usage(&r.usage) | wgpu::TextureUsages::COPY_SRC;
-                let list = (0..count)
+                })
+                .collect(),
+        ),
+        ResourceShape::Texture {
+            format,
+            extent,
+            layers,
+            mips,
+            ..
+        } => {
+            // Everything can be read back (--dump); external resources are filled by copy.
+            let usage = convert::usage(&r.usage) | wgpu::TextureUsages::COPY_SRC;
+            Storage::Textures(
+                (0..count)
                     .map(|i| {
                         device.create_texture(&wgpu::TextureDescriptor {
                             label: Some(&format!("{}#{i}", r.name)),
                             size: wgpu::Extent3d {
-                                width: r.extent.0,
-                                height: r.extent.1,
-                                depth_or_array_layers: r.layers,
+                                width: extent.0,
+                                height: extent.1,
+                                depth_or_array_layers: *layers,
                             },
-                            mip_level_count: r.mips,
+                            mip_level_count: *mips,
                             sample_count: 1,
                             dimension: wgpu::TextureDimension::D2,
-                            format,
+                            format: convert::format(*format),
                             usage,
                             view_formats: &[],
                         })
                     })
-                    .collect();
-                Storage::Textures { format, list }
-            };
-            pool.entries.insert(r.name.clone(), Entry { key, storage });
+                    .collect(),
+            )
         }
-        Ok(pool)
-    }
-
-    pub fn get(&self, name: &str) -> Result<&Entry, String> {
-        self.entries
-            .get(name)
-            .ok_or_else(|| format!("resource `{name}` is not part of the plan"))
     }
 }

@@ -1,9 +1,10 @@
 //! Reading textures and buffers back to the CPU as f32 values.
 
 use super::Gpu;
+use crate::error::{Error, Result};
 use crate::io::Image;
 
-fn texel_bytes(f: wgpu::TextureFormat) -> Result<u32, String> {
+fn texel_bytes(f: wgpu::TextureFormat) -> Result<u32> {
     use wgpu::TextureFormat as F;
     Ok(match f {
         F::R8Unorm => 1,
@@ -21,7 +22,7 @@ fn texel_bytes(f: wgpu::TextureFormat) -> Result<u32, String> {
         | F::Depth32Float => 4,
         F::Rgba16Float | F::Rg32Float | F::Rg32Uint | F::Rgba16Uint => 8,
         F::Rgba32Float | F::Rgba32Uint => 16,
-        other => return Err(format!("reading back {other:?} is not supported")),
+        other => return Err(Error::Resource(format!("reading back {other:?} is not supported"))),
     })
 }
 
@@ -91,7 +92,7 @@ fn decode(f: wgpu::TextureFormat, t: &[u8]) -> [f32; 4] {
 }
 
 /// Mip 0 of one array layer.
-pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image, String> {
+pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image> {
     let f = tex.format();
     let bpp = texel_bytes(f)?;
     let (w, h) = (tex.width(), tex.height());
@@ -131,12 +132,14 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image,
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     gpu.queue.submit([enc.finish()]);
     if let Some(e) = pollster::block_on(scope.pop()) {
-        return Err(format!("reading back a {f:?} texture: {e}"));
+        return Err(Error::gpu(format!("reading back a {f:?} texture"), e));
     }
     let slice = buf.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
-    let data = slice.get_mapped_range().map_err(|e| e.to_string())?;
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| Error::gpu("waiting for the read-back", e))?;
+    let data = slice.get_mapped_range().map_err(|e| Error::gpu("mapping the read-back", e))?;
     let mut rgba = Vec::with_capacity((w * h * 4) as usize);
     for y in 0..h {
         for x in 0..w {
@@ -154,7 +157,7 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image,
     })
 }
 
-pub fn read_buffer(gpu: &Gpu, src: &wgpu::Buffer) -> Result<Vec<f32>, String> {
+pub fn read_buffer(gpu: &Gpu, src: &wgpu::Buffer) -> Result<Vec<f32>> {
     let size = src.size();
     let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
@@ -167,8 +170,10 @@ pub fn read_buffer(gpu: &Gpu, src: &wgpu::Buffer) -> Result<Vec<f32>, String> {
     gpu.queue.submit([enc.finish()]);
     let slice = buf.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
-    gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| e.to_string())?;
-    let out = bytemuck::cast_slice::<u8, f32>(&slice.get_mapped_range().map_err(|e| e.to_string())?).to_vec();
+    gpu.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| Error::gpu("waiting for the read-back", e))?;
+    let out = bytemuck::cast_slice::<u8, f32>(&slice.get_mapped_range().map_err(|e| Error::gpu("mapping the read-back", e))?).to_vec();
     buf.unmap();
     Ok(out)
 }

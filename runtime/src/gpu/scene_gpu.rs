@@ -1,7 +1,8 @@
 //! The scene on the GPU: vertex and index buffers, per-mesh and per-material blocks and
 //! textures, ready to be bound in `draw: Scene` passes.
 
-use super::blocks::{MaterialBlock, MeshBlock};
+use crate::blocks::{MaterialBlock, MeshBlock};
+use crate::error::{Error, Result};
 use crate::scene::Scene;
 use wgpu::util::DeviceExt;
 
@@ -53,14 +54,19 @@ fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h
 }
 
 impl SceneGpu {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<SceneGpu, String> {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<SceneGpu> {
         let white = texture_2d(device, queue, "white", 1, 1, &[255, 255, 255, 255], true);
         let white_linear = texture_2d(device, queue, "white_linear", 1, 1, &[255, 255, 255, 255], false);
         let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, &[128, 128, 255, 255], false);
         let mut textures = vec![];
         for (i, t) in scene.textures.iter().enumerate() {
             if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
-                return Err(format!("texture {i} has {} bytes for {}×{}", t.rgba.len(), t.width, t.height));
+                return Err(Error::Scene(format!(
+                    "texture {i} has {} bytes for {}×{}",
+                    t.rgba.len(),
+                    t.width,
+                    t.height
+                )));
             }
             textures.push(texture_2d(
                 device,
@@ -103,7 +109,12 @@ impl SceneGpu {
         let mut meshes = vec![];
         for m in &scene.meshes {
             if m.material >= materials.len() {
-                return Err(format!("mesh `{}` uses material {} of {}", m.name, m.material, materials.len()));
+                return Err(Error::Scene(format!(
+                    "mesh `{}` uses material {} of {}",
+                    m.name,
+                    m.material,
+                    materials.len()
+                )));
             }
             if m.vertices.is_empty() || m.indices.is_empty() {
                 continue;

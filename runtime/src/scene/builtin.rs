@@ -16,7 +16,7 @@ pub fn by_name(name: &str) -> Option<Scene> {
     }
 }
 
-fn mesh(name: &str, (vertices, indices): (Vec<crate::gpu::blocks::Vertex>, Vec<u32>), material: usize, transform: Mat4) -> Mesh {
+fn mesh(name: &str, (vertices, indices): (Vec<crate::blocks::Vertex>, Vec<u32>), material: usize, transform: Mat4) -> Mesh {
     Mesh {
         name: name.into(),
         vertices,

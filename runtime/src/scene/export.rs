@@ -3,6 +3,7 @@
 //! atomically.
 
 use super::Scene;
+use crate::error::{Error, Result};
 use crate::io::write_atomic;
 use lightbench_compiler::ir::LightKind;
 use serde_json::{json, Value};
@@ -52,9 +53,9 @@ impl Buffers {
     }
 }
 
-pub fn export(scene: &Scene, out: &Path) -> Result<(), String> {
+pub fn export(scene: &Scene, out: &Path) -> Result<()> {
     if !scene.textures.is_empty() {
-        return Err(format!("{}: exporting textured scenes is not supported yet", out.display()));
+        return Err(Error::io(out, "exporting textured scenes is not supported yet"));
     }
     let bin_name = format!("{}.bin", out.file_stem().and_then(|s| s.to_str()).unwrap_or("scene"));
     let mut b = Buffers::default();
@@ -130,6 +131,6 @@ pub fn export(scene: &Scene, out: &Path) -> Result<(), String> {
     });
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     write_atomic(&dir.join(&bin_name), &b.bin)?;
-    let text = serde_json::to_string_pretty(&doc).map_err(|e| e.to_string())?;
+    let text = serde_json::to_string_pretty(&doc).map_err(|e| Error::io(out, e))?;
     write_atomic(out, text.as_bytes())
 }

@@ -14,6 +14,7 @@
 //! ```
 
 use super::{builtin, gltf_load, Animation, Camera, Light, Scene};
+use crate::error::{Error, Result};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use lightbench_compiler::ir::{Effect, LightKind};
 use serde::Deserialize;
@@ -147,34 +148,34 @@ fn v3(t: (f32, f32, f32)) -> Vec3 {
 }
 
 /// A built-in scene by name, or a scene file.
-pub fn load(spec: &str) -> Result<Scene, String> {
+pub fn load(spec: &str) -> Result<Scene> {
     if let Some(s) = builtin::by_name(spec) {
         return Ok(s);
     }
     let path = Path::new(spec);
     if !path.exists() {
-        return Err(format!(
+        return Err(Error::Scene(format!(
             "`{spec}` is neither a scene file nor a built-in scene ({})",
             builtin::NAMES.join(", ")
-        ));
+        )));
     }
     load_file(path)
 }
 
-pub fn load_file(path: &Path) -> Result<Scene, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+pub fn load_file(path: &Path) -> Result<Scene> {
+    let bad = |msg: String| Error::Scene(format!("{}: {msg}", path.display()));
+    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
     // Optional fields are written plainly (`name: "x"`, not `name: Some("x")`).
     let options = ron::Options::default().with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
     let f: SceneFile = options
         .from_str(&text)
-        .map_err(|e| format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code))?;
+        .map_err(|e| Error::Scene(format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code)))?;
     let mut scene = match &f.builtin {
         Some(b) => builtin::by_name(b).ok_or_else(|| {
-            format!(
-                "{}: unknown built-in scene `{b}` (expected one of {})",
-                path.display(),
+            bad(format!(
+                "unknown built-in scene `{b}` (expected one of {})",
                 builtin::NAMES.join(", ")
-            )
+            ))
         })?,
         None => Scene {
             name: String::new(),
@@ -200,7 +201,7 @@ pub fn load_file(path: &Path) -> Result<Scene, String> {
         .unwrap_or_else(|| path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene").to_string());
     if let Some((w, h)) = f.size {
         if w == 0 || h == 0 || w > 16384 || h > 16384 {
-            return Err(format!("{}: size ({w}, {h}) out of range 1..=16384", path.display()));
+            return Err(bad(format!("size ({w}, {h}) out of range 1..=16384")));
         }
         scene.size = (w, h);
     }
@@ -208,7 +209,7 @@ pub fn load_file(path: &Path) -> Result<Scene, String> {
         // Written so that NaN fails too.
         let valid = c.fov > 0.0 && c.fov < 180.0 && c.near > 0.0 && c.far > c.near;
         if !valid {
-            return Err(format!("{}: camera needs 0 < fov < 180 and 0 < near < far", path.display()));
+            return Err(bad("camera needs 0 < fov < 180 and 0 < near < far".into()));
         }
         scene.camera = Camera {
             position: v3(c.position),
@@ -263,10 +264,7 @@ pub fn load_file(path: &Path) -> Result<Scene, String> {
         };
         let valid = lf.range > 0.0 && lf.intensity >= 0.0 && lf.inner <= lf.outer;
         if !valid {
-            return Err(format!(
-                "{}: a light needs range > 0, intensity >= 0 and inner <= outer",
-                path.display()
-            ));
+            return Err(bad("a light needs range > 0, intensity >= 0 and inner <= outer".into()));
         }
         scene.lights.push(Light {
             kind,

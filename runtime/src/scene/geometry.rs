@@ -1,6 +1,6 @@
 //! Procedural geometry for the built-in scenes, and normal generation for meshes without.
 
-use crate::gpu::blocks::Vertex;
+use crate::blocks::Vertex;
 use glam::{Vec2, Vec3};
 
 fn v(p: Vec3, n: Vec3, uv: Vec2, t: Vec3) -> Vertex {

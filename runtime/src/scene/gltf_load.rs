@@ -3,7 +3,8 @@
 
 use super::geometry::compute_normals;
 use super::{ImageData, Light, Material, Mesh};
-use crate::gpu::blocks::Vertex;
+use crate::blocks::Vertex;
+use crate::error::{Error, Result};
 use glam::{Mat4, Vec3};
 use lightbench_compiler::ir::LightKind;
 use std::path::Path;
@@ -18,9 +19,9 @@ pub struct Loaded {
     pub lights: Vec<Light>,
 }
 
-pub fn load(path: &Path) -> Result<Loaded, String> {
+pub fn load(path: &Path) -> Result<Loaded> {
     let name = path.display().to_string();
-    let err = |msg: String| format!("{name}: {msg}");
+    let err = |msg: String| Error::Scene(format!("{name}: {msg}"));
     // Read the document first so an unsupported required extension is reported as such,
     // before buffers or images are touched.
     let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
@@ -34,11 +35,11 @@ pub fn load(path: &Path) -> Result<Loaded, String> {
         }
     }
     let (doc, buffers, images) = gltf::import(path).map_err(|e| err(describe(e)))?;
-    validate_accessors(&doc, &buffers).map_err(err)?;
+    validate_accessors(&doc, &buffers).map_err(|m| err(m.to_string()))?;
 
     let mut textures = vec![];
     let mut texture_of_image = std::collections::HashMap::new();
-    let mut tex = |index: usize, srgb: bool, textures: &mut Vec<ImageData>| -> Result<usize, String> {
+    let mut tex = |index: usize, srgb: bool, textures: &mut Vec<ImageData>| -> Result<usize> {
         if let Some(&i) = texture_of_image.get(&(index, srgb)) {
             return Ok(i);
         }
@@ -214,19 +215,29 @@ fn describe(e: gltf::Error) -> String {
     }
 }
 
+/// Data that would be read past its end.
+#[derive(Debug)]
+struct AccessorError(String);
+
+impl std::fmt::Display for AccessorError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
 /// Every accessor must fit in its buffer view and every view in its buffer, or reading it
 /// would run past the data.
-fn validate_accessors(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> Result<(), String> {
+fn validate_accessors(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> std::result::Result<(), AccessorError> {
     for view in doc.views() {
         let len = buffers.get(view.buffer().index()).map(|b| b.0.len()).unwrap_or(0);
         if view.offset() + view.length() > len {
-            return Err(format!(
+            return Err(AccessorError(format!(
                 "buffer view {} (bytes {}..{}) runs past buffer {} ({len} bytes)",
                 view.index(),
                 view.offset(),
                 view.offset() + view.length(),
                 view.buffer().index()
-            ));
+            )));
         }
     }
     for a in doc.accessors() {
@@ -238,13 +249,13 @@ fn validate_accessors(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> R
         let stride = view.stride().unwrap_or(elem);
         let need = a.offset() + stride * (a.count() - 1) + elem;
         if need > view.length() {
-            return Err(format!(
+            return Err(AccessorError(format!(
                 "accessor {} has count {} but its buffer view {} holds {} bytes (needs {need})",
                 a.index(),
                 a.count(),
                 view.index(),
                 view.length()
-            ));
+            )));
         }
     }
     Ok(())

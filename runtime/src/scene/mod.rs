@@ -11,7 +11,7 @@ pub mod math;
 
 pub use light::{Animation, Light};
 
-use crate::gpu::blocks::Vertex;
+use crate::blocks::Vertex;
 use glam::{Mat4, Vec3};
 use lightbench_compiler::ir::{Effect, LightKind};
 use lightbench_compiler::scene::SceneFeatures;

@@ -1,10 +1,10 @@
-//! The LBP front end: a small pipeline language (grammar in `lbp.pest`) lowered to the same
-//! IR as RON, with every node's span; pest's errors become located diagnostics.
+//! The LBP front end: a small pipeline language (grammar in `lbp.pest`) parsed into the
+//! same syntax tree as RON, with every node's span; pest's errors become located diagnostics.
 
-mod lower;
+mod parse;
 pub mod print;
 
-use crate::diag::{Diagnostic, Diagnostics};
+use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::Pipeline;
 use crate::span::{FileId, Span};
 use pest::Parser;
@@ -106,11 +106,11 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
         }
         pest::error::ErrorVariant::CustomError { message } => message.clone(),
     };
-    Diagnostic::error("lbp-syntax", message, Span::new(file, start, end.max(start)))
+    Diagnostic::error(Code::LbpSyntax, message, Span::new(file, start, end.max(start)))
 }
 
-/// Parse LBP text already in the source map. Problems go to `diags`.
-pub fn parse_pipeline(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<Pipeline> {
+/// Parse LBP text into the syntax tree. Syntax problems go to `diags`.
+pub fn parse_tree(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<crate::syntax::tree::Node> {
     let pairs = match LbpParser::parse(Rule::file, text) {
         Ok(p) => p,
         Err(e) => {
@@ -119,9 +119,20 @@ pub fn parse_pipeline(file: FileId, text: &str, diags: &mut Diagnostics) -> Opti
         }
     };
     let before = diags.error_count();
-    let p = lower::Lowerer { file, diags }.file(pairs);
+    let tree = parse::Builder {
+        file,
+        diags,
+        text_len: text.len(),
+    }
+    .file(pairs);
     if diags.error_count() > before {
         return None;
     }
-    p
+    tree
+}
+
+/// Parse LBP text already in the source map and lower it. Problems go to `diags`.
+pub fn parse_pipeline(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<Pipeline> {
+    let tree = parse_tree(file, text, diags)?;
+    crate::syntax::lower::pipeline(&tree, diags)
 }

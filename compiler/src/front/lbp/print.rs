@@ -1,9 +1,14 @@
-//! IR -> canonical LBP text. `lightbench fmt` is parse + print; the layout is fixed, so
-//! printing what was printed gives the same text (idempotent). Comments in the source are
-//! kept before the item that followed them.
+//! Syntax tree -> canonical LBP text. `lightbench fmt` is parse + print; the layout is
+//! fixed, so printing what was printed gives the same text (idempotent). What to leave out
+//! was decided by the raise (the defaults table); this only spells the tree in LBP.
+//! Comments in the source are kept before the item that followed them.
 
 use crate::front::comments::{emit, Comments};
-use crate::ir::*;
+use crate::front::{item_start, quote};
+use crate::ir::Pipeline;
+use crate::span::Span;
+use crate::syntax::defaults;
+use crate::syntax::tree::{Field, Node, Value};
 use std::fmt::Write;
 
 const RESERVED: [&str; 7] = ["none", "true", "false", "prev", "load", "nowrite", "in"];
@@ -21,398 +26,304 @@ pub fn name(s: &str) -> String {
     }
 }
 
-pub fn quote(s: &str) -> String {
-    let mut out = String::from("\"");
-    for c in s.chars() {
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\t' => out.push_str("\\t"),
-            '\r' => out.push_str("\\r"),
-            '\0' => out.push_str("\\0"),
-            c if (c as u32) < 0x20 => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    out.push('"');
-    out
-}
-
-fn num(x: f64) -> String {
-    format!("{x}")
-}
-
-fn value(v: &ParamValue) -> String {
-    match v {
-        ParamValue::Float(f) => num(*f),
-        ParamValue::Int(i) => i.to_string(),
-        ParamValue::Bool(b) => b.to_string(),
-        ParamValue::Vec(v) => format!("({})", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", ")),
-        ParamValue::Enum(s) => name(s),
-    }
-}
-
-fn kinds(k: &[LightKind]) -> String {
-    format!("per_light({})", k.iter().map(|k| k.name()).collect::<Vec<_>>().join(", "))
-}
-
-pub fn cond(c: &Condition) -> String {
-    match c {
-        Condition::Light(k) => format!("light({})", k.name()),
-        Condition::Effect(e) => format!("effect({})", e.name()),
-        Condition::Reflective => "reflective".into(),
-        Condition::Toggle(p) => format!("toggle({})", name(p)),
-        Condition::Variant(v, o) => format!("variant({}, {})", name(v), name(o)),
-        Condition::Not(c) => format!("not {}", cond(c)),
-        Condition::All(cs) => format!("all({})", cs.iter().map(|c| cond(c)).collect::<Vec<_>>().join(", ")),
-        Condition::Any(cs) => format!("any({})", cs.iter().map(|c| cond(c)).collect::<Vec<_>>().join(", ")),
-    }
-}
-
-fn layer(l: LayerSel) -> Option<String> {
-    match l {
-        LayerSel::Base => None,
-        LayerSel::Face => Some("layer Face".into()),
-        LayerSel::All => Some("layer All".into()),
-        LayerSel::Index(i) => Some(format!("layer {i}")),
-    }
-}
-
-/// The file a pass's shader string names: the stage that defines the pass.
-pub fn main_file(p: &Pass) -> Option<&str> {
-    let main = match p.kind {
-        PassKind::Raster { .. } => p.vertex.as_ref(),
-        PassKind::Fullscreen => p.fragment.as_ref(),
-        PassKind::Compute { .. } => p.compute.as_ref(),
-    };
-    main.map(|r| r.file.value.as_str())
-}
-
-/// How a stage is written given the pass's shader file; `None` when the default applies.
-fn stage(r: &ShaderRef, file: Option<&str>, stage: naga::ShaderStage, default_applies: bool) -> Option<String> {
-    written_entry(r, file, stage, default_applies).map(|t| if t.contains('#') { quote(&t) } else { name(&t) })
-}
-
 pub fn print(p: &Pipeline, source: Option<&str>) -> String {
-    let mut comments = Comments::new(source);
-    let mut s = String::new();
-    emit(&mut s, &comments.before(p.name.span), "");
-    let _ = writeln!(s, "pipeline {}", name(&p.name));
-    let section = |s: &mut String, first: &mut bool| {
-        if *first {
-            s.push('\n');
-            *first = false;
-        }
+    print_tree(&crate::syntax::raise::pipeline(p), source)
+}
+
+fn text(n: &Node) -> &str {
+    n.text().unwrap_or("")
+}
+
+fn get<'a>(fields: &'a [Field], key: &str) -> Option<&'a Node> {
+    fields.iter().find(|f| f.0 == key).map(|f| &f.2)
+}
+
+fn fields(n: &Node) -> &[Field] {
+    match &*n.value {
+        Value::Struct { fields, .. } => fields,
+        _ => &[],
+    }
+}
+
+fn items(n: &Node) -> &[Node] {
+    match &*n.value {
+        Value::List(items) | Value::Tuple { items, .. } => items,
+        _ => &[],
+    }
+}
+
+fn entries(n: &Node) -> &[(Node, Node)] {
+    match &*n.value {
+        Value::Map(e) => e,
+        _ => &[],
+    }
+}
+
+/// A value: numbers as written, tuples `(a, b)`, strings as names.
+fn value(n: &Node) -> String {
+    match &*n.value {
+        Value::Bool(b) => b.to_string(),
+        Value::Int(i) => i.to_string(),
+        Value::Float(f) => format!("{f}"),
+        Value::Tuple { .. } => format!("({})", items(n).iter().map(value).collect::<Vec<_>>().join(", ")),
+        _ => name(text(n)),
+    }
+}
+
+fn join(ns: &[Node], f: impl Fn(&Node) -> String) -> String {
+    ns.iter().map(f).collect::<Vec<_>>().join(", ")
+}
+
+pub fn print_tree(root: &Node, source: Option<&str>) -> String {
+    let mut pr = Printer {
+        out: String::new(),
+        comments: Comments::new(source),
     };
-    let mut first = true;
-    for prm in &p.params {
-        section(&mut s, &mut first);
-        emit(&mut s, &comments.before(prm.span), "");
-        let ty = match &prm.ty.value {
-            ParamType::Enum(opts) => format!("enum({})", opts.iter().map(|o| name(o)).collect::<Vec<_>>().join(", ")),
-            t => t.name().to_string(),
-        };
-        let mut line = format!("param {}: {ty} = {}", name(&prm.name), value(&prm.default));
-        match (&prm.min, &prm.max) {
-            (Some(lo), Some(hi)) => {
-                let _ = write!(line, " in {}..{}", value(lo), value(hi));
-            }
-            (Some(lo), None) => {
-                let _ = write!(line, " min {}", value(lo));
-            }
-            (None, Some(hi)) => {
-                let _ = write!(line, " max {}", value(hi));
-            }
-            (None, None) => {}
-        }
-        if let Some(d) = &prm.doc {
-            let _ = write!(line, " {}", quote(d));
-        }
-        let _ = writeln!(s, "{line}");
+    pr.root(fields(root));
+    let rest = pr.comments.rest();
+    emit(&mut pr.out, &rest, "");
+    pr.out
+}
+
+struct Printer {
+    out: String,
+    comments: Comments,
+}
+
+impl Printer {
+    fn comments_before(&mut self, span: Span, indent: &str) {
+        let cs = self.comments.before(span);
+        emit(&mut self.out, &cs, indent);
     }
-    first = true;
-    for smp in &p.samplers {
-        section(&mut s, &mut first);
-        emit(&mut s, &comments.before(smp.span), "");
-        let mut line = format!("sampler {}:", name(&smp.name));
-        if smp.filter != FilterMode::Linear {
-            let _ = write!(line, " {:?}", smp.filter);
+
+    fn root(&mut self, f: &[Field]) {
+        if let Some(n) = get(f, "name") {
+            self.comments_before(n.span, "");
+            let _ = writeln!(self.out, "pipeline {}", name(text(n)));
         }
-        if smp.mipmap != FilterMode::Nearest {
-            let _ = write!(line, " mipmap {:?}", smp.mipmap);
-        }
-        if smp.address != AddressMode::ClampToEdge {
-            let _ = write!(line, " {:?}", smp.address);
-        }
-        if let Some(c) = smp.compare {
-            let _ = write!(line, " compare {c:?}");
-        }
-        let _ = writeln!(s, "{line}");
-    }
-    first = true;
-    for r in &p.resources {
-        section(&mut s, &mut first);
-        emit(&mut s, &comments.before(r.span), "");
-        let mut line = match &r.kind {
-            ResourceKind::Texture(t) => {
-                let size = match &t.size.value {
-                    SizeSpec::Viewport { scale } if *scale == 1.0 => "viewport".to_string(),
-                    SizeSpec::Viewport { scale } => format!("viewport*{}", num(*scale)),
-                    SizeSpec::Fixed { width, height } => format!("{width}x{height}"),
-                };
-                let mut l = format!("texture {}: {} {size}", name(&r.name), t.format.value.name());
-                if t.layers.value != 1 {
-                    let _ = write!(l, " layers {}", t.layers.value);
-                }
-                if t.view.value != ViewDim::D2 {
-                    let _ = write!(l, " {}", t.view.value.name());
-                }
-                if t.mips.value != 1 {
-                    let _ = write!(l, " mips {}", t.mips.value);
-                }
-                l
+        for (key, line) in [
+            ("params", param as fn(&Node, &Node) -> String),
+            ("samplers", sampler),
+            ("resources", resource),
+        ] {
+            let Some(map) = get(f, key) else { continue };
+            self.out.push('\n');
+            for (k, v) in entries(map) {
+                self.comments_before(item_start(k, v), "");
+                let l = line(k, v);
+                let _ = writeln!(self.out, "{l}");
             }
-            ResourceKind::Buffer(b) => format!("buffer {}: {} bytes", name(&r.name), b.size.value),
-        };
-        if let Some(k) = r.per_light() {
-            let _ = write!(line, " {}", kinds(k));
         }
-        if r.history() {
-            line.push_str(" history");
+        for p in get(f, "passes").map(items).unwrap_or(&[]) {
+            self.pass(p);
         }
-        if r.external() {
-            line.push_str(" external");
+        for (k, v) in get(f, "variants").map(entries).unwrap_or(&[]) {
+            self.variant(k, v);
         }
-        let _ = writeln!(s, "{line}");
+        if let Some(n) = get(f, "output") {
+            self.out.push('\n');
+            self.comments_before(n.span, "");
+            let _ = writeln!(self.out, "output {}", name(text(n)));
+        }
     }
-    for pass in &p.passes {
-        s.push('\n');
-        emit(&mut s, &comments.before(pass.span), "");
-        let file = main_file(pass);
-        let _ = writeln!(
-            s,
-            "{} {}{} {{",
-            pass.kind.word(),
-            name(&pass.name),
-            file.map(|f| format!(" {}", quote(f))).unwrap_or_default()
-        );
+
+    fn pass(&mut self, p: &Node) {
+        self.out.push('\n');
+        self.comments_before(p.span, "");
+        let f = fields(p);
+        let kind = p.name().unwrap_or("").to_lowercase();
+        let shader = get(f, "shader").map(|s| format!(" {}", quote(text(s)))).unwrap_or_default();
+        let _ = writeln!(self.out, "{kind} {}{shader} {{", name(get(f, "name").map(text).unwrap_or("")));
         // Comments inside the pass body come first in it.
-        emit(
-            &mut s,
-            &comments.before(crate::span::Span {
-                file: pass.span.file,
-                start: pass.span.end,
-                end: pass.span.end,
-            }),
-            "    ",
-        );
-        let mut lines: Vec<String> = vec![];
-        match &pass.kind {
-            PassKind::Raster {
-                draw,
-                cull,
-                instances,
-                multiview,
-            } => {
-                if let Some(v) = pass.vertex.as_ref().and_then(|r| stage(r, file, naga::ShaderStage::Vertex, true)) {
-                    lines.push(format!("vertex {v}"));
-                }
-                let has_color = !pass.color.is_empty();
-                match &pass.fragment {
-                    None if has_color => lines.push("fragment none".into()),
-                    None => {}
-                    Some(r) => {
-                        if let Some(f) = stage(r, file, naga::ShaderStage::Fragment, has_color) {
-                            lines.push(format!("fragment {f}"));
-                        }
-                    }
-                }
-                if let Draw::Vertices(n) = draw {
-                    lines.push(format!("draw vertices({n})"));
-                }
-                if *cull != CullMode::Back {
-                    lines.push(format!("cull {cull:?}"));
-                }
-                if *instances != 1 {
-                    lines.push(format!("instances {instances}"));
-                }
-                if let Some(m) = multiview {
-                    lines.push(format!("multiview {}", m.value));
-                }
-            }
-            PassKind::Fullscreen => {
-                if let Some(f) = pass
-                    .fragment
-                    .as_ref()
-                    .and_then(|r| stage(r, file, naga::ShaderStage::Fragment, true))
-                {
-                    lines.push(format!("fragment {f}"));
-                }
-            }
-            PassKind::Compute { .. } => {
-                if let Some(c) = pass.compute.as_ref().and_then(|r| stage(r, file, naga::ShaderStage::Compute, true)) {
-                    lines.push(format!("entry {c}"));
-                }
-            }
+        self.comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
+        for (k, _, v) in f.iter().filter(|(k, _, _)| k != "name" && k != "shader") {
+            let _ = writeln!(self.out, "    {}", pass_line(k, v));
         }
-        if let Some(k) = &pass.per_light {
-            lines.push(kinds(k));
+        self.out.push_str("}\n");
+    }
+
+    fn variant(&mut self, k: &Node, v: &Node) {
+        self.out.push('\n');
+        self.comments_before(item_start(k, v), "");
+        let f = fields(v);
+        let doc = get(f, "doc").map(|d| format!(" {}", quote(text(d)))).unwrap_or_default();
+        let default = get(f, "default").map(text).unwrap_or("");
+        let _ = writeln!(self.out, "variant {} = {}{doc} {{", name(text(k)), name(default));
+        for (ok, ov) in get(f, "options").map(entries).unwrap_or(&[]) {
+            self.comments_before(item_start(ok, ov), "    ");
+            let _ = writeln!(self.out, "    option {}{}", name(text(ok)), option(fields(ov)));
         }
-        if pass.per_face {
-            lines.push("per_face".into());
+        self.out.push_str("}\n");
+    }
+}
+
+fn param(k: &Node, v: &Node) -> String {
+    let f = fields(v);
+    let ty = match get(f, "options") {
+        Some(opts) => format!("enum({})", join(items(opts), |o| name(text(o)))),
+        None => v.name().unwrap_or("").to_string(),
+    };
+    let mut line = format!(
+        "param {}: {ty} = {}",
+        name(text(k)),
+        get(f, "default").map(value).unwrap_or_default()
+    );
+    match (get(f, "min"), get(f, "max")) {
+        (Some(lo), Some(hi)) => line += &format!(" in {}..{}", value(lo), value(hi)),
+        (Some(lo), None) => line += &format!(" min {}", value(lo)),
+        (None, Some(hi)) => line += &format!(" max {}", value(hi)),
+        (None, None) => {}
+    }
+    if let Some(d) = get(f, "doc") {
+        line += &format!(" {}", quote(text(d)));
+    }
+    line
+}
+
+fn sampler(k: &Node, v: &Node) -> String {
+    let mut line = format!("sampler {}:", name(text(k)));
+    for (key, _, n) in fields(v) {
+        match key.as_str() {
+            "mipmap" | "compare" => line += &format!(" {key} {}", text(n)),
+            _ => line += &format!(" {}", text(n)),
         }
-        if !pass.reads.is_empty() {
-            let rs: Vec<String> = pass
-                .reads
+    }
+    line
+}
+
+fn size(n: &Node) -> String {
+    match n.name() {
+        Some("Fixed") => format!("{}x{}", value(&items(n)[0]), value(&items(n)[1])),
+        _ if items(n).len() == 1 => format!("viewport*{}", value(&items(n)[0])),
+        _ => "viewport".to_string(),
+    }
+}
+
+fn per_light(n: &Node) -> String {
+    format!("per_light({})", join(items(n), |k| text(k).to_string()))
+}
+
+fn resource(k: &Node, v: &Node) -> String {
+    let f = fields(v);
+    let mut line = if v.name() == Some("Buffer") {
+        format!("buffer {}: {} bytes", name(text(k)), get(f, "size").map(value).unwrap_or_default())
+    } else {
+        // LBP always writes the size; the tree leaves it out when it is the default.
+        let default = defaults::get("Texture", "size").map(|d| d.node(v.span));
+        let sz = get(f, "size").cloned().or(default).map(|n| size(&n)).unwrap_or_default();
+        format!("texture {}: {} {sz}", name(text(k)), get(f, "format").map(text).unwrap_or(""))
+    };
+    for (key, _, n) in f {
+        match key.as_str() {
+            "layers" | "mips" => line += &format!(" {key} {}", value(n)),
+            "view" => line += &format!(" {}", text(n)),
+            "per_light" => line += &format!(" {}", per_light(n)),
+            "history" | "external" => line += &format!(" {key}"),
+            _ => {}
+        }
+    }
+    line
+}
+
+/// A stage reference: an entry name, or `"file#entry"` quoted.
+fn stage(n: &Node) -> String {
+    let t = text(n);
+    if t.contains('#') {
+        quote(t)
+    } else {
+        name(t)
+    }
+}
+
+fn pass_line(key: &str, v: &Node) -> String {
+    match key {
+        "fragment" if v.name() == Some("None") && matches!(&*v.value, Value::Ident(_)) => "fragment none".into(),
+        "vertex" | "fragment" | "entry" => format!("{key} {}", stage(v)),
+        "draw" => format!("draw vertices({})", items(v).first().map(value).unwrap_or_default()),
+        "cull" => format!("cull {}", text(v)),
+        "per_light" => per_light(v),
+        "per_face" => "per_face".into(),
+        "reads" => format!("reads {}", join(items(v), read)),
+        "writes" | "params" => format!("{key} {}", join(items(v), |n| name(text(n)))),
+        "param_block" => format!("param_block {}", name(text(v))),
+        "color" => format!("color {}", join(items(v), target)),
+        "depth" => format!("depth {}", target(v)),
+        "bind" => format!(
+            "bind {}",
+            entries(v)
                 .iter()
-                .map(|r| {
-                    if r.is_prev() {
-                        format!("prev({})", name(r.name()))
-                    } else {
-                        name(r.name())
-                    }
-                })
-                .collect();
-            lines.push(format!("reads {}", rs.join(", ")));
+                .map(|(a, b)| format!("{} = {}", name(text(a)), name(text(b))))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+        "when" => format!("when {}", cond(v)),
+        "dispatch" if v.name() == Some("Groups") => format!("dispatch groups({})", join(items(v), value)),
+        "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
+        _ => format!("{key} {}", value(v)),
+    }
+}
+
+fn read(n: &Node) -> String {
+    match n.name() {
+        Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => format!("prev({})", name(items(n).first().map(text).unwrap_or(""))),
+        _ => name(text(n)),
+    }
+}
+
+fn target(n: &Node) -> String {
+    let f = fields(n);
+    if f.is_empty() {
+        return name(text(n));
+    }
+    let mut t = name(get(f, "resource").map(text).unwrap_or(""));
+    for (key, _, v) in f {
+        match key.as_str() {
+            "load" => t += " load",
+            "clear" if matches!(&*v.value, Value::Tuple { .. }) => t += &format!(" clear{}", value(v)),
+            "clear" => t += &format!(" clear({})", value(v)),
+            "blend" | "compare" => t += &format!(" {key} {}", text(v)),
+            "write" => t += " nowrite",
+            "layer" if v.name() == Some("Index") => t += &format!(" layer {}", value(&items(v)[0])),
+            "layer" => t += &format!(" layer {}", text(v)),
+            _ => {}
         }
-        if !pass.writes.is_empty() {
-            lines.push(format!(
-                "writes {}",
-                pass.writes.iter().map(|w| name(w)).collect::<Vec<_>>().join(", ")
-            ));
-        }
-        if !pass.color.is_empty() {
-            let ts: Vec<String> = pass
-                .color
-                .iter()
-                .map(|c| {
-                    let mut t = name(&c.resource);
-                    match &c.load {
-                        LoadOp::Load => t.push_str(" load"),
-                        LoadOp::Clear(v) if v.iter().all(|x| *x == 0.0) && v.len() == 4 => {}
-                        LoadOp::Clear(v) => t.push_str(&format!(" clear({})", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", "))),
-                    }
-                    if let Some(b) = &c.blend {
-                        t.push_str(&format!(" blend {:?}", b.value));
-                    }
-                    if let Some(l) = layer(c.layer) {
-                        t.push_str(&format!(" {l}"));
-                    }
-                    t
-                })
-                .collect();
-            lines.push(format!("color {}", ts.join(", ")));
-        }
-        if let Some(d) = &pass.depth {
-            let mut t = format!("depth {}", name(&d.resource));
-            match &d.load {
-                LoadOp::Load => t.push_str(" load"),
-                LoadOp::Clear(v) if v.len() == 1 && v[0] == 1.0 => {}
-                LoadOp::Clear(v) => t.push_str(&format!(" clear({})", v.iter().map(|x| num(*x)).collect::<Vec<_>>().join(", "))),
+    }
+    t
+}
+
+fn cond(n: &Node) -> String {
+    let args = items(n);
+    match n.name().unwrap_or("") {
+        "Reflective" => "reflective".into(),
+        "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),
+        w @ ("All" | "Any") => format!("{}({})", w.to_lowercase(), join(args.first().map(items).unwrap_or(&[]), cond)),
+        w @ ("Light" | "Effect") => format!("{}({})", w.to_lowercase(), join(args, |a| text(a).to_string())),
+        w => format!("{}({})", w.to_lowercase(), join(args, |a| name(text(a)))),
+    }
+}
+
+fn option(f: &[Field]) -> String {
+    let mut line = String::new();
+    for (key, _, v) in f {
+        match key.as_str() {
+            "requires" => line += &format!(" requires({})", join(items(v), |r| text(r).to_string())),
+            "limits" => {
+                let ls: Vec<String> = entries(v).iter().map(|(k, n)| format!("{} = {}", text(k), value(n))).collect();
+                line += &format!(" limit({})", ls.join(", "));
             }
-            if d.compare != CompareFn::Less {
-                t.push_str(&format!(" compare {:?}", d.compare));
-            }
-            if !d.write {
-                t.push_str(" nowrite");
-            }
-            if let Some(l) = layer(d.layer) {
-                t.push_str(&format!(" {l}"));
-            }
-            lines.push(t);
-        }
-        if !pass.params.is_empty() {
-            lines.push(format!(
-                "params {}",
-                pass.params.iter().map(|w| name(w)).collect::<Vec<_>>().join(", ")
-            ));
-        }
-        if pass.param_block.value != "params" {
-            lines.push(format!("param_block {}", name(&pass.param_block)));
-        }
-        if !pass.bind.is_empty() {
-            lines.push(format!(
-                "bind {}",
-                pass.bind
+            "fallback" => line += &format!(" fallback {}", name(text(v))),
+            "shaders" => {
+                let ss: Vec<String> = entries(v)
                     .iter()
-                    .map(|(k, v)| format!("{} = {}", name(k), name(v)))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
+                    .map(|(k, n)| format!("{} = {}", name(text(k)), quote(text(n))))
+                    .collect();
+                line += &format!(" shader({})", ss.join(", "));
+            }
+            _ => {}
         }
-        if let Some(w) = &pass.when {
-            lines.push(format!("when {}", cond(w)));
-        }
-        if let PassKind::Compute { dispatch } = &pass.kind {
-            lines.push(match dispatch {
-                Dispatch::Groups(x, y, z) => format!("dispatch groups({x}, {y}, {z})"),
-                Dispatch::Size(r) => format!("dispatch size({})", name(r)),
-            });
-        }
-        for l in lines {
-            let _ = writeln!(s, "    {l}");
-        }
-        s.push_str("}\n");
     }
-    for v in &p.variants {
-        s.push('\n');
-        emit(&mut s, &comments.before(v.span), "");
-        let _ = writeln!(
-            s,
-            "variant {} = {}{} {{",
-            name(&v.name),
-            name(&v.default),
-            v.doc.as_ref().map(|d| format!(" {}", quote(d))).unwrap_or_default()
-        );
-        for o in &v.options {
-            emit(&mut s, &comments.before(o.span), "    ");
-            let mut line = format!("    option {}", name(&o.name));
-            if !o.requires.is_empty() {
-                let _ = write!(
-                    line,
-                    " requires({})",
-                    o.requires.iter().map(|f| f.value.name()).collect::<Vec<_>>().join(", ")
-                );
-            }
-            if !o.limits.is_empty() {
-                let _ = write!(
-                    line,
-                    " limit({})",
-                    o.limits
-                        .iter()
-                        .map(|(k, v)| format!("{} = {}", k.value, v.value))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                );
-            }
-            if let Some(f) = &o.fallback {
-                let _ = write!(line, " fallback {}", name(f));
-            }
-            if !o.shaders.is_empty() {
-                let _ = write!(
-                    line,
-                    " shader({})",
-                    o.shaders
-                        .iter()
-                        .map(|(k, f)| format!("{} = {}", name(k), quote(f)))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                );
-            }
-            if let Some(d) = &o.doc {
-                let _ = write!(line, " {}", quote(d));
-            }
-            let _ = writeln!(s, "{line}");
-        }
-        s.push_str("}\n");
+    if let Some(d) = get(f, "doc") {
+        line += &format!(" {}", quote(text(d)));
     }
-    s.push('\n');
-    emit(&mut s, &comments.before(p.output.span), "");
-    let _ = writeln!(s, "output {}", name(&p.output));
-    let rest = comments.rest();
-    if !rest.is_empty() {
-        emit(&mut s, &rest, "");
-    }
-    s
+    line
 }

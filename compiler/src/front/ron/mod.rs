@@ -1,29 +1,20 @@
-//! The RON front end: text -> spanned RON tree -> IR.
+//! The RON front end: a parser into the syntax tree and a printer of it.
 
-mod lower;
+pub mod parse;
 pub mod print;
-pub mod value;
-
-pub use lower::geometry_error;
 
 use crate::diag::Diagnostics;
 use crate::ir::Pipeline;
 use crate::span::FileId;
 
-/// Parse a pipeline file already added to the source map. Problems go to `diags`;
-/// `None` means the file could not be turned into IR at all.
+/// Parse a pipeline file already added to the source map and lower it. Problems go to
+/// `diags`; `None` means the file could not be turned into IR at all.
 pub fn parse_pipeline(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<Pipeline> {
-    let root = match value::parse(file, text) {
-        Ok(n) => n,
+    match parse::parse(file, text) {
+        Ok(root) => crate::syntax::lower::pipeline(&root, diags),
         Err(d) => {
             diags.push(d);
-            return None;
+            None
         }
-    };
-    let before = diags.error_count();
-    let p = lower::Lowerer { diags }.pipeline(&root);
-    if diags.error_count() > before {
-        return None;
     }
-    p
 }

@@ -1,60 +1,14 @@
-//! A RON reader that keeps the span of every key and value.
+//! The RON parser: text -> the spanned syntax tree, keeping the span of every key and value.
 //!
-//! The `ron` crate's serde path loses positions once a value is deserialized, and the
-//! brief asks for file:line:col on every semantic diagnostic (unknown key, bad value,
-//! wrong type). So the pipeline front end reads RON's syntax into this spanned tree and
-//! lowers it to the IR by hand. The grammar follows the RON spec: structs, tuples, lists,
-//! maps, strings (with escapes and raw strings), numbers, bools, unit enums, comments.
+//! The `ron` crate's serde path loses positions once a value is deserialized, and every
+//! semantic diagnostic (unknown key, bad value, wrong type) needs file:line:col. So RON's
+//! syntax is read into `syntax::tree` here and lowered like every other front end's tree.
+//! The grammar follows the RON spec: structs, tuples, lists, maps, strings (with escapes and
+//! raw strings), numbers, bools, unit enums, comments.
 
-use crate::diag::Diagnostic;
+use crate::diag::{Code, Diagnostic};
 use crate::span::{FileId, Span};
-
-#[derive(Clone, Debug)]
-pub struct Node {
-    /// Shared so that lowering can hand subtrees around without deep copies.
-    pub value: std::rc::Rc<Value>,
-    pub span: Span,
-}
-
-#[derive(Clone, Debug)]
-pub enum Value {
-    Bool(bool),
-    Int(i64),
-    Float(f64),
-    Str(String),
-    /// A bare identifier: a unit enum variant such as `Viewport` or `None`.
-    Ident(String),
-    List(Vec<Node>),
-    Map(Vec<(Node, Node)>),
-    /// `Name(key: value, ...)` or `(key: value, ...)`.
-    Struct {
-        name: Option<(String, Span)>,
-        fields: Vec<(String, Span, Node)>,
-    },
-    /// `Name(a, b)` or `(a, b)`; `Name()` and `()` are empty tuples.
-    Tuple {
-        name: Option<(String, Span)>,
-        items: Vec<Node>,
-    },
-}
-
-impl Value {
-    /// Human word for "expected X, found <this>".
-    pub fn kind_word(&self) -> String {
-        match self {
-            Value::Bool(_) => "a bool".into(),
-            Value::Int(_) => "an integer".into(),
-            Value::Float(_) => "a float".into(),
-            Value::Str(_) => "a string".into(),
-            Value::Ident(i) => format!("`{i}`"),
-            Value::List(_) => "a list".into(),
-            Value::Map(_) => "a map".into(),
-            Value::Struct { name: Some((n, _)), .. } | Value::Tuple { name: Some((n, _)), .. } => format!("`{n}(...)`"),
-            Value::Struct { .. } => "a struct".into(),
-            Value::Tuple { .. } => "a tuple".into(),
-        }
-    }
-}
+use crate::syntax::tree::{Node, Value};
 
 pub fn parse(file: FileId, src: &str) -> Result<Node, Diagnostic> {
     let mut p = Parser {
@@ -91,7 +45,7 @@ impl<'a> Parser<'a> {
 
     fn err_here(&self, msg: impl Into<String>, len: usize) -> Diagnostic {
         let end = (self.pos + len).min(self.bytes.len());
-        Diagnostic::error("ron-syntax", msg, Span::new(self.file, self.pos, end))
+        Diagnostic::error(Code::RonSyntax, msg, Span::new(self.file, self.pos, end))
     }
 
     fn found(&self) -> String {
@@ -124,7 +78,7 @@ impl<'a> Parser<'a> {
                     while nest > 0 {
                         if self.pos >= self.bytes.len() {
                             return Err(Diagnostic::error(
-                                "ron-syntax",
+                                Code::RonSyntax,
                                 "unterminated block comment",
                                 Span::new(self.file, start, start + 2),
                             ));
@@ -205,10 +159,7 @@ impl<'a> Parser<'a> {
             Some(_) => return Err(self.err_here(format!("expected a value, found {}", self.found()), 1)),
         };
         self.depth -= 1;
-        Ok(Node {
-            value: std::rc::Rc::new(v),
-            span: self.span(start),
-        })
+        Ok(Node::new(v, self.span(start)))
     }
 
     fn ident(&mut self) -> String {
@@ -243,7 +194,7 @@ impl<'a> Parser<'a> {
             }
             let digits: String = self.src[hs..self.pos].chars().filter(|c| *c != '_').collect();
             let v = i64::from_str_radix(&digits, 16)
-                .map_err(|_| Diagnostic::error("ron-syntax", "invalid hexadecimal number", self.span(start)))?;
+                .map_err(|_| Diagnostic::error(Code::RonSyntax, "invalid hexadecimal number", self.span(start)))?;
             return Ok(Value::Int(if self.bytes[start] == b'-' { -v } else { v }));
         }
         while let Some(c) = self.peek() {
@@ -261,7 +212,7 @@ impl<'a> Parser<'a> {
         }
         if self.pos == body {
             return Err(Diagnostic::error(
-                "ron-syntax",
+                Code::RonSyntax,
                 "expected a number",
                 Span::new(self.file, start, start + 1),
             ));
@@ -272,7 +223,7 @@ impl<'a> Parser<'a> {
                 self.pos += 1;
             }
             return Err(Diagnostic::error(
-                "ron-syntax",
+                Code::RonSyntax,
                 format!("invalid number `{}`", &self.src[start..self.pos]),
                 self.span(start),
             ));
@@ -281,11 +232,15 @@ impl<'a> Parser<'a> {
         if is_float {
             text.parse::<f64>()
                 .map(Value::Float)
-                .map_err(|_| Diagnostic::error("ron-syntax", format!("invalid number `{text}`"), self.span(start)))
+                .map_err(|_| Diagnostic::error(Code::RonSyntax, format!("invalid number `{text}`"), self.span(start)))
         } else {
-            text.parse::<i64>()
-                .map(Value::Int)
-                .map_err(|_| Diagnostic::error("ron-syntax", format!("invalid or out-of-range integer `{text}`"), self.span(start)))
+            text.parse::<i64>().map(Value::Int).map_err(|_| {
+                Diagnostic::error(
+                    Code::RonSyntax,
+                    format!("invalid or out-of-range integer `{text}`"),
+                    self.span(start),
+                )
+            })
         }
     }
 
@@ -296,7 +251,7 @@ impl<'a> Parser<'a> {
         loop {
             let Some(c) = self.src[self.pos..].chars().next() else {
                 return Err(Diagnostic::error(
-                    "ron-syntax",
+                    Code::RonSyntax,
                     "unterminated string",
                     Span::new(self.file, start, start + 1),
                 ));
@@ -308,7 +263,7 @@ impl<'a> Parser<'a> {
                     let esc_start = self.pos - 1;
                     let Some(e) = self.src[self.pos..].chars().next() else {
                         return Err(Diagnostic::error(
-                            "ron-syntax",
+                            Code::RonSyntax,
                             "unterminated string",
                             Span::new(self.file, start, start + 1),
                         ));
@@ -338,7 +293,7 @@ impl<'a> Parser<'a> {
                                 }
                                 None => {
                                     return Err(Diagnostic::error(
-                                        "ron-syntax",
+                                        Code::RonSyntax,
                                         "invalid unicode escape, expected `\\u{XXXX}`",
                                         self.span(esc_start),
                                     ))
@@ -347,7 +302,7 @@ impl<'a> Parser<'a> {
                         }
                         other => {
                             return Err(Diagnostic::error(
-                                "ron-syntax",
+                                Code::RonSyntax,
                                 format!("unknown escape `\\{other}`"),
                                 self.span(esc_start),
                             ))
@@ -379,7 +334,7 @@ impl<'a> Parser<'a> {
                 Ok(s)
             }
             None => Err(Diagnostic::error(
-                "ron-syntax",
+                Code::RonSyntax,
                 "unterminated raw string",
                 Span::new(self.file, start, start + 1),
             )),

@@ -1,5 +1,9 @@
 //! Diagnostics: a code, a message, labelled spans and notes; rendered rustc-style or as JSON.
 
+mod code;
+
+pub use code::Code;
+
 use crate::span::{SourceMap, Span};
 use codespan_reporting::diagnostic as cs;
 use serde::Serialize;
@@ -21,8 +25,8 @@ pub struct Label {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     pub severity: Severity,
-    /// Stable, documented identifier (see README "Diagnostic codes").
-    pub code: &'static str,
+    /// Stable, documented identifier (see [`Code`] and the README's table).
+    pub code: Code,
     pub message: String,
     /// The first primary label is where the diagnostic "is" (file:line:col).
     pub labels: Vec<Label>,
@@ -30,15 +34,15 @@ pub struct Diagnostic {
 }
 
 impl Diagnostic {
-    pub fn error(code: &'static str, message: impl Into<String>, span: Span) -> Self {
+    pub fn error(code: Code, message: impl Into<String>, span: Span) -> Self {
         Self::new(Severity::Error, code, message, span)
     }
 
-    pub fn warning(code: &'static str, message: impl Into<String>, span: Span) -> Self {
+    pub fn warning(code: Code, message: impl Into<String>, span: Span) -> Self {
         Self::new(Severity::Warning, code, message, span)
     }
 
-    fn new(severity: Severity, code: &'static str, message: impl Into<String>, span: Span) -> Self {
+    fn new(severity: Severity, code: Code, message: impl Into<String>, span: Span) -> Self {
         Diagnostic {
             severity,
             code,
@@ -53,7 +57,7 @@ impl Diagnostic {
     }
 
     /// A diagnostic with no source location (e.g. a file that cannot be read at all).
-    pub fn unlocated(severity: Severity, code: &'static str, message: impl Into<String>) -> Self {
+    pub fn unlocated(severity: Severity, code: Code, message: impl Into<String>) -> Self {
         Diagnostic {
             severity,
             code,
@@ -107,7 +111,7 @@ impl Diagnostic {
             Severity::Error => cs::Diagnostic::error(),
             Severity::Warning => cs::Diagnostic::warning(),
         }
-        .with_code(self.code)
+        .with_code(self.code.as_str())
         .with_message(&self.message)
         .with_labels(
             self.labels
@@ -165,6 +169,13 @@ impl Diagnostic {
         }
         obj
     }
+}
+
+/// The one error for asking for a geometry stage, wherever it is asked for.
+pub fn geometry_shader(span: Span) -> Diagnostic {
+    Diagnostic::error(Code::GeometryShader, "geometry shaders are not supported: WGSL, naga and wgpu have no geometry stage", span)
+        .with_label_text("geometry stage requested here")
+        .with_note("for single-pass layered rendering (e.g. cube shadow maps) use `multiview` (Multiview feature, one pass writing 6 views) or an instanced atlas (`instances: 6` with clip distances into a 3×2 atlas)")
 }
 
 /// Collects diagnostics from the stages of one compilation.

@@ -1,0 +1,43 @@
+//! Stage `declarations`: what can be checked from the pipeline file alone: unique names,
+//! parameter defaults and ranges, resource shapes, names that refer to other declarations,
+//! variant options and fallbacks, and each pass's attachments. The lowering accepts any
+//! value the IR can hold; everything about whether it makes sense is decided here.
+
+mod params;
+mod refs;
+mod resources;
+mod targets;
+mod unique;
+mod variants;
+
+use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
+use crate::ir::*;
+use crate::profile::Profile;
+use crate::span::Spanned;
+
+pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
+    unique::check(p, diags);
+    params::params(p, diags);
+    resources::resources(p, profile, diags);
+    refs::idents(p, diags);
+    variants::variants(p, diags);
+    for pass in &p.passes {
+        refs::pass_refs(p, pass, diags);
+        targets::targets(p, pass, profile, diags);
+    }
+    if p.resource(&p.output).is_none() {
+        diags.push(unknown_resource(p, &p.output));
+    } else if p.resource(&p.output).and_then(|r| r.texture()).is_none() {
+        diags.push(Diagnostic::error(
+            Code::OutputNotTexture,
+            format!("output `{}` must be a texture", p.output.value),
+            p.output.span,
+        ));
+    }
+}
+
+pub(super) fn unknown_resource(p: &Pipeline, name: &Spanned<String>) -> Diagnostic {
+    let names: Vec<&str> = p.resources.iter().map(|r| r.name.value.as_str()).collect();
+    Diagnostic::error(Code::UnknownResource, format!("no resource named `{}`", name.value), name.span)
+        .with_note(suggestion_note(name, &names))
+}

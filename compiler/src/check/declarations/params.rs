@@ -1,0 +1,79 @@
+//! Parameters: defaults within their ranges and finite, Enum values among the options.
+
+use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
+use crate::ir::*;
+use crate::span::Spanned;
+
+pub(super) fn params(p: &Pipeline, diags: &mut Diagnostics) {
+    for prm in &p.params {
+        if let ParamType::Enum(opts) = &prm.ty.value {
+            enum_values(prm, opts, diags);
+        } else {
+            range(prm, diags);
+        }
+        if prm.default.as_floats().iter().any(|v| !v.is_finite()) {
+            diags.push(Diagnostic::error(
+                Code::NonFinite,
+                format!("default of `{}` is not finite", prm.name.value),
+                prm.default.span,
+            ));
+        }
+    }
+}
+
+fn range(prm: &Param, diags: &mut Diagnostics) {
+    let floats = |bound: &Option<Spanned<ParamValue>>| bound.as_ref().map(|b| b.as_floats());
+    if let (Some(lo), Some(hi), Some(min)) = (floats(&prm.min), floats(&prm.max), &prm.min) {
+        if lo.iter().zip(&hi).any(|(a, b)| a > b) {
+            diags.push(Diagnostic::error(
+                Code::EmptyRange,
+                format!("parameter `{}` has min greater than max", prm.name.value),
+                min.span,
+            ));
+            return;
+        }
+    }
+    let d = prm.default.as_floats();
+    for (bound, below) in [(&prm.min, true), (&prm.max, false)] {
+        let Some(b) = bound else { continue };
+        let outside = d.iter().zip(b.as_floats()).any(|(v, l)| if below { *v < l } else { *v > l });
+        if outside {
+            let (side, name) = if below { ("below", "min") } else { ("above", "max") };
+            diags.push(
+                Diagnostic::error(
+                    Code::DefaultOutOfRange,
+                    format!(
+                        "default {} of `{}` is {side} its {name} {}",
+                        prm.default.describe(),
+                        prm.name.value,
+                        b.describe()
+                    ),
+                    prm.default.span,
+                )
+                .with_secondary(b.span, format!("{name} given here")),
+            );
+        }
+    }
+}
+
+fn enum_values(prm: &Param, opts: &[String], diags: &mut Diagnostics) {
+    if opts.is_empty() {
+        diags.push(Diagnostic::error(
+            Code::EmptyEnum,
+            format!("Enum parameter `{}` needs at least one option", prm.name.value),
+            prm.ty.span,
+        ));
+        return;
+    }
+    let names: Vec<&str> = opts.iter().map(|o| o.as_str()).collect();
+    for v in [Some(&prm.default), prm.min.as_ref(), prm.max.as_ref()].into_iter().flatten() {
+        if let ParamValue::Enum(s) = &v.value {
+            if !opts.contains(s) {
+                diags.push(
+                    Diagnostic::error(Code::UnknownValue, format!("`{s}` is not an option of this Enum"), v.span)
+                        .with_note(suggestion_note(s, &names)),
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,152 @@
+//! Resource shapes: sizes, layers against the view, mips, against the profile's limits;
+//! flags that exclude each other; names that would bind ambiguously.
+
+use crate::diag::{Code, Diagnostic, Diagnostics};
+use crate::ir::*;
+use crate::profile::Profile;
+use crate::span::Spanned;
+
+pub(super) fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
+    for r in &p.resources {
+        match &r.kind {
+            ResourceKind::Texture(t) => {
+                size(r, t, profile, diags);
+                layers(r, t, profile, diags);
+                mips(r, t, diags);
+            }
+            ResourceKind::Buffer(b) if b.size.value == 0 => diags.push(Diagnostic::error(
+                Code::ValueOutOfRange,
+                "buffer size must be a positive number of bytes",
+                b.size.span,
+            )),
+            ResourceKind::Buffer(_) => {}
+        }
+        if let Some(k) = r.per_light() {
+            empty_kinds(k, diags);
+        }
+        if r.history() && r.external() {
+            diags.push(Diagnostic::error(
+                Code::HistoryExternal,
+                format!("`{}` cannot be both history and external", r.name.value),
+                r.span,
+            ));
+        }
+    }
+    ambiguous(p, diags);
+}
+
+pub(super) fn empty_kinds(k: &Spanned<Vec<LightKind>>, diags: &mut Diagnostics) {
+    if k.is_empty() {
+        diags.push(Diagnostic::error(
+            Code::EmptyLightKinds,
+            "a per-light list needs at least one light kind",
+            k.span,
+        ));
+    }
+}
+
+fn size(r: &Resource, t: &TextureDesc, profile: &Profile, diags: &mut Diagnostics) {
+    let err = |msg: String| Diagnostic::error(Code::ValueOutOfRange, msg, t.size.span);
+    match t.size.value {
+        SizeSpec::Viewport { scale } if !(scale > 0.0 && scale <= 16.0) => {
+            diags.push(err(format!("viewport scale must be in (0, 16], `{}` has {scale}", r.name.value)))
+        }
+        SizeSpec::Fixed { width, height } if width == 0 || height == 0 => diags.push(err(format!(
+            "texture size must be at least 1×1, `{}` is {width}×{height}",
+            r.name.value
+        ))),
+        SizeSpec::Fixed { width, height } => {
+            let max = profile.limits.max_texture_dimension_2d;
+            if width as u64 > max || height as u64 > max {
+                diags.push(
+                    Diagnostic::error(
+                        Code::TextureTooLarge,
+                        format!(
+                            "`{}` is {width}×{height}, over the {max} texel limit of profile `{}`",
+                            r.name.value, profile.name
+                        ),
+                        t.size.span,
+                    )
+                    .with_note("limit: max_texture_dimension_2d"),
+                );
+            }
+        }
+        SizeSpec::Viewport { .. } => {}
+    }
+}
+
+fn layers(r: &Resource, t: &TextureDesc, profile: &Profile, diags: &mut Diagnostics) {
+    let layers = t.layers.value;
+    let d = match t.view.value {
+        _ if layers == 0 => Diagnostic::error(Code::ValueOutOfRange, "a texture needs at least one layer", t.layers.span),
+        ViewDim::Cube if layers != 6 => Diagnostic::error(
+            Code::CubeLayers,
+            format!("cube texture `{}` needs exactly 6 layers, has {layers}", r.name.value),
+            t.layers.span,
+        )
+        .with_note("use `layers: 6` (one layer per face)"),
+        ViewDim::D2 if layers != 1 => Diagnostic::error(
+            Code::ViewLayers,
+            format!("`{}` has {layers} layers but a D2 view shows one", r.name.value),
+            t.layers.span,
+        )
+        .with_note("use `view: D2Array` for a layered texture"),
+        _ if layers as u64 > profile.limits.max_texture_array_layers => Diagnostic::error(
+            Code::TooManyLayers,
+            format!(
+                "`{}` has {layers} layers, over the limit {} of profile `{}`",
+                r.name.value, profile.limits.max_texture_array_layers, profile.name
+            ),
+            t.layers.span,
+        ),
+        _ => return,
+    };
+    diags.push(d);
+}
+
+fn mips(r: &Resource, t: &TextureDesc, diags: &mut Diagnostics) {
+    if t.mips.value == 0 {
+        diags.push(Diagnostic::error(
+            Code::MipCount,
+            "a texture needs at least one mip level",
+            t.mips.span,
+        ));
+        return;
+    }
+    if let SizeSpec::Fixed { width, height } = t.size.value {
+        let max_mips = 32 - width.max(height).leading_zeros();
+        if t.mips.value > max_mips {
+            diags.push(Diagnostic::error(
+                Code::MipCount,
+                format!("`{}` can have at most {max_mips} mip levels", r.name.value),
+                t.mips.span,
+            ));
+        }
+    }
+}
+
+/// Two names that map to one shader identifier would make binding by name ambiguous.
+fn ambiguous(p: &Pipeline, diags: &mut Diagnostics) {
+    let mut seen: Vec<(String, &Spanned<String>)> = vec![];
+    let names = p
+        .resources
+        .iter()
+        .map(|r| &r.name)
+        .chain(p.samplers.iter().map(|s| &s.name))
+        .chain(p.params.iter().map(|s| &s.name));
+    for n in names {
+        let id = shader_ident(n);
+        // Equal names are `duplicate-name`, reported once already.
+        if let Some((_, prev)) = seen.iter().find(|(i, prev)| *i == id && prev.value != n.value) {
+            diags.push(
+                Diagnostic::error(
+                    Code::AmbiguousName,
+                    format!("`{}` and `{}` both bind to the shader name `{id}`", prev.value, n.value),
+                    n.span,
+                )
+                .with_secondary(prev.span, "first here"),
+            );
+        }
+        seen.push((id, n));
+    }
+}

@@ -1,0 +1,619 @@
+//! LBP parse pairs -> the syntax tree. Only syntax is decided here (which keyword is which
+//! key, string escapes, number literals); defaults, ranges and references are the
+//! lowering's and the checks' business, as for RON.
+
+use super::Rule;
+use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
+use crate::span::{FileId, Span};
+use crate::syntax::tree::{Field, Node, Value};
+use pest::iterators::{Pair, Pairs};
+
+type P<'i> = Pair<'i, Rule>;
+
+/// Children of a pair without punctuation (which exists as rules only for error positions).
+fn kids<'i>(p: P<'i>) -> impl Iterator<Item = P<'i>> {
+    p.into_inner().filter(|p| {
+        !matches!(
+            p.as_rule(),
+            Rule::colon | Rule::equals | Rule::open_brace | Rule::close_brace | Rule::open_paren | Rule::close_paren
+        )
+    })
+}
+
+/// Condition keywords of the language (`not`, `all`, `any`, `reflective` have rules of their own).
+const CONDITIONS: [&str; 8] = ["light", "effect", "toggle", "variant", "not", "all", "any", "reflective"];
+
+/// Undo string escapes: `\"`, `\\`, `\n`, `\t`, `\r`, `\0`, `\u{XXXX}`.
+pub fn unescape(s: &str) -> Result<String, String> {
+    let mut out = String::new();
+    let mut it = s.chars();
+    while let Some(c) = it.next() {
+        if c != '\\' {
+            out.push(c);
+            continue;
+        }
+        match it.next() {
+            Some('"') => out.push('"'),
+            Some('\\') => out.push('\\'),
+            Some('n') => out.push('\n'),
+            Some('t') => out.push('\t'),
+            Some('r') => out.push('\r'),
+            Some('0') => out.push('\0'),
+            Some('u') => {
+                let rest: String = it.by_ref().take_while(|c| *c != '}').collect();
+                let hex = rest.strip_prefix('{').ok_or("invalid unicode escape, expected `\\u{XXXX}`")?;
+                let ch = u32::from_str_radix(hex, 16)
+                    .ok()
+                    .and_then(char::from_u32)
+                    .ok_or("invalid unicode escape")?;
+                out.push(ch);
+            }
+            Some(o) => return Err(format!("unknown escape `\\{o}`")),
+            None => return Err("unterminated escape".into()),
+        }
+    }
+    Ok(out)
+}
+
+pub struct Builder<'d> {
+    pub file: FileId,
+    pub diags: &'d mut Diagnostics,
+    pub text_len: usize,
+}
+
+/// A top-level map of the pipeline being gathered: key, entries, span.
+type MapField = (&'static str, Vec<(Node, Node)>, Span);
+
+/// Fields of one item as they are read.
+#[derive(Default)]
+struct Fields(Vec<Field>);
+
+impl Fields {
+    fn put(&mut self, key: &str, key_span: Span, node: Node) {
+        self.0.push((key.to_string(), key_span, node));
+    }
+}
+
+impl Builder<'_> {
+    fn span(&self, p: &P) -> Span {
+        let s = p.as_span();
+        Span::new(self.file, s.start(), s.end())
+    }
+
+    fn err(&mut self, d: Diagnostic) -> Option<Node> {
+        self.diags.push(d);
+        None
+    }
+
+    fn string(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let inner = kids(p).next().map(|i| i.as_str()).unwrap_or("");
+        match unescape(inner) {
+            Ok(s) => Some(Node::str(s, span)),
+            Err(e) => self.err(Diagnostic::error(Code::LbpSyntax, e, span)),
+        }
+    }
+
+    /// A `name`: dotted identifier or quoted string, as a string node.
+    fn name(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let inner = kids(p).next()?;
+        match inner.as_rule() {
+            Rule::string => self.string(inner),
+            _ => Some(Node::str(inner.as_str(), span)),
+        }
+    }
+
+    /// A word naming an IR enum value (`Rgba16Float`, `Point`): an identifier node.
+    fn word(&self, p: &P) -> Node {
+        Node::ident(p.as_str(), self.span(p))
+    }
+
+    fn uint(&mut self, p: &P) -> Option<Node> {
+        match p.as_str().parse::<i64>() {
+            Ok(v) => Some(Node::int(v, self.span(p))),
+            Err(_) => self.err(Diagnostic::error(
+                Code::BadNumber,
+                format!("`{}` is not a 32-bit whole number", p.as_str()),
+                self.span(p),
+            )),
+        }
+    }
+
+    fn number(&mut self, p: &P) -> Option<Node> {
+        let span = self.span(p);
+        if let Ok(i) = p.as_str().parse::<i64>() {
+            return Some(Node::int(i, span));
+        }
+        match p.as_str().parse::<f64>() {
+            Ok(v) if v.is_finite() => Some(Node::float(v, span)),
+            _ => self.err(Diagnostic::error(
+                Code::BadNumber,
+                format!("`{}` is not a finite number", p.as_str()),
+                span,
+            )),
+        }
+    }
+
+    fn tuple(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let items = kids(p).map(|n| self.number(&n)).collect::<Option<Vec<_>>>()?;
+        Some(Node::tuple(items, span))
+    }
+
+    fn value(&mut self, p: P) -> Option<Node> {
+        let inner = kids(p).next()?;
+        match inner.as_rule() {
+            Rule::bool => Some(Node::bool(inner.as_str() == "true", self.span(&inner))),
+            Rule::tuple => self.tuple(inner),
+            Rule::number => self.number(&inner),
+            Rule::string => self.string(inner),
+            _ => Some(Node::str(inner.as_str(), self.span(&inner))),
+        }
+    }
+
+    fn names(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let items = kids(p).map(|n| self.name(n)).collect::<Option<Vec<_>>>()?;
+        Some(Node::list(items, span))
+    }
+
+    fn per_light(&mut self, p: P) -> Node {
+        let span = self.span(&p);
+        Node::list(kids(p).map(|k| self.word(&k)).collect(), span)
+    }
+
+    pub fn file(&mut self, mut pairs: Pairs<Rule>) -> Option<Node> {
+        let file = pairs.next()?;
+        let span = self.span(&file);
+        let mut items = kids(file);
+        let decl = items.next()?;
+        let mut root = Fields::default();
+        let name = self.name(kids(decl.clone()).next()?)?;
+        root.put("name", self.span(&decl), name);
+        let mut maps: [MapField; 4] = [
+            ("params", vec![], span),
+            ("samplers", vec![], span),
+            ("resources", vec![], span),
+            ("variants", vec![], span),
+        ];
+        let mut passes = vec![];
+        let mut outputs = Fields::default();
+        for it in items {
+            let at = self.span(&it);
+            let slot = match it.as_rule() {
+                Rule::param => 0,
+                Rule::sampler => 1,
+                Rule::texture | Rule::buffer => 2,
+                Rule::variant => 3,
+                Rule::pass => {
+                    passes.extend(self.pass(it));
+                    continue;
+                }
+                Rule::output => {
+                    let n = kids(it).next().and_then(|n| self.name(n));
+                    outputs.0.extend(n.map(|n| ("output".to_string(), at, n)));
+                    continue;
+                }
+                _ => continue,
+            };
+            let entry = match it.as_rule() {
+                Rule::param => self.param(it),
+                Rule::sampler => self.sampler(it),
+                Rule::texture => self.texture(it),
+                Rule::buffer => self.buffer(it),
+                _ => self.variant(it),
+            };
+            maps[slot].1.extend(entry);
+            maps[slot].2 = maps[slot].2.to(at);
+        }
+        for (key, entries, mspan) in maps {
+            if !entries.is_empty() {
+                root.put(key, mspan, Node::map(entries, mspan));
+            }
+        }
+        root.put("passes", span, Node::list(passes, span));
+        root.0.extend(outputs.0);
+        // A missing key is reported where it would be added: at the end of the file.
+        let end = Span::new(self.file, self.text_len, self.text_len);
+        Some(Node::structure("Pipeline", end, root.0, span))
+    }
+
+    fn param(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let ty = it.next()?;
+        let ty_span = self.span(&ty);
+        let ty_inner = kids(ty).next()?;
+        let mut f = Fields::default();
+        let kind = if ty_inner.as_rule() == Rule::enum_type {
+            let opts = kids(ty_inner).map(|n| self.name(n)).collect::<Option<Vec<_>>>()?;
+            f.put("options", ty_span, Node::list(opts, ty_span));
+            "Enum".to_string()
+        } else {
+            ty_inner.as_str().to_string()
+        };
+        let default = it.next()?;
+        f.put("default", self.span(&default), self.value(default)?);
+        for rest in it {
+            let at = self.span(&rest);
+            match rest.as_rule() {
+                Rule::range => {
+                    let max_only = rest.as_str().starts_with("max");
+                    let mut vs = kids(rest);
+                    match (vs.next(), vs.next()) {
+                        (Some(a), Some(b)) => {
+                            f.put("min", at, self.value(a)?);
+                            f.put("max", at, self.value(b)?);
+                        }
+                        (Some(a), None) => f.put(if max_only { "max" } else { "min" }, at, self.value(a)?),
+                        _ => {}
+                    }
+                }
+                Rule::doc => f.put("doc", at, self.string(kids(rest).next()?)?),
+                _ => {}
+            }
+        }
+        Some((name, Node::structure(&kind, ty_span, f.0, span)))
+    }
+
+    fn sampler(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        for opt in it {
+            let o = kids(opt).next()?;
+            let at = self.span(&o);
+            match o.as_rule() {
+                Rule::mipmap => f.put("mipmap", at, self.word(&kids(o).next()?)),
+                Rule::compare => f.put("compare", at, self.word(&kids(o).next()?)),
+                _ if matches!(o.as_str(), "Nearest" | "Linear") => f.put("filter", at, self.word(&o)),
+                _ => f.put("address", at, self.word(&o)),
+            }
+        }
+        Some((name.clone(), Node::structure("Sampler", name.span, f.0, span)))
+    }
+
+    /// `layers N`, `mips N`, `per_light(..)` and the flags (view, `history`, `external`).
+    fn resource_opt(&mut self, f: &mut Fields, o: P) -> Option<()> {
+        let at = self.span(&o);
+        match o.as_rule() {
+            Rule::layers => f.put("layers", at, self.uint(&kids(o).next()?)?),
+            Rule::mips => f.put("mips", at, self.uint(&kids(o).next()?)?),
+            Rule::per_light => f.put("per_light", at, self.per_light(o)),
+            _ => match o.as_str() {
+                "history" | "external" => f.put(o.as_str(), at, Node::bool(true, at)),
+                view => f.put("view", at, Node::ident(view, at)),
+            },
+        }
+        Some(())
+    }
+
+    fn texture(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        let format = it.next()?;
+        f.put("format", self.span(&format), self.word(&format));
+        let size = it.next()?;
+        let size_span = self.span(&size);
+        let s = kids(size).next()?;
+        let size = match s.as_rule() {
+            Rule::fixed => {
+                let mut d = kids(s);
+                let (w, h) = (self.uint(&d.next()?)?, self.uint(&d.next()?)?);
+                Node::call("Fixed", vec![w, h], size_span)
+            }
+            _ => match kids(s).next() {
+                None => Node::ident("Viewport", size_span),
+                Some(n) => Node::call("Viewport", vec![self.number(&n)?], size_span),
+            },
+        };
+        f.put("size", size_span, size);
+        for opt in it {
+            self.resource_opt(&mut f, kids(opt).next()?)?;
+        }
+        Some((name.clone(), Node::structure("Texture", name.span, f.0, span)))
+    }
+
+    fn buffer(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        let size = it.next()?;
+        f.put("size", self.span(&size), self.uint(&size)?);
+        for opt in it {
+            self.resource_opt(&mut f, kids(opt).next()?)?;
+        }
+        Some((name.clone(), Node::structure("Buffer", name.span, f.0, span)))
+    }
+
+    fn pass(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let mut it = kids(p).peekable();
+        let kind = match it.next()?.as_str() {
+            "raster" => "Raster",
+            "fullscreen" => "Fullscreen",
+            _ => "Compute",
+        };
+        let name = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        f.put("name", name.span, name.clone());
+        if it.peek().map(|n| n.as_rule()) == Some(Rule::string) {
+            let s = it.next()?;
+            f.put("shader", self.span(&s), self.string(s)?);
+        }
+        for item in it {
+            let at = self.span(&item);
+            let key = pass_key(item.as_rule());
+            let node = self.pass_item(item, at)?;
+            f.put(key, at, node);
+        }
+        // A pass is named by its name: messages about the pass as a whole point there.
+        Some(Node::structure(kind, name.span, f.0, span))
+    }
+
+    fn pass_item(&mut self, item: P, at: Span) -> Option<Node> {
+        let rule = item.as_rule();
+        if rule == Rule::per_face {
+            return Some(Node::bool(true, at));
+        }
+        if rule == Rule::per_light {
+            return Some(self.per_light(item));
+        }
+        let mut parts: Vec<P> = kids(item).collect();
+        match rule {
+            Rule::vertex | Rule::entry => self.stage_ref(parts.pop()?),
+            Rule::fragment => {
+                let inner = parts.pop()?;
+                if inner.as_rule() == Rule::none {
+                    Some(Node::ident("None", self.span(&inner)))
+                } else {
+                    self.stage_ref(inner)
+                }
+            }
+            Rule::draw => {
+                let inner = parts.pop()?;
+                match inner.as_rule() {
+                    Rule::vertices => Some(Node::call("Vertices", vec![self.uint(&kids(inner).next()?)?], at)),
+                    _ => Some(self.word(&inner)),
+                }
+            }
+            Rule::cull => Some(self.word(&parts.pop()?)),
+            Rule::instances | Rule::multiview => self.uint(&parts.pop()?),
+            Rule::color => {
+                let targets = parts.into_iter().map(|t| self.target(t, "Target")).collect::<Option<Vec<_>>>()?;
+                Some(Node::list(targets, at))
+            }
+            Rule::depth => self.target(parts.pop()?, "Depth"),
+            Rule::reads => {
+                let reads = parts.into_iter().map(|r| self.read(r)).collect::<Option<Vec<_>>>()?;
+                Some(Node::list(reads, at))
+            }
+            Rule::writes | Rule::params => self.names(parts.pop()?),
+            Rule::param_block => self.name(parts.pop()?),
+            Rule::bind => {
+                let pairs = parts.into_iter().map(|b| self.binding(b)).collect::<Option<Vec<_>>>()?;
+                Some(Node::map(pairs, at))
+            }
+            Rule::when => self.cond(parts.pop()?),
+            _ => self.dispatch(parts.pop()?),
+        }
+    }
+
+    fn stage_ref(&mut self, p: P) -> Option<Node> {
+        let inner = kids(p).next()?;
+        match inner.as_rule() {
+            Rule::string => self.string(inner),
+            _ => Some(Node::str(inner.as_str(), self.span(&inner))),
+        }
+    }
+
+    fn read(&mut self, r: P) -> Option<Node> {
+        let inner = kids(r).next()?;
+        if inner.as_rule() == Rule::prev {
+            let span = self.span(&inner);
+            return Some(Node::call("Prev", vec![self.name(kids(inner).next()?)?], span));
+        }
+        self.name(inner)
+    }
+
+    fn binding(&mut self, b: P) -> Option<(Node, Node)> {
+        let mut kv = kids(b);
+        Some((self.name(kv.next()?)?, self.name(kv.next()?)?))
+    }
+
+    fn dispatch(&mut self, inner: P) -> Option<Node> {
+        let span = self.span(&inner);
+        match inner.as_rule() {
+            Rule::groups => {
+                let g = kids(inner).map(|n| self.uint(&n)).collect::<Option<Vec<_>>>()?;
+                Some(Node::call("Groups", g, span))
+            }
+            _ => Some(Node::call("Size", vec![self.name(kids(inner).next()?)?], span)),
+        }
+    }
+
+    /// A color (`Target`) or depth (`Depth`) target: its name alone, or its options.
+    fn target(&mut self, p: P, kind: &str) -> Option<Node> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let resource = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        f.put("resource", resource.span, resource.clone());
+        for opt in it {
+            let o = kids(opt).next()?;
+            let at = self.span(&o);
+            let rule = o.as_rule();
+            let key = match rule {
+                Rule::clear => "clear",
+                Rule::load => "load",
+                Rule::blend => "blend",
+                Rule::layer => "layer",
+                Rule::compare => "compare",
+                _ => "write",
+            };
+            let node = match rule {
+                Rule::load => Node::ident("Load", at),
+                Rule::nowrite => Node::bool(false, at),
+                Rule::clear => self.clear(kids(o).next()?, kind)?,
+                Rule::layer => {
+                    let w = kids(o).next()?;
+                    match w.as_rule() {
+                        Rule::uint => Node::call("Index", vec![self.uint(&w)?], at),
+                        _ => self.word(&w),
+                    }
+                }
+                _ => self.word(&kids(o).next()?),
+            };
+            f.put(key, at, node);
+        }
+        if f.0.len() == 1 {
+            return Some(resource);
+        }
+        Some(Node::structure(kind, span, f.0, span))
+    }
+
+    /// `clear(r, g, b, a)` for color; a depth clear is one value, `clear(1.0)`.
+    fn clear(&mut self, t: P, kind: &str) -> Option<Node> {
+        let tuple = self.tuple(t)?;
+        match &*tuple.value {
+            Value::Tuple { items, .. } if kind == "Depth" && items.len() == 1 => Some(items[0].clone()),
+            _ => Some(tuple),
+        }
+    }
+
+    fn cond(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let inner = kids(p).next()?;
+        match inner.as_rule() {
+            Rule::reflective => Some(Node::ident("Reflective", span)),
+            Rule::not_cond => Some(Node::call("Not", vec![self.cond(kids(inner).next()?)?], span)),
+            Rule::all_cond | Rule::any_cond => {
+                let name = if inner.as_rule() == Rule::all_cond { "All" } else { "Any" };
+                let cs = kids(inner).map(|c| self.cond(c)).collect::<Option<Vec<_>>>()?;
+                Some(Node::call(name, vec![Node::list(cs, span)], span))
+            }
+            _ => self.call_cond(inner, span),
+        }
+    }
+
+    /// `light(Point)`, `effect(Ssr)`, `toggle(p)`, `variant(v, o)`.
+    fn call_cond(&mut self, inner: P, span: Span) -> Option<Node> {
+        let mut it = kids(inner);
+        let f = it.next()?;
+        let args: Vec<P> = it.collect();
+        let (name, words) = match f.as_str() {
+            "light" => ("Light", true),
+            "effect" => ("Effect", true),
+            "toggle" => ("Toggle", false),
+            "variant" => ("Variant", false),
+            other => {
+                let d = Diagnostic::error(Code::UnknownKind, format!("unknown condition `{other}`"), self.span(&f))
+                    .with_note(suggestion_note(other, &CONDITIONS));
+                return self.err(d);
+            }
+        };
+        // Kinds and effects are enum values; toggles and variants name declarations.
+        let args = args
+            .into_iter()
+            .map(|a| {
+                let n = self.name(a)?;
+                Some(if words { Node::ident(n.text().unwrap_or(""), n.span) } else { n })
+            })
+            .collect::<Option<Vec<_>>>()?;
+        Some(Node::call(name, args, span))
+    }
+
+    fn variant(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let default = it.next()?;
+        let mut f = Fields::default();
+        f.put("default", self.span(&default), self.name(default)?);
+        let mut options = vec![];
+        let mut opts_span = name.span;
+        for item in it {
+            let at = self.span(&item);
+            match item.as_rule() {
+                Rule::doc => f.put("doc", at, self.string(kids(item).next()?)?),
+                _ => {
+                    options.extend(self.option(item));
+                    opts_span = opts_span.to(at);
+                }
+            }
+        }
+        f.put("options", opts_span, Node::map(options, opts_span));
+        Some((name.clone(), Node::structure("Variant", name.span, f.0, span)))
+    }
+
+    fn option(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        for item in it {
+            let at = self.span(&item);
+            if item.as_rule() == Rule::doc {
+                f.put("doc", at, self.string(kids(item).next()?)?);
+                continue;
+            }
+            let inner = kids(item).next()?;
+            let at = self.span(&inner);
+            match inner.as_rule() {
+                Rule::requires => f.put("requires", at, Node::list(kids(inner).map(|w| self.word(&w)).collect(), at)),
+                Rule::limit => {
+                    let items = kids(inner)
+                        .map(|li| {
+                            let mut kv = kids(li);
+                            let k = kv.next()?;
+                            Some((Node::str(k.as_str(), self.span(&k)), self.uint(&kv.next()?)?))
+                        })
+                        .collect::<Option<Vec<_>>>()?;
+                    f.put("limits", at, Node::map(items, at));
+                }
+                Rule::fallback => f.put("fallback", at, self.name(kids(inner).next()?)?),
+                _ => {
+                    let subs = kids(inner)
+                        .map(|sub| {
+                            let mut kv = kids(sub);
+                            Some((self.name(kv.next()?)?, self.string(kv.next()?)?))
+                        })
+                        .collect::<Option<Vec<_>>>()?;
+                    f.put("shaders", at, Node::map(subs, at));
+                }
+            }
+        }
+        let node = Node::new(Value::Struct { name: None, fields: f.0 }, span);
+        Some((name, node))
+    }
+}
+
+/// The tree key of a pass property.
+fn pass_key(r: Rule) -> &'static str {
+    match r {
+        Rule::vertex => "vertex",
+        Rule::fragment => "fragment",
+        Rule::entry => "entry",
+        Rule::draw => "draw",
+        Rule::cull => "cull",
+        Rule::instances => "instances",
+        Rule::multiview => "multiview",
+        Rule::color => "color",
+        Rule::depth => "depth",
+        Rule::reads => "reads",
+        Rule::writes => "writes",
+        Rule::params => "params",
+        Rule::param_block => "param_block",
+        Rule::bind => "bind",
+        Rule::when => "when",
+        Rule::per_light => "per_light",
+        Rule::per_face => "per_face",
+        _ => "dispatch",
+    }
+}

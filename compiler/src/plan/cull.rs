@@ -1,0 +1,185 @@
+//! Stages `conditions` and `cull`: evaluate each pass's `when` for the configuration,
+//! drop passes that repeat over lights the scene lacks or that the output does not need,
+//! then order the rest (stage `graph`).
+
+use super::Config;
+use crate::check::{graph, Checked};
+use crate::diag::{Code, Diagnostic, Diagnostics};
+use crate::ir::*;
+use std::collections::BTreeMap;
+
+/// `Ok(())` if true, else the reason it is false and whether a variant choice decided it.
+fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)> {
+    match c {
+        Condition::Light(k) => {
+            if cfg.scene.lights.get(k).copied().unwrap_or(0) > 0 {
+                Ok(())
+            } else {
+                Err((format!("the scene has no {} light", k.name()), false))
+            }
+        }
+        Condition::Effect(e) => {
+            if cfg.scene.effects.contains(e) {
+                Ok(())
+            } else {
+                Err((format!("the scene does not call for {}", e.name()), false))
+            }
+        }
+        Condition::Reflective => {
+            if cfg.scene.reflective {
+                Ok(())
+            } else {
+                Err(("the scene has no reflective material".into(), false))
+            }
+        }
+        Condition::Toggle(name) => match p.param(name).map(|prm| &prm.default.value) {
+            Some(ParamValue::Bool(true)) => Ok(()),
+            _ => Err((format!("toggle `{}` is off", name.value), false)),
+        },
+        Condition::Variant(v, o) => {
+            let chosen = cfg.selection.chosen.get(&v.value).cloned().unwrap_or_default();
+            if chosen == o.value {
+                Ok(())
+            } else {
+                Err((
+                    format!(
+                        "variant not chosen: `{}` is `{chosen}`, this pass belongs to `{}`",
+                        v.value, o.value
+                    ),
+                    true,
+                ))
+            }
+        }
+        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => match eval(inner, p, cfg) {
+            Ok(()) => {
+                let Condition::Variant(v, o) = &inner.value else {
+                    return Ok(());
+                };
+                Err((
+                    format!(
+                        "variant not chosen: `{}` is `{}`, this pass serves the other options",
+                        v.value, o.value
+                    ),
+                    true,
+                ))
+            }
+            Err(_) => Ok(()),
+        },
+        Condition::Not(inner) => match eval(inner, p, cfg) {
+            Ok(()) => Err((format!("{} holds", inner.describe()), inner.mentions_variant())),
+            Err(_) => Ok(()),
+        },
+        Condition::All(cs) => cs.iter().try_for_each(|c| eval(c, p, cfg)),
+        Condition::Any(cs) => {
+            let mut reasons = vec![];
+            let mut by_variant = true;
+            for c in cs {
+                match eval(c, p, cfg) {
+                    Ok(()) => return Ok(()),
+                    Err((r, v)) => {
+                        reasons.push(r);
+                        by_variant &= v;
+                    }
+                }
+            }
+            Err((format!("none holds: {}", reasons.join("; ")), by_variant && !cs.is_empty()))
+        }
+    }
+}
+
+/// Which passes a configuration keeps, in what order, and why the others are culled.
+pub struct Schedule {
+    pub culled: BTreeMap<usize, String>,
+    pub ordered: graph::Ordered,
+}
+
+/// The checks of a configuration without assembling the Plan (what `check` needs).
+pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Schedule> {
+    let p = &checked.pipeline;
+    let (candidates, mut culled) = conditions(p, cfg);
+    let kept = reachable(p, &candidates);
+    for &i in candidates.iter().filter(|i| !kept.contains(i)) {
+        let writes: Vec<String> = p.passes[i].written().map(|w| format!("`{}`", w.value)).collect();
+        culled.insert(
+            i,
+            format!(
+                "output unreachable: nothing on the way to `{}` reads {}",
+                p.output.value,
+                writes.join(", ")
+            ),
+        );
+    }
+    if !kept.iter().any(|&i| p.passes[i].written().any(|w| w.value == p.output.value)) {
+        let mut d = Diagnostic::error(
+            Code::OutputUnreachable,
+            format!("no kept pass writes the output `{}`", p.output.value),
+            p.output.span,
+        );
+        for (i, why) in &culled {
+            if p.passes[*i].written().any(|w| w.value == p.output.value) {
+                d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[*i].name.value));
+            }
+        }
+        diags.push(d);
+        return None;
+    }
+    let ordered = graph::order(p, &kept, &culled, diags)?;
+    // A pass whose shaders failed to check has no version; its errors are already reported.
+    if ordered.order.iter().any(|&i| checked.version(i, &cfg.selection.chosen).is_none()) {
+        return None;
+    }
+    Some(Schedule { culled, ordered })
+}
+
+/// Passes whose condition holds and whose light kinds the scene has; the others with why.
+fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String>) {
+    let mut culled: BTreeMap<usize, String> = BTreeMap::new();
+    let mut candidates = vec![];
+    for (i, pass) in p.passes.iter().enumerate() {
+        if let Some(w) = &pass.when {
+            if let Err((why, by_variant)) = eval(w, p, cfg) {
+                let reason = if by_variant {
+                    why
+                } else {
+                    format!("condition `{}` is false: {why}", w.describe())
+                };
+                culled.insert(i, reason);
+                continue;
+            }
+        }
+        if let Some(kinds) = pass.per_light.as_ref().filter(|k| cfg.scene.light_count(k) == 0) {
+            let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
+            culled.insert(i, format!("runs per {} light and the scene has none", names.join(" or ")));
+            continue;
+        }
+        candidates.push(i);
+    }
+    (candidates, culled)
+}
+
+/// Output reachability: the candidates whose writes the output (transitively) needs, in file order.
+fn reachable(p: &Pipeline, candidates: &[usize]) -> Vec<usize> {
+    let mut needed: Vec<String> = vec![p.output.value.clone()];
+    let mut kept: Vec<usize> = vec![];
+    loop {
+        let mut changed = false;
+        for &i in candidates.iter().rev() {
+            let pass = &p.passes[i];
+            if kept.contains(&i) || !pass.written().any(|w| needed.contains(&w.value)) {
+                continue;
+            }
+            kept.push(i);
+            changed = true;
+            for r in pass.reads.iter().map(|r| r.name()).chain(pass.written()) {
+                if !needed.contains(&r.value) {
+                    needed.push(r.value.clone());
+                }
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    kept.sort();
+    kept
+}

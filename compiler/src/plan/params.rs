@@ -1,0 +1,264 @@
+//! Parameter values: the pipeline's defaults, overrides checked against each parameter's
+//! type and range, and packing into a pass's parameter block at the offsets the Plan gives
+//! (so the runtime writes bytes, not per-type logic).
+
+use super::PlanParam;
+use crate::diag::did_you_mean;
+use crate::ir::{Param, ParamType, ParamValue};
+use crate::layout::{FieldType, UniformBlock};
+use std::collections::BTreeMap;
+
+pub(super) fn plan_param(p: &Param) -> PlanParam {
+    PlanParam {
+        name: p.name.value.clone(),
+        ty: p.ty.value.clone(),
+        default: p.default.value.clone(),
+        min: p.min.as_ref().map(|m| m.value.clone()),
+        max: p.max.as_ref().map(|m| m.value.clone()),
+        doc: p.doc.clone(),
+    }
+}
+
+/// Why an override cannot be applied.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ParamError {
+    Unknown { name: String, suggestion: Option<String> },
+    Type { name: String, why: String },
+    Range { name: String, why: String },
+}
+
+impl std::fmt::Display for ParamError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ParamError::Unknown { name, suggestion: Some(s) } => write!(f, "no parameter `{name}`; did you mean `{s}`?"),
+            ParamError::Unknown { name, suggestion: None } => write!(f, "no parameter `{name}`"),
+            ParamError::Type { name, why } | ParamError::Range { name, why } => write!(f, "parameter `{name}`: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+/// Parameter overrides by name; every parameter without one has its default.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ParamValues {
+    values: BTreeMap<String, ParamValue>,
+}
+
+impl ParamValues {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Check a value against the parameter it names: it exists, has its type, lies in its range.
+    pub fn check(params: &[PlanParam], name: &str, value: &ParamValue) -> Result<(), ParamError> {
+        let Some(p) = params.iter().find(|p| p.name == name) else {
+            return Err(ParamError::Unknown {
+                name: name.to_string(),
+                suggestion: did_you_mean(name, params.iter().map(|p| p.name.as_str())).map(str::to_string),
+            });
+        };
+        p.ty.accepts(value).map_err(|why| ParamError::Type {
+            name: name.to_string(),
+            why,
+        })?;
+        let v = value.as_floats();
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(ParamError::Range {
+                name: name.to_string(),
+                why: "the value is not finite".into(),
+            });
+        }
+        for (bound, below) in [(&p.min, true), (&p.max, false)] {
+            let Some(b) = bound else { continue };
+            if v.iter().zip(b.as_floats()).any(|(x, l)| if below { *x < l } else { *x > l }) {
+                let side = if below { "below its min" } else { "above its max" };
+                return Err(ParamError::Range {
+                    name: name.to_string(),
+                    why: format!("{} is {side} {}", value.describe(), b.describe()),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Override a parameter after checking the value.
+    pub fn set(&mut self, params: &[PlanParam], name: &str, value: ParamValue) -> Result<(), ParamError> {
+        Self::check(params, name, &value)?;
+        self.values.insert(name.to_string(), value);
+        Ok(())
+    }
+
+    pub fn get(&self, name: &str) -> Option<&ParamValue> {
+        self.values.get(name)
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = (&String, &ParamValue)> {
+        self.values.iter()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+
+    /// The value a parameter has: its override, else its default.
+    pub fn value_of<'a>(&'a self, p: &'a PlanParam) -> &'a ParamValue {
+        self.values.get(&p.name).unwrap_or(&p.default)
+    }
+
+    /// Keep the overrides that still apply to `params` (after a new Plan replaced the old
+    /// one); returns the dropped ones with the reason.
+    pub fn retain_applicable(&mut self, params: &[PlanParam]) -> Vec<(String, String)> {
+        let mut dropped = vec![];
+        self.values.retain(|name, v| match Self::check(params, name, v) {
+            Ok(()) => true,
+            Err(e) => {
+                dropped.push((name.clone(), e.to_string()));
+                false
+            }
+        });
+        dropped
+    }
+}
+
+impl UniformBlock {
+    /// The block's bytes: each field's parameter (override or default) at its offset, as
+    /// the field's type (bools and enum indices as `u32`; a colour without alpha gets 1).
+    pub fn pack(&self, params: &[PlanParam], values: &ParamValues) -> Vec<u8> {
+        let mut bytes = vec![0u8; self.size as usize];
+        for f in &self.fields {
+            let Some(p) = params.get(f.param.0 as usize) else { continue };
+            let words = words(&p.ty, values.value_of(p), f.ty);
+            for (i, w) in words.iter().enumerate() {
+                let at = f.offset as usize + 4 * i;
+                if let Some(dst) = bytes.get_mut(at..at + 4) {
+                    dst.copy_from_slice(&w.to_le_bytes());
+                }
+            }
+        }
+        bytes
+    }
+}
+
+/// A value as the 32-bit words of a field.
+fn words(ty: &ParamType, v: &ParamValue, field: FieldType) -> Vec<u32> {
+    match v {
+        ParamValue::Float(x) => vec![(*x as f32).to_bits()],
+        ParamValue::Int(x) if field == FieldType::U32 => vec![*x as u32],
+        ParamValue::Int(x) => vec![(*x as i32) as u32],
+        ParamValue::Bool(b) => vec![*b as u32],
+        ParamValue::Vec(c) => (0..field.components())
+            .map(|i| (*c.get(i).unwrap_or(&1.0) as f32).to_bits())
+            .collect(),
+        ParamValue::Enum(s) => {
+            let idx = match ty {
+                ParamType::Enum(opts) => opts.iter().position(|o| o == s).unwrap_or(0),
+                _ => 0,
+            };
+            vec![idx as u32]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::layout::{ParamId, UniformField};
+
+    fn param(name: &str, ty: ParamType, default: ParamValue) -> PlanParam {
+        PlanParam {
+            name: name.into(),
+            ty,
+            default,
+            min: Some(ParamValue::Float(0.0)),
+            max: None,
+            doc: None,
+        }
+    }
+
+    fn field(name: &str, param: u32, offset: u32, ty: FieldType) -> UniformField {
+        UniformField {
+            name: name.into(),
+            param: ParamId(param),
+            offset,
+            size: 4 * ty.components() as u32,
+            ty,
+        }
+    }
+
+    #[test]
+    fn packs_each_type_at_its_offset() {
+        let params = vec![
+            param("a.bias", ParamType::Float, ParamValue::Float(0.5)),
+            param("a.pcf", ParamType::Bool, ParamValue::Bool(true)),
+            param(
+                "a.mode",
+                ParamType::Enum(vec!["x".into(), "y".into()]),
+                ParamValue::Enum("y".into()),
+            ),
+            param("a.tint", ParamType::Color, ParamValue::Vec(vec![0.25, 0.5, 0.75])),
+            param("a.count", ParamType::Int, ParamValue::Int(-3)),
+        ];
+        let block = UniformBlock {
+            global: "params".into(),
+            group: 2,
+            binding: 0,
+            size: 48,
+            align: 16,
+            fields: vec![
+                field("bias", 0, 0, FieldType::F32),
+                field("pcf", 1, 4, FieldType::U32),
+                field("mode", 2, 8, FieldType::U32),
+                field("count", 4, 12, FieldType::I32),
+                field("tint", 3, 16, FieldType::Vec4F32),
+            ],
+        };
+        let b = block.pack(&params, &ParamValues::new());
+        let word = |i: usize| u32::from_le_bytes(b[4 * i..4 * i + 4].try_into().unwrap());
+        let float = |i: usize| f32::from_bits(word(i));
+        assert_eq!(b.len(), 48);
+        assert_eq!(float(0), 0.5);
+        assert_eq!(word(1), 1);
+        assert_eq!(word(2), 1, "enum option index");
+        assert_eq!(word(3) as i32, -3);
+        assert_eq!(
+            [float(4), float(5), float(6), float(7)],
+            [0.25, 0.5, 0.75, 1.0],
+            "alpha defaults to 1"
+        );
+        assert!(b[32..].iter().all(|x| *x == 0), "padding stays zero");
+        let mut over = ParamValues::new();
+        over.set(&params, "a.bias", ParamValue::Float(2.0)).unwrap();
+        assert_eq!(
+            f32::from_bits(u32::from_le_bytes(block.pack(&params, &over)[0..4].try_into().unwrap())),
+            2.0
+        );
+    }
+
+    #[test]
+    fn overrides_are_checked_and_dropped_when_they_no_longer_apply() {
+        let params = vec![param("a.bias", ParamType::Float, ParamValue::Float(0.5))];
+        let mut v = ParamValues::new();
+        assert!(
+            matches!(v.set(&params, "a.bais", ParamValue::Float(1.0)), Err(ParamError::Unknown { suggestion: Some(s), .. }) if s == "a.bias")
+        );
+        assert!(matches!(
+            v.set(&params, "a.bias", ParamValue::Bool(true)),
+            Err(ParamError::Type { .. })
+        ));
+        assert!(matches!(
+            v.set(&params, "a.bias", ParamValue::Float(-1.0)),
+            Err(ParamError::Range { .. })
+        ));
+        assert!(matches!(
+            v.set(&params, "a.bias", ParamValue::Float(f64::NAN)),
+            Err(ParamError::Range { .. })
+        ));
+        v.set(&params, "a.bias", ParamValue::Float(1.0)).unwrap();
+        assert!(v.retain_applicable(&params).is_empty());
+        let other = vec![param("b.key", ParamType::Float, ParamValue::Float(0.1))];
+        let dropped = v.retain_applicable(&other);
+        assert_eq!(dropped.len(), 1);
+        assert!(v.is_empty());
+    }
+}

@@ -1,0 +1,118 @@
+//! Stages `resources` and `memory`: the resources and samplers the kept passes touch, with
+//! usages derived from how each pass uses them, extents at the plan's resolution and bytes.
+
+use super::build::Kept;
+use super::*;
+use crate::ir::{Pipeline, Resource, ResourceKind};
+use crate::layout::BindingType;
+
+/// Every resource a kept pass reads, writes, renders into or binds, in declaration order.
+pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResource> {
+    p.resources
+        .iter()
+        .filter_map(|r| {
+            let usage = usage(p, r, kept)?;
+            Some(plan_resource(r, cfg, usage))
+        })
+        .collect()
+}
+
+/// How the kept passes use `r`; `None` when none touches it.
+fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
+    let name = r.name.value.as_str();
+    let mut usage = BTreeSet::new();
+    let mut touched = name == p.output.value;
+    for (i, version) in kept {
+        let pass = &p.passes[*i];
+        touched |= pass.reads.iter().any(|rd| rd.name().value == name) || pass.written().any(|w| w.value == name);
+        if pass.color().iter().any(|c| c.resource.value == name) || pass.depth().is_some_and(|d| d.resource.value == name) {
+            usage.insert(Usage::RenderAttachment);
+        }
+        for e in version.resolved.groups.iter().flat_map(|g| &g.entries) {
+            if !matches!(&e.source, BindSource::Resource(n) | BindSource::Prev(n) if n == name) {
+                continue;
+            }
+            usage.extend(match &e.ty {
+                BindingType::Texture { .. } => Some(Usage::TextureBinding),
+                BindingType::StorageTexture { .. } => Some(Usage::StorageBinding),
+                BindingType::Storage { .. } => Some(Usage::Storage),
+                BindingType::Uniform { .. } => Some(Usage::Uniform),
+                BindingType::Sampler(_) => None,
+            });
+        }
+    }
+    if name == p.output.value {
+        usage.insert(Usage::CopySrc); // read back to save the image
+    }
+    if r.external() {
+        usage.insert(Usage::CopyDst); // filled by the runtime
+    }
+    touched.then_some(usage)
+}
+
+fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
+    let per_light = r.per_light().map(|k| k.value.clone()).unwrap_or_default();
+    let instances = if per_light.is_empty() {
+        1
+    } else {
+        cfg.scene.light_count(&per_light)
+    };
+    let copies = if r.history() { 2 } else { 1 };
+    let (shape, one) = match &r.kind {
+        ResourceKind::Texture(t) => {
+            let extent = t.size.value.resolve(cfg.scene.size);
+            let texel = t.format.value.bytes() as u64;
+            let per_layer: u64 = (0..t.mips.value)
+                .map(|m| ((extent.0 >> m).max(1) as u64) * ((extent.1 >> m).max(1) as u64) * texel)
+                .sum();
+            let shape = ResourceShape::Texture {
+                format: t.format.value,
+                size: t.size.value.clone(),
+                extent,
+                layers: t.layers.value,
+                view: t.view.value,
+                mips: t.mips.value,
+            };
+            (shape, per_layer * t.layers.value as u64)
+        }
+        ResourceKind::Buffer(b) => (ResourceShape::Buffer { size: b.size.value }, b.size.value),
+    };
+    PlanResource {
+        name: r.name.value.clone(),
+        shape,
+        per_light,
+        instances,
+        history: r.history(),
+        external: r.external(),
+        usage,
+        bytes: one * instances as u64 * copies,
+    }
+}
+
+/// The declared samplers some kept pass binds, in declaration order.
+pub(super) fn samplers(p: &Pipeline, kept: &Kept) -> Vec<PlanSampler> {
+    let used: Vec<&str> = kept
+        .iter()
+        .flat_map(|(_, v)| v.resolved.groups.iter().flat_map(|g| &g.entries))
+        .filter_map(|e| match &e.source {
+            BindSource::Sampler(s) => Some(s.as_str()),
+            _ => None,
+        })
+        .collect();
+    p.samplers
+        .iter()
+        .filter(|s| used.contains(&s.name.value.as_str()))
+        .map(|s| PlanSampler {
+            name: s.name.value.clone(),
+            kind: s.binding_kind(),
+            filter: s.filter,
+            mipmap: s.mipmap,
+            address: s.address,
+            compare: s.compare,
+        })
+        .collect()
+}
+
+pub(super) fn memory(resources: &[PlanResource]) -> u64 {
+    resources.iter().map(|r| r.bytes).sum()
+}

@@ -1,0 +1,127 @@
+//! The compiled-module cache a workspace keeps across compilations: keyed by language,
+//! capabilities and a hash of the expanded source (the source itself is compared on a hit,
+//! so a hash collision costs only a recompile), least recently used evicted past capacity.
+//! Failures are not kept, so every compilation reports its own located errors.
+
+use super::{Compiled, Lang};
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::sync::{Arc, Mutex};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Key {
+    lang: Lang,
+    caps: u64,
+    text: u64,
+}
+
+impl Key {
+    /// One number for the whole key (the identity of a compiled module).
+    pub fn hash(&self) -> u64 {
+        let mut h = std::hash::DefaultHasher::new();
+        Hash::hash(self, &mut h);
+        h.finish()
+    }
+}
+
+pub fn key(lang: Lang, caps: u64, text: &str) -> Key {
+    let mut h = std::hash::DefaultHasher::new();
+    text.hash(&mut h);
+    Key {
+        lang,
+        caps,
+        text: h.finish(),
+    }
+}
+
+/// What the cache did: naga compilations (misses), hits and evictions since it was made.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CacheStats {
+    pub compiled: u64,
+    pub hits: u64,
+    pub evicted: u64,
+    pub entries: usize,
+}
+
+struct Entry {
+    source: String,
+    compiled: Arc<Compiled>,
+    last_used: u64,
+}
+
+struct Inner {
+    map: HashMap<Key, Entry>,
+    clock: u64,
+    stats: CacheStats,
+}
+
+pub struct ModuleCache {
+    inner: Mutex<Inner>,
+    /// Most modules kept; the least recently used beyond it are dropped.
+    pub capacity: usize,
+}
+
+impl Default for ModuleCache {
+    fn default() -> Self {
+        Self::with_capacity(256)
+    }
+}
+
+impl ModuleCache {
+    pub fn with_capacity(capacity: usize) -> Self {
+        ModuleCache {
+            inner: Mutex::new(Inner {
+                map: HashMap::new(),
+                clock: 0,
+                stats: CacheStats::default(),
+            }),
+            capacity: capacity.max(1),
+        }
+    }
+
+    pub fn get(&self, key: &Key, text: &str) -> Option<Arc<Compiled>> {
+        let mut g = self.inner.lock().ok()?;
+        g.clock += 1;
+        let now = g.clock;
+        let hit = g.map.get_mut(key).filter(|e| e.source == text).map(|e| {
+            e.last_used = now;
+            e.compiled.clone()
+        });
+        if hit.is_some() {
+            g.stats.hits += 1;
+        }
+        hit
+    }
+
+    pub fn put(&self, key: Key, text: &str, compiled: Arc<Compiled>) {
+        let Ok(mut g) = self.inner.lock() else { return };
+        g.clock += 1;
+        g.stats.compiled += 1;
+        let last_used = g.clock;
+        g.map.insert(
+            key,
+            Entry {
+                source: text.to_string(),
+                compiled,
+                last_used,
+            },
+        );
+        while g.map.len() > self.capacity {
+            let Some(oldest) = g.map.iter().min_by_key(|(_, e)| e.last_used).map(|(k, _)| *k) else {
+                break;
+            };
+            g.map.remove(&oldest);
+            g.stats.evicted += 1;
+        }
+    }
+
+    pub fn stats(&self) -> CacheStats {
+        self.inner
+            .lock()
+            .map(|g| CacheStats {
+                entries: g.map.len(),
+                ..g.stats
+            })
+            .unwrap_or_default()
+    }
+}

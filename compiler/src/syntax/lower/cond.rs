@@ -1,0 +1,67 @@
+//! Lowering of `when` conditions.
+
+use super::{Lowerer, Res};
+use crate::diag::{suggestion_note, Code, Diagnostic};
+use crate::ir::{Condition, Effect, LightKind};
+use crate::span::Spanned;
+use crate::syntax::tree::{Node, Value};
+
+pub const KINDS: [&str; 8] = ["Light", "Effect", "Reflective", "Toggle", "Variant", "Not", "All", "Any"];
+
+impl Lowerer<'_> {
+    pub(super) fn condition(&mut self, n: &Node) -> Res<Spanned<Condition>> {
+        let c = match &*n.value {
+            Value::Ident(i) if i == "Reflective" => Condition::Reflective,
+            Value::Tuple {
+                name: Some((nm, nspan)),
+                items,
+            } => match (nm.as_str(), items.as_slice()) {
+                ("Light", [k]) => Condition::Light(self.ident(k, "light kind", &LightKind::NAMES, LightKind::from_name)?),
+                ("Effect", [e]) => Condition::Effect(self.effect(e)?),
+                ("Toggle", [p]) => Condition::Toggle(self.string(p)?),
+                ("Variant", [v, o]) => Condition::Variant(self.string(v)?, self.string(o)?),
+                ("Not", [c]) => Condition::Not(Box::new(self.condition(c)?)),
+                ("All" | "Any", [l]) => {
+                    let items = self.list(l)?.to_vec();
+                    let cs = items.iter().map(|i| self.condition(i)).collect::<Option<Vec<_>>>()?;
+                    if nm == "All" {
+                        Condition::All(cs)
+                    } else {
+                        Condition::Any(cs)
+                    }
+                }
+                (k, _) if KINDS.contains(&k) => {
+                    self.err(Diagnostic::error(Code::TypeMismatch, format!("wrong arguments for condition `{k}`"), n.span).with_note(
+                        "forms: Light(Point), Effect(Ssr), Reflective, Toggle(\"param\"), Variant(\"name\", \"option\"), Not(c), All([..]), Any([..])",
+                    ));
+                    return None;
+                }
+                (k, _) => {
+                    self.err(
+                        Diagnostic::error(Code::UnknownKind, format!("unknown condition `{k}`"), *nspan)
+                            .with_note(suggestion_note(k, &KINDS)),
+                    );
+                    return None;
+                }
+            },
+            _ => return self.type_err("a condition such as `Effect(Ssr)`", n),
+        };
+        Some(Spanned::new(c, n.span))
+    }
+
+    fn effect(&mut self, e: &Node) -> Res<Effect> {
+        let Value::Ident(i) = &*e.value else {
+            return self.type_err("an effect name", e);
+        };
+        match Effect::from_name(i) {
+            Some(x) => Some(x),
+            None => {
+                self.err(
+                    Diagnostic::error(Code::UnknownEffect, format!("unknown effect `{i}`"), e.span)
+                        .with_note(suggestion_note(i, &Effect::NAMES)),
+                );
+                None
+            }
+        }
+    }
+}

@@ -1,0 +1,304 @@
+//! Lowering of passes: the keys every pass has, then each kind's own (raster, fullscreen,
+//! compute), shader references and targets.
+
+use super::{Lowerer, Obj, Res};
+use crate::diag::{Code, Diagnostic};
+use crate::ir::*;
+use crate::span::{Span, Spanned};
+use crate::syntax::tree::{Node, Value};
+
+const COMMON: [&str; 10] = [
+    "name",
+    "shader",
+    "reads",
+    "writes",
+    "params",
+    "param_block",
+    "bind",
+    "when",
+    "per_light",
+    "per_face",
+];
+const RASTER: [&str; 8] = ["vertex", "fragment", "color", "depth", "draw", "cull", "instances", "multiview"];
+const FULLSCREEN: [&str; 3] = ["fragment", "color", "depth"];
+const COMPUTE: [&str; 2] = ["entry", "dispatch"];
+
+/// The keys of a pass kind, and those that belong to the other kinds only.
+fn keys(kind: &str) -> (Vec<&'static str>, Vec<&'static str>) {
+    let own: &[&str] = match kind {
+        "Raster" => &RASTER,
+        "Fullscreen" => &FULLSCREEN,
+        _ => &COMPUTE,
+    };
+    let allowed: Vec<&str> = COMMON.iter().chain(own).copied().collect();
+    let mut elsewhere: Vec<&str> = RASTER.iter().chain(&FULLSCREEN).chain(&COMPUTE).copied().collect();
+    elsewhere.retain(|k| !allowed.contains(k));
+    (allowed, elsewhere)
+}
+
+impl Lowerer<'_> {
+    pub(super) fn passes(&mut self, node: &Node) -> Res<Vec<Pass>> {
+        let items = self.list(node)?.to_vec();
+        Some(items.iter().filter_map(|it| self.pass(it)).collect())
+    }
+
+    fn pass(&mut self, node: &Node) -> Res<Pass> {
+        let mut o = self.obj(node, &["Raster", "Fullscreen", "Compute"], "pass")?;
+        let name = self.required(&mut o, "name").and_then(|n| self.string(&n));
+        if let Some(n) = &name {
+            o.what = format!("pass `{}`", n.value);
+        }
+        let shader = o.take("shader").and_then(|n| self.string(&n));
+        let kind = match o.kind.as_str() {
+            "Raster" => self.raster(&mut o, &shader).map(PassKind::Raster),
+            "Fullscreen" => self.fullscreen(&mut o, &shader).map(PassKind::Fullscreen),
+            _ => self.compute(&mut o, &shader).map(PassKind::Compute),
+        };
+        let pass = self.pass_common(&mut o, name, kind);
+        let (allowed, elsewhere) = keys(&o.kind);
+        self.finish(o, &allowed, &elsewhere);
+        pass
+    }
+
+    fn pass_common(&mut self, o: &mut Obj, name: Option<Spanned<String>>, kind: Option<PassKind>) -> Res<Pass> {
+        let reads = o.get("reads").and_then(|n| self.reads(&n));
+        let writes = o.get("writes").and_then(|n| self.string_list(&n));
+        let params = o.get("params").and_then(|n| self.string_list(&n));
+        let param_block = o.get("param_block").and_then(|n| self.string(&n));
+        let bind = o.get("bind").and_then(|n| self.string_pairs(&n));
+        let when = match o.take("when") {
+            Some(n) => Some(self.condition(&n)?),
+            None => None,
+        };
+        let per_light = match o.take("per_light") {
+            Some(n) => Some(self.light_kinds(&n)?),
+            None => None,
+        };
+        let per_face = o.get("per_face").and_then(|n| self.bool(&n));
+        Some(Pass {
+            name: name?,
+            kind: kind?,
+            reads: reads?,
+            writes: writes?,
+            params: params?,
+            param_block: param_block?,
+            bind: bind?,
+            when,
+            per_light,
+            per_face: per_face?,
+            span: o.span,
+        })
+    }
+
+    fn raster(&mut self, o: &mut Obj, shader: &Option<Spanned<String>>) -> Res<Raster> {
+        let draw = o.get("draw").and_then(|n| match (&*n.value, n.name()) {
+            (Value::Ident(_), Some("Scene")) => Some(Draw::Scene),
+            (Value::Tuple { items, .. }, Some("Vertices")) if items.len() == 1 => Some(Draw::Vertices(self.u32(&items[0])?.value)),
+            _ => self.type_err("`Scene` or `Vertices(count)`", &n),
+        });
+        let cull = o
+            .get("cull")
+            .and_then(|n| self.ident(&n, "cull mode", &CullMode::NAMES, CullMode::from_name));
+        let instances = o.get("instances").and_then(|n| self.u32(&n));
+        let multiview = match o.take("multiview") {
+            Some(n) => Some(self.u32(&n)?),
+            None => None,
+        };
+        let vertex = self.shader_ref(shader, o.take("vertex"), Stage::Vertex, o.span);
+        // Without color targets a raster pass is depth-only unless it names a fragment stage.
+        let fragment = match o.take("fragment") {
+            None if !o.has("color") => Some(None),
+            given => self.optional_stage(shader, given, o.span),
+        };
+        let targets = self.targets(o);
+        Some(Raster {
+            vertex: vertex?,
+            fragment: fragment?,
+            targets: targets?,
+            draw: draw?,
+            cull: cull?,
+            instances: instances?,
+            multiview,
+        })
+    }
+
+    fn fullscreen(&mut self, o: &mut Obj, shader: &Option<Spanned<String>>) -> Res<Fullscreen> {
+        let fragment = self.shader_ref(shader, o.take("fragment"), Stage::Fragment, o.span);
+        let targets = self.targets(o);
+        Some(Fullscreen {
+            fragment: fragment?,
+            targets: targets?,
+        })
+    }
+
+    fn compute(&mut self, o: &mut Obj, shader: &Option<Spanned<String>>) -> Res<Compute> {
+        let entry = self.shader_ref(shader, o.take("entry"), Stage::Compute, o.span);
+        let dispatch = self.required(o, "dispatch").and_then(|n| match (&*n.value, n.name()) {
+            (Value::Tuple { items, .. }, Some("Size")) if items.len() == 1 => Some(Dispatch::Size(self.string(&items[0])?)),
+            (Value::Tuple { items, .. }, Some("Groups")) if items.len() == 3 => Some(Dispatch::Groups(
+                self.u32(&items[0])?.value,
+                self.u32(&items[1])?.value,
+                self.u32(&items[2])?.value,
+            )),
+            _ => self.type_err("`Size(\"resource\")` or `Groups(x, y, z)`", &n),
+        });
+        Some(Compute {
+            entry: entry?,
+            dispatch: dispatch?,
+        })
+    }
+
+    /// `fragment: None` (no fragment stage) or a stage reference.
+    fn optional_stage(&mut self, shader: &Option<Spanned<String>>, given: Option<Node>, span: Span) -> Res<Option<ShaderRef>> {
+        if let Some(n) = &given {
+            if matches!(&*n.value, Value::Ident(i) if i == "None") {
+                return Some(None);
+            }
+        }
+        self.shader_ref(shader, given, Stage::Fragment, span).map(Some)
+    }
+
+    /// A stage's shader: `file#entry` names another file; a given entry is used as written;
+    /// with none, the stage's default entry of the pass's shader (`main` for GLSL).
+    fn shader_ref(&mut self, shader: &Option<Spanned<String>>, given: Option<Node>, stage: Stage, pass_span: Span) -> Res<ShaderRef> {
+        let (text, span) = match given {
+            Some(n) => {
+                let s = self.string(&n)?;
+                (Some(s.value), s.span)
+            }
+            None => (None, shader.as_ref().map(|f| f.span).unwrap_or(pass_span)),
+        };
+        if let Some((file, entry)) = text.as_deref().and_then(|t| t.split_once('#')) {
+            return Some(ShaderRef {
+                file: Spanned::new(file.to_string(), span),
+                entry: Spanned::new(entry.to_string(), span),
+            });
+        }
+        let Some(file) = shader.clone() else {
+            self.err(Diagnostic::error(
+                Code::MissingKey,
+                format!("pass has no `shader` for its {} stage", stage.word()),
+                pass_span,
+            ));
+            return None;
+        };
+        let entry = text.unwrap_or_else(|| default_entry(stage, &file.value).to_string());
+        Some(ShaderRef {
+            file,
+            entry: Spanned::new(entry, span),
+        })
+    }
+
+    fn reads(&mut self, n: &Node) -> Res<Vec<Read>> {
+        let items = self.list(n)?.to_vec();
+        let mut out = vec![];
+        for it in &items {
+            match (&*it.value, it.name()) {
+                (Value::Str(s), _) => out.push(Read::Current(Spanned::new(s.clone(), it.span))),
+                (Value::Tuple { items, .. }, Some("Prev")) if items.len() == 1 => out.push(Read::Prev(self.string(&items[0])?)),
+                _ => return self.type_err("a resource name or `Prev(\"name\")`", it),
+            }
+        }
+        Some(out)
+    }
+
+    fn targets(&mut self, o: &mut Obj) -> Res<Targets> {
+        let color = o.get("color").and_then(|n| {
+            let items = self.list(&n)?.to_vec();
+            items.iter().map(|it| self.color_target(it)).collect::<Option<Vec<_>>>()
+        });
+        let depth = match o.take("depth") {
+            Some(n) => Some(self.depth_target(&n)?),
+            None => None,
+        };
+        Some(Targets { color: color?, depth })
+    }
+
+    /// A target given as a bare name is the target struct with every key at its default.
+    fn target_obj(&mut self, n: &Node, kind: &str, what: &str) -> Res<(Spanned<String>, Obj)> {
+        if let Value::Str(s) = &*n.value {
+            let bare = Node::structure(
+                kind,
+                n.span,
+                vec![("resource".into(), n.span, Node::str(s.clone(), n.span))],
+                n.span,
+            );
+            return self.target_obj(&bare, kind, what);
+        }
+        let mut o = self.obj(n, &[kind], what)?;
+        let resource = self.required(&mut o, "resource").and_then(|r| self.string(&r))?;
+        Some((resource, o))
+    }
+
+    fn color_target(&mut self, n: &Node) -> Res<ColorTarget> {
+        let (resource, mut o) = self.target_obj(n, "Target", "color target")?;
+        let load = self.load(&mut o, |l, n| l.floats::<4>(n, "an RGBA tuple `(r, g, b, a)`"));
+        let blend = match o.take("blend") {
+            Some(b) => Some(Spanned::new(self.ident(&b, "blend mode", &Blend::NAMES, Blend::from_name)?, b.span)),
+            None => None,
+        };
+        let layer = o.get("layer").and_then(|l| self.layer(&l));
+        let span = o.span;
+        self.finish(o, &["resource", "clear", "load", "blend", "layer"], &["compare", "write"]);
+        Some(ColorTarget {
+            resource,
+            load: load?,
+            blend,
+            layer: layer?,
+            span,
+        })
+    }
+
+    fn depth_target(&mut self, n: &Node) -> Res<DepthTarget> {
+        let (resource, mut o) = self.target_obj(n, "Depth", "depth target")?;
+        let load = self.load(&mut o, |l, n| l.f64(n));
+        let compare = o
+            .get("compare")
+            .and_then(|c| self.ident(&c, "compare function", &CompareFn::NAMES, CompareFn::from_name));
+        let write = o.get("write").and_then(|w| self.bool(&w));
+        let layer = o.get("layer").and_then(|l| self.layer(&l));
+        let span = o.span;
+        self.finish(o, &["resource", "clear", "load", "compare", "write", "layer"], &["blend"]);
+        Some(DepthTarget {
+            resource,
+            load: load?,
+            compare: compare?,
+            write: write?,
+            layer: layer?,
+            span,
+        })
+    }
+
+    /// `clear: value` or `load: Load` (`load: Clear` means the default clear value).
+    fn load<T>(&mut self, o: &mut Obj, value: impl Fn(&mut Self, &Node) -> Res<T>) -> Res<Load<T>> {
+        match (o.take("clear"), o.take("load")) {
+            (Some(c), Some(_)) => {
+                self.err(Diagnostic::error(
+                    Code::ConflictingKeys,
+                    "give either `clear` or `load`, not both",
+                    c.span,
+                ));
+                None
+            }
+            (None, Some(l)) => match &*l.value {
+                Value::Ident(i) if i == "Load" => Some(Load::Load),
+                Value::Ident(i) if i == "Clear" => Some(Load::Clear(value(self, &o.get("clear")?)?)),
+                _ => self.type_err("`Load` or `Clear`", &l),
+            },
+            (c, None) => {
+                let c = c.or_else(|| o.get("clear"))?;
+                Some(Load::Clear(value(self, &c)?))
+            }
+        }
+    }
+
+    fn layer(&mut self, n: &Node) -> Res<LayerSel> {
+        match (&*n.value, n.name()) {
+            (Value::Ident(_), Some("Base")) => Some(LayerSel::Base),
+            (Value::Ident(_), Some("Face")) => Some(LayerSel::Face),
+            (Value::Ident(_), Some("All")) => Some(LayerSel::All),
+            (Value::Tuple { items, .. }, Some("Index")) if items.len() == 1 => Some(LayerSel::Index(self.u32(&items[0])?.value)),
+            _ => self.type_err("`Base`, `Face`, `All` or `Index(n)`", n),
+        }
+    }
+}

@@ -1,0 +1,75 @@
+//! Lowering of variants and their options.
+
+use super::{Lowerer, Res};
+use crate::ir::{Variant, VariantOption};
+use crate::profile::Feature;
+use crate::span::Spanned;
+use crate::syntax::tree::Node;
+
+impl Lowerer<'_> {
+    pub(super) fn variants(&mut self, n: &Node) -> Res<Vec<Variant>> {
+        let entries = self.string_map(n)?;
+        Some(entries.into_iter().filter_map(|(name, v)| self.variant(name, &v)).collect())
+    }
+
+    fn variant(&mut self, name: Spanned<String>, node: &Node) -> Res<Variant> {
+        let mut o = self.obj(node, &["Variant"], "variant")?;
+        o.what = format!("variant `{}`", name.value);
+        let default = self.required(&mut o, "default").and_then(|n| self.string(&n));
+        let doc = o.take("doc").and_then(|n| self.string(&n)).map(|s| s.value);
+        let options = self.required(&mut o, "options").and_then(|n| self.variant_options(&n));
+        let span = o.span;
+        self.finish(o, &["default", "doc", "options"], &[]);
+        Some(Variant {
+            name,
+            options: options?,
+            default: default?,
+            doc,
+            span,
+        })
+    }
+
+    fn variant_options(&mut self, n: &Node) -> Res<Vec<VariantOption>> {
+        let entries = self.string_map(n)?;
+        Some(entries.into_iter().filter_map(|(name, v)| self.variant_option(name, &v)).collect())
+    }
+
+    fn variant_option(&mut self, name: Spanned<String>, node: &Node) -> Res<VariantOption> {
+        let mut o = self.obj(node, &["Option"], "variant option")?;
+        o.what = format!("variant option `{}`", name.value);
+        let requires = o.get("requires").and_then(|n| {
+            let items = self.list(&n)?.to_vec();
+            items
+                .iter()
+                .map(|i| {
+                    self.ident(i, "feature", Feature::NAMES, Feature::from_name)
+                        .map(|f| Spanned::new(f, i.span))
+                })
+                .collect::<Option<Vec<_>>>()
+        });
+        let limits = o.get("limits").and_then(|n| {
+            let entries = self.string_map(&n)?;
+            entries
+                .into_iter()
+                .map(|(k, v)| self.u64(&v).map(|v| (k, v)))
+                .collect::<Option<Vec<_>>>()
+        });
+        let fallback = match o.take("fallback") {
+            Some(n) => Some(self.string(&n)?),
+            None => None,
+        };
+        let shaders = o.get("shaders").and_then(|n| self.string_pairs(&n));
+        let doc = o.take("doc").and_then(|n| self.string(&n)).map(|s| s.value);
+        let span = o.span;
+        self.finish(o, &["requires", "limits", "fallback", "shaders", "doc"], &[]);
+        Some(VariantOption {
+            name,
+            requires: requires?,
+            limits: limits?,
+            fallback,
+            shaders: shaders?,
+            doc,
+            span,
+        })
+    }
+}

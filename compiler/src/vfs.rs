@@ -1,0 +1,102 @@
+//! The virtual file system a compilation reads through: the disk, or files held in memory
+//! (tests, an editor's unsaved buffers). Paths are compared after lexical normalisation.
+
+use std::collections::BTreeMap;
+use std::io;
+use std::path::{Component, Path, PathBuf};
+use std::sync::RwLock;
+
+pub trait Vfs: Send + Sync {
+    fn read(&self, path: &Path) -> io::Result<String>;
+    fn is_dir(&self, path: &Path) -> bool;
+}
+
+/// The real file system.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DiskVfs;
+
+impl Vfs for DiskVfs {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        std::fs::read_to_string(path)
+    }
+    fn is_dir(&self, path: &Path) -> bool {
+        path.is_dir()
+    }
+}
+
+/// Files held in memory, keyed by normalised path.
+#[derive(Debug, Default)]
+pub struct MemoryVfs {
+    files: RwLock<BTreeMap<PathBuf, String>>,
+}
+
+impl MemoryVfs {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Add or replace a file.
+    pub fn write(&self, path: impl AsRef<Path>, text: impl Into<String>) {
+        if let Ok(mut f) = self.files.write() {
+            f.insert(normalize(path.as_ref()), text.into());
+        }
+    }
+
+    pub fn remove(&self, path: impl AsRef<Path>) {
+        if let Ok(mut f) = self.files.write() {
+            f.remove(&normalize(path.as_ref()));
+        }
+    }
+}
+
+impl Vfs for MemoryVfs {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        let files = self.files.read().map_err(|_| io::Error::other("file table poisoned"))?;
+        files
+            .get(&normalize(path))
+            .cloned()
+            .ok_or_else(|| io::Error::new(io::ErrorKind::NotFound, "no such file (in memory)"))
+    }
+    fn is_dir(&self, path: &Path) -> bool {
+        let dir = normalize(path);
+        self.files
+            .read()
+            .map(|f| f.keys().any(|k| k.starts_with(&dir) && *k != dir))
+            .unwrap_or(false)
+    }
+}
+
+/// Remove `.` and `dir/..` pairs lexically so diagnostics show `shaders/x.wgsl`, not
+/// `pipelines/../shaders/x.wgsl` (no file system access, symlinks untouched).
+pub fn normalize(p: &Path) -> PathBuf {
+    let mut out: Vec<Component> = vec![];
+    for c in p.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            c => out.push(c),
+        }
+    }
+    if out.is_empty() {
+        return PathBuf::from(".");
+    }
+    out.iter().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn memory_files_normalise_paths_and_know_their_directories() {
+        let m = MemoryVfs::new();
+        m.write("p/../shaders/a.wgsl", "x");
+        assert_eq!(m.read(Path::new("./shaders/a.wgsl")).unwrap(), "x");
+        assert!(m.is_dir(Path::new("shaders")));
+        assert!(!m.is_dir(Path::new("shaders/a.wgsl")));
+        m.remove("shaders/a.wgsl");
+        assert!(m.read(Path::new("shaders/a.wgsl")).is_err());
+    }
+}

@@ -1,0 +1,299 @@
+//! The compile workspace: what a long-running process holds between compilations (the
+//! virtual file system and the compiled-module cache), and the [`Session`] of one
+//! compilation (its sources, diagnostics and the files it depended on).
+
+use crate::check::{self, Checked};
+use crate::diag::{Code, Diagnostic, Diagnostics, Severity};
+use crate::ir::Pipeline;
+use crate::plan::{self, Config, Plan};
+use crate::profile::Profile;
+use crate::scene::SceneFeatures;
+use crate::shader::{ModuleCache, ShaderLoader, ShaderModule};
+use crate::span::SourceMap;
+use crate::vfs::{normalize, DiskVfs, Vfs};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A Plan together with the validated modules of its stages: what the runtime executes.
+pub struct Executable {
+    pub plan: Plan,
+    /// Per Plan pass, the module of each of its stages (aligned with `PlanPass::stages`).
+    pub modules: Vec<Vec<Arc<ShaderModule>>>,
+    /// Every file the compilation read or tried to read (pipeline, shaders, includes):
+    /// what a watcher watches and a manifest hashes.
+    pub files: BTreeSet<PathBuf>,
+}
+
+/// What a long-running process keeps between compilations.
+#[derive(Clone)]
+pub struct Workspace {
+    vfs: Arc<dyn Vfs>,
+    modules: Arc<ModuleCache>,
+}
+
+impl Default for Workspace {
+    fn default() -> Self {
+        Workspace::new(Arc::new(DiskVfs))
+    }
+}
+
+impl Workspace {
+    pub fn new(vfs: Arc<dyn Vfs>) -> Self {
+        Workspace {
+            vfs,
+            modules: Arc::new(ModuleCache::default()),
+        }
+    }
+
+    /// Reading the real file system.
+    pub fn disk() -> Self {
+        Self::default()
+    }
+
+    /// A new compilation sharing this workspace's files and compiled modules.
+    pub fn session(&self) -> Session {
+        Session {
+            sources: SourceMap::new(),
+            diags: Diagnostics::default(),
+            vfs: self.vfs.clone(),
+            modules: self.modules.clone(),
+            dependencies: BTreeSet::new(),
+        }
+    }
+
+    pub fn modules(&self) -> &ModuleCache {
+        &self.modules
+    }
+
+    pub fn vfs(&self) -> &Arc<dyn Vfs> {
+        &self.vfs
+    }
+}
+
+/// One compilation: everything it touched and reported. Render diagnostics with `sources`.
+pub struct Session {
+    pub sources: SourceMap,
+    pub diags: Diagnostics,
+    vfs: Arc<dyn Vfs>,
+    modules: Arc<ModuleCache>,
+    dependencies: BTreeSet<PathBuf>,
+}
+
+impl Default for Session {
+    fn default() -> Self {
+        Workspace::disk().session()
+    }
+}
+
+/// Where a pipeline's shader paths are resolved: an explicit root, else the first of
+/// `<pipeline dir>/shaders`, `<pipeline dir>/../shaders` that exists, else the pipeline's dir.
+pub fn shader_root_for(vfs: &dyn Vfs, pipeline: &Path, explicit: Option<&Path>) -> PathBuf {
+    if let Some(e) = explicit {
+        return e.to_path_buf();
+    }
+    let dir = pipeline.parent().map(Path::to_path_buf).unwrap_or_default();
+    let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
+    for cand in [dir.join("shaders"), dir.join("..").join("shaders")] {
+        if vfs.is_dir(&cand) {
+            return normalize(&cand);
+        }
+    }
+    dir
+}
+
+/// Pipeline files under a path on disk: the file itself, or every `.ron`/`.lbp` file below a directory.
+pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
+    if path.is_file() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let mut out = vec![];
+    let mut dirs = vec![path.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d)? {
+            let p = e?.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")) {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    Ok(out)
+}
+
+impl Session {
+    /// A standalone compilation reading the disk (with a cache of its own).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Every file this compilation read or tried to read.
+    pub fn dependencies(&self) -> &BTreeSet<PathBuf> {
+        &self.dependencies
+    }
+
+    /// Read and parse a pipeline file into IR (front end chosen by extension).
+    pub fn load_pipeline(&mut self, path: &Path) -> Option<Pipeline> {
+        let name = path.display().to_string();
+        self.dependencies.insert(path.to_path_buf());
+        let text = match self.vfs.read(path) {
+            Ok(t) => t,
+            Err(e) => {
+                self.diags.push(Diagnostic::unlocated(
+                    Severity::Error,
+                    Code::FileNotFound,
+                    format!("cannot read pipeline `{name}`: {e}"),
+                ));
+                return None;
+            }
+        };
+        self.parse_pipeline(&name, text)
+    }
+
+    /// Parse pipeline text; `name` decides the front end by extension and is shown in diagnostics.
+    pub fn parse_pipeline(&mut self, name: &str, text: String) -> Option<Pipeline> {
+        let file = self.sources.add(name, text.clone());
+        match Path::new(name).extension().and_then(|e| e.to_str()) {
+            Some("ron") => crate::front::ron::parse_pipeline(file, &text, &mut self.diags),
+            Some("lbp") => crate::front::lbp::parse_pipeline(file, &text, &mut self.diags),
+            other => {
+                self.diags.push(Diagnostic::unlocated(
+                    Severity::Error,
+                    Code::UnknownFormat,
+                    format!(
+                        "`{name}`: unknown pipeline format `{}` (expected `.ron` or `.lbp`)",
+                        other.unwrap_or("")
+                    ),
+                ));
+                None
+            }
+        }
+    }
+
+    /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
+    pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
+        let mut loader = ShaderLoader::new(shader_root.to_path_buf(), self.vfs.clone(), self.modules.clone());
+        let checked = check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags);
+        self.dependencies.extend(loader.dependencies);
+        checked
+    }
+
+    /// Plan one configuration. `None` when it has errors (they are in `diags`).
+    pub fn plan(&mut self, checked: &Checked, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
+        if self.diags.has_errors() {
+            return None;
+        }
+        let selection = plan::select(&checked.pipeline, profile, variants, &mut self.diags)?;
+        let cfg = Config { profile, scene, selection };
+        plan::build_plan(checked, &cfg, &mut self.diags)
+    }
+
+    /// Plan every configuration `check` covers: the defaults, then each option of each variant
+    /// (others at their default); for `scene`, or else for a scene calling for every effect and
+    /// one calling for none (both with every light kind), so both sides of effect conditions
+    /// are checked.
+    pub fn check_configurations(&mut self, checked: &Checked, profile: &Profile, scene: Option<&SceneFeatures>) {
+        let scenes = match scene {
+            Some(s) => vec![s.clone()],
+            // A scene without effects only changes something if some condition asks for one.
+            None if !checked
+                .pipeline
+                .passes
+                .iter()
+                .any(|p| p.when.as_ref().is_some_and(|w| w.mentions_scene_effects())) =>
+            {
+                vec![SceneFeatures::everything()]
+            }
+            None => {
+                let mut plain = SceneFeatures::everything();
+                plain.name = "<no effects>".into();
+                plain.effects.clear();
+                plain.reflective = false;
+                vec![SceneFeatures::everything(), plain]
+            }
+        };
+        let mut configs: Vec<Vec<(String, String)>> = vec![vec![]];
+        for v in &checked.pipeline.variants {
+            for o in &v.options {
+                configs.push(vec![(v.name.value.clone(), o.name.value.clone())]);
+            }
+        }
+        for scene in &scenes {
+            let mut seen: Vec<BTreeMap<String, String>> = vec![];
+            for c in &configs {
+                let Some(selection) = plan::select(&checked.pipeline, profile, c, &mut self.diags) else {
+                    continue;
+                };
+                // Requesting the default option, or one that falls back to an option already
+                // planned, gives a configuration already checked.
+                if seen.contains(&selection.chosen) {
+                    continue;
+                }
+                seen.push(selection.chosen.clone());
+                let cfg = Config { profile, scene, selection };
+                plan::schedule(checked, &cfg, &mut self.diags);
+            }
+        }
+    }
+
+    /// Load and check a pipeline file; `None` when it has errors (they are in `diags`).
+    fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
+        let p = self.load_pipeline(path)?;
+        let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
+        let checked = self.check(p, &root, profile);
+        (!self.diags.has_errors()).then_some(checked)
+    }
+
+    /// Load, check and plan a pipeline file in one go.
+    pub fn plan_file(
+        &mut self,
+        path: &Path,
+        shader_root: Option<&Path>,
+        profile: &Profile,
+        scene: &SceneFeatures,
+        variants: &[(String, String)],
+    ) -> Option<Plan> {
+        let checked = self.load_checked(path, shader_root, profile)?;
+        self.plan(&checked, profile, scene, variants)
+    }
+
+    /// Load, check and plan a pipeline file, keeping the shader modules for execution.
+    pub fn executable(
+        &mut self,
+        path: &Path,
+        shader_root: Option<&Path>,
+        profile: &Profile,
+        scene: &SceneFeatures,
+        variants: &[(String, String)],
+    ) -> Option<Executable> {
+        let checked = self.load_checked(path, shader_root, profile)?;
+        let plan = self.plan(&checked, profile, scene, variants)?;
+        let chosen: BTreeMap<String, String> = plan.variants.iter().map(|v| (v.variant.clone(), v.option.clone())).collect();
+        let mut modules = vec![];
+        for pp in &plan.passes {
+            let i = checked.pipeline.passes.iter().position(|p| p.name.value == pp.name)?;
+            let version = checked.version(i, &chosen)?;
+            modules.push(version.stages.iter().map(|st| st.module.clone()).collect());
+        }
+        Some(Executable {
+            plan,
+            modules,
+            files: self.dependencies.clone(),
+        })
+    }
+
+    /// Load and check a pipeline file across its configurations (what `lightbench check` does).
+    pub fn check_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: Option<&SceneFeatures>) {
+        let Some(checked) = self.load_checked(path, shader_root, profile) else {
+            return;
+        };
+        self.check_configurations(&checked, profile, scene);
+    }
+
+    /// All diagnostics rendered rustc-style.
+    pub fn render(&self) -> String {
+        self.diags.list.iter().map(|d| d.render(&self.sources)).collect::<Vec<_>>().join("")
+    }
+}

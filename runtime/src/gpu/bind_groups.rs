@@ -1,0 +1,300 @@
+//! Bind groups and attachment views of each repetition of a pass (per light, per face and
+//! per frame parity for history resources), and per-mesh groups for per-draw slots. Every
+//! slot is filled from what the Plan says it binds.
+
+use super::pool::Pool;
+use super::scene_gpu::SceneGpu;
+use super::{convert, Gpu};
+use crate::blocks::InstanceBlock;
+use crate::error::{Error, Result};
+use crate::scene::Light;
+use lightbench_compiler::ir::{LayerSel, LightKind};
+use lightbench_compiler::layout::{BindSource, BindingType, DrawSlot};
+use lightbench_compiler::plan::{Plan, PlanBindGroup, PlanPass, ResourceId};
+
+/// Instance slots are 256 bytes apart (the uniform offset alignment).
+pub const SLOT: u64 = 256;
+
+/// One repetition of a pass: what it binds and renders into, per frame parity.
+pub struct Rep {
+    pub groups: [Vec<(u32, wgpu::BindGroup)>; 2],
+    pub color: [Vec<wgpu::TextureView>; 2],
+    pub depth: [Option<wgpu::TextureView>; 2],
+}
+
+/// Light indices (into the active light array) a per-light list of kinds iterates, in order.
+pub fn lights_of(lights: &[Light], kinds: &[LightKind]) -> Vec<u32> {
+    lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| kinds.contains(&l.kind))
+        .map(|(i, _)| i as u32)
+        .collect()
+}
+
+/// What bind groups are made from.
+pub struct Binder<'a> {
+    pub gpu: &'a Gpu,
+    pub plan: &'a Plan,
+    pub pool: &'a Pool,
+    pub samplers: &'a [wgpu::Sampler],
+    pub frame: &'a wgpu::Buffer,
+    pub lights_buf: &'a wgpu::Buffer,
+    pub instance: &'a wgpu::Buffer,
+    pub lights: &'a [Light],
+}
+
+enum Held<'a> {
+    Buf(wgpu::BufferBinding<'a>),
+    View(wgpu::TextureView),
+    Sampler(&'a wgpu::Sampler),
+}
+
+impl Binder<'_> {
+    /// Index of a per-light resource's instance for light `light` (its rank among the lights
+    /// the resource has instances for).
+    fn instance_of(&self, res: ResourceId, light: Option<u32>) -> u32 {
+        let r = self.plan.res(res);
+        match (r.per_light.is_empty(), light) {
+            (false, Some(l)) => lights_of(self.lights, &r.per_light).iter().position(|&i| i == l).unwrap_or(0) as u32,
+            _ => 0,
+        }
+    }
+
+    fn entry(&self, res: ResourceId) -> Result<&super::pool::Entry> {
+        self.pool
+            .get(res)
+            .ok_or_else(|| Error::Plan(format!("resource #{} is not in the pool", res.0)))
+    }
+
+    /// Every repetition of a pass (lights of its kinds × faces), writing each one's instance
+    /// block at its slot; `slot` advances past the pass's slots.
+    pub fn reps(&self, pp: &PlanPass, layouts: &[wgpu::BindGroupLayout], params: &[wgpu::Buffer], slot: &mut u64) -> Result<Vec<Rep>> {
+        let lights: Vec<Option<u32>> = if pp.per_light.is_empty() {
+            vec![None]
+        } else {
+            lights_of(self.lights, &pp.per_light).into_iter().map(Some).collect()
+        };
+        let faces: Vec<u32> = if pp.per_face { (0..6).collect() } else { vec![0] };
+        let parities = if self.pool.has_history() { 2 } else { 1 };
+        let mut reps = vec![];
+        for &light in &lights {
+            for &face in &faces {
+                let inst = InstanceBlock {
+                    light: light.unwrap_or(0),
+                    face,
+                    view_count: pp.work.multiview().unwrap_or(1),
+                    _pad: 0,
+                };
+                self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
+                let mut rep = Rep {
+                    groups: [vec![], vec![]],
+                    color: [vec![], vec![]],
+                    depth: [None, None],
+                };
+                for parity in 0..parities {
+                    self.fill(&mut rep, pp, layouts, params, (light, face, *slot, parity))?;
+                }
+                if parities == 1 {
+                    rep.groups[1] = rep.groups[0].clone();
+                    rep.color[1] = rep.color[0].clone();
+                    rep.depth[1] = rep.depth[0].clone();
+                }
+                reps.push(rep);
+                *slot += 1;
+            }
+        }
+        Ok(reps)
+    }
+
+    fn fill(
+        &self,
+        rep: &mut Rep,
+        pp: &PlanPass,
+        layouts: &[wgpu::BindGroupLayout],
+        params: &[wgpu::Buffer],
+        (light, face, slot, parity): (Option<u32>, u32, u64, u32),
+    ) -> Result<()> {
+        let p = parity as usize;
+        for g in pp.bind_groups.iter().filter(|g| !g.is_per_draw()) {
+            let layout = layouts
+                .get(g.group as usize)
+                .ok_or_else(|| Error::Plan(format!("no layout for group {}", g.group)))?;
+            rep.groups[p].push((g.group, self.group(pp, g, layout, params, light, slot, parity)?));
+        }
+        if let Some(t) = pp.work.targets() {
+            for c in &t.color {
+                rep.color[p].push(self.attachment(c.resource, c.layer, light, face, parity)?);
+            }
+            if let Some(d) = &t.depth {
+                rep.depth[p] = Some(self.attachment(d.resource, d.layer, light, face, parity)?);
+            }
+        }
+        Ok(())
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn group(
+        &self,
+        pp: &PlanPass,
+        g: &PlanBindGroup,
+        layout: &wgpu::BindGroupLayout,
+        params: &[wgpu::Buffer],
+        light: Option<u32>,
+        slot: u64,
+        parity: u32,
+    ) -> Result<wgpu::BindGroup> {
+        let mut held = vec![];
+        for e in &g.entries {
+            let r = match &e.source {
+                BindSource::Frame => Held::Buf(self.frame.as_entire_buffer_binding()),
+                BindSource::Lights => Held::Buf(self.lights_buf.as_entire_buffer_binding()),
+                BindSource::Instance => Held::Buf(wgpu::BufferBinding {
+                    buffer: self.instance,
+                    offset: slot * SLOT,
+                    size: std::num::NonZeroU64::new(16),
+                }),
+                BindSource::Params => {
+                    let i = pp.uniform_blocks.iter().position(|b| b.global == e.name);
+                    let buf = i
+                        .and_then(|i| params.get(i))
+                        .ok_or_else(|| Error::Plan(format!("no parameter block `{}`", e.name)))?;
+                    Held::Buf(buf.as_entire_buffer_binding())
+                }
+                BindSource::Sampler(s) => Held::Sampler(
+                    self.samplers
+                        .get(s.0 as usize)
+                        .ok_or_else(|| Error::Plan(format!("sampler #{} missing", s.0)))?,
+                ),
+                BindSource::Resource(id) | BindSource::Prev(id) => {
+                    let prev = matches!(e.source, BindSource::Prev(_));
+                    self.resource(*id, &e.ty, light, prev, parity)?
+                }
+                BindSource::Draw(_) => return Err(Error::Plan("per-draw binding outside the per-draw group".into())),
+            };
+            held.push((e.binding, r));
+        }
+        let entries: Vec<wgpu::BindGroupEntry> = held
+            .iter()
+            .map(|(b, r)| wgpu::BindGroupEntry {
+                binding: *b,
+                resource: match r {
+                    Held::Buf(bb) => wgpu::BindingResource::Buffer(bb.clone()),
+                    Held::View(v) => wgpu::BindingResource::TextureView(v),
+                    Held::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                },
+            })
+            .collect();
+        Ok(self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(&pp.name),
+            layout,
+            entries: &entries,
+        }))
+    }
+
+    fn resource(&self, id: ResourceId, ty: &BindingType, light: Option<u32>, prev: bool, parity: u32) -> Result<Held<'_>> {
+        let entry = self.entry(id)?;
+        let inst = self.instance_of(id, light);
+        let name = &self.plan.res(id).name;
+        Ok(match ty {
+            BindingType::Texture { view_dimension, .. } | BindingType::StorageTexture { view_dimension, .. } => {
+                let tex = entry
+                    .texture(inst, prev, parity)
+                    .ok_or_else(|| Error::Plan(format!("`{name}` is not a texture")))?;
+                Held::View(tex.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(convert::view_dim(*view_dimension)),
+                    aspect: aspect(tex),
+                    ..Default::default()
+                }))
+            }
+            _ => Held::Buf(
+                entry
+                    .buffer(inst, prev, parity)
+                    .ok_or_else(|| Error::Plan(format!("`{name}` is not a buffer")))?
+                    .as_entire_buffer_binding(),
+            ),
+        })
+    }
+
+    /// The view a pass renders into: one layer (base, fixed or the current face), or all
+    /// layers as a 2D array for multiview.
+    fn attachment(&self, res: ResourceId, layer: LayerSel, light: Option<u32>, face: u32, parity: u32) -> Result<wgpu::TextureView> {
+        let e = self.entry(res)?;
+        let (dim, range) = match layer {
+            LayerSel::All => (wgpu::TextureViewDimension::D2Array, (0, e.key.layers())),
+            LayerSel::Face => (wgpu::TextureViewDimension::D2, (face, 1)),
+            LayerSel::Base => (wgpu::TextureViewDimension::D2, (0, 1)),
+            LayerSel::Index(n) => (wgpu::TextureViewDimension::D2, (n, 1)),
+        };
+        let name = &self.plan.res(res).name;
+        let tex = e
+            .texture(self.instance_of(res, light), false, parity)
+            .ok_or_else(|| Error::Plan(format!("`{name}` is not a texture")))?;
+        Ok(tex.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(name),
+            dimension: Some(dim),
+            usage: Some(wgpu::TextureUsages::RENDER_ATTACHMENT),
+            aspect: aspect(tex),
+            base_mip_level: 0,
+            mip_level_count: Some(1),
+            base_array_layer: range.0,
+            array_layer_count: Some(range.1),
+            ..Default::default()
+        }))
+    }
+
+    /// One bind group per mesh for the pass's per-draw group, if it has one.
+    pub fn draw_groups(
+        &self,
+        pp: &PlanPass,
+        layouts: &[wgpu::BindGroupLayout],
+        scene: &SceneGpu,
+    ) -> Result<Option<(u32, Vec<wgpu::BindGroup>)>> {
+        let Some(g) = pp.bind_groups.iter().find(|g| g.is_per_draw()) else {
+            return Ok(None);
+        };
+        let layout = layouts
+            .get(g.group as usize)
+            .ok_or_else(|| Error::Plan(format!("no layout for group {}", g.group)))?;
+        let mut list = vec![];
+        for mesh in &scene.meshes {
+            let mat = &scene.materials[mesh.material];
+            let entries = g
+                .entries
+                .iter()
+                .map(|e| {
+                    let BindSource::Draw(slot) = &e.source else {
+                        return Err(Error::Plan(format!("group {} mixes per-draw bindings with others", g.group)));
+                    };
+                    let resource = match slot {
+                        DrawSlot::Mesh => mesh.block.as_entire_binding(),
+                        DrawSlot::Material => mat.block.as_entire_binding(),
+                        DrawSlot::BaseColorMap => wgpu::BindingResource::TextureView(&mat.textures[0]),
+                        DrawSlot::NormalMap => wgpu::BindingResource::TextureView(&mat.textures[1]),
+                        DrawSlot::MetallicRoughnessMap => wgpu::BindingResource::TextureView(&mat.textures[2]),
+                        DrawSlot::EmissiveMap => wgpu::BindingResource::TextureView(&mat.textures[3]),
+                        DrawSlot::MaterialSampler => wgpu::BindingResource::Sampler(&scene.sampler),
+                    };
+                    Ok(wgpu::BindGroupEntry {
+                        binding: e.binding,
+                        resource,
+                    })
+                })
+                .collect::<Result<Vec<_>>>()?;
+            list.push(self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(&pp.name),
+                layout,
+                entries: &entries,
+            }));
+        }
+        Ok(Some((g.group, list)))
+    }
+}
+
+fn aspect(tex: &wgpu::Texture) -> wgpu::TextureAspect {
+    if tex.format().is_depth_stencil_format() {
+        wgpu::TextureAspect::DepthOnly
+    } else {
+        wgpu::TextureAspect::All
+    }
+}

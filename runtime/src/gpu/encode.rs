@@ -1,0 +1,129 @@
+//! Encoding one pass of a frame: each repetition as a compute dispatch or a render pass
+//! with its attachments, bind groups and draws, as the Plan describes them.
+
+use super::bind_groups::Rep;
+use super::pipelines::{multiview_mask, Built, PipelineKind};
+use super::scene_gpu::SceneGpu;
+use super::timing::Timer;
+use lightbench_compiler::ir::{Draw, Load};
+use lightbench_compiler::plan::{PlanPass, Work};
+use std::sync::Arc;
+
+/// A pass ready to encode: its pipeline, repetitions and per-mesh groups.
+pub struct PassGpu {
+    pub plan: PlanPass,
+    pub built: Arc<Built>,
+    pub reps: Vec<Rep>,
+    /// (group index, one bind group per mesh) for `draw: Scene` passes with per-draw slots.
+    pub draw_groups: Option<(u32, Vec<wgpu::BindGroup>)>,
+}
+
+/// Record every repetition of pass number `index` into `enc`.
+pub fn encode(enc: &mut wgpu::CommandEncoder, pass: &PassGpu, index: usize, parity: usize, timer: Option<&Timer>, scene: &SceneGpu) {
+    let n = pass.reps.len();
+    for (ri, rep) in pass.reps.iter().enumerate() {
+        let ts = timer.and_then(|t| t.writes(index, ri, n).map(|w| (t, w)));
+        match (&pass.built.pipeline, &pass.plan.work) {
+            (PipelineKind::Compute(p), Work::Compute { groups, .. }) => {
+                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(&pass.plan.name),
+                    timestamp_writes: ts.map(|(t, (b, e))| wgpu::ComputePassTimestampWrites {
+                        query_set: &t.set,
+                        beginning_of_pass_write_index: b,
+                        end_of_pass_write_index: e,
+                    }),
+                });
+                cp.set_pipeline(p);
+                for (g, bg) in &rep.groups[parity] {
+                    cp.set_bind_group(*g, bg, &[]);
+                }
+                cp.dispatch_workgroups(groups[0], groups[1], groups[2]);
+            }
+            (PipelineKind::Render(p), work) => {
+                let colors = color_attachments(pass, rep, parity);
+                let depth = depth_attachment(pass, rep, parity);
+                let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some(&pass.plan.name),
+                    color_attachments: &colors,
+                    depth_stencil_attachment: depth,
+                    timestamp_writes: ts.map(|(t, (b, e))| wgpu::RenderPassTimestampWrites {
+                        query_set: &t.set,
+                        beginning_of_pass_write_index: b,
+                        end_of_pass_write_index: e,
+                    }),
+                    occlusion_query_set: None,
+                    multiview_mask: multiview_mask(work.multiview()),
+                });
+                rp.set_pipeline(p);
+                for (g, bg) in &rep.groups[parity] {
+                    rp.set_bind_group(*g, bg, &[]);
+                }
+                draw(&mut rp, pass, work, scene);
+            }
+            // The cache builds compute pipelines for compute work only.
+            (PipelineKind::Compute(_), _) => {}
+        }
+    }
+}
+
+fn draw(rp: &mut wgpu::RenderPass, pass: &PassGpu, work: &Work, scene: &SceneGpu) {
+    match work {
+        Work::Raster {
+            draw: Draw::Scene,
+            instances,
+            ..
+        } => {
+            for (mi, mesh) in scene.meshes.iter().enumerate() {
+                if let Some((g, list)) = &pass.draw_groups {
+                    rp.set_bind_group(*g, &list[mi], &[]);
+                }
+                rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+                rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                rp.draw_indexed(0..mesh.index_count, 0, 0..(*instances).max(1));
+            }
+        }
+        Work::Raster {
+            draw: Draw::Vertices(n),
+            instances,
+            ..
+        } => rp.draw(0..*n, 0..(*instances).max(1)),
+        _ => rp.draw(0..3, 0..1),
+    }
+}
+
+fn color_attachments<'a>(pass: &PassGpu, rep: &'a Rep, parity: usize) -> Vec<Option<wgpu::RenderPassColorAttachment<'a>>> {
+    let targets = pass.plan.work.targets().map(|t| t.color.as_slice()).unwrap_or(&[]);
+    targets
+        .iter()
+        .zip(&rep.color[parity])
+        .map(|(a, v)| {
+            Some(wgpu::RenderPassColorAttachment {
+                view: v,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: match a.load {
+                        Load::Clear([r, g, b, a]) => wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                        Load::Load => wgpu::LoadOp::Load,
+                    },
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        })
+        .collect()
+}
+
+fn depth_attachment<'a>(pass: &PassGpu, rep: &'a Rep, parity: usize) -> Option<wgpu::RenderPassDepthStencilAttachment<'a>> {
+    let d = pass.plan.work.targets()?.depth.as_ref()?;
+    Some(wgpu::RenderPassDepthStencilAttachment {
+        view: rep.depth[parity].as_ref()?,
+        depth_ops: Some(wgpu::Operations {
+            load: match d.load {
+                Load::Clear(v) => wgpu::LoadOp::Clear(v as f32),
+                Load::Load => wgpu::LoadOp::Load,
+            },
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    })
+}

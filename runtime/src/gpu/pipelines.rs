@@ -1,0 +1,276 @@
+//! Render and compute pipelines built from Plan passes, cached across Plans: a pipeline is
+//! reused when its shader modules (by content hash), entry points, bind group layouts and
+//! fixed-function state are all unchanged, so a hot reload rebuilds only what an edit touched.
+
+use super::convert;
+use crate::blocks::{Vertex, VERTEX_ATTRIBUTES};
+use crate::error::{Error, Result};
+use lightbench_compiler::format::TextureFormat;
+use lightbench_compiler::ir::{Blend, CompareFn, CullMode, Draw, Stage};
+use lightbench_compiler::layout::BindingType;
+use lightbench_compiler::plan::{PlanPass, Work};
+use lightbench_compiler::shader::ShaderModule;
+use std::collections::HashMap;
+use std::num::NonZeroU32;
+use std::sync::Arc;
+
+/// A bind group layout entry: binding, type, visibility.
+type LayoutEntry = (u32, BindingType, Vec<Stage>);
+
+/// Everything a pipeline's descriptor depends on.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    /// (stage, module content hash, entry point).
+    stages: Vec<(Stage, u64, String)>,
+    /// Per bind group: (binding, type, visibility) of each entry.
+    groups: Vec<(u32, Vec<LayoutEntry>)>,
+    state: State,
+}
+
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+enum State {
+    Compute,
+    Render {
+        color: Vec<(TextureFormat, Option<Blend>)>,
+        depth: Option<(TextureFormat, CompareFn, bool)>,
+        cull: Option<CullMode>,
+        multiview: Option<u32>,
+        scene_vertices: bool,
+    },
+}
+
+impl PipelineKey {
+    pub fn of(pp: &PlanPass, modules: &[Arc<ShaderModule>]) -> PipelineKey {
+        let stages = pp
+            .stages
+            .iter()
+            .zip(modules)
+            .map(|(s, m)| (s.stage, m.hash, s.entry.clone()))
+            .collect();
+        let groups = pp
+            .bind_groups
+            .iter()
+            .map(|g| {
+                (
+                    g.group,
+                    g.entries.iter().map(|e| (e.binding, e.ty.clone(), e.visibility.clone())).collect(),
+                )
+            })
+            .collect();
+        let state = match &pp.work {
+            Work::Compute { .. } => State::Compute,
+            Work::Raster { targets, .. } | Work::Fullscreen { targets } => {
+                let (cull, draw) = match &pp.work {
+                    Work::Raster { cull, draw, .. } => (Some(*cull), Some(draw)),
+                    _ => (None, None),
+                };
+                State::Render {
+                    color: targets.color.iter().map(|c| (c.format, c.blend)).collect(),
+                    depth: targets.depth.as_ref().map(|d| (d.format, d.compare, d.write)),
+                    cull,
+                    multiview: pp.work.multiview(),
+                    scene_vertices: draw == Some(&Draw::Scene),
+                }
+            }
+        };
+        PipelineKey { stages, groups, state }
+    }
+}
+
+pub enum PipelineKind {
+    Render(wgpu::RenderPipeline),
+    Compute(wgpu::ComputePipeline),
+}
+
+/// A pipeline with the bind group layouts its bind groups must be made with (index = group).
+pub struct Built {
+    pub pipeline: PipelineKind,
+    pub layouts: Vec<wgpu::BindGroupLayout>,
+}
+
+/// Pipelines and shader modules that outlive a Plan.
+#[derive(Default)]
+pub struct PipelineCache {
+    modules: HashMap<u64, wgpu::ShaderModule>,
+    pipelines: HashMap<PipelineKey, (Arc<Built>, u64)>,
+    clock: u64,
+}
+
+/// Pipelines kept beyond those the running Plan uses (switching variants back is then free).
+const SPARE: usize = 64;
+
+impl PipelineCache {
+    pub fn get(&mut self, key: &PipelineKey) -> Option<Arc<Built>> {
+        self.clock += 1;
+        let now = self.clock;
+        self.pipelines.get_mut(key).map(|(b, used)| {
+            *used = now;
+            b.clone()
+        })
+    }
+
+    /// Keep pipelines built for a Plan that now runs; forget the least recently used spares.
+    pub fn insert(&mut self, fresh: Vec<(PipelineKey, Arc<Built>)>, in_use: usize) {
+        for (k, b) in fresh {
+            self.clock += 1;
+            self.pipelines.insert(k, (b, self.clock));
+        }
+        while self.pipelines.len() > in_use + SPARE {
+            let Some(oldest) = self.pipelines.iter().min_by_key(|(_, (_, used))| *used).map(|(k, _)| k.clone()) else {
+                break;
+            };
+            self.pipelines.remove(&oldest);
+        }
+    }
+
+    fn module(&mut self, device: &wgpu::Device, m: &ShaderModule) -> wgpu::ShaderModule {
+        self.modules
+            .entry(m.hash)
+            .or_insert_with(|| {
+                device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(&m.path),
+                    source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(m.module.clone())),
+                })
+            })
+            .clone()
+    }
+
+    /// Build the pipeline of a pass (not cached until the caller commits it).
+    pub fn build(&mut self, device: &wgpu::Device, pp: &PlanPass, modules: &[Arc<ShaderModule>]) -> Result<Built> {
+        let layouts = group_layouts(device, pp);
+        let refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(&pp.name),
+            bind_group_layouts: &refs,
+            immediate_size: 0,
+        });
+        let mut stage = |s: Stage| -> Result<(wgpu::ShaderModule, String)> {
+            let i = pp
+                .stages
+                .iter()
+                .position(|x| x.stage == s)
+                .ok_or_else(|| Error::Plan(format!("pass `{}` has no {} stage", pp.name, s.word())))?;
+            let m = modules
+                .get(i)
+                .ok_or_else(|| Error::Plan(format!("pass `{}` has no {} module", pp.name, s.word())))?;
+            Ok((self.module(device, m), pp.stages[i].entry.clone()))
+        };
+        let pipeline = match &pp.work {
+            Work::Compute { .. } => {
+                let (m, entry) = stage(Stage::Compute)?;
+                PipelineKind::Compute(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&pp.name),
+                    layout: Some(&layout),
+                    module: &m,
+                    entry_point: Some(&entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                }))
+            }
+            _ => {
+                let vertex = stage(Stage::Vertex)?;
+                let fragment = pp.stage(Stage::Fragment).map(|_| stage(Stage::Fragment)).transpose()?;
+                PipelineKind::Render(render_pipeline(device, pp, &layout, vertex, fragment))
+            }
+        };
+        Ok(Built { pipeline, layouts })
+    }
+}
+
+/// One layout per group index the pass uses; empty layouts fill unused indices below the highest.
+fn group_layouts(device: &wgpu::Device, pp: &PlanPass) -> Vec<wgpu::BindGroupLayout> {
+    let max_group = pp.bind_groups.iter().map(|g| g.group + 1).max().unwrap_or(0);
+    (0..max_group)
+        .map(|i| {
+            let entries: Vec<wgpu::BindGroupLayoutEntry> = pp
+                .bind_groups
+                .iter()
+                .find(|g| g.group == i)
+                .map(|g| {
+                    g.entries
+                        .iter()
+                        .map(|e| wgpu::BindGroupLayoutEntry {
+                            binding: e.binding,
+                            visibility: convert::stages(&e.visibility),
+                            ty: convert::binding_type(&e.ty),
+                            count: None,
+                        })
+                        .collect()
+                })
+                .unwrap_or_default();
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(&pp.name),
+                entries: &entries,
+            })
+        })
+        .collect()
+}
+
+fn render_pipeline(
+    device: &wgpu::Device,
+    pp: &PlanPass,
+    layout: &wgpu::PipelineLayout,
+    (vm, ventry): (wgpu::ShaderModule, String),
+    fragment: Option<(wgpu::ShaderModule, String)>,
+) -> wgpu::RenderPipeline {
+    let targets = pp.work.targets().cloned().unwrap_or_default();
+    let color: Vec<Option<wgpu::ColorTargetState>> = targets
+        .color
+        .iter()
+        .map(|c| {
+            Some(wgpu::ColorTargetState {
+                format: convert::format(c.format),
+                blend: c.blend.map(convert::blend),
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        })
+        .collect();
+    let depth = targets.depth.as_ref().map(|d| wgpu::DepthStencilState {
+        format: convert::format(d.format),
+        depth_write_enabled: Some(d.write),
+        depth_compare: Some(convert::compare(d.compare)),
+        stencil: Default::default(),
+        bias: Default::default(),
+    });
+    let vertex_layout = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &VERTEX_ATTRIBUTES,
+    })];
+    let (cull, scene) = match &pp.work {
+        Work::Raster { cull, draw, .. } => (convert::cull(*cull), *draw == Draw::Scene),
+        _ => (None, false),
+    };
+    let buffers: &[Option<wgpu::VertexBufferLayout>] = if scene { &vertex_layout } else { &[] };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(&pp.name),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: &vm,
+            entry_point: Some(&ventry),
+            compilation_options: Default::default(),
+            buffers,
+        },
+        primitive: wgpu::PrimitiveState {
+            topology: wgpu::PrimitiveTopology::TriangleList,
+            front_face: wgpu::FrontFace::Ccw,
+            cull_mode: cull,
+            ..Default::default()
+        },
+        depth_stencil: depth,
+        multisample: Default::default(),
+        fragment: fragment.as_ref().map(|(m, e)| wgpu::FragmentState {
+            module: m,
+            entry_point: Some(e),
+            compilation_options: Default::default(),
+            targets: &color,
+        }),
+        multiview_mask: multiview_mask(pp.work.multiview()),
+        cache: None,
+    })
+}
+
+/// The view mask of a multiview pass: the low `n` bits.
+pub fn multiview_mask(views: Option<u32>) -> Option<NonZeroU32> {
+    views.and_then(|n| NonZeroU32::new(((1u64 << n.min(32)) - 1) as u32))
+}

@@ -1,0 +1,86 @@
+//! Per-pass GPU time from timestamp queries: the first repetition of a pass writes its
+//! start, the last its end. CPU encode time is measured around each pass's encoding.
+
+use super::Gpu;
+use crate::error::{Error, Result};
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PassTiming {
+    pub pass: String,
+    pub repetitions: u32,
+    /// GPU time from timestamp queries (None where the adapter has none).
+    pub gpu_ms: Option<f64>,
+    pub cpu_encode_us: f64,
+}
+
+pub struct Timer {
+    pub set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    period_ns: f32,
+    passes: u32,
+}
+
+impl Timer {
+    /// `None` where the device has no timestamp queries or there is nothing to time.
+    pub fn new(gpu: &Gpu, passes: usize) -> Option<Timer> {
+        if !gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) || passes == 0 {
+            return None;
+        }
+        let n = (passes * 2) as u32;
+        let buffer = |label, usage| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: n as u64 * 8,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Some(Timer {
+            set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: n,
+            }),
+            resolve: buffer("timestamps", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            readback: buffer("timestamps readback", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+            period_ns: gpu.queue.get_timestamp_period(),
+            passes: passes as u32,
+        })
+    }
+
+    /// The (begin, end) query indices repetition `rep` of `reps` of pass `pass` writes.
+    pub fn writes(&self, pass: usize, rep: usize, reps: usize) -> Option<(Option<u32>, Option<u32>)> {
+        let begin = (rep == 0).then_some(2 * pass as u32);
+        let end = (rep + 1 == reps).then_some(2 * pass as u32 + 1);
+        (begin.is_some() || end.is_some()).then_some((begin, end))
+    }
+
+    /// Commands that copy this frame's timestamps where `read` finds them.
+    pub fn resolve(&self, gpu: &Gpu) -> wgpu::CommandBuffer {
+        let mut enc = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("timestamps") });
+        enc.resolve_query_set(&self.set, 0..self.passes * 2, &self.resolve, 0);
+        enc.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, self.resolve.size());
+        enc.finish()
+    }
+
+    /// Milliseconds per pass of the frame just submitted.
+    pub fn read(&self, gpu: &Gpu) -> Result<Vec<f64>> {
+        let slice = self.readback.slice(..);
+        slice.map_async(wgpu::MapMode::Read, |_| {});
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::gpu("reading timestamps", e))?;
+        let ms = {
+            let data = slice.get_mapped_range().map_err(|e| Error::gpu("reading timestamps", e))?;
+            let ticks: &[u64] = bytemuck::cast_slice(&data);
+            (0..self.passes as usize)
+                .map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6)
+                .collect()
+        };
+        self.readback.unmap();
+        Ok(ms)
+    }
+}
