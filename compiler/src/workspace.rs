@@ -255,8 +255,7 @@ impl Session {
         scene: &SceneFeatures,
         variants: &[(String, String)],
     ) -> Option<Plan> {
-        let checked = self.load_checked(path, shader_root, profile)?;
-        self.plan(&checked, profile, scene, variants)
+        self.executable(path, shader_root, profile, scene, variants).map(|e| e.plan)
     }
 
     /// Load, check and plan a pipeline file, keeping the shader modules for execution.

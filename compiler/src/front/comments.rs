@@ -82,6 +82,34 @@ impl Comments {
     }
 }
 
+/// Text being printed, with the source's comments placed before the items they preceded.
+pub struct Out {
+    pub text: String,
+    comments: Comments,
+}
+
+impl Out {
+    pub fn new(source: Option<&str>) -> Self {
+        Out {
+            text: String::new(),
+            comments: Comments::new(source),
+        }
+    }
+
+    /// Emit the comments that come before `span` at an indent.
+    pub fn comments_before(&mut self, span: Span, indent: &str) {
+        let cs = self.comments.before(span);
+        emit(&mut self.text, &cs, indent);
+    }
+
+    /// The text, with the comments left over at the end.
+    pub fn finish(mut self) -> String {
+        let rest = self.comments.rest();
+        emit(&mut self.text, &rest, "");
+        self.text
+    }
+}
+
 /// Write comments as `//` lines at an indent.
 pub fn emit(out: &mut String, comments: &[Comment], indent: &str) {
     for c in comments {

@@ -4,19 +4,8 @@
 //! and parameter blocks -> estimate memory.
 
 use super::*;
-use crate::check::{Checked, PassVersion};
+use crate::check::Checked;
 use crate::diag::Diagnostics;
-use crate::profile::Profile;
-use crate::scene::SceneFeatures;
-
-pub struct Config<'a> {
-    pub profile: &'a Profile,
-    pub scene: &'a SceneFeatures,
-    pub selection: Selection,
-}
-
-/// A kept pass (index into the pipeline's passes) with the version the selection picks.
-pub(super) type Kept<'a> = Vec<(usize, &'a PassVersion)>;
 
 pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Plan> {
     let p = &checked.pipeline;

@@ -10,13 +10,16 @@ mod passes;
 mod resources;
 mod select;
 
-pub use build::{build_plan, Config};
+pub use build::build_plan;
 pub use cull::{schedule, Schedule};
 pub use explain::{to_dot, to_text, work_word};
 pub use params::{ParamError, ParamValues};
 pub use select::{select, Selection};
 
+use crate::check::PassVersion;
 use crate::format::TextureFormat;
+use crate::profile::Profile;
+use crate::scene::SceneFeatures;
 use crate::ir::{
     AddressMode, Blend, CompareFn, CullMode, Draw, FilterMode, LayerSel, LightKind, Load, ParamType, ParamValue, SamplerKind, SizeSpec,
     Stage, ViewDim,
@@ -24,6 +27,17 @@ use crate::ir::{
 use crate::layout::{BindGroupLayout, BindSource, Binding, UniformBlock};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
+
+/// What a configuration is planned for.
+pub struct Config<'a> {
+    pub profile: &'a Profile,
+    pub scene: &'a SceneFeatures,
+    pub selection: Selection,
+}
+
+/// The kept passes in execution order: index into the pipeline's passes, and the version
+/// the selection picks.
+type Kept<'a> = Vec<(usize, &'a PassVersion)>;
 
 /// Index of a pass in `Plan::passes` (execution order).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]

@@ -1,7 +1,6 @@
 //! Stage `passes`: each kept pass in execution order with its work, stages, targets and
 //! repetitions, and its bind groups and parameter blocks laid out by index.
 
-use super::build::Kept;
 use super::*;
 use crate::check::bindings::NamedGroup;
 use crate::check::PassVersion;

@@ -1,7 +1,6 @@
 //! Stages `resources` and `memory`: the resources and samplers the kept passes touch, with
 //! usages derived from how each pass uses them, extents at the plan's resolution and bytes.
 
-use super::build::Kept;
 use super::*;
 use crate::ir::{Pipeline, Resource, ResourceKind};
 use crate::layout::BindingType;

@@ -3,7 +3,7 @@
 //! was decided by the raise (the defaults table); this only spells the tree in LBP.
 //! Comments in the source are kept before the item that followed them.
 
-use crate::front::comments::{emit, Comments};
+use crate::front::comments::Out;
 use crate::front::{item_start, quote};
 use crate::ir::Pipeline;
 use crate::span::Span;
@@ -75,31 +75,20 @@ fn join(ns: &[Node], f: impl Fn(&Node) -> String) -> String {
 }
 
 pub fn print_tree(root: &Node, source: Option<&str>) -> String {
-    let mut pr = Printer {
-        out: String::new(),
-        comments: Comments::new(source),
-    };
+    let mut pr = Printer { out: Out::new(source) };
     pr.root(fields(root));
-    let rest = pr.comments.rest();
-    emit(&mut pr.out, &rest, "");
-    pr.out
+    pr.out.finish()
 }
 
 struct Printer {
-    out: String,
-    comments: Comments,
+    out: Out,
 }
 
 impl Printer {
-    fn comments_before(&mut self, span: Span, indent: &str) {
-        let cs = self.comments.before(span);
-        emit(&mut self.out, &cs, indent);
-    }
-
     fn root(&mut self, f: &[Field]) {
         if let Some(n) = get(f, "name") {
-            self.comments_before(n.span, "");
-            let _ = writeln!(self.out, "pipeline {}", name(text(n)));
+            self.out.comments_before(n.span, "");
+            let _ = writeln!(self.out.text, "pipeline {}", name(text(n)));
         }
         for (key, line) in [
             ("params", param as fn(&Node, &Node) -> String),
@@ -107,11 +96,11 @@ impl Printer {
             ("resources", resource),
         ] {
             let Some(map) = get(f, key) else { continue };
-            self.out.push('\n');
+            self.out.text.push('\n');
             for (k, v) in entries(map) {
-                self.comments_before(item_start(k, v), "");
+                self.out.comments_before(item_start(k, v), "");
                 let l = line(k, v);
-                let _ = writeln!(self.out, "{l}");
+                let _ = writeln!(self.out.text, "{l}");
             }
         }
         for p in get(f, "passes").map(items).unwrap_or(&[]) {
@@ -121,39 +110,39 @@ impl Printer {
             self.variant(k, v);
         }
         if let Some(n) = get(f, "output") {
-            self.out.push('\n');
-            self.comments_before(n.span, "");
-            let _ = writeln!(self.out, "output {}", name(text(n)));
+            self.out.text.push('\n');
+            self.out.comments_before(n.span, "");
+            let _ = writeln!(self.out.text, "output {}", name(text(n)));
         }
     }
 
     fn pass(&mut self, p: &Node) {
-        self.out.push('\n');
-        self.comments_before(p.span, "");
+        self.out.text.push('\n');
+        self.out.comments_before(p.span, "");
         let f = fields(p);
         let kind = p.name().unwrap_or("").to_lowercase();
         let shader = get(f, "shader").map(|s| format!(" {}", quote(text(s)))).unwrap_or_default();
-        let _ = writeln!(self.out, "{kind} {}{shader} {{", name(get(f, "name").map(text).unwrap_or("")));
+        let _ = writeln!(self.out.text, "{kind} {}{shader} {{", name(get(f, "name").map(text).unwrap_or("")));
         // Comments inside the pass body come first in it.
-        self.comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
+        self.out.comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
         for (k, _, v) in f.iter().filter(|(k, _, _)| k != "name" && k != "shader") {
-            let _ = writeln!(self.out, "    {}", pass_line(k, v));
+            let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
         }
-        self.out.push_str("}\n");
+        self.out.text.push_str("}\n");
     }
 
     fn variant(&mut self, k: &Node, v: &Node) {
-        self.out.push('\n');
-        self.comments_before(item_start(k, v), "");
+        self.out.text.push('\n');
+        self.out.comments_before(item_start(k, v), "");
         let f = fields(v);
         let doc = get(f, "doc").map(|d| format!(" {}", quote(text(d)))).unwrap_or_default();
         let default = get(f, "default").map(text).unwrap_or("");
-        let _ = writeln!(self.out, "variant {} = {}{doc} {{", name(text(k)), name(default));
+        let _ = writeln!(self.out.text, "variant {} = {}{doc} {{", name(text(k)), name(default));
         for (ok, ov) in get(f, "options").map(entries).unwrap_or(&[]) {
-            self.comments_before(item_start(ok, ov), "    ");
-            let _ = writeln!(self.out, "    option {}{}", name(text(ok)), option(fields(ov)));
+            self.out.comments_before(item_start(ok, ov), "    ");
+            let _ = writeln!(self.out.text, "    option {}{}", name(text(ok)), option(fields(ov)));
         }
-        self.out.push_str("}\n");
+        self.out.text.push_str("}\n");
     }
 }
 

@@ -2,7 +2,7 @@
 //! top-level maps and lists put one item per line, passes and variants one key per line;
 //! everything else is inline. Comments from the source are kept before the item they preceded.
 
-use crate::front::comments::{emit, Comments};
+use crate::front::comments::Out;
 use crate::front::{item_start, quote};
 use crate::ir::Pipeline;
 use crate::syntax::tree::{Node, Value};
@@ -13,19 +13,13 @@ pub fn print(p: &Pipeline, source: Option<&str>) -> String {
 }
 
 pub fn print_tree(root: &Node, source: Option<&str>) -> String {
-    let mut pr = Printer {
-        out: String::new(),
-        comments: Comments::new(source),
-    };
+    let mut pr = Printer { out: Out::new(source) };
     pr.root(root);
-    let rest = pr.comments.rest();
-    emit(&mut pr.out, &rest, "");
-    pr.out
+    pr.out.finish()
 }
 
 struct Printer {
-    out: String,
-    comments: Comments,
+    out: Out,
 }
 
 fn num(x: f64) -> String {
@@ -73,88 +67,83 @@ pub fn inline(n: &Node) -> String {
 }
 
 impl Printer {
-    fn comments_before(&mut self, span: crate::span::Span, indent: &str) {
-        let cs = self.comments.before(span);
-        emit(&mut self.out, &cs, indent);
-    }
-
     fn root(&mut self, root: &Node) {
         let Value::Struct { name, fields } = &*root.value else {
-            self.out.push_str(&inline(root));
+            self.out.text.push_str(&inline(root));
             return;
         };
-        self.comments_before(fields.first().map(|f| f.2.span).unwrap_or(root.span), "");
-        let _ = writeln!(self.out, "{}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
+        self.out.comments_before(fields.first().map(|f| f.2.span).unwrap_or(root.span), "");
+        let _ = writeln!(self.out.text, "{}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
         for (k, _, v) in fields {
             match (k.as_str(), &*v.value) {
                 ("passes", Value::List(items)) => self.passes(items),
                 (_, Value::Map(entries)) => self.map(k, entries),
                 _ => {
-                    self.comments_before(v.span, "    ");
-                    let _ = writeln!(self.out, "    {k}: {},", inline(v));
+                    self.out.comments_before(v.span, "    ");
+                    let _ = writeln!(self.out.text, "    {k}: {},", inline(v));
                 }
             }
         }
-        self.out.push_str(")\n");
+        self.out.text.push_str(")\n");
     }
 
     /// A top-level map: one entry per line; variants one key per line.
     fn map(&mut self, key: &str, entries: &[(Node, Node)]) {
-        let _ = writeln!(self.out, "    {key}: {{");
+        let _ = writeln!(self.out.text, "    {key}: {{");
         for (k, v) in entries {
-            self.comments_before(item_start(k, v), "        ");
+            self.out.comments_before(item_start(k, v), "        ");
             match (&*v.value, v.name()) {
                 (Value::Struct { fields, .. }, Some("Variant")) => {
-                    let _ = writeln!(self.out, "        {}: Variant(", inline(k));
+                    let _ = writeln!(self.out.text, "        {}: Variant(", inline(k));
                     for (fk, _, fv) in fields {
                         self.variant_field(fk, fv);
                     }
-                    self.out.push_str("        ),\n");
+                    self.out.text.push_str("        ),\n");
                 }
                 _ => {
-                    let _ = writeln!(self.out, "        {}: {},", inline(k), inline(v));
+                    let _ = writeln!(self.out.text, "        {}: {},", inline(k), inline(v));
                 }
             }
         }
-        self.out.push_str("    },\n");
+        self.out.text.push_str("    },\n");
     }
 
     fn variant_field(&mut self, key: &str, v: &Node) {
         let Value::Map(options) = &*v.value else {
-            let _ = writeln!(self.out, "            {key}: {},", inline(v));
+            let _ = writeln!(self.out.text, "            {key}: {},", inline(v));
             return;
         };
-        let _ = writeln!(self.out, "            {key}: {{");
+        let _ = writeln!(self.out.text, "            {key}: {{");
         for (k, o) in options {
-            self.comments_before(item_start(k, o), "                ");
-            let _ = writeln!(self.out, "                {}: {},", inline(k), inline(o));
+            self.out.comments_before(item_start(k, o), "                ");
+            let _ = writeln!(self.out.text, "                {}: {},", inline(k), inline(o));
         }
-        self.out.push_str("            },\n");
+        self.out.text.push_str("            },\n");
     }
 
     /// Passes: one key per line.
     fn passes(&mut self, items: &[Node]) {
-        self.out.push_str("    passes: [\n");
+        self.out.text.push_str("    passes: [\n");
         for p in items {
-            self.comments_before(p.span, "        ");
+            self.out.comments_before(p.span, "        ");
             // Comments inside the pass body come before it.
-            self.comments_before(
+            self.out.comments_before(
                 crate::span::Span::new(p.span.file, p.span.end as usize, p.span.end as usize),
                 "        ",
             );
             match &*p.value {
                 Value::Struct { name, fields } => {
-                    let _ = writeln!(self.out, "        {}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
+                    let _ = writeln!(self.out.text, "        {}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
                     for (k, _, v) in fields {
-                        let _ = writeln!(self.out, "            {k}: {},", inline(v));
+                        let _ = writeln!(self.out.text, "            {k}: {},", inline(v));
                     }
-                    self.out.push_str("        ),\n");
+                    self.out.text.push_str("        ),\n");
                 }
                 _ => {
-                    let _ = writeln!(self.out, "        {},", inline(p));
+                    let _ = writeln!(self.out.text, "        {},", inline(p));
                 }
             }
         }
-        self.out.push_str("    ],\n");
+        self.out.text.push_str("    ],\n");
     }
 }

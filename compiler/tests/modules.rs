@@ -1,0 +1,189 @@
+//! No module cycles: sibling modules (at any depth) of the compiler and the runtime must
+//! depend on each other in one direction only, so that each stage can be read, tested and
+//! replaced on its own (`check` must not use `plan`, front ends must not use checks...).
+//! Dependencies are the `crate::` and `super::` paths each file names.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+type Module = Vec<String>;
+
+/// Every module of a crate, by path (`lib.rs` is the root `[]`, `a/mod.rs` and `a.rs` are `[a]`).
+fn modules(src: &Path) -> BTreeMap<Module, PathBuf> {
+    let mut out = BTreeMap::new();
+    let mut dirs = vec![src.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                dirs.push(p);
+                continue;
+            }
+            if p.extension().and_then(|e| e.to_str()) != Some("rs") {
+                continue;
+            }
+            let rel = p.strip_prefix(src).unwrap().with_extension("");
+            let mut m: Module = rel.iter().map(|c| c.to_string_lossy().into_owned()).collect();
+            if matches!(m.last().map(String::as_str), Some("mod" | "lib" | "main")) {
+                m.pop();
+            }
+            out.insert(m, p);
+        }
+    }
+    out
+}
+
+/// Paths named in a file, resolved to absolute module paths (`super::` against `module`;
+/// `crate::{a, b::c}` expanded one level).
+fn references(text: &str, module: &Module, is_mod_file: bool) -> Vec<Module> {
+    let code: String = text
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut out = vec![];
+    for (prefix, base) in [("crate::", vec![]), ("super::", parent(module, is_mod_file))] {
+        let mut rest = code.as_str();
+        while let Some(i) = rest.find(prefix) {
+            let before = rest[..i].chars().last();
+            rest = &rest[i + prefix.len()..];
+            if before.is_some_and(|c| c.is_alphanumeric() || c == '_' || c == ':') {
+                continue;
+            }
+            for path in expand(rest) {
+                let mut full = base.clone();
+                full.extend(path);
+                out.push(full);
+            }
+        }
+    }
+    out
+}
+
+/// The module `super::` names from a file.
+fn parent(module: &Module, is_mod_file: bool) -> Module {
+    let mut p = module.clone();
+    // In `a/b.rs` (module a::b) `super` is `a`; in `a/b/mod.rs` (also a::b) it is `a` too.
+    let _ = is_mod_file;
+    p.pop();
+    p
+}
+
+/// `a::b::c` or `{a::x, b}` at the start of `s`, as segment lists.
+fn expand(s: &str) -> Vec<Module> {
+    let ident = |s: &str| s.chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect::<String>();
+    if let Some(inner) = s.strip_prefix('{') {
+        let end = inner.find('}').unwrap_or(inner.len());
+        return inner[..end]
+            .split(',')
+            .map(|part| part.trim().split("::").map(ident).take_while(|x| !x.is_empty()).collect())
+            .collect();
+    }
+    let mut segs = vec![];
+    let mut rest = s;
+    loop {
+        let id = ident(rest);
+        if id.is_empty() {
+            break;
+        }
+        rest = &rest[id.len()..];
+        segs.push(id);
+        match rest.strip_prefix("::") {
+            Some(r) if !r.starts_with('{') => rest = r,
+            Some(r) => {
+                let mut group = expand(r);
+                for g in &mut group {
+                    let mut full = segs.clone();
+                    full.append(g);
+                    *g = full;
+                }
+                return group;
+            }
+            None => break,
+        }
+    }
+    vec![segs]
+}
+
+/// Edges between sibling modules: `a::b` using `a::c::x` depends on `a::c`.
+fn edges(src: &Path) -> BTreeMap<Module, BTreeSet<Module>> {
+    let mods = modules(src);
+    let mut out: BTreeMap<Module, BTreeSet<Module>> = BTreeMap::new();
+    for (m, file) in &mods {
+        let is_mod_file = file.file_name().is_some_and(|n| n == "mod.rs");
+        let text = std::fs::read_to_string(file).unwrap();
+        for r in references(&text, m, is_mod_file) {
+            let Some(i) = m.iter().zip(&r).position(|(a, b)| a != b) else {
+                continue; // an ancestor or a descendant
+            };
+            let (from, to) = (m[..=i].to_vec(), r[..=i].to_vec());
+            if mods.contains_key(&to) {
+                out.entry(from).or_default().insert(to);
+            }
+        }
+    }
+    out
+}
+
+fn find_cycle(g: &BTreeMap<Module, BTreeSet<Module>>) -> Option<Vec<Module>> {
+    fn visit(n: &Module, g: &BTreeMap<Module, BTreeSet<Module>>, stack: &mut Vec<Module>, done: &mut BTreeSet<Module>) -> Option<Vec<Module>> {
+        if let Some(i) = stack.iter().position(|s| s == n) {
+            let mut c = stack[i..].to_vec();
+            c.push(n.clone());
+            return Some(c);
+        }
+        if done.contains(n) {
+            return None;
+        }
+        stack.push(n.clone());
+        for next in g.get(n).into_iter().flatten() {
+            if let Some(c) = visit(next, g, stack, done) {
+                return Some(c);
+            }
+        }
+        stack.pop();
+        done.insert(n.clone());
+        None
+    }
+    let mut done = BTreeSet::new();
+    g.keys().find_map(|n| visit(n, g, &mut vec![], &mut done))
+}
+
+fn assert_acyclic(src: &Path) {
+    let g = edges(src);
+    assert!(!g.is_empty(), "no module dependencies found under {}", src.display());
+    if let Some(c) = find_cycle(&g) {
+        let names: Vec<String> = c.iter().map(|m| m.join("::")).collect();
+        panic!("module cycle under {}: {}", src.display(), names.join(" -> "));
+    }
+}
+
+#[test]
+fn compiler_modules_form_no_cycle() {
+    assert_acyclic(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"));
+}
+
+#[test]
+fn runtime_modules_form_no_cycle() {
+    assert_acyclic(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../runtime/src"));
+}
+
+#[test]
+fn a_cycle_is_found() {
+    // The detector itself: `check` using `plan` and `plan` using `check` is a cycle.
+    let g: BTreeMap<Module, BTreeSet<Module>> = [
+        (vec!["check".to_string()], [vec!["plan".to_string()]].into_iter().collect()),
+        (vec!["plan".to_string()], [vec!["check".to_string()]].into_iter().collect()),
+    ]
+    .into_iter()
+    .collect();
+    assert!(find_cycle(&g).is_some());
+    assert_eq!(
+        expand("diag::{Code, Diagnostic}"),
+        vec![vec!["diag".to_string(), "Code".to_string()], vec!["diag".to_string(), "Diagnostic".to_string()]]
+    );
+    assert_eq!(
+        references("use super::pool::Pool;", &vec!["gpu".into(), "executor".into()], false),
+        vec![vec!["gpu".to_string(), "pool".to_string(), "Pool".to_string()]]
+    );
+}
