@@ -51,6 +51,12 @@ impl Workspace {
         Self::default()
     }
 
+    /// Keep at most `n` compiled modules (least recently used evicted first).
+    pub fn with_module_capacity(mut self, n: usize) -> Self {
+        self.modules = Arc::new(ModuleCache::with_capacity(n));
+        self
+    }
+
     /// A new compilation sharing this workspace's files and compiled modules.
     pub fn session(&self) -> Session {
         Session {

@@ -36,3 +36,22 @@ pub fn render_with(gpu: &Gpu, pipeline: &Path, scene: &Scene, variants: &[(&str,
 pub fn output(gpu: &Gpu, ex: &Executor) -> Image {
     ex.read_texture(gpu, &ex.plan().output_resource().name, 0, 0).unwrap()
 }
+
+/// The bundled pipelines and shaders in memory, under `mem/` (edit them without touching disk).
+pub fn memory_project() -> std::sync::Arc<lightbench_compiler::vfs::MemoryVfs> {
+    fn add(vfs: &lightbench_compiler::vfs::MemoryVfs, from: &Path, to: &Path) {
+        for e in std::fs::read_dir(from).unwrap() {
+            let p = e.unwrap().path();
+            let dest = to.join(p.file_name().unwrap());
+            if p.is_dir() {
+                add(vfs, &p, &dest);
+            } else {
+                vfs.write(&dest, std::fs::read_to_string(&p).unwrap());
+            }
+        }
+    }
+    let vfs = std::sync::Arc::new(lightbench_compiler::vfs::MemoryVfs::new());
+    add(&vfs, &root().join("pipelines"), Path::new("mem/pipelines"));
+    add(&vfs, &root().join("shaders"), Path::new("mem/shaders"));
+    vfs
+}
