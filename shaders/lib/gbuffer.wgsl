@@ -41,11 +41,3 @@ fn load_surface(pixel: vec2<i32>) -> Surface {
     s.roughness = nr.w;
     return s;
 }
-
-// A point light's unshadowed contribution; `to_light` and `dist` are returned for the shadow test.
-fn point_light_radiance(l: Light, s: Surface, to_light: ptr<function, vec3<f32>>, dist: ptr<function, f32>) -> vec3<f32> {
-    let d = l.position.xyz - s.world;
-    *dist = length(d);
-    *to_light = d / max(*dist, 1e-6);
-    return blinn_phong(s.n, *to_light, s.v, s.albedo, s.metallic, s.roughness) * l.color.rgb * attenuation(*dist, l.position.w);
-}

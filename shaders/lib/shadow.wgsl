@@ -30,3 +30,59 @@ fn cube_face(dir: vec3<f32>) -> u32 {
     }
     return select(5u, 4u, dir.z >= 0.0);
 }
+
+// Shadow of a point light from its cube map: the depth of the surface on the face its
+// direction falls on, minus the bias, compared in one lookup.
+fn cube_shadow(map: texture_depth_cube, cmp: sampler_comparison, l: Light, to_light: vec3<f32>, dist: f32, bias: f32) -> f32 {
+    if l.casts_shadows == 0u {
+        return 1.0;
+    }
+    let dir = -to_light * dist;
+    let a = abs(dir);
+    let major = max(a.x, max(a.y, a.z));
+    let depth = cube_face_depth(major, l.cone.z, l.cone.w) - bias;
+    return textureSampleCompareLevel(map, cmp, dir, depth);
+}
+
+// Shadow of a point light whose cube faces were rendered into a 3×2 atlas (one instanced
+// pass): project with the face's matrix, then look up inside that face's tile.
+fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, to_light: vec3<f32>, bias: f32) -> f32 {
+    if l.casts_shadows == 0u {
+        return 1.0;
+    }
+    let face = cube_face(-to_light);
+    let c = l.face_view_proj[face] * vec4<f32>(world, 1.0);
+    if c.w <= 1e-6 {
+        return 1.0;
+    }
+    let ndc = c.xyz / c.w;
+    let tile = vec2<f32>(f32(face % 3u), f32(face / 3u));
+    // Stay half a texel inside the tile so filtering never reads the neighbour face.
+    let half_texel = 0.5 / vec2<f32>(textureDimensions(atlas));
+    let in_tile = clamp(vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5), half_texel * vec2<f32>(3.0, 2.0), 1.0 - half_texel * vec2<f32>(3.0, 2.0));
+    let uv = (tile + in_tile) / vec2<f32>(3.0, 2.0);
+    return textureSampleCompareLevel(atlas, cmp, uv, ndc.z - bias);
+}
+
+// Shadow of a directional (orthographic) or spot (perspective) light from its 2D map, with
+// a slope-scaled bias against acne that stays small enough to avoid peter-panning.
+fn map_shadow(map: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, n: vec3<f32>, to_light: vec3<f32>, bias: f32, pcf: bool) -> f32 {
+    if l.casts_shadows == 0u {
+        return 1.0;
+    }
+    let c = l.view_proj * vec4<f32>(world, 1.0);
+    if c.w <= 1e-6 {
+        return 1.0; // behind a spot light: lit by nothing, shadowed by nothing
+    }
+    let ndc = c.xyz / c.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0 {
+        return 1.0;
+    }
+    let slope = sqrt(max(1.0 - pow(dot(n, to_light), 2.0), 0.0)) / max(dot(n, to_light), 0.05);
+    let depth = ndc.z - bias * (1.0 + min(slope, 8.0));
+    if pcf {
+        return pcf_2d(map, cmp, uv, depth);
+    }
+    return textureSampleCompareLevel(map, cmp, uv, depth);
+}
