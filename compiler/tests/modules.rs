@@ -126,7 +126,12 @@ fn edges(src: &Path) -> BTreeMap<Module, BTreeSet<Module>> {
 }
 
 fn find_cycle(g: &BTreeMap<Module, BTreeSet<Module>>) -> Option<Vec<Module>> {
-    fn visit(n: &Module, g: &BTreeMap<Module, BTreeSet<Module>>, stack: &mut Vec<Module>, done: &mut BTreeSet<Module>) -> Option<Vec<Module>> {
+    fn visit(
+        n: &Module,
+        g: &BTreeMap<Module, BTreeSet<Module>>,
+        stack: &mut Vec<Module>,
+        done: &mut BTreeSet<Module>,
+    ) -> Option<Vec<Module>> {
         if let Some(i) = stack.iter().position(|s| s == n) {
             let mut c = stack[i..].to_vec();
             c.push(n.clone());
@@ -180,7 +185,10 @@ fn a_cycle_is_found() {
     assert!(find_cycle(&g).is_some());
     assert_eq!(
         expand("diag::{Code, Diagnostic}"),
-        vec![vec!["diag".to_string(), "Code".to_string()], vec!["diag".to_string(), "Diagnostic".to_string()]]
+        vec![
+            vec!["diag".to_string(), "Code".to_string()],
+            vec!["diag".to_string(), "Diagnostic".to_string()]
+        ]
     );
     assert_eq!(
         references("use super::pool::Pool;", &vec!["gpu".into(), "executor".into()], false),

@@ -44,7 +44,13 @@ fn project() -> Arc<MemoryVfs> {
 
 fn compile(ws: &Workspace) -> (Option<Executable>, lightbench_compiler::Session) {
     let mut s = ws.session();
-    let exe = s.executable(Path::new("proj/pipelines/p.ron"), None, &Profile::vulkan(), &SceneFeatures::everything(), &[]);
+    let exe = s.executable(
+        Path::new("proj/pipelines/p.ron"),
+        None,
+        &Profile::vulkan(),
+        &SceneFeatures::everything(),
+        &[],
+    );
     (exe, s)
 }
 
@@ -85,7 +91,10 @@ fn a_broken_edit_is_reported_and_the_last_good_text_is_still_cached() {
     let vfs = project();
     let ws = Workspace::new(vfs.clone());
     assert!(compile(&ws).0.is_some());
-    vfs.write("proj/shaders/a.wgsl", "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0) +;\n}\n");
+    vfs.write(
+        "proj/shaders/a.wgsl",
+        "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0) +;\n}\n",
+    );
     let (exe, s) = compile(&ws);
     assert!(exe.is_none());
     let d = s.diags.errors().next().expect("an error");
@@ -104,10 +113,15 @@ fn the_dependency_set_names_every_file_read_including_includes() {
     let ws = Workspace::new(project());
     let (exe, s) = compile(&ws);
     let exe = exe.expect("compiles");
-    let expected: Vec<PathBuf> = ["proj/pipelines/p.ron", "proj/shaders/a.wgsl", "proj/shaders/b.wgsl", "proj/shaders/lib/tint.wgsl"]
-        .iter()
-        .map(PathBuf::from)
-        .collect();
+    let expected: Vec<PathBuf> = [
+        "proj/pipelines/p.ron",
+        "proj/shaders/a.wgsl",
+        "proj/shaders/b.wgsl",
+        "proj/shaders/lib/tint.wgsl",
+    ]
+    .iter()
+    .map(PathBuf::from)
+    .collect();
     assert_eq!(exe.files.iter().cloned().collect::<Vec<_>>(), expected);
     assert_eq!(s.dependencies(), &exe.files);
 }
@@ -121,7 +135,11 @@ fn a_missing_include_is_a_dependency_too() {
     let (exe, s) = compile(&ws);
     assert!(exe.is_none());
     assert!(s.diags.errors().any(|d| d.code == "include-not-found"), "{}", s.render());
-    assert!(s.dependencies().contains(Path::new("proj/shaders/lib/tint.wgsl")), "{:?}", s.dependencies());
+    assert!(
+        s.dependencies().contains(Path::new("proj/shaders/lib/tint.wgsl")),
+        "{:?}",
+        s.dependencies()
+    );
     vfs.write("proj/shaders/lib/tint.wgsl", tint(2.0));
     assert!(compile(&ws).0.is_some());
 }

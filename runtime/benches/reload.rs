@@ -33,7 +33,10 @@ fn load(vfs: &MemoryVfs, from: &Path, to: &Path) {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("repository root").to_path_buf();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("repository root")
+        .to_path_buf();
     let vfs = Arc::new(MemoryVfs::new());
     load(&vfs, &root.join("pipelines"), Path::new("mem/pipelines"));
     load(&vfs, &root.join("shaders"), Path::new("mem/shaders"));
@@ -42,7 +45,11 @@ fn main() {
     let mut scene = builtin::cornell();
     scene.size = (256, 256);
     let ws = Workspace::new(vfs.clone());
-    let compile = |ws: &Workspace| compile_in(ws, &gpu, Path::new(PIPELINE), None, &scene, &[]).unwrap_or_else(|e| panic!("{e}")).0;
+    let compile = |ws: &Workspace| {
+        compile_in(ws, &gpu, Path::new(PIPELINE), None, &scene, &[])
+            .unwrap_or_else(|e| panic!("{e}"))
+            .0
+    };
     let exe = compile(&ws);
     let mut ex = Executor::new(&gpu, &exe, &scene).expect("executor");
     let rounds = 12;

@@ -27,6 +27,9 @@ pub enum Error {
     /// Reading or writing a file.
     #[error("{}: {message}", path.display())]
     Io { path: PathBuf, message: String },
+    /// A command-line argument that cannot be understood (exit code 2).
+    #[error("{0}")]
+    Usage(String),
     /// A parameter value that does not apply to the running Plan.
     #[error(transparent)]
     Param(#[from] ParamError),

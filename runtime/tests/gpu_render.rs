@@ -413,3 +413,30 @@ fn cornell_point_shadow_lies_where_the_tall_box_blocks_the_light() {
         "outside it: {lit_ok} unchanged, {lit_bad} changed"
     );
 }
+
+#[test]
+fn a_device_opened_elsewhere_renders_alike() {
+    // A viewer opens its device for its window and hands it over; the capability profile comes
+    // from what that device has enabled (here: no optional features), not from the adapter.
+    let g = gpu();
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).expect("an adapter");
+    let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor::default())).expect("a device");
+    let other = lightbench::gpu::Gpu::from_parts(adapter, device, queue).unwrap();
+    use lightbench_compiler::profile::Feature;
+    assert!(
+        !other.profile.has(Feature::TimestampQuery) && !other.profile.has(Feature::Multiview),
+        "{:?}",
+        other.profile.features
+    );
+    let scene = builtin::cornell();
+    let ours = output(&g, &render_with(&g, &deferred(), &scene, &[], 1));
+    let ex = render_with(&other, &deferred(), &scene, &[], 1);
+    assert!(
+        ex.last_timings.iter().all(|t| t.gpu_ms.is_none()),
+        "no timestamps without the feature"
+    );
+    let theirs = output(&other, &ex);
+    let e = rmse(&ours, &theirs).unwrap();
+    assert!(e < 0.01, "RMSE {e}");
+}

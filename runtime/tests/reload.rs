@@ -19,7 +19,9 @@ use std::path::Path;
 const PIPELINE: &str = "mem/pipelines/deferred.ron";
 
 fn compile(g: &Gpu, ws: &Workspace, scene: &Scene) -> Executable {
-    compile_in(ws, g, Path::new(PIPELINE), None, scene, &[]).unwrap_or_else(|e| panic!("{e}")).0
+    compile_in(ws, g, Path::new(PIPELINE), None, scene, &[])
+        .unwrap_or_else(|e| panic!("{e}"))
+        .0
 }
 
 fn frame(g: &Gpu, ex: &mut Executor) -> lightbench::io::Image {
@@ -36,7 +38,6 @@ fn darker_tonemap(vfs: &MemoryVfs) {
     assert_ne!(edited, text);
     vfs.write(path, edited);
 }
-
 
 #[test]
 fn a_failed_replace_leaves_the_old_plan_rendering_identically() {
@@ -59,7 +60,12 @@ fn a_failed_replace_leaves_the_old_plan_rendering_identically() {
     // A layout that does not match the shader: pipeline creation fails.
     let mut bad_layout = compile(&g, &ws, &scene);
     let tonemap = bad_layout.plan.passes.iter_mut().find(|p| p.name == "tonemap").unwrap();
-    let hdr_binding = tonemap.bind_groups.iter_mut().flat_map(|g| &mut g.entries).find(|e| e.name == "hdr").unwrap();
+    let hdr_binding = tonemap
+        .bind_groups
+        .iter_mut()
+        .flat_map(|g| &mut g.entries)
+        .find(|e| e.name == "hdr")
+        .unwrap();
     hdr_binding.ty = BindingType::Uniform { min_binding_size: 16 };
     let err = ex.replace(&g, &bad_layout).expect_err("a mismatched layout must fail").to_string();
     assert!(err.contains("pass `tonemap`"), "{err}");
@@ -84,7 +90,11 @@ fn a_one_shader_change_rebuilds_exactly_one_pipeline() {
     darker_tonemap(&vfs);
     let compiled = ws.modules().stats().compiled;
     let edited = compile(&g, &ws, &scene);
-    assert_eq!(ws.modules().stats().compiled, compiled + 1, "the workspace compiles only the edited module");
+    assert_eq!(
+        ws.modules().stats().compiled,
+        compiled + 1,
+        "the workspace compiles only the edited module"
+    );
     let report = ex.replace(&g, &edited).unwrap();
     assert_eq!(report.pipelines_built, vec!["tonemap".to_string()], "{report:?}");
     assert_eq!(report.pipelines_reused.len(), edited.plan.passes.len() - 1, "{report:?}");
@@ -131,12 +141,18 @@ fn overrides_that_no_longer_apply_are_dropped_and_bad_ones_refused() {
     let mut ex = Executor::new(&g, &compile(&g, &ws, &scene), &scene).unwrap();
     let err = ex.set_param("tonemap.kee", ParamValue::Float(0.5)).unwrap_err().to_string();
     assert!(err.contains("did you mean `tonemap.key`"), "{err}");
-    assert!(ex.set_param("tonemap.key", ParamValue::Float(7.0)).is_err(), "above the declared max");
+    assert!(
+        ex.set_param("tonemap.key", ParamValue::Float(7.0)).is_err(),
+        "above the declared max"
+    );
     assert!(ex.set_param("tonemap.key", ParamValue::Bool(true)).is_err(), "wrong type");
     ex.set_param("tonemap.key", ParamValue::Float(0.3)).unwrap();
 
     // The parameter is renamed in the pipeline file (and its block field in the shader).
-    let text = vfs.read(Path::new(PIPELINE)).unwrap().replace("tonemap.key", "tonemap.exposure_key");
+    let text = vfs
+        .read(Path::new(PIPELINE))
+        .unwrap()
+        .replace("tonemap.key", "tonemap.exposure_key");
     vfs.write(PIPELINE, text);
     for shader in ["mem/shaders/tonemap.wgsl", "mem/shaders/tonemap_simple.frag"] {
         let text = vfs.read(Path::new(shader)).unwrap().replace("key", "exposure_key");

@@ -5,6 +5,7 @@ mod convert;
 pub mod plan;
 mod render;
 
+use crate::error::{Error, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use lightbench_compiler::profile::Profile;
 use std::path::PathBuf;
@@ -84,8 +85,8 @@ pub enum SceneCommand {
     Export { name: String, out: PathBuf },
 }
 
-pub fn profile(name: &str) -> Result<Profile, String> {
-    Profile::offline(name)
+pub fn profile(name: &str) -> Result<Profile> {
+    Profile::offline(name).map_err(Error::Usage)
 }
 
 pub fn run(cli: Cli) -> i32 {
@@ -121,11 +122,11 @@ pub fn run(cli: Cli) -> i32 {
 }
 
 /// `--variant NAME=OPTION` arguments.
-pub fn parse_variants(args: &[String]) -> Result<Vec<(String, String)>, String> {
+pub fn parse_variants(args: &[String]) -> Result<Vec<(String, String)>> {
     args.iter()
         .map(|v| match v.split_once('=') {
             Some((k, val)) if !k.is_empty() && !val.is_empty() => Ok((k.to_string(), val.to_string())),
-            _ => Err(format!("invalid --variant `{v}`: expected NAME=OPTION")),
+            _ => Err(Error::Usage(format!("invalid --variant `{v}`: expected NAME=OPTION"))),
         })
         .collect()
 }

@@ -1,6 +1,7 @@
 //! `lightbench plan`: the Plan for one configuration, as text, JSON or Graphviz.
 
 use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
+use crate::error::{Error, Result};
 use lightbench_compiler::ir::LightKind;
 use lightbench_compiler::plan;
 use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
@@ -36,31 +37,36 @@ pub struct Args {
     pub shaders: Option<PathBuf>,
 }
 
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let bad = |why: String| Error::Usage(why);
     let (w, h) = s
         .split_once(['x', 'X', '×'])
-        .ok_or_else(|| format!("invalid size `{s}`: expected WxH, e.g. 1920x1080"))?;
-    let w: u32 = w.trim().parse().map_err(|_| format!("invalid width in `{s}`"))?;
-    let h: u32 = h.trim().parse().map_err(|_| format!("invalid height in `{s}`"))?;
+        .ok_or_else(|| bad(format!("invalid size `{s}`: expected WxH, e.g. 1920x1080")))?;
+    let w: u32 = w.trim().parse().map_err(|_| bad(format!("invalid width in `{s}`")))?;
+    let h: u32 = h.trim().parse().map_err(|_| bad(format!("invalid height in `{s}`")))?;
     if w == 0 || h == 0 || w > 65536 || h > 65536 {
-        return Err(format!("size `{s}` out of range (1..=65536)"));
+        return Err(bad(format!("size `{s}` out of range (1..=65536)")));
     }
     Ok((w, h))
 }
 
-fn parse_lights(s: &str) -> Result<Vec<(LightKind, u32)>, String> {
+fn parse_lights(s: &str) -> Result<Vec<(LightKind, u32)>> {
     let mut out = vec![];
     for part in s.split(',').filter(|p| !p.is_empty()) {
         let (k, n) = part
             .split_once('=')
-            .ok_or_else(|| format!("invalid light count `{part}`: expected KIND=N"))?;
+            .ok_or_else(|| Error::Usage(format!("invalid light count `{part}`: expected KIND=N")))?;
         let kind = match k.trim().to_ascii_lowercase().as_str() {
             "directional" => LightKind::Directional,
             "spot" => LightKind::Spot,
             "point" => LightKind::Point,
-            other => return Err(format!("unknown light kind `{other}`: expected directional, spot or point")),
+            other => {
+                return Err(Error::Usage(format!(
+                    "unknown light kind `{other}`: expected directional, spot or point"
+                )))
+            }
         };
-        let n: u32 = n.trim().parse().map_err(|_| format!("invalid count in `{part}`"))?;
+        let n: u32 = n.trim().parse().map_err(|_| Error::Usage(format!("invalid count in `{part}`")))?;
         out.push((kind, n));
     }
     Ok(out)

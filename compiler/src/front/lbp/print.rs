@@ -124,7 +124,8 @@ impl Printer {
         let shader = get(f, "shader").map(|s| format!(" {}", quote(text(s)))).unwrap_or_default();
         let _ = writeln!(self.out.text, "{kind} {}{shader} {{", name(get(f, "name").map(text).unwrap_or("")));
         // Comments inside the pass body come first in it.
-        self.out.comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
+        self.out
+            .comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
         for (k, _, v) in f.iter().filter(|(k, _, _)| k != "name" && k != "shader") {
             let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
         }
