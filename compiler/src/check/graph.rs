@@ -18,183 +18,26 @@ pub struct Ordered {
     pub after: BTreeMap<usize, Vec<usize>>,
 }
 
+/// edge (from, to) -> (resource, span of the use in `to`)
+type Edges = BTreeMap<(usize, usize), (String, Span)>;
+
 /// `culled` maps a culled pass index to its reason, to explain missing producers.
 pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, diags: &mut Diagnostics) -> Option<Ordered> {
     let before = diags.error_count();
-    let mut writers: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    let writers = writers(p, kept);
+    let mut edges = Edges::new();
     for &i in kept {
-        for w in p.passes[i].written() {
-            let list = writers.entry(w.value.as_str()).or_default();
-            if !list.contains(&i) {
-                list.push(i);
-            }
-        }
-    }
-    // edge (from, to) -> (resource, span of the use in `to`)
-    let mut edges: BTreeMap<(usize, usize), (String, Span)> = BTreeMap::new();
-    for &i in kept {
-        let pass = &p.passes[i];
-        for r in &pass.reads {
-            let name = r.name();
-            let Some(res) = p.resource(name) else {
-                continue;
-            };
-            let ws: Vec<usize> = writers.get(name.value.as_str()).cloned().unwrap_or_default();
-            if r.is_prev() {
-                if ws.is_empty() {
-                    diags.push(Diagnostic::error(
-                        Code::ReadBeforeWrite,
-                        format!(
-                            "`{}` is a history resource but no pass writes it, so there is no previous frame to read",
-                            name.value
-                        ),
-                        name.span,
-                    ));
-                }
-                continue;
-            }
-            if ws.contains(&i) {
-                diags.push(
-                    Diagnostic::error(
-                        Code::Cycle,
-                        format!("pass `{}` both reads and writes `{}`", pass.name.value, name.value),
-                        name.span,
-                    )
-                    .with_note(format!(
-                        "to read the previous frame, declare `{}` with `history: true` and read `Prev(\"{}\")`",
-                        name.value, name.value
-                    )),
-                );
-                continue;
-            }
-            if ws.is_empty() {
-                if res.external() {
-                    continue;
-                }
-                let mut d = Diagnostic::error(
-                    Code::ReadBeforeWrite,
-                    format!("`{}` is read by pass `{}` but no pass writes it first", name.value, pass.name.value),
-                    name.span,
-                )
-                .with_secondary(res.span, "declared here");
-                let culled_writers: Vec<String> = culled
-                    .iter()
-                    .filter(|(j, _)| p.passes[**j].written().any(|w| w.value == name.value))
-                    .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
-                    .collect();
-                if culled_writers.is_empty() {
-                    d = d.with_note("add a pass that writes it, or mark it `external: true` if the runtime supplies it");
-                }
-                for n in culled_writers {
-                    d = d.with_note(n);
-                }
-                diags.push(d);
-                continue;
-            }
-            for w in ws {
-                edges.entry((w, i)).or_insert((name.value.clone(), name.span));
-            }
-        }
+        read_edges(p, i, &writers, culled, &mut edges, diags);
     }
     for (res, ws) in &writers {
-        let mut fresh: Vec<usize> = vec![];
-        for (k, &w) in ws.iter().enumerate() {
-            let pass = &p.passes[w];
-            let span = pass.written().find(|n| n.value == *res).map(|n| n.span).unwrap_or(pass.span);
-            if pass.accumulates(res) {
-                if k == 0 {
-                    let r = p.resource(res);
-                    if !r.is_some_and(|r| r.external() || r.history()) {
-                        diags.push(
-                            Diagnostic::error(
-                                Code::ReadBeforeWrite,
-                                format!("pass `{}` loads `{res}` but no earlier pass writes it", pass.name.value),
-                                span,
-                            )
-                            .with_note("clear it instead (`clear: (...)`), or write it in an earlier pass"),
-                        );
-                    }
-                } else {
-                    edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span));
-                }
-            } else {
-                fresh.push(w);
-            }
-        }
-        if fresh.len() > 1 {
-            for a in 0..fresh.len() {
-                for b in a + 1..fresh.len() {
-                    let (x, y) = (fresh[a], fresh[b]);
-                    if !reaches(&edges, x, y) && !reaches(&edges, y, x) {
-                        let span_of = |i: usize| {
-                            p.passes[i]
-                                .written()
-                                .find(|n| n.value == *res)
-                                .map(|n| n.span)
-                                .unwrap_or(p.passes[i].span)
-                        };
-                        diags.push(
-                            Diagnostic::error(Code::DoubleWriter, format!("passes `{}` and `{}` both write `{res}` and nothing orders them", p.passes[x].name.value, p.passes[y].name.value), span_of(y))
-                                .with_secondary(span_of(x), "also written here")
-                                .with_note("make the later one `load: Load` to build on the first, give them exclusive `when` conditions, or write different resources"),
-                        );
-                    }
-                }
-            }
-        }
+        writer_edges(p, res, ws, &mut edges, diags);
     }
     if diags.error_count() > before {
         return None;
     }
-    // Kahn's algorithm, preferring file order among ready passes.
-    let mut indeg: BTreeMap<usize, usize> = kept.iter().map(|&i| (i, 0)).collect();
-    for &(_, to) in edges.keys() {
-        *indeg.get_mut(&to).unwrap_or(&mut 0) += 1;
-    }
-    let mut ready: BTreeSet<usize> = indeg.iter().filter(|(_, d)| **d == 0).map(|(i, _)| *i).collect();
-    let mut order = vec![];
-    while let Some(&i) = ready.iter().next() {
-        ready.remove(&i);
-        order.push(i);
-        for (&(from, to), _) in edges.range((i, 0)..(i + 1, 0)) {
-            debug_assert_eq!(from, i);
-            if let Some(d) = indeg.get_mut(&to) {
-                *d -= 1;
-                if *d == 0 {
-                    ready.insert(to);
-                }
-            }
-        }
-    }
+    let order = topological(kept, &edges);
     if order.len() < kept.len() {
-        let left: Vec<usize> = kept.iter().copied().filter(|i| !order.contains(i)).collect();
-        let cycle = find_cycle(&edges, &left);
-        let names: Vec<&str> = cycle.iter().map(|&i| p.passes[i].name.value.as_str()).collect();
-        let (res, span) = edges.get(&(cycle[cycle.len() - 1], cycle[0])).cloned().unwrap_or_default();
-        let mut d = Diagnostic::error(
-            Code::Cycle,
-            format!("passes form a cycle: {} -> {}", names.join(" -> "), names[0]),
-            span,
-        )
-        .with_label_text(format!(
-            "`{}` reads `{res}` written by `{}`",
-            p.passes[cycle[0]].name.value,
-            p.passes[cycle[cycle.len() - 1]].name.value
-        ));
-        for w in cycle.windows(2) {
-            if let Some((r, s)) = edges.get(&(w[0], w[1])) {
-                d = d.with_secondary(
-                    *s,
-                    format!(
-                        "`{}` reads `{r}` written by `{}`",
-                        p.passes[w[1]].name.value, p.passes[w[0]].name.value
-                    ),
-                );
-            }
-        }
-        diags.push(
-            d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`"),
-        );
+        diags.push(cycle_error(p, kept, &order, &edges));
         return None;
     }
     let mut after: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
@@ -204,7 +47,198 @@ pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, dia
     Some(Ordered { order, after })
 }
 
-fn reaches(edges: &BTreeMap<(usize, usize), (String, Span)>, from: usize, to: usize) -> bool {
+/// The kept passes writing each resource, in file order.
+fn writers<'p>(p: &'p Pipeline, kept: &[usize]) -> BTreeMap<&'p str, Vec<usize>> {
+    let mut writers: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
+    for &i in kept {
+        for w in p.passes[i].written() {
+            let list = writers.entry(w.value.as_str()).or_default();
+            if !list.contains(&i) {
+                list.push(i);
+            }
+        }
+    }
+    writers
+}
+
+/// Edges from the writers of everything pass `i` reads; reads without a producer are errors.
+fn read_edges(
+    p: &Pipeline,
+    i: usize,
+    writers: &BTreeMap<&str, Vec<usize>>,
+    culled: &BTreeMap<usize, String>,
+    edges: &mut Edges,
+    diags: &mut Diagnostics,
+) {
+    let pass = &p.passes[i];
+    for r in &pass.reads {
+        let name = r.name();
+        let Some(res) = p.resource(name) else {
+            continue;
+        };
+        let ws: &[usize] = writers.get(name.value.as_str()).map(Vec::as_slice).unwrap_or(&[]);
+        if r.is_prev() {
+            if ws.is_empty() {
+                diags.push(Diagnostic::error(
+                    Code::ReadBeforeWrite,
+                    format!(
+                        "`{}` is a history resource but no pass writes it, so there is no previous frame to read",
+                        name.value
+                    ),
+                    name.span,
+                ));
+            }
+            continue;
+        }
+        if ws.contains(&i) {
+            diags.push(
+                Diagnostic::error(
+                    Code::Cycle,
+                    format!("pass `{}` both reads and writes `{}`", pass.name.value, name.value),
+                    name.span,
+                )
+                .with_note(format!(
+                    "to read the previous frame, declare `{}` with `history: true` and read `Prev(\"{}\")`",
+                    name.value, name.value
+                )),
+            );
+            continue;
+        }
+        if ws.is_empty() && !res.external() {
+            diags.push(missing_producer(p, pass, name, res, culled));
+        }
+        for &w in ws {
+            edges.entry((w, i)).or_insert((name.value.clone(), name.span));
+        }
+    }
+}
+
+fn missing_producer(
+    p: &Pipeline,
+    pass: &Pass,
+    name: &crate::span::Spanned<String>,
+    res: &Resource,
+    culled: &BTreeMap<usize, String>,
+) -> Diagnostic {
+    let mut d = Diagnostic::error(
+        Code::ReadBeforeWrite,
+        format!("`{}` is read by pass `{}` but no pass writes it first", name.value, pass.name.value),
+        name.span,
+    )
+    .with_secondary(res.span, "declared here");
+    let culled_writers: Vec<String> = culled
+        .iter()
+        .filter(|(j, _)| p.passes[**j].written().any(|w| w.value == name.value))
+        .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
+        .collect();
+    if culled_writers.is_empty() {
+        d = d.with_note("add a pass that writes it, or mark it `external: true` if the runtime supplies it");
+    }
+    for n in culled_writers {
+        d = d.with_note(n);
+    }
+    d
+}
+
+/// Writers that `load` build on the previous writer in file order; writers that start afresh
+/// must be ordered by some other dependency.
+fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags: &mut Diagnostics) {
+    let span_of = |i: usize| {
+        p.passes[i]
+            .written()
+            .find(|n| n.value == res)
+            .map(|n| n.span)
+            .unwrap_or(p.passes[i].span)
+    };
+    let mut fresh: Vec<usize> = vec![];
+    for (k, &w) in ws.iter().enumerate() {
+        let pass = &p.passes[w];
+        if !pass.accumulates(res) {
+            fresh.push(w);
+        } else if k > 0 {
+            edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span_of(w)));
+        } else if !p.resource(res).is_some_and(|r| r.external() || r.history()) {
+            diags.push(
+                Diagnostic::error(
+                    Code::ReadBeforeWrite,
+                    format!("pass `{}` loads `{res}` but no earlier pass writes it", pass.name.value),
+                    span_of(w),
+                )
+                .with_note("clear it instead (`clear: (...)`), or write it in an earlier pass"),
+            );
+        }
+    }
+    for (a, &x) in fresh.iter().enumerate() {
+        for &y in &fresh[a + 1..] {
+            if !reaches(edges, x, y) && !reaches(edges, y, x) {
+                diags.push(
+                    Diagnostic::error(
+                        Code::DoubleWriter,
+                        format!("passes `{}` and `{}` both write `{res}` and nothing orders them", p.passes[x].name.value, p.passes[y].name.value),
+                        span_of(y),
+                    )
+                    .with_secondary(span_of(x), "also written here")
+                    .with_note("make the later one `load: Load` to build on the first, give them exclusive `when` conditions, or write different resources"),
+                );
+            }
+        }
+    }
+}
+
+/// Kahn's algorithm, preferring file order among ready passes.
+fn topological(kept: &[usize], edges: &Edges) -> Vec<usize> {
+    let mut indeg: BTreeMap<usize, usize> = kept.iter().map(|&i| (i, 0)).collect();
+    for &(_, to) in edges.keys() {
+        if let Some(d) = indeg.get_mut(&to) {
+            *d += 1;
+        }
+    }
+    let mut ready: BTreeSet<usize> = indeg.iter().filter(|(_, d)| **d == 0).map(|(i, _)| *i).collect();
+    let mut order = vec![];
+    while let Some(i) = ready.pop_first() {
+        order.push(i);
+        for (&(_, to), _) in edges.range((i, 0)..(i + 1, 0)) {
+            if let Some(d) = indeg.get_mut(&to) {
+                *d -= 1;
+                if *d == 0 {
+                    ready.insert(to);
+                }
+            }
+        }
+    }
+    order
+}
+
+fn cycle_error(p: &Pipeline, kept: &[usize], order: &[usize], edges: &Edges) -> Diagnostic {
+    let left: Vec<usize> = kept.iter().copied().filter(|i| !order.contains(i)).collect();
+    let cycle = find_cycle(edges, &left);
+    let names: Vec<&str> = cycle.iter().map(|&i| p.passes[i].name.value.as_str()).collect();
+    let (res, span) = edges.get(&(cycle[cycle.len() - 1], cycle[0])).cloned().unwrap_or_default();
+    let mut d = Diagnostic::error(
+        Code::Cycle,
+        format!("passes form a cycle: {} -> {}", names.join(" -> "), names[0]),
+        span,
+    )
+    .with_label_text(format!(
+        "`{}` reads `{res}` written by `{}`",
+        p.passes[cycle[0]].name.value,
+        p.passes[cycle[cycle.len() - 1]].name.value
+    ));
+    for w in cycle.windows(2) {
+        if let Some((r, s)) = edges.get(&(w[0], w[1])) {
+            d = d.with_secondary(
+                *s,
+                format!(
+                    "`{}` reads `{r}` written by `{}`",
+                    p.passes[w[1]].name.value, p.passes[w[0]].name.value
+                ),
+            );
+        }
+    }
+    d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`")
+}
+
+fn reaches(edges: &Edges, from: usize, to: usize) -> bool {
     let mut stack = vec![from];
     let mut seen = BTreeSet::new();
     while let Some(n) = stack.pop() {
@@ -220,7 +254,7 @@ fn reaches(edges: &BTreeMap<(usize, usize), (String, Span)>, from: usize, to: us
 
 /// A cycle among the passes Kahn's algorithm could not order. Every such pass has an
 /// unordered predecessor among them, so walking predecessors must come back on itself.
-fn find_cycle(edges: &BTreeMap<(usize, usize), (String, Span)>, left: &[usize]) -> Vec<usize> {
+fn find_cycle(edges: &Edges, left: &[usize]) -> Vec<usize> {
     let mut path = vec![left[0]];
     loop {
         let cur = path[path.len() - 1];

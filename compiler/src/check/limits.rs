@@ -16,86 +16,107 @@ fn over(what: String, limit: &str, value: u64, max: u64, profile: &Profile, span
 }
 
 pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, profile: &Profile, diags: &mut Diagnostics) {
-    let l = &profile.limits;
-    let n = pass.color().len() as u64;
-    if n > l.max_color_attachments {
-        let span = pass.color()[l.max_color_attachments as usize]
-            .span
-            .to(pass.color()[pass.color().len() - 1].span);
+    attachments(p, pass, profile, diags);
+    groups(pass, stages, res, profile, diags);
+    per_stage(pass, res, profile, diags);
+    if let Some(cs) = stages.iter().find(|s| s.stage == Stage::Compute) {
+        workgroup(cs, profile, diags);
+    }
+}
+
+fn attachments(p: &Pipeline, pass: &Pass, profile: &Profile, diags: &mut Diagnostics) {
+    let (l, color) = (&profile.limits, pass.color());
+    let (Some(first), Some(last)) = (color.first(), color.last()) else {
+        return;
+    };
+    if color.len() as u64 > l.max_color_attachments {
+        let span = color[l.max_color_attachments as usize].span.to(last.span);
+        let what = format!("pass `{}` has too many color attachments", pass.name.value);
         diags.push(over(
-            format!("pass `{}` has too many color attachments", pass.name.value),
+            what,
             "max_color_attachments",
-            n,
+            color.len() as u64,
             l.max_color_attachments,
             profile,
             span,
         ));
-    } else {
-        let bytes: u64 = pass
-            .color()
-            .iter()
-            .filter_map(|c| p.resource(&c.resource)?.texture())
-            .map(|t| t.format.value.bytes().max(4) as u64)
-            .sum();
-        if bytes > l.max_color_attachment_bytes_per_sample && !pass.color().is_empty() {
-            diags.push(over(
-                format!("color attachments of pass `{}` take too many bytes per sample", pass.name.value),
-                "max_color_attachment_bytes_per_sample",
-                bytes,
-                l.max_color_attachment_bytes_per_sample,
-                profile,
-                pass.color()[0].span.to(pass.color()[pass.color().len() - 1].span),
-            ));
-        }
+        return;
     }
+    let bytes: u64 = color
+        .iter()
+        .filter_map(|c| p.resource(&c.resource)?.texture())
+        .map(|t| t.format.value.bytes().max(4) as u64)
+        .sum();
+    if bytes > l.max_color_attachment_bytes_per_sample {
+        diags.push(over(
+            format!("color attachments of pass `{}` take too many bytes per sample", pass.name.value),
+            "max_color_attachment_bytes_per_sample",
+            bytes,
+            l.max_color_attachment_bytes_per_sample,
+            profile,
+            first.span.to(last.span),
+        ));
+    }
+}
+
+/// Bind group indices, binding indices and uniform block sizes.
+fn groups(pass: &Pass, stages: &[StageShader], res: &Resolved, profile: &Profile, diags: &mut Diagnostics) {
+    let l = &profile.limits;
     let first_span = |group: u32| {
         stages
             .iter()
-            .flat_map(|st| st.module.globals.iter().cloned().map(move |g| (st, g)))
+            .flat_map(|st| st.module.globals.iter().map(move |g| (st, g)))
             .find(|(_, g)| g.group == group)
             .map(|(st, g)| st.module.global_span(g.handle))
             .unwrap_or(pass.name.span)
     };
-    if let Some(g) = res.groups.last() {
-        if g.group as u64 + 1 > l.max_bind_groups {
-            diags.push(over(
-                format!("pass `{}` uses bind group {}", pass.name.value, g.group),
-                "max_bind_groups",
-                g.group as u64 + 1,
-                l.max_bind_groups,
-                profile,
-                first_span(g.group),
-            ));
-        }
+    if let Some(g) = res.groups.last().filter(|g| g.group as u64 + 1 > l.max_bind_groups) {
+        let what = format!("pass `{}` uses bind group {}", pass.name.value, g.group);
+        diags.push(over(
+            what,
+            "max_bind_groups",
+            g.group as u64 + 1,
+            l.max_bind_groups,
+            profile,
+            first_span(g.group),
+        ));
     }
     for g in &res.groups {
-        if let Some(max_b) = g.entries.iter().map(|e| e.binding).max() {
-            if max_b as u64 >= l.max_bindings_per_bind_group {
-                diags.push(over(
-                    format!("binding index in group {}", g.group),
-                    "max_bindings_per_bind_group",
-                    max_b as u64 + 1,
-                    l.max_bindings_per_bind_group,
-                    profile,
-                    first_span(g.group),
-                ));
-            }
+        if let Some(max_b) = g
+            .entries
+            .iter()
+            .map(|e| e.binding)
+            .max()
+            .filter(|b| *b as u64 >= l.max_bindings_per_bind_group)
+        {
+            let what = format!("binding index in group {}", g.group);
+            let (v, max) = (max_b as u64 + 1, l.max_bindings_per_bind_group);
+            diags.push(over(what, "max_bindings_per_bind_group", v, max, profile, first_span(g.group)));
         }
     }
-    for b in &res.uniform_blocks {
-        if b.size as u64 > l.max_uniform_buffer_binding_size {
-            diags.push(over(
-                format!("uniform block `{}`", b.global),
-                "max_uniform_buffer_binding_size",
-                b.size as u64,
-                l.max_uniform_buffer_binding_size,
-                profile,
-                pass.name.span,
-            ));
-        }
+    for b in res
+        .uniform_blocks
+        .iter()
+        .filter(|b| b.size as u64 > l.max_uniform_buffer_binding_size)
+    {
+        let what = format!("uniform block `{}`", b.global);
+        let max = l.max_uniform_buffer_binding_size;
+        diags.push(over(
+            what,
+            "max_uniform_buffer_binding_size",
+            b.size as u64,
+            max,
+            profile,
+            pass.name.span,
+        ));
     }
+}
+
+/// Textures, samplers and buffers each stage binds.
+fn per_stage(pass: &Pass, res: &Resolved, profile: &Profile, diags: &mut Diagnostics) {
+    let l = &profile.limits;
     for (stage, c) in &res.per_stage {
-        for (what, limit, v, max) in [
+        let counts = [
             (
                 "sampled textures",
                 "max_sampled_textures_per_shader_stage",
@@ -126,42 +147,29 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, 
                 c.storage_buffers,
                 l.max_storage_buffers_per_shader_stage,
             ),
-        ] {
-            if v > max {
-                diags.push(over(
-                    format!("{} stage of pass `{}` uses too many {what}", stage.word(), pass.name.value),
-                    limit,
-                    v,
-                    max,
-                    profile,
-                    pass.name.span,
-                ));
-            }
+        ];
+        for (what, limit, v, max) in counts.into_iter().filter(|(_, _, v, max)| v > max) {
+            let what = format!("{} stage of pass `{}` uses too many {what}", stage.word(), pass.name.value);
+            diags.push(over(what, limit, v, max, profile, pass.name.span));
         }
     }
-    if let Some(cs) = stages.iter().find(|s| s.stage == Stage::Compute) {
-        let [x, y, z] = cs.module.module.entry_points[cs.entry].workgroup_size;
-        let inv = x as u64 * y as u64 * z as u64;
-        for (v, max, limit) in [
-            (x as u64, l.max_compute_workgroup_size_x, "max_compute_workgroup_size_x"),
-            (y as u64, l.max_compute_workgroup_size_y, "max_compute_workgroup_size_y"),
-            (z as u64, l.max_compute_workgroup_size_z, "max_compute_workgroup_size_z"),
-            (
-                inv,
-                l.max_compute_invocations_per_workgroup,
-                "max_compute_invocations_per_workgroup",
-            ),
-        ] {
-            if v > max {
-                diags.push(over(
-                    format!("workgroup size of `{}`", cs.sref.entry.value),
-                    limit,
-                    v,
-                    max,
-                    profile,
-                    cs.sref.entry.span,
-                ));
-            }
-        }
+}
+
+fn workgroup(cs: &StageShader, profile: &Profile, diags: &mut Diagnostics) {
+    let l = &profile.limits;
+    let [x, y, z] = cs.module.module.entry_points[cs.entry].workgroup_size;
+    let sizes = [
+        (x as u64, l.max_compute_workgroup_size_x, "max_compute_workgroup_size_x"),
+        (y as u64, l.max_compute_workgroup_size_y, "max_compute_workgroup_size_y"),
+        (z as u64, l.max_compute_workgroup_size_z, "max_compute_workgroup_size_z"),
+        (
+            x as u64 * y as u64 * z as u64,
+            l.max_compute_invocations_per_workgroup,
+            "max_compute_invocations_per_workgroup",
+        ),
+    ];
+    for (v, max, limit) in sizes.into_iter().filter(|(v, max, _)| v > max) {
+        let what = format!("workgroup size of `{}`", cs.sref.entry.value);
+        diags.push(over(what, limit, v, max, profile, cs.sref.entry.span));
     }
 }

@@ -255,58 +255,12 @@ fn compile(
     diags: &mut Diagnostics,
 ) -> Option<Arc<Compiled>> {
     let map = |s: naga::Span| s.to_range().and_then(|r| expanded.map(r)).unwrap_or(fallback);
-    let module = match lang {
-        Lang::Wgsl => match naga::front::wgsl::parse_str(&expanded.text) {
-            Ok(m) => m,
-            Err(e) => {
-                let mut labels = e.labels();
-                let (first_span, first_text) = labels
-                    .next()
-                    .map(|(s, t)| (map(s), t.to_string()))
-                    .unwrap_or((fallback, String::new()));
-                let mut d = Diagnostic::error(Code::WgslParse, e.message().to_string(), first_span).with_label_text(first_text);
-                for (s, t) in labels {
-                    d = d.with_secondary(map(s), t);
-                }
-                for n in e.notes() {
-                    d = d.with_note(n);
-                }
-                diags.push(d);
-                return None;
-            }
-        },
-        Lang::Glsl(stage) => {
-            let mut front = naga::front::glsl::Frontend::default();
-            match front.parse(&naga::front::glsl::Options::from(stage), &expanded.text) {
-                Ok(m) => m,
-                Err(errs) => {
-                    for e in errs.errors {
-                        diags.push(Diagnostic::error(Code::GlslParse, e.kind.to_string(), map(e.meta)));
-                    }
-                    return None;
-                }
-            }
-        }
-    };
+    let module = parse(lang, &expanded.text, &map, diags)?;
     let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps);
     let info = match validator.validate(&module) {
         Ok(i) => i,
         Err(e) => {
-            let mut spans = e.spans();
-            let (first, first_text) = spans.next().map(|(s, t)| (map(*s), t.clone())).unwrap_or((fallback, String::new()));
-            let mut d = Diagnostic::error(Code::ShaderValidation, e.as_inner().to_string(), first).with_label_text(first_text);
-            for (s, t) in spans {
-                d = d.with_secondary(map(*s), t.clone());
-            }
-            let mut source = std::error::Error::source(e.as_inner());
-            while let Some(s) = source {
-                d = d.with_note(s.to_string());
-                source = s.source();
-            }
-            if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {
-                d = d.with_note("declare the wgpu feature this needs in the `requires` of the variant option that enables this pass");
-            }
-            diags.push(d);
+            diags.push(validation_error(&e, &map));
             return None;
         }
     };
@@ -326,4 +280,54 @@ fn compile(
         layouter,
         globals,
     }))
+}
+
+/// naga's WGSL or GLSL front end, with its errors located through `map`.
+fn parse(lang: Lang, text: &str, map: &dyn Fn(naga::Span) -> Span, diags: &mut Diagnostics) -> Option<naga::Module> {
+    match lang {
+        Lang::Wgsl => match naga::front::wgsl::parse_str(text) {
+            Ok(m) => Some(m),
+            Err(e) => {
+                let mut labels = e.labels().map(|(s, t)| (map(s), t.to_string()));
+                let (first_span, first_text) = labels.next().unwrap_or((map(naga::Span::UNDEFINED), String::new()));
+                let mut d = Diagnostic::error(Code::WgslParse, e.message().to_string(), first_span).with_label_text(first_text);
+                for (s, t) in labels {
+                    d = d.with_secondary(s, t);
+                }
+                for n in e.notes() {
+                    d = d.with_note(n);
+                }
+                diags.push(d);
+                None
+            }
+        },
+        Lang::Glsl(stage) => match naga::front::glsl::Frontend::default().parse(&naga::front::glsl::Options::from(stage), text) {
+            Ok(m) => Some(m),
+            Err(errs) => {
+                for e in errs.errors {
+                    diags.push(Diagnostic::error(Code::GlslParse, e.kind.to_string(), map(e.meta)));
+                }
+                None
+            }
+        },
+    }
+}
+
+/// A validation error with every span naga gives and the chain of causes as notes.
+fn validation_error(e: &naga::WithSpan<naga::valid::ValidationError>, map: &dyn Fn(naga::Span) -> Span) -> Diagnostic {
+    let mut spans = e.spans().map(|(s, t)| (map(*s), t.clone()));
+    let (first, first_text) = spans.next().unwrap_or((map(naga::Span::UNDEFINED), String::new()));
+    let mut d = Diagnostic::error(Code::ShaderValidation, e.as_inner().to_string(), first).with_label_text(first_text);
+    for (s, t) in spans {
+        d = d.with_secondary(s, t);
+    }
+    let mut source = std::error::Error::source(e.as_inner());
+    while let Some(s) = source {
+        d = d.with_note(s.to_string());
+        source = s.source();
+    }
+    if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {
+        d = d.with_note("declare the wgpu feature this needs in the `requires` of the variant option that enables this pass");
+    }
+    d
 }

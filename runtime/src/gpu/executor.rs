@@ -318,6 +318,51 @@ impl Executor {
 
 type Fresh = Vec<(PipelineKey, Arc<Built>)>;
 
+/// One uniform buffer per parameter block of each pass, written with the packed values.
+fn param_blocks(gpu: &Gpu, plan: &Plan, params: &ParamValues) -> Vec<Vec<(wgpu::Buffer, Vec<u8>)>> {
+    plan.passes
+        .iter()
+        .map(|pp| {
+            pp.uniform_blocks
+                .iter()
+                .map(|b| {
+                    let buf = uniform_buffer(&gpu.device, &format!("{}.{}", pp.name, b.global), b.size as u64);
+                    let bytes = b.pack(&plan.params, params);
+                    gpu.queue.write_buffer(&buf, 0, &bytes);
+                    (buf, bytes)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The pipeline of a pass: from the cache, from this build, or built now (and recorded).
+fn pipeline(
+    gpu: &Gpu,
+    exe: &Executable,
+    i: usize,
+    cache: &mut PipelineCache,
+    fresh: &mut Fresh,
+    report: &mut ReloadReport,
+) -> Result<Arc<Built>> {
+    let pp = &exe.plan.passes[i];
+    let modules = &exe.modules[i];
+    let key = PipelineKey::of(pp, modules);
+    if let Some(b) = cache
+        .get(&key)
+        .or_else(|| fresh.iter().find(|(k, _)| *k == key).map(|(_, b)| b.clone()))
+    {
+        report.pipelines_reused.push(pp.name.clone());
+        return Ok(b);
+    }
+    let b = Arc::new(err_scope(gpu, &format!("pass `{}`", pp.name), || {
+        cache.build(&gpu.device, pp, modules)
+    })??);
+    report.pipelines_built.push(pp.name.clone());
+    fresh.push((key, b.clone()));
+    Ok(b)
+}
+
 /// The GPU state of an executable: resources (sharing `old`'s where unchanged), samplers,
 /// parameter blocks, pipelines (from `cache`, or built: returned as `Fresh` to be cached once
 /// the whole state is known to be good) and bind groups.
@@ -330,66 +375,34 @@ fn build_state(
     params: &ParamValues,
 ) -> Result<(State, Fresh, ReloadReport)> {
     let device = &gpu.device;
-    let plan = exe.plan.clone();
+    let plan = &exe.plan;
     if exe.modules.len() != plan.passes.len() {
         return Err(Error::Plan("the executable has no shader modules for some passes".into()));
     }
-    let pool = err_scope(gpu, "creating resources", || Pool::build(device, &plan, old))?;
+    let pool = err_scope(gpu, "creating resources", || Pool::build(device, plan, old))?;
     let samplers: Vec<wgpu::Sampler> = plan.samplers.iter().map(|s| sampler(device, s)).collect();
     let reps_total: u64 = plan.passes.iter().map(|p| p.repetitions.max(1) as u64).sum();
     let instance_buf = uniform_buffer(device, "instances", SLOT * reps_total.max(1));
-    let blocks: Vec<Vec<(wgpu::Buffer, Vec<u8>)>> = plan
-        .passes
-        .iter()
-        .map(|pp| {
-            pp.uniform_blocks
-                .iter()
-                .map(|b| {
-                    let buf = uniform_buffer(device, &format!("{}.{}", pp.name, b.global), b.size as u64);
-                    let bytes = b.pack(&plan.params, params);
-                    gpu.queue.write_buffer(&buf, 0, &bytes);
-                    (buf, bytes)
-                })
-                .collect()
-        })
-        .collect();
+    let blocks = param_blocks(gpu, plan, params);
     let mut report = ReloadReport {
         resources_created: pool.created.clone(),
         resources_reused: pool.reused.clone(),
         ..Default::default()
     };
-    let mut fresh: Fresh = vec![];
-    let mut passes = vec![];
-    let mut slot = 0u64;
+    let binder = Binder {
+        gpu,
+        plan,
+        pool: &pool,
+        samplers: &samplers,
+        frame: &shared.frame_buf,
+        lights_buf: &shared.lights_buf,
+        instance: &instance_buf,
+        lights: &shared.lights,
+    };
+    let (mut fresh, mut passes, mut slot) = (Fresh::new(), vec![], 0u64);
     for (i, pp) in plan.passes.iter().enumerate() {
+        let built = pipeline(gpu, exe, i, cache, &mut fresh, &mut report)?;
         let what = format!("pass `{}`", pp.name);
-        let modules = &exe.modules[i];
-        let key = PipelineKey::of(pp, modules);
-        let known = cache
-            .get(&key)
-            .or_else(|| fresh.iter().find(|(k, _)| *k == key).map(|(_, b)| b.clone()));
-        let built = match known {
-            Some(b) => {
-                report.pipelines_reused.push(pp.name.clone());
-                b
-            }
-            None => {
-                let b = Arc::new(err_scope(gpu, &what, || cache.build(device, pp, modules))??);
-                report.pipelines_built.push(pp.name.clone());
-                fresh.push((key, b.clone()));
-                b
-            }
-        };
-        let binder = Binder {
-            gpu,
-            plan: &plan,
-            pool: &pool,
-            samplers: &samplers,
-            frame: &shared.frame_buf,
-            lights_buf: &shared.lights_buf,
-            instance: &instance_buf,
-            lights: &shared.lights,
-        };
         let param_bufs: Vec<wgpu::Buffer> = blocks[i].iter().map(|(b, _)| b.clone()).collect();
         let reps = err_scope(gpu, &what, || binder.reps(pp, &built.layouts, &param_bufs, &mut slot))??;
         let draw_groups = err_scope(gpu, &what, || binder.draw_groups(pp, &built.layouts, &shared.scene_gpu))??;
@@ -400,13 +413,12 @@ fn build_state(
             draw_groups,
         });
     }
-    let timer = Timer::new(gpu, plan.passes.len());
     let state = State {
-        plan,
+        plan: plan.clone(),
         pool,
         params: blocks,
         passes,
-        timer,
+        timer: Timer::new(gpu, plan.passes.len()),
     };
     Ok((state, fresh, report))
 }

@@ -90,19 +90,7 @@ impl Ctx<'_> {
             }
         };
         let samplers = self.samplers_of(&g.name);
-        // Filterable where the format is filterable without optional features; 32-bit
-        // floats only when a filtering sampler needs it (which needs Float32Filterable).
-        let with_filtering = samplers.iter().any(|s| s.binding_kind() == SamplerKind::Filtering);
-        let sample_type = match sample_type {
-            SampleType::Float { .. } if f.is_depth() => SampleType::Float { filterable: false },
-            SampleType::Float { .. } if f.is_32bit_float() => SampleType::Float {
-                filterable: with_filtering && f.filterable(self.profile),
-            },
-            SampleType::Float { .. } => SampleType::Float {
-                filterable: f.filterable(self.profile),
-            },
-            s => s,
-        };
+        let sample_type = self.filterability(sample_type, f, &samplers);
         if let Err(why) = dim_ok(dim, t) {
             diags.push(
                 Diagnostic::error(
@@ -120,29 +108,8 @@ impl Ctx<'_> {
             );
             return None;
         }
-        // A filtering sampler on a non-filterable format is invalid in wgpu.
-        if let (Some(decl), SampleType::Float { filterable: false }) =
-            (samplers.iter().find(|s| s.binding_kind() == SamplerKind::Filtering), sample_type)
-        {
-            diags.push(
-                Diagnostic::error(
-                    Code::NotFilterable,
-                    format!(
-                        "`{}` ({res_name}) is sampled with filtering sampler `{}`, but {} is not filterable{}",
-                        g.name,
-                        decl.name.value,
-                        f.name(),
-                        if f.is_32bit_float() {
-                            " without the Float32Filterable feature"
-                        } else {
-                            ""
-                        }
-                    ),
-                    gspan,
-                )
-                .with_secondary(decl.span, "filtering sampler declared here")
-                .with_note("use a sampler with `filter: Nearest, mipmap: Nearest`, or `textureLoad`"),
-            );
+        if let Some(d) = not_filterable(u, res_name, f, sample_type, &samplers) {
+            diags.push(d);
         }
         self.count(&u.stages, |c| c.sampled_textures += 1);
         Some(BindingType::Texture {
@@ -150,6 +117,22 @@ impl Ctx<'_> {
             view_dimension: dim,
             multisampled: false,
         })
+    }
+
+    /// Filterable where the format is filterable without optional features; 32-bit floats
+    /// only when a filtering sampler needs it (which needs Float32Filterable); depth never.
+    fn filterability(&self, st: SampleType, f: TextureFormat, samplers: &[&SamplerDecl]) -> SampleType {
+        let with_filtering = samplers.iter().any(|s| s.binding_kind() == SamplerKind::Filtering);
+        match st {
+            SampleType::Float { .. } if f.is_depth() => SampleType::Float { filterable: false },
+            SampleType::Float { .. } if f.is_32bit_float() => SampleType::Float {
+                filterable: with_filtering && f.filterable(self.profile),
+            },
+            SampleType::Float { .. } => SampleType::Float {
+                filterable: f.filterable(self.profile),
+            },
+            s => s,
+        }
     }
 
     /// The declared samplers a texture global is sampled with.
@@ -236,6 +219,33 @@ impl Ctx<'_> {
             view_dimension: dim,
         })
     }
+}
+
+/// A filtering sampler on a non-filterable format is invalid in wgpu.
+fn not_filterable(u: &Used, res_name: &str, f: TextureFormat, st: SampleType, samplers: &[&SamplerDecl]) -> Option<Diagnostic> {
+    if st != (SampleType::Float { filterable: false }) {
+        return None;
+    }
+    let decl = samplers.iter().find(|s| s.binding_kind() == SamplerKind::Filtering)?;
+    Some(
+        Diagnostic::error(
+            Code::NotFilterable,
+            format!(
+                "`{}` ({res_name}) is sampled with filtering sampler `{}`, but {} is not filterable{}",
+                u.g.name,
+                decl.name.value,
+                f.name(),
+                if f.is_32bit_float() {
+                    " without the Float32Filterable feature"
+                } else {
+                    ""
+                }
+            ),
+            u.stage.module.global_span(u.g.handle),
+        )
+        .with_secondary(decl.span, "filtering sampler declared here")
+        .with_note("use a sampler with `filter: Nearest, mipmap: Nearest`, or `textureLoad`"),
+    )
 }
 
 fn too_small(u: &Used, res_name: &str, have: u64, need: u32, decl: Option<crate::span::Span>, diags: &mut Diagnostics) -> Option<()> {
