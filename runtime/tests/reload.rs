@@ -15,6 +15,7 @@ use lightbench_compiler::plan::ResourceShape;
 use lightbench_compiler::vfs::{MemoryVfs, Vfs};
 use lightbench_compiler::{Executable, Workspace};
 use std::path::Path;
+use std::sync::Arc;
 
 const PIPELINE: &str = "mem/pipelines/deferred.ron";
 
@@ -22,6 +23,16 @@ fn compile(g: &Gpu, ws: &Workspace, scene: &Scene) -> Executable {
     compile_in(ws, g, Path::new(PIPELINE), None, scene, &[])
         .unwrap_or_else(|e| panic!("{e}"))
         .0
+}
+
+/// The bundled deferred pipeline in memory, compiled and running on the Cornell box.
+fn running(g: &Gpu) -> (Scene, Arc<MemoryVfs>, Workspace, Executable, Executor) {
+    let scene = builtin::cornell();
+    let vfs = memory_project();
+    let ws = Workspace::new(vfs.clone());
+    let exe = compile(g, &ws, &scene);
+    let ex = Executor::new(g, &exe, &scene).unwrap();
+    (scene, vfs, ws, exe, ex)
 }
 
 fn frame(g: &Gpu, ex: &mut Executor) -> lightbench::io::Image {
@@ -42,10 +53,7 @@ fn darker_tonemap(vfs: &MemoryVfs) {
 #[test]
 fn a_failed_replace_leaves_the_old_plan_rendering_identically() {
     let g = gpu();
-    let scene = builtin::cornell();
-    let ws = Workspace::new(memory_project());
-    let exe = compile(&g, &ws, &scene);
-    let mut ex = Executor::new(&g, &exe, &scene).unwrap();
+    let (scene, _, ws, exe, mut ex) = running(&g);
     let before = frame(&g, &mut ex);
 
     // A texture larger than the device allows: resource creation fails.
@@ -80,11 +88,7 @@ fn a_failed_replace_leaves_the_old_plan_rendering_identically() {
 #[test]
 fn a_one_shader_change_rebuilds_exactly_one_pipeline() {
     let g = gpu();
-    let scene = builtin::cornell();
-    let vfs = memory_project();
-    let ws = Workspace::new(vfs.clone());
-    let exe = compile(&g, &ws, &scene);
-    let mut ex = Executor::new(&g, &exe, &scene).unwrap();
+    let (scene, vfs, ws, _, mut ex) = running(&g);
     let before = frame(&g, &mut ex);
 
     darker_tonemap(&vfs);
@@ -110,11 +114,7 @@ fn a_one_shader_change_rebuilds_exactly_one_pipeline() {
 #[test]
 fn a_parameter_override_survives_a_replace() {
     let g = gpu();
-    let scene = builtin::cornell();
-    let vfs = memory_project();
-    let ws = Workspace::new(vfs.clone());
-    let exe = compile(&g, &ws, &scene);
-    let mut ex = Executor::new(&g, &exe, &scene).unwrap();
+    let (scene, vfs, ws, _, mut ex) = running(&g);
     ex.set_param("tonemap.key", ParamValue::Float(0.5)).unwrap();
     frame(&g, &mut ex);
 
@@ -135,10 +135,7 @@ fn a_parameter_override_survives_a_replace() {
 #[test]
 fn overrides_that_no_longer_apply_are_dropped_and_bad_ones_refused() {
     let g = gpu();
-    let scene = builtin::cornell();
-    let vfs = memory_project();
-    let ws = Workspace::new(vfs.clone());
-    let mut ex = Executor::new(&g, &compile(&g, &ws, &scene), &scene).unwrap();
+    let (scene, vfs, ws, _, mut ex) = running(&g);
     let err = ex.set_param("tonemap.kee", ParamValue::Float(0.5)).unwrap_err().to_string();
     assert!(err.contains("did you mean `tonemap.key`"), "{err}");
     assert!(
@@ -174,9 +171,7 @@ fn overrides_that_no_longer_apply_are_dropped_and_bad_ones_refused() {
 #[test]
 fn frames_take_the_camera_they_are_given() {
     let g = gpu();
-    let scene = builtin::cornell();
-    let ws = Workspace::new(memory_project());
-    let mut ex = Executor::new(&g, &compile(&g, &ws, &scene), &scene).unwrap();
+    let (_, _, _, _, mut ex) = running(&g);
     let front = frame(&g, &mut ex);
     let mut inputs = ex.inputs(0.0);
     inputs.camera.yaw += 180.0; // look out of the open box
