@@ -9,7 +9,7 @@ mod stage;
 mod variant;
 
 pub use condition::{Condition, Effect, LightKind};
-pub use param::{Literal, Param, ParamType, ParamValue, ValueError};
+pub use param::{out_of_range, Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
     default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel, Load,
     Pass, PassKind, Raster, Read, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,

@@ -59,10 +59,7 @@ impl ParamType {
                 }
                 true
             }
-            (t, ParamValue::Vec(c)) => match t.components() {
-                Some(n) => c.len() == n || (matches!(t, ParamType::Color) && c.len() == 4),
-                None => false,
-            },
+            (t, ParamValue::Vec(c)) => t.takes_components(c.len()),
             _ => false,
         };
         if ok {
@@ -70,6 +67,11 @@ impl ParamType {
         } else {
             Err(format!("a {} parameter cannot take {}", self.name(), v.describe()))
         }
+    }
+
+    /// Does a vector-like type take a tuple of `n` numbers? (A colour may carry alpha.)
+    pub fn takes_components(&self, n: usize) -> bool {
+        self.components() == Some(n) || (matches!(self, ParamType::Color) && n == 4)
     }
 
     /// Number of components a vector-like type needs in its default.
@@ -110,6 +112,23 @@ impl ParamValue {
             ParamValue::Vec(v) => v.clone(),
             _ => vec![],
         }
+    }
+}
+
+/// Whether a value lies outside a parameter's `min`/`max` (component-wise): the bound it
+/// crosses and which one (`"min"` or `"max"`). One rule for defaults and overrides.
+pub fn out_of_range<'a>(
+    v: &ParamValue,
+    min: Option<&'a ParamValue>,
+    max: Option<&'a ParamValue>,
+) -> Option<(&'static str, &'a ParamValue)> {
+    let x = v.as_floats();
+    let below = |b: &ParamValue| x.iter().zip(b.as_floats()).any(|(v, l)| *v < l);
+    let above = |b: &ParamValue| x.iter().zip(b.as_floats()).any(|(v, h)| *v > h);
+    match (min, max) {
+        (Some(lo), _) if below(lo) => Some(("min", lo)),
+        (_, Some(hi)) if above(hi) => Some(("max", hi)),
+        _ => None,
     }
 }
 
@@ -158,7 +177,7 @@ impl ParamType {
             (ParamType::Enum(_), Literal::Text(s)) => Ok(ParamValue::Enum(s)),
             (t, Literal::Tuple(v)) if t.components().is_some() => {
                 let n = t.components().unwrap_or(0);
-                if v.len() == n || (matches!(t, ParamType::Color) && v.len() == 4) {
+                if t.takes_components(v.len()) {
                     Ok(ParamValue::Vec(v))
                 } else {
                     err(

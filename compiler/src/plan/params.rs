@@ -4,7 +4,7 @@
 
 use super::PlanParam;
 use crate::diag::did_you_mean;
-use crate::ir::{Param, ParamType, ParamValue};
+use crate::ir::{out_of_range, Param, ParamType, ParamValue};
 use crate::layout::{FieldType, UniformBlock};
 use std::collections::BTreeMap;
 
@@ -62,22 +62,18 @@ impl ParamValues {
             name: name.to_string(),
             why,
         })?;
-        let v = value.as_floats();
-        if v.iter().any(|x| !x.is_finite()) {
+        if value.as_floats().iter().any(|x| !x.is_finite()) {
             return Err(ParamError::Range {
                 name: name.to_string(),
                 why: "the value is not finite".into(),
             });
         }
-        for (bound, below) in [(&p.min, true), (&p.max, false)] {
-            let Some(b) = bound else { continue };
-            if v.iter().zip(b.as_floats()).any(|(x, l)| if below { *x < l } else { *x > l }) {
-                let side = if below { "below its min" } else { "above its max" };
-                return Err(ParamError::Range {
-                    name: name.to_string(),
-                    why: format!("{} is {side} {}", value.describe(), b.describe()),
-                });
-            }
+        if let Some((bound, b)) = out_of_range(value, p.min.as_ref(), p.max.as_ref()) {
+            let side = if bound == "min" { "below its min" } else { "above its max" };
+            return Err(ParamError::Range {
+                name: name.to_string(),
+                why: format!("{} is {side} {}", value.describe(), b.describe()),
+            });
         }
         Ok(())
     }

@@ -33,26 +33,25 @@ fn range(prm: &Param, diags: &mut Diagnostics) {
             return;
         }
     }
-    let d = prm.default.as_floats();
-    for (bound, below) in [(&prm.min, true), (&prm.max, false)] {
-        let Some(b) = bound else { continue };
-        let outside = d.iter().zip(b.as_floats()).any(|(v, l)| if below { *v < l } else { *v > l });
-        if outside {
-            let (side, name) = if below { ("below", "min") } else { ("above", "max") };
-            diags.push(
-                Diagnostic::error(
-                    Code::DefaultOutOfRange,
-                    format!(
-                        "default {} of `{}` is {side} its {name} {}",
-                        prm.default.describe(),
-                        prm.name.value,
-                        b.describe()
-                    ),
-                    prm.default.span,
-                )
-                .with_secondary(b.span, format!("{name} given here")),
-            );
-        }
+    if let Some((name, b)) = out_of_range(&prm.default, prm.min.as_ref().map(|m| &m.value), prm.max.as_ref().map(|m| &m.value)) {
+        let side = if name == "min" { "below" } else { "above" };
+        let bound_span = if name == "min" { &prm.min } else { &prm.max }
+            .as_ref()
+            .map(|b| b.span)
+            .unwrap_or(prm.span);
+        diags.push(
+            Diagnostic::error(
+                Code::DefaultOutOfRange,
+                format!(
+                    "default {} of `{}` is {side} its {name} {}",
+                    prm.default.describe(),
+                    prm.name.value,
+                    b.describe()
+                ),
+                prm.default.span,
+            )
+            .with_secondary(bound_span, format!("{name} given here")),
+        );
     }
 }
 
