@@ -112,6 +112,30 @@ fn a_one_shader_change_rebuilds_exactly_one_pipeline() {
 }
 
 #[test]
+fn many_edits_keep_the_pipeline_cache_bounded() {
+    // A long editing session: every edit is a new module and a new pipeline; old ones are
+    // spares up to a bound, and their shader modules go with them.
+    let g = gpu();
+    let (scene, vfs, ws, exe, mut ex) = running(&g);
+    let original = vfs.read(Path::new("mem/shaders/tonemap.wgsl")).unwrap();
+    for i in 0..150 {
+        let edited = original.replace(
+            "vec3<f32>(1.0)), 1.0);",
+            &format!("vec3<f32>(1.0)) * {:.4}, 1.0);", 0.5 + i as f64 * 1e-3),
+        );
+        vfs.write("mem/shaders/tonemap.wgsl", edited);
+        let report = ex.replace(&g, &compile(&g, &ws, &scene)).unwrap();
+        assert_eq!(report.pipelines_built.len(), 1);
+    }
+    let (pipelines, modules) = ex.cached();
+    let passes = exe.plan.passes.len();
+    assert!(pipelines <= passes + 64, "{pipelines} pipelines kept");
+    // Each kept pipeline has at most two stage modules, and the tone map's vertex stage is shared.
+    assert!(modules <= pipelines + passes, "{modules} shader modules for {pipelines} pipelines");
+    assert_eq!(frame(&g, &mut ex).non_finite(), 0);
+}
+
+#[test]
 fn a_parameter_override_survives_a_replace() {
     let g = gpu();
     let (scene, vfs, ws, _, mut ex) = running(&g);

@@ -156,6 +156,11 @@ impl Executor {
         &self.state.plan
     }
 
+    /// Pipelines and shader modules kept across Plans (bounded: a hot reload does not grow them).
+    pub fn cached(&self) -> (usize, usize) {
+        self.cache.len()
+    }
+
     pub fn pool(&self) -> &Pool {
         &self.state.pool
     }

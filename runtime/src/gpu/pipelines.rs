@@ -109,7 +109,8 @@ impl PipelineCache {
         })
     }
 
-    /// Keep pipelines built for a Plan that now runs; forget the least recently used spares.
+    /// Keep pipelines built for a Plan that now runs; forget the least recently used spares,
+    /// and the shader modules no kept pipeline uses (each edit makes a new module).
     pub fn insert(&mut self, fresh: Vec<(PipelineKey, Arc<Built>)>, in_use: usize) {
         for (k, b) in fresh {
             self.clock += 1;
@@ -121,6 +122,13 @@ impl PipelineCache {
             };
             self.pipelines.remove(&oldest);
         }
+        let live: std::collections::HashSet<u64> = self.pipelines.keys().flat_map(|k| k.stages.iter().map(|s| s.1)).collect();
+        self.modules.retain(|hash, _| live.contains(hash));
+    }
+
+    /// Pipelines and shader modules held (for reports and tests).
+    pub fn len(&self) -> (usize, usize) {
+        (self.pipelines.len(), self.modules.len())
     }
 
     fn module(&mut self, device: &wgpu::Device, m: &ShaderModule) -> wgpu::ShaderModule {
