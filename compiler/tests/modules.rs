@@ -35,14 +35,16 @@ fn modules(src: &Path) -> BTreeMap<Module, PathBuf> {
 
 /// Paths named in a file, resolved to absolute module paths (`super::` against `module`;
 /// `crate::{a, b::c}` expanded one level).
-fn references(text: &str, module: &Module, is_mod_file: bool) -> Vec<Module> {
+fn references(text: &str, module: &Module) -> Vec<Module> {
     let code: String = text
         .lines()
         .filter(|l| !l.trim_start().starts_with("//"))
         .collect::<Vec<_>>()
         .join("\n");
     let mut out = vec![];
-    for (prefix, base) in [("crate::", vec![]), ("super::", parent(module, is_mod_file))] {
+    // `super::` from module `a::b` is `a`, whether the file is `a/b.rs` or `a/b/mod.rs`.
+    let parent = module[..module.len().saturating_sub(1)].to_vec();
+    for (prefix, base) in [("crate::", vec![]), ("super::", parent)] {
         let mut rest = code.as_str();
         while let Some(i) = rest.find(prefix) {
             let before = rest[..i].chars().last();
@@ -58,15 +60,6 @@ fn references(text: &str, module: &Module, is_mod_file: bool) -> Vec<Module> {
         }
     }
     out
-}
-
-/// The module `super::` names from a file.
-fn parent(module: &Module, is_mod_file: bool) -> Module {
-    let mut p = module.clone();
-    // In `a/b.rs` (module a::b) `super` is `a`; in `a/b/mod.rs` (also a::b) it is `a` too.
-    let _ = is_mod_file;
-    p.pop();
-    p
 }
 
 /// `a::b::c` or `{a::x, b}` at the start of `s`, as segment lists.
@@ -110,9 +103,8 @@ fn edges(src: &Path) -> BTreeMap<Module, BTreeSet<Module>> {
     let mods = modules(src);
     let mut out: BTreeMap<Module, BTreeSet<Module>> = BTreeMap::new();
     for (m, file) in &mods {
-        let is_mod_file = file.file_name().is_some_and(|n| n == "mod.rs");
         let text = std::fs::read_to_string(file).unwrap();
-        for r in references(&text, m, is_mod_file) {
+        for r in references(&text, m) {
             let Some(i) = m.iter().zip(&r).position(|(a, b)| a != b) else {
                 continue; // an ancestor or a descendant
             };
@@ -191,7 +183,7 @@ fn a_cycle_is_found() {
         ]
     );
     assert_eq!(
-        references("use super::pool::Pool;", &vec!["gpu".into(), "executor".into()], false),
+        references("use super::pool::Pool;", &vec!["gpu".into(), "executor".into()]),
         vec![vec!["gpu".to_string(), "pool".to_string(), "Pool".to_string()]]
     );
 }
