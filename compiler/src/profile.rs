@@ -75,6 +75,8 @@ limits! {
     max_compute_workgroup_size_z,
     max_compute_invocations_per_workgroup,
     max_multiview_view_count,
+    max_buffer_size,
+    max_compute_workgroups_per_dimension,
 }
 
 impl Limits {
@@ -99,6 +101,8 @@ impl Limits {
             max_compute_workgroup_size_z: 64,
             max_compute_invocations_per_workgroup: 256,
             max_multiview_view_count: 0,
+            max_buffer_size: 256 << 20,
+            max_compute_workgroups_per_dimension: 65535,
         }
     }
 }

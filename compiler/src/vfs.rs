@@ -11,16 +11,56 @@ pub trait Vfs: Send + Sync {
     fn is_dir(&self, path: &Path) -> bool;
 }
 
-/// The real file system.
+/// The largest pipeline, scene or shader file read (a guard against `/dev/zero` and the like).
+pub const MAX_FILE_BYTES: u64 = 16 << 20;
+
+/// The real file system. Only regular files are read (a FIFO would block, a device never
+/// end), at most [`MAX_FILE_BYTES`], and they must be UTF-8.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct DiskVfs;
 
 impl Vfs for DiskVfs {
     fn read(&self, path: &Path) -> io::Result<String> {
-        std::fs::read_to_string(path)
+        let meta = std::fs::metadata(path)?;
+        if meta.is_dir() {
+            return Err(io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file"));
+        }
+        if !meta.is_file() {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "not a regular file (a device, pipe or socket)",
+            ));
+        }
+        use std::io::Read;
+        let mut bytes = vec![];
+        std::fs::File::open(path)?.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)?;
+        if bytes.len() as u64 > MAX_FILE_BYTES {
+            let msg = format!("larger than the {} MiB limit", MAX_FILE_BYTES >> 20);
+            return Err(io::Error::new(io::ErrorKind::FileTooLarge, msg));
+        }
+        utf8(bytes)
     }
     fn is_dir(&self, path: &Path) -> bool {
         path.is_dir()
+    }
+}
+
+/// Text from bytes, or an error naming the byte offset of the first invalid sequence.
+pub fn utf8(bytes: Vec<u8>) -> io::Result<String> {
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        io::Error::new(io::ErrorKind::InvalidData, format!("not valid UTF-8 (invalid byte at offset {at})"))
+    })
+}
+
+/// The diagnostic code of a failed read.
+pub fn read_error_code(e: &io::Error) -> crate::diag::Code {
+    use crate::diag::Code;
+    match e.kind() {
+        io::ErrorKind::IsADirectory | io::ErrorKind::InvalidInput => Code::NotAFile,
+        io::ErrorKind::FileTooLarge => Code::FileTooLarge,
+        io::ErrorKind::InvalidData => Code::InvalidUtf8,
+        _ => Code::FileNotFound,
     }
 }
 

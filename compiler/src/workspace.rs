@@ -108,20 +108,34 @@ pub fn shader_root_for(vfs: &dyn Vfs, pipeline: &Path, explicit: Option<&Path>) 
     dir
 }
 
-/// Pipeline files under a path on disk: the file itself, or every `.ron`/`.lbp` file below a directory.
+/// Pipeline files under a path on disk: the file itself, or every `.ron`/`.lbp` file below a
+/// directory. Symlinks are followed, but each directory and each file (by its canonical
+/// path) is visited once, so symlink loops end and a linked file is checked once.
 pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     if path.is_file() {
         return Ok(vec![path.to_path_buf()]);
     }
     let mut out = vec![];
+    let mut seen_dirs = BTreeSet::new();
+    let mut seen_files = BTreeSet::new();
     let mut dirs = vec![path.to_path_buf()];
     while let Some(d) = dirs.pop() {
-        for e in std::fs::read_dir(&d)? {
-            let p = e?.path();
+        // A dangling or unreadable link is skipped like any non-pipeline entry.
+        let Ok(canonical) = std::fs::canonicalize(&d) else { continue };
+        if !seen_dirs.insert(canonical) {
+            continue;
+        }
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(&d)?.filter_map(|e| e.ok().map(|e| e.path())).collect();
+        entries.sort();
+        for p in entries {
             if p.is_dir() {
                 dirs.push(p);
-            } else if matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")) {
-                out.push(p);
+            } else if p.is_file() && matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")) {
+                if let Ok(c) = std::fs::canonicalize(&p) {
+                    if seen_files.insert(c) {
+                        out.push(p);
+                    }
+                }
             }
         }
     }
@@ -140,6 +154,14 @@ impl Session {
         &self.dependencies
     }
 
+    /// A built-in scene or scene file, through this session's file system (see `scene::load`).
+    pub fn load_scene(&mut self, spec: &str) -> Option<crate::scene::SceneDesc> {
+        if crate::scene::builtin::by_name(spec).is_none() {
+            self.dependencies.insert(PathBuf::from(spec));
+        }
+        crate::scene::load(self.vfs.as_ref(), spec, &mut self.sources, &mut self.diags)
+    }
+
     /// Read and parse a pipeline file into IR (front end chosen by extension).
     pub fn load_pipeline(&mut self, path: &Path) -> Option<Pipeline> {
         let name = path.display().to_string();
@@ -149,7 +171,7 @@ impl Session {
             Err(e) => {
                 self.diags.push(Diagnostic::unlocated(
                     Severity::Error,
-                    Code::FileNotFound,
+                    crate::vfs::read_error_code(&e),
                     format!("cannot read pipeline `{name}`: {e}"),
                 ));
                 return None;

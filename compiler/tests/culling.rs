@@ -141,9 +141,9 @@ fn missing_producer_names_the_culled_writer() {
 fn scene_file_features_and_errors() {
     let dir = temp_dir("scene");
     let good = dir.join("s.ron");
-    std::fs::write(&good, "Scene(name: \"x\", size: (64, 32), lights: [Point(on: true), Spot(), Point(on: false)], effects: [Ssr], models: [(reflective: true)])").unwrap();
+    std::fs::write(&good, "Scene(name: \"x\", size: (64, 32), lights: [Point(on: true), Spot(), Point(on: false)], effects: [Ssr], models: [(path: \"m.gltf\", reflective: true)])").unwrap();
     let mut s = Session::new();
-    let sf = lightbench_compiler::scene::load_scene_features(&good.display().to_string(), &mut s.sources, &mut s.diags).unwrap();
+    let sf = s.load_scene(&good.display().to_string()).unwrap().features([]);
     assert_eq!(sf.size, (64, 32));
     assert_eq!(sf.lights.get(&LightKind::Point), Some(&1));
     assert_eq!(sf.lights.get(&LightKind::Spot), Some(&1));
@@ -151,7 +151,7 @@ fn scene_file_features_and_errors() {
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, "Scene(\n    effects: [Ssrr],\n)").unwrap();
     let mut s = Session::new();
-    assert!(lightbench_compiler::scene::load_scene_features(&bad.display().to_string(), &mut s.sources, &mut s.diags).is_none());
+    assert!(s.load_scene(&bad.display().to_string()).is_none());
     let d = &s.diags.list[0];
     assert_eq!((d.code.as_str(), d.message.as_str()), ("unknown-effect", "unknown effect `Ssrr`"));
     assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((2, 15)));

@@ -503,7 +503,7 @@ mod generated {
         let compute = (dispatch, file(), entry()).prop_map(move |(dispatch, f, e)| {
             PassKind::Compute(Compute {
                 entry: r(&f, &e),
-                dispatch,
+                dispatch: sp(dispatch),
             })
         });
         prop_oneof![raster, fullscreen, compute]

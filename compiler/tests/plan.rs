@@ -8,7 +8,7 @@ use lightbench_compiler::ir::{LightKind, SamplerKind, Stage};
 use lightbench_compiler::layout::{BindSource, BindingType, FieldType, SampleType, ShaderDim};
 use lightbench_compiler::plan::{self, Plan, Usage};
 use lightbench_compiler::profile::Profile;
-use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
+use lightbench_compiler::scene::SceneFeatures;
 use lightbench_compiler::Session;
 
 fn deferred() -> std::path::PathBuf {
@@ -19,7 +19,10 @@ fn plan_with(profile: &str, scene: Option<&str>, variants: &[(&str, &str)]) -> P
     let mut s = Session::new();
     let profile = Profile::offline(profile).unwrap();
     let scene = match scene {
-        Some(p) => load_scene_features(&repo_root().join(p).display().to_string(), &mut s.sources, &mut s.diags).expect("scene"),
+        Some(p) => s
+            .load_scene(&repo_root().join(p).display().to_string())
+            .expect("scene")
+            .features([]),
         None => SceneFeatures::everything(),
     };
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();

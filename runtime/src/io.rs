@@ -1,30 +1,9 @@
-//! Files lightbench writes: always atomically (temporary file in the same directory, then
-//! rename), so a crash never leaves a half-written image or manifest.
+//! Images lightbench reads back and writes (PNG, EXR), and image comparisons. Files are
+//! written through `files` (atomic, symlink- and mode-preserving).
 
 use crate::error::{Error, Result};
-use std::io::Write;
+pub use crate::files::write_atomic;
 use std::path::Path;
-
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let name = path
-        .file_name()
-        .and_then(|n| n.to_str())
-        .ok_or_else(|| Error::io(path, "not a file path"))?;
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Error::io(path, format!("cannot write: {e}")));
-    }
-    Ok(())
-}
 
 /// A read-back image: RGBA f32 texels, row-major, top row first.
 #[derive(Clone, Debug)]

@@ -6,6 +6,7 @@ pub use error::{Error, Result};
 pub mod blocks;
 pub mod cli;
 pub mod error;
+pub mod files;
 pub mod gpu;
 pub mod io;
 pub mod render;

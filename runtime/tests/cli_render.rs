@@ -92,9 +92,14 @@ fn render_exr_output_and_bad_arguments() {
     assert_eq!((img.width(), img.height()), (64, 48));
     assert_eq!(run(&["render", "--out", d.join("frame.jpg").to_str().unwrap()]).0, 2);
     assert_eq!(run(&["render", "--pipeline", "nope.ron"]).0, 2);
+    // A bad --dump name is a usage error found before any frame is rendered or written.
     let (code, _, err) = run(&["render", "--out", d.join("x.png").to_str().unwrap(), "--dump", "gbuf.nrmal"]);
-    assert_eq!(code, 1);
-    assert!(err.contains("`gbuf.nrmal` is not a resource of this plan"), "{err}");
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("`gbuf.nrmal` is not a resource of this plan (did you mean `gbuf.normal`?"),
+        "{err}"
+    );
+    assert!(!d.join("x.png").exists(), "nothing is written when --dump is wrong");
     let (code, _, err) = run(&["render", "--out", d.join("x.png").to_str().unwrap(), "--variant", "tonemap=filmic"]);
     assert_eq!(code, 1);
     assert!(err.contains("variant `tonemap` has no option `filmic`"), "{err}");

@@ -4,7 +4,7 @@ mod gpu_common;
 
 use gpu_common::*;
 use lightbench::io::rmse;
-use lightbench::scene::{builtin, export, file};
+use lightbench::scene::{self, builtin, export};
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -33,7 +33,7 @@ fn exported_builtin_scene_renders_the_same_after_loading() {
     let dir = temp("roundtrip");
     let original = builtin::cornell();
     export::export(&original, &dir.join("cornell.gltf")).unwrap();
-    let loaded = file::load_file(&scene_file(&dir, "cornell.gltf")).unwrap();
+    let loaded = scene::load(scene_file(&dir, "cornell.gltf").to_str().unwrap()).unwrap();
     assert_eq!(loaded.meshes.len(), original.meshes.len());
     assert_eq!(loaded.lights.len(), 1, "the KHR_lights_punctual light comes back");
     assert!((loaded.lights[0].position - original.lights[0].position).length() < 1e-5);
@@ -110,12 +110,13 @@ fn scene_file_errors_name_the_file_and_position() {
     let dir = temp("scene");
     let p = dir.join("bad.ron");
     std::fs::write(&p, "Scene(\n    size: (64, 64),\n    lightz: [],\n)\n").unwrap();
-    let err = file::load_file(&p).unwrap_err().to_string();
-    assert!(err.starts_with(&format!("{}:3:", p.display())), "{err}");
-    assert!(err.contains("lightz"), "{err}");
+    let err = scene::load(p.to_str().unwrap()).unwrap_err().to_string();
+    assert!(err.contains(&format!("{}:3:5", p.display())), "{err}");
+    assert!(err.contains("error[unknown-key]: unknown key `lightz` in scene"), "{err}");
+    assert!(err.contains("did you mean `lights`?"), "{err}");
     let (code, err) = render_cli(&p, &dir);
     assert_eq!(code, 1, "{err}");
-    let missing = file::load("no_such_scene").unwrap_err().to_string();
+    let missing = scene::load("no_such_scene").unwrap_err().to_string();
     assert!(missing.contains("cornell, colonnade, many_lights"), "{missing}");
 }
 
@@ -193,7 +194,7 @@ fn embedded_buffers_images_and_materials_are_loaded() {
         "Scene(\n    size: (64, 64),\n    camera: (position: (0.0, 6.0, 0.01), pitch: -89.0, fov: 40.0, near: 0.1, far: 20.0),\n    models: [(path: \"floor.gltf\")],\n)\n",
     )
     .unwrap();
-    let scene = file::load_file(&scene_path).unwrap();
+    let scene = scene::load(scene_path.to_str().unwrap()).unwrap();
     assert_eq!(scene.textures.len(), 1);
     assert!(scene.textures[0].srgb, "base colour textures are sRGB");
     assert_eq!(scene.lights.len(), 1);

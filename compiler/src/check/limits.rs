@@ -4,6 +4,7 @@ use super::bindings::Resolved;
 use super::StageShader;
 use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
+use crate::layout::BindingType;
 use crate::profile::Profile;
 
 fn over(what: String, limit: &str, value: u64, max: u64, profile: &Profile, span: crate::span::Span) -> Diagnostic {
@@ -19,6 +20,10 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], res: &Resolved, 
     attachments(p, pass, profile, diags);
     groups(pass, stages, res, profile, diags);
     per_stage(pass, res, profile, diags);
+    storage_buffers(p, pass, res, profile, diags);
+    if let PassKind::Compute(c) = &pass.kind {
+        dispatch(pass, &c.dispatch, profile, diags);
+    }
     if let Some(cs) = stages.iter().find(|s| s.stage == Stage::Compute) {
         workgroup(cs, profile, diags);
     }
@@ -171,5 +176,56 @@ fn workgroup(cs: &StageShader, profile: &Profile, diags: &mut Diagnostics) {
     for (v, max, limit) in sizes.into_iter().filter(|(v, max, _)| v > max) {
         let what = format!("workgroup size of `{}`", cs.sref.entry.value);
         diags.push(over(what, limit, v, max, profile, cs.sref.entry.span));
+    }
+}
+
+/// Explicit workgroup counts: each at least 1 (zero dispatches nothing, which is never what a
+/// pass is for) and within the profile's per-dimension limit.
+fn dispatch(pass: &Pass, d: &crate::span::Spanned<Dispatch>, profile: &Profile, diags: &mut Diagnostics) {
+    let Dispatch::Groups(x, y, z) = d.value else { return };
+    let max = profile.limits.max_compute_workgroups_per_dimension;
+    if [x, y, z].contains(&0) {
+        let msg = format!(
+            "pass `{}` dispatches Groups({x}, {y}, {z}): every count must be at least 1",
+            pass.name.value
+        );
+        diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, d.span));
+    } else if let Some(v) = [x, y, z].into_iter().find(|v| *v as u64 > max) {
+        let what = format!("pass `{}` dispatches {v} workgroups in one dimension", pass.name.value);
+        diags.push(over(what, "max_compute_workgroups_per_dimension", v as u64, max, profile, d.span));
+    }
+}
+
+/// Buffers bound as storage: the whole buffer is bound, so its size must fit one binding.
+fn storage_buffers(p: &Pipeline, pass: &Pass, res: &Resolved, profile: &Profile, diags: &mut Diagnostics) {
+    let max = profile.limits.max_storage_buffer_binding_size;
+    let bound = res
+        .groups
+        .iter()
+        .flat_map(|g| &g.entries)
+        .filter(|b| matches!(b.ty, BindingType::Storage { .. }));
+    let mut reported: Vec<&str> = vec![];
+    for b in bound {
+        let (crate::layout::BindSource::Resource(name) | crate::layout::BindSource::Prev(name)) = &b.source else {
+            continue;
+        };
+        let Some(ResourceKind::Buffer(buf)) = p.resource(name).map(|r| &r.kind) else {
+            continue;
+        };
+        if buf.size.value > max && !reported.contains(&name.as_str()) {
+            reported.push(name);
+            let what = format!(
+                "buffer `{name}`, bound as storage by pass `{}`, has {} bytes",
+                pass.name.value, buf.size.value
+            );
+            diags.push(over(
+                what,
+                "max_storage_buffer_binding_size",
+                buf.size.value,
+                max,
+                profile,
+                buf.size.span,
+            ));
+        }
     }
 }

@@ -8,6 +8,7 @@ pub mod entry;
 pub mod graph;
 pub mod io;
 pub mod limits;
+pub mod scene;
 
 use crate::diag::Diagnostics;
 use crate::ir::*;

@@ -28,6 +28,10 @@ macro_rules! codes {
 codes! {
     // Reading files and syntax.
     FileNotFound = "file-not-found": "a pipeline or scene file cannot be read",
+    NotAFile = "not-a-file": "a path that names a directory, device or pipe where a file is expected",
+    FileTooLarge = "file-too-large": "a pipeline, scene or shader file over 16 MiB",
+    InvalidUtf8 = "invalid-utf8": "a file that is not UTF-8 text (the message gives the byte offset)",
+    NestingTooDeep = "nesting-too-deep": "values or conditions nested more than 64 deep, or includes more than 32",
     UnknownFormat = "unknown-format": "a pipeline file whose extension is neither `.ron` nor `.lbp`",
     RonSyntax = "ron-syntax": "RON text that does not parse",
     LbpSyntax = "lbp-syntax": "LBP text that does not parse",
@@ -43,6 +47,7 @@ codes! {
     UnknownValue = "unknown-value": "an unknown enum value, e.g. a texture format (with a suggestion)",
     UnknownEffect = "unknown-effect": "an effect name that does not exist",
     ParamType = "param-type": "a parameter value that does not fit the parameter's type",
+    ModelLoad = "model-load": "a scene's glTF model that cannot be loaded",
     // Declarations.
     DuplicateName = "duplicate-name": "two declarations (or map keys) with the same name",
     AmbiguousName = "ambiguous-name": "two names that map to one shader identifier",
@@ -86,6 +91,7 @@ codes! {
     IncludeSyntax = "include-syntax": "a malformed `#include` line",
     IncludeNotFound = "include-not-found": "an included file that cannot be read",
     IncludeCycle = "include-cycle": "files that include each other",
+    OutsideRoot = "outside-root": "a shader or include path that is absolute or leaves the shader root",
     WgslParse = "wgsl-parse": "WGSL that naga cannot parse",
     GlslParse = "glsl-parse": "GLSL that naga cannot parse",
     ShaderValidation = "shader-validation": "a module naga's validator rejects",

@@ -5,6 +5,10 @@ pub mod comments;
 pub mod lbp;
 pub mod ron;
 
+/// How deep values (RON) and conditions (LBP, RON) may nest: deeper input is a
+/// `nesting-too-deep` error, never a stack overflow in the recursive parsers and lowering.
+pub const MAX_NESTING: usize = 64;
+
 /// A string literal as both languages write it.
 pub fn quote(s: &str) -> String {
     let mut out = String::from("\"");

@@ -5,6 +5,7 @@ mod condition;
 mod param;
 mod pass;
 mod resource;
+pub mod scene;
 mod stage;
 mod variant;
 

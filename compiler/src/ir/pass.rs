@@ -202,7 +202,7 @@ pub struct Fullscreen {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Compute {
     pub entry: ShaderRef,
-    pub dispatch: Dispatch,
+    pub dispatch: Spanned<Dispatch>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

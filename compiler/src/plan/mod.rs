@@ -18,13 +18,13 @@ pub use select::{select, Selection};
 
 use crate::check::PassVersion;
 use crate::format::TextureFormat;
+use crate::ir::scene::SceneFeatures;
 use crate::ir::{
     AddressMode, Blend, CompareFn, CullMode, Draw, FilterMode, LayerSel, LightKind, Load, ParamType, ParamValue, SamplerKind, SizeSpec,
     Stage, ViewDim,
 };
 use crate::layout::{BindGroupLayout, BindSource, Binding, UniformBlock};
 use crate::profile::Profile;
-use crate::scene::SceneFeatures;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeSet;
 

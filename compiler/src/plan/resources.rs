@@ -2,6 +2,7 @@
 //! usages derived from how each pass uses them, extents at the plan's resolution and bytes.
 
 use super::*;
+use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::{Pipeline, Resource, ResourceKind};
 use crate::layout::BindingType;
 
@@ -85,6 +86,36 @@ fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanReso
         external: r.external(),
         usage,
         bytes: one * instances as u64 * copies,
+    }
+}
+
+/// Viewport-sized textures are sized only now: each extent within the profile's limit, and
+/// the declared mip count possible at that extent (errors at the declaration).
+pub(super) fn check_extents(p: &Pipeline, cfg: &Config, resources: &[PlanResource], diags: &mut Diagnostics) {
+    let max = cfg.profile.limits.max_texture_dimension_2d;
+    for r in resources {
+        let ResourceShape::Texture { extent: (w, h), mips, .. } = r.shape else {
+            continue;
+        };
+        let Some(decl) = p.resource(&r.name).and_then(|d| d.texture()) else {
+            continue;
+        };
+        let at = format!("at {}×{}", cfg.scene.size.0, cfg.scene.size.1);
+        if w as u64 > max || h as u64 > max {
+            let msg = format!(
+                "`{}` is {w}×{h} {at}, over the {max} texel limit of profile `{}`",
+                r.name, cfg.profile.name
+            );
+            diags.push(Diagnostic::error(Code::TextureTooLarge, msg, decl.size.span).with_note("limit: max_texture_dimension_2d"));
+        }
+        let possible = 32 - w.max(h).max(1).leading_zeros();
+        if mips > possible {
+            let msg = format!(
+                "`{}` is {w}×{h} {at}, which allows at most {possible} mip levels, not {mips}",
+                r.name
+            );
+            diags.push(Diagnostic::error(Code::MipCount, msg, decl.mips.span));
+        }
     }
 }
 

@@ -40,6 +40,32 @@ impl Expanded {
     }
 }
 
+/// How many files deep includes may nest (each level is a recursion of the expander).
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// Shader and include paths are relative to the shader root and may not leave it: no
+/// absolute paths, no `..` climbing above the root. (Checked on the text, so that nothing
+/// outside the root is even opened; a symlink placed inside the root by its owner is followed.)
+pub fn confined(path: &str) -> Result<(), String> {
+    use std::path::Component;
+    let p = std::path::Path::new(path);
+    let mut depth = 0usize;
+    for c in p.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth > 0 => depth -= 1,
+            Component::ParentDir => return Err(format!("`{path}` leaves the shader root (paths are relative to it)")),
+            Component::RootDir | Component::Prefix(_) => {
+                return Err(format!(
+                    "`{path}` is absolute: shader and include paths are relative to the shader root"
+                ))
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Reads shader files for the expander (through the workspace's virtual file system).
 pub trait ShaderFs {
     fn read(&self, path: &str) -> std::io::Result<String>;
@@ -97,16 +123,27 @@ fn expand_file(
         if done.iter().any(|d| d == path) {
             continue; // include-once: WGSL forbids redefinitions
         }
+        if let Err(why) = confined(path) {
+            return Err(Diagnostic::error(Code::OutsideRoot, why, directive));
+        }
+        if stack.len() >= MAX_INCLUDE_DEPTH {
+            let msg = format!("includes nested more than {MAX_INCLUDE_DEPTH} files deep");
+            return Err(Diagnostic::error(Code::NestingTooDeep, msg, directive));
+        }
         let child = match sources.find(&fs.display(path)) {
             Some(id) => id,
             None => match fs.read(path) {
                 Ok(t) => sources.add(fs.display(path), t),
                 Err(e) => {
+                    let code = match crate::vfs::read_error_code(&e) {
+                        Code::FileNotFound => Code::IncludeNotFound,
+                        c => c,
+                    };
                     return Err(Diagnostic::error(
-                        Code::IncludeNotFound,
+                        code,
                         format!("cannot read included file `{path}`: {e}"),
                         directive,
-                    ))
+                    ));
                 }
             },
         };
@@ -162,6 +199,14 @@ mod tests {
         let sa = e.map(13..14).unwrap();
         assert_eq!(sa.file, a);
         assert_eq!(sm.get(a).line_col(sa.start as usize), (2, 4));
+    }
+
+    #[test]
+    fn paths_stay_inside_the_root() {
+        assert!(confined("lib/a.wgsl").is_ok() && confined("lib/../b.wgsl").is_ok() && confined("./c.wgsl").is_ok());
+        for bad in ["/etc/passwd", "../x.wgsl", "lib/../../x.wgsl", "a/../../../etc/passwd"] {
+            assert!(confined(bad).is_err(), "{bad}");
+        }
     }
 
     #[test]

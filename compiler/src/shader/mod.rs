@@ -206,6 +206,10 @@ pub fn load_module(
             return None;
         }
     };
+    if let Err(why) = include::confined(&path.value) {
+        diags.push(Diagnostic::error(Code::OutsideRoot, why, path.span));
+        return None;
+    }
     // Read every time (a long-running process must see edits); the source map keeps one copy.
     let root = match fs.read(&path.value) {
         Ok(text) => match sources.find(&fs.display(&path.value)) {
@@ -213,9 +217,12 @@ pub fn load_module(
             _ => sources.add(fs.display(&path.value), text),
         },
         Err(e) => {
+            let code = match crate::vfs::read_error_code(&e) {
+                Code::FileNotFound => Code::ShaderNotFound,
+                c => c,
+            };
             diags.push(
-                Diagnostic::error(Code::ShaderNotFound, format!("cannot read shader `{}`: {e}", path.value), path.span)
-                    .with_label_text("referenced here"),
+                Diagnostic::error(code, format!("cannot read shader `{}`: {e}", path.value), path.span).with_label_text("referenced here"),
             );
             return None;
         }

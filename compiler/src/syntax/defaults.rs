@@ -19,7 +19,7 @@ pub enum Def {
 }
 
 /// (owner, key, default). Owners are item kinds as the tree names them; `Pass` holds the
-/// keys every pass kind shares.
+/// keys every pass kind shares, `Light` those of every light kind.
 pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Texture", "size", Def::Ident("Viewport")),
     ("Texture", "layers", Def::Int(1)),
@@ -51,12 +51,37 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Option", "requires", Def::EmptyList),
     ("Option", "limits", Def::EmptyMap),
     ("Option", "shaders", Def::EmptyMap),
+    // Scene files.
+    ("Camera", "yaw", Def::Float(0.0)),
+    ("Camera", "pitch", Def::Float(0.0)),
+    ("Camera", "fov", Def::Float(45.0)),
+    ("Camera", "near", Def::Float(0.05)),
+    ("Camera", "far", Def::Float(100.0)),
+    ("Model", "translation", Def::Floats(&[0.0, 0.0, 0.0])),
+    ("Model", "rotation", Def::Floats(&[0.0, 0.0, 0.0])),
+    ("Model", "scale", Def::Float(1.0)),
+    ("Model", "triangles", Def::Float(1.0)),
+    ("Model", "reflective", Def::Bool(false)),
+    ("Light", "on", Def::Bool(true)),
+    ("Light", "color", Def::Floats(&[1.0, 1.0, 1.0])),
+    ("Light", "intensity", Def::Float(1.0)),
+    ("Light", "position", Def::Floats(&[0.0, 0.0, 0.0])),
+    ("Light", "direction", Def::Floats(&[0.0, -1.0, 0.0])),
+    ("Light", "inner", Def::Float(25.0)),
+    ("Light", "outer", Def::Float(35.0)),
+    ("Light", "range", Def::Float(10.0)),
+    ("Light", "shadows", Def::Bool(true)),
 ];
 
 /// The default of `key` in an item of kind `owner` (pass kinds fall back to `Pass`).
 pub fn get(owner: &str, key: &str) -> Option<Def> {
     let find = |o: &str| DEFAULTS.iter().find(|(ow, k, _)| *ow == o && *k == key).map(|(_, _, d)| *d);
-    find(owner).or_else(|| matches!(owner, "Raster" | "Fullscreen" | "Compute").then(|| find("Pass")).flatten())
+    let shared = match owner {
+        "Raster" | "Fullscreen" | "Compute" => Some("Pass"),
+        "Point" | "Spot" | "Directional" => Some("Light"),
+        _ => None,
+    };
+    find(owner).or_else(|| shared.and_then(find))
 }
 
 impl Def {

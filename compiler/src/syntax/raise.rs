@@ -171,7 +171,7 @@ fn pass(p: &Pass) -> Node {
     f.put("bind", Node::map(bind.collect(), p.span));
     f.opt("when", p.when.as_ref().map(|w| condition(&w.value, w.span)));
     if let PassKind::Compute(c) = &p.kind {
-        f.put("dispatch", dispatch(&c.dispatch, p.span));
+        f.put("dispatch", dispatch(&c.dispatch.value, p.span));
     }
     f.into_node(Some(kind), p.name.span, p.span)
 }

@@ -1,11 +1,10 @@
 //! `lightbench check`: front end, shader validation and every check stage, no GPU.
 
 use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
-use lightbench_compiler::scene::load_scene_features;
 use lightbench_compiler::{pipeline_files, Session, Workspace};
 use std::path::{Path, PathBuf};
 
-pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&Path>, shaders: Option<&Path>) -> i32 {
+pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>, shaders: Option<&Path>) -> i32 {
     let profile = match super::profile(profile) {
         Ok(p) => p,
         Err(e) => return usage_error(e),
@@ -25,18 +24,22 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&Path
     let mut warnings = 0;
     // Pipelines in one run share compiled shaders.
     let ws = Workspace::disk();
-    for f in &files {
-        let mut s = ws.session();
-        let scene_features = match scene {
-            Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
-                Some(sf) => Some(sf),
+    // The scene is read as `render` reads it (models included), once for every pipeline.
+    let scene_features = match scene {
+        Some(spec) => {
+            let mut s = ws.session();
+            match crate::scene::load_in(&mut s, spec) {
+                Some(scene) => Some(scene.features()),
                 None => {
                     emit(&s, format);
                     return EXIT_ERRORS;
                 }
-            },
-            None => None,
-        };
+            }
+        }
+        None => None,
+    };
+    for f in &files {
+        let mut s = ws.session();
         s.check_file(f, shaders, &profile, scene_features.as_ref());
         emit(&s, format);
         errors += s.diags.error_count();

@@ -1,47 +1,71 @@
-//! `lightbench convert` (RON <-> LBP, lossless) and `lightbench fmt` (canonical LBP).
+//! `lightbench convert` (RON <-> LBP, lossless) and `lightbench fmt` (canonical LBP). Both
+//! write through `files`: atomically, through symlinks, keeping the mode; `fmt` refuses to
+//! replace a file that changed while it ran, `convert` to overwrite its own input.
 
 use super::{usage_error, EXIT_ERRORS, EXIT_OK};
-use crate::io::write_atomic;
+use crate::files::{self, Snapshot};
 use lightbench_compiler::front::{lbp, ron};
+use lightbench_compiler::ir::Pipeline;
 use lightbench_compiler::Session;
 use std::path::Path;
 
-fn load(path: &Path) -> Result<(lightbench_compiler::ir::Pipeline, String), i32> {
+/// The pipeline, its text and what the file looked like when read.
+fn load(path: &Path) -> Result<(Pipeline, String, Snapshot), i32> {
     if !path.is_file() {
         return Err(usage_error(format!("no such file: {}", path.display())));
     }
     let mut s = Session::new();
-    let text = std::fs::read_to_string(path).map_err(|e| usage_error(format!("{}: {e}", path.display())))?;
-    match s.parse_pipeline(&path.display().to_string(), text.clone()) {
-        Some(p) if !s.diags.has_errors() => Ok((p, text)),
-        _ => {
-            eprint!("{}", s.render());
+    let parsed = s.load_pipeline(path).filter(|_| !s.diags.has_errors());
+    let Some(pipeline) = parsed else {
+        eprint!("{}", s.render());
+        return Err(EXIT_ERRORS);
+    };
+    let name = path.display().to_string();
+    let text = s.sources.find(&name).map(|id| s.sources.get(id).text.clone()).unwrap_or_default();
+    // The snapshot must be of exactly the text that was parsed, or an edit in between is lost.
+    match Snapshot::of(path) {
+        Ok(snap) if snap.bytes() == text.as_bytes() => Ok((pipeline, text, snap)),
+        Ok(_) => {
+            eprintln!("error: {name} changed while it was read; try again");
             Err(EXIT_ERRORS)
         }
+        Err(e) => Err(usage_error(format!("{name}: {e}"))),
     }
 }
 
 pub fn convert(input: &Path, to: &str, out: Option<&Path>) -> i32 {
-    let (pipeline, text) = match load(input) {
+    if !matches!(to, "ron" | "lbp") {
+        return usage_error(format!("--to {to}: expected `ron` or `lbp`"));
+    }
+    if let Some(o) = out {
+        let ext = o.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if ext != to {
+            return usage_error(format!(
+                "-o {}: the name says `.{ext}` but --to is `{to}`; name it `.{to}`",
+                o.display()
+            ));
+        }
+        if files::same_file(input, o) {
+            return usage_error(format!("-o {} is the input file; write the conversion elsewhere", o.display()));
+        }
+    }
+    let (pipeline, text, _) = match load(input) {
         Ok(x) => x,
         Err(code) => return code,
     };
     let printed = match to {
         "ron" => ron::print::print(&pipeline, Some(&text)),
-        "lbp" => lbp::print::print(&pipeline, Some(&text)),
-        other => return usage_error(format!("--to {other}: expected `ron` or `lbp`")),
+        _ => lbp::print::print(&pipeline, Some(&text)),
     };
-    match out {
-        Some(o) => match write_atomic(o, printed.as_bytes()) {
-            Ok(()) => EXIT_OK,
-            Err(e) => {
-                eprintln!("error: {e}");
-                EXIT_ERRORS
-            }
-        },
-        None => {
-            print!("{printed}");
-            EXIT_OK
+    let Some(o) = out else {
+        print!("{printed}");
+        return EXIT_OK;
+    };
+    match files::write_atomic(o, printed.as_bytes()) {
+        Ok(()) => EXIT_OK,
+        Err(e) => {
+            eprintln!("error: {e}");
+            EXIT_ERRORS
         }
     }
 }
@@ -51,7 +75,7 @@ pub fn fmt(file: &Path, check: bool) -> i32 {
     if file.extension().and_then(|e| e.to_str()) != Some("lbp") {
         return usage_error(format!("{}: `fmt` formats .lbp files", file.display()));
     }
-    let (pipeline, text) = match load(file) {
+    let (pipeline, text, snapshot) = match load(file) {
         Ok(x) => x,
         Err(code) => return code,
     };
@@ -63,7 +87,7 @@ pub fn fmt(file: &Path, check: bool) -> i32 {
         eprintln!("{} is not formatted", file.display());
         return EXIT_ERRORS;
     }
-    match write_atomic(file, printed.as_bytes()) {
+    match files::replace(file, printed.as_bytes(), &snapshot) {
         Ok(()) => EXIT_OK,
         Err(e) => {
             eprintln!("error: {e}");

@@ -46,9 +46,9 @@ pub enum Command {
         /// Offline capability profile to check against: webgpu, vulkan or gl.
         #[arg(long, default_value = "vulkan")]
         profile: String,
-        /// Scene file whose lights and effects decide culling.
+        /// Scene file or built-in scene whose lights and effects decide culling.
         #[arg(long)]
-        scene: Option<PathBuf>,
+        scene: Option<String>,
         /// Shader root (default: `shaders/` beside or above the pipeline file).
         #[arg(long)]
         shaders: Option<PathBuf>,
@@ -81,7 +81,7 @@ pub enum Command {
 
 #[derive(Subcommand, Debug)]
 pub enum SceneCommand {
-    /// Write a built-in scene as glTF (.gltf with a .bin beside it).
+    /// Write a built-in scene as glTF (NAME.gltf with NAME.bin beside it; .glb is not written).
     Export { name: String, out: PathBuf },
 }
 
@@ -102,6 +102,12 @@ pub fn run(cli: Cli) -> i32 {
         Command::Render(args) => render::run(args),
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
+        Command::Scene(SceneCommand::Export { out, .. }) if out.extension().and_then(|e| e.to_str()) != Some("gltf") => {
+            usage_error(format!(
+                "{}: scene export writes .gltf (JSON, with its .bin beside it); name the file `.gltf`",
+                out.display()
+            ))
+        }
         Command::Scene(SceneCommand::Export { name, out }) => match crate::scene::builtin::by_name(&name) {
             None => usage_error(format!(
                 "unknown built-in scene `{name}` (expected one of {})",
@@ -121,14 +127,20 @@ pub fn run(cli: Cli) -> i32 {
     }
 }
 
-/// `--variant NAME=OPTION` arguments.
+/// `--variant NAME=OPTION` arguments; a name given twice is an error (which would win?).
 pub fn parse_variants(args: &[String]) -> Result<Vec<(String, String)>> {
-    args.iter()
-        .map(|v| match v.split_once('=') {
-            Some((k, val)) if !k.is_empty() && !val.is_empty() => Ok((k.to_string(), val.to_string())),
-            _ => Err(Error::Usage(format!("invalid --variant `{v}`: expected NAME=OPTION"))),
-        })
-        .collect()
+    let mut out: Vec<(String, String)> = vec![];
+    for v in args {
+        let (k, val) = match v.split_once('=') {
+            Some((k, val)) if !k.is_empty() && !val.is_empty() => (k.to_string(), val.to_string()),
+            _ => return Err(Error::Usage(format!("invalid --variant `{v}`: expected NAME=OPTION"))),
+        };
+        if let Some((_, first)) = out.iter().find(|(name, _)| *name == k) {
+            return Err(Error::Usage(format!("--variant `{k}` is given twice (`{first}` and `{val}`)")));
+        }
+        out.push((k, val));
+    }
+    Ok(out)
 }
 
 pub fn usage_error(msg: impl std::fmt::Display) -> i32 {

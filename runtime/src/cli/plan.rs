@@ -4,7 +4,7 @@ use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use lightbench_compiler::ir::LightKind;
 use lightbench_compiler::plan;
-use lightbench_compiler::scene::{load_scene_features, SceneFeatures};
+use lightbench_compiler::scene::{SceneFeatures, MAX_SIZE};
 use lightbench_compiler::Session;
 use std::path::PathBuf;
 
@@ -14,8 +14,9 @@ pub struct Args {
     /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
     #[arg(long = "variant", value_name = "K=V")]
     pub variants: Vec<String>,
+    /// Scene file or built-in scene (cornell, colonnade, many_lights).
     #[arg(long)]
-    pub scene: Option<PathBuf>,
+    pub scene: Option<String>,
     #[arg(long, default_value = "vulkan")]
     pub profile: String,
     /// Say why each variant option was chosen and each pass culled; show full layouts.
@@ -37,6 +38,9 @@ pub struct Args {
     pub shaders: Option<PathBuf>,
 }
 
+/// The most lights of one kind `--lights` takes (per-light resources scale with it).
+pub const MAX_PLAN_LIGHTS: u32 = 4096;
+
 pub fn parse_size(s: &str) -> Result<(u32, u32)> {
     let bad = |why: String| Error::Usage(why);
     let (w, h) = s
@@ -44,8 +48,8 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
         .ok_or_else(|| bad(format!("invalid size `{s}`: expected WxH, e.g. 1920x1080")))?;
     let w: u32 = w.trim().parse().map_err(|_| bad(format!("invalid width in `{s}`")))?;
     let h: u32 = h.trim().parse().map_err(|_| bad(format!("invalid height in `{s}`")))?;
-    if w == 0 || h == 0 || w > 65536 || h > 65536 {
-        return Err(bad(format!("size `{s}` out of range (1..=65536)")));
+    if w == 0 || h == 0 || w > MAX_SIZE || h > MAX_SIZE {
+        return Err(bad(format!("size `{s}` out of range: width and height must be 1 to {MAX_SIZE}")));
     }
     Ok((w, h))
 }
@@ -66,7 +70,14 @@ fn parse_lights(s: &str) -> Result<Vec<(LightKind, u32)>> {
                 )))
             }
         };
-        let n: u32 = n.trim().parse().map_err(|_| Error::Usage(format!("invalid count in `{part}`")))?;
+        let n: u32 = n.trim().parse().ok().filter(|n| *n <= MAX_PLAN_LIGHTS).ok_or_else(|| {
+            Error::Usage(format!(
+                "invalid count in `{part}`: expected a whole number from 0 to {MAX_PLAN_LIGHTS}"
+            ))
+        })?;
+        if out.iter().any(|(k, _)| *k == kind) {
+            return Err(Error::Usage(format!("--lights names `{}` twice", kind.name().to_lowercase())));
+        }
         out.push((kind, n));
     }
     Ok(out)
@@ -86,8 +97,8 @@ pub fn run(a: Args) -> i32 {
     }
     let mut s = Session::new();
     let mut scene = match &a.scene {
-        Some(path) => match load_scene_features(&path.display().to_string(), &mut s.sources, &mut s.diags) {
-            Some(sf) => sf,
+        Some(spec) => match crate::scene::load_in(&mut s, spec) {
+            Some(scene) => scene.features(),
             None => {
                 super::check::emit(&s, Format::Human);
                 return EXIT_ERRORS;

@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Executor, Gpu};
 use crate::io::write_atomic;
 use crate::render::{compile, fnv1a, render};
-use crate::scene::{file as scene_file, Scene};
+use crate::scene::Scene;
 use lightbench_compiler::Executable;
 use std::path::{Path, PathBuf};
 
@@ -24,8 +24,8 @@ pub struct Args {
     /// Output size, overriding the scene's.
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
-    /// Frames to render (history and animation advance by 1/60 s per frame).
-    #[arg(long, default_value_t = 1)]
+    /// Frames to render, 1 or more (history and animation advance by 1/60 s per frame).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
     /// Output image: .png (sRGB) or .exr (linear float).
     #[arg(long, default_value = "lightbench.png")]
@@ -67,16 +67,21 @@ pub fn run(a: Args) -> i32 {
     if !a.pipeline.is_file() {
         return usage_error(format!("no such pipeline file: {}", a.pipeline.display()));
     }
+    if let Err(e) = distinct_outputs(&a) {
+        return usage_error(e);
+    }
     let size = match a.size.as_deref().map(super::plan::parse_size).transpose() {
         Ok(s) => s,
         Err(e) => return usage_error(e),
     };
     match execute(&a, &variants, size) {
         Ok(()) => EXIT_OK,
-        Err(Error::Compile(report)) => {
+        // Compile and scene errors are rendered diagnostics already.
+        Err(Error::Compile(report) | Error::Scene(report)) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
+        Err(Error::Usage(msg)) => usage_error(msg),
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS
@@ -85,7 +90,7 @@ pub fn run(a: Args) -> i32 {
 }
 
 fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
-    let mut scene = scene_file::load(&a.scene)?;
+    let mut scene = crate::scene::load(&a.scene)?;
     if let Some(sz) = size {
         scene.size = sz;
     }
@@ -101,6 +106,8 @@ fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) ->
             eprintln!("variant {} = {} ({r})", v.variant, v.option);
         }
     }
+    // Checked before rendering, so a typo costs no frames.
+    let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
     let ex = render(&gpu, &exe, &scene, a.frames)?;
     let output = &exe.plan.output_resource().name;
     let img = ex.read_texture(&gpu, output, 0, 0)?;
@@ -113,8 +120,8 @@ fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) ->
         a.frames.max(1),
         scene.name
     );
-    if let Some(list) = &a.dump {
-        dump(&gpu, &ex, list, &a.dump_dir, a.dump_format)?;
+    if let Some(names) = &dumps {
+        dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;
     }
     timings(a, &ex)?;
     if let Some(p) = &a.manifest {
@@ -164,17 +171,56 @@ fn manifest(p: &Path, a: &Args, gpu: &Gpu, exe: &Executable, scene: &Scene) -> R
     write_atomic(p, text.as_bytes())
 }
 
+/// The `--dump` list, each name a resource of the Plan (with a suggestion when not).
+fn dump_names(exe: &Executable, list: &str) -> Result<Vec<String>> {
+    let names: Vec<String> = list.split(',').map(str::trim).filter(|n| !n.is_empty()).map(String::from).collect();
+    if names.is_empty() {
+        return Err(Error::Usage("--dump: no resource names given".into()));
+    }
+    let known: Vec<&str> = exe.plan.resources.iter().map(|r| r.name.as_str()).collect();
+    for n in &names {
+        if !known.contains(&n.as_str()) {
+            let hint = lightbench_compiler::diag::did_you_mean(n, known.iter().copied())
+                .map(|m| format!("did you mean `{m}`? "))
+                .unwrap_or_default();
+            return Err(Error::Usage(format!(
+                "--dump: `{n}` is not a resource of this plan ({hint}resources: {})",
+                known.join(", ")
+            )));
+        }
+    }
+    Ok(names)
+}
+
+/// `--out`, `--manifest` and `--timings-json` must name different files.
+fn distinct_outputs(a: &Args) -> std::result::Result<(), String> {
+    let named = [
+        ("--out", Some(&a.out)),
+        ("--manifest", a.manifest.as_ref()),
+        ("--timings-json", a.timings_json.as_ref()),
+    ];
+    let given: Vec<(&str, &PathBuf)> = named.iter().filter_map(|(f, p)| p.map(|p| (*f, p))).collect();
+    for (i, (fa, pa)) in given.iter().enumerate() {
+        for (fb, pb) in &given[i + 1..] {
+            if crate::files::same_file(pa, pb) {
+                return Err(format!(
+                    "{fa} and {fb} name the same file ({}); each output needs its own",
+                    pa.display()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Write each named resource: every light instance and layer, as EXR (all channels, linear)
 /// or PNG (8-bit, clamped); buffers as JSON arrays of f32.
-fn dump(gpu: &Gpu, ex: &Executor, list: &str, dir: &Path, format: super::DumpFormat) -> Result<()> {
-    for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
-        let res = ex.plan().resource(name).ok_or_else(|| {
-            let names: Vec<&str> = ex.plan().resources.iter().map(|r| r.name.as_str()).collect();
-            Error::Resource(format!(
-                "--dump: `{name}` is not a resource of this plan (resources: {})",
-                names.join(", ")
-            ))
-        })?;
+fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::DumpFormat) -> Result<()> {
+    for name in names {
+        let res = ex
+            .plan()
+            .resource(name)
+            .ok_or_else(|| Error::Resource(format!("--dump: `{name}` vanished from the plan")))?;
         let safe: String = name
             .chars()
             .map(|c| {

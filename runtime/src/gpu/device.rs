@@ -233,6 +233,8 @@ pub fn profile_limits(l: &wgpu::Limits) -> Limits {
         max_compute_workgroup_size_z: l.max_compute_workgroup_size_z as u64,
         max_compute_invocations_per_workgroup: l.max_compute_invocations_per_workgroup as u64,
         max_multiview_view_count: l.max_multiview_view_count as u64,
+        max_buffer_size: l.max_buffer_size,
+        max_compute_workgroups_per_dimension: l.max_compute_workgroups_per_dimension as u64,
     }
 }
 

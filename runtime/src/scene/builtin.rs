@@ -1,17 +1,38 @@
-//! Built-in scenes, made in code so tests and the default render need no downloads.
+//! Built-in scenes: their descriptions (camera, lights, effects) come from the compiler's
+//! `scene::builtin`; their meshes and materials are made here, in code, so tests and the
+//! default render need no downloads.
 
 use super::geometry::{cuboid, cylinder, quad, sphere};
-use super::{Camera, Light, Material, Mesh, Scene};
+use super::{Material, Mesh, Scene};
 use glam::{Mat4, Quat, Vec3};
-use lightbench_compiler::ir::Effect;
+use lightbench_compiler::scene::builtin as desc;
 
-pub const NAMES: [&str; 3] = ["cornell", "colonnade", "many_lights"];
+pub use desc::NAMES;
 
+/// A built-in scene, complete with geometry.
 pub fn by_name(name: &str) -> Option<Scene> {
+    desc::by_name(name).map(|d| Scene::from_desc(&d))
+}
+
+pub fn cornell() -> Scene {
+    Scene::from_desc(&desc::cornell())
+}
+
+pub fn colonnade() -> Scene {
+    Scene::from_desc(&desc::colonnade())
+}
+
+/// `many_lights` with `n` lights.
+pub fn many_lights(n: usize) -> Scene {
+    Scene::from_desc(&desc::many_lights(n))
+}
+
+/// Meshes and materials of the built-in geometry `name`.
+pub fn geometry(name: &str) -> Option<(Vec<Mesh>, Vec<Material>)> {
     match name {
-        "cornell" => Some(cornell()),
-        "colonnade" => Some(colonnade()),
-        "many_lights" => Some(many_lights(100)),
+        "cornell" => Some(cornell_geometry()),
+        "colonnade" => Some(colonnade_geometry()),
+        "many_lights" => Some(many_lights_geometry()),
         _ => None,
     }
 }
@@ -29,8 +50,8 @@ fn mesh(name: &str, (vertices, indices): (Vec<crate::blocks::Vertex>, Vec<u32>),
 }
 
 /// A Cornell box 2 units wide, deep and tall (floor at y = 0, open towards +Z) with a tall
-/// and a short box, and a point light under the ceiling.
-pub fn cornell() -> Scene {
+/// and a short box.
+fn cornell_geometry() -> (Vec<Mesh>, Vec<Material>) {
     let materials = vec![
         Material::color("white", [0.73, 0.73, 0.73], 0.7),
         Material::color("red", [0.65, 0.05, 0.05], 0.7),
@@ -59,28 +80,12 @@ pub fn cornell() -> Scene {
         0,
         Mat4::from_rotation_translation(Quat::from_rotation_y(-17f32.to_radians()), Vec3::new(0.35, 0.3, 0.3)),
     ));
-    Scene {
-        name: "cornell".into(),
-        size: (128, 128),
-        camera: Camera {
-            position: Vec3::new(0.0, 1.0, 3.6),
-            yaw: 0.0,
-            pitch: 0.0,
-            fov: 40.0,
-            near: 0.05,
-            far: 20.0,
-        },
-        meshes,
-        materials,
-        textures: vec![],
-        lights: vec![Light::point(Vec3::new(0.0, 1.8, 0.1), Vec3::new(1.0, 0.95, 0.85), 4.0, 6.0)],
-        effects: [Effect::Shadows].into_iter().collect(),
-    }
+    (meshes, materials)
 }
 
-/// A colonnade: two rows of columns under beams on a long floor, lit by a low sun and a
-/// spot light; many draws for shadow and draw-count tests (a Sponza stand-in).
-pub fn colonnade() -> Scene {
+/// A colonnade: two rows of columns under beams on a long floor (a Sponza stand-in: many
+/// draws for shadow and draw-count tests).
+fn colonnade_geometry() -> (Vec<Mesh>, Vec<Material>) {
     let materials = vec![
         Material::color("stone", [0.75, 0.7, 0.62], 0.8),
         Material::color("floor", [0.5, 0.5, 0.52], 0.6),
@@ -114,39 +119,11 @@ pub fn colonnade() -> Scene {
             Mat4::from_translation(Vec3::new(0.0, 4.3, row)),
         ));
     }
-    Scene {
-        name: "colonnade".into(),
-        size: (256, 128),
-        camera: Camera {
-            position: Vec3::new(-13.0, 2.0, 0.0),
-            yaw: 90.0 - 180.0,
-            pitch: -5.0,
-            fov: 60.0,
-            near: 0.1,
-            far: 100.0,
-        },
-        meshes,
-        materials,
-        textures: vec![],
-        lights: vec![
-            Light::directional(Vec3::new(0.4, -0.6, 0.5), Vec3::new(1.0, 0.92, 0.8), 2.5),
-            Light::spot(
-                Vec3::new(0.0, 6.0, 0.0),
-                Vec3::NEG_Y,
-                25.0,
-                35.0,
-                Vec3::new(0.8, 0.85, 1.0),
-                30.0,
-                12.0,
-            ),
-        ],
-        effects: [Effect::Shadows].into_iter().collect(),
-    }
+    (meshes, materials)
 }
 
-/// A floor with a grid of spheres lit by `n` small point lights (up to 1000) without shadows.
-pub fn many_lights(n: usize) -> Scene {
-    let n = n.min(1000);
+/// A floor with a grid of spheres (the lights are the description's).
+fn many_lights_geometry() -> (Vec<Mesh>, Vec<Material>) {
     let materials = vec![
         Material::color("floor", [0.6, 0.6, 0.6], 0.5),
         Material::color("sphere", [0.8, 0.8, 0.8], 0.3),
@@ -163,37 +140,5 @@ pub fn many_lights(n: usize) -> Scene {
             meshes.push(mesh(&format!("sphere_{i}_{j}"), sphere(0.5, 12, 16), 1, Mat4::from_translation(p)));
         }
     }
-    // Deterministic pseudo-random placement and colours (no RNG dependency, same every run).
-    let mut lights = vec![];
-    let mut s = 0x9E37_79B9u32;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 17;
-        s ^= s << 5;
-        s as f32 / u32::MAX as f32
-    };
-    for _ in 0..n {
-        let p = Vec3::new(next() * 18.0 - 9.0, 0.3 + next() * 1.5, next() * 18.0 - 9.0);
-        let c = Vec3::new(0.3 + next() * 0.7, 0.3 + next() * 0.7, 0.3 + next() * 0.7);
-        let mut l = Light::point(p, c, 1.5, 2.5);
-        l.shadows = false;
-        lights.push(l);
-    }
-    Scene {
-        name: format!("many_lights_{n}"),
-        size: (128, 128),
-        camera: Camera {
-            position: Vec3::new(0.0, 9.0, 12.0),
-            yaw: 0.0,
-            pitch: -35.0,
-            fov: 55.0,
-            near: 0.1,
-            far: 100.0,
-        },
-        meshes,
-        materials,
-        textures: vec![],
-        lights,
-        effects: Default::default(),
-    }
+    (meshes, materials)
 }

@@ -1,15 +1,17 @@
 //! Scenes: meshes with materials, lights, a camera, the output size and the effects the scene
-//! calls for. Built in code, read from a scene file (RON), or loaded from glTF.
+//! calls for, made from the compiler's scene description (built-in or a scene file) plus
+//! geometry (built-in meshes, glTF models).
 
 pub mod builtin;
 pub mod export;
-pub mod file;
 pub mod geometry;
 pub mod gltf_load;
 pub mod light;
+pub mod load;
 pub mod math;
 
 pub use light::{Animation, Light};
+pub use load::{instantiate, load, load_in};
 
 use crate::blocks::Vertex;
 use glam::{Mat4, Vec3};
@@ -154,17 +156,13 @@ impl Scene {
 
     /// What the compiler needs to cull and size the plan.
     pub fn features(&self) -> SceneFeatures {
-        let mut lights = std::collections::BTreeMap::new();
-        for l in self.active_lights() {
-            *lights.entry(l.kind).or_insert(0u32) += 1;
-        }
-        SceneFeatures {
-            name: self.name.clone(),
-            lights,
-            effects: self.effects.clone(),
-            reflective: self.meshes.iter().any(|m| m.reflective),
-            size: self.size,
-        }
+        SceneFeatures::new(
+            &self.name,
+            self.size,
+            self.active_lights().iter().map(|l| l.kind),
+            &self.effects,
+            self.meshes.iter().any(|m| m.reflective),
+        )
     }
 
     pub fn light_count(&self, kind: LightKind) -> usize {

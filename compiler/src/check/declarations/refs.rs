@@ -75,13 +75,11 @@ pub(super) fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         }
     }
     binds(p, pass, diags);
-    if let PassKind::Compute(Compute {
-        dispatch: Dispatch::Size(r),
-        ..
-    }) = &pass.kind
-    {
-        if p.resource(r).and_then(|r| r.texture()).is_none() {
-            diags.push(unknown_resource(p, r).with_note("`Size(..)` dispatches need a texture to size from"));
+    if let PassKind::Compute(Compute { dispatch, .. }) = &pass.kind {
+        if let Dispatch::Size(r) = &dispatch.value {
+            if p.resource(r).and_then(|r| r.texture()).is_none() {
+                diags.push(unknown_resource(p, r).with_note("`Size(..)` dispatches need a texture to size from"));
+            }
         }
     }
     per_light(p, pass, diags);

@@ -19,6 +19,14 @@ pub(super) fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics
                 "buffer size must be a positive number of bytes",
                 b.size.span,
             )),
+            ResourceKind::Buffer(b) if b.size.value > profile.limits.max_buffer_size => {
+                let max = profile.limits.max_buffer_size;
+                let msg = format!(
+                    "buffer `{}` has {} bytes, over the {max}-byte limit of profile `{}`",
+                    r.name.value, b.size.value, profile.name
+                );
+                diags.push(Diagnostic::error(Code::LimitExceeded, msg, b.size.span).with_note("limit: max_buffer_size"));
+            }
             ResourceKind::Buffer(_) => {}
         }
         if let Some(k) = r.per_light() {

@@ -1,6 +1,7 @@
 //! The LBP front end: a small pipeline language (grammar in `lbp.pest`) parsed into the
 //! same syntax tree as RON, with every node's span; pest's errors become located diagnostics.
 
+mod nesting;
 mod parse;
 pub mod print;
 
@@ -111,6 +112,11 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
 
 /// Parse LBP text into the syntax tree. Syntax problems go to `diags`.
 pub fn parse_tree(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<crate::syntax::tree::Node> {
+    if let Some((start, end)) = nesting::too_deep(text) {
+        let msg = format!("nested more than {} levels deep", crate::front::MAX_NESTING);
+        diags.push(Diagnostic::error(Code::NestingTooDeep, msg, Span::new(file, start, end)));
+        return None;
+    }
     let pairs = match LbpParser::parse(Rule::file, text) {
         Ok(p) => p,
         Err(e) => {

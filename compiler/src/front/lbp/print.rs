@@ -64,7 +64,9 @@ fn value(n: &Node) -> String {
     match &*n.value {
         Value::Bool(b) => b.to_string(),
         Value::Int(i) => i.to_string(),
-        Value::Float(f) => format!("{f}"),
+        // `+ 0.0` turns -0.0 into 0.0: "-0" would read back as an integer, and `fmt` must
+        // be idempotent.
+        Value::Float(f) => format!("{}", f + 0.0),
         Value::Tuple { .. } => format!("({})", items(n).iter().map(value).collect::<Vec<_>>().join(", ")),
         _ => name(text(n)),
     }

@@ -36,7 +36,7 @@ struct Parser<'a> {
     depth: usize,
 }
 
-const MAX_DEPTH: usize = 128;
+const MAX_DEPTH: usize = crate::front::MAX_NESTING;
 
 impl<'a> Parser<'a> {
     fn span(&self, start: usize) -> Span {
@@ -127,7 +127,12 @@ impl<'a> Parser<'a> {
         self.skip_ws()?;
         self.depth += 1;
         if self.depth > MAX_DEPTH {
-            return Err(self.err_here("value nested too deeply", 1));
+            let msg = format!("values nested more than {MAX_DEPTH} levels deep");
+            let d = self.err_here(msg, 1);
+            return Err(Diagnostic {
+                code: Code::NestingTooDeep,
+                ..d
+            });
         }
         let start = self.pos;
         let v = match self.peek() {

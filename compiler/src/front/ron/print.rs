@@ -24,7 +24,7 @@ struct Printer {
 
 fn num(x: f64) -> String {
     // RON floats need a decimal point or exponent to stay floats.
-    let s = format!("{x}");
+    let s = format!("{}", x + 0.0); // -0.0 prints as 0.0, as LBP prints it
     if s.contains('.') || s.contains('e') || s.contains("inf") || s.contains("NaN") {
         s
     } else {

@@ -43,7 +43,7 @@ impl Lowerer<'_> {
     fn param_value(&mut self, ty: &ParamType, node: &Node) -> Res<Spanned<ParamValue>> {
         let lit = match &*node.value {
             Value::Int(i) => Literal::Int(*i),
-            Value::Float(f) => Literal::Float(*f),
+            Value::Float(_) => Literal::Float(self.f64(node)?),
             Value::Bool(b) => Literal::Bool(*b),
             Value::Str(s) => Literal::Text(s.clone()),
             Value::Tuple { name: None, items } => {

@@ -7,6 +7,7 @@ mod cond;
 mod decl;
 mod obj;
 mod pass;
+mod scene;
 mod variant;
 
 use super::tree::{Node, Value};
@@ -14,6 +15,7 @@ use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::ir::{LightKind, Pipeline};
 use crate::span::Spanned;
 pub(crate) use obj::Obj;
+pub use scene::scene;
 
 type Res<T> = Option<T>;
 
@@ -113,12 +115,28 @@ impl Lowerer<'_> {
         }
     }
 
-    fn f64(&mut self, node: &Node) -> Res<f64> {
+    /// A number as written, finite or not (scene values are range-checked later, by name).
+    fn number(&mut self, node: &Node) -> Res<f64> {
         match &*node.value {
             Value::Int(i) => Some(*i as f64),
             Value::Float(f) => Some(*f),
             _ => self.type_err("a number", node),
         }
+    }
+
+    /// A finite number. Pipelines have no use for `inf`/`NaN`, and LBP cannot spell them,
+    /// so rejecting them here keeps every RON <-> LBP conversion parseable.
+    fn f64(&mut self, node: &Node) -> Res<f64> {
+        let v = self.number(node)?;
+        if !v.is_finite() {
+            self.err(Diagnostic::error(
+                Code::NonFinite,
+                format!("`{v}` is not a finite number"),
+                node.span,
+            ));
+            return None;
+        }
+        Some(v)
     }
 
     /// An anonymous tuple of exactly `N` numbers.

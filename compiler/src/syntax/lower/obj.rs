@@ -32,6 +32,20 @@ impl Obj {
         self.take(key).or_else(|| defaults::get(&self.kind, key).map(|d| d.node(self.span)))
     }
 
+    /// Every key written, with where it was written.
+    pub fn given(&self) -> impl Iterator<Item = (String, Span)> + '_ {
+        self.fields.iter().map(|(f, _)| (f.0.clone(), f.1))
+    }
+
+    /// Where the item and each of its keys were written (the first of repeated keys).
+    pub fn key_spans(&self) -> crate::ir::scene::KeySpans {
+        let mut keys = std::collections::BTreeMap::new();
+        for (k, span) in self.given() {
+            keys.entry(k).or_insert(span);
+        }
+        crate::ir::scene::KeySpans { span: self.span, keys }
+    }
+
     pub fn has(&self, key: &str) -> bool {
         self.fields.iter().any(|(f, _)| f.0 == key)
     }

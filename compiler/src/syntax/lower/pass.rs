@@ -133,14 +133,15 @@ impl Lowerer<'_> {
 
     fn compute(&mut self, o: &mut Obj, shader: &Option<Spanned<String>>) -> Res<Compute> {
         let entry = self.shader_ref(shader, o.take("entry"), Stage::Compute, o.span);
-        let dispatch = self.required(o, "dispatch").and_then(|n| match (&*n.value, n.name()) {
-            (Value::Tuple { items, .. }, Some("Size")) if items.len() == 1 => Some(Dispatch::Size(self.string(&items[0])?)),
-            (Value::Tuple { items, .. }, Some("Groups")) if items.len() == 3 => Some(Dispatch::Groups(
-                self.u32(&items[0])?.value,
-                self.u32(&items[1])?.value,
-                self.u32(&items[2])?.value,
-            )),
-            _ => self.type_err("`Size(\"resource\")` or `Groups(x, y, z)`", &n),
+        let dispatch = self.required(o, "dispatch").and_then(|n| {
+            let d = match (&*n.value, n.name()) {
+                (Value::Tuple { items, .. }, Some("Size")) if items.len() == 1 => Dispatch::Size(self.string(&items[0])?),
+                (Value::Tuple { items, .. }, Some("Groups")) if items.len() == 3 => {
+                    Dispatch::Groups(self.u32(&items[0])?.value, self.u32(&items[1])?.value, self.u32(&items[2])?.value)
+                }
+                _ => return self.type_err("`Size(\"resource\")` or `Groups(x, y, z)`", &n),
+            };
+            Some(Spanned::new(d, n.span))
         });
         Some(Compute {
             entry: entry?,

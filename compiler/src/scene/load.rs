@@ -1,0 +1,78 @@
+//! Reading a scene: a built-in name, or a scene file read through the workspace's file
+//! system, parsed (RON front end), lowered, checked and merged with its `builtin:` base.
+
+use super::{builtin, SceneDesc, SceneFile};
+use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics, Severity};
+use crate::span::SourceMap;
+use crate::vfs::Vfs;
+use std::path::Path;
+
+/// A built-in scene by name, or the scene file at `spec`. Problems go to `diags`.
+pub fn load(vfs: &dyn Vfs, spec: &str, sources: &mut SourceMap, diags: &mut Diagnostics) -> Option<SceneDesc> {
+    if let Some(s) = builtin::by_name(spec) {
+        return Some(s);
+    }
+    let path = Path::new(spec);
+    let text = match vfs.read(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound && path.extension().is_none() => {
+            let msg = format!(
+                "`{spec}` is neither a scene file nor a built-in scene ({})",
+                builtin::NAMES.join(", ")
+            );
+            diags.push(Diagnostic::unlocated(Severity::Error, Code::FileNotFound, msg).with_note(suggestion_note(spec, &builtin::NAMES)));
+            return None;
+        }
+        Err(e) => {
+            let code = crate::vfs::read_error_code(&e);
+            diags.push(Diagnostic::unlocated(
+                Severity::Error,
+                code,
+                format!("cannot read scene `{spec}`: {e}"),
+            ));
+            return None;
+        }
+    };
+    load_text(path, text, sources, diags)
+}
+
+/// A scene file's text (`path` names it in diagnostics and anchors its model paths).
+pub fn load_text(path: &Path, text: String, sources: &mut SourceMap, diags: &mut Diagnostics) -> Option<SceneDesc> {
+    let file = sources.add(path.display().to_string(), text.clone());
+    let root = match crate::front::ron::parse::parse(file, &text) {
+        Ok(n) => n,
+        Err(d) => {
+            diags.push(d);
+            return None;
+        }
+    };
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let lowered = crate::syntax::lower::scene(&root, dir, diags)?;
+    let before = diags.error_count();
+    crate::check::scene::scene(&lowered, diags);
+    if diags.error_count() > before {
+        return None;
+    }
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("scene");
+    let mut desc = merge(lowered, stem);
+    desc.file = Some(path.to_path_buf());
+    Some(desc)
+}
+
+/// The file's scene over its `builtin:` base: name, size and camera replace the base's;
+/// models, lights and effects are added to it.
+fn merge(f: SceneFile, stem: &str) -> SceneDesc {
+    let base = f.builtin.as_ref().and_then(|b| builtin::by_name(&b.value));
+    let mut desc = base.unwrap_or_else(|| SceneDesc::empty(stem));
+    desc.name = f.name.unwrap_or_else(|| stem.to_string());
+    if let Some(s) = f.size {
+        desc.size = s.value;
+    }
+    if let Some(c) = f.camera {
+        desc.camera = c;
+    }
+    desc.models.extend(f.models);
+    desc.lights.extend(f.lights);
+    desc.effects.extend(f.effects);
+    desc
+}

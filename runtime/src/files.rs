@@ -1,0 +1,199 @@
+//! Writing files users own, safely: atomically (a temporary beside the target, then a
+//! rename, so a crash never leaves half a file), through symlinks (the link's target is
+//! rewritten, the link stays), keeping an existing file's mode, cleaning temporaries that a
+//! killed run left behind, and refusing to replace a file that changed while we worked.
+
+use crate::error::{Error, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, SystemTime};
+
+/// Temporaries are named `.NAME.lightbench-PID.tmp`; this is the part after NAME.
+const TMP_TAG: &str = ".lightbench-";
+
+/// What a file looked like when it was read, to notice a change before replacing it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    bytes: Vec<u8>,
+    modified: Option<SystemTime>,
+}
+
+impl Snapshot {
+    pub fn of(path: &Path) -> std::io::Result<Snapshot> {
+        let modified = std::fs::metadata(path)?.modified().ok();
+        Ok(Snapshot {
+            bytes: std::fs::read(path)?,
+            modified,
+        })
+    }
+
+    pub fn bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+}
+
+/// Whether two paths name one file (following symlinks; `b` need not exist yet).
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    let canon = |p: &Path| {
+        std::fs::canonicalize(p).ok().or_else(|| {
+            let dir = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+            Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
+        })
+    };
+    matches!((canon(a), canon(b)), (Some(x), Some(y)) if x == y)
+}
+
+/// Write `bytes` to `path` atomically.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write(path, bytes, None)
+}
+
+/// Replace `path`, which was read as `before`: refused if it changed since.
+pub fn replace(path: &Path, bytes: &[u8], before: &Snapshot) -> Result<()> {
+    write(path, bytes, Some(before))
+}
+
+fn write(path: &Path, bytes: &[u8], before: Option<&Snapshot>) -> Result<()> {
+    let target = resolve_links(path)?;
+    let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let name = target
+        .file_name()
+        .and_then(|n| n.to_str())
+        .ok_or_else(|| Error::io(path, "not a file path"))?;
+    if target.is_dir() {
+        return Err(Error::io(path, "is a directory"));
+    }
+    clean_stale(dir, name);
+    let tmp = dir.join(format!(".{name}{TMP_TAG}{}.tmp", std::process::id()));
+    let mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        if let Some(p) = mode {
+            std::fs::set_permissions(&tmp, p)?;
+        }
+        if let Some(before) = before {
+            if Snapshot::of(&target).ok().as_ref() != Some(before) {
+                return Err(std::io::Error::other(
+                    "the file changed while lightbench worked on it; it was not replaced",
+                ));
+            }
+        }
+        std::fs::rename(&tmp, &target)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(Error::io(path, format!("cannot write: {e}")));
+    }
+    Ok(())
+}
+
+/// The file a path finally names, following symlinks (a dangling link's target is created).
+fn resolve_links(path: &Path) -> Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let to = std::fs::read_link(&p).map_err(|e| Error::io(&p, e))?;
+                p = match p.parent() {
+                    Some(dir) if to.is_relative() => dir.join(to),
+                    _ => to,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(Error::io(path, "too many levels of symbolic links"))
+}
+
+/// Remove temporaries for `name` left by runs that no longer exist (killed mid-write).
+fn clean_stale(dir: &Path, name: &str) {
+    let prefix = format!(".{name}{TMP_TAG}");
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    for e in entries.flatten() {
+        let file = e.file_name();
+        let Some(pid) = file
+            .to_str()
+            .and_then(|f| f.strip_prefix(&prefix))
+            .and_then(|r| r.strip_suffix(".tmp"))
+        else {
+            continue;
+        };
+        let Ok(pid) = pid.parse::<u32>() else { continue };
+        if pid != std::process::id() && !alive(pid, &e.path()) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Whether the process that owns a temporary may still be writing it: on Linux, whether it
+/// exists; elsewhere, whether the file was touched in the last hour.
+fn alive(pid: u32, tmp: &Path) -> bool {
+    if Path::new("/proc/self").exists() {
+        return Path::new("/proc").join(pid.to_string()).exists();
+    }
+    let age = std::fs::metadata(tmp)
+        .and_then(|m| m.modified())
+        .ok()
+        .and_then(|t| t.elapsed().ok());
+    age.is_none_or(|a| a < Duration::from_secs(3600))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("lightbench-files-{}-{tag}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn writes_through_symlinks_keeping_the_mode() {
+        use std::os::unix::fs::PermissionsExt;
+        let d = temp("link");
+        let real = d.join("real.lbp");
+        std::fs::write(&real, "old").unwrap();
+        std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let link = d.join("link.lbp");
+        std::os::unix::fs::symlink("real.lbp", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(),
+            "the link stays a link"
+        );
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "new");
+        assert_eq!(std::fs::metadata(&real).unwrap().permissions().mode() & 0o777, 0o640);
+    }
+
+    #[test]
+    fn refuses_to_replace_a_file_that_changed() {
+        let d = temp("changed");
+        let f = d.join("p.lbp");
+        std::fs::write(&f, "one").unwrap();
+        let snap = Snapshot::of(&f).unwrap();
+        std::fs::write(&f, "two, written by an editor").unwrap();
+        let err = replace(&f, b"formatted", &snap).unwrap_err().to_string();
+        assert!(err.contains("changed while"), "{err}");
+        assert_eq!(std::fs::read_to_string(&f).unwrap(), "two, written by an editor");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1, "no temporary left");
+    }
+
+    #[test]
+    fn stale_temporaries_of_dead_runs_are_removed() {
+        let d = temp("stale");
+        // PID 0 is never a user process: a run that no longer exists.
+        let stale = d.join(format!(".out.png{TMP_TAG}0.tmp"));
+        let foreign = d.join(".out.png.other.tmp");
+        std::fs::write(&stale, "half").unwrap();
+        std::fs::write(&foreign, "not ours").unwrap();
+        write_atomic(&d.join("out.png"), b"png").unwrap();
+        assert!(!stale.exists(), "a dead run's temporary is cleaned");
+        assert!(foreign.exists(), "files of other naming are left alone");
+    }
+}

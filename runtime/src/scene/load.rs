@@ -1,0 +1,127 @@
+//! Scenes from their descriptions: the compiler's scene front end reads the built-in name
+//! or scene file (syntax, values, `builtin:`); here the description gets its geometry —
+//! built-in meshes and glTF models — and becomes a renderable [`Scene`].
+
+use super::{builtin, gltf_load, Animation, Camera, Light, Scene};
+use crate::error::{Error, Result};
+use glam::{EulerRot, Mat4, Quat, Vec3};
+use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
+use lightbench_compiler::scene::{AnimationDesc, LightDesc, ModelDesc, SceneDesc};
+use lightbench_compiler::Session;
+
+/// A built-in scene by name, or a scene file; errors are the rendered diagnostics.
+pub fn load(spec: &str) -> Result<Scene> {
+    let mut s = Session::new();
+    load_in(&mut s, spec).ok_or_else(|| Error::Scene(s.render()))
+}
+
+/// Load through a compilation session: diagnostics (syntax, values, models) go to it.
+pub fn load_in(s: &mut Session, spec: &str) -> Option<Scene> {
+    let desc = s.load_scene(spec)?;
+    instantiate(&desc, &mut s.diags)
+}
+
+/// The description with its geometry; a model that cannot be loaded is an error at its path.
+pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
+    let mut scene = Scene::from_desc(desc);
+    let before = diags.error_count();
+    for m in &desc.models {
+        if let Err(e) = add_model(&mut scene, m) {
+            diags.push(Diagnostic::error(
+                Code::ModelLoad,
+                format!("cannot load model `{}`: {e}", m.path.value),
+                m.path.span,
+            ));
+        }
+    }
+    (diags.error_count() == before).then_some(scene)
+}
+
+impl Scene {
+    /// The description's built-in geometry, camera and lights (models are added by
+    /// [`instantiate`]).
+    pub fn from_desc(desc: &SceneDesc) -> Scene {
+        let (meshes, materials) = desc.geometry.as_deref().and_then(builtin::geometry).unwrap_or_default();
+        let c = &desc.camera;
+        Scene {
+            name: desc.name.clone(),
+            size: desc.size,
+            camera: Camera {
+                position: Vec3::from(c.position),
+                yaw: c.yaw,
+                pitch: c.pitch,
+                fov: c.fov,
+                near: c.near,
+                far: c.far,
+            },
+            meshes,
+            materials,
+            textures: vec![],
+            lights: desc.lights.iter().map(Light::from_desc).collect(),
+            effects: desc.effects.clone(),
+        }
+    }
+}
+
+impl Light {
+    pub fn from_desc(l: &LightDesc) -> Light {
+        Light {
+            kind: l.kind,
+            on: l.on,
+            color: Vec3::from(l.color),
+            intensity: l.intensity,
+            position: Vec3::from(l.position),
+            direction: Vec3::from(l.direction),
+            inner_angle: l.inner,
+            outer_angle: l.outer,
+            range: l.range,
+            shadows: l.shadows,
+            animation: l.animation.as_ref().map(|a| match a {
+                AnimationDesc::Orbit { center, radius, speed } => Animation::Orbit {
+                    center: Vec3::from(*center),
+                    radius: *radius,
+                    speed: *speed,
+                },
+                AnimationDesc::Rotate { speed } => Animation::Rotate { speed: *speed },
+            }),
+        }
+    }
+}
+
+/// Load a glTF model and place its meshes, materials, textures and lights in the scene.
+fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<()> {
+    let [y, p, r] = m.rotation.map(f32::to_radians);
+    let transform = Mat4::from_scale_rotation_translation(
+        Vec3::splat(m.scale),
+        Quat::from_euler(EulerRot::YXZ, y, p, r),
+        Vec3::from(m.translation),
+    );
+    let loaded = gltf_load::load(&m.file)?;
+    let mat_base = scene.materials.len();
+    let tex_base = scene.textures.len();
+    scene.textures.extend(loaded.textures);
+    for mut mat in loaded.materials {
+        for t in [
+            &mut mat.base_color_texture,
+            &mut mat.metallic_roughness_texture,
+            &mut mat.emissive_texture,
+            &mut mat.normal_texture,
+        ] {
+            *t = t.map(|i| i + tex_base);
+        }
+        scene.materials.push(mat);
+    }
+    for mut mesh in loaded.meshes {
+        mesh.material += mat_base;
+        mesh.transform = transform * mesh.transform;
+        mesh.triangle_fraction = m.triangles;
+        mesh.reflective = m.reflective;
+        scene.meshes.push(mesh);
+    }
+    for mut l in loaded.lights {
+        l.position = transform.transform_point3(l.position);
+        l.direction = transform.transform_vector3(l.direction);
+        scene.lights.push(l);
+    }
+    Ok(())
+}
