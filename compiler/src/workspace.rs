@@ -218,7 +218,7 @@ impl Session {
         plan::build_plan(checked, &cfg, &mut self.diags)
     }
 
-    /// Plan every configuration `check` covers: the defaults, then each option of each variant
+    /// Plan every configuration `check` covers (the full Plan, as `render` would build it): the defaults, then each option of each variant
     /// (others at their default); for `scene`, or else for a scene calling for every effect and
     /// one calling for none (both with every light kind), so both sides of effect conditions
     /// are checked.
@@ -261,7 +261,8 @@ impl Session {
                 }
                 seen.push(selection.chosen.clone());
                 let cfg = Config { profile, scene, selection };
-                plan::schedule(checked, &cfg, &mut self.diags);
+                // The whole Plan, so that what only sizing reveals (extents, mips) fails here.
+                plan::build_plan(checked, &cfg, &mut self.diags);
             }
         }
     }

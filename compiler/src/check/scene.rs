@@ -7,6 +7,11 @@ use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::scene::{AnimationDesc, CameraDesc, KeySpans, LightDesc, ModelDesc, SceneFile, MAX_SIZE};
 use crate::ir::LightKind;
 
+/// The smallest field of view, in degrees.
+pub const MIN_FOV: f32 = 0.001;
+/// The largest far / near ratio a camera may have.
+pub const MAX_DEPTH_RATIO: f32 = 1e12;
+
 pub fn scene(file: &SceneFile, diags: &mut Diagnostics) {
     if let Some(size) = &file.size {
         let (w, h) = size.value;
@@ -77,11 +82,24 @@ fn camera(c: &CameraDesc, diags: &mut Diagnostics) {
     if !finite {
         return;
     }
-    it.require(c.fov > 0.0 && c.fov < 180.0, "fov", "between 0 and 180 degrees (exclusive)", c.fov);
+    // A vanishing fov makes 1 / tan(fov / 2) overflow (fov 1e-30 gave NaN); 0.001° is a
+    // telephoto far beyond any real lens.
+    it.require(
+        c.fov >= MIN_FOV && c.fov < 180.0,
+        "fov",
+        "at least 0.001 and below 180 degrees",
+        c.fov,
+    );
     it.require(c.near > 0.0, "near", "greater than 0", c.near);
     if c.near > 0.0 {
         let rule = format!("greater than `near` ({})", c.near);
         it.require(c.far > c.near, "far", &rule, c.far);
+        // Beyond this the projection's f32 terms overflow (near 1e-20 gave NaN depth).
+        let rule = format!(
+            "at least `far` / {MAX_DEPTH_RATIO:e} ({:e}): a wider depth range has no precision left",
+            c.far / MAX_DEPTH_RATIO
+        );
+        it.require(c.far / c.near <= MAX_DEPTH_RATIO, "near", &rule, c.near);
     }
 }
 

@@ -102,11 +102,11 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer
     })
 }
 
-impl Executor {
-    pub fn new(gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<Executor> {
+impl Shared {
+    fn new(gpu: &Gpu, scene: &Scene) -> Result<Shared> {
         let device = &gpu.device;
         let lights: Vec<Light> = scene.active_lights().into_iter().cloned().collect();
-        let shared = Shared {
+        Ok(Shared {
             frame_buf: uniform_buffer(device, "frame", std::mem::size_of::<FrameBlock>() as u64),
             lights_buf: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("lights"),
@@ -118,7 +118,13 @@ impl Executor {
             bounds: scene.bounds(),
             lights,
             scene: scene.clone(),
-        };
+        })
+    }
+}
+
+impl Executor {
+    pub fn new(gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<Executor> {
+        let shared = Shared::new(gpu, scene)?;
         let mut cache = PipelineCache::default();
         let inputs = FrameInputs {
             time: 0.0,
@@ -149,6 +155,23 @@ impl Executor {
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
         self.inputs.params = params;
+        Ok(report)
+    }
+
+    /// Replace the scene, with the Plan compiled for it, at a frame boundary: pipelines and
+    /// unchanged resources are kept, the camera becomes the new scene's; on failure the old
+    /// scene and Plan keep rendering.
+    pub fn replace_scene(&mut self, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<ReloadReport> {
+        let shared = Shared::new(gpu, scene)?;
+        let mut params = self.inputs.params.clone();
+        let dropped = params.retain_applicable(&exe.plan.params);
+        let (state, fresh, mut report) = build_state(gpu, exe, &shared, &self.state.pool, &mut self.cache, &params)?;
+        report.params_dropped = dropped;
+        self.cache.insert(fresh, state.passes.len());
+        self.state = state;
+        self.shared = shared;
+        self.inputs.params = params;
+        self.inputs.camera = scene.camera.clone();
         Ok(report)
     }
 

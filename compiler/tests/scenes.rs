@@ -1,0 +1,454 @@
+//! The scene front end: every bad value a located error naming the item and field, built-in
+//! scenes and `builtin:` merging, the README's and the bundled scene files, and mutated
+//! scene files that never panic and are never rejected without a location.
+
+mod common;
+
+use common::repo_root;
+use lightbench_compiler::diag::Diagnostics;
+use lightbench_compiler::ir::{Effect, LightKind};
+use lightbench_compiler::scene::{self, SceneDesc};
+use lightbench_compiler::span::SourceMap;
+use proptest::prelude::*;
+use std::path::Path;
+
+/// Load scene text as if from `scenes/t.ron`.
+fn load(text: &str) -> (Option<SceneDesc>, Diagnostics, SourceMap) {
+    let mut sources = SourceMap::new();
+    let mut diags = Diagnostics::default();
+    let desc = scene::load_text(Path::new("scenes/t.ron"), text.to_string(), &mut sources, &mut diags);
+    (desc, diags, sources)
+}
+
+/// (code, message, line, column) of each diagnostic.
+fn located(text: &str) -> Vec<(String, String, usize, usize)> {
+    let (_, diags, sources) = load(text);
+    diags
+        .list
+        .iter()
+        .map(|d| {
+            let (_, l, c) = d.location(&sources).unwrap_or_default();
+            (d.code.to_string(), d.message.clone(), l, c)
+        })
+        .collect()
+}
+
+/// A valid scene with one light of each kind, a model and a camera; cases edit one line.
+const BASE: &str = r#"Scene(
+    size: (64, 48),
+    camera: (position: (0.0, 1.0, 3.0), fov: 50.0, near: 0.1, far: 50.0),
+    models: [(path: "chair.gltf", scale: 0.5, triangles: 0.5)],
+    lights: [
+        Point(position: (0.0, 1.8, 0.0), intensity: 4.0, range: 6.0),
+        Spot(position: (0.0, 3.0, 0.0), direction: (0.0, -1.0, 0.0), inner: 18.0, outer: 20.0, range: 10.0),
+        Directional(direction: (0.4, -0.6, 0.5), intensity: 2.0),
+    ],
+    effects: [Shadows],
+)
+"#;
+
+/// Replace `from` by `to` in BASE and expect [code] with `msg` pointing at the first `at`
+/// from the edit on (1-based line and column, checked against the diagnostic's).
+fn expect(from: &str, to: &str, code: &str, msg: &str, at: &str) {
+    let start = BASE.find(from).unwrap_or_else(|| panic!("edit target `{from}` not in BASE"));
+    let text = BASE.replacen(from, to, 1);
+    let pos = start + text[start..].find(at).unwrap_or_else(|| panic!("`{at}` not in the edited text"));
+    let line = text[..pos].matches('\n').count() + 1;
+    let col = text[..pos].rsplit('\n').next().unwrap().chars().count() + 1;
+    let found = located(&text);
+    let hit = found
+        .iter()
+        .any(|(c, m, l, co)| c == code && m.contains(msg) && (*l, *co) == (line, col));
+    assert!(hit, "expected [{code}] {msg:?} at {line}:{col}; got {found:#?}");
+}
+
+#[test]
+fn base_scene_is_valid() {
+    let (desc, diags, _) = load(BASE);
+    assert!(diags.list.is_empty(), "{:?}", diags.list);
+    let d = desc.unwrap();
+    assert_eq!((d.name.as_str(), d.size, d.lights.len()), ("t", (64, 48), 3));
+    assert_eq!(
+        d.models[0].file,
+        Path::new("scenes/chair.gltf"),
+        "model paths resolve against the scene file"
+    );
+    assert_eq!(d.lights[0].color, [1.0, 1.0, 1.0], "defaults come from the table");
+}
+
+#[test]
+fn non_finite_numbers_name_the_item_and_field() {
+    expect(
+        "intensity: 4.0",
+        "intensity: NaN",
+        "non-finite",
+        "`intensity` of light 1 (point) is not finite",
+        "intensity",
+    );
+    expect(
+        "position: (0.0, 1.0, 3.0)",
+        "position: (0.0, inf, 3.0)",
+        "non-finite",
+        "`position` of the camera",
+        "position",
+    );
+    expect(
+        "scale: 0.5",
+        "scale: 1e39",
+        "non-finite",
+        "`scale` of model `chair.gltf` is not finite",
+        "scale",
+    );
+    expect(
+        "direction: (0.4, -0.6, 0.5)",
+        "direction: (0.4, -inf, 0.5)",
+        "non-finite",
+        "of light 3 (directional)",
+        "direction",
+    );
+}
+
+#[test]
+fn camera_values_out_of_range() {
+    expect(
+        "fov: 50.0",
+        "fov: 180.0",
+        "value-out-of-range",
+        "`fov` of the camera must be at least 0.001 and below 180 degrees",
+        "fov",
+    );
+    expect("fov: 50.0", "fov: 0", "value-out-of-range", "`fov` of the camera", "fov");
+    expect(
+        "near: 0.1",
+        "near: 0.0",
+        "value-out-of-range",
+        "`near` of the camera must be greater than 0",
+        "near",
+    );
+    expect(
+        "far: 50.0",
+        "far: 0.1",
+        "value-out-of-range",
+        "`far` of the camera must be greater than `near` (0.1)",
+        "far",
+    );
+}
+
+#[test]
+fn light_values_out_of_range() {
+    expect(
+        "range: 6.0",
+        "range: 0.0",
+        "value-out-of-range",
+        "`range` of light 1 (point) must be greater than 0",
+        "range",
+    );
+    expect(
+        "intensity: 4.0",
+        "intensity: -1.0",
+        "value-out-of-range",
+        "`intensity` of light 1 (point) must be 0 or more",
+        "intensity",
+    );
+    expect(
+        "direction: (0.0, -1.0, 0.0)",
+        "direction: (0.0, 0.0, 0.0)",
+        "value-out-of-range",
+        "`direction` of light 2 (spot) is the zero vector",
+        "direction",
+    );
+    expect(
+        "inner: 18.0",
+        "inner: 25.0",
+        "value-out-of-range",
+        "`inner` of light 2 (spot) must be at most `outer` (20)",
+        "inner",
+    );
+    expect(
+        "outer: 20.0",
+        "outer: 90.0",
+        "value-out-of-range",
+        "`outer` of light 2 (spot) must be between 0 and 90",
+        "outer",
+    );
+    expect(
+        "Directional(direction",
+        "Directional(color: (1.0, -0.5, 1.0), direction",
+        "value-out-of-range",
+        "`color` of light 3 (directional) must be 0 or more in every component",
+        "color",
+    );
+}
+
+#[test]
+fn model_and_size_values_out_of_range() {
+    expect(
+        "scale: 0.5",
+        "scale: 0.0",
+        "value-out-of-range",
+        "`scale` of model `chair.gltf` must be greater than 0",
+        "scale",
+    );
+    expect(
+        "triangles: 0.5",
+        "triangles: 0.0",
+        "value-out-of-range",
+        "`triangles` of model `chair.gltf` must be in (0, 1]",
+        "triangles",
+    );
+    expect(
+        "triangles: 0.5",
+        "triangles: 1.5",
+        "value-out-of-range",
+        "must be in (0, 1]",
+        "triangles",
+    );
+    expect(
+        "size: (64, 48)",
+        "size: (0, 48)",
+        "value-out-of-range",
+        "scene size (0, 48) is out of range",
+        "(0, 48)",
+    );
+    expect(
+        "size: (64, 48)",
+        "size: (64, 99999)",
+        "value-out-of-range",
+        "width and height must be 1 to 16384",
+        "(64, 99999)",
+    );
+    expect(
+        "size: (64, 48)",
+        "size: (64, -1)",
+        "bad-number",
+        "`-1` is not a 32-bit whole number",
+        "-1",
+    );
+}
+
+#[test]
+fn structure_errors_suggest_and_locate() {
+    expect("lights: [", "lihgts: [", "unknown-key", "unknown key `lihgts` in scene", "lihgts");
+    expect(
+        "range: 6.0)",
+        "rnage: 6.0)",
+        "unknown-key",
+        "unknown key `rnage` in point light",
+        "rnage",
+    );
+    expect("Point(", "Pointt(", "unknown-kind", "unknown light kind `Pointt`", "Pointt");
+    expect(
+        "Point(position",
+        "Point(inner: 3.0, position",
+        "misplaced",
+        "`inner` is not a property of point lights",
+        "inner",
+    );
+    expect(
+        "effects: [Shadows]",
+        "effects: [Shadow]",
+        "unknown-effect",
+        "unknown effect `Shadow`",
+        "Shadow",
+    );
+    expect(
+        "size: (64, 48),",
+        "size: (64, 48), builtin: \"cornel\",",
+        "unknown-value",
+        "unknown built-in scene `cornel`",
+        "\"cornel\"",
+    );
+    expect(
+        "(path: \"chair.gltf\", ",
+        "(",
+        "missing-key",
+        "model is missing required key `path`",
+        "(",
+    );
+    let (_, diags, _) = load(&BASE.replacen("range: 6.0)", "rnage: 6.0)", 1));
+    assert!(
+        diags.list[0].notes.iter().any(|n| n.contains("did you mean `range`?")),
+        "{:?}",
+        diags.list[0]
+    );
+}
+
+#[test]
+fn builtin_base_is_merged_and_names_work_everywhere() {
+    let text = "Scene(builtin: \"cornell\", lights: [Spot(on: false)], effects: [Ssr])";
+    let d = load(text).0.expect("valid");
+    assert_eq!(d.geometry.as_deref(), Some("cornell"));
+    assert_eq!(d.lights.len(), 2, "the built-in's point light, then the file's spot light");
+    assert_eq!(d.camera.fov, 40.0, "the built-in's camera");
+    assert!(d.effects.contains(&Effect::Shadows) && d.effects.contains(&Effect::Ssr));
+    let f = d.features([]);
+    assert_eq!(f.lights.get(&LightKind::Point), Some(&1));
+    assert_eq!(f.lights.get(&LightKind::Spot), None, "a light that is off is not counted");
+    let mut s = lightbench_compiler::Session::new();
+    assert_eq!(s.load_scene("colonnade").unwrap().features([]).light_count(&LightKind::ALL), 2);
+    assert!(s.load_scene("cornel").is_none());
+    let d = &s.diags.list[0];
+    assert!(d.message.contains("neither a scene file nor a built-in scene"), "{}", d.message);
+    assert!(d.notes[0].contains("did you mean `cornell`?"), "{:?}", d.notes);
+}
+
+/// The README's scene example and every bundled scene file load; the runtime's tests
+/// render them.
+#[test]
+fn readme_and_bundled_scenes_load() {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let examples: Vec<&str> = readme
+        .split("```ron\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .filter(|b| b.trim_start().starts_with("Scene("))
+        .collect();
+    assert!(!examples.is_empty(), "the README shows a scene file");
+    for ex in examples {
+        let (d, diags, _) = load(ex);
+        assert!(d.is_some(), "README example: {:?}", diags.list);
+    }
+    for entry in std::fs::read_dir(repo_root().join("scenes")).unwrap() {
+        let p = entry.unwrap().path();
+        if p.extension().and_then(|e| e.to_str()) == Some("ron") {
+            let mut s = lightbench_compiler::Session::new();
+            assert!(s.load_scene(p.to_str().unwrap()).is_some(), "{}: {}", p.display(), s.render());
+        }
+    }
+}
+
+/// One mutation of a scene file's text.
+#[derive(Clone, Debug)]
+enum Mutation {
+    FlipByte(usize, u8),
+    DeleteToken(usize),
+    DuplicateToken(usize),
+    SwapLines(usize, usize),
+    ReplaceNumber(usize, &'static str),
+}
+
+const NUMBERS: [&str; 9] = ["NaN", "inf", "-inf", "1e39", "-1e39", "1e30", "-3.5", "0", "0.0"];
+
+/// Byte ranges of tokens: runs of word characters and single punctuation.
+fn tokens(text: &str) -> Vec<(usize, usize)> {
+    let b = text.as_bytes();
+    let (mut out, mut i) = (vec![], 0);
+    while i < b.len() {
+        let word = |c: u8| c.is_ascii_alphanumeric() || c == b'_' || c == b'.' || c == b'-';
+        if b[i].is_ascii_whitespace() {
+            i += 1;
+        } else if word(b[i]) {
+            let s = i;
+            while i < b.len() && word(b[i]) {
+                i += 1;
+            }
+            out.push((s, i));
+        } else {
+            out.push((i, i + 1));
+            i += 1;
+        }
+    }
+    out
+}
+
+fn mutate(text: &str, m: &Mutation) -> Vec<u8> {
+    let toks = tokens(text);
+    let mut bytes = text.as_bytes().to_vec();
+    match *m {
+        Mutation::FlipByte(i, x) => {
+            let i = i % bytes.len();
+            bytes[i] ^= x.max(1);
+        }
+        Mutation::DeleteToken(i) => {
+            let (s, e) = toks[i % toks.len()];
+            bytes.drain(s..e);
+        }
+        Mutation::DuplicateToken(i) => {
+            let (s, e) = toks[i % toks.len()];
+            let t = bytes[s..e].to_vec();
+            bytes.splice(e..e, t);
+        }
+        Mutation::SwapLines(a, b) => {
+            let mut lines: Vec<&str> = text.lines().collect();
+            let n = lines.len();
+            lines.swap(a % n, b % n);
+            bytes = lines.join("\n").into_bytes();
+        }
+        Mutation::ReplaceNumber(i, n) => {
+            let nums: Vec<_> = toks
+                .iter()
+                .filter(|(s, _)| text.as_bytes()[*s].is_ascii_digit() || text.as_bytes()[*s] == b'-')
+                .collect();
+            if let Some((s, e)) = nums.get(i % nums.len().max(1)) {
+                bytes.splice(*s..*e, n.bytes());
+            }
+        }
+    }
+    bytes
+}
+
+fn mutation() -> impl Strategy<Value = Mutation> {
+    prop_oneof![
+        (any::<usize>(), any::<u8>()).prop_map(|(i, x)| Mutation::FlipByte(i, x)),
+        any::<usize>().prop_map(Mutation::DeleteToken),
+        any::<usize>().prop_map(Mutation::DuplicateToken),
+        (any::<usize>(), any::<usize>()).prop_map(|(a, b)| Mutation::SwapLines(a, b)),
+        (any::<usize>(), prop::sample::select(NUMBERS.to_vec())).prop_map(|(i, n)| Mutation::ReplaceNumber(i, n)),
+    ]
+}
+
+fn bundled_scenes() -> Vec<String> {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let mut out: Vec<String> = readme
+        .split("```ron\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .filter(|b| b.trim_start().starts_with("Scene("))
+        .map(String::from)
+        .collect();
+    out.push(std::fs::read_to_string(repo_root().join("scenes/sun_only.ron")).unwrap());
+    out.push(BASE.to_string());
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 3000, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Never a panic; every rejection has an error with a location; an accepted scene has
+    /// only finite values (what the value check promises the renderer).
+    #[test]
+    fn mutated_scene_files_are_rejected_with_a_location_or_accepted_finite(
+        which in 0usize..3, ms in prop::collection::vec(mutation(), 1..4)
+    ) {
+        let scenes = bundled_scenes();
+        let mut text = scenes[which % scenes.len()].clone();
+        for m in &ms {
+            text = String::from_utf8_lossy(&mutate(&text, m)).into_owned();
+        }
+        let (desc, diags, sources) = load(&text);
+        match desc {
+            None => {
+                prop_assert!(diags.has_errors());
+                for d in diags.errors() {
+                    prop_assert!(d.location(&sources).is_some(), "unlocated: {}", d.message);
+                }
+            }
+            Some(d) => {
+                prop_assert!(!diags.has_errors());
+                let c = &d.camera;
+                let mut values = vec![c.yaw, c.pitch, c.fov, c.near, c.far];
+                values.extend(c.position);
+                for l in &d.lights {
+                    values.extend([l.intensity, l.inner, l.outer, l.range]);
+                    values.extend(l.color.iter().chain(&l.position).chain(&l.direction));
+                }
+                for m in &d.models {
+                    values.extend([m.scale, m.triangles]);
+                    values.extend(m.translation.iter().chain(&m.rotation));
+                }
+                prop_assert!(values.iter().all(|v| v.is_finite()), "{values:?}");
+                prop_assert!(c.near > 0.0 && c.far > c.near && c.fov > 0.0 && c.fov < 180.0);
+            }
+        }
+    }
+}
