@@ -146,7 +146,7 @@ mod tests {
     use super::*;
 
     fn temp(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("lightbench-files-{}-{tag}", std::process::id()));
+        let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../target/tmp/files-{tag}"));
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
         d
@@ -195,5 +195,6 @@ mod tests {
         write_atomic(&d.join("out.png"), b"png").unwrap();
         assert!(!stale.exists(), "a dead run's temporary is cleaned");
         assert!(foreign.exists(), "files of other naming are left alone");
+        let _ = std::fs::remove_dir_all(&d);
     }
 }

@@ -1,5 +1,7 @@
 //! The GPU-free commands as a user runs them: exit codes, output formats, messages.
 
+mod scratch;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -21,8 +23,7 @@ fn lightbench(args: &[&str]) -> (i32, String, String) {
 }
 
 fn temp_project(tag: &str, pipeline: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lightbench-cli-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
+    let d = scratch::scratch(tag);
     std::fs::create_dir_all(d.join("shaders")).unwrap();
     std::fs::write(d.join("p.ron"), pipeline).unwrap();
     std::fs::write(
@@ -161,9 +162,7 @@ fn check_with_a_scene_file() {
 
 #[test]
 fn convert_and_fmt() {
-    let d = std::env::temp_dir().join(format!("lightbench-cli-convert-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
+    let d = scratch::scratch("convert");
     let lbp = d.join("deferred.lbp");
     let (code, _, err) = lightbench(&["convert", "pipelines/deferred.ron", "--to", "lbp", "-o", lbp.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");

@@ -1,5 +1,7 @@
 //! `lightbench render` and `lightbench scene export` as a user runs them.
 
+mod scratch;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -21,10 +23,7 @@ fn run(args: &[&str]) -> (i32, String, String) {
 }
 
 fn temp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lightbench-cli-render-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch::scratch(tag)
 }
 
 #[test]

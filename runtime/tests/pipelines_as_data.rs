@@ -3,6 +3,7 @@
 //! from a resource.
 
 mod gpu_common;
+mod scratch;
 
 use gpu_common::*;
 use lightbench::scene::builtin;
@@ -21,8 +22,7 @@ fn copy_dir(from: &Path, to: &Path) {
 }
 
 fn project(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lightbench-data-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
+    let d = scratch::scratch(tag);
     copy_dir(&root().join("shaders"), &d.join("shaders"));
     std::fs::create_dir_all(d.join("pipelines")).unwrap();
     d

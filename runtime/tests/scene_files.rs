@@ -3,6 +3,7 @@
 //! alike; scenes with extreme but accepted values render without a non-finite pixel.
 
 mod gpu_common;
+mod scratch;
 
 use gpu_common::*;
 use lightbench::gpu::Executor;
@@ -23,10 +24,7 @@ fn lightbench(args: &[&str]) -> (i32, String) {
 }
 
 fn temp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lightbench-scenes-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch::scratch(tag)
 }
 
 fn bundled() -> Vec<PathBuf> {

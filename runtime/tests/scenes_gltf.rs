@@ -1,6 +1,7 @@
 //! glTF round trip through the loader, and clear errors for broken glTF files.
 
 mod gpu_common;
+mod scratch;
 
 use gpu_common::*;
 use lightbench::io::rmse;
@@ -9,10 +10,7 @@ use std::path::PathBuf;
 use std::process::Command;
 
 fn temp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("lightbench-gltf-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    scratch::scratch(tag)
 }
 
 /// A scene file placing `model` with the Cornell box's camera and nothing else.

@@ -150,11 +150,9 @@ fn light(index: usize, l: &LightDesc, diags: &mut Diagnostics) {
     if l.kind != LightKind::Directional {
         it.require(l.range > 0.0, "range", "greater than 0", l.range);
     }
-    if l.kind != LightKind::Point {
-        if l.direction.iter().all(|v| v.abs() < 1e-6) {
-            let msg = format!("`direction` of {} is the zero vector: the light must point somewhere", it.what);
-            it.diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, it.at.of("direction")));
-        }
+    if l.kind != LightKind::Point && l.direction.iter().all(|v| v.abs() < 1e-6) {
+        let msg = format!("`direction` of {} is the zero vector: the light must point somewhere", it.what);
+        it.diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, it.at.of("direction")));
     }
     if l.kind == LightKind::Spot {
         it.require(l.inner >= 0.0, "inner", "0 degrees or more", l.inner);

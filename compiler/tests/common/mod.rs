@@ -14,7 +14,9 @@ static COUNTER: AtomicUsize = AtomicUsize::new(0);
 
 pub fn temp_dir(tag: &str) -> PathBuf {
     let n = COUNTER.fetch_add(1, Ordering::SeqCst);
-    let d = std::env::temp_dir().join(format!("lightbench-test-{}-{tag}-{n}", std::process::id()));
+    // Under cargo's temporary directory, named by test binary, tag and order (no process
+    // id), so that running the suite again reuses these directories.
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{tag}-{n}", env!("CARGO_CRATE_NAME")));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(d.join("pipelines")).unwrap();
     std::fs::create_dir_all(d.join("shaders")).unwrap();

@@ -83,16 +83,18 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
         pest::error::InputLocation::Pos(p) => (p, p),
         pest::error::InputLocation::Span((a, b)) => (a, b),
     };
-    // Point at the offending token (or the end of the file).
+    // Point at the offending token (or the end of the file); at least its first character,
+    // which may be several bytes long.
+    let first = text[start..].chars().next().map_or(0, char::len_utf8);
     let tok_end = text[start..]
         .find(|c: char| c.is_whitespace() || "(){},:=".contains(c))
-        .map(|n| start + n.max(1))
+        .map(|n| start + n.max(first))
         .unwrap_or(text.len());
     let end = end.max(tok_end.min(text.len()));
     let found = if start >= text.len() {
         "end of file".to_string()
     } else {
-        format!("`{}`", &text[start..end.max(start + 1).min(text.len())])
+        format!("`{}`", &text[start..end.max(start + first).min(text.len())])
     };
     let message = match &e.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } => {
