@@ -109,7 +109,7 @@ pub fn shader_root_for(vfs: &dyn Vfs, pipeline: &Path, explicit: Option<&Path>) 
 }
 
 /// Pipeline files under a path on disk: the file itself, or every `.ron`/`.lbp` file below a
-/// directory. Symlinks are followed, but each directory and each file (by its canonical
+/// directory (hidden directories such as `.git` are skipped). Symlinks are followed, but each directory and each file (by its canonical
 /// path) is visited once, so symlink loops end and a linked file is checked once.
 pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     if path.is_file() {
@@ -128,7 +128,8 @@ pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
         let mut entries: Vec<PathBuf> = std::fs::read_dir(&d)?.filter_map(|e| e.ok().map(|e| e.path())).collect();
         entries.sort();
         for p in entries {
-            if p.is_dir() {
+            let hidden = p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('.'));
+            if p.is_dir() && !hidden {
                 dirs.push(p);
             } else if p.is_file() && matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")) {
                 if let Ok(c) = std::fs::canonicalize(&p) {

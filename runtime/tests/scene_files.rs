@@ -123,6 +123,16 @@ fn scene_errors_are_located_in_every_command() {
         assert!(err.contains(&at), "{cmd:?} should point at {at}: {err}");
     }
     assert!(!out.exists(), "no image for a bad scene");
+    // `check DIR` checks scene files among pipelines as scenes.
+    let (code, err) = lightbench(&["check", d.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains(&at) && err.contains("checked 0 pipeline file(s) and 1 scene file(s)"),
+        "{err}"
+    );
+    let (code, err) = lightbench(&["check", "scenes/", "pipelines/"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("checked 2 pipeline file(s) and 2 scene file(s)"), "{err}");
     // A model that cannot be loaded is reported at its path, by check as by render.
     let missing = d.join("missing.ron");
     std::fs::write(&missing, "Scene(\n    models: [(path: \"nope.gltf\")],\n)\n").unwrap();

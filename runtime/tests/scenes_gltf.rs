@@ -85,6 +85,22 @@ fn unsupported_required_extension_is_a_clear_error() {
     );
 }
 
+/// A buffer URI naming a device would read forever; a model that is a FIFO would block.
+#[cfg(unix)]
+#[test]
+fn devices_and_pipes_are_refused_not_read() {
+    let (code, err, _) = broken("device", |doc, _| {
+        doc["buffers"][0]["uri"] = serde_json::json!("/dev/zero");
+    });
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("`/dev/zero` is not a regular file"), "{err}");
+    let dir = temp("fifo");
+    assert!(Command::new("mkfifo").arg(dir.join("pipe.gltf")).status().unwrap().success());
+    let (code, err) = render_cli(&scene_file(&dir, "pipe.gltf"), &dir);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[model-load]") && err.contains("is not a regular file"), "{err}");
+}
+
 #[test]
 fn truncated_bin_is_a_clear_error() {
     let (code, err, file) = broken("truncated", |_, bin| bin.truncate(bin.len() / 2));

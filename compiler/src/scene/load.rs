@@ -36,6 +36,23 @@ pub fn load(vfs: &dyn Vfs, spec: &str, sources: &mut SourceMap, diags: &mut Diag
     load_text(path, text, sources, diags)
 }
 
+/// Whether RON text is a scene file (`Scene(...)` after any comments), so that `check DIR`
+/// checks scene files as scenes and pipeline files as pipelines.
+pub fn is_scene_text(text: &str) -> bool {
+    let mut rest = text.trim_start_matches('\u{feff}');
+    loop {
+        rest = rest.trim_start();
+        if let Some(r) = rest.strip_prefix("//") {
+            rest = r.split_once('\n').map_or("", |(_, after)| after);
+        } else if let Some(r) = rest.strip_prefix("/*") {
+            rest = r.split_once("*/").map_or("", |(_, after)| after);
+        } else {
+            break;
+        }
+    }
+    rest.strip_prefix("Scene").is_some_and(|r| r.trim_start().starts_with('('))
+}
+
 /// A scene file's text (`path` names it in diagnostics and anchors its model paths).
 pub fn load_text(path: &Path, text: String, sources: &mut SourceMap, diags: &mut Diagnostics) -> Option<SceneDesc> {
     let file = sources.add(path.display().to_string(), text.clone());
@@ -75,4 +92,14 @@ fn merge(f: SceneFile, stem: &str) -> SceneDesc {
     desc.lights.extend(f.lights);
     desc.effects.extend(f.effects);
     desc
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn scene_files_are_told_from_pipelines_by_their_root() {
+        assert!(super::is_scene_text("// a scene\n/* x */ Scene (lights: [])"));
+        assert!(!super::is_scene_text("// Scene(\nPipeline(name: \"p\")"));
+        assert!(!super::is_scene_text("Scenes()"));
+    }
 }

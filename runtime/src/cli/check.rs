@@ -38,17 +38,29 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         }
         None => None,
     };
+    let mut scenes = 0;
     for f in &files {
         let mut s = ws.session();
-        s.check_file(f, shaders, &profile, scene_features.as_ref());
+        if is_scene_file(f) {
+            scenes += 1;
+            // A scene file among the pipelines: checked as `render --scene` would read it.
+            crate::scene::load_in(&mut s, &f.display().to_string());
+        } else {
+            s.check_file(f, shaders, &profile, scene_features.as_ref());
+        }
         emit(&s, format);
         errors += s.diags.error_count();
         warnings += s.diags.warning_count();
     }
     if format == Format::Human {
         eprintln!(
-            "checked {} pipeline file(s) against profile `{}`: {errors} error(s), {warnings} warning(s)",
-            files.len(),
+            "checked {} pipeline file(s){} against profile `{}`: {errors} error(s), {warnings} warning(s)",
+            files.len() - scenes,
+            if scenes > 0 {
+                format!(" and {scenes} scene file(s)")
+            } else {
+                String::new()
+            },
             profile.name
         );
     }
@@ -57,6 +69,14 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     } else {
         EXIT_OK
     }
+}
+
+fn is_scene_file(path: &Path) -> bool {
+    use lightbench_compiler::vfs::Vfs;
+    path.extension().and_then(|e| e.to_str()) == Some("ron")
+        && lightbench_compiler::vfs::DiskVfs
+            .read(path)
+            .is_ok_and(|t| lightbench_compiler::scene::is_scene_text(&t))
 }
 
 pub fn emit(s: &Session, format: Format) {

@@ -24,8 +24,10 @@ pub fn load(path: &Path) -> Result<Loaded> {
     let err = |msg: String| Error::Scene(format!("{name}: {msg}"));
     // Read the document first so an unsupported required extension is reported as such,
     // before buffers or images are touched.
+    regular_file(path).map_err(&err)?;
     let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| err(format!("not a valid glTF file: {e}")))?;
+    referenced_files(&gltf, path).map_err(&err)?;
     for ext in gltf.extensions_required() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
             return Err(err(format!(
@@ -203,6 +205,46 @@ pub fn load(path: &Path) -> Result<Loaded> {
         textures,
         lights,
     })
+}
+
+/// The largest glTF, buffer or image file read (a guard against devices and runaway files).
+pub const MAX_MODEL_FILE_BYTES: u64 = 2 << 30;
+
+/// Only regular files of bounded size are read: a FIFO would block and `/dev/zero` never end.
+fn regular_file(path: &Path) -> std::result::Result<(), String> {
+    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
+    if !meta.is_file() {
+        return Err(format!("`{}` is not a regular file (a directory, device or pipe)", path.display()));
+    }
+    if meta.len() > MAX_MODEL_FILE_BYTES {
+        return Err(format!(
+            "`{}` is larger than the {} GiB limit",
+            path.display(),
+            MAX_MODEL_FILE_BYTES >> 30
+        ));
+    }
+    Ok(())
+}
+
+/// Buffers and images named by file URI (not `data:`), checked before the importer opens them.
+fn referenced_files(gltf: &gltf::Gltf, path: &Path) -> std::result::Result<(), String> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let buffers = gltf.buffers().filter_map(|b| match b.source() {
+        gltf::buffer::Source::Uri(u) => Some(u),
+        gltf::buffer::Source::Bin => None,
+    });
+    let images = gltf.images().filter_map(|i| match i.source() {
+        gltf::image::Source::Uri { uri, .. } => Some(uri),
+        gltf::image::Source::View { .. } => None,
+    });
+    for uri in buffers.chain(images).filter(|u| !u.starts_with("data:")) {
+        let file = dir.join(uri.replace("%20", " "));
+        // A file that is absent (or named with other escapes) is the importer's to report.
+        if file.exists() {
+            regular_file(&file)?;
+        }
+    }
+    Ok(())
 }
 
 fn describe(e: gltf::Error) -> String {
