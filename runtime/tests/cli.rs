@@ -1,29 +1,12 @@
 //! The GPU-free commands as a user runs them: exit codes, output formats, messages.
 
-mod scratch;
+mod cli_common;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
-}
-
-fn lightbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run lightbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use cli_common::{lightbench, root, scratch};
+use std::path::PathBuf;
 
 fn temp_project(tag: &str, pipeline: &str) -> PathBuf {
-    let d = scratch::scratch(tag);
+    let d = scratch(tag);
     std::fs::create_dir_all(d.join("shaders")).unwrap();
     std::fs::write(d.join("p.ron"), pipeline).unwrap();
     std::fs::write(
@@ -162,7 +145,7 @@ fn check_with_a_scene_file() {
 
 #[test]
 fn convert_and_fmt() {
-    let d = scratch::scratch("convert");
+    let d = scratch("convert");
     let lbp = d.join("deferred.lbp");
     let (code, _, err) = lightbench(&["convert", "pipelines/deferred.ron", "--to", "lbp", "-o", lbp.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");

@@ -1,30 +1,8 @@
 //! `lightbench render` and `lightbench scene export` as a user runs them.
 
-mod scratch;
+mod cli_common;
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
-}
-
-fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn temp(tag: &str) -> PathBuf {
-    scratch::scratch(tag)
-}
+use cli_common::{lightbench as run, scratch as temp};
 
 #[test]
 fn render_writes_image_dumps_timings_and_manifest() {

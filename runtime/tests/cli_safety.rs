@@ -2,31 +2,10 @@
 //! directory walks end, arguments that cannot mean anything are refused before any work,
 //! and no run leaves temporaries behind.
 
-mod scratch;
+mod cli_common;
 
+use cli_common::{lightbench, root, scratch as temp};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
-}
-
-fn lightbench(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run lightbench");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn temp(tag: &str) -> PathBuf {
-    scratch::scratch(tag)
-}
 
 /// Every file below `dir` that looks like a temporary (ours: `.NAME.lightbench-PID.tmp`).
 fn temporaries(dir: &Path) -> Vec<PathBuf> {

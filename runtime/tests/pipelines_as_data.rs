@@ -2,8 +2,8 @@
 //! to the deferred pipeline, history resources kept by ping-pong, compute dispatches sized
 //! from a resource.
 
+mod cli_common;
 mod gpu_common;
-mod scratch;
 
 use gpu_common::*;
 use lightbench::scene::builtin;
@@ -22,7 +22,7 @@ fn copy_dir(from: &Path, to: &Path) {
 }
 
 fn project(tag: &str) -> PathBuf {
-    let d = scratch::scratch(tag);
+    let d = cli_common::scratch(tag);
     copy_dir(&root().join("shaders"), &d.join("shaders"));
     std::fs::create_dir_all(d.join("pipelines")).unwrap();
     d

@@ -2,9 +2,10 @@
 //! from the command line; bad values are located errors from `render`, `check` and `plan`
 //! alike; scenes with extreme but accepted values render without a non-finite pixel.
 
+mod cli_common;
 mod gpu_common;
-mod scratch;
 
+use cli_common::scratch as temp;
 use gpu_common::*;
 use lightbench::gpu::Executor;
 use lightbench::scene;
@@ -14,17 +15,10 @@ use lightbench_compiler::Workspace;
 use std::path::PathBuf;
 use std::process::Command;
 
+/// `lightbench ARGS`: exit code and standard error.
 fn lightbench(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("run lightbench");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
-}
-
-fn temp(tag: &str) -> PathBuf {
-    scratch::scratch(tag)
+    let (code, _, err) = cli_common::lightbench(args);
+    (code, err)
 }
 
 fn bundled() -> Vec<PathBuf> {

@@ -1,17 +1,14 @@
 //! glTF round trip through the loader, and clear errors for broken glTF files.
 
+mod cli_common;
 mod gpu_common;
-mod scratch;
 
+use cli_common::scratch as temp;
 use gpu_common::*;
 use lightbench::io::rmse;
 use lightbench::scene::{self, builtin, export};
 use std::path::PathBuf;
 use std::process::Command;
-
-fn temp(tag: &str) -> PathBuf {
-    scratch::scratch(tag)
-}
 
 /// A scene file placing `model` with the Cornell box's camera and nothing else.
 fn scene_file(dir: &std::path::Path, model: &str) -> PathBuf {

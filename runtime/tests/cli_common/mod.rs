@@ -1,0 +1,34 @@
+//! What the command-line tests share: the repository root, running the built binary there,
+//! and output directories under cargo's per-target temporary directory, named by test
+//! binary and tag (no process id) and emptied when a test starts, so that running the
+//! suite again reuses them instead of leaving more behind.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
+
+/// Run `lightbench ARGS` in the repository root: (exit code, stdout, stderr).
+pub fn lightbench(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("run lightbench");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+pub fn scratch(tag: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{tag}", env!("CARGO_CRATE_NAME")));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
