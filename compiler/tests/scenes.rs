@@ -1,6 +1,6 @@
 //! The scene front end: every bad value a located error naming the item and field, built-in
-//! scenes and `builtin:` merging, the README's and the bundled scene files, and mutated
-//! scene files that never panic and are never rejected without a location.
+//! scenes and `builtin:` merging, the README's and the bundled scene files. (Mutated scene
+//! files are the runtime's `scene_files` test: accepted ones are rendered there.)
 
 mod common;
 
@@ -9,7 +9,6 @@ use lightbench_compiler::diag::Diagnostics;
 use lightbench_compiler::ir::{Effect, LightKind};
 use lightbench_compiler::scene::{self, SceneDesc};
 use lightbench_compiler::span::SourceMap;
-use proptest::prelude::*;
 use std::path::Path;
 
 /// Load scene text as if from `scenes/t.ron`.
@@ -313,142 +312,6 @@ fn readme_and_bundled_scenes_load() {
         if p.extension().and_then(|e| e.to_str()) == Some("ron") {
             let mut s = lightbench_compiler::Session::new();
             assert!(s.load_scene(p.to_str().unwrap()).is_some(), "{}: {}", p.display(), s.render());
-        }
-    }
-}
-
-/// One mutation of a scene file's text.
-#[derive(Clone, Debug)]
-enum Mutation {
-    FlipByte(usize, u8),
-    DeleteToken(usize),
-    DuplicateToken(usize),
-    SwapLines(usize, usize),
-    ReplaceNumber(usize, &'static str),
-}
-
-const NUMBERS: [&str; 9] = ["NaN", "inf", "-inf", "1e39", "-1e39", "1e30", "-3.5", "0", "0.0"];
-
-/// Byte ranges of tokens: runs of word characters and single punctuation.
-fn tokens(text: &str) -> Vec<(usize, usize)> {
-    let b = text.as_bytes();
-    let (mut out, mut i) = (vec![], 0);
-    while i < b.len() {
-        let word = |c: u8| c.is_ascii_alphanumeric() || c == b'_' || c == b'.' || c == b'-';
-        if b[i].is_ascii_whitespace() {
-            i += 1;
-        } else if word(b[i]) {
-            let s = i;
-            while i < b.len() && word(b[i]) {
-                i += 1;
-            }
-            out.push((s, i));
-        } else {
-            out.push((i, i + 1));
-            i += 1;
-        }
-    }
-    out
-}
-
-fn mutate(text: &str, m: &Mutation) -> Vec<u8> {
-    let toks = tokens(text);
-    let mut bytes = text.as_bytes().to_vec();
-    match *m {
-        Mutation::FlipByte(i, x) => {
-            let i = i % bytes.len();
-            bytes[i] ^= x.max(1);
-        }
-        Mutation::DeleteToken(i) => {
-            let (s, e) = toks[i % toks.len()];
-            bytes.drain(s..e);
-        }
-        Mutation::DuplicateToken(i) => {
-            let (s, e) = toks[i % toks.len()];
-            let t = bytes[s..e].to_vec();
-            bytes.splice(e..e, t);
-        }
-        Mutation::SwapLines(a, b) => {
-            let mut lines: Vec<&str> = text.lines().collect();
-            let n = lines.len();
-            lines.swap(a % n, b % n);
-            bytes = lines.join("\n").into_bytes();
-        }
-        Mutation::ReplaceNumber(i, n) => {
-            let nums: Vec<_> = toks
-                .iter()
-                .filter(|(s, _)| text.as_bytes()[*s].is_ascii_digit() || text.as_bytes()[*s] == b'-')
-                .collect();
-            if let Some((s, e)) = nums.get(i % nums.len().max(1)) {
-                bytes.splice(*s..*e, n.bytes());
-            }
-        }
-    }
-    bytes
-}
-
-fn mutation() -> impl Strategy<Value = Mutation> {
-    prop_oneof![
-        (any::<usize>(), any::<u8>()).prop_map(|(i, x)| Mutation::FlipByte(i, x)),
-        any::<usize>().prop_map(Mutation::DeleteToken),
-        any::<usize>().prop_map(Mutation::DuplicateToken),
-        (any::<usize>(), any::<usize>()).prop_map(|(a, b)| Mutation::SwapLines(a, b)),
-        (any::<usize>(), prop::sample::select(NUMBERS.to_vec())).prop_map(|(i, n)| Mutation::ReplaceNumber(i, n)),
-    ]
-}
-
-fn bundled_scenes() -> Vec<String> {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
-    let mut out: Vec<String> = readme
-        .split("```ron\n")
-        .skip(1)
-        .filter_map(|b| b.split("```").next())
-        .filter(|b| b.trim_start().starts_with("Scene("))
-        .map(String::from)
-        .collect();
-    out.push(std::fs::read_to_string(repo_root().join("scenes/sun_only.ron")).unwrap());
-    out.push(BASE.to_string());
-    out
-}
-
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 3000, failure_persistence: None, ..ProptestConfig::default() })]
-
-    /// Never a panic; every rejection has an error with a location; an accepted scene has
-    /// only finite values (what the value check promises the renderer).
-    #[test]
-    fn mutated_scene_files_are_rejected_with_a_location_or_accepted_finite(
-        which in 0usize..3, ms in prop::collection::vec(mutation(), 1..4)
-    ) {
-        let scenes = bundled_scenes();
-        let mut text = scenes[which % scenes.len()].clone();
-        for m in &ms {
-            text = String::from_utf8_lossy(&mutate(&text, m)).into_owned();
-        }
-        let (desc, diags, sources) = load(&text);
-        match desc {
-            None => {
-                prop_assert!(diags.has_errors());
-                for d in diags.errors() {
-                    prop_assert!(d.location(&sources).is_some(), "unlocated: {}", d.message);
-                }
-            }
-            Some(d) => {
-                prop_assert!(!diags.has_errors());
-                let c = &d.camera;
-                let mut values = vec![c.yaw, c.pitch, c.fov, c.near, c.far];
-                values.extend(c.position);
-                for l in &d.lights {
-                    values.extend([l.intensity, l.inner, l.outer, l.range]);
-                    values.extend(l.color.iter().chain(&l.position).chain(&l.direction));
-                }
-                for m in &d.models {
-                    values.extend([m.scale, m.triangles]);
-                    values.extend(m.translation.iter().chain(&m.rotation));
-                }
-                prop_assert!(values.iter().all(|v| v.is_finite()), "{values:?}");
-                prop_assert!(c.near > 0.0 && c.far > c.near && c.fov > 0.0 && c.fov < 180.0);
-            }
         }
     }
 }
