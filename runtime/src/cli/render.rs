@@ -90,7 +90,11 @@ pub fn run(a: Args) -> i32 {
 }
 
 fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
-    let mut scene = crate::scene::load(&a.scene)?;
+    let mut s = lightbench_compiler::Session::new();
+    let loaded = crate::scene::load_in(&mut s, &a.scene);
+    // Warnings (skipped primitives) are shown; errors stop here.
+    eprint!("{}", s.render());
+    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
     if let Some(sz) = size {
         scene.size = sz;
     }

@@ -17,6 +17,8 @@ pub struct Loaded {
     pub materials: Vec<Material>,
     pub textures: Vec<ImageData>,
     pub lights: Vec<Light>,
+    /// What was loaded only in part (skipped primitives), for the caller to report.
+    pub warnings: Vec<String>,
 }
 
 pub fn load(path: &Path) -> Result<Loaded> {
@@ -25,6 +27,11 @@ pub fn load(path: &Path) -> Result<Loaded> {
     // Read the document first so an unsupported required extension is reported as such,
     // before buffers or images are touched.
     regular_file(path).map_err(&err)?;
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
+        let hint = "models must be glTF 2.0 (.gltf or .glb); convert other formats (e.g. .obj, .fbx) with Blender's glTF exporter";
+        return Err(err(format!("not a glTF file: {hint}")));
+    }
     let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| err(format!("not a valid glTF file: {e}")))?;
     referenced_files(&gltf, path).map_err(&err)?;
@@ -92,6 +99,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
 
     let mut meshes = vec![];
     let mut lights = vec![];
+    let mut warnings = vec![];
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
     let roots: Vec<gltf::Node> = match scene {
         Some(s) => s.nodes().collect(),
@@ -105,12 +113,14 @@ pub fn load(path: &Path) -> Result<Loaded> {
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(mesh) = node.mesh() {
             for (pi, prim) in mesh.primitives().enumerate() {
-                if prim.mode() != gltf::mesh::Mode::Triangles {
-                    return Err(err(format!(
-                        "mesh `{}` primitive {pi}: only triangle lists are supported, found {:?}",
+                use gltf::mesh::Mode;
+                if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+                    warnings.push(format!(
+                        "mesh `{}` primitive {pi} is {:?}, which is not drawn (only triangles are); skipped",
                         mesh.name().unwrap_or("?"),
                         prim.mode()
-                    )));
+                    ));
+                    continue;
                 }
                 let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
                 let positions: Vec<[f32; 3]> = reader
@@ -124,6 +134,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
                     Some(i) => i.into_u32().collect(),
                     None => (0..positions.len() as u32).collect(),
                 };
+                let indices = triangle_list(prim.mode(), indices);
                 if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
                     return Err(err(format!(
                         "mesh `{}` primitive {pi}: index {bad} is out of range ({} vertices)",
@@ -204,7 +215,20 @@ pub fn load(path: &Path) -> Result<Loaded> {
         materials,
         textures,
         lights,
+        warnings,
     })
+}
+
+/// Strips and fans as triangle lists, by the glTF specification's vertex order (§3.7.2.1).
+fn triangle_list(mode: gltf::mesh::Mode, idx: Vec<u32>) -> Vec<u32> {
+    use gltf::mesh::Mode;
+    let n = idx.len();
+    match mode {
+        Mode::TriangleStrip if n >= 3 => (0..n - 2).flat_map(|i| [idx[i], idx[i + 1 + i % 2], idx[i + 2 - i % 2]]).collect(),
+        Mode::TriangleFan if n >= 3 => (0..n - 2).flat_map(|i| [idx[i + 1], idx[i + 2], idx[0]]).collect(),
+        Mode::TriangleStrip | Mode::TriangleFan => vec![],
+        _ => idx,
+    }
 }
 
 /// The largest glTF, buffer or image file read (a guard against devices and runaway files).
@@ -226,25 +250,47 @@ fn regular_file(path: &Path) -> std::result::Result<(), String> {
     Ok(())
 }
 
-/// Buffers and images named by file URI (not `data:`), checked before the importer opens them.
+/// Buffers and images named by file URI (not `data:`), checked before the importer opens
+/// them, so that a missing or special file is named (the importer says only "not found").
 fn referenced_files(gltf: &gltf::Gltf, path: &Path) -> std::result::Result<(), String> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let buffers = gltf.buffers().filter_map(|b| match b.source() {
-        gltf::buffer::Source::Uri(u) => Some(u),
+        gltf::buffer::Source::Uri(u) => Some(("buffer", b.index(), u)),
         gltf::buffer::Source::Bin => None,
     });
     let images = gltf.images().filter_map(|i| match i.source() {
-        gltf::image::Source::Uri { uri, .. } => Some(uri),
+        gltf::image::Source::Uri { uri, .. } => Some(("image", i.index(), uri)),
         gltf::image::Source::View { .. } => None,
     });
-    for uri in buffers.chain(images).filter(|u| !u.starts_with("data:")) {
-        let file = dir.join(uri.replace("%20", " "));
-        // A file that is absent (or named with other escapes) is the importer's to report.
-        if file.exists() {
-            regular_file(&file)?;
+    for (what, index, uri) in buffers.chain(images).filter(|(_, _, u)| !u.starts_with("data:")) {
+        let file = dir.join(percent_decode(uri));
+        if !file.exists() {
+            return Err(format!("{what} {index} refers to `{}`, which does not exist", file.display()));
         }
+        regular_file(&file)?;
     }
     Ok(())
+}
+
+/// `%XX` escapes of a URI path (glTF URIs are URI-encoded: `my%20texture.png`).
+fn percent_decode(uri: &str) -> String {
+    let b = uri.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = |c: u8| (c as char).to_digit(16);
+        match (b[i], b.get(i + 1).copied().and_then(hex), b.get(i + 2).copied().and_then(hex)) {
+            (b'%', Some(h), Some(l)) => {
+                out.push((h * 16 + l) as u8);
+                i += 3;
+            }
+            (c, _, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
 }
 
 fn describe(e: gltf::Error) -> String {
@@ -303,14 +349,41 @@ fn validate_accessors(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> s
     Ok(())
 }
 
+/// Any decoded image as 8-bit RGBA: 8- and 16-bit (rounded) and float (clamped to 0..1)
+/// channels; one channel is grey, two are grey and alpha (PNG has no red-green format).
 fn to_rgba8(img: &gltf::image::Data) -> Option<Vec<u8>> {
     use gltf::image::Format as F;
-    let px = &img.pixels;
-    Some(match img.format {
-        F::R8G8B8A8 => px.clone(),
-        F::R8G8B8 => px.chunks_exact(3).flat_map(|c| [c[0], c[1], c[2], 255]).collect(),
-        F::R8G8 => px.chunks_exact(2).flat_map(|c| [c[0], c[1], 0, 255]).collect(),
-        F::R8 => px.iter().flat_map(|&c| [c, c, c, 255]).collect(),
-        _ => return None,
-    })
+    let (channels, bytes) = match img.format {
+        F::R8 => (1, 1),
+        F::R8G8 => (2, 1),
+        F::R8G8B8 => (3, 1),
+        F::R8G8B8A8 => (4, 1),
+        F::R16 => (1, 2),
+        F::R16G16 => (2, 2),
+        F::R16G16B16 => (3, 2),
+        F::R16G16B16A16 => (4, 2),
+        F::R32G32B32FLOAT => (3, 4),
+        F::R32G32B32A32FLOAT => (4, 4),
+    };
+    let value = |c: &[u8]| -> u8 {
+        match bytes {
+            1 => c[0],
+            2 => ((u16::from_ne_bytes([c[0], c[1]]) as u32 + 128) / 257) as u8,
+            _ => (f32::from_ne_bytes([c[0], c[1], c[2], c[3]]).clamp(0.0, 1.0) * 255.0).round() as u8,
+        }
+    };
+    let texel = channels * bytes;
+    if img.pixels.len() != (img.width as usize) * (img.height as usize) * texel {
+        return None;
+    }
+    let out = img.pixels.chunks_exact(texel).flat_map(|px| {
+        let v: Vec<u8> = px.chunks_exact(bytes).map(value).collect();
+        match channels {
+            1 => [v[0], v[0], v[0], 255],
+            2 => [v[0], v[0], v[0], v[1]],
+            3 => [v[0], v[1], v[2], 255],
+            _ => [v[0], v[1], v[2], v[3]],
+        }
+    });
+    Some(out.collect())
 }

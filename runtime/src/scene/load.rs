@@ -9,7 +9,8 @@ use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
 use lightbench_compiler::scene::{AnimationDesc, LightDesc, ModelDesc, SceneDesc};
 use lightbench_compiler::Session;
 
-/// A built-in scene by name, or a scene file; errors are the rendered diagnostics.
+/// A built-in scene by name, or a scene file; errors are the rendered diagnostics (warnings
+/// are dropped: `load_in` keeps them in the session).
 pub fn load(spec: &str) -> Result<Scene> {
     let mut s = Session::new();
     load_in(&mut s, spec).ok_or_else(|| Error::Scene(s.render()))
@@ -26,12 +27,17 @@ pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
     let mut scene = Scene::from_desc(desc);
     let before = diags.error_count();
     for m in &desc.models {
-        if let Err(e) = add_model(&mut scene, m) {
-            diags.push(Diagnostic::error(
-                Code::ModelLoad,
-                format!("cannot load model `{}`: {e}", m.path.value),
-                m.path.span,
-            ));
+        match add_model(&mut scene, m) {
+            Ok(warnings) => {
+                for w in warnings {
+                    let msg = format!("model `{}`: {w}", m.path.value);
+                    diags.push(Diagnostic::warning(Code::SkippedPrimitive, msg, m.path.span));
+                }
+            }
+            Err(e) => {
+                let msg = format!("cannot load model `{}`: {e}", m.path.value);
+                diags.push(Diagnostic::error(Code::ModelLoad, msg, m.path.span));
+            }
         }
     }
     (diags.error_count() == before).then_some(scene)
@@ -88,8 +94,9 @@ impl Light {
     }
 }
 
-/// Load a glTF model and place its meshes, materials, textures and lights in the scene.
-fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<()> {
+/// Load a glTF model and place its meshes, materials, textures and lights in the scene;
+/// returns what was skipped.
+fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<Vec<String>> {
     let [y, p, r] = m.rotation.map(f32::to_radians);
     let transform = Mat4::from_scale_rotation_translation(
         Vec3::splat(m.scale),
@@ -123,5 +130,5 @@ fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<()> {
         l.direction = transform.transform_vector3(l.direction);
         scene.lights.push(l);
     }
-    Ok(())
+    Ok(loaded.warnings)
 }

@@ -1,0 +1,136 @@
+//! glTF as real exports write it, with generated files: strips and fans become triangle
+//! lists, points and lines are skipped with a warning naming the mesh, 16-bit and
+//! grey-alpha PNGs load, and a missing texture or a non-glTF model is named.
+
+mod cli_common;
+
+use cli_common::{lightbench, scratch};
+use lightbench::scene;
+use std::path::{Path, PathBuf};
+
+/// A unit quad in the XZ plane (4 vertices) drawn by each `(mode, indices)` primitive, with
+/// base-colour texture `image` (a file name) when given. Written as `dir/model.gltf`.
+fn write_model(dir: &Path, prims: &[(u32, &[u32])], image: Option<&str>) -> PathBuf {
+    let pos: [f32; 12] = [-1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0, -1.0, -1.0, 0.0, -1.0];
+    let uv: [f32; 8] = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
+    let mut bin: Vec<u8> = vec![];
+    bin.extend(pos.iter().flat_map(|v| v.to_le_bytes()));
+    bin.extend(uv.iter().flat_map(|v| v.to_le_bytes()));
+    let mut views = vec![
+        serde_json::json!({"buffer": 0, "byteOffset": 0, "byteLength": 48}),
+        serde_json::json!({"buffer": 0, "byteOffset": 48, "byteLength": 32}),
+    ];
+    let mut accessors = vec![
+        serde_json::json!({"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, -1.0], "max": [1.0, 0.0, 1.0]}),
+        serde_json::json!({"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}),
+    ];
+    let mut primitives = vec![];
+    for (mode, idx) in prims {
+        views.push(serde_json::json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": idx.len() * 4}));
+        bin.extend(idx.iter().flat_map(|v| v.to_le_bytes()));
+        accessors.push(serde_json::json!({"bufferView": views.len() - 1, "componentType": 5125, "count": idx.len(), "type": "SCALAR"}));
+        primitives.push(serde_json::json!({"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": accessors.len() - 1, "mode": mode, "material": 0}));
+    }
+    std::fs::write(dir.join("model.bin"), &bin).unwrap();
+    let mut doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"name": "quad", "primitives": primitives}],
+        "materials": [{"pbrMetallicRoughness": {"metallicFactor": 0.0}}],
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": bin.len(), "uri": "model.bin"}],
+    });
+    if let Some(img) = image {
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = serde_json::json!({"index": 0});
+        doc["textures"] = serde_json::json!([{"source": 0}]);
+        doc["images"] = serde_json::json!([{"uri": img}]);
+    }
+    let path = dir.join("model.gltf");
+    std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+    path
+}
+
+/// A scene file placing `model` under a camera looking down at it.
+fn scene_file(dir: &Path, model: &str) -> PathBuf {
+    let p = dir.join("scene.ron");
+    let text = format!(
+        "Scene(\n    size: (32, 32),\n    camera: (position: (0.0, 3.0, 0.01), pitch: -89.0, fov: 60.0, near: 0.1, far: 10.0),\n    models: [(path: \"{model}\")],\n    lights: [Directional(direction: (0.0, -1.0, 0.0), intensity: 2.0)],\n)\n"
+    );
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+#[test]
+fn strips_and_fans_become_triangle_lists() {
+    let d = scratch("strip");
+    // glTF mode 5 = TRIANGLE_STRIP, 6 = TRIANGLE_FAN.
+    write_model(&d, &[(5, &[0, 1, 3, 2]), (6, &[0, 1, 2, 3])], None);
+    let s = scene::load(scene_file(&d, "model.gltf").to_str().unwrap()).unwrap();
+    // glTF §3.7.2.1: triangle i of a strip is {v_i, v_(i+1+i%2), v_(i+2-i%2)}; both face +Y.
+    assert_eq!(s.meshes[0].indices, vec![0, 1, 3, 1, 2, 3]);
+    assert_eq!(s.meshes[1].indices, vec![1, 2, 0, 2, 3, 0], "fan: around the first vertex");
+}
+
+#[test]
+fn lines_and_points_are_skipped_with_a_warning_naming_the_mesh() {
+    let d = scratch("lines");
+    // mode 1 = LINES, 0 = POINTS, 4 = TRIANGLES.
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3]), (1, &[0, 1, 1, 2]), (0, &[0, 1])], None);
+    let scene_path = scene_file(&d, "model.gltf");
+    let out = d.join("x.png");
+    let (code, _, err) = lightbench(&["render", "--scene", scene_path.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("warning[skipped-primitive]: model `model.gltf`: mesh `quad` primitive 1 is Lines, which is not drawn"),
+        "{err}"
+    );
+    assert!(err.contains("primitive 2 is Points"), "{err}");
+    assert!(
+        err.contains(&format!("{}:4:21", scene_path.display())),
+        "located at the model's path: {err}"
+    );
+    let s = scene::load(scene_path.to_str().unwrap()).unwrap();
+    assert_eq!(s.meshes.len(), 1, "the triangles are kept");
+}
+
+#[test]
+fn sixteen_bit_and_grey_alpha_pngs_load() {
+    let d = scratch("png16");
+    // A 2×1 16-bit RGB image: full and half intensity.
+    let img = image::ImageBuffer::<image::Rgb<u16>, Vec<u16>>::from_raw(2, 1, vec![65535, 32768, 0, 0, 257, 65535]).unwrap();
+    image::DynamicImage::ImageRgb16(img).save(d.join("normal16.png")).unwrap();
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("normal16.png"));
+    let s = scene::load(scene_file(&d, "model.gltf").to_str().unwrap()).unwrap();
+    assert_eq!(s.textures[0].rgba, vec![255, 128, 0, 255, 0, 1, 255, 255]);
+    let grey = image::GrayAlphaImage::from_raw(1, 1, vec![200, 100]).unwrap();
+    image::DynamicImage::ImageLumaA8(grey).save(d.join("ga.png")).unwrap();
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("ga.png"));
+    let s = scene::load(scene_file(&d, "model.gltf").to_str().unwrap()).unwrap();
+    assert_eq!(s.textures[0].rgba, vec![200, 200, 200, 100], "grey and alpha, not red and green");
+}
+
+#[test]
+fn a_missing_texture_and_a_non_gltf_model_are_named() {
+    let d = scratch("missing");
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("textures/albedo%20map.png"));
+    let scene_path = scene_file(&d, "model.gltf");
+    let (code, _, err) = lightbench(&["check", "pipelines/deferred.ron", "--scene", scene_path.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    let missing = d.join("textures/albedo map.png");
+    assert!(
+        err.contains(&format!("image 0 refers to `{}`, which does not exist", missing.display())),
+        "{err}"
+    );
+    std::fs::write(d.join("chair.obj"), "v 0 0 0\n").unwrap();
+    let (code, _, err) = lightbench(&[
+        "check",
+        "pipelines/deferred.ron",
+        "--scene",
+        scene_file(&d, "chair.obj").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("not a glTF file: models must be glTF 2.0 (.gltf or .glb)"), "{err}");
+}
