@@ -1,14 +1,10 @@
 // Reinhard's global operator with white point (seed 003 §4.2, §5.4):
-// L = key / Lavg * Lw,  Ld = L (1 + L / Lwhite²) / (1 + L), applied to luminance so hue is kept.
+// L = exposure * Lw,  Ld = L (1 + L / Lwhite²) / (1 + L), applied to luminance so hue is kept.
+// The exposure is key / Lavg (automatic) or 2^ev (manual), from the luminance pass.
 #include "lib/luminance.wgsl"
-
-struct Params {
-    key: f32,
-};
 
 @group(2) @binding(0) var hdr: texture_2d<f32>;
 @group(2) @binding(1) var<storage, read> lum: Luminance;
-@group(2) @binding(2) var<uniform> params: Params;
 
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
@@ -17,7 +13,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     if !(lw > 0.0) {
         return vec4<f32>(0.0, 0.0, 0.0, 1.0);
     }
-    let scale = params.key / max(lum.log_average, 1e-4);
+    let scale = lum.exposure;
     let white = max(lum.white * scale, 1e-4);
     let l = lw * scale;
     let ld = l * (1.0 + l / (white * white)) / (1.0 + l);

@@ -1,6 +1,7 @@
 #version 450
-// Reinhard's simple operator Ld = L / (1 + L) with L = key / Lavg * Lw (seed 003 eq. 4.2),
-// written in GLSL 450 to show both shader languages in one pipeline.
+// Reinhard's simple operator Ld = L / (1 + L) with L = exposure * Lw (seed 003 eq. 4.2; the
+// exposure is key / Lavg or 2^ev, from the luminance pass), written in GLSL 450 to show both
+// shader languages in one pipeline.
 
 layout(location = 0) in vec2 uv;
 layout(location = 0) out vec4 color;
@@ -9,12 +10,9 @@ layout(set = 2, binding = 0) uniform texture2D hdr;
 layout(set = 2, binding = 1) readonly buffer Luminance {
     float log_average;
     float white;
-    float _pad0;
-    float _pad1;
+    float exposure;
+    float covered;
 } lum;
-layout(set = 2, binding = 2) uniform Params {
-    float key;
-} params;
 
 void main() {
     vec3 c = texelFetch(hdr, ivec2(gl_FragCoord.xy), 0).rgb;
@@ -23,7 +21,7 @@ void main() {
         color = vec4(0.0, 0.0, 0.0, 1.0);
         return;
     }
-    float l = lw * params.key / max(lum.log_average, 1e-4);
+    float l = lw * lum.exposure;
     float ld = l / (1.0 + l);
     color = vec4(clamp(c * (ld / lw), 0.0, 1.0), 1.0);
 }

@@ -4,6 +4,7 @@
 use crate::error::{Error, Result};
 use crate::gpu::{Executor, Gpu};
 use crate::scene::Scene;
+use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::{Executable, Workspace};
 use std::path::Path;
 
@@ -41,12 +42,39 @@ pub fn compile(
 
 /// Build an executor and render `frames` frames (time advancing 1/60 s per frame).
 pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result<Executor> {
+    render_with(gpu, exe, scene, frames, &[])
+}
+
+/// `render` with parameter overrides (each checked against the Plan's parameters).
+pub fn render_with(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
     let mut ex = Executor::new(gpu, exe, scene)?;
+    for (name, value) in params {
+        ex.set_param(name, value.clone())?;
+    }
     for f in 0..frames.max(1) {
         let inputs = ex.inputs(f as f32 / 60.0);
         ex.render_frame(gpu, &inputs)?;
     }
     Ok(ex)
+}
+
+/// `--param NAME=VALUE` texts as typed values of the Plan's parameters (unknown names get a
+/// suggestion; ranges are checked when they are set).
+pub fn parse_params(plan: &lightbench_compiler::plan::Plan, args: &[(String, String)]) -> Result<Vec<(String, ParamValue)>> {
+    let mut out = vec![];
+    for (name, text) in args {
+        let Some(p) = plan.params.iter().find(|p| &p.name == name) else {
+            let names = plan.params.iter().map(|p| p.name.as_str());
+            let hint = lightbench_compiler::diag::did_you_mean(name, names)
+                .map(|m| format!(" (did you mean `{m}`?)"))
+                .unwrap_or_default();
+            return Err(Error::Usage(format!("--param `{name}`: the pipeline has no such parameter{hint}")));
+        };
+        let value = ParamValue::parse(&p.ty, text).map_err(|why| Error::Usage(format!("--param `{name}`: {why}")))?;
+        lightbench_compiler::plan::ParamValues::check(&plan.params, name, &value).map_err(|e| Error::Usage(format!("--param: {e}")))?;
+        out.push((name.clone(), value));
+    }
+    Ok(out)
 }
 
 /// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).

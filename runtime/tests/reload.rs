@@ -175,10 +175,9 @@ fn overrides_that_no_longer_apply_are_dropped_and_bad_ones_refused() {
         .unwrap()
         .replace("tonemap.key", "tonemap.exposure_key");
     vfs.write(PIPELINE, text);
-    for shader in ["mem/shaders/tonemap.wgsl", "mem/shaders/tonemap_simple.frag"] {
-        let text = vfs.read(Path::new(shader)).unwrap().replace("key", "exposure_key");
-        vfs.write(shader, text);
-    }
+    let shader = "mem/shaders/luminance.wgsl";
+    let text = vfs.read(Path::new(shader)).unwrap().replace("key", "exposure_key");
+    vfs.write(shader, text);
     let report = ex.replace(&g, &compile(&g, &ws, &scene)).unwrap();
     assert_eq!(report.params_dropped.len(), 1, "{report:?}");
     assert_eq!(report.params_dropped[0].0, "tonemap.key");

@@ -95,6 +95,23 @@ pub enum ParamValue {
 }
 
 impl ParamValue {
+    /// A value of type `ty` written on a command line: `0.5`, `3`, `true`, `filmic`,
+    /// `(1, 0.5, 0)` or `1,0.5,0`. Range checks are `ParamValues::check`'s.
+    pub fn parse(ty: &ParamType, text: &str) -> Result<ParamValue, String> {
+        let t = text.trim();
+        let number = |s: &str| s.trim().parse::<f64>().map_err(|_| format!("`{s}` is not a number"));
+        Ok(match ty {
+            ParamType::Float => ParamValue::Float(number(t)?),
+            ParamType::Int => ParamValue::Int(t.parse().map_err(|_| format!("`{t}` is not a whole number"))?),
+            ParamType::Bool => ParamValue::Bool(t.parse().map_err(|_| format!("`{t}` is not `true` or `false`"))?),
+            ParamType::Enum(_) => ParamValue::Enum(t.to_string()),
+            ParamType::Vec2 | ParamType::Vec3 | ParamType::Vec4 | ParamType::Color => {
+                let inner = t.strip_prefix('(').and_then(|r| r.strip_suffix(')')).unwrap_or(t);
+                ParamValue::Vec(inner.split(',').map(number).collect::<Result<_, _>>()?)
+            }
+        })
+    }
+
     pub fn describe(&self) -> String {
         match self {
             ParamValue::Float(f) => format!("{f}"),

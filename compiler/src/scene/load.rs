@@ -13,6 +13,9 @@ pub fn load(vfs: &dyn Vfs, spec: &str, sources: &mut SourceMap, diags: &mut Diag
         return Some(s);
     }
     let path = Path::new(spec);
+    if is_model(path) {
+        return Some(model_scene(spec, sources));
+    }
     let text = match vfs.read(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound && path.extension().is_none() => {
@@ -34,6 +37,38 @@ pub fn load(vfs: &dyn Vfs, spec: &str, sources: &mut SourceMap, diags: &mut Diag
         }
     };
     load_text(path, text, sources, diags)
+}
+
+/// A glTF model given where a scene is expected.
+pub fn is_model(path: &Path) -> bool {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    matches!(ext.as_deref(), Some("gltf" | "glb"))
+}
+
+/// A scene of one model, framed and lit once it is loaded (see `SceneDesc::framed_model`),
+/// with shadows. Diagnostics about the model point at the name as given.
+fn model_scene(spec: &str, sources: &mut SourceMap) -> SceneDesc {
+    let file = sources.add("<--scene>", spec.to_string());
+    let span = crate::span::Span::new(file, 0, spec.len());
+    let path = Path::new(spec);
+    let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("model");
+    let mut desc = SceneDesc::empty(stem);
+    desc.models.push(super::ModelDesc {
+        path: crate::span::Spanned::new(spec.to_string(), span),
+        file: path.to_path_buf(),
+        translation: [0.0; 3],
+        rotation: [0.0; 3],
+        scale: 1.0,
+        triangles: 1.0,
+        reflective: false,
+        at: super::KeySpans {
+            span,
+            keys: Default::default(),
+        },
+    });
+    desc.effects.insert(crate::ir::Effect::Shadows);
+    desc.framed_model = true;
+    desc
 }
 
 /// Whether RON text is a scene file (`Scene(...)` after any comments), so that `check DIR`

@@ -129,14 +129,19 @@ pub fn run(cli: Cli) -> i32 {
 
 /// `--variant NAME=OPTION` arguments; a name given twice is an error (which would win?).
 pub fn parse_variants(args: &[String]) -> Result<Vec<(String, String)>> {
+    parse_assignments("--variant", "NAME=OPTION", args)
+}
+
+/// `FLAG KEY=VALUE` arguments, each key once.
+pub fn parse_assignments(flag: &str, form: &str, args: &[String]) -> Result<Vec<(String, String)>> {
     let mut out: Vec<(String, String)> = vec![];
     for v in args {
         let (k, val) = match v.split_once('=') {
-            Some((k, val)) if !k.is_empty() && !val.is_empty() => (k.to_string(), val.to_string()),
-            _ => return Err(Error::Usage(format!("invalid --variant `{v}`: expected NAME=OPTION"))),
+            Some((k, val)) if !k.trim().is_empty() && !val.trim().is_empty() => (k.trim().to_string(), val.trim().to_string()),
+            _ => return Err(Error::Usage(format!("invalid {flag} `{v}`: expected {form}"))),
         };
         if let Some((_, first)) = out.iter().find(|(name, _)| *name == k) {
-            return Err(Error::Usage(format!("--variant `{k}` is given twice (`{first}` and `{val}`)")));
+            return Err(Error::Usage(format!("{flag} `{k}` is given twice (`{first}` and `{val}`)")));
         }
         out.push((k, val));
     }

@@ -5,7 +5,7 @@ use super::{usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Executor, Gpu};
 use crate::io::write_atomic;
-use crate::render::{compile, fnv1a, render};
+use crate::render::{compile, fnv1a, parse_params, render_with};
 use crate::scene::Scene;
 use lightbench_compiler::Executable;
 use std::path::{Path, PathBuf};
@@ -21,6 +21,9 @@ pub struct Args {
     /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
     #[arg(long = "variant", value_name = "K=V")]
     pub variants: Vec<String>,
+    /// Override a parameter, e.g. --param exposure.ev=2 or --param ambient.color=0.1,0.1,0.1 (repeatable).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
     /// Output size, overriding the scene's.
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
@@ -60,6 +63,10 @@ pub fn run(a: Args) -> i32 {
         Ok(v) => v,
         Err(e) => return usage_error(e),
     };
+    let params = match super::parse_assignments("--param", "NAME=VALUE", &a.params) {
+        Ok(v) => v,
+        Err(e) => return usage_error(e),
+    };
     let ext = a.out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
     if !matches!(ext.as_deref(), Some("png" | "exr")) {
         return usage_error(format!("--out {}: use a .png or .exr file name", a.out.display()));
@@ -74,7 +81,7 @@ pub fn run(a: Args) -> i32 {
         Ok(s) => s,
         Err(e) => return usage_error(e),
     };
-    match execute(&a, &variants, size) {
+    match execute(&a, &variants, &params, size) {
         Ok(()) => EXIT_OK,
         // Compile and scene errors are rendered diagnostics already.
         Err(Error::Compile(report) | Error::Scene(report)) => {
@@ -89,7 +96,7 @@ pub fn run(a: Args) -> i32 {
     }
 }
 
-fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
+fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
     let mut s = lightbench_compiler::Session::new();
     let loaded = crate::scene::load_in(&mut s, &a.scene);
     // Warnings (skipped primitives) are shown; errors stop here.
@@ -97,6 +104,10 @@ fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) ->
     let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
     if let Some(sz) = size {
         scene.size = sz;
+        // A model rendered on its own is framed for the size it is rendered at.
+        if lightbench_compiler::scene::is_model(Path::new(&a.scene)) {
+            scene.camera = crate::scene::framing::frame(&scene);
+        }
     }
     let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,
@@ -112,7 +123,8 @@ fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) ->
     }
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
-    let ex = render(&gpu, &exe, &scene, a.frames)?;
+    let params = parse_params(&exe.plan, params)?;
+    let ex = render_with(&gpu, &exe, &scene, a.frames, &params)?;
     let output = &exe.plan.output_resource().name;
     let img = ex.read_texture(&gpu, output, 0, 0)?;
     img.save(&a.out)?;
@@ -129,7 +141,7 @@ fn execute(a: &Args, variants: &[(String, String)], size: Option<(u32, u32)>) ->
     }
     timings(a, &ex)?;
     if let Some(p) = &a.manifest {
-        manifest(p, a, &gpu, &exe, &scene)?;
+        manifest(p, a, &gpu, &ex, &exe, &scene)?;
     }
     Ok(())
 }
@@ -149,7 +161,8 @@ fn timings(a: &Args, ex: &Executor) -> Result<()> {
     Ok(())
 }
 
-fn manifest(p: &Path, a: &Args, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<()> {
+fn manifest(p: &Path, a: &Args, gpu: &Gpu, ex: &Executor, exe: &Executable, scene: &Scene) -> Result<()> {
+    let values = ex.inputs(0.0).params;
     let files: Vec<serde_json::Value> = exe
         .files
         .iter()
@@ -164,7 +177,7 @@ fn manifest(p: &Path, a: &Args, gpu: &Gpu, exe: &Executable, scene: &Scene) -> R
         "pipeline": a.pipeline.display().to_string(),
         "files": files,
         "variants": exe.plan.variants,
-        "params": exe.plan.params.iter().map(|p| serde_json::json!({"name": p.name, "value": p.default})).collect::<Vec<_>>(),
+        "params": exe.plan.params.iter().map(|p| serde_json::json!({"name": p.name, "value": values.value_of(p)})).collect::<Vec<_>>(),
         "adapter": {"name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend), "driver": gpu.info.driver, "features": gpu.profile.features.iter().map(|f| f.name()).collect::<Vec<_>>()},
         "scene": scene.name,
         "size": [scene.size.0, scene.size.1],

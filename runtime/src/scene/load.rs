@@ -2,7 +2,7 @@
 //! or scene file (syntax, values, `builtin:`); here the description gets its geometry —
 //! built-in meshes and glTF models — and becomes a renderable [`Scene`].
 
-use super::{builtin, gltf_load, Animation, Camera, Light, Scene};
+use super::{builtin, framing, gltf_load, Animation, Camera, Light, Scene};
 use crate::error::{Error, Result};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
@@ -38,6 +38,12 @@ pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
                 let msg = format!("cannot load model `{}`: {e}", m.path.value);
                 diags.push(Diagnostic::error(Code::ModelLoad, msg, m.path.span));
             }
+        }
+    }
+    if desc.framed_model && diags.error_count() == before {
+        scene.camera = framing::frame(&scene);
+        if scene.lights.is_empty() {
+            scene.lights = framing::default_rig();
         }
     }
     (diags.error_count() == before).then_some(scene)

@@ -4,6 +4,7 @@
 
 pub mod builtin;
 pub mod export;
+pub mod framing;
 pub mod geometry;
 pub mod gltf_load;
 pub mod light;

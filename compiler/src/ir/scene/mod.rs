@@ -135,6 +135,9 @@ pub struct SceneDesc {
     pub effects: BTreeSet<Effect>,
     /// The scene file, when read from one.
     pub file: Option<PathBuf>,
+    /// A model given as the scene (`--scene model.glb`): once its geometry is loaded, the
+    /// camera frames its bounds and, if it brings no lights, the default rig lights it.
+    pub framed_model: bool,
 }
 
 /// Size of a scene that names none and starts from no built-in scene.
@@ -162,6 +165,7 @@ impl SceneDesc {
             lights: vec![],
             effects: BTreeSet::new(),
             file: None,
+            framed_model: false,
         }
     }
 

@@ -1,0 +1,214 @@
+//! A researcher's own model: rendered directly (`--scene model.glb`), framed and lit by
+//! rule; exposed for what was drawn, not for the empty background; exposure by hand with
+//! `--param`.
+
+mod cli_common;
+mod gpu_common;
+
+use cli_common::{lightbench, scratch};
+use gpu_common::*;
+use lightbench::scene::{self, builtin, export};
+use std::path::Path;
+
+/// Pack a `.gltf` + `.bin` pair as one binary `.glb` (glTF 2.0 §4.4: header, JSON chunk
+/// padded with spaces, BIN chunk padded with zeros).
+fn pack_glb(gltf: &Path, bin: &Path, out: &Path) {
+    let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(gltf).unwrap()).unwrap();
+    let mut data = std::fs::read(bin).unwrap();
+    doc["buffers"] = serde_json::json!([{"byteLength": data.len()}]);
+    let mut json = serde_json::to_vec(&doc).unwrap();
+    while !json.len().is_multiple_of(4) {
+        json.push(b' ');
+    }
+    while !data.len().is_multiple_of(4) {
+        data.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + data.len();
+    let mut glb = vec![];
+    glb.extend(b"glTF");
+    glb.extend(2u32.to_le_bytes());
+    glb.extend((total as u32).to_le_bytes());
+    glb.extend((json.len() as u32).to_le_bytes());
+    glb.extend(b"JSON");
+    glb.extend(json);
+    glb.extend((data.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(data);
+    std::fs::write(out, glb).unwrap();
+}
+
+#[test]
+fn a_glb_model_renders_framed_from_the_command_line() {
+    let d = scratch("glb");
+    let mut box_only = builtin::cornell();
+    box_only.lights.clear(); // no KHR lights: the default rig lights it
+    export::export(&box_only, &d.join("box.gltf")).unwrap();
+    pack_glb(&d.join("box.gltf"), &d.join("box.bin"), &d.join("box.glb"));
+    let out = d.join("box.png");
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--scene",
+        d.join("box.glb").to_str().unwrap(),
+        "--size",
+        "96x64",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let img = lightbench::io::Image::load_png(&out).unwrap();
+    assert_eq!((img.width, img.height), (96, 64));
+    // Framed: the model fills the middle, and the image is not flat.
+    let centre = img.mean_rgb(40, 24, 56, 40);
+    let (left, right) = (img.mean_rgb(8, 8, 40, 56), img.mean_rgb(56, 8, 88, 56));
+    assert!(centre > 0.05, "the model is in the middle of the frame: {centre}");
+    assert!(
+        (left - right).abs() > 0.01 || (centre - left).abs() > 0.02,
+        "not uniform: {left} {centre} {right}"
+    );
+    // The same scene through the library: the framing rule and the default rig.
+    let s = scene::load(d.join("box.glb").to_str().unwrap()).unwrap();
+    let (lo, hi) = s.bounds();
+    let centre = (lo + hi) * 0.5;
+    let to_centre = (centre - s.camera.position).normalize();
+    assert!(to_centre.dot(s.camera.forward()) > 0.999, "the camera looks at the bounds' centre");
+    assert!(s.camera.near > 0.0 && s.camera.near < (centre - s.camera.position).length() - (hi - lo).length() * 0.5);
+    assert_eq!(s.lights.len(), 2, "key and fill");
+    assert!(s.lights[0].shadows && !s.lights[1].shadows);
+}
+
+#[test]
+fn a_model_with_its_own_lights_keeps_them_and_a_missing_one_is_named() {
+    let d = scratch("own");
+    export::export(&builtin::cornell(), &d.join("lit.gltf")).unwrap();
+    let s = scene::load(d.join("lit.gltf").to_str().unwrap()).unwrap();
+    assert_eq!(s.lights.len(), 1, "the model's KHR point light, no rig");
+    let (code, _, err) = lightbench(&["check", "pipelines/deferred.ron", "--scene", d.join("nope.glb").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[model-load]") && err.contains("<--scene>:1:1"), "{err}");
+}
+
+/// Log-average (geometric mean) linear luminance of the LDR output where something was drawn
+/// (depth < 1), the fraction of those pixels clipped to white, and their count.
+fn drawn_luminance(g: &lightbench::gpu::Gpu, ex: &lightbench::gpu::Executor) -> (f32, f32, usize) {
+    let img = output(g, ex);
+    let depth = ex.read_texture(g, "gbuf.depth", 0, 0).unwrap();
+    let lin = img.linear();
+    let (mut sum, mut clipped, mut n) = (0.0f32, 0, 0);
+    for i in 0..(img.width * img.height) as usize {
+        if depth.rgba[i * 4] < 1.0 {
+            let l = 0.2126 * lin[i * 4] + 0.7152 * lin[i * 4 + 1] + 0.0722 * lin[i * 4 + 2];
+            sum += (1e-4 + l).ln();
+            clipped += (lin[i * 4..i * 4 + 3].iter().any(|c| *c >= 0.999)) as usize;
+            n += 1;
+        }
+    }
+    ((sum / n.max(1) as f32).exp(), clipped as f32 / n.max(1) as f32, n)
+}
+
+/// Exposure puts the drawn pixels' log-average at the key (0.18). With the simple operator
+/// L / (1 + L) that displays as about 0.18 / 1.18 ≈ 0.15: a lone object's displayed
+/// log-average must be within a factor of 2 of that, with (almost) nothing clipped. The
+/// default operator's white point maps the brightest drawn pixel to white by design, so
+/// there only most of the object must stay below white. (Averaging the black background
+/// too, as before, exposed the chair ~390× too bright: every pixel white.)
+#[test]
+fn a_lone_object_is_exposed_for_itself_not_the_background() {
+    let g = gpu();
+    let chair = scene::load(root().join("scenes/chair.gltf").to_str().unwrap()).unwrap();
+    let ex = render_with(&g, &deferred(), &chair, &[("tonemap", "simple")], 1);
+    let (mean, clipped, n) = drawn_luminance(&g, &ex);
+    assert!(n > 500 && n < 128 * 128 / 2, "the chair covers part of the frame: {n} pixels");
+    let target = 0.18 / 1.18;
+    assert!(
+        mean > target / 2.0 && mean < target * 2.0,
+        "object log-average luminance {mean} vs {target}"
+    );
+    assert!(clipped < 0.02, "{:.1}% of the object clipped", clipped * 100.0);
+    let ex = render_with(&g, &deferred(), &chair, &[], 1);
+    let (mean, clipped, _) = drawn_luminance(&g, &ex);
+    assert!(
+        mean < 0.8 && clipped < 0.25,
+        "white point operator: log-average {mean}, {:.0}% white",
+        clipped * 100.0
+    );
+}
+
+/// In the Cornell box almost every pixel is drawn: the background rule changes the exposure
+/// by little, and the GPU's reduction agrees with the rule computed here.
+#[test]
+fn a_filled_frame_is_exposed_as_before_and_manual_exposure_works() {
+    let g = gpu();
+    let mut ex = render_with(&g, &deferred(), &builtin::cornell(), &[], 1);
+    let hdr = ex.read_texture(&g, "hdr", 0, 0).unwrap();
+    let depth = ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap();
+    let (mut all, mut drawn, mut n) = (0.0f64, 0.0f64, 0usize);
+    for i in 0..(hdr.width * hdr.height) as usize {
+        let p = &hdr.rgba[i * 4..i * 4 + 3];
+        let l = (1e-4 + 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]).ln() as f64;
+        all += l;
+        if depth.rgba[i * 4] < 1.0 {
+            drawn += l;
+            n += 1;
+        }
+    }
+    let pixels = (hdr.width * hdr.height) as f64;
+    let (avg_all, avg_drawn) = ((all / pixels).exp(), (drawn / n as f64).exp());
+    let lum = ex.read_buffer(&g, "lum", 0).unwrap();
+    assert!((lum[0] as f64 / avg_drawn - 1.0).abs() < 0.01, "GPU {} vs CPU {avg_drawn}", lum[0]);
+    assert!(
+        (avg_drawn / avg_all - 1.0).abs() < 0.25,
+        "background rule: {avg_all} -> {avg_drawn}"
+    );
+    assert!(
+        (lum[2] - 0.18 / lum[0]).abs() < 1e-3 * lum[2],
+        "automatic exposure = key / Lavg: {lum:?}"
+    );
+    // Manual exposure: 2^ev, whatever the image.
+    ex.set_param("exposure.automatic", lightbench_compiler::ir::ParamValue::Bool(false))
+        .unwrap();
+    ex.set_param("exposure.ev", lightbench_compiler::ir::ParamValue::Float(-1.5))
+        .unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
+    let lum = ex.read_buffer(&g, "lum", 0).unwrap();
+    assert!((lum[2] - 2f32.powf(-1.5)).abs() < 1e-5, "{lum:?}");
+}
+
+#[test]
+fn params_from_the_command_line_reach_the_frame_and_the_manifest() {
+    let d = scratch("param");
+    let (dark, bright) = (d.join("dark.png"), d.join("bright.png"));
+    let manifest = d.join("m.json");
+    for (out, ev) in [(&dark, "-3"), (&bright, "1")] {
+        let args = [
+            "render",
+            "--param",
+            "exposure.automatic=false",
+            "--param",
+            &format!("exposure.ev={ev}"),
+            "--out",
+            out.to_str().unwrap(),
+            "--manifest",
+            manifest.to_str().unwrap(),
+        ];
+        let (code, _, err) = lightbench(&args);
+        assert_eq!(code, 0, "{err}");
+    }
+    let mean = |p: &Path| lightbench::io::Image::load_png(p).unwrap().mean_rgb(0, 0, 128, 128);
+    assert!(mean(&bright) > 2.0 * mean(&dark), "{} vs {}", mean(&bright), mean(&dark));
+    let m: serde_json::Value = serde_json::from_slice(&std::fs::read(&manifest).unwrap()).unwrap();
+    let ev = m["params"].as_array().unwrap().iter().find(|p| p["name"] == "exposure.ev").unwrap();
+    assert_eq!(
+        ev["value"],
+        serde_json::json!({"Float": 1.0}),
+        "the manifest records the value used"
+    );
+    for (arg, msg) in [
+        ("exposure.evv=1", "no such parameter (did you mean `exposure.ev`?)"),
+        ("exposure.ev=99", "99 is above its max 30"),
+        ("exposure.ev=bright", "`bright` is not a number"),
+    ] {
+        let (code, _, err) = lightbench(&["render", "--param", arg, "--out", d.join("x.png").to_str().unwrap()]);
+        assert_eq!(code, 2, "{arg}: {err}");
+        assert!(err.contains(msg), "{arg}: {err}");
+    }
+}
