@@ -1018,3 +1018,18 @@ fn repeated_pass_clearing_a_shared_target_warns() {
     assert_eq!(d.location(&out.session.sources).map(|(_, l, c)| (l, c)), Some((16, 81)));
     assert!(!out.session.diags.has_errors(), "{}", out.dump());
 }
+
+#[test]
+fn hdr_output_must_name_a_texture() {
+    expect(
+        Case {
+            pipeline: &[("    output: \"out\",", "    hdr_output: \"colour\",\n    output: \"out\",")],
+            ..BASE
+        },
+        "unknown-resource",
+        "no resource named `colour`",
+        "pipelines/p.ron",
+        18,
+        17,
+    );
+}

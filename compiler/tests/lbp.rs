@@ -612,6 +612,8 @@ mod generated {
                     resources,
                     passes,
                     variants,
+                    // Some pipelines name their output as the HDR output too: both keys round-trip.
+                    hdr_output: (out.len() % 2 == 0).then(|| sp(out.clone())),
                     output: sp(out.clone()),
                     span: Span::default(),
                 })

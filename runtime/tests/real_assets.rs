@@ -212,3 +212,28 @@ fn params_from_the_command_line_reach_the_frame_and_the_manifest() {
         assert!(err.contains(msg), "{arg}: {err}");
     }
 }
+
+/// `--out x.exr` holds the linear image before tone mapping (values above 1 where a light
+/// is strong); the PNG of the same frame is the tone-mapped output.
+#[test]
+fn exr_output_is_linear_hdr_and_png_is_tone_mapped() {
+    let d = scratch("exr");
+    let scene = d.join("bright.ron");
+    std::fs::write(
+        &scene,
+        "Scene(builtin: \"cornell\", lights: [Point(position: (0.0, 1.0, 0.0), intensity: 40.0, range: 6.0)])\n",
+    )
+    .unwrap();
+    let (exr, png) = (d.join("x.exr"), d.join("x.png"));
+    for out in [&exr, &png] {
+        let (code, _, err) = lightbench(&["render", "--scene", scene.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+        let expected = if out == &exr { "(hdr," } else { "(ldr," };
+        assert!(err.contains(expected), "{err}");
+    }
+    let hdr = image::open(&exr).unwrap().to_rgba32f();
+    let max = hdr.pixels().flat_map(|p| p.0[..3].to_vec()).fold(0.0f32, f32::max);
+    assert!(max > 1.0, "bright pixels stay above 1 in the EXR: max {max}");
+    let ldr = image::open(&png).unwrap().to_rgba8();
+    assert!(ldr.pixels().any(|p| p.0[0] > 200), "the PNG is tone-mapped, not black");
+}

@@ -32,6 +32,8 @@ pub struct Pipeline {
     pub variants: Vec<Variant>,
     /// The resource presented or saved.
     pub output: Spanned<String>,
+    /// The linear (HDR) image before tone mapping, saved when an `.exr` is asked for.
+    pub hdr_output: Option<Spanned<String>>,
     pub span: Span,
 }
 

@@ -45,6 +45,10 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             })
             .collect(),
         output: ids.res(&p.output.value)?,
+        hdr_output: match &p.hdr_output {
+            Some(h) => Some(ids.res(&h.value)?),
+            None => None,
+        },
         resources,
         memory_bytes,
     };

@@ -109,19 +109,22 @@ pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Opt
             ),
         );
     }
-    if !kept.iter().any(|&i| p.passes[i].written().any(|w| w.value == p.output.value)) {
-        let mut d = Diagnostic::error(
-            Code::OutputUnreachable,
-            format!("no kept pass writes the output `{}`", p.output.value),
-            p.output.span,
-        );
-        for (i, why) in &culled {
-            if p.passes[*i].written().any(|w| w.value == p.output.value) {
-                d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[*i].name.value));
+    for (what, out) in [("output", Some(&p.output)), ("hdr_output", p.hdr_output.as_ref())] {
+        let Some(out) = out else { continue };
+        if !kept.iter().any(|&i| p.passes[i].written().any(|w| w.value == out.value)) {
+            let mut d = Diagnostic::error(
+                Code::OutputUnreachable,
+                format!("no kept pass writes the {what} `{}`", out.value),
+                out.span,
+            );
+            for (i, why) in &culled {
+                if p.passes[*i].written().any(|w| w.value == out.value) {
+                    d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[*i].name.value));
+                }
             }
+            diags.push(d);
+            return None;
         }
-        diags.push(d);
-        return None;
     }
     let ordered = graph::order(p, &kept, &culled, diags)?;
     // A pass whose shaders failed to check has no version; its errors are already reported.
@@ -160,6 +163,7 @@ fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String
 /// Output reachability: the candidates whose writes the output (transitively) needs, in file order.
 fn reachable(p: &Pipeline, candidates: &[usize]) -> Vec<usize> {
     let mut needed: Vec<String> = vec![p.output.value.clone()];
+    needed.extend(p.hdr_output.as_ref().map(|h| h.value.clone()));
     let mut kept: Vec<usize> = vec![];
     loop {
         let mut changed = false;

@@ -139,6 +139,9 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         plan.resolution.1
     );
     let _ = writeln!(s, "output: {}", plan.output_resource().name);
+    if let Some(h) = plan.hdr_output {
+        let _ = writeln!(s, "hdr_output: {}", plan.res(h).name);
+    }
     s
 }
 

@@ -293,6 +293,8 @@ pub struct Plan {
     pub culled: Vec<CulledPass>,
     pub resources: Vec<PlanResource>,
     pub output: ResourceId,
+    /// The linear image before tone mapping, when the pipeline names one (`hdr_output`).
+    pub hdr_output: Option<ResourceId>,
     pub memory_bytes: u64,
 }
 

@@ -21,7 +21,8 @@ pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResourc
 fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
     let name = r.name.value.as_str();
     let mut usage = BTreeSet::new();
-    let mut touched = name == p.output.value;
+    let saved = name == p.output.value || p.hdr_output.as_ref().is_some_and(|h| h.value == name);
+    let mut touched = saved;
     for (i, version) in kept {
         let pass = &p.passes[*i];
         touched |= pass.reads.iter().any(|rd| rd.name().value == name) || pass.written().any(|w| w.value == name);
@@ -41,7 +42,7 @@ fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
             });
         }
     }
-    if name == p.output.value {
+    if saved {
         usage.insert(Usage::CopySrc); // read back to save the image
     }
     if r.external() {

@@ -42,6 +42,7 @@ pub fn pipeline(p: &Pipeline) -> Node {
     f.opt("resources", nonempty(named_map(&p.resources, |x| &x.name, resource, p.span)));
     f.put("passes", Node::list(p.passes.iter().map(pass).collect(), p.span));
     f.opt("variants", nonempty(named_map(&p.variants, |x| &x.name, variant, p.span)));
+    f.opt("hdr_output", p.hdr_output.as_ref().map(|h| Node::str(&h.value, h.span)));
     f.put("output", Node::str(&p.output.value, p.output.span));
     f.into_node(Some("Pipeline"), p.span, p.span)
 }

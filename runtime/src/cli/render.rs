@@ -30,7 +30,8 @@ pub struct Args {
     /// Frames to render, 1 or more (history and animation advance by 1/60 s per frame).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
-    /// Output image: .png (sRGB) or .exr (linear float).
+    /// Output image: .png (the tone-mapped output, sRGB) or .exr (the pipeline's `hdr_output`,
+    /// linear, before tone mapping; the output if it names none).
     #[arg(long, default_value = "lightbench.png")]
     pub out: PathBuf,
     /// Resources to read back after the last frame, comma-separated (every light and layer).
@@ -125,12 +126,18 @@ fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)],
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
     let params = parse_params(&exe.plan, params)?;
     let ex = render_with(&gpu, &exe, &scene, a.frames, &params)?;
-    let output = &exe.plan.output_resource().name;
-    let img = ex.read_texture(&gpu, output, 0, 0)?;
+    // An .exr gets the linear image before tone mapping when the pipeline names one.
+    let exr = a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let saved = match exe.plan.hdr_output.filter(|_| exr) {
+        Some(h) => exe.plan.res(h),
+        None => exe.plan.output_resource(),
+    };
+    let img = ex.read_texture(&gpu, &saved.name, 0, 0)?;
     img.save(&a.out)?;
     eprintln!(
-        "wrote {} ({}×{}, {} frame(s), scene {})",
+        "wrote {} ({}, {}×{}, {} frame(s), scene {})",
         a.out.display(),
+        saved.name,
         img.width,
         img.height,
         a.frames.max(1),

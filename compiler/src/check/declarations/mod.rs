@@ -25,14 +25,17 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
         refs::pass_refs(p, pass, diags);
         targets::targets(p, pass, profile, diags);
     }
-    if p.resource(&p.output).is_none() {
-        diags.push(unknown_resource(p, &p.output));
-    } else if p.resource(&p.output).and_then(|r| r.texture()).is_none() {
-        diags.push(Diagnostic::error(
-            Code::OutputNotTexture,
-            format!("output `{}` must be a texture", p.output.value),
-            p.output.span,
-        ));
+    for (what, out) in [("output", Some(&p.output)), ("hdr_output", p.hdr_output.as_ref())] {
+        let Some(out) = out else { continue };
+        if p.resource(out).is_none() {
+            diags.push(unknown_resource(p, out));
+        } else if p.resource(out).and_then(|r| r.texture()).is_none() {
+            diags.push(Diagnostic::error(
+                Code::OutputNotTexture,
+                format!("{what} `{}` must be a texture", out.value),
+                out.span,
+            ));
+        }
     }
 }
 

@@ -34,6 +34,7 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::variant => "`variant`",
         Rule::option => "`option`",
         Rule::output => "`output`",
+        Rule::hdr_output => "`hdr_output`",
         Rule::name | Rule::dotted | Rule::ident => "a name",
         Rule::names => "names",
         Rule::string | Rule::doc => "a string",

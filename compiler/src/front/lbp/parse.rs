@@ -190,9 +190,10 @@ impl Builder<'_> {
                     passes.extend(self.pass(it));
                     continue;
                 }
-                Rule::output => {
+                Rule::output | Rule::hdr_output => {
+                    let key = if it.as_rule() == Rule::output { "output" } else { "hdr_output" };
                     let n = kids(it).next().and_then(|n| self.name(n));
-                    outputs.0.extend(n.map(|n| ("output".to_string(), at, n)));
+                    outputs.0.extend(n.map(|n| (key.to_string(), at, n)));
                     continue;
                 }
                 _ => continue,

@@ -111,10 +111,14 @@ impl Printer {
         for (k, v) in get(f, "variants").map(entries).unwrap_or(&[]) {
             self.variant(k, v);
         }
-        if let Some(n) = get(f, "output") {
+        if get(f, "hdr_output").is_some() || get(f, "output").is_some() {
             self.out.text.push('\n');
-            self.out.comments_before(n.span, "");
-            let _ = writeln!(self.out.text, "output {}", name(text(n)));
+        }
+        for key in ["hdr_output", "output"] {
+            if let Some(n) = get(f, key) {
+                self.out.comments_before(n.span, "");
+                let _ = writeln!(self.out.text, "{key} {}", name(text(n)));
+            }
         }
     }
 

@@ -59,8 +59,22 @@ impl Lowerer<'_> {
         let passes = self.required(&mut o, "passes").and_then(|n| self.passes(&n)).unwrap_or_default();
         let variants = o.take("variants").and_then(|n| self.variants(&n)).unwrap_or_default();
         let output = self.required(&mut o, "output").and_then(|n| self.string(&n));
+        let hdr_output = match o.take("hdr_output") {
+            Some(n) => Some(self.string(&n)?),
+            None => None,
+        };
         let span = o.span;
-        self.finish(o, &["name", "params", "samplers", "resources", "passes", "variants", "output"], &[]);
+        let keys = [
+            "name",
+            "params",
+            "samplers",
+            "resources",
+            "passes",
+            "variants",
+            "output",
+            "hdr_output",
+        ];
+        self.finish(o, &keys, &[]);
         Some(Pipeline {
             name: name?,
             params,
@@ -69,6 +83,7 @@ impl Lowerer<'_> {
             passes,
             variants,
             output: output?,
+            hdr_output,
             span,
         })
     }
