@@ -237,3 +237,42 @@ fn exr_output_is_linear_hdr_and_png_is_tone_mapped() {
     let ldr = image::open(&png).unwrap().to_rgba8();
     assert!(ldr.pixels().any(|p| p.0[0] > 200), "the PNG is tone-mapped, not black");
 }
+
+/// The Cornell box exported and re-imported at scales 0.001, 1 and 1000 (camera and the
+/// model's light scaled with it) renders the same image, shadows included: shadow planes
+/// follow the light's range, the directional fit follows the bounds, and attenuation is
+/// scale-free.
+#[test]
+fn the_cornell_box_renders_alike_at_any_scale() {
+    let d = scratch("scale");
+    export::export(&builtin::cornell(), &d.join("box.gltf")).unwrap();
+    let g = gpu();
+    let mut images = vec![];
+    for s in [0.001f32, 1.0, 1000.0] {
+        let file = d.join(format!("box_{s}.ron"));
+        let text = format!(
+            "Scene(\n    size: (64, 64),\n    camera: (position: (0.0, {}, {}), fov: 40.0, near: {}, far: {}),\n    models: [(path: \"box.gltf\", scale: {s})],\n    effects: [Shadows],\n)\n",
+            1.0 * s,
+            3.6 * s,
+            0.05 * s,
+            20.0 * s
+        );
+        std::fs::write(&file, text).unwrap();
+        let scene = scene::load(file.to_str().unwrap()).unwrap();
+        assert_eq!(scene.lights.len(), 1);
+        let img = output(&g, &render_with(&g, &deferred(), &scene, &[], 1));
+        assert_eq!(img.non_finite(), 0, "scale {s}");
+        images.push((s, scene, img));
+    }
+    for (s, _, img) in &images {
+        let e = lightbench::io::rmse(img, &images[1].2).unwrap();
+        assert!(e < 0.01, "scale {s} differs from scale 1: RMSE {e}");
+    }
+    // Shadows are there at the largest scale: turning them off changes the image.
+    let (_, scene, shadowed) = &images[2];
+    let mut unshadowed = scene.clone();
+    unshadowed.lights[0].shadows = false;
+    let img = output(&g, &render_with(&g, &deferred(), &unshadowed, &[], 1));
+    let e = lightbench::io::rmse(&img, shadowed).unwrap();
+    assert!(e > 0.02, "shadows at scale 1000: RMSE to unshadowed {e}");
+}

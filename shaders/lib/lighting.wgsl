@@ -1,13 +1,20 @@
 // Lighting helpers shared by the light passes (seed 003 §2.3, §3.2).
 
-// Windowed inverse-square attenuation, seed 003 eq. 3.5: (1 - (d/r)^20) / (1 + d^2).
-// Reaches exactly 0 at the light's range r and is 1 at d = 0 (no division by zero).
+// Windowed inverse-square attenuation after seed 003 eq. 3.5, (1 - (d/r)^20) / (1 + d^2),
+// with one deviation: the seed's 1 (one world unit squared, which keeps d = 0 finite) is
+// (r/6)^2 here, so that the falloff is the same at every scene scale: a scene modelled in
+// millimetres, with ranges and intensities scaled alike, lights like one in metres. For a
+// light of range 6 (the Cornell box's) it is exactly the seed's function. Reaches 0 at r.
+const ATTENUATION_SOFTNESS: f32 = 6.0;
+
 fn attenuation(d: f32, range: f32) -> f32 {
-    let x = clamp(d / max(range, 1e-4), 0.0, 1.0);
+    let r = max(range, 1e-30);
+    let x = clamp(d / r, 0.0, 1.0);
     let x2 = x * x;
     let x4 = x2 * x2;
     let x20 = x4 * x4 * x4 * x4 * x4;
-    return (1.0 - x20) / (1.0 + d * d);
+    let soft = r / ATTENUATION_SOFTNESS;
+    return (1.0 - x20) / (soft * soft + d * d);
 }
 
 // Smooth spot cone falloff between the outer and inner cone angles (cosines).

@@ -91,9 +91,11 @@ impl Light {
         }
     }
 
-    /// Shadow near/far planes of spot and point lights.
+    /// Shadow near/far planes of spot and point lights: the range and a fixed fraction of it,
+    /// so that depth precision and the depth bias (in depth-buffer units) are the same at
+    /// every scene scale.
     pub fn shadow_planes(&self) -> (f32, f32) {
-        (0.05, self.range.clamp(0.1, 1e4))
+        (self.range / SHADOW_NEAR_DIVISOR, self.range)
     }
 
     /// World -> shadow clip space: orthographic over the scene for directional lights,
@@ -103,10 +105,11 @@ impl Light {
         match self.kind {
             LightKind::Directional => {
                 let center = (bounds.0 + bounds.1) * 0.5;
-                let radius = ((bounds.1 - bounds.0).length() * 0.5).max(0.01);
+                // Fitted to the scene's bounding sphere, near plane included, at any scale.
+                let radius = ((bounds.1 - bounds.0).length() * 0.5).max(1e-30);
                 let eye = center - d * radius * 2.0;
                 let view = super::math::look_to(eye, d, safe_up(d));
-                super::math::orthographic(-radius, radius, -radius, radius, 0.01, radius * 4.0) * view
+                super::math::orthographic(-radius, radius, -radius, radius, radius * 0.01, radius * 4.0) * view
             }
             _ => {
                 let (n, f) = self.shadow_planes();
@@ -167,6 +170,9 @@ impl Light {
         }
     }
 }
+
+/// Spot and point shadow maps start at range / this (0.05 for the Cornell light's range 6).
+pub const SHADOW_NEAR_DIVISOR: f32 = 120.0;
 
 /// An up vector not parallel to `dir` (the lookAt hazard of a light pointing straight down).
 pub fn safe_up(dir: Vec3) -> Vec3 {

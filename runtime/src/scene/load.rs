@@ -6,6 +6,7 @@ use super::{builtin, framing, gltf_load, Animation, Camera, Light, Scene};
 use crate::error::{Error, Result};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
+use lightbench_compiler::ir::LightKind;
 use lightbench_compiler::scene::{AnimationDesc, LightDesc, ModelDesc, SceneDesc};
 use lightbench_compiler::Session;
 
@@ -131,9 +132,15 @@ fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<Vec<String>> {
         mesh.reflective = m.reflective;
         scene.meshes.push(mesh);
     }
+    // A model's lights scale with it: positions, ranges and (inverse-square) intensities,
+    // so that a scaled model looks the same.
     for mut l in loaded.lights {
         l.position = transform.transform_point3(l.position);
         l.direction = transform.transform_vector3(l.direction);
+        if l.kind != LightKind::Directional {
+            l.range *= m.scale;
+            l.intensity *= m.scale * m.scale;
+        }
         scene.lights.push(l);
     }
     Ok(loaded.warnings)
