@@ -13,6 +13,7 @@ struct Params {
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);
     let albedo = textureLoad(gbuf_albedo, p, 0);
-    let emissive = textureLoad(gbuf_emissive, p, 0).rgb;
-    return vec4<f32>(albedo.rgb * params.color * (1.0 - albedo.a) + emissive, 1.0);
+    // Alpha of the emission target is the material's ambient occlusion (1 where it has none).
+    let emissive = textureLoad(gbuf_emissive, p, 0);
+    return vec4<f32>(albedo.rgb * params.color * (1.0 - albedo.a) * emissive.a + emissive.rgb, 1.0);
 }

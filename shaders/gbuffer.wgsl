@@ -32,8 +32,16 @@ fn vs_main(v: VertexIn) -> VsOut {
 
 @fragment
 fn fs_main(in: VsOut) -> GBuffer {
-    let base = material.base_color * textureSample(base_color_map, material_sampler, in.uv);
-    let mr = textureSample(metallic_roughness_map, material_sampler, in.uv);
+    let uv = material_uv(in.uv);
+    let base = material.base_color * textureSample(base_color_map, material_sampler, uv);
+    let mr = textureSample(metallic_roughness_map, material_sampler, uv);
+    // Sampled before the discard: implicit derivatives need uniform control flow.
+    let occlusion = textureSample(occlusion_map, material_sampler, uv).r;
+    let emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, uv).rgb;
+    let mapped_normal = textureSample(normal_map, material_sampler, uv).xyz;
+    if base.a < material.alpha_cutoff {
+        discard; // alphaMode MASK: a cut-out
+    }
     var n = normalize(in.normal);
     if material.has_normal_map != 0u {
         // Tangent-space normal map; a degenerate tangent falls back to the vertex normal.
@@ -41,15 +49,15 @@ fn fs_main(in: VsOut) -> GBuffer {
         if t_len > 1e-6 {
             let t = normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz) / t_len * t_len);
             let b = cross(n, t) * in.tangent.w;
-            let m = textureSample(normal_map, material_sampler, in.uv).xyz * 2.0 - 1.0;
+            let m = mapped_normal * 2.0 - 1.0;
             let mapped = normalize(t * m.x * material.normal_scale + b * m.y * material.normal_scale + n * m.z);
             n = select(n, mapped, all(mapped == mapped));
         }
     }
-    let emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, in.uv).rgb;
     var out: GBuffer;
     out.normal = vec4<f32>(n, clamp(material.roughness * mr.g, 0.03, 1.0));
     out.albedo = vec4<f32>(base.rgb, clamp(material.metallic * mr.b, 0.0, 1.0));
-    out.emissive = vec4<f32>(emissive, 1.0);
+    // Alpha carries ambient occlusion (1: none), which the ambient pass applies.
+    out.emissive = vec4<f32>(emissive, mix(1.0, occlusion, material.occlusion_strength));
     return out;
 }

@@ -94,6 +94,7 @@ draw_slots! {
     MetallicRoughnessMap = "metallic_roughness_map",
     EmissiveMap = "emissive_map",
     MaterialSampler = "material_sampler",
+    OcclusionMap = "occlusion_map",
 }
 
 /// What the runtime binds at a slot. `R` and `S` name resources and samplers: declared

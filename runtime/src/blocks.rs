@@ -59,10 +59,18 @@ pub struct MeshBlock {
 pub struct MaterialBlock {
     pub base_color: [f32; 4],
     pub emissive: [f32; 4],
+    /// Rows of the 2×3 UV transform (KHR_texture_transform); w unused.
+    pub uv_row0: [f32; 4],
+    pub uv_row1: [f32; 4],
     pub metallic: f32,
     pub roughness: f32,
     pub normal_scale: f32,
     pub has_normal_map: u32,
+    /// Fragments with alpha below this are discarded (0: opaque, nothing is).
+    pub alpha_cutoff: f32,
+    pub occlusion_strength: f32,
+    pub _pad0: f32,
+    pub _pad1: f32,
 }
 
 /// Interleaved scene vertex: locations 0..3 of the standard vertex layout.

@@ -1,16 +1,24 @@
 //! glTF as real exports write it, with generated files: strips and fans become triangle
 //! lists, points and lines are skipped with a warning naming the mesh, 16-bit and
-//! grey-alpha PNGs load, and a missing texture or a non-glTF model is named.
+//! grey-alpha PNGs load, a missing texture or a non-glTF model is named; texture transforms,
+//! sampler wrap modes, alpha masks and occlusion reach the G-buffer.
 
 mod cli_common;
+mod gpu_common;
 
 use cli_common::{lightbench, scratch};
+use gpu_common::*;
 use lightbench::scene;
 use std::path::{Path, PathBuf};
 
 /// A unit quad in the XZ plane (4 vertices) drawn by each `(mode, indices)` primitive, with
 /// base-colour texture `image` (a file name) when given. Written as `dir/model.gltf`.
 fn write_model(dir: &Path, prims: &[(u32, &[u32])], image: Option<&str>) -> PathBuf {
+    write_model_with(dir, prims, image, |_| {})
+}
+
+/// `write_model`, then `edit` the document (materials, samplers, extensions).
+fn write_model_with(dir: &Path, prims: &[(u32, &[u32])], image: Option<&str>, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
     let pos: [f32; 12] = [-1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 1.0, 0.0, -1.0, -1.0, 0.0, -1.0];
     let uv: [f32; 8] = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
     let mut bin: Vec<u8> = vec![];
@@ -48,6 +56,7 @@ fn write_model(dir: &Path, prims: &[(u32, &[u32])], image: Option<&str>) -> Path
         doc["textures"] = serde_json::json!([{"source": 0}]);
         doc["images"] = serde_json::json!([{"uri": img}]);
     }
+    edit(&mut doc);
     let path = dir.join("model.gltf");
     std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
     path
@@ -133,4 +142,128 @@ fn a_missing_texture_and_a_non_gltf_model_are_named() {
     ]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("not a glTF file: models must be glTF 2.0 (.gltf or .glb)"), "{err}");
+}
+
+/// A 2×1 texture: left texel red (alpha `left_alpha`), right texel blue; nearest filtering.
+fn two_texels(dir: &Path, left_alpha: u8) {
+    let img = image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, left_alpha, 0, 0, 255, 255]).unwrap();
+    img.save(dir.join("two.png")).unwrap();
+}
+
+/// The quad's G-buffer albedo and depth at world x = `x` (z = 0), seen from above (32×32).
+fn albedo_at(dir: &Path, edit: impl Fn(&mut serde_json::Value), xs: &[f32]) -> Vec<([f32; 4], f32)> {
+    write_model_with(dir, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"), |doc| {
+        doc["samplers"] = serde_json::json!([{"magFilter": 9728, "minFilter": 9728}]);
+        doc["textures"][0]["sampler"] = serde_json::json!(0);
+        edit(doc);
+    });
+    let s = scene::load(scene_file(dir, "model.gltf").to_str().unwrap()).unwrap();
+    let g = gpu();
+    let ex = render_with(&g, &deferred(), &s, &[], 1);
+    let albedo = ex.read_texture(&g, "gbuf.albedo", 0, 0).unwrap();
+    let depth = ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap();
+    xs.iter()
+        .map(|x| {
+            let (px, _) = s.project(glam::Vec3::new(*x, 0.0, 0.0)).unwrap();
+            (albedo.pixel(px as u32, 16), depth.pixel(px as u32, 16)[0])
+        })
+        .collect()
+}
+
+fn red(p: [f32; 4]) -> bool {
+    p[0] > 0.9 && p[2] < 0.1
+}
+fn blue(p: [f32; 4]) -> bool {
+    p[2] > 0.9 && p[0] < 0.1
+}
+
+#[test]
+fn texture_transform_offset_moves_the_texture() {
+    let d = scratch("transform");
+    two_texels(&d, 255);
+    // u runs from 0 at x = -1 to 1 at x = 1: red on the left half, blue on the right.
+    let plain = albedo_at(&d, |_| {}, &[-0.5, 0.5]);
+    assert!(red(plain[0].0) && blue(plain[1].0), "{plain:?}");
+    let shifted = albedo_at(
+        &d,
+        |doc| {
+            doc["extensionsUsed"] = serde_json::json!(["KHR_texture_transform"]);
+            doc["extensionsRequired"] = serde_json::json!(["KHR_texture_transform"]);
+            doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+                serde_json::json!({"KHR_texture_transform": {"offset": [0.5, 0.0]}});
+        },
+        &[-0.5, 0.5],
+    );
+    assert!(
+        blue(shifted[0].0) && red(shifted[1].0),
+        "offset 0.5 swaps the halves (repeat wraps): {shifted:?}"
+    );
+}
+
+#[test]
+fn clamp_and_repeat_differ_where_uvs_exceed_one() {
+    let d = scratch("wrap");
+    two_texels(&d, 255);
+    let scaled = |wrap: u32| {
+        move |doc: &mut serde_json::Value| {
+            doc["extensionsUsed"] = serde_json::json!(["KHR_texture_transform"]);
+            doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] =
+                serde_json::json!({"KHR_texture_transform": {"scale": [2.0, 1.0]}});
+            doc["samplers"][0]["wrapS"] = serde_json::json!(wrap);
+        }
+    };
+    // At x = 0.2, u = 0.6 and u' = 1.2: REPEAT reads u 0.2 (red), CLAMP the right edge (blue).
+    let repeat = albedo_at(&d, scaled(10497), &[0.2]);
+    let clamp = albedo_at(&d, scaled(33071), &[0.2]);
+    assert!(red(repeat[0].0), "{repeat:?}");
+    assert!(blue(clamp[0].0), "{clamp:?}");
+}
+
+#[test]
+fn alpha_mask_cuts_out_and_blend_warns() {
+    let d = scratch("mask");
+    two_texels(&d, 0); // the red half is fully transparent
+    let masked = albedo_at(&d, |doc| doc["materials"][0]["alphaMode"] = serde_json::json!("MASK"), &[-0.5, 0.5]);
+    assert_eq!(masked[0].1, 1.0, "the transparent half is cut out: nothing drawn there");
+    assert!(masked[1].1 < 1.0 && blue(masked[1].0), "{masked:?}");
+    let opaque = albedo_at(&d, |_| {}, &[-0.5]);
+    assert!(opaque[0].1 < 1.0, "OPAQUE ignores alpha");
+    write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"), |doc| {
+        doc["materials"][0]["name"] = serde_json::json!("glass");
+        doc["materials"][0]["alphaMode"] = serde_json::json!("BLEND");
+    });
+    let (code, _, err) = lightbench(&[
+        "check",
+        "pipelines/deferred.ron",
+        "--scene",
+        scene_file(&d, "model.gltf").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("material `glass` is alphaMode BLEND, drawn opaque"), "{err}");
+}
+
+#[test]
+fn occlusion_darkens_the_ambient_term_only() {
+    let d = scratch("occlusion");
+    image::RgbaImage::from_raw(1, 1, vec![0, 0, 0, 255])
+        .unwrap()
+        .save(d.join("ao.png"))
+        .unwrap();
+    let ambient = |occluded: bool| {
+        write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], None, |doc| {
+            if occluded {
+                doc["materials"][0]["occlusionTexture"] = serde_json::json!({"index": 0, "strength": 1.0});
+                doc["textures"] = serde_json::json!([{"source": 0}]);
+                doc["images"] = serde_json::json!([{"uri": "ao.png"}]);
+            }
+        });
+        let mut s = scene::load(scene_file(&d, "model.gltf").to_str().unwrap()).unwrap();
+        s.lights.clear(); // ambient only
+        let g = gpu();
+        let ex = render_with(&g, &deferred(), &s, &[], 1);
+        ex.read_texture(&g, "hdr", 0, 0).unwrap().pixel(16, 16)
+    };
+    let (open, occluded) = (ambient(false), ambient(true));
+    assert!(open[0] > 0.005, "ambient light reaches the open quad: {open:?}");
+    assert!(occluded[0] < open[0] * 0.01, "full occlusion removes it: {occluded:?} vs {open:?}");
 }

@@ -10,10 +10,19 @@ struct Material {
     base_color: vec4<f32>,
     // rgb: emissive colour (linear); w: unused
     emissive: vec4<f32>,
+    // rows of the 2×3 UV transform (KHR_texture_transform: offset · rotation · scale)
+    uv_row0: vec4<f32>,
+    uv_row1: vec4<f32>,
     metallic: f32,
     roughness: f32,
     normal_scale: f32,
     has_normal_map: u32,
+    // alphaMode MASK: fragments with alpha below this are discarded (0 when opaque)
+    alpha_cutoff: f32,
+    // how much the occlusion map darkens the ambient term (glTF occlusion strength)
+    occlusion_strength: f32,
+    _pad0: f32,
+    _pad1: f32,
 };
 
 struct VertexIn {
@@ -30,6 +39,13 @@ struct VertexIn {
 @group(1) @binding(4) var metallic_roughness_map: texture_2d<f32>;
 @group(1) @binding(5) var emissive_map: texture_2d<f32>;
 @group(1) @binding(6) var material_sampler: sampler;
+@group(1) @binding(7) var occlusion_map: texture_2d<f32>;
+
+// The material's texture coordinates for a vertex's UV.
+fn material_uv(uv: vec2<f32>) -> vec2<f32> {
+    let p = vec3<f32>(uv, 1.0);
+    return vec2<f32>(dot(material.uv_row0.xyz, p), dot(material.uv_row1.xyz, p));
+}
 
 fn world_position(v: VertexIn) -> vec4<f32> {
     return mesh.model * vec4<f32>(v.position, 1.0);

@@ -28,12 +28,12 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     let scene_features = match scene {
         Some(spec) => {
             let mut s = ws.session();
-            match crate::scene::load_in(&mut s, spec) {
+            let loaded = crate::scene::load_in(&mut s, spec);
+            emit(&s, format); // warnings too (skipped primitives, unsupported material modes)
+            warnings += s.diags.warning_count();
+            match loaded {
                 Some(scene) => Some(scene.features()),
-                None => {
-                    emit(&s, format);
-                    return EXIT_ERRORS;
-                }
+                None => return EXIT_ERRORS,
             }
         }
         None => None,

@@ -273,7 +273,8 @@ impl Binder<'_> {
                         DrawSlot::NormalMap => wgpu::BindingResource::TextureView(&mat.textures[1]),
                         DrawSlot::MetallicRoughnessMap => wgpu::BindingResource::TextureView(&mat.textures[2]),
                         DrawSlot::EmissiveMap => wgpu::BindingResource::TextureView(&mat.textures[3]),
-                        DrawSlot::MaterialSampler => wgpu::BindingResource::Sampler(&scene.sampler),
+                        DrawSlot::OcclusionMap => wgpu::BindingResource::TextureView(&mat.textures[4]),
+                        DrawSlot::MaterialSampler => wgpu::BindingResource::Sampler(&scene.samplers[mat.sampler]),
                     };
                     Ok(wgpu::BindGroupEntry {
                         binding: e.binding,

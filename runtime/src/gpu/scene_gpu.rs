@@ -3,7 +3,8 @@
 
 use crate::blocks::{MaterialBlock, MeshBlock};
 use crate::error::{Error, Result};
-use crate::scene::Scene;
+use crate::io::{linear_to_srgb, srgb_to_linear};
+use crate::scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
 use wgpu::util::DeviceExt;
 
 pub struct MeshGpu {
@@ -16,17 +17,24 @@ pub struct MeshGpu {
 
 pub struct MaterialGpu {
     pub block: wgpu::Buffer,
-    /// base colour, normal, metallic-roughness, emissive
-    pub textures: [wgpu::TextureView; 4],
+    /// base colour, normal, metallic-roughness, emissive, occlusion
+    pub textures: [wgpu::TextureView; 5],
+    /// Index into `SceneGpu::samplers`.
+    pub sampler: usize,
 }
 
 pub struct SceneGpu {
     pub meshes: Vec<MeshGpu>,
     pub materials: Vec<MaterialGpu>,
-    pub sampler: wgpu::Sampler,
+    /// One per distinct material sampler.
+    pub samplers: Vec<wgpu::Sampler>,
 }
 
+/// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
+/// for sRGB data, so that mips do not darken).
 fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h: u32, rgba: &[u8], srgb: bool) -> wgpu::TextureView {
+    let levels = mip_chain(w, h, rgba, srgb);
+    let data: Vec<u8> = levels.iter().flat_map(|(_, _, d)| d.iter().copied()).collect();
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -36,7 +44,7 @@ fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h
                 height: h,
                 depth_or_array_layers: 1,
             },
-            mip_level_count: 1,
+            mip_level_count: levels.len() as u32,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: if srgb {
@@ -48,9 +56,88 @@ fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
-        rgba,
+        &data,
     );
     tex.create_view(&wgpu::TextureViewDescriptor::default())
+}
+
+/// Every mip level down to 1×1: (width, height, RGBA8 texels).
+pub fn mip_chain(w: u32, h: u32, rgba: &[u8], srgb: bool) -> Vec<(u32, u32, Vec<u8>)> {
+    let decode = |v: u8, c: usize| {
+        if srgb && c < 3 {
+            srgb_to_linear(v as f32 / 255.0)
+        } else {
+            v as f32 / 255.0
+        }
+    };
+    let encode = |v: f32, c: usize| ((if srgb && c < 3 { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0).round() as u8;
+    let mut levels = vec![(w, h, rgba.to_vec())];
+    while let Some((pw, ph, prev)) = levels.last().filter(|(pw, ph, _)| *pw > 1 || *ph > 1) {
+        let (nw, nh) = ((pw / 2).max(1), (ph / 2).max(1));
+        let (pw, ph) = (*pw as usize, *ph as usize);
+        let mut next = Vec::with_capacity((nw * nh * 4) as usize);
+        for y in 0..nh as usize {
+            for x in 0..nw as usize {
+                for c in 0..4 {
+                    let at = |xx: usize, yy: usize| decode(prev[(yy.min(ph - 1) * pw + xx.min(pw - 1)) * 4 + c], c);
+                    let sum = at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1);
+                    next.push(encode(sum / 4.0, c));
+                }
+            }
+        }
+        levels.push((nw, nh, next));
+    }
+    levels
+}
+
+fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => wgpu::AddressMode::Repeat,
+        Wrap::Clamp => wgpu::AddressMode::ClampToEdge,
+        Wrap::Mirror => wgpu::AddressMode::MirrorRepeat,
+    };
+    let filter = |linear: bool| {
+        if linear {
+            wgpu::FilterMode::Linear
+        } else {
+            wgpu::FilterMode::Nearest
+        }
+    };
+    device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("material_sampler"),
+        address_mode_u: wrap(d.wrap[0]),
+        address_mode_v: wrap(d.wrap[1]),
+        address_mode_w: wgpu::AddressMode::Repeat,
+        mag_filter: filter(d.mag_linear),
+        min_filter: filter(d.min_linear),
+        mipmap_filter: if d.mip_linear {
+            wgpu::MipmapFilterMode::Linear
+        } else {
+            wgpu::MipmapFilterMode::Nearest
+        },
+        ..Default::default()
+    })
+}
+
+fn material_block(m: &Material) -> MaterialBlock {
+    let [r0, r1] = m.uv_transform;
+    MaterialBlock {
+        base_color: m.base_color,
+        emissive: [m.emissive[0], m.emissive[1], m.emissive[2], 0.0],
+        uv_row0: [r0[0], r0[1], r0[2], 0.0],
+        uv_row1: [r1[0], r1[1], r1[2], 0.0],
+        metallic: m.metallic,
+        roughness: m.roughness,
+        normal_scale: m.normal_scale,
+        has_normal_map: m.normal_texture.is_some() as u32,
+        alpha_cutoff: match m.alpha {
+            AlphaMode::Mask(c) => c,
+            _ => 0.0,
+        },
+        occlusion_strength: if m.occlusion_texture.is_some() { m.occlusion_strength } else { 0.0 },
+        _pad0: 0.0,
+        _pad1: 0.0,
+    }
 }
 
 impl SceneGpu {
@@ -79,19 +166,18 @@ impl SceneGpu {
             ));
         }
         let pick = |i: Option<usize>, default: &wgpu::TextureView| i.and_then(|i| textures.get(i)).unwrap_or(default).clone();
+        let mut sampler_descs: Vec<SamplerDesc> = vec![];
         let materials = scene
             .materials
             .iter()
             .map(|m| {
-                let block = MaterialBlock {
-                    base_color: m.base_color,
-                    emissive: [m.emissive[0], m.emissive[1], m.emissive[2], 0.0],
-                    metallic: m.metallic,
-                    roughness: m.roughness,
-                    normal_scale: m.normal_scale,
-                    has_normal_map: m.normal_texture.is_some() as u32,
-                };
+                let block = material_block(m);
+                let sampler = sampler_descs.iter().position(|d| *d == m.sampler).unwrap_or_else(|| {
+                    sampler_descs.push(m.sampler);
+                    sampler_descs.len() - 1
+                });
                 MaterialGpu {
+                    sampler,
                     block: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some(&m.name),
                         contents: bytemuck::bytes_of(&block),
@@ -102,6 +188,7 @@ impl SceneGpu {
                         pick(m.normal_texture, &flat_normal),
                         pick(m.metallic_roughness_texture, &white_linear),
                         pick(m.emissive_texture, &white),
+                        pick(m.occlusion_texture, &white_linear),
                     ],
                 }
             })
@@ -144,19 +231,33 @@ impl SceneGpu {
                 material: m.material,
             });
         }
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("material_sampler"),
-            address_mode_u: wgpu::AddressMode::Repeat,
-            address_mode_v: wgpu::AddressMode::Repeat,
-            address_mode_w: wgpu::AddressMode::Repeat,
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
+        let samplers = sampler_descs.iter().map(|d| sampler(device, d)).collect::<Vec<_>>();
+        let samplers = if samplers.is_empty() {
+            vec![sampler(device, &SamplerDesc::default())]
+        } else {
+            samplers
+        };
         Ok(SceneGpu {
             meshes,
             materials,
-            sampler,
+            samplers,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::mip_chain;
+
+    #[test]
+    fn mips_average_in_linear_light_down_to_one_texel() {
+        // Black and white sRGB texels average to 50% linear grey, which is sRGB 188, not 128.
+        let levels = mip_chain(2, 1, &[0, 0, 0, 255, 255, 255, 255, 255], true);
+        assert_eq!(levels.len(), 2);
+        assert_eq!(levels[1].2, vec![188, 188, 188, 255]);
+        let linear = mip_chain(2, 1, &[0, 0, 0, 255, 255, 255, 255, 255], false);
+        assert_eq!(linear[1].2, vec![128, 128, 128, 255]);
+        let sizes: Vec<(u32, u32)> = mip_chain(5, 3, &[9; 60], false).iter().map(|l| (l.0, l.1)).collect();
+        assert_eq!(sizes, vec![(5, 3), (2, 1), (1, 1)]);
     }
 }

@@ -2,7 +2,7 @@
 //! materials with textures, KHR_lights_punctual lights. Every error names the file.
 
 use super::geometry::compute_normals;
-use super::{ImageData, Light, Material, Mesh};
+use super::{AlphaMode, ImageData, Light, Material, Mesh, SamplerDesc, Wrap, IDENTITY_UV};
 use crate::blocks::Vertex;
 use crate::error::{Error, Result};
 use glam::{Mat4, Vec3};
@@ -10,7 +10,7 @@ use lightbench_compiler::ir::LightKind;
 use std::path::Path;
 
 /// Extensions we read; any other listed in `extensionsRequired` is an error.
-pub const SUPPORTED_EXTENSIONS: [&str; 2] = ["KHR_lights_punctual", "KHR_materials_emissive_strength"];
+pub const SUPPORTED_EXTENSIONS: [&str; 3] = ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"];
 
 pub struct Loaded {
     pub meshes: Vec<Mesh>,
@@ -65,6 +65,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
     };
 
     let mut materials = vec![];
+    let mut warnings = vec![];
     for m in doc.materials() {
         let pbr = m.pbr_metallic_roughness();
         let e = m.emissive_factor();
@@ -92,14 +93,26 @@ pub fn load(path: &Path) -> Result<Loaded> {
                 .map(|t| tex(t.texture().source().index(), false, &mut textures))
                 .transpose()?,
             normal_scale: m.normal_texture().map(|t| t.scale()).unwrap_or(1.0),
+            occlusion_texture: m
+                .occlusion_texture()
+                .map(|t| tex(t.texture().source().index(), false, &mut textures))
+                .transpose()?,
+            occlusion_strength: m.occlusion_texture().map(|t| t.strength()).unwrap_or(1.0),
+            uv_transform: uv_transform(&m),
+            alpha: match m.alpha_mode() {
+                gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+                gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
+                gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+            },
+            sampler: material_sampler(&m),
         });
+        material_warnings(&m, &mut warnings);
     }
     let default_material = materials.len();
     materials.push(Material::color("default", [0.8, 0.8, 0.8], 0.6));
 
     let mut meshes = vec![];
     let mut lights = vec![];
-    let mut warnings = vec![];
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
     let roots: Vec<gltf::Node> = match scene {
         Some(s) => s.nodes().collect(),
@@ -217,6 +230,85 @@ pub fn load(path: &Path) -> Result<Loaded> {
         lights,
         warnings,
     })
+}
+
+/// The textures of a material, in the order their settings are looked for.
+fn texture_infos<'a>(m: &gltf::Material<'a>) -> Vec<gltf::texture::Texture<'a>> {
+    let pbr = m.pbr_metallic_roughness();
+    [
+        pbr.base_color_texture().map(|t| t.texture()),
+        pbr.metallic_roughness_texture().map(|t| t.texture()),
+        m.normal_texture().map(|t| t.texture()),
+        m.occlusion_texture().map(|t| t.texture()),
+        m.emissive_texture().map(|t| t.texture()),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+/// KHR_texture_transform of the material's base colour texture (else its emissive one) as
+/// the rows of uv' = offset + rotation · scale · uv (the extension's matrix). One transform
+/// serves every map of a material: exporters write the same on each.
+fn uv_transform(m: &gltf::Material) -> [[f32; 3]; 2] {
+    let pbr = m.pbr_metallic_roughness();
+    let t = pbr
+        .base_color_texture()
+        .and_then(|i| i.texture_transform())
+        .or_else(|| m.emissive_texture().and_then(|i| i.texture_transform()));
+    let Some(t) = t else { return IDENTITY_UV };
+    let ([ox, oy], r, [sx, sy]) = (t.offset(), t.rotation(), t.scale());
+    let (sin, cos) = r.sin_cos();
+    [[cos * sx, -sin * sy, ox], [sin * sx, cos * sy, oy]]
+}
+
+/// The sampler of the material's first texture (glTF allows one per texture; one per
+/// material is what the G-buffer binds).
+fn material_sampler(m: &gltf::Material) -> SamplerDesc {
+    use gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let Some(t) = texture_infos(m).into_iter().next() else {
+        return SamplerDesc::default();
+    };
+    let s = t.sampler();
+    let wrap = |w: WrappingMode| match w {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::Clamp,
+        WrappingMode::MirroredRepeat => Wrap::Mirror,
+    };
+    let min = s.min_filter().unwrap_or(MinFilter::LinearMipmapLinear);
+    SamplerDesc {
+        wrap: [wrap(s.wrap_s()), wrap(s.wrap_t())],
+        mag_linear: s.mag_filter() != Some(MagFilter::Nearest),
+        min_linear: matches!(
+            min,
+            MinFilter::Linear | MinFilter::LinearMipmapNearest | MinFilter::LinearMipmapLinear
+        ),
+        mip_linear: matches!(
+            min,
+            MinFilter::NearestMipmapLinear | MinFilter::LinearMipmapLinear | MinFilter::Linear
+        ),
+    }
+}
+
+/// What a material asks for that is not drawn as asked.
+fn material_warnings(m: &gltf::Material, warnings: &mut Vec<String>) {
+    let name = m.name().unwrap_or("?");
+    if m.alpha_mode() == gltf::material::AlphaMode::Blend {
+        warnings.push(format!(
+            "material `{name}` is alphaMode BLEND, drawn opaque (transparency is not supported yet)"
+        ));
+    }
+    let pbr = m.pbr_metallic_roughness();
+    let sets = [
+        pbr.base_color_texture().map(|t| t.tex_coord()),
+        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
+        m.emissive_texture().map(|t| t.tex_coord()),
+        m.occlusion_texture().map(|t| t.tex_coord()),
+    ];
+    let uses_second_uv = sets.into_iter().flatten().any(|c| c != 0);
+    if uses_second_uv {
+        warnings.push(format!("material `{name}` samples TEXCOORD_1 or higher, read as TEXCOORD_0"));
+    }
 }
 
 /// Strips and fans as triangle lists, by the glTF specification's vertex order (§3.7.2.1).

@@ -55,6 +55,47 @@ pub struct ImageData {
     pub srgb: bool,
 }
 
+/// How a material's alpha is used (glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AlphaMode {
+    Opaque,
+    /// Cut out where alpha is below the cutoff.
+    Mask(f32),
+    /// Blended over what is behind (drawn opaque until transparency is supported).
+    Blend,
+}
+
+/// Texture addressing of a material's sampler (glTF sampler wrap modes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Wrap {
+    Repeat,
+    Clamp,
+    Mirror,
+}
+
+/// A material's sampler (glTF sampler): wrap per axis, linear or nearest filtering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct SamplerDesc {
+    pub wrap: [Wrap; 2],
+    pub mag_linear: bool,
+    pub min_linear: bool,
+    pub mip_linear: bool,
+}
+
+impl Default for SamplerDesc {
+    fn default() -> Self {
+        SamplerDesc {
+            wrap: [Wrap::Repeat; 2],
+            mag_linear: true,
+            min_linear: true,
+            mip_linear: true,
+        }
+    }
+}
+
+/// The identity UV transform.
+pub const IDENTITY_UV: [[f32; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
 #[derive(Clone, Debug)]
 pub struct Material {
     pub name: String,
@@ -67,6 +108,13 @@ pub struct Material {
     pub emissive_texture: Option<usize>,
     pub normal_texture: Option<usize>,
     pub normal_scale: f32,
+    /// Ambient occlusion (glTF `occlusionTexture`, red channel) and how strongly it applies.
+    pub occlusion_texture: Option<usize>,
+    pub occlusion_strength: f32,
+    /// UV transform (KHR_texture_transform) as the rows of a 2×3 affine matrix.
+    pub uv_transform: [[f32; 3]; 2],
+    pub alpha: AlphaMode,
+    pub sampler: SamplerDesc,
 }
 
 impl Material {
@@ -82,6 +130,11 @@ impl Material {
             emissive_texture: None,
             normal_texture: None,
             normal_scale: 1.0,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            uv_transform: IDENTITY_UV,
+            alpha: AlphaMode::Opaque,
+            sampler: SamplerDesc::default(),
         }
     }
 }

@@ -92,7 +92,11 @@ impl Ctx<'_> {
                     dim: ShaderDim::D2,
                     multisampled: false,
                 },
-                DrawSlot::BaseColorMap | DrawSlot::NormalMap | DrawSlot::MetallicRoughnessMap | DrawSlot::EmissiveMap,
+                DrawSlot::BaseColorMap
+                | DrawSlot::NormalMap
+                | DrawSlot::MetallicRoughnessMap
+                | DrawSlot::EmissiveMap
+                | DrawSlot::OcclusionMap,
             ) => BindingType::Texture {
                 sample_type: SampleType::Float { filterable: true },
                 view_dimension: ShaderDim::D2,
