@@ -9,5 +9,6 @@ pub mod error;
 pub mod files;
 pub mod gpu;
 pub mod io;
+pub mod memory;
 pub mod render;
 pub mod scene;

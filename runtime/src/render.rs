@@ -47,7 +47,12 @@ pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result
 
 /// `render` with parameter overrides (each checked against the Plan's parameters).
 pub fn render_with(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
-    let mut ex = Executor::new(gpu, exe, scene)?;
+    render_scene(gpu, exe, scene.clone(), frames, params)
+}
+
+/// `render_with` taking the scene, whose textures are dropped once on the GPU.
+pub fn render_scene(gpu: &Gpu, exe: &Executable, scene: Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
+    let mut ex = Executor::with_scene(gpu, exe, scene)?;
     for (name, value) in params {
         ex.set_param(name, value.clone())?;
     }

@@ -5,10 +5,11 @@ use super::{usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Executor, Gpu};
 use crate::io::write_atomic;
-use crate::render::{compile, fnv1a, parse_params, render_with};
+use crate::render::{compile, fnv1a, parse_params, render_scene};
 use crate::scene::Scene;
 use lightbench_compiler::Executable;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
@@ -98,18 +99,9 @@ pub fn run(a: Args) -> i32 {
 }
 
 fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
-    let mut s = lightbench_compiler::Session::new();
-    let loaded = crate::scene::load_in(&mut s, &a.scene);
-    // Warnings (skipped primitives) are shown; errors stop here.
-    eprint!("{}", s.render());
-    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
-    if let Some(sz) = size {
-        scene.size = sz;
-        // A model rendered on its own is framed for the size it is rendered at.
-        if lightbench_compiler::scene::is_model(Path::new(&a.scene)) {
-            scene.camera = crate::scene::framing::frame(&scene);
-        }
-    }
+    let started = Instant::now();
+    let scene = load_scene(a, size)?;
+    let loaded = started.elapsed();
     let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,
         adapter: a.adapter.clone(),
@@ -125,14 +117,43 @@ fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)],
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
     let params = parse_params(&exe.plan, params)?;
-    let ex = render_with(&gpu, &exe, &scene, a.frames, &params)?;
-    // An .exr gets the linear image before tone mapping when the pipeline names one.
+    // The scene is handed over: its textures are dropped once uploaded.
+    let ex = render_scene(&gpu, &exe, scene, a.frames, &params)?;
+    save_output(a, &gpu, &ex, &exe)?;
+    if let Some(names) = &dumps {
+        dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;
+    }
+    timings(a, &ex, loaded)?;
+    if let Some(p) = &a.manifest {
+        manifest(p, a, &gpu, &ex, &exe)?;
+    }
+    Ok(())
+}
+
+/// The scene named by `--scene` at the `--size` asked for; warnings are shown, errors stop.
+fn load_scene(a: &Args, size: Option<(u32, u32)>) -> Result<Scene> {
+    let mut s = lightbench_compiler::Session::new();
+    let loaded = crate::scene::load_in(&mut s, &a.scene);
+    eprint!("{}", s.render());
+    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
+    if let Some(sz) = size {
+        scene.size = sz;
+        // A model rendered on its own is framed for the size it is rendered at.
+        if lightbench_compiler::scene::is_model(Path::new(&a.scene)) {
+            scene.camera = crate::scene::framing::frame(&scene);
+        }
+    }
+    Ok(scene)
+}
+
+/// `--out`: the output, or for an .exr the pipeline's linear `hdr_output` when it names one.
+fn save_output(a: &Args, gpu: &Gpu, ex: &Executor, exe: &Executable) -> Result<()> {
     let exr = a.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     let saved = match exe.plan.hdr_output.filter(|_| exr) {
         Some(h) => exe.plan.res(h),
         None => exe.plan.output_resource(),
     };
-    let img = ex.read_texture(&gpu, &saved.name, 0, 0)?;
+    let img = ex.read_texture(gpu, &saved.name, 0, 0)?;
     img.save(&a.out)?;
     eprintln!(
         "wrote {} ({}, {}×{}, {} frame(s), scene {})",
@@ -141,20 +162,18 @@ fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)],
         img.width,
         img.height,
         a.frames.max(1),
-        scene.name
+        ex.scene().name
     );
-    if let Some(names) = &dumps {
-        dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;
-    }
-    timings(a, &ex)?;
-    if let Some(p) = &a.manifest {
-        manifest(p, a, &gpu, &ex, &exe, &scene)?;
-    }
     Ok(())
 }
 
-fn timings(a: &Args, ex: &Executor) -> Result<()> {
+fn timings(a: &Args, ex: &Executor, scene_load: std::time::Duration) -> Result<()> {
     if a.timings {
+        println!(
+            "scene load {:.1} ms; peak memory {}",
+            scene_load.as_secs_f64() * 1e3,
+            crate::memory::mib(crate::memory::peak_resident())
+        );
         println!("{:<26} {:>5} {:>10} {:>12}", "pass", "reps", "GPU ms", "CPU enc µs");
         for t in &ex.last_timings {
             let gpu_ms = t.gpu_ms.map(|v| format!("{v:.3}")).unwrap_or_else(|| "n/a".into());
@@ -168,8 +187,9 @@ fn timings(a: &Args, ex: &Executor) -> Result<()> {
     Ok(())
 }
 
-fn manifest(p: &Path, a: &Args, gpu: &Gpu, ex: &Executor, exe: &Executable, scene: &Scene) -> Result<()> {
+fn manifest(p: &Path, a: &Args, gpu: &Gpu, ex: &Executor, exe: &Executable) -> Result<()> {
     let values = ex.inputs(0.0).params;
+    let scene = ex.scene();
     let files: Vec<serde_json::Value> = exe
         .files
         .iter()

@@ -103,7 +103,8 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer
 }
 
 impl Shared {
-    fn new(gpu: &Gpu, scene: &Scene) -> Result<Shared> {
+    /// The scene is taken: its textures go to the GPU and are dropped on the CPU.
+    fn new(gpu: &Gpu, mut scene: Scene) -> Result<Shared> {
         let device = &gpu.device;
         let lights: Vec<Light> = scene.active_lights().into_iter().cloned().collect();
         Ok(Shared {
@@ -114,21 +115,29 @@ impl Shared {
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            scene_gpu: err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, scene))??,
+            scene_gpu: err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, &mut scene))??,
             bounds: scene.bounds(),
             lights,
-            scene: scene.clone(),
+            scene,
         })
     }
 }
 
 impl Executor {
+    /// An executor for a copy of `scene` (see `with_scene` to hand the scene over).
     pub fn new(gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<Executor> {
+        Self::with_scene(gpu, exe, scene.clone())
+    }
+
+    /// An executor that takes the scene: its decoded textures are dropped once uploaded, so a
+    /// large model is not held twice in memory. `scene()` then has no texture data.
+    pub fn with_scene(gpu: &Gpu, exe: &Executable, scene: Scene) -> Result<Executor> {
+        let camera = scene.camera.clone();
         let shared = Shared::new(gpu, scene)?;
         let mut cache = PipelineCache::default();
         let inputs = FrameInputs {
             time: 0.0,
-            camera: scene.camera.clone(),
+            camera,
             params: ParamValues::new(),
         };
         let (state, fresh, _) = build_state(gpu, exe, &shared, &Pool::default(), &mut cache, &inputs.params)?;
@@ -162,7 +171,7 @@ impl Executor {
     /// unchanged resources are kept, the camera becomes the new scene's; on failure the old
     /// scene and Plan keep rendering.
     pub fn replace_scene(&mut self, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<ReloadReport> {
-        let shared = Shared::new(gpu, scene)?;
+        let shared = Shared::new(gpu, scene.clone())?;
         let mut params = self.inputs.params.clone();
         let dropped = params.retain_applicable(&exe.plan.params);
         let (state, fresh, mut report) = build_state(gpu, exe, &shared, &self.state.pool, &mut self.cache, &params)?;

@@ -31,10 +31,9 @@ pub struct SceneGpu {
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
-/// for sRGB data, so that mips do not darken).
-fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h: u32, rgba: &[u8], srgb: bool) -> wgpu::TextureView {
-    let levels = mip_chain(w, h, rgba, srgb);
-    let data: Vec<u8> = levels.iter().flat_map(|(_, _, d)| d.iter().copied()).collect();
+/// for sRGB data, so that mips do not darken). Takes the texels: no copy of level 0 is made.
+fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h: u32, rgba: Vec<u8>, srgb: bool) -> wgpu::TextureView {
+    let (levels, data) = mip_chain(w, h, rgba, srgb);
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -44,7 +43,7 @@ fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h
                 height: h,
                 depth_or_array_layers: 1,
             },
-            mip_level_count: levels.len() as u32,
+            mip_level_count: levels,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: if srgb {
@@ -61,8 +60,9 @@ fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h
     tex.create_view(&wgpu::TextureViewDescriptor::default())
 }
 
-/// Every mip level down to 1×1: (width, height, RGBA8 texels).
-pub fn mip_chain(w: u32, h: u32, rgba: &[u8], srgb: bool) -> Vec<(u32, u32, Vec<u8>)> {
+/// Every mip level down to 1×1, concatenated (level 0 first, as the upload wants them):
+/// the level count and the texels. Level 0 is the input, extended in place.
+pub fn mip_chain(w: u32, h: u32, mut data: Vec<u8>, srgb: bool) -> (u32, Vec<u8>) {
     let decode = |v: u8, c: usize| {
         if srgb && c < 3 {
             srgb_to_linear(v as f32 / 255.0)
@@ -71,23 +71,25 @@ pub fn mip_chain(w: u32, h: u32, rgba: &[u8], srgb: bool) -> Vec<(u32, u32, Vec<
         }
     };
     let encode = |v: f32, c: usize| ((if srgb && c < 3 { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0).round() as u8;
-    let mut levels = vec![(w, h, rgba.to_vec())];
-    while let Some((pw, ph, prev)) = levels.last().filter(|(pw, ph, _)| *pw > 1 || *ph > 1) {
+    let (mut pw, mut ph, mut start, mut levels) = (w as usize, h as usize, 0usize, 1u32);
+    // The whole chain is at most 4/3 of level 0: reserve it once instead of growing.
+    data.reserve(data.len() / 3 + 64);
+    while pw > 1 || ph > 1 {
         let (nw, nh) = ((pw / 2).max(1), (ph / 2).max(1));
-        let (pw, ph) = (*pw as usize, *ph as usize);
-        let mut next = Vec::with_capacity((nw * nh * 4) as usize);
-        for y in 0..nh as usize {
-            for x in 0..nw as usize {
+        let next_start = data.len();
+        for y in 0..nh {
+            for x in 0..nw {
                 for c in 0..4 {
-                    let at = |xx: usize, yy: usize| decode(prev[(yy.min(ph - 1) * pw + xx.min(pw - 1)) * 4 + c], c);
+                    let at = |xx: usize, yy: usize| decode(data[start + (yy.min(ph - 1) * pw + xx.min(pw - 1)) * 4 + c], c);
                     let sum = at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1);
-                    next.push(encode(sum / 4.0, c));
+                    let v = encode(sum / 4.0, c);
+                    data.push(v);
                 }
             }
         }
-        levels.push((nw, nh, next));
+        (pw, ph, start, levels) = (nw, nh, next_start, levels + 1);
     }
-    levels
+    (levels, data)
 }
 
 fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
@@ -141,12 +143,14 @@ fn material_block(m: &Material) -> MaterialBlock {
 }
 
 impl SceneGpu {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene) -> Result<SceneGpu> {
-        let white = texture_2d(device, queue, "white", 1, 1, &[255, 255, 255, 255], true);
-        let white_linear = texture_2d(device, queue, "white_linear", 1, 1, &[255, 255, 255, 255], false);
-        let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, &[128, 128, 255, 255], false);
+    /// Upload the scene. Its textures are moved out and dropped one by one as they reach the
+    /// GPU, so the upload never holds a second CPU copy of them.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &mut Scene) -> Result<SceneGpu> {
+        let white = texture_2d(device, queue, "white", 1, 1, vec![255, 255, 255, 255], true);
+        let white_linear = texture_2d(device, queue, "white_linear", 1, 1, vec![255, 255, 255, 255], false);
+        let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, vec![128, 128, 255, 255], false);
         let mut textures = vec![];
-        for (i, t) in scene.textures.iter().enumerate() {
+        for (i, t) in std::mem::take(&mut scene.textures).into_iter().enumerate() {
             if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
                 return Err(Error::Scene(format!(
                     "texture {i} has {} bytes for {}×{}",
@@ -161,9 +165,15 @@ impl SceneGpu {
                 &format!("scene_texture_{i}"),
                 t.width,
                 t.height,
-                &t.rgba,
+                t.rgba,
                 t.srgb,
             ));
+            // Flush the upload's staging copy before the next texture, so that staging for
+            // every texture is never held at once.
+            queue.submit(std::iter::empty());
+            device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| Error::gpu("uploading scene textures", e))?;
         }
         let pick = |i: Option<usize>, default: &wgpu::TextureView| i.and_then(|i| textures.get(i)).unwrap_or(default).clone();
         let mut sampler_descs: Vec<SamplerDesc> = vec![];
@@ -252,12 +262,14 @@ mod tests {
     #[test]
     fn mips_average_in_linear_light_down_to_one_texel() {
         // Black and white sRGB texels average to 50% linear grey, which is sRGB 188, not 128.
-        let levels = mip_chain(2, 1, &[0, 0, 0, 255, 255, 255, 255, 255], true);
-        assert_eq!(levels.len(), 2);
-        assert_eq!(levels[1].2, vec![188, 188, 188, 255]);
-        let linear = mip_chain(2, 1, &[0, 0, 0, 255, 255, 255, 255, 255], false);
-        assert_eq!(linear[1].2, vec![128, 128, 128, 255]);
-        let sizes: Vec<(u32, u32)> = mip_chain(5, 3, &[9; 60], false).iter().map(|l| (l.0, l.1)).collect();
-        assert_eq!(sizes, vec![(5, 3), (2, 1), (1, 1)]);
+        let (levels, data) = mip_chain(2, 1, vec![0, 0, 0, 255, 255, 255, 255, 255], true);
+        assert_eq!(levels, 2);
+        assert_eq!(data[8..], [188, 188, 188, 255]);
+        let (_, linear) = mip_chain(2, 1, vec![0, 0, 0, 255, 255, 255, 255, 255], false);
+        assert_eq!(linear[8..], [128, 128, 128, 255]);
+        // 5×3, 2×1, 1×1: 15 + 2 + 1 texels.
+        let (levels, data) = mip_chain(5, 3, vec![9; 60], false);
+        assert_eq!((levels, data.len()), (3, 18 * 4));
+        assert!(data.iter().all(|v| *v == 9), "a flat image stays flat");
     }
 }

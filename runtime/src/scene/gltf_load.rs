@@ -46,20 +46,30 @@ pub fn load(path: &Path) -> Result<Loaded> {
     let (doc, buffers, images) = gltf::import(path).map_err(|e| err(describe(e)))?;
     validate_accessors(&doc, &buffers).map_err(|m| err(m.to_string()))?;
 
+    // Each decoded image is converted once and its decoded form dropped right away, so that
+    // loading holds at most one extra copy of one image (an RGBA8 image is moved, not copied).
+    let mut images: Vec<Option<gltf::image::Data>> = images.into_iter().map(Some).collect();
     let mut textures = vec![];
     let mut texture_of_image = std::collections::HashMap::new();
     let mut tex = |index: usize, srgb: bool, textures: &mut Vec<ImageData>| -> Result<usize> {
         if let Some(&i) = texture_of_image.get(&(index, srgb)) {
             return Ok(i);
         }
-        let img = images.get(index).ok_or_else(|| err(format!("image {index} is missing")))?;
-        let rgba = to_rgba8(img).ok_or_else(|| err(format!("image {index} has an unsupported pixel format {:?}", img.format)))?;
-        textures.push(ImageData {
-            width: img.width,
-            height: img.height,
-            rgba,
-            srgb,
-        });
+        // The same image already converted for the other colour space: share its texels.
+        if let Some(&i) = texture_of_image.get(&(index, !srgb)) {
+            let other: &ImageData = &textures[i];
+            let copy = ImageData { srgb, ..other.clone() };
+            textures.push(copy);
+            texture_of_image.insert((index, srgb), textures.len() - 1);
+            return Ok(textures.len() - 1);
+        }
+        let img = images
+            .get_mut(index)
+            .and_then(Option::take)
+            .ok_or_else(|| err(format!("image {index} is missing")))?;
+        let (format, width, height) = (img.format, img.width, img.height);
+        let rgba = to_rgba8(img).ok_or_else(|| err(format!("image {index} has an unsupported pixel format {format:?}")))?;
+        textures.push(ImageData { width, height, rgba, srgb });
         texture_of_image.insert((index, srgb), textures.len() - 1);
         Ok(textures.len() - 1)
     };
@@ -443,8 +453,11 @@ fn validate_accessors(doc: &gltf::Document, buffers: &[gltf::buffer::Data]) -> s
 
 /// Any decoded image as 8-bit RGBA: 8- and 16-bit (rounded) and float (clamped to 0..1)
 /// channels; one channel is grey, two are grey and alpha (PNG has no red-green format).
-fn to_rgba8(img: &gltf::image::Data) -> Option<Vec<u8>> {
+fn to_rgba8(img: gltf::image::Data) -> Option<Vec<u8>> {
     use gltf::image::Format as F;
+    if img.format == F::R8G8B8A8 && img.pixels.len() == (img.width as usize) * (img.height as usize) * 4 {
+        return Some(img.pixels);
+    }
     let (channels, bytes) = match img.format {
         F::R8 => (1, 1),
         F::R8G8 => (2, 1),
@@ -468,14 +481,21 @@ fn to_rgba8(img: &gltf::image::Data) -> Option<Vec<u8>> {
     if img.pixels.len() != (img.width as usize) * (img.height as usize) * texel {
         return None;
     }
-    let out = img.pixels.chunks_exact(texel).flat_map(|px| {
-        let v: Vec<u8> = px.chunks_exact(bytes).map(value).collect();
+    let texels = img.pixels.chunks_exact(texel).flat_map(|px| {
+        let mut v = [0u8; 4];
+        for (o, c) in v.iter_mut().zip(px.chunks_exact(bytes)) {
+            *o = value(c);
+        }
         match channels {
             1 => [v[0], v[0], v[0], 255],
             2 => [v[0], v[0], v[0], v[1]],
             3 => [v[0], v[1], v[2], 255],
-            _ => [v[0], v[1], v[2], v[3]],
+            _ => v,
         }
     });
-    Some(out.collect())
+    // Exactly level 0: the upload grows it in place for the mip chain (a large realloc remaps
+    // pages; reserving the chain here measured a higher peak in `--bench assets`).
+    let mut out = Vec::with_capacity(img.pixels.len() / texel * 4);
+    out.extend(texels);
+    Some(out)
 }

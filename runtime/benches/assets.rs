@@ -1,0 +1,135 @@
+//! `cargo bench -p lightbench --bench assets`: load time and peak memory of a generated
+//! 100k-triangle glTF model with four 2048² textures, rendered once. Compares the executor
+//! that copies the caller's scene (`Executor::new`, the old path) with the one that takes
+//! it and drops each decoded texture once uploaded (`Executor::with_scene`, what `render`
+//! uses), against the bytes the GPU holds (textures with mips + mesh). Goal: peak ≤ 1.5×
+//! those bytes. Needs a GPU adapter (lavapipe is enough: there "GPU" memory is this
+//! process's memory too, so the goal is strict). Not a test.
+
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::memory::{mib, peak_resident, reset_peak, resident};
+use lightbench::render::compile;
+use lightbench::scene;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+const GRID: u32 = 224; // 224² quads = 100,352 triangles
+const TEXTURE: u32 = 2048;
+
+/// A height-field grid with four textures (base colour, metallic-roughness, normal, occlusion).
+fn write_model(dir: &Path) -> (PathBuf, u64) {
+    let n = GRID + 1;
+    let mut bin: Vec<u8> = vec![];
+    for j in 0..n {
+        for i in 0..n {
+            let (u, v) = (i as f32 / GRID as f32, j as f32 / GRID as f32);
+            let h = 0.05 * ((u * 20.0).sin() + (v * 17.0).cos());
+            bin.extend([u * 2.0 - 1.0, h, v * 2.0 - 1.0].iter().flat_map(|x| x.to_le_bytes()));
+        }
+    }
+    let uv_at = bin.len();
+    for j in 0..n {
+        for i in 0..n {
+            bin.extend(
+                [i as f32 / GRID as f32, j as f32 / GRID as f32]
+                    .iter()
+                    .flat_map(|x| x.to_le_bytes()),
+            );
+        }
+    }
+    let idx_at = bin.len();
+    for j in 0..GRID {
+        for i in 0..GRID {
+            let a = j * n + i;
+            for k in [a, a + n, a + 1, a + 1, a + n, a + n + 1] {
+                bin.extend(k.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(dir.join("grid.bin"), &bin).expect("write buffer");
+    for (k, name) in ["base", "mr", "normal", "ao"].iter().enumerate() {
+        let img = image::RgbImage::from_fn(TEXTURE, TEXTURE, |x, y| {
+            image::Rgb([(x >> 3) as u8, (y >> 3) as u8, (k * 60) as u8])
+        });
+        img.save(dir.join(format!("{name}.png"))).expect("write texture");
+    }
+    let (verts, indices) = ((n * n) as usize, (GRID * GRID * 6) as usize);
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
+        "materials": [{
+            "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 1}},
+            "normalTexture": {"index": 2}, "occlusionTexture": {"index": 3}
+        }],
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2}, {"source": 3}],
+        "images": [{"uri": "base.png"}, {"uri": "mr.png"}, {"uri": "normal.png"}, {"uri": "ao.png"}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": verts, "type": "VEC3", "min": [-1.0, -0.1, -1.0], "max": [1.0, 0.1, 1.0]},
+            {"bufferView": 1, "componentType": 5126, "count": verts, "type": "VEC2"},
+            {"bufferView": 2, "componentType": 5125, "count": indices, "type": "SCALAR"}
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": uv_at},
+            {"buffer": 0, "byteOffset": uv_at, "byteLength": idx_at - uv_at},
+            {"buffer": 0, "byteOffset": idx_at, "byteLength": bin.len() - idx_at}
+        ],
+        "buffers": [{"byteLength": bin.len(), "uri": "grid.bin"}]
+    });
+    let path = dir.join("grid.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).expect("json")).expect("write model");
+    // What the GPU holds: four RGBA8 textures with full mip chains, and the mesh.
+    let tex = 4 * (TEXTURE as u64 * TEXTURE as u64 * 4) * 4 / 3;
+    let mesh = verts as u64 * std::mem::size_of::<lightbench::blocks::Vertex>() as u64 + indices as u64 * 4;
+    (path, tex + mesh)
+}
+
+/// Load, compile and render once: load ms, and the peak bytes above the resident set at the
+/// start while loading and over the whole run.
+fn run(gpu: &Gpu, model: &Path, root: &Path, take: bool) -> (f64, u64, u64) {
+    reset_peak();
+    let base = resident().unwrap_or(0);
+    let t = Instant::now();
+    let s = scene::load(model.to_str().expect("utf-8 path")).expect("model loads");
+    let load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let load_peak = peak_resident().unwrap_or(0).saturating_sub(base);
+    let (exe, _) = compile(gpu, &root.join("pipelines/deferred.ron"), None, &s, &[]).expect("compiles");
+    let mut ex = if take {
+        Executor::with_scene(gpu, &exe, s)
+    } else {
+        Executor::new(gpu, &exe, &s)
+    }
+    .expect("executor");
+    ex.render_frame(gpu, &ex.inputs(0.0)).expect("frame");
+    let peak = peak_resident().unwrap_or(0).saturating_sub(base);
+    (load_ms, load_peak, peak)
+}
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("repository root")
+        .to_path_buf();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-assets");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("bench directory");
+    let (model, gpu_bytes) = write_model(&dir);
+    let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
+    if !reset_peak() {
+        println!("note: the peak cannot be reset here; figures include earlier allocations");
+    }
+    println!(
+        "model: {} triangles, 4 textures of {TEXTURE}², GPU-resident {}",
+        GRID * GRID * 2,
+        mib(Some(gpu_bytes))
+    );
+    for (name, take) in [("copying executor (before)", false), ("taking executor (after)", true)] {
+        let (load_ms, load_peak, peak) = run(&gpu, &model, &root, take);
+        println!(
+            "{name:<28} load {load_ms:>6.1} ms (peak +{})   run peak +{}   {:.2}× GPU-resident (goal ≤ 1.5×)",
+            mib(Some(load_peak)),
+            mib(Some(peak)),
+            peak as f64 / gpu_bytes as f64
+        );
+    }
+}
