@@ -52,6 +52,7 @@ fn scene(effects: &[Effect]) -> SceneFeatures {
         lights: [(LightKind::Point, 1)].into_iter().collect(),
         effects: effects.iter().copied().collect(),
         reflective: false,
+        transparent: false,
         size: (64, 64),
     }
 }

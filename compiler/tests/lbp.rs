@@ -484,7 +484,9 @@ mod generated {
                     vertex: r(&f1, &e1),
                     fragment,
                     targets,
-                    draw: verts.map(Draw::Vertices).unwrap_or(Draw::Scene),
+                    draw: verts
+                        .map(Draw::Vertices)
+                        .unwrap_or(if pick % 2 == 0 { Draw::Scene } else { Draw::Transparent }),
                     cull,
                     instances: sp(instances),
                     multiview: mv.map(sp),

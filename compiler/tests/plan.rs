@@ -218,7 +218,8 @@ fn execution_order_respects_dependencies() {
     let pos = |n: &str| names.iter().position(|x| *x == n).unwrap();
     assert!(pos("gbuffer") < pos("ambient"));
     assert!(pos("ambient") < pos("light_directional_spot"), "lights load what ambient cleared");
-    assert!(pos("light_point") < pos("luminance"));
+    assert!(pos("light_point") < pos("transparent"), "blended surfaces go over the lit image");
+    assert!(pos("transparent") < pos("luminance"));
     assert!(pos("luminance") < pos("tonemap"));
     let after: Vec<&str> = plan
         .pass("tonemap")
@@ -227,7 +228,10 @@ fn execution_order_respects_dependencies() {
         .iter()
         .map(|a| plan.passes[a.0 as usize].name.as_str())
         .collect();
-    assert_eq!(after, vec!["ambient", "light_directional_spot", "light_point", "luminance"]);
+    assert_eq!(
+        after,
+        vec!["ambient", "light_directional_spot", "light_point", "transparent", "luminance"]
+    );
 }
 
 #[test]

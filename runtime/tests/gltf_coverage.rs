@@ -220,7 +220,7 @@ fn clamp_and_repeat_differ_where_uvs_exceed_one() {
 }
 
 #[test]
-fn alpha_mask_cuts_out_and_blend_warns() {
+fn alpha_mask_cuts_out_and_a_second_uv_set_warns() {
     let d = scratch("mask");
     two_texels(&d, 0); // the red half is fully transparent
     let masked = albedo_at(&d, |doc| doc["materials"][0]["alphaMode"] = serde_json::json!("MASK"), &[-0.5, 0.5]);
@@ -229,8 +229,8 @@ fn alpha_mask_cuts_out_and_blend_warns() {
     let opaque = albedo_at(&d, |_| {}, &[-0.5]);
     assert!(opaque[0].1 < 1.0, "OPAQUE ignores alpha");
     write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"), |doc| {
-        doc["materials"][0]["name"] = serde_json::json!("glass");
-        doc["materials"][0]["alphaMode"] = serde_json::json!("BLEND");
+        doc["materials"][0]["name"] = serde_json::json!("decal");
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = serde_json::json!(1);
     });
     let (code, _, err) = lightbench(&[
         "check",
@@ -239,7 +239,10 @@ fn alpha_mask_cuts_out_and_blend_warns() {
         scene_file(&d, "model.gltf").to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains("material `glass` is alphaMode BLEND, drawn opaque"), "{err}");
+    assert!(
+        err.contains("material `decal` samples TEXCOORD_1 or higher, read as TEXCOORD_0"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -266,4 +269,74 @@ fn occlusion_darkens_the_ambient_term_only() {
     let (open, occluded) = (ambient(false), ambient(true));
     assert!(open[0] > 0.005, "ambient light reaches the open quad: {open:?}");
     assert!(occluded[0] < open[0] * 0.01, "full occlusion removes it: {occluded:?} vs {open:?}");
+}
+
+/// A red wall (a quad facing +Z at z = 0) and, unless `pane` is None, a smaller blue pane in
+/// front of it (z = 0.5) with that alphaMode and alpha; seen head-on, lit from the camera.
+fn wall_and_pane(dir: &Path, pane: Option<(&str, f32)>) -> lightbench::scene::Scene {
+    let pos: [f32; 12] = [-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0];
+    let nrm: [f32; 12] = [0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0];
+    let idx: [u32; 6] = [0, 1, 2, 0, 2, 3];
+    let mut bin: Vec<u8> = vec![];
+    bin.extend(pos.iter().chain(&nrm).flat_map(|v| v.to_le_bytes()));
+    bin.extend(idx.iter().flat_map(|v| v.to_le_bytes()));
+    std::fs::write(dir.join("quads.bin"), &bin).unwrap();
+    let prim = |material: usize| serde_json::json!({"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2, "material": material}]});
+    let (mode, alpha) = pane.unwrap_or(("OPAQUE", 1.0));
+    let mut nodes = vec![serde_json::json!({"mesh": 0, "scale": [2.0, 2.0, 1.0]})];
+    if pane.is_some() {
+        nodes.push(serde_json::json!({"mesh": 1, "translation": [0.0, 0.0, 0.5], "scale": [0.5, 0.5, 1.0]}));
+    }
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "scene": 0, "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}], "nodes": nodes,
+        "meshes": [prim(0), prim(1)],
+        "materials": [
+            {"name": "wall", "pbrMetallicRoughness": {"baseColorFactor": [1.0, 0.0, 0.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}},
+            {"name": "pane", "alphaMode": mode, "pbrMetallicRoughness": {"baseColorFactor": [0.0, 0.0, 1.0, alpha], "metallicFactor": 0.0, "roughnessFactor": 1.0}}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, -1.0, 0.0], "max": [1.0, 1.0, 0.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5125, "count": 6, "type": "SCALAR"}
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 96, "byteLength": 24}
+        ],
+        "buffers": [{"byteLength": bin.len(), "uri": "quads.bin"}]
+    });
+    std::fs::write(dir.join("quads.gltf"), serde_json::to_vec(&doc).unwrap()).unwrap();
+    let p = dir.join("quads.ron");
+    let text = "Scene(\n    size: (32, 32),\n    camera: (position: (0.0, 0.0, 3.0), fov: 50.0, near: 0.1, far: 10.0),\n    models: [(path: \"quads.gltf\")],\n    lights: [Directional(direction: (0.0, 0.0, -1.0), intensity: 2.0, shadows: false)],\n)\n";
+    std::fs::write(&p, text).unwrap();
+    scene::load(p.to_str().unwrap()).unwrap()
+}
+
+/// A BLEND pane with alpha 0.4 over a red wall: the HDR pixel behind it is 0.4 × the pane
+/// lit on its own + 0.6 × the wall lit on its own, and the pane's pass is culled when nothing
+/// blends.
+#[test]
+fn a_blend_pane_over_a_red_wall_blends_over() {
+    let d = scratch("blend");
+    let g = gpu();
+    let hdr = |s: &lightbench::scene::Scene| {
+        let ex = render_with(&g, &deferred(), s, &[], 1);
+        let culled = ex.plan().culled.iter().any(|c| c.name == "transparent");
+        (ex.read_texture(&g, "hdr", 0, 0).unwrap().pixel(16, 16), culled)
+    };
+    let (wall, culled) = hdr(&wall_and_pane(&d, None));
+    assert!(culled, "no blended mesh: the transparent pass is culled");
+    let (pane, _) = hdr(&wall_and_pane(&d, Some(("OPAQUE", 1.0))));
+    let (blended, culled) = hdr(&wall_and_pane(&d, Some(("BLEND", 0.4))));
+    assert!(!culled);
+    for c in 0..3 {
+        let expected = 0.4 * pane[c] + 0.6 * wall[c];
+        assert!(
+            (blended[c] - expected).abs() < 0.03 * expected.max(0.05),
+            "channel {c}: {blended:?} vs {expected} (pane {pane:?}, wall {wall:?})"
+        );
+    }
+    assert!(blended[0] > 0.1 && blended[2] > 0.1, "both show: {blended:?}");
 }

@@ -5,32 +5,9 @@
 #include "lib/shadow.wgsl"
 #include "lib/gbuffer.wgsl"
 
-struct LightSample {
-    // light arriving at the surface, before shadowing
-    radiance: vec3<f32>,
-    // unit vector from the surface to the light
-    to_light: vec3<f32>,
-    // distance to the light (0 for directional lights)
-    dist: f32,
-};
-
-// Directional: constant radiance from -direction. Spot and point: windowed inverse-square
-// attenuation (seed 003 eq. 3.5); spot lights also fade over their cone.
+// What arrives at the surface from light `l` (lib/lighting.wgsl: seed 003 eq. 3.5 and cones).
 fn sample_light(l: Light, s: Surface) -> LightSample {
-    var ls: LightSample;
-    ls.radiance = l.color.rgb;
-    ls.to_light = -normalize(l.direction.xyz);
-    ls.dist = 0.0;
-    if l.kind != LIGHT_DIRECTIONAL {
-        let d = l.position.xyz - s.world;
-        ls.dist = length(d);
-        ls.to_light = d / max(ls.dist, 1e-6);
-        ls.radiance *= attenuation(ls.dist, l.position.w);
-        if l.kind == LIGHT_SPOT {
-            ls.radiance *= spot_factor(l, -d);
-        }
-    }
-    return ls;
+    return light_at(l, s.world);
 }
 
 // Reflected radiance towards the camera (Blinn-Phong), before shadowing.

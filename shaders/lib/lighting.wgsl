@@ -17,6 +17,34 @@ fn attenuation(d: f32, range: f32) -> f32 {
     return (1.0 - x20) / (soft * soft + d * d);
 }
 
+struct LightSample {
+    // light arriving at the point, before shadowing
+    radiance: vec3<f32>,
+    // unit vector from the point to the light
+    to_light: vec3<f32>,
+    // distance to the light (0 for directional lights)
+    dist: f32,
+};
+
+// Directional: constant radiance from -direction. Spot and point: windowed inverse-square
+// attenuation; spot lights also fade over their cone.
+fn light_at(l: Light, world: vec3<f32>) -> LightSample {
+    var ls: LightSample;
+    ls.radiance = l.color.rgb;
+    ls.to_light = -normalize(l.direction.xyz);
+    ls.dist = 0.0;
+    if l.kind != LIGHT_DIRECTIONAL {
+        let d = l.position.xyz - world;
+        ls.dist = length(d);
+        ls.to_light = d / max(ls.dist, 1e-6);
+        ls.radiance *= attenuation(ls.dist, l.position.w);
+        if l.kind == LIGHT_SPOT {
+            ls.radiance *= spot_factor(l, -d);
+        }
+    }
+    return ls;
+}
+
 // Smooth spot cone falloff between the outer and inner cone angles (cosines).
 fn spot_factor(l: Light, to_surface: vec3<f32>) -> f32 {
     let c = dot(normalize(to_surface), normalize(l.direction.xyz));

@@ -71,13 +71,17 @@ fn read_edges(
     diags: &mut Diagnostics,
 ) {
     let pass = &p.passes[i];
-    for r in &pass.reads {
-        let name = r.name();
+    let reads = pass
+        .reads
+        .iter()
+        .map(|r| (r.name(), r.is_prev()))
+        .chain(pass.depth_tested().map(|d| (d, false)));
+    for (name, prev) in reads {
         let Some(res) = p.resource(name) else {
             continue;
         };
         let ws: &[usize] = writers.get(name.value.as_str()).map(Vec::as_slice).unwrap_or(&[]);
-        if r.is_prev() {
+        if prev {
             if ws.is_empty() {
                 diags.push(Diagnostic::error(
                     Code::ReadBeforeWrite,

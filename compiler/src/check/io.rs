@@ -129,7 +129,7 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
 fn vertex_inputs(pass: &Pass, vs: &StageShader, diags: &mut Diagnostics) {
     let ins = reflect::inputs(&vs.module, vs.entry);
     match &pass.kind {
-        PassKind::Raster(r) if r.draw == Draw::Scene => {
+        PassKind::Raster(r) if r.draw.uses_scene() => {
             for i in &ins {
                 match SCENE_VERTEX.iter().find(|v| v.0 == i.location) {
                     None => diags.push(

@@ -156,10 +156,19 @@ pub struct Targets {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Draw {
-    /// Every mesh of the scene with its material.
+    /// Every opaque (and alpha-masked) mesh of the scene with its material.
     Scene,
+    /// The scene's blended meshes (glTF alphaMode BLEND), from far to near the camera.
+    Transparent,
     /// A fixed vertex count with no vertex buffers (procedural geometry).
     Vertices(u32),
+}
+
+impl Draw {
+    /// Draws scene meshes (vertex buffers, per-draw bindings).
+    pub fn uses_scene(&self) -> bool {
+        matches!(self, Draw::Scene | Draw::Transparent)
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -337,12 +346,26 @@ impl Pass {
     }
 
     /// Every resource this pass writes: attachments and storage writes.
+    /// Resources this pass changes: color targets, a depth target it writes or clears, storage
+    /// writes. (A depth target with `write: false` and `load: Load` is only tested against.)
     pub fn written(&self) -> impl Iterator<Item = &Spanned<String>> {
+        let depth = self.depth().filter(|d| d.write || !d.load.is_load());
         self.color()
             .iter()
             .map(|c| &c.resource)
-            .chain(self.depth().map(|d| &d.resource))
+            .chain(depth.map(|d| &d.resource))
             .chain(self.writes.iter())
+    }
+
+    /// A depth target only tested against (`write: false`, `load: Load`): read, not written,
+    /// so the pass runs after its writers (e.g. transparent surfaces over the G-buffer depth).
+    pub fn depth_tested(&self) -> Option<&Spanned<String>> {
+        self.depth().filter(|d| !d.write && d.load.is_load()).map(|d| &d.resource)
+    }
+
+    /// Every resource the pass reads (declared reads and a tested depth) or changes.
+    pub fn touched(&self) -> impl Iterator<Item = &Spanned<String>> {
+        self.reads.iter().map(|r| r.name()).chain(self.depth_tested()).chain(self.written())
     }
 
     /// Does this pass's write of `res` build on the earlier content (`load: Load`)?

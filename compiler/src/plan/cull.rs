@@ -155,6 +155,10 @@ fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String
             culled.insert(i, format!("runs per {} light and the scene has none", names.join(" or ")));
             continue;
         }
+        if matches!(&pass.kind, PassKind::Raster(r) if r.draw == Draw::Transparent) && !cfg.scene.transparent {
+            culled.insert(i, "draws the scene's blended meshes and the scene has none".into());
+            continue;
+        }
         candidates.push(i);
     }
     (candidates, culled)
@@ -174,7 +178,7 @@ fn reachable(p: &Pipeline, candidates: &[usize]) -> Vec<usize> {
             }
             kept.push(i);
             changed = true;
-            for r in pass.reads.iter().map(|r| r.name()).chain(pass.written()) {
+            for r in pass.touched() {
                 if !needed.contains(&r.value) {
                     needed.push(r.value.clone());
                 }

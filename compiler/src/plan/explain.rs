@@ -9,6 +9,9 @@ pub fn work_word(plan: &Plan, w: &Work) -> String {
     match w {
         Work::Raster { draw: Draw::Scene, .. } => "Scene".into(),
         Work::Raster {
+            draw: Draw::Transparent, ..
+        } => "Transparent".into(),
+        Work::Raster {
             draw: Draw::Vertices(n), ..
         } => format!("Vertices({n})"),
         Work::Fullscreen { .. } => "Fullscreen".into(),
@@ -161,13 +164,15 @@ fn repetitions(p: &PlanPass) -> String {
     format!(" ×{} ({})", p.repetitions, parts.join(", "))
 }
 
-/// Everything a pass writes, as text: attachments, then storage.
+/// Everything a pass writes, as text: attachments, then storage. A depth target only tested
+/// against (not written, loaded) says so.
 fn written(plan: &Plan, p: &PlanPass) -> Vec<String> {
     let t = p.work.targets();
     let color = t.into_iter().flat_map(|t| &t.color).map(|c| plan.res(c.resource).name.clone());
-    let depth = t
-        .and_then(|t| t.depth.as_ref())
-        .map(|d| format!("depth {}", plan.res(d.resource).name));
+    let depth = t.and_then(|t| t.depth.as_ref()).map(|d| {
+        let tested = !d.write && matches!(d.load, Load::Load);
+        format!("{} {}", if tested { "depth-test" } else { "depth" }, plan.res(d.resource).name)
+    });
     color
         .chain(depth)
         .chain(p.writes.iter().map(|w| format!("storage {}", plan.res(*w).name)))

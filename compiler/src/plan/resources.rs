@@ -25,7 +25,7 @@ fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
     let mut touched = saved;
     for (i, version) in kept {
         let pass = &p.passes[*i];
-        touched |= pass.reads.iter().any(|rd| rd.name().value == name) || pass.written().any(|w| w.value == name);
+        touched |= pass.touched().any(|r| r.value == name);
         if pass.color().iter().any(|c| c.resource.value == name) || pass.depth().is_some_and(|d| d.resource.value == name) {
             usage.insert(Usage::RenderAttachment);
         }

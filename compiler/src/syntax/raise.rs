@@ -189,6 +189,7 @@ fn raster(f: &mut Fields, r: &Raster, file: &str, span: Span) {
         "draw",
         match r.draw {
             Draw::Scene => Node::ident("Scene", span),
+            Draw::Transparent => Node::ident("Transparent", span),
             Draw::Vertices(n) => Node::call("Vertices", vec![Node::int(n as i64, span)], span),
         },
     );

@@ -3,7 +3,7 @@
 
 use super::bind_groups::Rep;
 use super::pipelines::{multiview_mask, Built, PipelineKind};
-use super::scene_gpu::SceneGpu;
+use super::scene_gpu::{DrawOrder, SceneGpu};
 use super::timing::Timer;
 use lightbench_compiler::ir::{Draw, Load};
 use lightbench_compiler::plan::{PlanPass, Work};
@@ -19,7 +19,14 @@ pub struct PassGpu {
 }
 
 /// Record every repetition of pass number `index` into `enc`.
-pub fn encode(enc: &mut wgpu::CommandEncoder, pass: &PassGpu, index: usize, parity: usize, timer: Option<&Timer>, scene: &SceneGpu) {
+pub fn encode(
+    enc: &mut wgpu::CommandEncoder,
+    pass: &PassGpu,
+    index: usize,
+    parity: usize,
+    timer: Option<&Timer>,
+    scene: (&SceneGpu, &DrawOrder),
+) {
     let n = pass.reps.len();
     for (ri, rep) in pass.reps.iter().enumerate() {
         let ts = timer.and_then(|t| t.writes(index, ri, n).map(|w| (t, w)));
@@ -66,14 +73,16 @@ pub fn encode(enc: &mut wgpu::CommandEncoder, pass: &PassGpu, index: usize, pari
     }
 }
 
-fn draw(rp: &mut wgpu::RenderPass, pass: &PassGpu, work: &Work, scene: &SceneGpu) {
+fn draw(rp: &mut wgpu::RenderPass, pass: &PassGpu, work: &Work, (scene, order): (&SceneGpu, &DrawOrder)) {
     match work {
-        Work::Raster {
-            draw: Draw::Scene,
-            instances,
-            ..
-        } => {
-            for (mi, mesh) in scene.meshes.iter().enumerate() {
+        Work::Raster { draw, instances, .. } if draw.uses_scene() => {
+            let meshes = if *draw == Draw::Transparent {
+                &order.back_to_front
+            } else {
+                &order.opaque
+            };
+            for &mi in meshes {
+                let mesh = &scene.meshes[mi];
                 if let Some((g, list)) = &pass.draw_groups {
                     rp.set_bind_group(*g, &list[mi], &[]);
                 }

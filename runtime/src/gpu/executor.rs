@@ -270,6 +270,7 @@ impl Executor {
         self.write_frame_blocks(gpu, inputs);
         let parity = (self.frame_index & 1) as usize;
         let (state, scene) = (&self.state, &self.shared.scene_gpu);
+        let order = scene.draw_order(inputs.camera.position);
         let mut buffers = vec![];
         let mut cpu_us = vec![];
         for (pi, pass) in state.passes.iter().enumerate() {
@@ -278,7 +279,7 @@ impl Executor {
             let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some(&pass.plan.name),
             });
-            encode(&mut enc, pass, pi, parity, state.timer.as_ref(), scene);
+            encode(&mut enc, pass, pi, parity, state.timer.as_ref(), (scene, &order));
             let cb = enc.finish();
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));

@@ -69,7 +69,7 @@ impl PipelineKey {
                     depth: targets.depth.as_ref().map(|d| (d.format, d.compare, d.write)),
                     cull,
                     multiview: pp.work.multiview(),
-                    scene_vertices: draw == Some(&Draw::Scene),
+                    scene_vertices: draw.is_some_and(Draw::uses_scene),
                 }
             }
         };
@@ -246,7 +246,7 @@ fn render_pipeline(
         attributes: &VERTEX_ATTRIBUTES,
     })];
     let (cull, scene) = match &pp.work {
-        Work::Raster { cull, draw, .. } => (convert::cull(*cull), *draw == Draw::Scene),
+        Work::Raster { cull, draw, .. } => (convert::cull(*cull), draw.uses_scene()),
         _ => (None, false),
     };
     let buffers: &[Option<wgpu::VertexBufferLayout>] = if scene { &vertex_layout } else { &[] };

@@ -13,6 +13,18 @@ pub struct MeshGpu {
     pub index_count: u32,
     pub block: wgpu::Buffer,
     pub material: usize,
+    /// Its material blends (alphaMode BLEND): drawn by `draw: Transparent` passes only.
+    pub blend: bool,
+    /// World-space centre of its bounds, for sorting blended meshes.
+    pub centre: glam::Vec3,
+}
+
+/// The meshes each kind of scene draw draws, in order, for one frame's camera.
+pub struct DrawOrder {
+    /// `draw: Scene`: opaque and masked meshes, in scene order.
+    pub opaque: Vec<usize>,
+    /// `draw: Transparent`: blended meshes from far to near ("over" blending needs it).
+    pub back_to_front: Vec<usize>,
 }
 
 pub struct MaterialGpu {
@@ -119,6 +131,28 @@ fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
         },
         ..Default::default()
     })
+}
+
+/// World-space centre of a mesh's bounding box.
+fn mesh_centre(m: &crate::scene::Mesh) -> glam::Vec3 {
+    let (lo, hi) = m
+        .vertices
+        .iter()
+        .fold((glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)), |(lo, hi), v| {
+            let p = glam::Vec3::from(v.position);
+            (lo.min(p), hi.max(p))
+        });
+    m.transform.transform_point3((lo + hi) * 0.5)
+}
+
+impl SceneGpu {
+    pub fn draw_order(&self, eye: glam::Vec3) -> DrawOrder {
+        let opaque = (0..self.meshes.len()).filter(|&i| !self.meshes[i].blend).collect();
+        let mut back_to_front: Vec<usize> = (0..self.meshes.len()).filter(|&i| self.meshes[i].blend).collect();
+        let dist = |i: usize| (self.meshes[i].centre - eye).length_squared();
+        back_to_front.sort_by(|&a, &b| dist(b).total_cmp(&dist(a)));
+        DrawOrder { opaque, back_to_front }
+    }
 }
 
 fn material_block(m: &Material) -> MaterialBlock {
@@ -233,6 +267,8 @@ impl SceneGpu {
                     usage: wgpu::BufferUsages::INDEX,
                 }),
                 index_count: m.drawn_indices(),
+                blend: scene.materials[m.material].alpha == AlphaMode::Blend,
+                centre: mesh_centre(m),
                 block: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                     label: Some(&m.name),
                     contents: bytemuck::bytes_of(&block),

@@ -303,11 +303,6 @@ fn material_sampler(m: &gltf::Material) -> SamplerDesc {
 /// What a material asks for that is not drawn as asked.
 fn material_warnings(m: &gltf::Material, warnings: &mut Vec<String>) {
     let name = m.name().unwrap_or("?");
-    if m.alpha_mode() == gltf::material::AlphaMode::Blend {
-        warnings.push(format!(
-            "material `{name}` is alphaMode BLEND, drawn opaque (transparency is not supported yet)"
-        ));
-    }
     let pbr = m.pbr_metallic_roughness();
     let sets = [
         pbr.base_color_texture().map(|t| t.tex_coord()),

@@ -61,7 +61,7 @@ pub enum AlphaMode {
     Opaque,
     /// Cut out where alpha is below the cutoff.
     Mask(f32),
-    /// Blended over what is behind (drawn opaque until transparency is supported).
+    /// Blended over what is behind (`draw: Transparent` passes, back to front).
     Blend,
 }
 
@@ -210,13 +210,18 @@ impl Scene {
 
     /// What the compiler needs to cull and size the plan.
     pub fn features(&self) -> SceneFeatures {
-        SceneFeatures::new(
+        let mut f = SceneFeatures::new(
             &self.name,
             self.size,
             self.active_lights().iter().map(|l| l.kind),
             &self.effects,
             self.meshes.iter().any(|m| m.reflective),
-        )
+        );
+        f.transparent = self
+            .meshes
+            .iter()
+            .any(|m| self.materials.get(m.material).is_some_and(|mat| mat.alpha == AlphaMode::Blend));
+        f
     }
 
     pub fn light_count(&self, kind: LightKind) -> usize {

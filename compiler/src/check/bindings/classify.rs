@@ -3,7 +3,7 @@
 
 use super::{Ctx, Used};
 use crate::diag::{did_you_mean, Code, Diagnostic, Diagnostics};
-use crate::ir::{history_ident, shader_ident, Draw, PassKind, SamplerKind};
+use crate::ir::{history_ident, shader_ident, PassKind, SamplerKind};
 use crate::layout::{BindSource, BindingType, DrawSlot, SampleType, ShaderDim, FRAME, INSTANCE, LIGHTS};
 use crate::shader::reflect::{BindingTy, TexKind};
 
@@ -72,7 +72,7 @@ impl Ctx<'_> {
     fn bind_draw(&mut self, u: &Used, slot: DrawSlot, diags: &mut Diagnostics) {
         let g = &u.g;
         let gspan = u.stage.module.global_span(g.handle);
-        if !matches!(&self.pass.kind, PassKind::Raster(r) if r.draw == Draw::Scene) {
+        if !matches!(&self.pass.kind, PassKind::Raster(r) if r.draw.uses_scene()) {
             diags.push(
                 Diagnostic::error(
                     Code::BindingUnsatisfied,

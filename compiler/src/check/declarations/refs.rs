@@ -134,7 +134,7 @@ fn per_light(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     if let Some(kinds) = &pass.per_light {
         super::resources::empty_kinds(kinds, diags);
     }
-    for name in pass.reads.iter().map(|r| r.name()).chain(pass.written()) {
+    for name in pass.touched() {
         let Some(rk) = p.resource(name).and_then(|r| r.per_light()) else {
             continue;
         };

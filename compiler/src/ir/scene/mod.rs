@@ -174,7 +174,10 @@ impl SceneDesc {
     pub fn features(&self, extra: impl IntoIterator<Item = LightKind>) -> SceneFeatures {
         let on = self.lights.iter().filter(|l| l.on).map(|l| l.kind);
         let reflective = self.models.iter().any(|m| m.reflective);
-        SceneFeatures::new(&self.name, self.size, on.chain(extra), &self.effects, reflective)
+        let mut f = SceneFeatures::new(&self.name, self.size, on.chain(extra), &self.effects, reflective);
+        // Only loading a model shows whether it has blended materials: assume it may.
+        f.transparent = !self.models.is_empty();
+        f
     }
 }
 
@@ -185,6 +188,8 @@ pub struct SceneFeatures {
     pub lights: BTreeMap<LightKind, u32>,
     pub effects: BTreeSet<Effect>,
     pub reflective: bool,
+    /// Some mesh blends (glTF alphaMode BLEND): `draw: Transparent` passes have work.
+    pub transparent: bool,
     pub size: (u32, u32),
 }
 
@@ -206,6 +211,7 @@ impl SceneFeatures {
             lights,
             effects: effects.clone(),
             reflective,
+            transparent: false,
             size,
         }
     }
@@ -218,6 +224,7 @@ impl SceneFeatures {
             lights: LightKind::ALL.into_iter().map(|k| (k, 1)).collect(),
             effects: Effect::ALL.into_iter().collect(),
             reflective: true,
+            transparent: true,
             size: (1280, 720),
         }
     }

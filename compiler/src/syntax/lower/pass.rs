@@ -93,8 +93,9 @@ impl Lowerer<'_> {
     fn raster(&mut self, o: &mut Obj, shader: &Option<Spanned<String>>) -> Res<Raster> {
         let draw = o.get("draw").and_then(|n| match (&*n.value, n.name()) {
             (Value::Ident(_), Some("Scene")) => Some(Draw::Scene),
+            (Value::Ident(_), Some("Transparent")) => Some(Draw::Transparent),
             (Value::Tuple { items, .. }, Some("Vertices")) if items.len() == 1 => Some(Draw::Vertices(self.u32(&items[0])?.value)),
-            _ => self.type_err("`Scene` or `Vertices(count)`", &n),
+            _ => self.type_err("`Scene`, `Transparent` or `Vertices(count)`", &n),
         });
         let cull = o
             .get("cull")

@@ -1,0 +1,63 @@
+// Scene meshes seen by the camera, and their materials evaluated at a fragment: what the
+// G-buffer and forward (transparent) passes share. Needs lib/frame.wgsl included first.
+#include "lib/mesh.wgsl"
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world_pos: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    @location(2) uv: vec2<f32>,
+    @location(3) tangent: vec4<f32>,
+};
+
+// A scene vertex in the camera's clip space, with what the fragment stage needs.
+fn camera_vertex(v: VertexIn) -> VsOut {
+    let world = world_position(v);
+    var out: VsOut;
+    out.clip = frame.view_proj * world;
+    out.world_pos = world.xyz;
+    out.normal = (mesh.normal_matrix * vec4<f32>(v.normal, 0.0)).xyz;
+    out.uv = v.uv;
+    out.tangent = vec4<f32>((mesh.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);
+    return out;
+}
+
+struct MaterialSample {
+    // base colour × texture (rgb linear, a: coverage/opacity)
+    base: vec4<f32>,
+    n: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    emissive: vec3<f32>,
+    // ambient occlusion to apply (1: none)
+    occlusion: f32,
+};
+
+// Every map of the material at this fragment. All samples come first: implicit derivatives
+// need uniform control flow, so callers may discard only afterwards.
+fn sample_material(in: VsOut) -> MaterialSample {
+    let uv = material_uv(in.uv);
+    var m: MaterialSample;
+    m.base = material.base_color * textureSample(base_color_map, material_sampler, uv);
+    let mr = textureSample(metallic_roughness_map, material_sampler, uv);
+    let occlusion = textureSample(occlusion_map, material_sampler, uv).r;
+    m.emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, uv).rgb;
+    let mapped = textureSample(normal_map, material_sampler, uv).xyz;
+    m.n = normalize(in.normal);
+    if material.has_normal_map != 0u {
+        // Tangent-space normal map; a degenerate tangent falls back to the vertex normal.
+        let t_len = length(in.tangent.xyz);
+        if t_len > 1e-6 {
+            let n = m.n;
+            let t = normalize(in.tangent.xyz - n * dot(n, in.tangent.xyz) / t_len * t_len);
+            let b = cross(n, t) * in.tangent.w;
+            let k = mapped * 2.0 - 1.0;
+            let bent = normalize(t * k.x * material.normal_scale + b * k.y * material.normal_scale + n * k.z);
+            m.n = select(n, bent, all(bent == bent));
+        }
+    }
+    m.roughness = clamp(material.roughness * mr.g, 0.03, 1.0);
+    m.metallic = clamp(material.metallic * mr.b, 0.0, 1.0);
+    m.occlusion = mix(1.0, occlusion, material.occlusion_strength);
+    return m;
+}
