@@ -69,11 +69,13 @@ pub struct MaterialBlock {
     /// Fragments with alpha below this are discarded (0: opaque, nothing is).
     pub alpha_cutoff: f32,
     pub occlusion_strength: f32,
-    pub _pad0: f32,
+    /// Bit k set: map k (base colour, metallic-roughness, normal, emissive, occlusion) reads
+    /// the second UV set.
+    pub uv_sets: u32,
     pub _pad1: f32,
 }
 
-/// Interleaved scene vertex: locations 0..3 of the standard vertex layout.
+/// Interleaved scene vertex: locations 0..4 of the standard vertex layout.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
 pub struct Vertex {
@@ -81,10 +83,12 @@ pub struct Vertex {
     pub normal: [f32; 3],
     pub uv: [f32; 2],
     pub tangent: [f32; 4],
+    /// The second texture coordinate set (glTF TEXCOORD_1; the first when absent).
+    pub uv1: [f32; 2],
 }
 
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 4] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
 
 #[cfg(test)]
 mod tests {

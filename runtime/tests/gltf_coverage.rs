@@ -24,20 +24,25 @@ fn write_model_with(dir: &Path, prims: &[(u32, &[u32])], image: Option<&str>, ed
     let mut bin: Vec<u8> = vec![];
     bin.extend(pos.iter().flat_map(|v| v.to_le_bytes()));
     bin.extend(uv.iter().flat_map(|v| v.to_le_bytes()));
+    // TEXCOORD_1 mirrors u: a map reading it sees the texture flipped left to right.
+    let uv1: Vec<f32> = uv.chunks(2).flat_map(|c| [1.0 - c[0], c[1]]).collect();
+    bin.extend(uv1.iter().flat_map(|v| v.to_le_bytes()));
     let mut views = vec![
         serde_json::json!({"buffer": 0, "byteOffset": 0, "byteLength": 48}),
         serde_json::json!({"buffer": 0, "byteOffset": 48, "byteLength": 32}),
+        serde_json::json!({"buffer": 0, "byteOffset": 80, "byteLength": 32}),
     ];
     let mut accessors = vec![
         serde_json::json!({"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, -1.0], "max": [1.0, 0.0, 1.0]}),
         serde_json::json!({"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}),
+        serde_json::json!({"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"}),
     ];
     let mut primitives = vec![];
     for (mode, idx) in prims {
         views.push(serde_json::json!({"buffer": 0, "byteOffset": bin.len(), "byteLength": idx.len() * 4}));
         bin.extend(idx.iter().flat_map(|v| v.to_le_bytes()));
         accessors.push(serde_json::json!({"bufferView": views.len() - 1, "componentType": 5125, "count": idx.len(), "type": "SCALAR"}));
-        primitives.push(serde_json::json!({"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": accessors.len() - 1, "mode": mode, "material": 0}));
+        primitives.push(serde_json::json!({"attributes": {"POSITION": 0, "TEXCOORD_0": 1, "TEXCOORD_1": 2}, "indices": accessors.len() - 1, "mode": mode, "material": 0}));
     }
     std::fs::write(dir.join("model.bin"), &bin).unwrap();
     let mut doc = serde_json::json!({
@@ -220,7 +225,7 @@ fn clamp_and_repeat_differ_where_uvs_exceed_one() {
 }
 
 #[test]
-fn alpha_mask_cuts_out_and_a_second_uv_set_warns() {
+fn alpha_mask_cuts_out() {
     let d = scratch("mask");
     two_texels(&d, 0); // the red half is fully transparent
     let masked = albedo_at(&d, |doc| doc["materials"][0]["alphaMode"] = serde_json::json!("MASK"), &[-0.5, 0.5]);
@@ -228,9 +233,23 @@ fn alpha_mask_cuts_out_and_a_second_uv_set_warns() {
     assert!(masked[1].1 < 1.0 && blue(masked[1].0), "{masked:?}");
     let opaque = albedo_at(&d, |_| {}, &[-0.5]);
     assert!(opaque[0].1 < 1.0, "OPAQUE ignores alpha");
+}
+
+/// A map on TEXCOORD_1 reads the second UV set (here u mirrored: the halves swap); a set
+/// beyond the second is read as the first, with a warning.
+#[test]
+fn texcoord_1_is_kept_per_map() {
+    let d = scratch("uv1");
+    two_texels(&d, 255);
+    let second = albedo_at(
+        &d,
+        |doc| doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = serde_json::json!(1),
+        &[-0.5, 0.5],
+    );
+    assert!(blue(second[0].0) && red(second[1].0), "{second:?}");
     write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"), |doc| {
         doc["materials"][0]["name"] = serde_json::json!("decal");
-        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = serde_json::json!(1);
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = serde_json::json!(2);
     });
     let (code, _, err) = lightbench(&[
         "check",
@@ -240,7 +259,7 @@ fn alpha_mask_cuts_out_and_a_second_uv_set_warns() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("material `decal` samples TEXCOORD_1 or higher, read as TEXCOORD_0"),
+        err.contains("material `decal` samples TEXCOORD_2 or higher, read as TEXCOORD_0"),
         "{err}"
     );
 }

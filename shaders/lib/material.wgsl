@@ -8,6 +8,7 @@ struct VsOut {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    @location(4) uv1: vec2<f32>,
 };
 
 // A scene vertex in the camera's clip space, with what the fragment stage needs.
@@ -18,6 +19,7 @@ fn camera_vertex(v: VertexIn) -> VsOut {
     out.world_pos = world.xyz;
     out.normal = (mesh.normal_matrix * vec4<f32>(v.normal, 0.0)).xyz;
     out.uv = v.uv;
+    out.uv1 = v.uv1;
     out.tangent = vec4<f32>((mesh.model * vec4<f32>(v.tangent.xyz, 0.0)).xyz, v.tangent.w);
     return out;
 }
@@ -36,13 +38,19 @@ struct MaterialSample {
 // Every map of the material at this fragment. All samples come first: implicit derivatives
 // need uniform control flow, so callers may discard only afterwards.
 fn sample_material(in: VsOut) -> MaterialSample {
-    let uv = material_uv(in.uv);
+    let uv = array<vec2<f32>, 5>(
+        material_uv(in.uv, in.uv1, MAP_BASE_COLOR),
+        material_uv(in.uv, in.uv1, MAP_METALLIC_ROUGHNESS),
+        material_uv(in.uv, in.uv1, MAP_NORMAL),
+        material_uv(in.uv, in.uv1, MAP_EMISSIVE),
+        material_uv(in.uv, in.uv1, MAP_OCCLUSION),
+    );
     var m: MaterialSample;
-    m.base = material.base_color * textureSample(base_color_map, material_sampler, uv);
-    let mr = textureSample(metallic_roughness_map, material_sampler, uv);
-    let occlusion = textureSample(occlusion_map, material_sampler, uv).r;
-    m.emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, uv).rgb;
-    let mapped = textureSample(normal_map, material_sampler, uv).xyz;
+    m.base = material.base_color * textureSample(base_color_map, material_sampler, uv[MAP_BASE_COLOR]);
+    let mr = textureSample(metallic_roughness_map, material_sampler, uv[MAP_METALLIC_ROUGHNESS]);
+    let occlusion = textureSample(occlusion_map, material_sampler, uv[MAP_OCCLUSION]).r;
+    m.emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, uv[MAP_EMISSIVE]).rgb;
+    let mapped = textureSample(normal_map, material_sampler, uv[MAP_NORMAL]).xyz;
     m.n = normalize(in.normal);
     if material.has_normal_map != 0u {
         // Tangent-space normal map; a degenerate tangent falls back to the vertex normal.

@@ -21,7 +21,8 @@ struct Material {
     alpha_cutoff: f32,
     // how much the occlusion map darkens the ambient term (glTF occlusion strength)
     occlusion_strength: f32,
-    _pad0: f32,
+    // bit k: map k (base colour, metallic-roughness, normal, emissive, occlusion) reads uv1
+    uv_sets: u32,
     _pad1: f32,
 };
 
@@ -30,6 +31,7 @@ struct VertexIn {
     @location(1) normal: vec3<f32>,
     @location(2) uv: vec2<f32>,
     @location(3) tangent: vec4<f32>,
+    @location(4) uv1: vec2<f32>,
 };
 
 @group(1) @binding(0) var<uniform> mesh: Mesh;
@@ -41,8 +43,15 @@ struct VertexIn {
 @group(1) @binding(6) var material_sampler: sampler;
 @group(1) @binding(7) var occlusion_map: texture_2d<f32>;
 
-// The material's texture coordinates for a vertex's UV.
-fn material_uv(uv: vec2<f32>) -> vec2<f32> {
+const MAP_BASE_COLOR: u32 = 0u;
+const MAP_METALLIC_ROUGHNESS: u32 = 1u;
+const MAP_NORMAL: u32 = 2u;
+const MAP_EMISSIVE: u32 = 3u;
+const MAP_OCCLUSION: u32 = 4u;
+
+// The texture coordinates map `map` samples: its UV set, through the material's transform.
+fn material_uv(uv0: vec2<f32>, uv1: vec2<f32>, map: u32) -> vec2<f32> {
+    let uv = select(uv0, uv1, (material.uv_sets & (1u << map)) != 0u);
     let p = vec3<f32>(uv, 1.0);
     return vec2<f32>(dot(material.uv_row0.xyz, p), dot(material.uv_row1.xyz, p));
 }

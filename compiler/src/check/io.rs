@@ -8,11 +8,12 @@ use crate::ir::*;
 use crate::shader::reflect::{self, IoVar};
 
 /// The vertex layout the runtime gives `draw: Scene` passes: (location, name, WGSL type).
-pub const SCENE_VERTEX: [(u32, &str, naga::ScalarKind, u32); 4] = [
+pub const SCENE_VERTEX: [(u32, &str, naga::ScalarKind, u32); 5] = [
     (0, "position", naga::ScalarKind::Float, 3),
     (1, "normal", naga::ScalarKind::Float, 3),
     (2, "uv", naga::ScalarKind::Float, 2),
     (3, "tangent", naga::ScalarKind::Float, 4),
+    (4, "uv1", naga::ScalarKind::Float, 2),
 ];
 
 fn ty_word(v: &IoVar) -> String {

@@ -171,7 +171,7 @@ fn material_block(m: &Material) -> MaterialBlock {
             _ => 0.0,
         },
         occlusion_strength: if m.occlusion_texture.is_some() { m.occlusion_strength } else { 0.0 },
-        _pad0: 0.0,
+        uv_sets: m.uv_sets,
         _pad1: 0.0,
     }
 }

@@ -9,6 +9,7 @@ fn v(p: Vec3, n: Vec3, uv: Vec2, t: Vec3) -> Vertex {
         normal: n.to_array(),
         uv: uv.to_array(),
         tangent: [t.x, t.y, t.z, 1.0],
+        uv1: uv.to_array(),
     }
 }
 

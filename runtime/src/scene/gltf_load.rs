@@ -115,6 +115,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
                 gltf::material::AlphaMode::Blend => AlphaMode::Blend,
             },
             sampler: material_sampler(&m),
+            uv_sets: uv_sets(&m),
         });
         material_warnings(&m, &mut warnings);
     }
@@ -152,6 +153,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
                     .collect();
                 let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|i| i.collect());
                 let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|i| i.into_f32().collect());
+                let uvs1: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|i| i.into_f32().collect());
                 let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|i| i.collect());
                 let indices: Vec<u32> = match reader.read_indices() {
                     Some(i) => i.into_u32().collect(),
@@ -168,6 +170,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
                 for (what, n) in [
                     ("NORMAL", normals.as_ref().map(|v| v.len())),
                     ("TEXCOORD_0", uvs.as_ref().map(|v| v.len())),
+                    ("TEXCOORD_1", uvs1.as_ref().map(|v| v.len())),
                     ("TANGENT", tangents.as_ref().map(|v| v.len())),
                 ] {
                     if n.is_some_and(|n| n != positions.len()) {
@@ -185,6 +188,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
                         normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
                         uv: uvs.as_ref().map(|u| u[i]).unwrap_or([0.0; 2]),
                         tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
+                        uv1: uvs1.as_ref().or(uvs.as_ref()).map(|u| u[i]).unwrap_or([0.0; 2]),
                     })
                     .collect();
                 if normals.is_none() {
@@ -300,19 +304,33 @@ fn material_sampler(m: &gltf::Material) -> SamplerDesc {
     }
 }
 
+/// The UV set of each map (base colour, metallic-roughness, normal, emissive, occlusion).
+fn map_sets(m: &gltf::Material) -> [Option<u32>; 5] {
+    let pbr = m.pbr_metallic_roughness();
+    [
+        pbr.base_color_texture().map(|t| t.tex_coord()),
+        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
+        m.normal_texture().map(|t| t.tex_coord()),
+        m.emissive_texture().map(|t| t.tex_coord()),
+        m.occlusion_texture().map(|t| t.tex_coord()),
+    ]
+}
+
+/// Bit k set: map k reads TEXCOORD_1 (the material block's `uv_sets`).
+fn uv_sets(m: &gltf::Material) -> u32 {
+    map_sets(m)
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| **s == Some(1))
+        .map(|(k, _)| 1 << k)
+        .sum()
+}
+
 /// What a material asks for that is not drawn as asked.
 fn material_warnings(m: &gltf::Material, warnings: &mut Vec<String>) {
     let name = m.name().unwrap_or("?");
-    let pbr = m.pbr_metallic_roughness();
-    let sets = [
-        pbr.base_color_texture().map(|t| t.tex_coord()),
-        pbr.metallic_roughness_texture().map(|t| t.tex_coord()),
-        m.emissive_texture().map(|t| t.tex_coord()),
-        m.occlusion_texture().map(|t| t.tex_coord()),
-    ];
-    let uses_second_uv = sets.into_iter().flatten().any(|c| c != 0);
-    if uses_second_uv {
-        warnings.push(format!("material `{name}` samples TEXCOORD_1 or higher, read as TEXCOORD_0"));
+    if map_sets(m).iter().flatten().any(|c| *c > 1) {
+        warnings.push(format!("material `{name}` samples TEXCOORD_2 or higher, read as TEXCOORD_0"));
     }
 }
 

@@ -115,6 +115,9 @@ pub struct Material {
     pub uv_transform: [[f32; 3]; 2],
     pub alpha: AlphaMode,
     pub sampler: SamplerDesc,
+    /// Bit k set: map k (base colour, metallic-roughness, normal, emissive, occlusion) reads
+    /// TEXCOORD_1.
+    pub uv_sets: u32,
 }
 
 impl Material {
@@ -135,6 +138,7 @@ impl Material {
             uv_transform: IDENTITY_UV,
             alpha: AlphaMode::Opaque,
             sampler: SamplerDesc::default(),
+            uv_sets: 0,
         }
     }
 }
