@@ -116,8 +116,16 @@ fn sixteen_bit_and_grey_alpha_pngs_load() {
     // A 2×1 16-bit RGB image: full and half intensity.
     let img = image::ImageBuffer::<image::Rgb<u16>, Vec<u16>>::from_raw(2, 1, vec![65535, 32768, 0, 0, 257, 65535]).unwrap();
     image::DynamicImage::ImageRgb16(img).save(d.join("normal16.png")).unwrap();
-    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("normal16.png"));
+    // Used as the material's normal map, as Substance exports do.
+    write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("normal16.png"), |doc| {
+        let pbr = &mut doc["materials"][0]["pbrMetallicRoughness"];
+        let info = pbr["baseColorTexture"].take();
+        pbr.as_object_mut().unwrap().remove("baseColorTexture");
+        doc["materials"][0]["normalTexture"] = info;
+    });
     let s = scene::load(scene_file(&d, "model.gltf").to_str().unwrap()).unwrap();
+    assert_eq!(s.materials[0].normal_texture, Some(0));
+    assert!(!s.textures[0].srgb, "normal maps are linear data");
     assert_eq!(s.textures[0].rgba, vec![255, 128, 0, 255, 0, 1, 255, 255]);
     let grey = image::GrayAlphaImage::from_raw(1, 1, vec![200, 100]).unwrap();
     image::DynamicImage::ImageLumaA8(grey).save(d.join("ga.png")).unwrap();
