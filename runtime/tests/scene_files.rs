@@ -180,24 +180,13 @@ fn extreme_accepted_values_render_finite() {
                     continue;
                 }
                 let scene = scene::instantiate(&desc, &mut diags).expect("models load");
-                let (exe, _) = lightbench::render::compile_in(&ws, &g, &deferred(), None, &scene, &[]).unwrap_or_else(|e| panic!("{e}"));
-                // One executor for all: a scene swap keeps its pipelines, as a viewer's would.
-                let ex = match &mut executor {
-                    None => executor.insert(Executor::new(&g, &exe, &scene).unwrap()),
-                    Some(ex) => {
-                        ex.replace_scene(&g, &exe, &scene).unwrap_or_else(|e| panic!("{e}"));
-                        ex
-                    }
-                };
-                for f in 0..2 {
-                    let inputs = ex.inputs(f as f32 / 60.0);
-                    ex.render_frame(&g, &inputs).unwrap_or_else(|e| panic!("{e}"));
-                }
-                for res in ["hdr", "ldr"] {
-                    let img = ex.read_texture(&g, res, 0, 0).unwrap();
-                    let what = format!("{} with `{v}` at byte {start}", file.display());
-                    assert_eq!(img.non_finite(), 0, "{what}: {res} has NaN/Inf");
-                }
+                render_finite(
+                    &g,
+                    &ws,
+                    &mut executor,
+                    &scene,
+                    &format!("{} with `{v}` at byte {start}", file.display()),
+                );
                 rendered += 1;
             }
         }
@@ -207,6 +196,27 @@ fn extreme_accepted_values_render_finite() {
         rendered > 20 && rejected > 20,
         "both outcomes exercised: {rendered} rendered, {rejected} rejected"
     );
+}
+
+/// Render two frames of `scene` (32×32 or as set) through one executor shared by the calls —
+/// a scene swap keeps its pipelines, as a viewer's would — and assert that neither the
+/// output nor the HDR buffer holds NaN or Inf. `what` names the case in failures.
+fn render_finite(g: &lightbench::gpu::Gpu, ws: &Workspace, executor: &mut Option<Executor>, scene: &lightbench::scene::Scene, what: &str) {
+    let (exe, _) = lightbench::render::compile_in(ws, g, &deferred(), None, scene, &[]).unwrap_or_else(|e| panic!("{e}\n{what}"));
+    let ex = match executor {
+        None => executor.insert(Executor::new(g, &exe, scene).unwrap()),
+        Some(ex) => {
+            ex.replace_scene(g, &exe, scene).unwrap_or_else(|e| panic!("{e}\n{what}"));
+            ex
+        }
+    };
+    for f in 0..2 {
+        let inputs = ex.inputs(f as f32 / 60.0);
+        ex.render_frame(g, &inputs).unwrap_or_else(|e| panic!("{e}\n{what}"));
+    }
+    for res in ["hdr", "ldr"] {
+        assert_eq!(ex.read_texture(g, res, 0, 0).unwrap().non_finite(), 0, "{res} has NaN/Inf: {what}");
+    }
 }
 
 /// Byte ranges of the numbers in a scene file (outside comments).
@@ -287,25 +297,7 @@ fn mutated_scene_files_are_rejected_with_a_location_or_render_finite() {
     let mut executor: Option<Executor> = None;
     for (text, mut scene) in accepted.into_values() {
         scene.size = (32, 32);
-        let (exe, _) = lightbench::render::compile_in(&ws, &g, &deferred(), None, &scene, &[]).unwrap_or_else(|e| panic!("{e}\n{text}"));
-        let ex = match &mut executor {
-            None => executor.insert(Executor::new(&g, &exe, &scene).unwrap()),
-            Some(ex) => {
-                ex.replace_scene(&g, &exe, &scene).unwrap_or_else(|e| panic!("{e}\n{text}"));
-                ex
-            }
-        };
-        for f in 0..2 {
-            let inputs = ex.inputs(f as f32 / 60.0);
-            ex.render_frame(&g, &inputs).unwrap_or_else(|e| panic!("{e}\n{text}"));
-        }
-        for res in ["hdr", "ldr"] {
-            assert_eq!(
-                ex.read_texture(&g, res, 0, 0).unwrap().non_finite(),
-                0,
-                "{res} has NaN/Inf for\n{text}"
-            );
-        }
+        render_finite(&g, &ws, &mut executor, &scene, &text);
     }
 }
 
