@@ -1033,3 +1033,20 @@ fn hdr_output_must_name_a_texture() {
         17,
     );
 }
+
+/// A `read_write` storage buffer listed under `reads` is a `binding-access` error and nothing
+/// else: it is bound, so no `unused-read` warning as well.
+#[test]
+fn read_write_storage_under_reads_is_one_error_without_a_false_warning() {
+    let out = run(&Case {
+        pipeline: &[
+            ("\n    ],", "\n        Compute(name: \"sum\", shader: \"sum.wgsl\", reads: [\"data\"], dispatch: Groups(1, 1, 1)),\n    ],"),
+            ("\"out\": Texture(format: Rgba8Unorm),", "\"out\": Texture(format: Rgba8Unorm),\n        \"data\": Buffer(size: 64),"),
+        ],
+        files: &[("shaders/sum.wgsl", "@group(2) @binding(0) var<storage, read_write> data: array<u32>;\n@compute @workgroup_size(1)\nfn cs_main() {\n    data[0] = data[1];\n}\n")],
+        ..BASE
+    });
+    let codes: Vec<String> = out.located().into_iter().map(|d| d.0).collect();
+    assert!(codes.contains(&"binding-access".to_string()), "{}", out.dump());
+    assert!(!codes.contains(&"unused-read".to_string()), "no false warning: {}", out.dump());
+}

@@ -16,6 +16,15 @@ pub struct Image {
 }
 
 impl Image {
+    /// Copy the red channel to green and blue: a one-channel texture (depth, AO, a mask)
+    /// then reads as grey rather than red.
+    pub fn grey_from_red(&mut self) {
+        for px in self.rgba.chunks_exact_mut(4) {
+            px[1] = px[0];
+            px[2] = px[0];
+        }
+    }
+
     pub fn pixel(&self, x: u32, y: u32) -> [f32; 4] {
         let i = ((y * self.width + x) * 4) as usize;
         [self.rgba[i], self.rgba[i + 1], self.rgba[i + 2], self.rgba[i + 3]]

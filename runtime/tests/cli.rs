@@ -55,6 +55,23 @@ fn check_json_is_one_object_per_diagnostic() {
     assert_eq!((d0["line"].as_u64(), d0["column"].as_u64()), (Some(4), Some(73)));
     assert_eq!((d0["end"]["line"].as_u64(), d0["end"]["column"].as_u64()), (Some(4), Some(77)));
     assert!(d0["file"].as_str().unwrap().ends_with("p.ron"));
+    // Secondary labels come with their own locations: the shader-side one of a binding error.
+    std::fs::write(d.join("shaders/fill.wgsl"), "@group(2) @binding(0) var missing: texture_2d<f32>;\n@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return textureLoad(missing, vec2<i32>(0), 0);\n}\n").unwrap();
+    std::fs::write(d.join("p.ron"), "Pipeline(\n    name: \"x\",\n    resources: {\"out\": Texture(format: Rgba8Unorm)},\n    passes: [Fullscreen(name: \"f\", shader: \"fill.wgsl\", color: [\"out\"])],\n    output: \"out\",\n)\n").unwrap();
+    let (code, out, _) = lightbench(&["check", "--format", "json", d.join("p.ron").to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    let d0: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
+    assert_eq!(d0["code"], "binding-unsatisfied", "{d0}");
+    let labels = d0["labels"].as_array().unwrap();
+    let files: Vec<&str> = labels.iter().map(|l| l["file"].as_str().unwrap()).collect();
+    assert!(
+        files.iter().any(|f| f.ends_with("fill.wgsl")) && files.iter().any(|f| f.ends_with("p.ron")),
+        "{d0}"
+    );
+    assert!(
+        labels.iter().any(|l| l["primary"] == false && l["line"].as_u64() == Some(4)),
+        "the pass is a secondary label: {d0}"
+    );
 }
 
 #[test]

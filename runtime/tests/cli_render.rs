@@ -60,6 +60,29 @@ fn render_writes_image_dumps_timings_and_manifest() {
     assert!(lum[0] > 0.0 && lum[1] >= lum[0], "{lum:?}");
 }
 
+/// PNG dumps of one-channel textures are grey; buffer dumps are reported like textures.
+#[test]
+fn png_dumps_of_single_channel_textures_are_grey() {
+    let d = temp("grey");
+    let dump = d.join("dump");
+    let (code, _, err) = run(&[
+        "render",
+        "--out",
+        d.join("x.png").to_str().unwrap(),
+        "--dump",
+        "gbuf.depth,lum",
+        "--dump-format",
+        "png",
+        "--dump-dir",
+        dump.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains(&format!("dumped {}", dump.join("lum.json").display())), "{err}");
+    let depth = image::open(dump.join("gbuf.depth.png")).unwrap().to_rgba8();
+    assert!(depth.pixels().all(|p| p.0[0] == p.0[1] && p.0[1] == p.0[2]), "grey, not red");
+    assert!(depth.pixels().any(|p| p.0[0] > 100), "depth values show");
+}
+
 #[test]
 fn render_exr_output_and_bad_arguments() {
     let d = temp("exr");

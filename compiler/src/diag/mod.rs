@@ -145,13 +145,24 @@ impl Diagnostic {
         }
     }
 
-    /// One JSON object: severity, code, message, file, line, column, end, notes.
+    /// One JSON object: severity, code, message, file, line, column, end, notes, and every
+    /// label (primary and secondary, e.g. the shader-side location) with its own position.
     pub fn to_json(&self, sources: &SourceMap) -> serde_json::Value {
+        let labels: Vec<serde_json::Value> = self
+            .labels
+            .iter()
+            .map(|l| {
+                let f = sources.get(l.span.file);
+                let (line, column) = f.line_col(l.span.start as usize);
+                serde_json::json!({"file": f.name, "line": line, "column": column, "message": l.message, "primary": l.primary})
+            })
+            .collect();
         let mut obj = serde_json::json!({
             "severity": self.severity,
             "code": self.code,
             "message": self.message,
             "notes": self.notes,
+            "labels": labels,
         });
         if let Some(span) = self.primary_span() {
             let f = sources.get(span.file);

@@ -288,9 +288,15 @@ fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::D
                 let path = dir.join(format!("{file}.json"));
                 let text = serde_json::to_string(&words).map_err(|e| Error::io(&path, e))?;
                 write_atomic(&path, text.as_bytes())?;
+                eprintln!("dumped {}", path.display());
                 continue;
             }
-            let img = ex.read_texture(gpu, name, inst, layer)?;
+            let mut img = ex.read_texture(gpu, name, inst, layer)?;
+            if let lightbench_compiler::plan::ResourceShape::Texture { format, .. } = &res.shape {
+                if format.components() == 1 {
+                    img.grey_from_red();
+                }
+            }
             let path = dir.join(format!("{file}.{}", if format == super::DumpFormat::Png { "png" } else { "exr" }));
             img.save(&path)?;
             eprintln!("dumped {}", path.display());

@@ -18,9 +18,13 @@ impl Ctx<'_> {
                 self.sampled(u, res_name, t, (*kind, *dim, *multisampled), diags)
             }
             (BindingTy::StorageTexture { format, write, read, dim }, ResourceKind::Texture(t)) => {
+                // Bound, so used: a wrong access is `binding-access`, never also `unused-read`.
+                self.used_reads.push(res_name.to_string());
                 self.storage_texture(u, res_name, t, (*format, *write, *read, *dim), writable, diags)
             }
             (BindingTy::Storage { read_only, size }, ResourceKind::Buffer(b)) => {
+                // Bound, so used: a wrong access is `binding-access`, never also `unused-read`.
+                self.used_reads.push(res_name.to_string());
                 let gspan = u.stage.module.global_span(u.g.handle);
                 if !read_only && !writable {
                     diags.push(
@@ -34,9 +38,6 @@ impl Ctx<'_> {
                     return None;
                 }
                 too_small(u, res_name, b.size.value, *size, Some(b.size.span), diags)?;
-                if *read_only {
-                    self.used_reads.push(res_name.to_string());
-                }
                 self.count(&u.stages, |c| c.storage_buffers += 1);
                 Some(BindingType::Storage {
                     read_only: *read_only,
