@@ -203,3 +203,34 @@ fn convert_and_fmt() {
     assert_eq!(lightbench(&["convert", "pipelines/deferred.ron", "--to", "yaml"]).0, 2);
     assert_eq!(lightbench(&["fmt", "pipelines/deferred.ron"]).0, 2);
 }
+
+#[test]
+fn params_on_plan_and_check_are_typed_and_range_checked() {
+    let (code, out, err) = lightbench(&["plan", "pipelines/deferred.ron", "--json", "--param", "exposure.ev=2.5"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("param exposure.ev = 2.5 (was 0)"), "{err}");
+    let plan: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let ev = plan["params"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "exposure.ev")
+        .unwrap();
+    assert_eq!(ev["default"], serde_json::json!({"Float": 2.5}), "the Plan carries the value");
+    assert_eq!(lightbench(&["check", "pipelines/", "--param", "exposure.ev=-3"]).0, 0);
+    for (cmd, arg, msg) in [
+        ("plan", "exposure.ev=31", "31 is above its max 30"),
+        ("check", "exposure.ev=31", "31 is above its max 30"),
+        (
+            "check",
+            "exposure.evv=1",
+            "no checked pipeline has this parameter (did you mean `exposure.ev`?)",
+        ),
+        ("check", "shadow.pcf=maybe", "`maybe` is not `true` or `false`"),
+    ] {
+        let target = if cmd == "plan" { "pipelines/deferred.ron" } else { "pipelines/" };
+        let (code, _, err) = lightbench(&[cmd, target, "--param", arg]);
+        assert_eq!(code, 2, "{cmd} {arg}: {err}");
+        assert!(err.contains(msg), "{cmd} {arg}: {err}");
+    }
+}

@@ -13,7 +13,7 @@ mod select;
 pub use build::build_plan;
 pub use cull::{schedule, Schedule};
 pub use explain::{to_dot, to_text, work_word};
-pub use params::{ParamError, ParamValues};
+pub use params::{plan_param, ParamError, ParamValues};
 pub use select::{select, Selection};
 
 use crate::check::PassVersion;

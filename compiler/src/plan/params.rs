@@ -8,7 +8,7 @@ use crate::ir::{out_of_range, Param, ParamType, ParamValue};
 use crate::layout::{FieldType, UniformBlock};
 use std::collections::BTreeMap;
 
-pub(super) fn plan_param(p: &Param) -> PlanParam {
+pub fn plan_param(p: &Param) -> PlanParam {
     PlanParam {
         name: p.name.value.clone(),
         ty: p.ty.value.clone(),

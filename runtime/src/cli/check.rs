@@ -4,7 +4,7 @@ use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
 use lightbench_compiler::{pipeline_files, Session, Workspace};
 use std::path::{Path, PathBuf};
 
-pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>, shaders: Option<&Path>) -> i32 {
+pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>, shaders: Option<&Path>, params: &[String]) -> i32 {
     let profile = match super::profile(profile) {
         Ok(p) => p,
         Err(e) => return usage_error(e),
@@ -19,6 +19,9 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
             Ok(f) => files.extend(f),
             Err(e) => return usage_error(format!("cannot list {}: {e}", p.display())),
         }
+    }
+    if let Err(e) = check_params(&files, params) {
+        return usage_error(e);
     }
     let mut errors = 0;
     let mut warnings = 0;
@@ -69,6 +72,38 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     } else {
         EXIT_OK
     }
+}
+
+/// `--param` values: each name declared by some pipeline, and its value valid for every
+/// pipeline that declares it.
+fn check_params(files: &[PathBuf], params: &[String]) -> crate::error::Result<()> {
+    let params = super::parse_assignments("--param", "NAME=VALUE", params)?;
+    if params.is_empty() {
+        return Ok(());
+    }
+    let declared: Vec<_> = files
+        .iter()
+        .filter(|f| !is_scene_file(f))
+        .filter_map(|f| Session::new().load_pipeline(f))
+        .flat_map(|p| p.params.iter().map(lightbench_compiler::plan::plan_param).collect::<Vec<_>>())
+        .collect();
+    for (name, text) in &params {
+        let decls: Vec<_> = declared.iter().filter(|p| &p.name == name).collect();
+        if decls.is_empty() {
+            let hint = lightbench_compiler::diag::did_you_mean(name, declared.iter().map(|p| p.name.as_str()))
+                .map(|m| format!(" (did you mean `{m}`?)"))
+                .unwrap_or_default();
+            return Err(crate::error::Error::Usage(format!(
+                "--param `{name}`: no checked pipeline has this parameter{hint}"
+            )));
+        }
+        for p in decls {
+            let bad = |why: String| crate::error::Error::Usage(format!("--param `{name}`: {why}"));
+            let value = lightbench_compiler::ir::ParamValue::parse(&p.ty, text).map_err(bad)?;
+            lightbench_compiler::plan::ParamValues::check(std::slice::from_ref(p), name, &value).map_err(|e| bad(e.to_string()))?;
+        }
+    }
+    Ok(())
 }
 
 fn is_scene_file(path: &Path) -> bool {

@@ -52,6 +52,9 @@ pub enum Command {
         /// Shader root (default: `shaders/` beside or above the pipeline file).
         #[arg(long)]
         shaders: Option<PathBuf>,
+        /// Check a parameter value against the pipelines that declare it (repeatable).
+        #[arg(long = "param", value_name = "NAME=VALUE")]
+        params: Vec<String>,
     },
     /// Print the Plan for one configuration: passes kept and culled, layouts, resources, memory.
     Plan(plan::Args),
@@ -97,7 +100,8 @@ pub fn run(cli: Cli) -> i32 {
             profile,
             scene,
             shaders,
-        } => check::run(&paths, format, &profile, scene.as_deref(), shaders.as_deref()),
+            params,
+        } => check::run(&paths, format, &profile, scene.as_deref(), shaders.as_deref(), &params),
         Command::Plan(args) => plan::run(args),
         Command::Render(args) => render::run(args),
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),

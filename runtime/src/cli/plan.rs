@@ -17,6 +17,10 @@ pub struct Args {
     /// Scene file or built-in scene (cornell, colonnade, many_lights).
     #[arg(long)]
     pub scene: Option<String>,
+    /// Set a parameter's value in the Plan, e.g. --param exposure.ev=2 (repeatable; typed and
+    /// range-checked).
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
     #[arg(long, default_value = "vulkan")]
     pub profile: String,
     /// Say why each variant option was chosen and each pass culled; show full layouts.
@@ -125,9 +129,25 @@ pub fn run(a: Args) -> i32 {
             Err(e) => return usage_error(e),
         }
     }
+    let params = match super::parse_assignments("--param", "NAME=VALUE", &a.params) {
+        Ok(v) => v,
+        Err(e) => return usage_error(e),
+    };
     let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
     super::check::emit(&s, Format::Human);
-    let Some(plan) = plan else { return EXIT_ERRORS };
+    let Some(mut plan) = plan else { return EXIT_ERRORS };
+    // The Plan carries the values set here as its parameters' values.
+    match crate::render::parse_params(&plan, &params) {
+        Ok(values) => {
+            for (name, value) in values {
+                if let Some(p) = plan.params.iter_mut().find(|p| p.name == name) {
+                    eprintln!("param {name} = {} (was {})", value.describe(), p.default.describe());
+                    p.default = value;
+                }
+            }
+        }
+        Err(e) => return usage_error(e),
+    }
     if a.dot {
         print!("{}", plan::to_dot(&plan));
     } else if a.json {
