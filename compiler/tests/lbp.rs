@@ -659,3 +659,26 @@ mod generated {
         }
     }
 }
+
+/// A misspelt keyword gets the nearest keyword allowed where it stands, and the list of what
+/// was expected names each thing once.
+#[test]
+fn misspelt_keywords_get_a_suggestion() {
+    let text =
+        "pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {\n    color out\n    param exposure\n}\noutput out\n";
+    let (_, s) = parse("p.lbp", text);
+    let d = &s.diags.list[0];
+    assert_eq!(d.code, "lbp-syntax");
+    assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((5, 5)));
+    assert!(d.notes.iter().any(|n| n == "did you mean `params`?"), "{:?}", d.notes);
+    let words: Vec<&str> = d.message.split(" or ").collect();
+    let mut unique = words.clone();
+    unique.dedup();
+    assert_eq!(words.len(), unique.len(), "no repeats: {}", d.message);
+    let (_, s) = parse("p.lbp", "pipeline p\ntextur out: Rgba8Unorm viewport\noutput out\n");
+    assert!(
+        s.diags.list[0].notes.iter().any(|n| n == "did you mean `texture`?"),
+        "{:?}",
+        s.diags.list[0]
+    );
+}

@@ -97,11 +97,19 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
     } else {
         format!("`{}`", &text[start..end.max(start + first).min(text.len())])
     };
+    let mut suggestion = None;
     let message = match &e.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } => {
-            let mut words: Vec<&str> = positives.iter().map(rule_word).collect();
-            words.dedup();
-            words.retain(|w| *w != "something else");
+            let mut words: Vec<&str> = vec![];
+            for w in positives.iter().map(rule_word) {
+                if w != "something else" && !words.contains(&w) {
+                    words.push(w);
+                }
+            }
+            // A misspelt keyword (`param` in a pass, `textur`): the keywords allowed here.
+            let token = text.get(start..end).unwrap_or("");
+            let keywords: Vec<&str> = positives.iter().filter_map(keyword).collect();
+            suggestion = crate::diag::did_you_mean(token, keywords.iter().copied()).map(|k| format!("did you mean `{k}`?"));
             if words.is_empty() {
                 format!("unexpected {found}")
             } else {
@@ -110,7 +118,44 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
         }
         pest::error::ErrorVariant::CustomError { message } => message.clone(),
     };
-    Diagnostic::error(Code::LbpSyntax, message, Span::new(file, start, end.max(start)))
+    let d = Diagnostic::error(Code::LbpSyntax, message, Span::new(file, start, end.max(start)));
+    match suggestion {
+        Some(s) => d.with_note(s),
+        None => d,
+    }
+}
+
+/// The keyword that starts a rule, for suggestions.
+fn keyword(r: &Rule) -> Option<&'static str> {
+    Some(match r {
+        Rule::param => "param",
+        Rule::sampler => "sampler",
+        Rule::texture => "texture",
+        Rule::buffer => "buffer",
+        Rule::variant => "variant",
+        Rule::option => "option",
+        Rule::output => "output",
+        Rule::hdr_output => "hdr_output",
+        Rule::vertex => "vertex",
+        Rule::fragment => "fragment",
+        Rule::entry => "entry",
+        Rule::draw => "draw",
+        Rule::cull => "cull",
+        Rule::instances => "instances",
+        Rule::multiview => "multiview",
+        Rule::color => "color",
+        Rule::depth => "depth",
+        Rule::reads => "reads",
+        Rule::writes => "writes",
+        Rule::params => "params",
+        Rule::param_block => "param_block",
+        Rule::bind => "bind",
+        Rule::when => "when",
+        Rule::per_light => "per_light",
+        Rule::per_face => "per_face",
+        Rule::dispatch => "dispatch",
+        _ => return None,
+    })
 }
 
 /// Parse LBP text into the syntax tree. Syntax problems go to `diags`.
