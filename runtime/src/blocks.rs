@@ -45,6 +45,9 @@ pub struct InstanceBlock {
     pub face: u32,
     pub view_count: u32,
     pub _pad: u32,
+    /// The pass's own target size in pixels (its first attachment, or the texture a compute
+    /// dispatch is sized from; else the output size), then the reciprocals.
+    pub target_size: [f32; 4],
 }
 
 #[repr(C)]

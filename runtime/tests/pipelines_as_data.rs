@@ -133,3 +133,36 @@ fn history_ping_pong_and_sized_dispatch() {
         );
     }
 }
+
+/// A pass rendering at half the output size finds its own size in `instance.target_size`
+/// (the frame block's `resolution` is the output size): its UVs span 0..1.
+#[test]
+fn a_half_size_pass_knows_its_target_size() {
+    let d = project("half");
+    std::fs::write(
+        d.join("shaders/uv.wgsl"),
+        "#include \"lib/frame.wgsl\"\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let uv = pos.xy * instance.target_size.zw;\n    let out_uv = pos.xy * frame.resolution.zw;\n    return vec4<f32>(uv, out_uv.x, 1.0);\n}\n",
+    )
+    .unwrap();
+    let pipeline = d.join("pipelines/half.ron");
+    std::fs::write(
+        &pipeline,
+        "Pipeline(\n    name: \"half\",\n    resources: {\"half\": Texture(format: Rgba16Float, size: Viewport(0.5))},\n    passes: [Fullscreen(name: \"uv\", shader: \"uv.wgsl\", color: [\"half\"])],\n    output: \"half\",\n)\n",
+    )
+    .unwrap();
+    let g = gpu();
+    let mut scene = builtin::cornell();
+    scene.size = (64, 64);
+    let ex = render_with(&g, &pipeline, &scene, &[], 1);
+    let img = output(&g, &ex);
+    assert_eq!((img.width, img.height), (32, 32));
+    let p = img.pixel(31, 31);
+    assert!(
+        (p[0] - 31.5 / 32.0).abs() < 1e-3 && (p[1] - 31.5 / 32.0).abs() < 1e-3,
+        "target UV: {p:?}"
+    );
+    assert!(
+        (p[2] - 31.5 / 64.0).abs() < 1e-3,
+        "the frame's resolution is the output size: {p:?}"
+    );
+}

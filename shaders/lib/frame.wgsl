@@ -12,7 +12,8 @@ struct Frame {
     inv_view_proj: mat4x4<f32>,
     // xyz: camera position (world); w: unused
     camera_pos: vec4<f32>,
-    // x, y: target size in pixels; z, w: their reciprocals
+    // x, y: the output (viewport) size in pixels — the Plan's resolution; z, w: reciprocals.
+    // A pass rendering at another size (e.g. `Viewport(0.5)`) finds its own in `instance.target_size`.
     resolution: vec4<f32>,
     time: f32,
     frame_index: u32,
@@ -45,6 +46,9 @@ struct Instance {
     face: u32,
     view_count: u32,
     _pad: u32,
+    // x, y: this pass's target size in pixels (its first attachment, or the texture a compute
+    // dispatch is sized from; else the output size); z, w: their reciprocals
+    target_size: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -67,6 +67,21 @@ impl Binder<'_> {
             .ok_or_else(|| Error::Plan(format!("resource #{} is not in the pool", res.0)))
     }
 
+    /// The size a pass renders at: its first colour (else depth) attachment, or the texture its
+    /// dispatch is sized from, else the Plan's resolution.
+    fn target_size(&self, pp: &PlanPass) -> (u32, u32) {
+        let t = pp.work.targets();
+        let attachment = t.and_then(|t| t.color.first().map(|c| c.resource).or(t.depth.as_ref().map(|d| d.resource)));
+        let sized = match &pp.work {
+            lightbench_compiler::plan::Work::Compute { sized_from, .. } => *sized_from,
+            _ => None,
+        };
+        match attachment.or(sized).map(|r| &self.plan.res(r).shape) {
+            Some(lightbench_compiler::plan::ResourceShape::Texture { extent, .. }) => *extent,
+            _ => self.plan.resolution,
+        }
+    }
+
     /// Every repetition of a pass (lights of its kinds × faces), writing each one's instance
     /// block at its slot; `slot` advances past the pass's slots.
     pub fn reps(&self, pp: &PlanPass, layouts: &[wgpu::BindGroupLayout], params: &[wgpu::Buffer], slot: &mut u64) -> Result<Vec<Rep>> {
@@ -80,11 +95,13 @@ impl Binder<'_> {
         let mut reps = vec![];
         for &light in &lights {
             for &face in &faces {
+                let (w, h) = self.target_size(pp);
                 let inst = InstanceBlock {
                     light: light.unwrap_or(0),
                     face,
                     view_count: pp.work.multiview().unwrap_or(1),
                     _pad: 0,
+                    target_size: [w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32],
                 };
                 self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
                 let mut rep = Rep {
@@ -152,7 +169,7 @@ impl Binder<'_> {
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,
-                    size: std::num::NonZeroU64::new(16),
+                    size: std::num::NonZeroU64::new(std::mem::size_of::<InstanceBlock>() as u64),
                 }),
                 BindSource::Params => {
                     let i = pp.uniform_blocks.iter().position(|b| b.global == e.name);
