@@ -47,14 +47,25 @@ pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result
 
 /// `render` with parameter overrides (each checked against the Plan's parameters).
 pub fn render_with(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
-    render_scene(gpu, exe, scene.clone(), frames, params)
+    render_scene(gpu, exe, scene.clone(), frames, params, &[])
 }
 
 /// `render_with` taking the scene, whose textures are dropped once on the GPU.
-pub fn render_scene(gpu: &Gpu, exe: &Executable, scene: Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
+/// and with external resources filled from files (`(name, file)`).
+pub fn render_scene(
+    gpu: &Gpu,
+    exe: &Executable,
+    scene: Scene,
+    frames: u32,
+    params: &[(String, ParamValue)],
+    inputs: &[(String, std::path::PathBuf)],
+) -> Result<Executor> {
     let mut ex = Executor::with_scene(gpu, exe, scene)?;
     for (name, value) in params {
         ex.set_param(name, value.clone())?;
+    }
+    for (name, file) in inputs {
+        ex.load_input(gpu, name, file)?;
     }
     for f in 0..frames.max(1) {
         let inputs = ex.inputs(f as f32 / 60.0);

@@ -166,3 +166,54 @@ fn a_half_size_pass_knows_its_target_size() {
         "the frame's resolution is the output size: {p:?}"
     );
 }
+
+/// External resources are filled from files (`render --input`): a JSON buffer and a PNG
+/// texture reach the shader as stored; a missing input or a wrong size is an error naming the
+/// resource, never a frame of zeros.
+#[test]
+fn external_resources_come_from_inputs_or_the_render_stops() {
+    let d = project("inputs");
+    std::fs::write(
+        d.join("shaders/show.wgsl"),
+        "@group(2) @binding(0) var<storage, read> weights: array<vec4<f32>>;\n@group(2) @binding(1) var noise: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let n = textureLoad(noise, vec2<i32>(pos.xy), 0);\n    return select(weights[0], n, pos.x > 2.0);\n}\n",
+    )
+    .unwrap();
+    let pipeline = d.join("pipelines/show.ron");
+    std::fs::write(
+        &pipeline,
+        "Pipeline(\n    name: \"show\",\n    resources: {\n        \"weights\": Buffer(size: 16, external: true),\n        \"noise\": Texture(format: Rgba8Unorm, size: Fixed(4, 4), external: true),\n        \"out\": Texture(format: Rgba16Float, size: Viewport),\n    },\n    passes: [Fullscreen(name: \"show\", shader: \"show.wgsl\", reads: [\"weights\", \"noise\"], color: [\"out\"])],\n    output: \"out\",\n)\n",
+    )
+    .unwrap();
+    std::fs::write(d.join("w.json"), "[0.25, 0.5, 0.75, 1.0]").unwrap();
+    image::RgbaImage::from_pixel(4, 4, image::Rgba([0, 128, 255, 255]))
+        .save(d.join("noise.png"))
+        .unwrap();
+    let out = d.join("x.exr");
+    let (p, o) = (pipeline.to_str().unwrap(), out.to_str().unwrap());
+    let w = format!("weights={}", d.join("w.json").display());
+    let n = format!("noise={}", d.join("noise.png").display());
+    let base = ["render", "--pipeline", p, "--size", "4x4", "--out", o];
+    let with = |extra: &[&str]| cli_common::lightbench(&[&base[..], extra].concat());
+    let (code, _, err) = with(&["--input", &w, "--input", &n]);
+    assert_eq!(code, 0, "{err}");
+    let img = image::open(&out).unwrap().to_rgba32f();
+    assert_eq!(img.get_pixel(0, 0).0, [0.25, 0.5, 0.75, 1.0], "the buffer as written");
+    let t = img.get_pixel(3, 0).0;
+    assert!(
+        t[0] == 0.0 && (t[1] - 128.0 / 255.0).abs() < 1e-3 && t[2] == 1.0,
+        "the texture as stored: {t:?}"
+    );
+    let (code, _, err) = with(&["--input", &w]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("resource `noise` is external: supply its contents (render --input noise=FILE"),
+        "{err}"
+    );
+    std::fs::write(d.join("w.json"), "[0.25, 0.5]").unwrap();
+    let (code, _, err) = with(&["--input", &w, "--input", &n]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("has 8 bytes, the buffer is declared with 16"), "{err}");
+    let (code, _, err) = with(&["--input", "out=x.png"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--input `out`: the resource is not `external: true`"), "{err}");
+}

@@ -25,6 +25,10 @@ pub struct Args {
     /// Override a parameter, e.g. --param exposure.ev=2 or --param ambient.color=0.1,0.1,0.1 (repeatable).
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
+    /// Contents of an `external: true` resource: a PNG/EXR for a texture, raw bytes or a JSON
+    /// array of numbers for a buffer (repeatable).
+    #[arg(long = "input", value_name = "NAME=FILE")]
+    pub inputs: Vec<String>,
     /// Output size, overriding the scene's.
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
@@ -117,8 +121,12 @@ fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)],
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
     let params = parse_params(&exe.plan, params)?;
+    let inputs: Vec<(String, PathBuf)> = super::parse_assignments("--input", "NAME=FILE", &a.inputs)?
+        .into_iter()
+        .map(|(n, f)| (n, PathBuf::from(f)))
+        .collect();
     // The scene is handed over: its textures are dropped once uploaded.
-    let ex = render_scene(&gpu, &exe, scene, a.frames, &params)?;
+    let ex = render_scene(&gpu, &exe, scene, a.frames, &params, &inputs)?;
     save_output(a, &gpu, &ex, &exe)?;
     if let Some(names) = &dumps {
         dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;

@@ -76,6 +76,8 @@ pub struct Executor {
     inputs: FrameInputs,
     pub frame_index: u64,
     pub last_timings: Vec<PassTiming>,
+    /// External resources whose contents were supplied (`load_input`) to their current storage.
+    pub(super) supplied: std::collections::BTreeSet<String>,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -149,6 +151,7 @@ impl Executor {
             inputs,
             frame_index: 0,
             last_timings: vec![],
+            supplied: Default::default(),
         })
     }
 
@@ -164,6 +167,8 @@ impl Executor {
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
         self.inputs.params = params;
+        // A recreated external resource lost what was supplied: it must be supplied again.
+        self.supplied.retain(|n| !report.resources_created.contains(n));
         Ok(report)
     }
 
@@ -179,6 +184,7 @@ impl Executor {
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
         self.shared = shared;
+        self.supplied.retain(|n| !report.resources_created.contains(n));
         self.inputs.params = params;
         self.inputs.camera = scene.camera.clone();
         Ok(report)
@@ -265,6 +271,19 @@ impl Executor {
 
     /// Render one frame. GPU errors come back as values naming the pass.
     pub fn render_frame(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> Result<()> {
+        // External resources are the caller's to fill: never render them as zeros.
+        if let Some(r) = self
+            .state
+            .plan
+            .resources
+            .iter()
+            .find(|r| r.external && !self.supplied.contains(&r.name))
+        {
+            let n = &r.name;
+            return Err(Error::Usage(format!(
+                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input)"
+            )));
+        }
         self.apply_params(gpu, &inputs.params)?;
         self.inputs = inputs.clone();
         self.write_frame_blocks(gpu, inputs);

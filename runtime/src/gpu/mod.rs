@@ -6,6 +6,7 @@ pub mod convert;
 pub mod device;
 mod encode;
 pub mod executor;
+mod inputs;
 mod pipelines;
 pub mod pool;
 pub mod readback;
