@@ -682,3 +682,15 @@ fn misspelt_keywords_get_a_suggestion() {
         s.diags.list[0]
     );
 }
+
+/// A missing `}` is reported where parsing stopped, with the unclosed `{` as a second label.
+#[test]
+fn a_missing_brace_points_at_the_unclosed_one() {
+    let text = "pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {\n    color out\n\noutput out\n";
+    let (_, s) = parse("p.lbp", text);
+    let d = &s.diags.list[0];
+    assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((6, 1)));
+    let brace = d.labels.iter().find(|l| !l.primary).expect("a secondary label");
+    assert_eq!(brace.message, "this `{` is not closed");
+    assert_eq!(s.sources.get(brace.span.file).line_col(brace.span.start as usize), (3, 26));
+}

@@ -98,6 +98,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
         format!("`{}`", &text[start..end.max(start + first).min(text.len())])
     };
     let mut suggestion = None;
+    let mut wants_brace = false;
     let message = match &e.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } => {
             let mut words: Vec<&str> = vec![];
@@ -109,6 +110,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
             // A misspelt keyword (`param` in a pass, `textur`): the keywords allowed here.
             let token = text.get(start..end).unwrap_or("");
             let keywords: Vec<&str> = positives.iter().filter_map(keyword).collect();
+            wants_brace = positives.contains(&Rule::close_brace);
             suggestion = crate::diag::did_you_mean(token, keywords.iter().copied()).map(|k| format!("did you mean `{k}`?"));
             if words.is_empty() {
                 format!("unexpected {found}")
@@ -118,7 +120,13 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
         }
         pest::error::ErrorVariant::CustomError { message } => message.clone(),
     };
-    let d = Diagnostic::error(Code::LbpSyntax, message, Span::new(file, start, end.max(start)));
+    let mut d = Diagnostic::error(Code::LbpSyntax, message, Span::new(file, start, end.max(start)));
+    // A `}` was expected: show the `{` it would close, which may be far above.
+    if wants_brace {
+        if let Some(at) = nesting::unclosed_brace(&text[..start.min(text.len())]) {
+            d = d.with_secondary(Span::new(file, at, at + 1), "this `{` is not closed");
+        }
+    }
     match suggestion {
         Some(s) => d.with_note(s),
         None => d,

@@ -66,6 +66,36 @@ pub fn too_deep(text: &str) -> Option<(usize, usize)> {
     None
 }
 
+/// The innermost `{` still open at the end of the text (strings and comments skipped): where
+/// a missing `}` belongs.
+pub fn unclosed_brace(text: &str) -> Option<usize> {
+    let b = text.as_bytes();
+    let (mut i, mut open) = (0, vec![]);
+    while i < b.len() {
+        if b[i..].starts_with(b"//") {
+            i = text[i..].find('\n').map_or(b.len(), |n| i + n);
+            continue;
+        }
+        if b[i..].starts_with(b"/*") {
+            i = text[i + 2..].find("*/").map_or(b.len(), |n| i + n + 4);
+            continue;
+        }
+        match b[i] {
+            b'"' => {
+                i = skip_string(b, i);
+                continue;
+            }
+            b'{' => open.push(i),
+            b'}' => {
+                open.pop();
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    open.pop()
+}
+
 /// Index after the string literal starting at `i` (escapes skipped; unterminated: the end).
 fn skip_string(b: &[u8], mut i: usize) -> usize {
     i += 1;
