@@ -6,7 +6,6 @@ use super::{AlphaMode, ImageData, Light, Material, Mesh, SamplerDesc, Wrap, IDEN
 use crate::blocks::Vertex;
 use crate::error::{Error, Result};
 use glam::{Mat4, Vec3};
-use lightbench_compiler::ir::LightKind;
 use std::path::Path;
 
 /// Extensions we read; any other listed in `extensionsRequired` is an error.
@@ -22,179 +21,154 @@ pub struct Loaded {
 }
 
 pub fn load(path: &Path) -> Result<Loaded> {
-    let name = path.display().to_string();
-    let err = |msg: String| Error::Scene(format!("{name}: {msg}"));
-    // Read the document first so an unsupported required extension is reported as such,
-    // before buffers or images are touched.
-    regular_file(path).map_err(&err)?;
+    let err = |msg: String| Error::Scene(format!("{}: {msg}", path.display()));
+    let (doc, buffers, images) = open(path).map_err(err)?;
+    let mut textures = Textures::new(images);
+    let mut warnings = vec![];
+    let mut materials = vec![];
+    for m in doc.materials() {
+        materials.push(material(&m, &mut textures).map_err(err)?);
+        material_warnings(&m, &mut warnings);
+    }
+    materials.push(Material::color("default", [0.8, 0.8, 0.8], 0.6));
+    let mut loaded = Loaded {
+        meshes: vec![],
+        materials,
+        textures: vec![],
+        lights: vec![],
+        warnings,
+    };
+    walk_nodes(&doc, &buffers, &mut loaded).map_err(err)?;
+    loaded.textures = textures.out;
+    Ok(loaded)
+}
+
+/// Checks before anything large is read (a regular file, glTF, supported required
+/// extensions, referenced files present), then the import and accessor bounds.
+fn open(path: &Path) -> std::result::Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<gltf::image::Data>), String> {
+    regular_file(path)?;
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
         let hint = "models must be glTF 2.0 (.gltf or .glb); convert other formats (e.g. .obj, .fbx) with Blender's glTF exporter";
-        return Err(err(format!("not a glTF file: {hint}")));
+        return Err(format!("not a glTF file: {hint}"));
     }
-    let bytes = std::fs::read(path).map_err(|e| err(e.to_string()))?;
-    let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| err(format!("not a valid glTF file: {e}")))?;
-    referenced_files(&gltf, path).map_err(&err)?;
-    for ext in gltf.extensions_required() {
-        if !SUPPORTED_EXTENSIONS.contains(&ext) {
-            return Err(err(format!(
-                "requires the unsupported extension `{ext}` (supported: {})",
-                SUPPORTED_EXTENSIONS.join(", ")
-            )));
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| format!("not a valid glTF file: {e}"))?;
+    referenced_files(&gltf, path)?;
+    if let Some(ext) = gltf.extensions_required().find(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
+        return Err(format!(
+            "requires the unsupported extension `{ext}` (supported: {})",
+            SUPPORTED_EXTENSIONS.join(", ")
+        ));
+    }
+    let (doc, buffers, images) = gltf::import(path).map_err(describe)?;
+    validate_accessors(&doc, &buffers).map_err(|m| m.to_string())?;
+    Ok((doc, buffers, images))
+}
+
+/// Decoded images become textures on first use. Each is converted once and its decoded form
+/// dropped right away, so loading holds at most one extra copy of one image (an RGBA8 image
+/// is moved, not copied).
+struct Textures {
+    images: Vec<Option<gltf::image::Data>>,
+    out: Vec<ImageData>,
+    of_image: std::collections::HashMap<(usize, bool), usize>,
+}
+
+impl Textures {
+    fn new(images: Vec<gltf::image::Data>) -> Self {
+        Textures {
+            images: images.into_iter().map(Some).collect(),
+            out: vec![],
+            of_image: Default::default(),
         }
     }
-    let (doc, buffers, images) = gltf::import(path).map_err(|e| err(describe(e)))?;
-    validate_accessors(&doc, &buffers).map_err(|m| err(m.to_string()))?;
 
-    // Each decoded image is converted once and its decoded form dropped right away, so that
-    // loading holds at most one extra copy of one image (an RGBA8 image is moved, not copied).
-    let mut images: Vec<Option<gltf::image::Data>> = images.into_iter().map(Some).collect();
-    let mut textures = vec![];
-    let mut texture_of_image = std::collections::HashMap::new();
-    let mut tex = |index: usize, srgb: bool, textures: &mut Vec<ImageData>| -> Result<usize> {
-        if let Some(&i) = texture_of_image.get(&(index, srgb)) {
+    /// The texture of image `index` as sRGB or linear data.
+    fn get(&mut self, index: usize, srgb: bool) -> std::result::Result<usize, String> {
+        if let Some(&i) = self.of_image.get(&(index, srgb)) {
             return Ok(i);
         }
-        // The same image already converted for the other colour space: share its texels.
-        if let Some(&i) = texture_of_image.get(&(index, !srgb)) {
-            let other: &ImageData = &textures[i];
-            let copy = ImageData { srgb, ..other.clone() };
-            textures.push(copy);
-            texture_of_image.insert((index, srgb), textures.len() - 1);
-            return Ok(textures.len() - 1);
-        }
-        let img = images
-            .get_mut(index)
-            .and_then(Option::take)
-            .ok_or_else(|| err(format!("image {index} is missing")))?;
-        let (format, width, height) = (img.format, img.width, img.height);
-        let rgba = to_rgba8(img).ok_or_else(|| err(format!("image {index} has an unsupported pixel format {format:?}")))?;
-        textures.push(ImageData { width, height, rgba, srgb });
-        texture_of_image.insert((index, srgb), textures.len() - 1);
-        Ok(textures.len() - 1)
-    };
-
-    let mut materials = vec![];
-    let mut warnings = vec![];
-    for m in doc.materials() {
-        let pbr = m.pbr_metallic_roughness();
-        let e = m.emissive_factor();
-        let strength = m.emissive_strength().unwrap_or(1.0);
-        materials.push(Material {
-            name: m.name().unwrap_or("material").to_string(),
-            base_color: pbr.base_color_factor(),
-            base_color_texture: pbr
-                .base_color_texture()
-                .map(|t| tex(t.texture().source().index(), true, &mut textures))
-                .transpose()?,
-            metallic: pbr.metallic_factor(),
-            roughness: pbr.roughness_factor(),
-            metallic_roughness_texture: pbr
-                .metallic_roughness_texture()
-                .map(|t| tex(t.texture().source().index(), false, &mut textures))
-                .transpose()?,
-            emissive: [e[0] * strength, e[1] * strength, e[2] * strength],
-            emissive_texture: m
-                .emissive_texture()
-                .map(|t| tex(t.texture().source().index(), true, &mut textures))
-                .transpose()?,
-            normal_texture: m
-                .normal_texture()
-                .map(|t| tex(t.texture().source().index(), false, &mut textures))
-                .transpose()?,
-            normal_scale: m.normal_texture().map(|t| t.scale()).unwrap_or(1.0),
-            occlusion_texture: m
-                .occlusion_texture()
-                .map(|t| tex(t.texture().source().index(), false, &mut textures))
-                .transpose()?,
-            occlusion_strength: m.occlusion_texture().map(|t| t.strength()).unwrap_or(1.0),
-            uv_transform: uv_transform(&m),
-            alpha: match m.alpha_mode() {
-                gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
-                gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
-                gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        let data = match self.of_image.get(&(index, !srgb)) {
+            // The same image already converted for the other colour space: share its texels.
+            Some(&i) => ImageData {
+                srgb,
+                ..self.out[i].clone()
             },
-            sampler: material_sampler(&m),
-            uv_sets: uv_sets(&m),
-        });
-        material_warnings(&m, &mut warnings);
+            None => {
+                let img = self
+                    .images
+                    .get_mut(index)
+                    .and_then(Option::take)
+                    .ok_or(format!("image {index} is missing"))?;
+                let (format, width, height) = (img.format, img.width, img.height);
+                let rgba = to_rgba8(img).ok_or(format!("image {index} has an unsupported pixel format {format:?}"))?;
+                ImageData { width, height, rgba, srgb }
+            }
+        };
+        self.out.push(data);
+        self.of_image.insert((index, srgb), self.out.len() - 1);
+        Ok(self.out.len() - 1)
     }
-    let default_material = materials.len();
-    materials.push(Material::color("default", [0.8, 0.8, 0.8], 0.6));
 
-    let mut meshes = vec![];
-    let mut lights = vec![];
-    let scene = doc.default_scene().or_else(|| doc.scenes().next());
-    let roots: Vec<gltf::Node> = match scene {
+    fn of(&mut self, t: Option<gltf::texture::Texture>, srgb: bool) -> std::result::Result<Option<usize>, String> {
+        t.map(|t| self.get(t.source().index(), srgb)).transpose()
+    }
+}
+
+/// A glTF metallic-roughness material with its textures.
+fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<Material, String> {
+    let pbr = m.pbr_metallic_roughness();
+    let (e, strength) = (m.emissive_factor(), m.emissive_strength().unwrap_or(1.0));
+    Ok(Material {
+        name: m.name().unwrap_or("material").to_string(),
+        base_color: pbr.base_color_factor(),
+        base_color_texture: textures.of(pbr.base_color_texture().map(|t| t.texture()), true)?,
+        metallic: pbr.metallic_factor(),
+        roughness: pbr.roughness_factor(),
+        metallic_roughness_texture: textures.of(pbr.metallic_roughness_texture().map(|t| t.texture()), false)?,
+        emissive: [e[0] * strength, e[1] * strength, e[2] * strength],
+        emissive_texture: textures.of(m.emissive_texture().map(|t| t.texture()), true)?,
+        normal_texture: textures.of(m.normal_texture().map(|t| t.texture()), false)?,
+        normal_scale: m.normal_texture().map(|t| t.scale()).unwrap_or(1.0),
+        occlusion_texture: textures.of(m.occlusion_texture().map(|t| t.texture()), false)?,
+        occlusion_strength: m.occlusion_texture().map(|t| t.strength()).unwrap_or(1.0),
+        uv_transform: uv_transform(m),
+        alpha: match m.alpha_mode() {
+            gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            gltf::material::AlphaMode::Mask => AlphaMode::Mask(m.alpha_cutoff().unwrap_or(0.5)),
+            gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        },
+        sampler: material_sampler(m),
+        uv_sets: uv_sets(m),
+    })
+}
+
+/// The node hierarchy of the default scene: meshes and lights with their world transforms.
+/// Primitives without a material use the last (default) material.
+fn walk_nodes(doc: &gltf::Document, buffers: &[gltf::buffer::Data], out: &mut Loaded) -> std::result::Result<(), String> {
+    let default_material = out.materials.len() - 1;
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(s) => s.nodes().collect(),
         None => doc.nodes().collect(),
     };
     let mut stack: Vec<(gltf::Node, Mat4, usize)> = roots.into_iter().map(|n| (n, Mat4::IDENTITY, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 64 {
-            return Err(err("node hierarchy deeper than 64 levels (a cycle?)".into()));
+            return Err("node hierarchy deeper than 64 levels (a cycle?)".into());
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(mesh) = node.mesh() {
             for (pi, prim) in mesh.primitives().enumerate() {
-                use gltf::mesh::Mode;
-                if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-                    warnings.push(format!(
-                        "mesh `{}` primitive {pi} is {:?}, which is not drawn (only triangles are); skipped",
-                        mesh.name().unwrap_or("?"),
-                        prim.mode()
+                let Some((vertices, indices)) = primitive(&mesh, pi, &prim, buffers)? else {
+                    let name = mesh.name().unwrap_or("?");
+                    let mode = prim.mode();
+                    out.warnings.push(format!(
+                        "mesh `{name}` primitive {pi} is {mode:?}, which is not drawn (only triangles are); skipped"
                     ));
                     continue;
-                }
-                let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-                let positions: Vec<[f32; 3]> = reader
-                    .read_positions()
-                    .ok_or_else(|| err(format!("mesh `{}` primitive {pi} has no POSITION", mesh.name().unwrap_or("?"))))?
-                    .collect();
-                let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|i| i.collect());
-                let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|i| i.into_f32().collect());
-                let uvs1: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|i| i.into_f32().collect());
-                let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|i| i.collect());
-                let indices: Vec<u32> = match reader.read_indices() {
-                    Some(i) => i.into_u32().collect(),
-                    None => (0..positions.len() as u32).collect(),
                 };
-                let indices = triangle_list(prim.mode(), indices);
-                if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-                    return Err(err(format!(
-                        "mesh `{}` primitive {pi}: index {bad} is out of range ({} vertices)",
-                        mesh.name().unwrap_or("?"),
-                        positions.len()
-                    )));
-                }
-                for (what, n) in [
-                    ("NORMAL", normals.as_ref().map(|v| v.len())),
-                    ("TEXCOORD_0", uvs.as_ref().map(|v| v.len())),
-                    ("TEXCOORD_1", uvs1.as_ref().map(|v| v.len())),
-                    ("TANGENT", tangents.as_ref().map(|v| v.len())),
-                ] {
-                    if n.is_some_and(|n| n != positions.len()) {
-                        return Err(err(format!(
-                            "mesh `{}` primitive {pi}: {what} has {} entries, POSITION has {}",
-                            mesh.name().unwrap_or("?"),
-                            n.unwrap_or(0),
-                            positions.len()
-                        )));
-                    }
-                }
-                let mut vertices: Vec<Vertex> = (0..positions.len())
-                    .map(|i| Vertex {
-                        position: positions[i],
-                        normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
-                        uv: uvs.as_ref().map(|u| u[i]).unwrap_or([0.0; 2]),
-                        tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
-                        uv1: uvs1.as_ref().or(uvs.as_ref()).map(|u| u[i]).unwrap_or([0.0; 2]),
-                    })
-                    .collect();
-                if normals.is_none() {
-                    compute_normals(&mut vertices, &indices);
-                }
-                meshes.push(Mesh {
+                out.meshes.push(Mesh {
                     name: format!("{}#{pi}", mesh.name().unwrap_or("mesh")),
                     vertices,
                     indices,
@@ -206,44 +180,90 @@ pub fn load(path: &Path) -> Result<Loaded> {
             }
         }
         if let Some(l) = node.light() {
-            let c = l.color();
-            let color = Vec3::new(c[0], c[1], c[2]);
-            let position = world.transform_point3(Vec3::ZERO);
-            // Lights shine down their node's -Z.
-            let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
-            let range = l.range().unwrap_or(20.0);
-            let mut light = match l.kind() {
-                gltf::khr_lights_punctual::Kind::Directional => Light::directional(direction, color, l.intensity()),
-                gltf::khr_lights_punctual::Kind::Point => Light::point(position, color, l.intensity(), range),
-                gltf::khr_lights_punctual::Kind::Spot {
-                    inner_cone_angle,
-                    outer_cone_angle,
-                } => Light::spot(
-                    position,
-                    direction,
-                    inner_cone_angle.to_degrees(),
-                    outer_cone_angle.to_degrees(),
-                    color,
-                    l.intensity(),
-                    range,
-                ),
-            };
-            if light.kind == LightKind::Directional {
-                light.position = Vec3::ZERO;
-            }
-            lights.push(light);
+            out.lights.push(node_light(&l, world));
         }
-        for c in node.children() {
-            stack.push((c, world, depth + 1));
+        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+    }
+    Ok(())
+}
+
+/// Vertices and triangle-list indices.
+type Geometry = (Vec<Vertex>, Vec<u32>);
+
+/// A primitive's vertices and triangle-list indices; `None` for points and lines.
+fn primitive(
+    mesh: &gltf::Mesh,
+    pi: usize,
+    prim: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+) -> std::result::Result<Option<Geometry>, String> {
+    use gltf::mesh::Mode;
+    if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return Ok(None);
+    }
+    let at = format!("mesh `{}` primitive {pi}", mesh.name().unwrap_or("?"));
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let positions: Vec<[f32; 3]> = reader.read_positions().ok_or(format!("{at} has no POSITION"))?.collect();
+    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|i| i.collect());
+    let uvs: Option<Vec<[f32; 2]>> = reader.read_tex_coords(0).map(|i| i.into_f32().collect());
+    let uvs1: Option<Vec<[f32; 2]>> = reader.read_tex_coords(1).map(|i| i.into_f32().collect());
+    let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|i| i.collect());
+    let indices = match reader.read_indices() {
+        Some(i) => i.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let indices = triangle_list(prim.mode(), indices);
+    if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+        return Err(format!("{at}: index {bad} is out of range ({} vertices)", positions.len()));
+    }
+    for (what, n) in [
+        ("NORMAL", normals.as_ref().map(|v| v.len())),
+        ("TEXCOORD_0", uvs.as_ref().map(|v| v.len())),
+        ("TEXCOORD_1", uvs1.as_ref().map(|v| v.len())),
+        ("TANGENT", tangents.as_ref().map(|v| v.len())),
+    ] {
+        if let Some(n) = n.filter(|n| *n != positions.len()) {
+            return Err(format!("{at}: {what} has {n} entries, POSITION has {}", positions.len()));
         }
     }
-    Ok(Loaded {
-        meshes,
-        materials,
-        textures,
-        lights,
-        warnings,
-    })
+    let mut vertices: Vec<Vertex> = (0..positions.len())
+        .map(|i| Vertex {
+            position: positions[i],
+            normal: normals.as_ref().map(|n| n[i]).unwrap_or([0.0; 3]),
+            uv: uvs.as_ref().map(|u| u[i]).unwrap_or([0.0; 2]),
+            tangent: tangents.as_ref().map(|t| t[i]).unwrap_or([0.0; 4]),
+            uv1: uvs1.as_ref().or(uvs.as_ref()).map(|u| u[i]).unwrap_or([0.0; 2]),
+        })
+        .collect();
+    if normals.is_none() {
+        compute_normals(&mut vertices, &indices);
+    }
+    Ok(Some((vertices, indices)))
+}
+
+/// A KHR_lights_punctual light placed by its node (lights shine down the node's -Z).
+fn node_light(l: &gltf::khr_lights_punctual::Light, world: Mat4) -> Light {
+    let c = l.color();
+    let color = Vec3::new(c[0], c[1], c[2]);
+    let position = world.transform_point3(Vec3::ZERO);
+    let direction = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+    let range = l.range().unwrap_or(20.0);
+    match l.kind() {
+        gltf::khr_lights_punctual::Kind::Directional => Light::directional(direction, color, l.intensity()),
+        gltf::khr_lights_punctual::Kind::Point => Light::point(position, color, l.intensity(), range),
+        gltf::khr_lights_punctual::Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => Light::spot(
+            position,
+            direction,
+            inner_cone_angle.to_degrees(),
+            outer_cone_angle.to_degrees(),
+            color,
+            l.intensity(),
+            range,
+        ),
+    }
 }
 
 /// The textures of a material, in the order their settings are looked for.
