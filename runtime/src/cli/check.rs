@@ -9,24 +9,16 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         Ok(p) => p,
         Err(e) => return usage_error(e),
     };
-    let mut files = vec![];
-    for p in paths {
-        if !p.exists() {
-            return usage_error(format!("no such file or directory: {}", p.display()));
-        }
-        match pipeline_files(p) {
-            Ok(f) if f.is_empty() => return usage_error(format!("no pipeline files (.ron, .lbp) in {}", p.display())),
-            Ok(f) => files.extend(f),
-            Err(e) => return usage_error(format!("cannot list {}: {e}", p.display())),
-        }
-    }
+    let files = match files_of(paths) {
+        Ok(f) => f,
+        Err(e) => return usage_error(e),
+    };
     if let Err(e) = check_params(&files, params) {
         return usage_error(e);
     }
-    let mut errors = 0;
-    let mut warnings = 0;
     // Pipelines in one run share compiled shaders.
     let ws = Workspace::disk();
+    let (mut errors, mut warnings, mut scenes) = (0, 0, 0);
     // The scene is read as `render` reads it (models included), once for every pipeline.
     let scene_features = match scene {
         Some(spec) => {
@@ -41,7 +33,6 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         }
         None => None,
     };
-    let mut scenes = 0;
     for f in &files {
         let mut s = ws.session();
         if is_scene_file(f) {
@@ -56,14 +47,14 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         warnings += s.diags.warning_count();
     }
     if format == Format::Human {
+        let scene_files = if scenes > 0 {
+            format!(" and {scenes} scene file(s)")
+        } else {
+            String::new()
+        };
+        let n = files.len() - scenes;
         eprintln!(
-            "checked {} pipeline file(s){} against profile `{}`: {errors} error(s), {warnings} warning(s)",
-            files.len() - scenes,
-            if scenes > 0 {
-                format!(" and {scenes} scene file(s)")
-            } else {
-                String::new()
-            },
+            "checked {n} pipeline file(s){scene_files} against profile `{}`: {errors} error(s), {warnings} warning(s)",
             profile.name
         );
     }
@@ -72,6 +63,22 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     } else {
         EXIT_OK
     }
+}
+
+/// The files the paths name: each file, and the pipeline and scene files below each directory.
+fn files_of(paths: &[PathBuf]) -> std::result::Result<Vec<PathBuf>, String> {
+    let mut files = vec![];
+    for p in paths {
+        if !p.exists() {
+            return Err(format!("no such file or directory: {}", p.display()));
+        }
+        match pipeline_files(p) {
+            Ok(f) if f.is_empty() => return Err(format!("no pipeline files (.ron, .lbp) in {}", p.display())),
+            Ok(f) => files.extend(f),
+            Err(e) => return Err(format!("cannot list {}: {e}", p.display())),
+        }
+    }
+    Ok(files)
 }
 
 /// `--param` values: each name declared by some pipeline, and its value valid for every

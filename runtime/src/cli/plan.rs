@@ -92,66 +92,73 @@ pub fn run(a: Args) -> i32 {
         Ok(p) => p,
         Err(e) => return usage_error(e),
     };
-    let variants = match super::parse_variants(&a.variants) {
-        Ok(v) => v,
-        Err(e) => return usage_error(e),
+    let (variants, params) = match (
+        super::parse_variants(&a.variants),
+        super::parse_assignments("--param", "NAME=VALUE", &a.params),
+    ) {
+        (Ok(v), Ok(p)) => (v, p),
+        (Err(e), _) | (_, Err(e)) => return usage_error(e),
     };
     if !a.file.is_file() {
         return usage_error(format!("no such file: {}", a.file.display()));
     }
     let mut s = Session::new();
+    let scene = match plan_scene(&a, &mut s) {
+        Ok(sf) => sf,
+        Err(code) => return code,
+    };
+    let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
+    super::check::emit(&s, Format::Human);
+    let Some(mut plan) = plan else { return EXIT_ERRORS };
+    if let Err(e) = set_params(&mut plan, &params) {
+        return usage_error(e);
+    }
+    print_plan(&a, &plan)
+}
+
+/// What the Plan is for: the scene (`--scene`) or every feature, at `--size`, with
+/// `--lights` counts when planning without a scene. `Err` is the exit code.
+fn plan_scene(a: &Args, s: &mut Session) -> std::result::Result<SceneFeatures, i32> {
     let mut scene = match &a.scene {
-        Some(spec) => match crate::scene::load_in(&mut s, spec) {
+        Some(spec) => match crate::scene::load_in(s, spec) {
             Some(scene) => scene.features(),
             None => {
-                super::check::emit(&s, Format::Human);
-                return EXIT_ERRORS;
+                super::check::emit(s, Format::Human);
+                return Err(EXIT_ERRORS);
             }
         },
         None => SceneFeatures::everything(),
     };
     if let Some(sz) = &a.size {
-        match parse_size(sz) {
-            Ok(v) => scene.size = v,
-            Err(e) => return usage_error(e),
-        }
+        scene.size = parse_size(sz).map_err(usage_error)?;
     }
     if let Some(l) = &a.lights {
         if a.scene.is_some() {
-            return usage_error("--lights is for planning without a scene; the scene's lights are used");
+            return Err(usage_error("--lights is for planning without a scene; the scene's lights are used"));
         }
-        match parse_lights(l) {
-            Ok(v) => {
-                for (k, n) in v {
-                    scene.lights.insert(k, n);
-                }
-            }
-            Err(e) => return usage_error(e),
+        for (k, n) in parse_lights(l).map_err(usage_error)? {
+            scene.lights.insert(k, n);
         }
     }
-    let params = match super::parse_assignments("--param", "NAME=VALUE", &a.params) {
-        Ok(v) => v,
-        Err(e) => return usage_error(e),
-    };
-    let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
-    super::check::emit(&s, Format::Human);
-    let Some(mut plan) = plan else { return EXIT_ERRORS };
-    // The Plan carries the values set here as its parameters' values.
-    match crate::render::parse_params(&plan, &params) {
-        Ok(values) => {
-            for (name, value) in values {
-                if let Some(p) = plan.params.iter_mut().find(|p| p.name == name) {
-                    eprintln!("param {name} = {} (was {})", value.describe(), p.default.describe());
-                    p.default = value;
-                }
-            }
+    Ok(scene)
+}
+
+/// `--param` values become the values the Plan carries.
+fn set_params(plan: &mut plan::Plan, params: &[(String, String)]) -> Result<()> {
+    for (name, value) in crate::render::parse_params(plan, params)? {
+        if let Some(p) = plan.params.iter_mut().find(|p| p.name == name) {
+            eprintln!("param {name} = {} (was {})", value.describe(), p.default.describe());
+            p.default = value;
         }
-        Err(e) => return usage_error(e),
     }
+    Ok(())
+}
+
+fn print_plan(a: &Args, plan: &plan::Plan) -> i32 {
     if a.dot {
-        print!("{}", plan::to_dot(&plan));
+        print!("{}", plan::to_dot(plan));
     } else if a.json {
-        match serde_json::to_string_pretty(&plan) {
+        match serde_json::to_string_pretty(plan) {
             Ok(j) => println!("{j}"),
             Err(e) => {
                 eprintln!("error: cannot serialize plan: {e}");
@@ -159,7 +166,7 @@ pub fn run(a: Args) -> i32 {
             }
         }
     } else {
-        print!("{}", plan::to_text(&plan, a.explain));
+        print!("{}", plan::to_text(plan, a.explain));
     }
     EXIT_OK
 }

@@ -133,6 +133,116 @@ fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
     })
 }
 
+/// Every texture with its mip chain, each dropped on the CPU once uploaded.
+fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<crate::scene::ImageData>) -> Result<Vec<wgpu::TextureView>> {
+    let mut textures = vec![];
+    for (i, t) in images.into_iter().enumerate() {
+        if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
+            return Err(Error::Scene(format!(
+                "texture {i} has {} bytes for {}×{}",
+                t.rgba.len(),
+                t.width,
+                t.height
+            )));
+        }
+        textures.push(texture_2d(
+            device,
+            queue,
+            &format!("scene_texture_{i}"),
+            t.width,
+            t.height,
+            t.rgba,
+            t.srgb,
+        ));
+        // Flush the upload's staging copy before the next texture, so that staging for every
+        // texture is never held at once.
+        queue.submit(std::iter::empty());
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| Error::gpu("uploading scene textures", e))?;
+    }
+    Ok(textures)
+}
+
+/// Material blocks and texture views (defaults for absent maps), and the distinct samplers
+/// the materials index.
+fn materials(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    list: &[Material],
+    textures: &[wgpu::TextureView],
+) -> (Vec<MaterialGpu>, Vec<SamplerDesc>) {
+    let white = texture_2d(device, queue, "white", 1, 1, vec![255, 255, 255, 255], true);
+    let white_linear = texture_2d(device, queue, "white_linear", 1, 1, vec![255, 255, 255, 255], false);
+    let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, vec![128, 128, 255, 255], false);
+    let pick = |i: Option<usize>, default: &wgpu::TextureView| i.and_then(|i| textures.get(i)).unwrap_or(default).clone();
+    let mut descs: Vec<SamplerDesc> = vec![];
+    let out = list
+        .iter()
+        .map(|m| {
+            let sampler = descs.iter().position(|d| *d == m.sampler).unwrap_or_else(|| {
+                descs.push(m.sampler);
+                descs.len() - 1
+            });
+            MaterialGpu {
+                sampler,
+                block: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&m.name),
+                    contents: bytemuck::bytes_of(&material_block(m)),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                }),
+                textures: [
+                    pick(m.base_color_texture, &white),
+                    pick(m.normal_texture, &flat_normal),
+                    pick(m.metallic_roughness_texture, &white_linear),
+                    pick(m.emissive_texture, &white),
+                    pick(m.occlusion_texture, &white_linear),
+                ],
+            }
+        })
+        .collect();
+    (out, descs)
+}
+
+/// Vertex, index and mesh-block buffers of every non-empty mesh.
+fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
+    let buffer = |label: &str, contents: &[u8], usage| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents,
+            usage,
+        })
+    };
+    let mut out = vec![];
+    for m in &scene.meshes {
+        let Some(material) = scene.materials.get(m.material) else {
+            return Err(Error::Scene(format!(
+                "mesh `{}` uses material {} of {}",
+                m.name,
+                m.material,
+                scene.materials.len()
+            )));
+        };
+        if m.vertices.is_empty() || m.indices.is_empty() {
+            continue;
+        }
+        let block = MeshBlock {
+            model: m.transform.to_cols_array_2d(),
+            normal_matrix: m.transform.inverse().transpose().to_cols_array_2d(),
+        };
+        out.push(MeshGpu {
+            vertices: buffer(&m.name, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX),
+            indices: buffer(&m.name, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX),
+            index_count: m.drawn_indices(),
+            block: buffer(&m.name, bytemuck::bytes_of(&block), wgpu::BufferUsages::UNIFORM),
+            material: m.material,
+            blend: material.alpha == AlphaMode::Blend,
+            centre: mesh_centre(m),
+        });
+    }
+    Ok(out)
+}
+
 /// World-space centre of a mesh's bounding box.
 fn mesh_centre(m: &crate::scene::Mesh) -> glam::Vec3 {
     let (lo, hi) = m
@@ -180,109 +290,13 @@ impl SceneGpu {
     /// Upload the scene. Its textures are moved out and dropped one by one as they reach the
     /// GPU, so the upload never holds a second CPU copy of them.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &mut Scene) -> Result<SceneGpu> {
-        let white = texture_2d(device, queue, "white", 1, 1, vec![255, 255, 255, 255], true);
-        let white_linear = texture_2d(device, queue, "white_linear", 1, 1, vec![255, 255, 255, 255], false);
-        let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, vec![128, 128, 255, 255], false);
-        let mut textures = vec![];
-        for (i, t) in std::mem::take(&mut scene.textures).into_iter().enumerate() {
-            if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
-                return Err(Error::Scene(format!(
-                    "texture {i} has {} bytes for {}×{}",
-                    t.rgba.len(),
-                    t.width,
-                    t.height
-                )));
-            }
-            textures.push(texture_2d(
-                device,
-                queue,
-                &format!("scene_texture_{i}"),
-                t.width,
-                t.height,
-                t.rgba,
-                t.srgb,
-            ));
-            // Flush the upload's staging copy before the next texture, so that staging for
-            // every texture is never held at once.
-            queue.submit(std::iter::empty());
-            device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| Error::gpu("uploading scene textures", e))?;
+        let textures = upload_textures(device, queue, std::mem::take(&mut scene.textures))?;
+        let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
+        let meshes = meshes(device, scene)?;
+        let mut samplers: Vec<wgpu::Sampler> = sampler_descs.iter().map(|d| sampler(device, d)).collect();
+        if samplers.is_empty() {
+            samplers.push(sampler(device, &SamplerDesc::default()));
         }
-        let pick = |i: Option<usize>, default: &wgpu::TextureView| i.and_then(|i| textures.get(i)).unwrap_or(default).clone();
-        let mut sampler_descs: Vec<SamplerDesc> = vec![];
-        let materials = scene
-            .materials
-            .iter()
-            .map(|m| {
-                let block = material_block(m);
-                let sampler = sampler_descs.iter().position(|d| *d == m.sampler).unwrap_or_else(|| {
-                    sampler_descs.push(m.sampler);
-                    sampler_descs.len() - 1
-                });
-                MaterialGpu {
-                    sampler,
-                    block: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some(&m.name),
-                        contents: bytemuck::bytes_of(&block),
-                        usage: wgpu::BufferUsages::UNIFORM,
-                    }),
-                    textures: [
-                        pick(m.base_color_texture, &white),
-                        pick(m.normal_texture, &flat_normal),
-                        pick(m.metallic_roughness_texture, &white_linear),
-                        pick(m.emissive_texture, &white),
-                        pick(m.occlusion_texture, &white_linear),
-                    ],
-                }
-            })
-            .collect::<Vec<_>>();
-        let mut meshes = vec![];
-        for m in &scene.meshes {
-            if m.material >= materials.len() {
-                return Err(Error::Scene(format!(
-                    "mesh `{}` uses material {} of {}",
-                    m.name,
-                    m.material,
-                    materials.len()
-                )));
-            }
-            if m.vertices.is_empty() || m.indices.is_empty() {
-                continue;
-            }
-            let normal = m.transform.inverse().transpose();
-            let block = MeshBlock {
-                model: m.transform.to_cols_array_2d(),
-                normal_matrix: normal.to_cols_array_2d(),
-            };
-            meshes.push(MeshGpu {
-                vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&m.name),
-                    contents: bytemuck::cast_slice(&m.vertices),
-                    usage: wgpu::BufferUsages::VERTEX,
-                }),
-                indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&m.name),
-                    contents: bytemuck::cast_slice(&m.indices),
-                    usage: wgpu::BufferUsages::INDEX,
-                }),
-                index_count: m.drawn_indices(),
-                blend: scene.materials[m.material].alpha == AlphaMode::Blend,
-                centre: mesh_centre(m),
-                block: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&m.name),
-                    contents: bytemuck::bytes_of(&block),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                }),
-                material: m.material,
-            });
-        }
-        let samplers = sampler_descs.iter().map(|d| sampler(device, d)).collect::<Vec<_>>();
-        let samplers = if samplers.is_empty() {
-            vec![sampler(device, &SamplerDesc::default())]
-        } else {
-            samplers
-        };
         Ok(SceneGpu {
             meshes,
             materials,
