@@ -133,7 +133,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
     }
 }
 
-/// The keyword that starts a rule, for suggestions.
+/// The keyword that starts a rule (items, pass properties), for suggestions and tree keys.
 fn keyword(r: &Rule) -> Option<&'static str> {
     Some(match r {
         Rule::param => "param",

@@ -19,12 +19,8 @@ pub fn too_deep(text: &str) -> Option<(usize, usize)> {
             continue;
         }
         let start = i;
-        if b[i..].starts_with(b"//") {
-            i = text[i..].find('\n').map_or(b.len(), |n| i + n);
-            continue;
-        }
-        if b[i..].starts_with(b"/*") {
-            i = text[i + 2..].find("*/").map_or(b.len(), |n| i + n + 4);
+        if let Some(after) = skip_comment(text, i) {
+            i = after;
             continue;
         }
         if c != b'(' && !(c.is_ascii_alphabetic() || c == b'_') && after_word {
@@ -72,12 +68,8 @@ pub fn unclosed_brace(text: &str) -> Option<usize> {
     let b = text.as_bytes();
     let (mut i, mut open) = (0, vec![]);
     while i < b.len() {
-        if b[i..].starts_with(b"//") {
-            i = text[i..].find('\n').map_or(b.len(), |n| i + n);
-            continue;
-        }
-        if b[i..].starts_with(b"/*") {
-            i = text[i + 2..].find("*/").map_or(b.len(), |n| i + n + 4);
+        if let Some(after) = skip_comment(text, i) {
+            i = after;
             continue;
         }
         match b[i] {
@@ -94,6 +86,18 @@ pub fn unclosed_brace(text: &str) -> Option<usize> {
         i += 1;
     }
     open.pop()
+}
+
+/// Index after the comment starting at `i`, if one does (`//` to the line's end, `/* */`).
+fn skip_comment(text: &str, i: usize) -> Option<usize> {
+    let rest = &text.as_bytes()[i..];
+    if rest.starts_with(b"//") {
+        return Some(text[i..].find('\n').map_or(text.len(), |n| i + n));
+    }
+    if rest.starts_with(b"/*") {
+        return Some(text[i + 2..].find("*/").map_or(text.len(), |n| i + n + 4));
+    }
+    None
 }
 
 /// Index after the string literal starting at `i` (escapes skipped; unterminated: the end).

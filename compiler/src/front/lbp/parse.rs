@@ -595,26 +595,7 @@ impl Builder<'_> {
     }
 }
 
-/// The tree key of a pass property.
+/// The tree key of a pass property: its keyword (the grammar's pass items are exactly these).
 fn pass_key(r: Rule) -> &'static str {
-    match r {
-        Rule::vertex => "vertex",
-        Rule::fragment => "fragment",
-        Rule::entry => "entry",
-        Rule::draw => "draw",
-        Rule::cull => "cull",
-        Rule::instances => "instances",
-        Rule::multiview => "multiview",
-        Rule::color => "color",
-        Rule::depth => "depth",
-        Rule::reads => "reads",
-        Rule::writes => "writes",
-        Rule::params => "params",
-        Rule::param_block => "param_block",
-        Rule::bind => "bind",
-        Rule::when => "when",
-        Rule::per_light => "per_light",
-        Rule::per_face => "per_face",
-        _ => "dispatch",
-    }
+    super::keyword(&r).unwrap_or("dispatch")
 }
