@@ -77,17 +77,16 @@ pub fn render_scene(
 /// `--param NAME=VALUE` texts as typed values of the Plan's parameters (unknown names get a
 /// suggestion; ranges are checked when they are set).
 pub fn parse_params(plan: &lightbench_compiler::plan::Plan, args: &[(String, String)]) -> Result<Vec<(String, ParamValue)>> {
+    use lightbench_compiler::plan::{ParamError, ParamValues};
     let mut out = vec![];
     for (name, text) in args {
-        let Some(p) = plan.params.iter().find(|p| &p.name == name) else {
-            let names = plan.params.iter().map(|p| p.name.as_str());
-            let hint = lightbench_compiler::diag::did_you_mean(name, names)
-                .map(|m| format!(" (did you mean `{m}`?)"))
-                .unwrap_or_default();
-            return Err(Error::Usage(format!("--param `{name}`: the pipeline has no such parameter{hint}")));
-        };
-        let value = ParamValue::parse(&p.ty, text).map_err(|why| Error::Usage(format!("--param `{name}`: {why}")))?;
-        lightbench_compiler::plan::ParamValues::check(&plan.params, name, &value).map_err(|e| Error::Usage(format!("--param: {e}")))?;
+        let value = ParamValues::parse_text(&plan.params, name, text).map_err(|e| match e {
+            ParamError::Unknown { suggestion, .. } => {
+                let hint = suggestion.map(|m| format!(" (did you mean `{m}`?)")).unwrap_or_default();
+                Error::Usage(format!("--param `{name}`: the pipeline has no such parameter{hint}"))
+            }
+            e => Error::Usage(format!("--param: {e}")),
+        })?;
         out.push((name.clone(), value));
     }
     Ok(out)

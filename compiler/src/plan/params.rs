@@ -39,6 +39,14 @@ impl std::fmt::Display for ParamError {
 
 impl std::error::Error for ParamError {}
 
+/// The parameter a name refers to, or `Unknown` with the nearest name as a suggestion.
+fn find<'a>(params: &'a [PlanParam], name: &str) -> Result<&'a PlanParam, ParamError> {
+    params.iter().find(|p| p.name == name).ok_or_else(|| ParamError::Unknown {
+        name: name.to_string(),
+        suggestion: did_you_mean(name, params.iter().map(|p| p.name.as_str())).map(str::to_string),
+    })
+}
+
 /// Parameter overrides by name; every parameter without one has its default.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ParamValues {
@@ -52,12 +60,7 @@ impl ParamValues {
 
     /// Check a value against the parameter it names: it exists, has its type, lies in its range.
     pub fn check(params: &[PlanParam], name: &str, value: &ParamValue) -> Result<(), ParamError> {
-        let Some(p) = params.iter().find(|p| p.name == name) else {
-            return Err(ParamError::Unknown {
-                name: name.to_string(),
-                suggestion: did_you_mean(name, params.iter().map(|p| p.name.as_str())).map(str::to_string),
-            });
-        };
+        let p = find(params, name)?;
         p.ty.accepts(value).map_err(|why| ParamError::Type {
             name: name.to_string(),
             why,
@@ -76,6 +79,18 @@ impl ParamValues {
             });
         }
         Ok(())
+    }
+
+    /// A value written as text (a command line's `--param`), parsed by the type of the
+    /// parameter it names and checked against its range.
+    pub fn parse_text(params: &[PlanParam], name: &str, text: &str) -> Result<ParamValue, ParamError> {
+        let p = find(params, name)?;
+        let value = ParamValue::parse(&p.ty, text).map_err(|why| ParamError::Type {
+            name: name.to_string(),
+            why,
+        })?;
+        Self::check(params, name, &value)?;
+        Ok(value)
     }
 
     /// Override a parameter after checking the value.

@@ -105,9 +105,8 @@ fn check_params(files: &[PathBuf], params: &[String]) -> crate::error::Result<()
             )));
         }
         for p in decls {
-            let bad = |why: String| crate::error::Error::Usage(format!("--param `{name}`: {why}"));
-            let value = lightbench_compiler::ir::ParamValue::parse(&p.ty, text).map_err(bad)?;
-            lightbench_compiler::plan::ParamValues::check(std::slice::from_ref(p), name, &value).map_err(|e| bad(e.to_string()))?;
+            lightbench_compiler::plan::ParamValues::parse_text(std::slice::from_ref(p), name, text)
+                .map_err(|e| crate::error::Error::Usage(format!("--param: {e}")))?;
         }
     }
     Ok(())
