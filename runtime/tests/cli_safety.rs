@@ -157,6 +157,10 @@ fn arguments_that_cannot_mean_anything_are_refused_before_rendering() {
             "--out and --timings-json name the same file",
         ),
         (
+            vec!["render", "--out", o, "--input", "noise"],
+            "invalid --input `noise`: expected NAME=FILE",
+        ),
+        (
             vec!["plan", "pipelines/deferred.ron", "--lights", "point=4294967296"],
             "expected a whole number from 0 to 4096",
         ),

@@ -73,6 +73,10 @@ pub fn run(a: Args) -> i32 {
         Ok(v) => v,
         Err(e) => return usage_error(e),
     };
+    let inputs: Vec<(String, PathBuf)> = match super::parse_assignments("--input", "NAME=FILE", &a.inputs) {
+        Ok(v) => v.into_iter().map(|(n, f)| (n, PathBuf::from(f))).collect(),
+        Err(e) => return usage_error(e),
+    };
     let ext = a.out.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase());
     if !matches!(ext.as_deref(), Some("png" | "exr")) {
         return usage_error(format!("--out {}: use a .png or .exr file name", a.out.display()));
@@ -87,7 +91,7 @@ pub fn run(a: Args) -> i32 {
         Ok(s) => s,
         Err(e) => return usage_error(e),
     };
-    match execute(&a, &variants, &params, size) {
+    match execute(&a, &variants, &params, &inputs, size) {
         Ok(()) => EXIT_OK,
         // Compile and scene errors are rendered diagnostics already.
         Err(Error::Compile(report) | Error::Scene(report)) => {
@@ -102,7 +106,13 @@ pub fn run(a: Args) -> i32 {
     }
 }
 
-fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)], size: Option<(u32, u32)>) -> Result<()> {
+fn execute(
+    a: &Args,
+    variants: &[(String, String)],
+    params: &[(String, String)],
+    inputs: &[(String, PathBuf)],
+    size: Option<(u32, u32)>,
+) -> Result<()> {
     let started = Instant::now();
     let scene = load_scene(a, size)?;
     let loaded = started.elapsed();
@@ -121,12 +131,8 @@ fn execute(a: &Args, variants: &[(String, String)], params: &[(String, String)],
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
     let params = parse_params(&exe.plan, params)?;
-    let inputs: Vec<(String, PathBuf)> = super::parse_assignments("--input", "NAME=FILE", &a.inputs)?
-        .into_iter()
-        .map(|(n, f)| (n, PathBuf::from(f)))
-        .collect();
     // The scene is handed over: its textures are dropped once uploaded.
-    let ex = render_scene(&gpu, &exe, scene, a.frames, &params, &inputs)?;
+    let ex = render_scene(&gpu, &exe, scene, a.frames, &params, inputs)?;
     save_output(a, &gpu, &ex, &exe)?;
     if let Some(names) = &dumps {
         dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;
