@@ -21,28 +21,52 @@ pub struct DiskVfs;
 
 impl Vfs for DiskVfs {
     fn read(&self, path: &Path) -> io::Result<String> {
-        let meta = std::fs::metadata(path)?;
-        if meta.is_dir() {
-            return Err(io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file"));
-        }
-        if !meta.is_file() {
-            return Err(io::Error::new(
-                io::ErrorKind::InvalidInput,
-                "not a regular file (a device, pipe or socket)",
-            ));
-        }
-        use std::io::Read;
-        let mut bytes = vec![];
-        std::fs::File::open(path)?.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes)?;
-        if bytes.len() as u64 > MAX_FILE_BYTES {
-            let msg = format!("larger than the {} MiB limit", MAX_FILE_BYTES >> 20);
-            return Err(io::Error::new(io::ErrorKind::FileTooLarge, msg));
-        }
-        utf8(bytes)
+        utf8(read_bytes(path, MAX_FILE_BYTES)?)
     }
     fn is_dir(&self, path: &Path) -> bool {
         path.is_dir()
     }
+}
+
+/// Refuse anything but a regular file of at most `limit` bytes, before it is opened.
+/// Shared by every reader of user files (pipelines, shaders, scenes, models).
+pub fn regular_file(path: &Path, limit: u64) -> io::Result<()> {
+    let meta = std::fs::metadata(path)?;
+    if meta.is_dir() {
+        return Err(io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file"));
+    }
+    if !meta.is_file() {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            "not a regular file (a device, pipe or socket)",
+        ));
+    }
+    if meta.len() > limit {
+        return Err(too_large(limit));
+    }
+    Ok(())
+}
+
+/// A regular file's bytes, at most `limit` (the read is capped too: a file may grow after
+/// its metadata was read).
+pub fn read_bytes(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
+    use std::io::Read;
+    regular_file(path, limit)?;
+    let mut bytes = vec![];
+    std::fs::File::open(path)?.take(limit + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(limit));
+    }
+    Ok(bytes)
+}
+
+fn too_large(limit: u64) -> io::Error {
+    let msg = if limit >= 1 << 30 {
+        format!("larger than the {} GiB limit", limit >> 30)
+    } else {
+        format!("larger than the {} MiB limit", limit >> 20)
+    };
+    io::Error::new(io::ErrorKind::FileTooLarge, msg)
 }
 
 /// Text from bytes, or an error naming the byte offset of the first invalid sequence.

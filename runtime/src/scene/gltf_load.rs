@@ -46,13 +46,12 @@ pub fn load(path: &Path) -> Result<Loaded> {
 /// Checks before anything large is read (a regular file, glTF, supported required
 /// extensions, referenced files present), then the import and accessor bounds.
 fn open(path: &Path) -> std::result::Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<gltf::image::Data>), String> {
-    regular_file(path)?;
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
         let hint = "models must be glTF 2.0 (.gltf or .glb); convert other formats (e.g. .obj, .fbx) with Blender's glTF exporter";
         return Err(format!("not a glTF file: {hint}"));
     }
-    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let bytes = lightbench_compiler::vfs::read_bytes(path, MAX_MODEL_FILE_BYTES).map_err(|e| unreadable(path, e))?;
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| format!("not a valid glTF file: {e}"))?;
     referenced_files(&gltf, path)?;
     if let Some(ext) = gltf.extensions_required().find(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
@@ -369,20 +368,10 @@ fn triangle_list(mode: gltf::mesh::Mode, idx: Vec<u32>) -> Vec<u32> {
 /// The largest glTF, buffer or image file read (a guard against devices and runaway files).
 pub const MAX_MODEL_FILE_BYTES: u64 = 2 << 30;
 
-/// Only regular files of bounded size are read: a FIFO would block and `/dev/zero` never end.
-fn regular_file(path: &Path) -> std::result::Result<(), String> {
-    let meta = std::fs::metadata(path).map_err(|e| format!("cannot read `{}`: {e}", path.display()))?;
-    if !meta.is_file() {
-        return Err(format!("`{}` is not a regular file (a directory, device or pipe)", path.display()));
-    }
-    if meta.len() > MAX_MODEL_FILE_BYTES {
-        return Err(format!(
-            "`{}` is larger than the {} GiB limit",
-            path.display(),
-            MAX_MODEL_FILE_BYTES >> 30
-        ));
-    }
-    Ok(())
+/// A failed read, naming the file (only regular files of bounded size are read: a FIFO
+/// would block and `/dev/zero` never end).
+fn unreadable(path: &Path, e: std::io::Error) -> String {
+    format!("`{}`: {e}", path.display())
 }
 
 /// Buffers and images named by file URI (not `data:`), checked before the importer opens
@@ -402,7 +391,7 @@ fn referenced_files(gltf: &gltf::Gltf, path: &Path) -> std::result::Result<(), S
         if !file.exists() {
             return Err(format!("{what} {index} refers to `{}`, which does not exist", file.display()));
         }
-        regular_file(&file)?;
+        lightbench_compiler::vfs::regular_file(&file, MAX_MODEL_FILE_BYTES).map_err(|e| unreadable(&file, e))?;
     }
     Ok(())
 }
