@@ -173,6 +173,40 @@ fn a_filled_frame_is_exposed_as_before_and_manual_exposure_works() {
     assert!((lum[2] - 2f32.powf(-1.5)).abs() < 1e-5, "{lum:?}");
 }
 
+/// The README's vector form (`--param ambient.color=0.1,0.1,0.12`), as written, against a
+/// stronger ambient: both render, and more ambient light is a brighter image.
+#[test]
+fn the_readme_vector_param_renders() {
+    let d = scratch("param-vec");
+    let mut means = vec![];
+    for (name, value) in [("readme", "0.1,0.1,0.12"), ("strong", "0.8,0.8,0.8")] {
+        let out = d.join(format!("{name}.png"));
+        let ambient = format!("ambient.color={value}");
+        let args = [
+            "render",
+            "--param",
+            "exposure.automatic=false",
+            "--param",
+            &ambient,
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        let (code, _, err) = lightbench(&args);
+        assert_eq!(code, 0, "{err}");
+        means.push(lightbench::io::Image::load_png(&out).unwrap().mean_rgb(0, 0, 128, 128));
+    }
+    assert!(means[1] > means[0] * 1.2, "{means:?}");
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--param",
+        "ambient.color=0.1,0.1",
+        "--out",
+        d.join("x.png").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("ambient.color"), "{err}");
+}
+
 #[test]
 fn params_from_the_command_line_reach_the_frame_and_the_manifest() {
     let d = scratch("param");
