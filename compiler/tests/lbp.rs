@@ -340,6 +340,21 @@ mod generated {
         })
     }
 
+    fn data() -> impl Strategy<Value = Option<Spanned<DataSource>>> {
+        proptest::option::of(
+            prop_oneof![
+                name().prop_map(DataSource::File),
+                proptest::collection::vec(float(), 0..4).prop_map(DataSource::F32),
+                proptest::collection::vec(0u64..=u32::MAX as u64, 0..4).prop_map(DataSource::U32),
+            ]
+            .prop_map(sp),
+        )
+    }
+
+    fn mip() -> impl Strategy<Value = Spanned<MipSel>> {
+        prop_oneof![(0u32..12).prop_map(MipSel::Level), (-3i32..3).prop_map(MipSel::Rep)].prop_map(sp)
+    }
+
     fn resource(n: String) -> impl Strategy<Value = Resource> {
         let texture = (
             proptest::sample::select(TextureFormat::ALL.to_vec()),
@@ -353,8 +368,9 @@ mod generated {
             proptest::option::of(kinds()),
             any::<bool>(),
             any::<bool>(),
+            data(),
         )
-            .prop_map(|(f, size, layers, view, mips, per, history, external)| {
+            .prop_map(|(f, size, layers, view, mips, per, history, external, data)| {
                 ResourceKind::Texture(TextureDesc {
                     format: sp(f),
                     size: sp(size),
@@ -364,17 +380,20 @@ mod generated {
                     per_light: per.map(sp),
                     history,
                     external,
+                    data,
                 })
             });
-        let buffer =
-            (1u64..1 << 40, proptest::option::of(kinds()), any::<bool>(), any::<bool>()).prop_map(|(size, per, history, external)| {
+        let buffer = (1u64..1 << 40, proptest::option::of(kinds()), any::<bool>(), any::<bool>(), data()).prop_map(
+            |(size, per, history, external, data)| {
                 ResourceKind::Buffer(BufferDesc {
                     size: sp(size),
                     per_light: per.map(sp),
                     history,
                     external,
+                    data,
                 })
-            });
+            },
+        );
         prop_oneof![3 => texture, 1 => buffer].prop_map(move |kind| Resource {
             name: sp(n.clone()),
             kind,
@@ -431,12 +450,14 @@ mod generated {
                 ],
                 proptest::option::of(proptest::sample::select(vec![Blend::Add, Blend::Alpha, Blend::Multiply])),
                 layer(),
+                mip(),
             )
-                .prop_map(|(r, load, blend, layer)| ColorTarget {
+                .prop_map(|(r, load, blend, layer, mip)| ColorTarget {
                     resource: sp(r),
                     load,
                     blend: blend.map(sp),
                     layer,
+                    mip,
                     span: Span::default(),
                 }),
             0..3,
@@ -448,13 +469,15 @@ mod generated {
                 proptest::sample::select(CompareFn::ALL.to_vec()),
                 any::<bool>(),
                 layer(),
+                mip(),
             )
-                .prop_map(|(r, load, compare, write, layer)| DepthTarget {
+                .prop_map(|(r, load, compare, write, layer, mip)| DepthTarget {
                     resource: sp(r),
                     load,
                     compare,
                     write,
                     layer,
+                    mip,
                     span: Span::default(),
                 }),
         );
@@ -514,7 +537,11 @@ mod generated {
     fn pass(n: String) -> impl Strategy<Value = Pass> {
         let common = (
             proptest::collection::vec(
-                (name(), any::<bool>()).prop_map(|(n, p)| if p { Read::Prev(sp(n)) } else { Read::Current(sp(n)) }),
+                (name(), 0u8..3, mip()).prop_map(|(n, k, m)| match k {
+                    0 => Read::Current(sp(n)),
+                    1 => Read::Prev(sp(n)),
+                    _ => Read::Mip(sp(n), m),
+                }),
                 0..3,
             ),
             proptest::collection::vec(name().prop_map(sp), 0..2),
@@ -525,7 +552,17 @@ mod generated {
             proptest::option::of(kinds()),
             any::<bool>(),
         );
-        (kind(), common).prop_map(move |(kind, c)| {
+        let values = prop_oneof![
+            float().prop_map(ParamValue::Float),
+            any::<bool>().prop_map(ParamValue::Bool),
+            proptest::collection::vec(float(), 2..=4).prop_map(ParamValue::Vec),
+        ];
+        let extra = (
+            proptest::collection::vec((name(), values).prop_map(|(k, v)| (sp(k), sp(v))), 0..3),
+            proptest::option::of((0u32..12, 0u32..12).prop_map(|(from, to)| sp(MipRange { from, to }))),
+            any::<bool>(),
+        );
+        (kind(), common, extra).prop_map(move |(kind, c, (values, per_mip, always))| {
             let (reads, writes, params, block, bind, when, per_light, per_face) = c;
             Pass {
                 name: sp(n.clone()),
@@ -538,6 +575,9 @@ mod generated {
                 when: when.map(sp),
                 per_light: per_light.map(sp),
                 per_face,
+                values,
+                per_mip,
+                always,
                 span: Span::default(),
             }
         })
@@ -617,6 +657,8 @@ mod generated {
                     // Some pipelines name their output as the HDR output too: both keys round-trip.
                     hdr_output: (out.len() % 2 == 0).then(|| sp(out.clone())),
                     output: sp(out.clone()),
+                    always: out.len() % 3 == 0,
+                    jitter: pname.len() % 2 == 0,
                     span: Span::default(),
                 })
             },

@@ -13,9 +13,9 @@ pub use condition::{Condition, Effect, LightKind};
 pub use param::{out_of_range, Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
     default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel, Load,
-    Pass, PassKind, Raster, Read, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,
+    MipRange, MipSel, Pass, PassKind, Raster, Read, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,
 };
-pub use resource::{AddressMode, BufferDesc, FilterMode, Resource, ResourceKind, SamplerDecl, SamplerKind, SizeSpec, TextureDesc, ViewDim};
+pub use resource::{AddressMode, BufferDesc, DataSource, FilterMode, Resource, ResourceKind, SamplerDecl, SamplerKind, SizeSpec, TextureDesc, ViewDim};
 pub use stage::{naga_stage_word, Stage};
 pub use variant::{Variant, VariantOption};
 
@@ -34,6 +34,10 @@ pub struct Pipeline {
     pub output: Spanned<String>,
     /// The linear (HDR) image before tone mapping, saved when an `.exr` is asked for.
     pub hdr_output: Option<Spanned<String>>,
+    /// Every pass runs every frame (no reuse of unchanged work).
+    pub always: bool,
+    /// Sub-pixel camera jitter (Halton 2, 3), for temporal accumulation.
+    pub jitter: bool,
     pub span: Span,
 }
 

@@ -1,7 +1,7 @@
 //! Passes: raster (draws the scene or procedural vertices), fullscreen (one triangle),
 //! compute (dispatch). Each kind carries only its own data.
 
-use super::{Condition, LightKind, Stage};
+use super::{Condition, LightKind, ParamValue, Stage};
 use crate::span::{Span, Spanned};
 use serde::{Deserialize, Serialize};
 
@@ -128,12 +128,51 @@ pub enum LayerSel {
     All,
 }
 
+/// Which mip level of a resource a target or read means.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum MipSel {
+    /// A fixed level.
+    Level(u32),
+    /// The level of the current repetition of a `per_mip` pass, plus an offset
+    /// (`Rep(-1)`: the level above, the next larger one).
+    Rep(i32),
+}
+
+impl MipSel {
+    /// The level for repetition level `rep` (`None` when the offset leaves the chain).
+    pub fn level(self, rep: u32) -> Option<u32> {
+        match self {
+            MipSel::Level(l) => Some(l),
+            MipSel::Rep(d) => u32::try_from(rep as i64 + d as i64).ok(),
+        }
+    }
+}
+
+/// The mip levels a `per_mip` pass repeats over, from `from` to `to` inclusive (downwards
+/// when `from > to`, as an up-sample chain runs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct MipRange {
+    pub from: u32,
+    pub to: u32,
+}
+
+impl MipRange {
+    pub fn levels(self) -> Vec<u32> {
+        if self.from <= self.to {
+            (self.from..=self.to).collect()
+        } else {
+            (self.to..=self.from).rev().collect()
+        }
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ColorTarget {
     pub resource: Spanned<String>,
     pub load: Load<[f64; 4]>,
     pub blend: Option<Spanned<Blend>>,
     pub layer: LayerSel,
+    pub mip: Spanned<MipSel>,
     pub span: Span,
 }
 
@@ -144,6 +183,7 @@ pub struct DepthTarget {
     pub compare: CompareFn,
     pub write: bool,
     pub layer: LayerSel,
+    pub mip: Spanned<MipSel>,
     pub span: Span,
 }
 
@@ -260,12 +300,21 @@ pub enum Read {
     Current(Spanned<String>),
     /// The previous frame's value of a history resource.
     Prev(Spanned<String>),
+    /// One mip level of the current frame's value.
+    Mip(Spanned<String>, Spanned<MipSel>),
 }
 
 impl Read {
     pub fn name(&self) -> &Spanned<String> {
         match self {
-            Read::Current(n) | Read::Prev(n) => n,
+            Read::Current(n) | Read::Prev(n) | Read::Mip(n, _) => n,
+        }
+    }
+    /// The one mip level read, if the read names one.
+    pub fn mip(&self) -> Option<MipSel> {
+        match self {
+            Read::Mip(_, m) => Some(m.value),
+            _ => None,
         }
     }
     pub fn is_prev(&self) -> bool {
@@ -283,6 +332,9 @@ pub struct Pass {
     pub writes: Vec<Spanned<String>>,
     /// Parameters in this pass's uniform block.
     pub params: Vec<Spanned<String>>,
+    /// Fields of the parameter block fixed to literal values for this pass (a blur's
+    /// direction, a sample count): no user-facing parameter, so one shader serves many passes.
+    pub values: Vec<(Spanned<String>, Spanned<ParamValue>)>,
     /// Name of the shader global holding the parameter block.
     pub param_block: Spanned<String>,
     /// Explicit shader global -> declared name map, overriding the naming rule.
@@ -292,6 +344,10 @@ pub struct Pass {
     pub per_light: Option<Spanned<Vec<LightKind>>>,
     /// Run once per cube face (6 times; per light when `per_light` is set too).
     pub per_face: bool,
+    /// Run once per mip level of this range (targets and reads select levels with `Rep`).
+    pub per_mip: Option<Spanned<MipRange>>,
+    /// Run every frame even when nothing it depends on changed (hidden inputs).
+    pub always: bool,
     pub span: Span,
 }
 

@@ -62,6 +62,17 @@ impl SizeSpec {
     }
 }
 
+/// Where a resource's initial content comes from: a file next to the pipeline (PNG, EXR,
+/// raw little-endian bytes; a JSON array of numbers for buffers) or numbers written inline.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum DataSource {
+    File(String),
+    /// 32-bit floats, little-endian.
+    F32(Vec<f64>),
+    /// 32-bit unsigned integers, little-endian.
+    U32(Vec<u64>),
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TextureDesc {
     pub format: Spanned<TextureFormat>,
@@ -75,6 +86,8 @@ pub struct TextureDesc {
     pub history: bool,
     /// Supplied from outside the graph (by the runtime); no pass needs to write it.
     pub external: bool,
+    /// Initial content, uploaded once.
+    pub data: Option<Spanned<DataSource>>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -84,6 +97,8 @@ pub struct BufferDesc {
     pub per_light: Option<Spanned<Vec<LightKind>>>,
     pub history: bool,
     pub external: bool,
+    /// Initial content, uploaded once.
+    pub data: Option<Spanned<DataSource>>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -122,6 +137,12 @@ impl Resource {
         match &self.kind {
             ResourceKind::Texture(t) => t.external,
             ResourceKind::Buffer(b) => b.external,
+        }
+    }
+    pub fn data(&self) -> Option<&Spanned<DataSource>> {
+        match &self.kind {
+            ResourceKind::Texture(t) => t.data.as_ref(),
+            ResourceKind::Buffer(b) => b.data.as_ref(),
         }
     }
 }

@@ -16,6 +16,8 @@ pub enum Def {
     Floats(&'static [f64]),
     EmptyList,
     EmptyMap,
+    /// `Level(0)`: a target's mip.
+    Level0,
 }
 
 /// (owner, key, default). Owners are item kinds as the tree names them; `Pass` holds the
@@ -38,16 +40,22 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Pass", "param_block", Def::Str("params")),
     ("Pass", "bind", Def::EmptyMap),
     ("Pass", "per_face", Def::Bool(false)),
+    ("Pass", "values", Def::EmptyMap),
+    ("Pass", "always", Def::Bool(false)),
+    ("Pipeline", "always", Def::Bool(false)),
+    ("Pipeline", "jitter", Def::Bool(false)),
     ("Pass", "color", Def::EmptyList),
     ("Raster", "draw", Def::Ident("Scene")),
     ("Raster", "cull", Def::Ident("Back")),
     ("Raster", "instances", Def::Int(1)),
     ("Target", "clear", Def::Floats(&[0.0, 0.0, 0.0, 0.0])),
     ("Target", "layer", Def::Ident("Base")),
+    ("Target", "mip", Def::Level0),
     ("Depth", "clear", Def::Float(1.0)),
     ("Depth", "compare", Def::Ident("Less")),
     ("Depth", "write", Def::Bool(true)),
     ("Depth", "layer", Def::Ident("Base")),
+    ("Depth", "mip", Def::Level0),
     ("Option", "requires", Def::EmptyList),
     ("Option", "limits", Def::EmptyMap),
     ("Option", "shaders", Def::EmptyMap),
@@ -95,6 +103,7 @@ impl Def {
             Def::Floats(v) => Node::tuple(v.iter().map(|x| Node::float(*x, span)).collect(), span),
             Def::EmptyList => Node::list(vec![], span),
             Def::EmptyMap => Node::map(vec![], span),
+            Def::Level0 => Node::call("Level", vec![Node::int(0, span)], span),
         }
     }
 }

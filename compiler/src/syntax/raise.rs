@@ -44,6 +44,8 @@ pub fn pipeline(p: &Pipeline) -> Node {
     f.opt("variants", nonempty(named_map(&p.variants, |x| &x.name, variant, p.span)));
     f.opt("hdr_output", p.hdr_output.as_ref().map(|h| Node::str(&h.value, h.span)));
     f.put("output", Node::str(&p.output.value, p.output.span));
+    f.put("always", Node::bool(p.always, p.span));
+    f.put("jitter", Node::bool(p.jitter, p.span));
     f.into_node(Some("Pipeline"), p.span, p.span)
 }
 
@@ -124,7 +126,16 @@ fn resource(r: &Resource) -> Node {
     f.opt("per_light", r.per_light().map(|k| kinds(k, k.span)));
     f.put("history", Node::bool(r.history(), r.span));
     f.put("external", Node::bool(r.external(), r.span));
+    f.opt("data", r.data().map(|d| data(&d.value, d.span)));
     f.into_node(Some(kind), r.span, r.span)
+}
+
+fn data(d: &DataSource, span: Span) -> Node {
+    match d {
+        DataSource::File(f) => Node::call("File", vec![Node::str(f, span)], span),
+        DataSource::F32(v) => Node::call("F32", vec![Node::list(v.iter().map(|x| Node::float(*x, span)).collect(), span)], span),
+        DataSource::U32(v) => Node::call("U32", vec![Node::list(v.iter().map(|x| Node::int(*x as i64, span)).collect(), span)], span),
+    }
 }
 
 /// How a stage is written given the pass's shader file: `None` when the default applies,
@@ -157,6 +168,8 @@ fn pass(p: &Pass) -> Node {
     }
     f.opt("per_light", p.per_light.as_ref().map(|k| kinds(k, k.span)));
     f.put("per_face", Node::bool(p.per_face, p.span));
+    f.opt("per_mip", p.per_mip.as_ref().map(|m| mip_range(m.value, m.span)));
+    f.put("always", Node::bool(p.always, p.span));
     f.put("reads", Node::list(p.reads.iter().map(read).collect(), p.span));
     f.put("writes", strs(&p.writes, p.span));
     if let Some(t) = p.targets() {
@@ -164,6 +177,8 @@ fn pass(p: &Pass) -> Node {
         f.opt("depth", t.depth.as_ref().map(depth_target));
     }
     f.put("params", strs(&p.params, p.span));
+    let values = p.values.iter().map(|(k, v)| (Node::str(&k.value, k.span), value(&v.value, v.span)));
+    f.put("values", Node::map(values.collect(), p.span));
     f.put("param_block", Node::str(&p.param_block.value, p.param_block.span));
     let bind = p
         .bind
@@ -203,7 +218,19 @@ fn read(r: &Read) -> Node {
     match r {
         Read::Current(_) => Node::str(&n.value, n.span),
         Read::Prev(_) => Node::call("Prev", vec![Node::str(&n.value, n.span)], n.span),
+        Read::Mip(_, m) => Node::call("Mip", vec![Node::str(&n.value, n.span), mip(m.value, m.span)], n.span),
     }
+}
+
+fn mip(m: MipSel, span: Span) -> Node {
+    match m {
+        MipSel::Level(l) => Node::call("Level", vec![Node::int(l as i64, span)], span),
+        MipSel::Rep(d) => Node::call("Rep", vec![Node::int(d as i64, span)], span),
+    }
+}
+
+fn mip_range(m: MipRange, span: Span) -> Node {
+    Node::tuple(vec![Node::int(m.from as i64, span), Node::int(m.to as i64, span)], span)
 }
 
 fn layer(l: LayerSel, span: Span) -> Node {
@@ -234,6 +261,7 @@ fn color_target(c: &ColorTarget) -> Node {
     }
     f.opt("blend", c.blend.as_ref().map(|b| Node::ident(b.value.name(), b.span)));
     f.put("layer", layer(c.layer, c.span));
+    f.put("mip", mip(c.mip.value, c.mip.span));
     target("Target", f, &c.resource, c.span)
 }
 
@@ -246,6 +274,7 @@ fn depth_target(d: &DepthTarget) -> Node {
     f.put("compare", Node::ident(d.compare.name(), d.span));
     f.put("write", Node::bool(d.write, d.span));
     f.put("layer", layer(d.layer, d.span));
+    f.put("mip", mip(d.mip.value, d.mip.span));
     target("Depth", f, &d.resource, d.span)
 }
 

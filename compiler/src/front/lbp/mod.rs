@@ -161,6 +161,9 @@ fn keyword(r: &Rule) -> Option<&'static str> {
         Rule::when => "when",
         Rule::per_light => "per_light",
         Rule::per_face => "per_face",
+        Rule::per_mip => "per_mip",
+        Rule::always => "always",
+        Rule::set => "set",
         Rule::dispatch => "dispatch",
         _ => return None,
     })

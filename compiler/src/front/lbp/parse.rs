@@ -190,6 +190,10 @@ impl Builder<'_> {
                     passes.extend(self.pass(it));
                     continue;
                 }
+                Rule::top_flag => {
+                    outputs.0.push((it.as_str().to_string(), at, Node::bool(true, at)));
+                    continue;
+                }
                 Rule::output | Rule::hdr_output => {
                     let key = if it.as_rule() == Rule::output { "output" } else { "hdr_output" };
                     let n = kids(it).next().and_then(|n| self.name(n));
@@ -284,6 +288,21 @@ impl Builder<'_> {
             Rule::layers => f.put("layers", at, self.uint(&kids(o).next()?)?),
             Rule::mips => f.put("mips", at, self.uint(&kids(o).next()?)?),
             Rule::per_light => f.put("per_light", at, self.per_light(o)),
+            Rule::data => {
+                let inner = kids(o).next()?;
+                let node = match inner.as_rule() {
+                    Rule::string => Node::call("File", vec![self.string(inner)?], at),
+                    Rule::data_f32 => {
+                        let nums = kids(inner).map(|n| self.number(&n)).collect::<Option<Vec<_>>>()?;
+                        Node::call("F32", vec![Node::list(nums, at)], at)
+                    }
+                    _ => {
+                        let nums = kids(inner).map(|n| self.uint(&n)).collect::<Option<Vec<_>>>()?;
+                        Node::call("U32", vec![Node::list(nums, at)], at)
+                    }
+                };
+                f.put("data", at, node)
+            }
             _ => match o.as_str() {
                 "history" | "external" => f.put(o.as_str(), at, Node::bool(true, at)),
                 view => f.put("view", at, Node::ident(view, at)),
@@ -360,7 +379,7 @@ impl Builder<'_> {
 
     fn pass_item(&mut self, item: P, at: Span) -> Option<Node> {
         let rule = item.as_rule();
-        if rule == Rule::per_face {
+        if rule == Rule::per_face || rule == Rule::always {
             return Some(Node::bool(true, at));
         }
         if rule == Rule::per_light {
@@ -402,6 +421,14 @@ impl Builder<'_> {
                 Some(Node::map(pairs, at))
             }
             Rule::when => self.cond(parts.pop()?),
+            Rule::per_mip => {
+                let (to, from) = (self.uint(&parts.pop()?)?, self.uint(&parts.pop()?)?);
+                Some(Node::tuple(vec![from, to], at))
+            }
+            Rule::set => {
+                let pairs = parts.into_iter().map(|s| self.setting(s)).collect::<Option<Vec<_>>>()?;
+                Some(Node::map(pairs, at))
+            }
             _ => self.dispatch(parts.pop()?),
         }
     }
@@ -416,11 +443,37 @@ impl Builder<'_> {
 
     fn read(&mut self, r: P) -> Option<Node> {
         let inner = kids(r).next()?;
-        if inner.as_rule() == Rule::prev {
-            let span = self.span(&inner);
-            return Some(Node::call("Prev", vec![self.name(kids(inner).next()?)?], span));
+        let span = self.span(&inner);
+        match inner.as_rule() {
+            Rule::prev => Some(Node::call("Prev", vec![self.name(kids(inner).next()?)?], span)),
+            Rule::mip_read => {
+                let mut k = kids(inner);
+                let name = self.name(k.next()?)?;
+                Some(Node::call("Mip", vec![name, self.mip_sel(k.next()?)?], span))
+            }
+            _ => self.name(inner),
         }
-        self.name(inner)
+    }
+
+    /// `2` is `Level(2)`; `rep`, `rep-1`, `rep+1` are `Rep(0)`, `Rep(-1)`, `Rep(1)`.
+    fn mip_sel(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let inner = kids(p).next()?;
+        if inner.as_rule() == Rule::uint {
+            return Some(Node::call("Level", vec![self.uint(&inner)?], span));
+        }
+        let offset = inner.as_str().trim_start_matches("rep").trim_start_matches('+');
+        let d: i64 = match offset.parse() {
+            _ if offset.is_empty() => 0,
+            Ok(d) => d,
+            Err(_) => return self.err(Diagnostic::error(Code::BadNumber, format!("`{offset}` is not a mip offset"), span)),
+        };
+        Some(Node::call("Rep", vec![Node::int(d, span)], span))
+    }
+
+    fn setting(&mut self, s: P) -> Option<(Node, Node)> {
+        let mut kv = kids(s);
+        Some((self.name(kv.next()?)?, self.value(kv.next()?)?))
     }
 
     fn binding(&mut self, b: P) -> Option<(Node, Node)> {
@@ -455,6 +508,7 @@ impl Builder<'_> {
                 Rule::load => "load",
                 Rule::blend => "blend",
                 Rule::layer => "layer",
+                Rule::target_mip => "mip",
                 Rule::compare => "compare",
                 _ => "write",
             };
@@ -469,6 +523,7 @@ impl Builder<'_> {
                         _ => self.word(&w),
                     }
                 }
+                Rule::target_mip => self.mip_sel(kids(o).next()?)?,
                 _ => self.word(&kids(o).next()?),
             };
             f.put(key, at, node);
@@ -597,5 +652,9 @@ impl Builder<'_> {
 
 /// The tree key of a pass property: its keyword (the grammar's pass items are exactly these).
 fn pass_key(r: Rule) -> &'static str {
-    super::keyword(&r).unwrap_or("dispatch")
+    match super::keyword(&r) {
+        Some("set") => "values",
+        Some(k) => k,
+        None => "dispatch",
+    }
 }

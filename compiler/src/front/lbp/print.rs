@@ -11,7 +11,7 @@ use crate::syntax::defaults;
 use crate::syntax::tree::{Field, Node, Value};
 use std::fmt::Write;
 
-const RESERVED: [&str; 7] = ["none", "true", "false", "prev", "load", "nowrite", "in"];
+const RESERVED: [&str; 9] = ["none", "true", "false", "prev", "load", "nowrite", "in", "mip", "rep"];
 
 /// A name as written: bare when it is a dotted identifier, quoted otherwise.
 pub fn name(s: &str) -> String {
@@ -120,6 +120,12 @@ impl Printer {
                 let _ = writeln!(self.out.text, "{key} {}", name(text(n)));
             }
         }
+        for key in ["always", "jitter"] {
+            if let Some(n) = get(f, key) {
+                self.out.comments_before(n.span, "");
+                let _ = writeln!(self.out.text, "{key}");
+            }
+        }
     }
 
     fn pass(&mut self, p: &Node) {
@@ -215,10 +221,31 @@ fn resource(k: &Node, v: &Node) -> String {
             "view" => line += &format!(" {}", text(n)),
             "per_light" => line += &format!(" {}", per_light(n)),
             "history" | "external" => line += &format!(" {key}"),
+            "data" => line += &format!(" data {}", data(n)),
             _ => {}
         }
     }
     line
+}
+
+fn data(n: &Node) -> String {
+    let list = || items(n).first().map(items).unwrap_or(&[]);
+    match n.name() {
+        Some("F32") => format!("f32({})", join(list(), value)),
+        Some("U32") => format!("u32({})", join(list(), value)),
+        _ => quote(items(n).first().map(text).unwrap_or("")),
+    }
+}
+
+/// `2`, `rep`, `rep-1`, `rep+1`.
+fn mip(n: &Node) -> String {
+    let arg = items(n).first().map(value).unwrap_or_default();
+    match n.name() {
+        Some("Rep") if arg == "0" => "rep".into(),
+        Some("Rep") if arg.starts_with('-') => format!("rep{arg}"),
+        Some("Rep") => format!("rep+{arg}"),
+        _ => arg,
+    }
 }
 
 /// A stage reference: an entry name, or `"file#entry"` quoted.
@@ -240,6 +267,16 @@ fn pass_line(key: &str, v: &Node) -> String {
         "cull" => format!("cull {}", text(v)),
         "per_light" => per_light(v),
         "per_face" => "per_face".into(),
+        "always" => "always".into(),
+        "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
+        "values" => format!(
+            "set {}",
+            entries(v)
+                .iter()
+                .map(|(a, b)| format!("{} = {}", name(text(a)), value(b)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
         "reads" => format!("reads {}", join(items(v), read)),
         "writes" | "params" => format!("{key} {}", join(items(v), |n| name(text(n)))),
         "param_block" => format!("param_block {}", name(text(v))),
@@ -263,6 +300,11 @@ fn pass_line(key: &str, v: &Node) -> String {
 fn read(n: &Node) -> String {
     match n.name() {
         Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => format!("prev({})", name(items(n).first().map(text).unwrap_or(""))),
+        Some("Mip") if matches!(&*n.value, Value::Tuple { .. }) => format!(
+            "mip({}, {})",
+            name(items(n).first().map(text).unwrap_or("")),
+            items(n).get(1).map(mip).unwrap_or_default()
+        ),
         _ => name(text(n)),
     }
 }
@@ -282,6 +324,7 @@ fn target(n: &Node) -> String {
             "write" => t += " nowrite",
             "layer" if v.name() == Some("Index") => t += &format!(" layer {}", value(&items(v)[0])),
             "layer" => t += &format!(" layer {}", text(v)),
+            "mip" => t += &format!(" mip {}", mip(v)),
             _ => {}
         }
     }

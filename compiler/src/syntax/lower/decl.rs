@@ -115,18 +115,25 @@ impl Lowerer<'_> {
         };
         let history = o.get("history").and_then(|n| self.bool(&n));
         let external = o.get("external").and_then(|n| self.bool(&n));
+        let data = match o.take("data") {
+            Some(n) => Some(self.data(&n)?),
+            None => None,
+        };
         let span = o.span;
         let kind = if o.kind == "Buffer" {
             let size = self.required(&mut o, "size").and_then(|n| self.u64(&n));
-            self.finish(o, &["size", "per_light", "history", "external"], &[]);
+            self.finish(o, &["size", "per_light", "history", "external", "data"], &[]);
             ResourceKind::Buffer(BufferDesc {
                 size: size?,
                 per_light,
                 history: history?,
                 external: external?,
+                data,
             })
         } else {
-            ResourceKind::Texture(self.texture(o, per_light, history?, external?)?)
+            let mut t = self.texture(o, per_light, history?, external?)?;
+            t.data = data;
+            ResourceKind::Texture(t)
         };
         Some(Resource { name, kind, span })
     }
@@ -145,7 +152,7 @@ impl Lowerer<'_> {
         let mips = o.get("mips").and_then(|n| self.u32(&n));
         self.finish(
             o,
-            &["format", "size", "layers", "view", "mips", "per_light", "history", "external"],
+            &["format", "size", "layers", "view", "mips", "per_light", "history", "external", "data"],
             &[],
         );
         Some(TextureDesc {
@@ -157,7 +164,26 @@ impl Lowerer<'_> {
             per_light,
             history,
             external,
+            data: None,
         })
+    }
+
+    /// `File("noise.png")`, `F32([..])` or `U32([..])`.
+    fn data(&mut self, n: &Node) -> Res<Spanned<DataSource>> {
+        let expected = "`File(\"path\")`, `F32([numbers])` or `U32([whole numbers])`";
+        let d = match (&*n.value, n.name()) {
+            (Value::Tuple { items, .. }, Some("File")) if items.len() == 1 => DataSource::File(self.string(&items[0])?.value),
+            (Value::Tuple { items, .. }, Some("F32")) if items.len() == 1 => {
+                let list = self.list(&items[0])?.to_vec();
+                DataSource::F32(list.iter().map(|x| self.f64(x)).collect::<Option<_>>()?)
+            }
+            (Value::Tuple { items, .. }, Some("U32")) if items.len() == 1 => {
+                let list = self.list(&items[0])?.to_vec();
+                DataSource::U32(list.iter().map(|x| self.u32(x).map(|v| v.value as u64)).collect::<Option<_>>()?)
+            }
+            _ => return self.type_err(expected, n),
+        };
+        Some(Spanned::new(d, n.span))
     }
 
     fn size(&mut self, n: &Node) -> Res<Spanned<SizeSpec>> {

@@ -63,6 +63,8 @@ impl Lowerer<'_> {
             Some(n) => Some(self.string(&n)?),
             None => None,
         };
+        let always = o.get("always").and_then(|n| self.bool(&n));
+        let jitter = o.get("jitter").and_then(|n| self.bool(&n));
         let span = o.span;
         let keys = [
             "name",
@@ -73,6 +75,8 @@ impl Lowerer<'_> {
             "variants",
             "output",
             "hdr_output",
+            "always",
+            "jitter",
         ];
         self.finish(o, &keys, &[]);
         Some(Pipeline {
@@ -84,6 +88,8 @@ impl Lowerer<'_> {
             variants,
             output: output?,
             hdr_output,
+            always: always?,
+            jitter: jitter?,
             span,
         })
     }

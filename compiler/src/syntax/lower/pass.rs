@@ -7,17 +7,20 @@ use crate::ir::*;
 use crate::span::{Span, Spanned};
 use crate::syntax::tree::{Node, Value};
 
-const COMMON: [&str; 10] = [
+const COMMON: [&str; 13] = [
     "name",
     "shader",
     "reads",
     "writes",
     "params",
+    "values",
     "param_block",
     "bind",
     "when",
     "per_light",
     "per_face",
+    "per_mip",
+    "always",
 ];
 const RASTER: [&str; 8] = ["vertex", "fragment", "color", "depth", "draw", "cull", "instances", "multiview"];
 const FULLSCREEN: [&str; 3] = ["fragment", "color", "depth"];
@@ -75,6 +78,12 @@ impl Lowerer<'_> {
             None => None,
         };
         let per_face = o.get("per_face").and_then(|n| self.bool(&n));
+        let values = o.get("values").and_then(|n| self.values(&n));
+        let per_mip = match o.take("per_mip") {
+            Some(n) => Some(self.mip_range(&n)?),
+            None => None,
+        };
+        let always = o.get("always").and_then(|n| self.bool(&n));
         Some(Pass {
             name: name?,
             kind: kind?,
@@ -86,8 +95,54 @@ impl Lowerer<'_> {
             when,
             per_light,
             per_face: per_face?,
+            values: values?,
+            per_mip,
+            always: always?,
             span: o.span,
         })
+    }
+
+    /// `values: {"field": literal}`: numbers (whole or not: the field's type decides),
+    /// bools, tuples of numbers.
+    fn values(&mut self, n: &Node) -> Res<Vec<(Spanned<String>, Spanned<ParamValue>)>> {
+        let entries = self.string_map(n)?;
+        let mut out = vec![];
+        for (k, v) in entries {
+            let value = match &*v.value {
+                Value::Int(_) | Value::Float(_) => ParamValue::Float(self.f64(&v)?),
+                Value::Bool(b) => ParamValue::Bool(*b),
+                Value::Tuple { name: None, items } if (2..=4).contains(&items.len()) => {
+                    ParamValue::Vec(items.iter().map(|x| self.f64(x)).collect::<Option<_>>()?)
+                }
+                _ => return self.type_err("a number, `true`/`false` or a tuple of 2 to 4 numbers", &v),
+            };
+            out.push((k, Spanned::new(value, v.span)));
+        }
+        Some(out)
+    }
+
+    /// `per_mip: (from, to)`.
+    fn mip_range(&mut self, n: &Node) -> Res<Spanned<MipRange>> {
+        match &*n.value {
+            Value::Tuple { name: None, items } if items.len() == 2 => {
+                let (from, to) = (self.u32(&items[0])?.value, self.u32(&items[1])?.value);
+                Some(Spanned::new(MipRange { from, to }, n.span))
+            }
+            _ => self.type_err("a range of mip levels `(from, to)`", n),
+        }
+    }
+
+    /// `Level(n)` or `Rep(offset)`.
+    fn mip_sel(&mut self, n: &Node) -> Res<Spanned<MipSel>> {
+        let m = match (&*n.value, n.name()) {
+            (Value::Tuple { items, .. }, Some("Level")) if items.len() == 1 => MipSel::Level(self.u32(&items[0])?.value),
+            (Value::Tuple { items, .. }, Some("Rep")) if items.len() == 1 => match &*items[0].value {
+                Value::Int(i) if i32::try_from(*i).is_ok() => MipSel::Rep(*i as i32),
+                _ => return self.type_err("a whole-number offset", &items[0]),
+            },
+            _ => return self.type_err("`Level(n)` or `Rep(offset)`", n),
+        };
+        Some(Spanned::new(m, n.span))
     }
 
     fn raster(&mut self, o: &mut Obj, shader: &Option<Spanned<String>>) -> Res<Raster> {
@@ -198,7 +253,10 @@ impl Lowerer<'_> {
             match (&*it.value, it.name()) {
                 (Value::Str(s), _) => out.push(Read::Current(Spanned::new(s.clone(), it.span))),
                 (Value::Tuple { items, .. }, Some("Prev")) if items.len() == 1 => out.push(Read::Prev(self.string(&items[0])?)),
-                _ => return self.type_err("a resource name or `Prev(\"name\")`", it),
+                (Value::Tuple { items, .. }, Some("Mip")) if items.len() == 2 => {
+                    out.push(Read::Mip(self.string(&items[0])?, self.mip_sel(&items[1])?))
+                }
+                _ => return self.type_err("a resource name, `Prev(\"name\")` or `Mip(\"name\", level)`", it),
             }
         }
         Some(out)
@@ -240,13 +298,15 @@ impl Lowerer<'_> {
             None => None,
         };
         let layer = o.get("layer").and_then(|l| self.layer(&l));
+        let mip = o.get("mip").and_then(|m| self.mip_sel(&m));
         let span = o.span;
-        self.finish(o, &["resource", "clear", "load", "blend", "layer"], &["compare", "write"]);
+        self.finish(o, &["resource", "clear", "load", "blend", "layer", "mip"], &["compare", "write"]);
         Some(ColorTarget {
             resource,
             load: load?,
             blend,
             layer: layer?,
+            mip: mip?,
             span,
         })
     }
@@ -259,14 +319,16 @@ impl Lowerer<'_> {
             .and_then(|c| self.ident(&c, "compare function", &CompareFn::NAMES, CompareFn::from_name));
         let write = o.get("write").and_then(|w| self.bool(&w));
         let layer = o.get("layer").and_then(|l| self.layer(&l));
+        let mip = o.get("mip").and_then(|m| self.mip_sel(&m));
         let span = o.span;
-        self.finish(o, &["resource", "clear", "load", "compare", "write", "layer"], &["blend"]);
+        self.finish(o, &["resource", "clear", "load", "compare", "write", "layer", "mip"], &["blend"]);
         Some(DepthTarget {
             resource,
             load: load?,
             compare: compare?,
             write: write?,
             layer: layer?,
+            mip: mip?,
             span,
         })
     }
