@@ -191,12 +191,21 @@ impl FieldType {
     }
 }
 
+/// What a parameter-block field holds.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum FieldSource {
+    /// A pipeline parameter (its override or default).
+    Param(ParamId),
+    /// A per-pass value, already as the field's 32-bit words.
+    Fixed(Vec<u32>),
+}
+
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct UniformField {
     /// Field name in the shader struct.
     pub name: String,
-    /// The parameter written there.
-    pub param: ParamId,
+    /// The parameter or per-pass value written there.
+    pub source: FieldSource,
     pub offset: u32,
     pub size: u32,
     pub ty: FieldType,

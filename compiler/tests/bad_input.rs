@@ -1050,3 +1050,61 @@ fn read_write_storage_under_reads_is_one_error_without_a_false_warning() {
     assert!(codes.contains(&"binding-access".to_string()), "{}", out.dump());
     assert!(!codes.contains(&"unused-read".to_string()), "no false warning: {}", out.dump());
 }
+
+#[test]
+fn per_pass_value_that_does_not_fit_its_field() {
+    expect(
+        Case {
+            pipeline: &[(
+                "params: [\"post.exposure\"])",
+                "params: [\"post.exposure\"], values: {\"taps\": 2.5})",
+            )],
+            post: &[("exposure: f32,", "exposure: f32,\n    taps: u32,")],
+            ..BASE
+        },
+        "value-type",
+        "value for `taps`: `2.5` is not a whole number that fits `u32`",
+        "pipelines/p.ron",
+        16,
+        133,
+    );
+}
+
+#[test]
+fn per_pass_value_naming_no_field() {
+    expect(
+        Case {
+            pipeline: &[("params: [\"post.exposure\"])", "params: [\"post.exposure\"], values: {\"tap\": 2})")],
+            post: &[("exposure: f32,", "exposure: f32,\n    taps: u32,")],
+            ..BASE
+        },
+        "value-field",
+        "parameter block `params` has no field `tap`",
+        "pipelines/p.ron",
+        16,
+        125,
+    );
+}
+
+/// Two parameters ending in the same segment: the message names the one that took the
+/// field and how to bind the other.
+#[test]
+fn parameters_with_the_same_last_segment() {
+    expect(
+        Case {
+            pipeline: &[
+                (
+                    "\"post.exposure\": Float(default: 1.0, min: 0.0, max: 8.0),",
+                    "\"post.exposure\": Float(default: 1.0, min: 0.0, max: 8.0),\n        \"pre.exposure\": Float(default: 1.0),",
+                ),
+                ("params: [\"post.exposure\"])", "params: [\"post.exposure\", \"pre.exposure\"])"),
+            ],
+            ..BASE
+        },
+        "param-missing",
+        "parameter `pre.exposure` has no field in shader block `params`: field `exposure` is taken by parameter `post.exposure`",
+        "pipelines/p.ron",
+        17,
+        115,
+    );
+}

@@ -171,7 +171,12 @@ fn uniform_block_offsets_follow_the_shader_struct() {
     let fields: Vec<(&str, &str, u32, u32, &str)> = b
         .fields
         .iter()
-        .map(|f| (f.name.as_str(), plan.param(f.param).name.as_str(), f.offset, f.size, f.ty.wgsl()))
+        .map(|f| {
+            let lightbench_compiler::layout::FieldSource::Param(id) = f.source else {
+                panic!("{f:?}")
+            };
+            (f.name.as_str(), plan.param(id).name.as_str(), f.offset, f.size, f.ty.wgsl())
+        })
         .collect();
     assert_eq!(
         fields,

@@ -15,7 +15,9 @@ pub use pass::{
     default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel, Load,
     MipRange, MipSel, Pass, PassKind, Raster, Read, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,
 };
-pub use resource::{AddressMode, BufferDesc, DataSource, FilterMode, Resource, ResourceKind, SamplerDecl, SamplerKind, SizeSpec, TextureDesc, ViewDim};
+pub use resource::{
+    AddressMode, BufferDesc, DataSource, FilterMode, Resource, ResourceKind, SamplerDecl, SamplerKind, SizeSpec, TextureDesc, ViewDim,
+};
 pub use stage::{naga_stage_word, Stage};
 pub use variant::{Variant, VariantOption};
 

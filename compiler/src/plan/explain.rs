@@ -227,8 +227,28 @@ fn pass_layouts(s: &mut String, plan: &Plan, p: &PlanPass) {
                 f.offset,
                 f.name,
                 f.ty.wgsl(),
-                plan.param(f.param).name
+                field_source(plan, f)
             );
+        }
+    }
+}
+
+/// A block field's parameter name, or its per-pass value as the field's type reads it.
+fn field_source(plan: &Plan, f: &crate::layout::UniformField) -> String {
+    use crate::layout::{FieldSource, FieldType};
+    match &f.source {
+        FieldSource::Param(id) => plan.param(*id).name.clone(),
+        FieldSource::Fixed(w) => {
+            let show = |x: &u32| match f.ty {
+                FieldType::I32 => (*x as i32).to_string(),
+                FieldType::U32 => x.to_string(),
+                _ => format!("{}", f32::from_bits(*x)),
+            };
+            let parts: Vec<String> = w.iter().map(show).collect();
+            match parts.len() {
+                1 => format!("{} (per pass)", parts[0]),
+                _ => format!("({}) (per pass)", parts.join(", ")),
+            }
         }
     }
 }

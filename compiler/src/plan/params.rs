@@ -5,7 +5,7 @@
 use super::PlanParam;
 use crate::diag::did_you_mean;
 use crate::ir::{out_of_range, Param, ParamType, ParamValue};
-use crate::layout::{FieldType, UniformBlock};
+use crate::layout::{FieldSource, FieldType, UniformBlock};
 use std::collections::BTreeMap;
 
 pub fn plan_param(p: &Param) -> PlanParam {
@@ -138,8 +138,13 @@ impl UniformBlock {
     pub fn pack(&self, params: &[PlanParam], values: &ParamValues) -> Vec<u8> {
         let mut bytes = vec![0u8; self.size as usize];
         for f in &self.fields {
-            let Some(p) = params.get(f.param.0 as usize) else { continue };
-            let words = words(&p.ty, values.value_of(p), f.ty);
+            let words = match &f.source {
+                FieldSource::Fixed(w) => w.clone(),
+                FieldSource::Param(id) => match params.get(id.0 as usize) {
+                    Some(p) => words(&p.ty, values.value_of(p), f.ty),
+                    None => continue,
+                },
+            };
             for (i, w) in words.iter().enumerate() {
                 let at = f.offset as usize + 4 * i;
                 if let Some(dst) = bytes.get_mut(at..at + 4) {
@@ -190,7 +195,7 @@ mod tests {
     fn field(name: &str, param: u32, offset: u32, ty: FieldType) -> UniformField {
         UniformField {
             name: name.into(),
-            param: ParamId(param),
+            source: FieldSource::Param(ParamId(param)),
             offset,
             size: 4 * ty.components() as u32,
             ty,
@@ -222,6 +227,13 @@ mod tests {
                 field("mode", 2, 8, FieldType::U32),
                 field("count", 4, 12, FieldType::I32),
                 field("tint", 3, 16, FieldType::Vec4F32),
+                UniformField {
+                    name: "dir".into(),
+                    source: FieldSource::Fixed(vec![0.5f32.to_bits(), 2.0f32.to_bits()]),
+                    offset: 32,
+                    size: 8,
+                    ty: FieldType::Vec2F32,
+                },
             ],
         };
         let b = block.pack(&params, &ParamValues::new());
@@ -237,7 +249,8 @@ mod tests {
             [0.25, 0.5, 0.75, 1.0],
             "alpha defaults to 1"
         );
-        assert!(b[32..].iter().all(|x| *x == 0), "padding stays zero");
+        assert_eq!([float(8), float(9)], [0.5, 2.0], "a per-pass value");
+        assert!(b[40..].iter().all(|x| *x == 0), "padding stays zero");
         let mut over = ParamValues::new();
         over.set(&params, "a.bias", ParamValue::Float(2.0)).unwrap();
         assert_eq!(

@@ -133,8 +133,16 @@ fn resource(r: &Resource) -> Node {
 fn data(d: &DataSource, span: Span) -> Node {
     match d {
         DataSource::File(f) => Node::call("File", vec![Node::str(f, span)], span),
-        DataSource::F32(v) => Node::call("F32", vec![Node::list(v.iter().map(|x| Node::float(*x, span)).collect(), span)], span),
-        DataSource::U32(v) => Node::call("U32", vec![Node::list(v.iter().map(|x| Node::int(*x as i64, span)).collect(), span)], span),
+        DataSource::F32(v) => Node::call(
+            "F32",
+            vec![Node::list(v.iter().map(|x| Node::float(*x, span)).collect(), span)],
+            span,
+        ),
+        DataSource::U32(v) => Node::call(
+            "U32",
+            vec![Node::list(v.iter().map(|x| Node::int(*x as i64, span)).collect(), span)],
+            span,
+        ),
     }
 }
 

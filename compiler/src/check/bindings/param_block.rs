@@ -4,8 +4,8 @@
 
 use super::{Ctx, Used};
 use crate::diag::{Code, Diagnostic, Diagnostics};
-use crate::ir::{shader_ident, ParamType};
-use crate::layout::{FieldType, ParamId, UniformBlock, UniformField};
+use crate::ir::{shader_ident, ParamType, ParamValue};
+use crate::layout::{FieldSource, FieldType, ParamId, UniformBlock, UniformField};
 use crate::shader::reflect;
 use crate::span::Spanned;
 
@@ -36,13 +36,85 @@ fn wanted(ty: &ParamType) -> &'static str {
     }
 }
 
+/// A per-pass value as the 32-bit words of a field of type `f`, or why it does not fit.
+fn value_words(v: &ParamValue, f: FieldType) -> Result<Vec<u32>, String> {
+    use FieldType as F;
+    let whole = |x: f64, lo: f64, hi: f64| x.fract() == 0.0 && x >= lo && x <= hi;
+    match (v, f) {
+        (ParamValue::Float(x), F::F32) => Ok(vec![(*x as f32).to_bits()]),
+        (ParamValue::Float(x), F::I32) if whole(*x, i32::MIN as f64, i32::MAX as f64) => Ok(vec![(*x as i32) as u32]),
+        (ParamValue::Float(x), F::U32) if whole(*x, 0.0, u32::MAX as f64) => Ok(vec![*x as u32]),
+        (ParamValue::Float(x), F::I32 | F::U32) => Err(format!("`{x}` is not a whole number that fits `{}`", f.wgsl())),
+        (ParamValue::Bool(b), F::U32) => Ok(vec![*b as u32]),
+        (ParamValue::Vec(c), _) if c.len() == f.components() && f.components() > 1 => Ok(c.iter().map(|x| (*x as f32).to_bits()).collect()),
+        (v, f) => Err(format!("{} does not fit `{}`", v.describe(), f.wgsl())),
+    }
+}
+
 impl Ctx<'_> {
-    /// The pass parameter a block field is named after: its last segment or full identifier.
+    /// The pass parameter a block field is named after: its full identifier first, else
+    /// its last segment.
     fn param_for_field(&self, field: &str) -> Option<&Spanned<String>> {
-        self.pass.params.iter().find(|prm| {
-            let last = prm.value.rsplit('.').next().unwrap_or(&prm.value);
-            shader_ident(last) == field || shader_ident(prm) == field
+        let params = &self.pass.params;
+        params.iter().find(|prm| shader_ident(prm) == field).or_else(|| {
+            params
+                .iter()
+                .find(|prm| shader_ident(prm.value.rsplit('.').next().unwrap_or(&prm.value)) == field)
         })
+    }
+
+    /// A block field fixed by the pass's `values`: its words, or `None` after reporting.
+    fn fixed_field(
+        &self,
+        u: &Used,
+        mem: &naga::StructMember,
+        key: &Spanned<String>,
+        v: &Spanned<ParamValue>,
+        diags: &mut Diagnostics,
+    ) -> Option<UniformField> {
+        let module = &u.stage.module;
+        let tname = reflect::type_name(&module.module, mem.ty);
+        let words = FieldType::from_wgsl(&tname)
+            .ok_or_else(|| format!("field type `{tname}` cannot hold a per-pass value"))
+            .and_then(|ty| value_words(&v.value, ty).map(|w| (ty, w)));
+        match words {
+            Ok((ty, words)) => Some(UniformField {
+                name: key.value.clone(),
+                source: FieldSource::Fixed(words),
+                offset: mem.offset,
+                size: module.layouter[mem.ty].size,
+                ty,
+            }),
+            Err(why) => {
+                diags.push(
+                    Diagnostic::error(Code::ValueType, format!("value for `{}`: {why}", key.value), v.span)
+                        .with_secondary(module.global_span(u.g.handle), format!("`{}.{}` is `{tname}`", u.g.name, key.value)),
+                );
+                None
+            }
+        }
+    }
+
+    /// Per-pass values naming no field of the block; `false` if any.
+    fn unmatched_values(&self, u: &Used, members: &[naga::StructMember], diags: &mut Diagnostics) -> bool {
+        let names: Vec<&str> = members.iter().filter_map(|m| m.name.as_deref()).collect();
+        let mut ok = true;
+        for (k, _) in &self.pass.values {
+            if !names.contains(&k.value.as_str()) {
+                let mut d = Diagnostic::error(
+                    Code::ValueField,
+                    format!("parameter block `{}` has no field `{}`", u.g.name, k.value),
+                    k.span,
+                )
+                .with_secondary(u.stage.module.global_span(u.g.handle), "block declared here");
+                if let Some(s) = crate::diag::did_you_mean(&k.value, names.iter().copied()) {
+                    d = d.with_note(format!("did you mean `{s}`?"));
+                }
+                diags.push(d);
+                ok = false;
+            }
+        }
+        ok
     }
 
     pub(super) fn param_block(
@@ -67,6 +139,13 @@ impl Ctx<'_> {
         let mut ok = true;
         for mem in members {
             let fname = mem.name.clone().unwrap_or_default();
+            if let Some((k, v)) = self.pass.values.iter().find(|(k, _)| k.value == fname) {
+                match self.fixed_field(u, mem, k, v, diags) {
+                    Some(f) => fields.push(f),
+                    None => ok = false,
+                }
+                continue;
+            }
             let Some(param_ref) = self.param_for_field(&fname) else {
                 if fname.starts_with('_') {
                     continue; // explicit padding
@@ -81,7 +160,9 @@ impl Ctx<'_> {
                         gspan,
                     )
                     .with_secondary(self.pass.name.span, "pass declared here")
-                    .with_note("list the parameter under the pass's `params`, or name padding fields with a leading `_`"),
+                    .with_note(
+                        "list the parameter under the pass's `params`, set it under `values`, or name padding fields with a leading `_`",
+                    ),
                 );
                 ok = false;
                 continue;
@@ -94,6 +175,7 @@ impl Ctx<'_> {
             }
         }
         ok &= self.unmatched_params(u, &matched, diags);
+        ok &= self.unmatched_values(u, members, diags);
         ok.then(|| UniformBlock {
             global: g.name.clone(),
             group: g.group,
@@ -159,7 +241,7 @@ impl Ctx<'_> {
         }
         Some(Some(UniformField {
             name: fname.to_string(),
-            param: ParamId(idx as u32),
+            source: FieldSource::Param(ParamId(idx as u32)),
             offset: mem.offset,
             size: module.layouter[mem.ty].size,
             ty: field_ty,
@@ -171,20 +253,31 @@ impl Ctx<'_> {
         let mut ok = true;
         for prm in &self.pass.params {
             if !matched.contains(&prm.value.as_str()) && self.p.param(prm).is_some() {
-                let last = prm.value.rsplit('.').next().unwrap_or(&prm.value).to_string();
-                diags.push(
-                    Diagnostic::error(
+                let last = shader_ident(prm.value.rsplit('.').next().unwrap_or(&prm.value));
+                let taken = self.param_for_field(&last).filter(|other| other.value != prm.value);
+                let mut d = Diagnostic::error(
+                    Code::ParamMissing,
+                    format!("parameter `{}` has no field `{last}` in shader block `{}`", prm.value, u.g.name),
+                    prm.span,
+                )
+                .with_secondary(u.stage.module.global_span(u.g.handle), "block declared here");
+                if let Some(other) = taken {
+                    d = Diagnostic::error(
                         Code::ParamMissing,
                         format!(
-                            "parameter `{}` has no field `{}` in shader block `{}`",
-                            prm.value,
-                            shader_ident(&last),
-                            u.g.name
+                            "parameter `{}` has no field in shader block `{}`: field `{last}` is taken by parameter `{}` (same last segment)",
+                            prm.value, u.g.name, other.value
                         ),
                         prm.span,
                     )
-                    .with_secondary(u.stage.module.global_span(u.g.handle), "block declared here"),
-                );
+                    .with_secondary(other.span, format!("`{}` took field `{last}`", other.value))
+                    .with_secondary(u.stage.module.global_span(u.g.handle), "block declared here")
+                    .with_note(format!(
+                        "name a field after the full parameter (`{}`) to bind it, or fix the field per pass with `values`",
+                        shader_ident(prm)
+                    ));
+                }
+                diags.push(d);
                 ok = false;
             }
         }

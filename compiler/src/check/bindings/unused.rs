@@ -26,6 +26,17 @@ impl Ctx<'_> {
                 .with_note(format!("the shader would bind it as `{ident}`")),
             );
         }
+        if let (Some((first, _)), false) = (pass.values.first(), self.params_used) {
+            // Unlike unused parameters, a value with nowhere to go is a mistake: error.
+            diags.push(Diagnostic::error(
+                Code::ValueField,
+                format!(
+                    "pass `{}` sets `values` but its shaders use no `{}` block",
+                    pass.name.value, pass.param_block.value
+                ),
+                first.span,
+            ));
+        }
         if let (Some(first), Some(last)) = (pass.params.first(), pass.params.last()) {
             if !self.params_used {
                 diags.push(Diagnostic::warning(

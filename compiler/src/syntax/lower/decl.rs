@@ -152,7 +152,17 @@ impl Lowerer<'_> {
         let mips = o.get("mips").and_then(|n| self.u32(&n));
         self.finish(
             o,
-            &["format", "size", "layers", "view", "mips", "per_light", "history", "external", "data"],
+            &[
+                "format",
+                "size",
+                "layers",
+                "view",
+                "mips",
+                "per_light",
+                "history",
+                "external",
+                "data",
+            ],
             &[],
         );
         Some(TextureDesc {
