@@ -11,6 +11,7 @@
 //! result depended on.
 
 pub mod check;
+pub mod data;
 pub mod diag;
 pub mod format;
 pub mod front;

@@ -9,6 +9,10 @@ use std::sync::RwLock;
 pub trait Vfs: Send + Sync {
     fn read(&self, path: &Path) -> io::Result<String>;
     fn is_dir(&self, path: &Path) -> bool;
+    /// A binary file (resource data): by default the text's bytes.
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        self.read(path).map(String::into_bytes)
+    }
 }
 
 /// The largest pipeline, scene or shader file read (a guard against `/dev/zero` and the like).
@@ -22,6 +26,9 @@ pub struct DiskVfs;
 impl Vfs for DiskVfs {
     fn read(&self, path: &Path) -> io::Result<String> {
         utf8(read_bytes(path, MAX_FILE_BYTES)?)
+    }
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        read_bytes(path, MAX_FILE_BYTES)
     }
     fn is_dir(&self, path: &Path) -> bool {
         path.is_dir()

@@ -23,6 +23,8 @@ pub struct Executable {
     /// Every file the compilation read or tried to read (pipeline, shaders, includes):
     /// what a watcher watches and a manifest hashes.
     pub files: BTreeSet<PathBuf>,
+    /// Resources' initial content (`data:`), decoded and checked; uploaded once.
+    pub data: crate::check::data::ResourceData,
 }
 
 /// What a long-running process keeps between compilations.
@@ -204,8 +206,15 @@ impl Session {
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
     pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
         let mut loader = ShaderLoader::new(shader_root.to_path_buf(), self.vfs.clone(), self.modules.clone());
-        let checked = check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags);
+        let mut checked = check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags);
         self.dependencies.extend(loader.dependencies);
+        let file = self.sources.get(checked.pipeline.span.file).name.clone();
+        let mut ctx = check::data::DataCtx {
+            vfs: self.vfs.as_ref(),
+            dir: Path::new(&file).parent().map(Path::to_path_buf).unwrap_or_default(),
+            read: &mut self.dependencies,
+        };
+        checked.data = check::data::check(&checked.pipeline, &mut ctx, &mut self.diags);
         checked
     }
 
@@ -310,6 +319,7 @@ impl Session {
             plan,
             modules,
             files: self.dependencies.clone(),
+            data: checked.data.clone(),
         })
     }
 

@@ -138,3 +138,109 @@ output out
         lightbench_compiler::layout::FieldSource::Fixed(vec![0f32.to_bits(), 1f32.to_bits()])
     );
 }
+
+/// Shows a 4×4 noise texture (left half) and the first texel of a JSON buffer and of an
+/// inline buffer (right half), as loaded: no pass writes either.
+const SHOW: &str = "@group(2) @binding(0) var noise: texture_2d<f32>;
+@group(2) @binding(1) var<storage, read> kernel: array<vec4<f32>>;
+@group(2) @binding(2) var<storage, read> counts: array<u32>;
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<i32>(pos.xy);
+    if p.x < 4 {
+        // Back to the stored bytes: equal only if every byte arrived unchanged.
+        return round(textureLoad(noise, p, 0) * 255.0);
+    }
+    if p.y == 0 {
+        return kernel[p.x - 4];
+    }
+    return vec4<f32>(f32(counts[0]), f32(counts[1]), 0.0, 1.0);
+}
+";
+
+const DATA: &str = "pipeline data
+texture noise: Rgba8Unorm 4x4 data \"noise.png\"
+buffer kernel: 64 bytes data \"kernel.json\"
+buffer counts: 8 bytes data u32(7, 4000000)
+texture out: Rgba32Float 8x4
+
+fullscreen show \"show.wgsl\" {
+    reads noise, kernel, counts
+    color out
+}
+
+output out
+";
+
+fn noise_png(path: &Path, w: u32, h: u32) -> Vec<u8> {
+    let img = image::RgbaImage::from_fn(w, h, |x, y| {
+        let v = (x * 61 + y * 17) as u8;
+        image::Rgba([v, v.wrapping_mul(3), 255 - v, (x * 40 + 100) as u8])
+    });
+    img.save(path).unwrap();
+    img.into_raw()
+}
+
+#[test]
+fn data_resources_reach_the_shader_bit_exactly() {
+    let kernel: Vec<f32> = (0..16).map(|i| (i as f32 * 0.37).sin() * 1e-3 + i as f32).collect();
+    let json = serde_json::to_string(&kernel).unwrap();
+    let d = project(
+        "data",
+        &[
+            ("shaders/show.wgsl", SHOW),
+            ("pipelines/data.lbp", DATA),
+            ("pipelines/kernel.json", &json),
+        ],
+    );
+    let texels = noise_png(&d.join("pipelines/noise.png"), 4, 4);
+    let (img, ex) = render_out(&d.join("pipelines/data.lbp"), 1);
+    for y in 0..4 {
+        for x in 0..4 {
+            let want: Vec<f32> = texels[((y * 4 + x) * 4) as usize..][..4].iter().map(|b| *b as f32).collect();
+            assert_eq!(img.pixel(x, y).to_vec(), want, "texel ({x}, {y})");
+        }
+    }
+    for i in 0..4u32 {
+        assert_eq!(img.pixel(4 + i, 0).to_vec(), kernel[4 * i as usize..][..4].to_vec(), "kernel[{i}]");
+    }
+    assert_eq!(img.pixel(4, 1), [7.0, 4_000_000.0, 0.0, 1.0]);
+    assert!(ex.plan().resource("noise").unwrap().data);
+}
+
+#[test]
+fn data_that_does_not_fit_is_a_located_check_error() {
+    let d = project(
+        "data-bad",
+        &[
+            ("shaders/show.wgsl", SHOW),
+            ("pipelines/data.lbp", DATA),
+            ("pipelines/kernel.json", "[1, 2, 3]"),
+        ],
+    );
+    noise_png(&d.join("pipelines/noise.png"), 5, 4);
+    let (code, _, err) = cli_common::lightbench(&["check", d.join("pipelines/data.lbp").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("error[data-mismatch]: data of `noise`: `noise.png` is 5×4, the texture is 4×4"),
+        "{err}"
+    );
+    assert!(err.contains("data.lbp:2:31"), "{err}");
+    assert!(
+        err.contains("data of `kernel`: the data has 12 bytes, the buffer is declared with 64"),
+        "{err}"
+    );
+    std::fs::remove_file(d.join("pipelines/noise.png")).unwrap();
+    let (code, _, err) = cli_common::lightbench(&["check", d.join("pipelines/data.lbp").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("error[file-not-found]: data of `noise`: cannot read `noise.png`"),
+        "{err}"
+    );
+    let escape = DATA.replace("data \"noise.png\"", "data \"../../noise.png\"");
+    std::fs::write(d.join("pipelines/data.lbp"), escape).unwrap();
+    let (code, _, err) = cli_common::lightbench(&["check", d.join("pipelines/data.lbp").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[outside-root]"), "{err}");
+}

@@ -108,7 +108,7 @@ fn read_edges(
             );
             continue;
         }
-        if ws.is_empty() && !res.external() {
+        if ws.is_empty() && !res.supplied() {
             diags.push(missing_producer(p, pass, name, res, culled));
         }
         for &w in ws {
@@ -136,7 +136,9 @@ fn missing_producer(
         .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
         .collect();
     if culled_writers.is_empty() {
-        d = d.with_note("add a pass that writes it, or mark it `external: true` if the runtime supplies it");
+        d = d.with_note(
+            "add a pass that writes it, give it `data` (a file or numbers), or mark it `external: true` if the caller supplies it",
+        );
     }
     for n in culled_writers {
         d = d.with_note(n);
@@ -161,7 +163,7 @@ fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags:
             fresh.push(w);
         } else if k > 0 {
             edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span_of(w)));
-        } else if !p.resource(res).is_some_and(|r| r.external() || r.history()) {
+        } else if !p.resource(res).is_some_and(|r| r.supplied() || r.history()) {
             diags.push(
                 Diagnostic::error(
                     Code::ReadBeforeWrite,

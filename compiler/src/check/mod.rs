@@ -3,6 +3,7 @@
 //! configuration `variants` and `graph` while planning.
 
 pub mod bindings;
+pub mod data;
 pub mod declarations;
 pub mod entry;
 pub mod graph;
@@ -43,6 +44,8 @@ pub struct Checked {
     pub pipeline: Pipeline,
     /// Index-aligned with `pipeline.passes`.
     pub versions: Vec<Vec<PassVersion>>,
+    /// Resources' initial content, decoded (`data:`).
+    pub data: data::ResourceData,
 }
 
 impl Checked {
@@ -84,7 +87,11 @@ pub fn check_pipeline(
         .iter()
         .map(|pass| pass_versions(&pipeline, pass, profile, loader, sources, diags))
         .collect();
-    Checked { pipeline, versions }
+    Checked {
+        pipeline,
+        versions,
+        data: Default::default(),
+    }
 }
 
 /// The pass's own shaders, then each substitution a variant option makes.

@@ -110,6 +110,7 @@ codes! {
     ParamBlock = "param-block": "a parameter block that is not a struct",
     ParamMissing = "param-missing": "a block field without a parameter, or a parameter without a field",
     ParamTypeMismatch = "param-type-mismatch": "a parameter whose type does not fit its block field",
+    DataMismatch = "data-mismatch": "resource data whose size, layers or format does not fit its declaration",
     ValueField = "value-field": "a per-pass value naming no field of the pass's parameter block",
     ValueType = "value-type": "a per-pass value that does not fit its block field",
     ParamSign = "param-sign": "warning: an Int parameter that may be negative goes to a `u32` field",

@@ -139,6 +139,10 @@ impl Resource {
             ResourceKind::Buffer(b) => b.external,
         }
     }
+    /// Content comes from outside the passes (the caller, or `data`): no writer needed.
+    pub fn supplied(&self) -> bool {
+        self.external() || self.data().is_some()
+    }
     pub fn data(&self) -> Option<&Spanned<DataSource>> {
         match &self.kind {
             ResourceKind::Texture(t) => t.data.as_ref(),

@@ -289,6 +289,9 @@ fn resource_line(r: &PlanResource) -> String {
     if r.history {
         extra += " history ×2";
     }
+    if r.data {
+        extra += " data";
+    }
     if r.external {
         extra += " external";
     }

@@ -231,6 +231,8 @@ pub struct PlanResource {
     pub instances: u32,
     pub history: bool,
     pub external: bool,
+    /// Filled once from the pipeline's `data` (see `Executable::data`).
+    pub data: bool,
     pub usage: BTreeSet<Usage>,
     /// Memory of every instance and history copy.
     pub bytes: u64,

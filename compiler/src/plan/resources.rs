@@ -45,7 +45,7 @@ fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
     if saved {
         usage.insert(Usage::CopySrc); // read back to save the image
     }
-    if r.external() {
+    if r.supplied() {
         usage.insert(Usage::CopyDst); // filled by the runtime
     }
     touched.then_some(usage)
@@ -85,6 +85,7 @@ fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanReso
         instances,
         history: r.history(),
         external: r.external(),
+        data: r.data().is_some(),
         usage,
         bytes: one * instances as u64 * copies,
     }

@@ -144,7 +144,7 @@ impl Executor {
         };
         let (state, fresh, _) = build_state(gpu, exe, &shared, &Pool::default(), &mut cache, &inputs.params)?;
         cache.insert(fresh, state.passes.len());
-        Ok(Executor {
+        let ex = Executor {
             state,
             shared,
             cache,
@@ -152,7 +152,9 @@ impl Executor {
             frame_index: 0,
             last_timings: vec![],
             supplied: Default::default(),
-        })
+        };
+        ex.upload_data(gpu, &exe.data)?;
+        Ok(ex)
     }
 
     /// Replace the running Plan at a frame boundary. The new state is built on the side and
@@ -169,6 +171,7 @@ impl Executor {
         self.inputs.params = params;
         // A recreated external resource lost what was supplied: it must be supplied again.
         self.supplied.retain(|n| !report.resources_created.contains(n));
+        self.upload_data(gpu, &exe.data)?;
         Ok(report)
     }
 
@@ -187,6 +190,7 @@ impl Executor {
         self.supplied.retain(|n| !report.resources_created.contains(n));
         self.inputs.params = params;
         self.inputs.camera = scene.camera.clone();
+        self.upload_data(gpu, &exe.data)?;
         Ok(report)
     }
 

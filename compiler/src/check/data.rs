@@ -1,0 +1,98 @@
+//! Check `data`: each resource's initial content (`data:`) read and decoded against its
+//! declaration (format, size, layers, bytes), so a wrong file fails `check`, not a render.
+//! Files are resolved next to the pipeline file and may not leave its directory.
+
+use crate::data::{self, TextureShape};
+use crate::diag::{Code, Diagnostic, Diagnostics};
+use crate::ir::{DataSource, Pipeline, Resource, ResourceKind, SizeSpec};
+use crate::span::Spanned;
+use crate::vfs::Vfs;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// Decoded data by resource name (only resources that declare `data`).
+pub type ResourceData = BTreeMap<String, Arc<Vec<u8>>>;
+
+pub struct DataCtx<'a> {
+    pub vfs: &'a dyn Vfs,
+    /// The pipeline file's directory.
+    pub dir: PathBuf,
+    /// Files read (a watcher reloads when they change).
+    pub read: &'a mut BTreeSet<PathBuf>,
+}
+
+pub fn check(p: &Pipeline, ctx: &mut DataCtx, diags: &mut Diagnostics) -> ResourceData {
+    let mut out = ResourceData::new();
+    for r in &p.resources {
+        let Some(d) = r.data() else { continue };
+        match bytes(r, d, ctx) {
+            Ok(b) => {
+                out.insert(r.name.value.clone(), Arc::new(b));
+            }
+            Err((code, msg)) => diags.push(Diagnostic::error(code, format!("data of `{}`: {msg}", r.name.value), d.span)),
+        }
+    }
+    out
+}
+
+type Failure = (Code, String);
+
+fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Vec<u8>, Failure> {
+    let mismatch = |m: String| (Code::DataMismatch, m);
+    if r.external() {
+        return Err((
+            Code::ConflictingKeys,
+            "an `external` resource is supplied by the caller; drop `data` or `external`".into(),
+        ));
+    }
+    match &r.kind {
+        ResourceKind::Buffer(b) => {
+            let raw = match &d.value {
+                DataSource::File(f) => {
+                    let path = resolve(ctx, f)?;
+                    let raw = read(ctx, &path, f)?;
+                    data::buffer_from_file(&path, raw).map_err(|e| mismatch(format!("`{f}`: {e}")))?
+                }
+                inline => data::inline_bytes(inline).unwrap_or_default(),
+            };
+            data::check_buffer(raw, b.size.value).map_err(|e| mismatch(format!("the data {e}")))
+        }
+        ResourceKind::Texture(t) => {
+            let SizeSpec::Fixed { width, height } = t.size.value else {
+                return Err(mismatch("a texture with data needs a `Fixed(width, height)` size".into()));
+            };
+            let DataSource::File(f) = &d.value else {
+                return Err(mismatch(
+                    "inline numbers fill buffers; a texture takes a file (PNG, EXR or raw bytes)".into(),
+                ));
+            };
+            let path = resolve(ctx, f)?;
+            let raw = read(ctx, &path, f)?;
+            let shape = TextureShape {
+                format: t.format.value,
+                extent: (width, height),
+                layers: t.layers.value,
+            };
+            data::texture_from_file(&path, raw, shape).map_err(|e| mismatch(format!("`{f}` {e}")))
+        }
+    }
+}
+
+/// A data path relative to the pipeline's directory, which it may not leave.
+fn resolve(ctx: &DataCtx, f: &str) -> Result<PathBuf, Failure> {
+    crate::shader::include::confined(f).map_err(|_| {
+        (
+            Code::OutsideRoot,
+            format!("`{f}` must be a path inside the pipeline's directory (relative, without leaving it)"),
+        )
+    })?;
+    Ok(crate::vfs::normalize(&ctx.dir.join(f)))
+}
+
+fn read(ctx: &mut DataCtx, path: &Path, f: &str) -> Result<Vec<u8>, Failure> {
+    ctx.read.insert(path.to_path_buf());
+    ctx.vfs
+        .read_bytes(path)
+        .map_err(|e| (crate::vfs::read_error_code(&e), format!("cannot read `{f}`: {e}")))
+}
