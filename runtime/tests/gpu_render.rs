@@ -39,6 +39,7 @@ fn stage(boxes: &[(Vec3, Vec3)], light: Light) -> Scene {
             fov: 55.0,
             near: 0.1,
             far: 50.0,
+            animation: None,
         },
         meshes,
         materials: vec![Material::color("white", [0.8, 0.8, 0.8], 0.9)],

@@ -244,3 +244,136 @@ fn data_that_does_not_fit_is_a_located_check_error() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("error[outside-root]"), "{err}");
 }
+
+/// A compute pass copies the frame block's matrices and jitter into a buffer.
+const FRAME_PROBE: &str = "#include \"lib/frame.wgsl\"
+
+@group(2) @binding(0) var<storage, read_write> probe: array<vec4<f32>>;
+
+@compute @workgroup_size(1)
+fn cs_main() {
+    for (var i = 0; i < 4; i++) {
+        probe[i] = frame.view_proj[i];
+        probe[4 + i] = frame.prev_view_proj[i];
+    }
+    probe[8] = frame.jitter;
+    probe[9] = vec4<f32>(f32(frame.frame_index), frame.time, 0.0, 0.0);
+}
+";
+
+const PROBE_PIPELINE: &str = "pipeline probe
+buffer probe: 160 bytes
+texture out: Rgba8Unorm 4x4
+
+compute probe \"probe.wgsl\" {
+    writes probe
+    dispatch groups(1, 1, 1)
+}
+
+fullscreen show \"show_probe.wgsl\" {
+    reads probe
+    color out
+}
+
+output out
+";
+
+const SHOW_PROBE: &str = "@group(2) @binding(0) var<storage, read> probe: array<vec4<f32>>;
+
+@fragment
+fn fs_main() -> @location(0) vec4<f32> {
+    return fract(probe[9]);
+}
+";
+
+const ORBIT: &str = "Scene(
+    name: \"orbit\",
+    size: (64, 64),
+    camera: (position: (0.0, 1.0, 3.6), fov: 40.0, animation: Orbit(center: (0.0, 1.0, 0.0), speed: 90.0)),
+    builtin: \"cornell\",
+)
+";
+
+#[test]
+fn the_previous_view_projection_is_the_last_frames() {
+    let d = project(
+        "prev-vp",
+        &[
+            ("shaders/probe.wgsl", FRAME_PROBE),
+            ("shaders/show_probe.wgsl", SHOW_PROBE),
+            ("pipelines/probe.lbp", PROBE_PIPELINE),
+            ("pipelines/jitter.lbp", &format!("{PROBE_PIPELINE}\njitter\n")),
+            ("orbit.ron", ORBIT),
+        ],
+    );
+    let g = gpu();
+    let scene = lightbench::scene::load(d.join("orbit.ron").to_str().unwrap()).unwrap();
+    for (file, jitter) in [("probe.lbp", false), ("jitter.lbp", true)] {
+        let (exe, _) = lightbench::render::compile(&g, &d.join("pipelines").join(file), None, &scene, &[]).unwrap();
+        let mut ex = lightbench::gpu::Executor::new(&g, &exe, &scene).unwrap();
+        let mut last: Option<Vec<f32>> = None;
+        for f in 0..3 {
+            ex.render_frame(&g, &ex.inputs(f as f32 / 10.0)).unwrap();
+            let probe = ex.read_buffer(&g, "probe", 0).unwrap();
+            let (vp, prev) = (&probe[0..16], &probe[16..32]);
+            assert_eq!(
+                prev,
+                last.as_deref().unwrap_or(vp),
+                "{file} frame {f}: prev_view_proj is the last frame's"
+            );
+            if let Some(l) = &last {
+                assert!(l.iter().zip(vp).any(|(a, b)| (a - b).abs() > 1e-3), "the orbiting camera moved");
+            }
+            assert_eq!(probe[36], f as f32, "frame_index");
+            let j = &probe[32..34];
+            if jitter {
+                let want = lightbench::gpu::halton_jitter(f);
+                assert_eq!(j, want, "frame {f}: jitter");
+                assert!(j.iter().all(|v| v.abs() <= 0.5));
+            } else {
+                assert_eq!(j, [0.0, 0.0]);
+            }
+            last = Some(vp.to_vec());
+        }
+    }
+}
+
+#[test]
+fn an_orbiting_camera_in_a_scene_file_moves_the_image() {
+    let d = project(
+        "orbit",
+        &[
+            ("orbit.ron", ORBIT),
+            (
+                "still.ron",
+                &ORBIT.replace(", animation: Orbit(center: (0.0, 1.0, 0.0), speed: 90.0)", ""),
+            ),
+        ],
+    );
+    let mut means = vec![];
+    for (scene, frames) in [("orbit.ron", "1"), ("orbit.ron", "20"), ("still.ron", "1"), ("still.ron", "20")] {
+        let out = d.join(format!("{scene}-{frames}.png"));
+        let s = d.join(scene);
+        let (code, _, err) = cli_common::lightbench(&[
+            "render",
+            "--scene",
+            s.to_str().unwrap(),
+            "--frames",
+            frames,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        means.push(lightbench::io::Image::load_png(&out).unwrap());
+    }
+    let diff = |a: &lightbench::io::Image, b: &lightbench::io::Image| {
+        a.rgba.iter().zip(&b.rgba).map(|(x, y)| (x - y).abs()).sum::<f32>() / a.rgba.len() as f32
+    };
+    assert!(
+        diff(&means[0], &means[1]) > 0.02,
+        "the orbit moved the image: {}",
+        diff(&means[0], &means[1])
+    );
+    assert_eq!(diff(&means[2], &means[3]), 0.0, "a still camera renders the same image");
+    assert_eq!(diff(&means[0], &means[2]), 0.0, "at time 0 the orbit starts where the camera is");
+}

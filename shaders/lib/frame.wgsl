@@ -7,15 +7,25 @@ const LIGHT_POINT: u32 = 2u;
 
 struct Frame {
     view: mat4x4<f32>,
+    // Jittered when the pipeline asks for `jitter` (then so are view_proj and its inverse).
     proj: mat4x4<f32>,
     view_proj: mat4x4<f32>,
     inv_view_proj: mat4x4<f32>,
+    // The previous frame's view_proj and its inverse (jittered as that frame was); in the
+    // first frame, this frame's. Reprojection: prev_view_proj * world position.
+    prev_view_proj: mat4x4<f32>,
+    prev_inv_view_proj: mat4x4<f32>,
     // xyz: camera position (world); w: unused
     camera_pos: vec4<f32>,
     // x, y: the output (viewport) size in pixels — the Plan's resolution; z, w: reciprocals.
     // A pass rendering at another size (e.g. `Viewport(0.5)`) finds its own in `instance.target_size`.
     resolution: vec4<f32>,
+    // x, y: this frame's sub-pixel jitter in pixels (x right, y down; within ±0.5, Halton
+    // 2, 3 over 16 frames); z, w: the previous frame's. All zero without `jitter`.
+    jitter: vec4<f32>,
+    // Seconds since the start (lights and cameras animate with it).
     time: f32,
+    // Frames rendered before this one (0 in the first).
     frame_index: u32,
     light_count: u32,
     _pad: u32,

@@ -4,7 +4,7 @@
 //! in the README ("Scene files").
 
 use crate::diag::{Code, Diagnostic, Diagnostics};
-use crate::ir::scene::{AnimationDesc, CameraDesc, KeySpans, LightDesc, ModelDesc, SceneFile, MAX_SIZE};
+use crate::ir::scene::{AnimationDesc, CameraAnimationDesc, CameraDesc, KeySpans, LightDesc, ModelDesc, SceneFile, MAX_SIZE};
 use crate::ir::LightKind;
 
 /// The smallest field of view, in degrees.
@@ -100,6 +100,28 @@ fn camera(c: &CameraDesc, diags: &mut Diagnostics) {
             c.far / MAX_DEPTH_RATIO
         );
         it.require(c.far / c.near <= MAX_DEPTH_RATIO, "near", &rule, c.near);
+    }
+    match &c.animation {
+        Some(CameraAnimationDesc::Orbit { center, speed }) => {
+            it.finite("animation", &[center[0], center[1], center[2], *speed]);
+        }
+        Some(CameraAnimationDesc::Path(keys)) => {
+            let flat: Vec<f32> = keys
+                .iter()
+                .flat_map(|k| [k.time, k.position[0], k.position[1], k.position[2], k.yaw, k.pitch])
+                .collect();
+            if it.finite("animation", &flat) {
+                let increasing = keys.windows(2).all(|w| w[1].time > w[0].time);
+                let first = keys.first().map(|k| k.time).unwrap_or(f32::NAN);
+                it.require(
+                    !keys.is_empty() && increasing,
+                    "animation",
+                    "a path of keys at increasing times",
+                    first,
+                );
+            }
+        }
+        None => {}
     }
 }
 

@@ -51,6 +51,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         },
         resources,
         memory_bytes,
+        jitter: p.jitter,
     };
     (diags.error_count() == before).then_some(plan)
 }

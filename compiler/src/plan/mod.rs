@@ -298,6 +298,8 @@ pub struct Plan {
     /// The linear image before tone mapping, when the pipeline names one (`hdr_output`).
     pub hdr_output: Option<ResourceId>,
     pub memory_bytes: u64,
+    /// Sub-pixel camera jitter each frame (Halton 2, 3; `frame.jitter`).
+    pub jitter: bool,
 }
 
 impl Plan {

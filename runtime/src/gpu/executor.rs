@@ -78,6 +78,8 @@ pub struct Executor {
     pub last_timings: Vec<PassTiming>,
     /// External resources whose contents were supplied (`load_input`) to their current storage.
     pub(super) supplied: std::collections::BTreeSet<String>,
+    /// The last frame's view-projection and jitter (the frame block's `prev_*`).
+    previous: Option<(glam::Mat4, [f32; 2])>,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -152,6 +154,7 @@ impl Executor {
             frame_index: 0,
             last_timings: vec![],
             supplied: Default::default(),
+            previous: None,
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -211,10 +214,17 @@ impl Executor {
         &self.shared.scene
     }
 
-    /// Inputs for a frame at `time`: the last camera and parameter overrides.
+    /// Inputs for a frame at `time`: the last camera (or the scene's animated camera at
+    /// `time`) and parameter overrides.
     pub fn inputs(&self, time: f32) -> FrameInputs {
+        let scene_camera = &self.shared.scene.camera;
+        let camera = match scene_camera.animation {
+            Some(_) => scene_camera.at(time),
+            None => self.inputs.camera.clone(),
+        };
         FrameInputs {
             time,
+            camera,
             ..self.inputs.clone()
         }
     }
@@ -243,19 +253,31 @@ impl Executor {
         Ok(())
     }
 
-    fn write_frame_blocks(&self, gpu: &Gpu, inputs: &FrameInputs) {
+    fn write_frame_blocks(&mut self, gpu: &Gpu, inputs: &FrameInputs) {
         let (w, h) = self.state.plan.resolution;
         let cam = &inputs.camera;
         let view = cam.view();
-        let proj = cam.proj(w as f32 / h.max(1) as f32);
+        let jitter = if self.state.plan.jitter {
+            halton_jitter(self.frame_index)
+        } else {
+            [0.0, 0.0]
+        };
+        // A pixel offset in NDC: x right, y up (pixels count down).
+        let shift = glam::Mat4::from_translation(glam::Vec3::new(2.0 * jitter[0] / w as f32, -2.0 * jitter[1] / h as f32, 0.0));
+        let proj = shift * cam.proj(w as f32 / h.max(1) as f32);
         let vp = proj * view;
+        let (prev_vp, prev_jitter) = self.previous.unwrap_or((vp, jitter));
+        self.previous = Some((vp, jitter));
         let frame = FrameBlock {
             view: view.to_cols_array_2d(),
             proj: proj.to_cols_array_2d(),
             view_proj: vp.to_cols_array_2d(),
             inv_view_proj: vp.inverse().to_cols_array_2d(),
+            prev_view_proj: prev_vp.to_cols_array_2d(),
+            prev_inv_view_proj: prev_vp.inverse().to_cols_array_2d(),
             camera_pos: [cam.position.x, cam.position.y, cam.position.z, 1.0],
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            jitter: [jitter[0], jitter[1], prev_jitter[0], prev_jitter[1]],
             time: inputs.time,
             frame_index: self.frame_index as u32,
             light_count: self.shared.lights.len() as u32,
@@ -427,6 +449,22 @@ fn pipeline(
 /// The GPU state of an executable: resources (sharing `old`'s where unchanged), samplers,
 /// parameter blocks, pipelines (from `cache`, or built: returned as `Fresh` to be cached once
 /// the whole state is known to be good) and bind groups.
+/// Sub-pixel jitter of frame `n` in pixels: the Halton (2, 3) sequence over 16 frames,
+/// centred (each component within ±0.5).
+pub fn halton_jitter(n: u64) -> [f32; 2] {
+    fn halton(mut i: u64, base: u64) -> f32 {
+        let (mut f, mut r) = (1.0f32, 0.0f32);
+        while i > 0 {
+            f /= base as f32;
+            r += f * (i % base) as f32;
+            i /= base;
+        }
+        r
+    }
+    let i = n % 16 + 1;
+    [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
+}
+
 fn build_state(
     gpu: &Gpu,
     exe: &Executable,

@@ -36,6 +36,7 @@ pub fn frame(scene: &Scene) -> Camera {
         fov: FOV,
         near: (d - r) * 0.5,
         far: (d + r) * 2.0,
+        animation: None,
     };
     camera.position = centre - camera.forward() * d;
     camera

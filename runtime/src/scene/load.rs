@@ -66,6 +66,7 @@ impl Scene {
                 fov: c.fov,
                 near: c.near,
                 far: c.far,
+                animation: c.animation.clone(),
             },
             meshes,
             materials,

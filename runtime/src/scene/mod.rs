@@ -17,7 +17,7 @@ pub use load::{instantiate, load, load_in};
 use crate::blocks::Vertex;
 use glam::{Mat4, Vec3};
 use lightbench_compiler::ir::{Effect, LightKind};
-use lightbench_compiler::scene::SceneFeatures;
+use lightbench_compiler::scene::{CameraAnimationDesc, CameraKey, SceneFeatures};
 use std::collections::BTreeSet;
 
 #[derive(Clone, Debug)]
@@ -31,9 +31,40 @@ pub struct Camera {
     pub fov: f32,
     pub near: f32,
     pub far: f32,
+    /// Moves the camera over time (scene files' `animation`); see [`Camera::at`].
+    pub animation: Option<CameraAnimationDesc>,
 }
 
 impl Camera {
+    /// The camera at time `t` seconds: itself when it does not move.
+    pub fn at(&self, t: f32) -> Camera {
+        let mut c = self.clone();
+        match &self.animation {
+            Some(CameraAnimationDesc::Orbit { center, speed }) => {
+                let center = Vec3::from(*center);
+                let rot = glam::Quat::from_rotation_y((speed * t).to_radians());
+                c.position = center + rot * (self.position - center);
+                c.look_at(center);
+            }
+            Some(CameraAnimationDesc::Path(keys)) => {
+                let k = path_at(keys, t);
+                c.position = Vec3::from(k.position);
+                (c.yaw, c.pitch) = (k.yaw, k.pitch);
+            }
+            None => {}
+        }
+        c
+    }
+
+    /// Turn to face `target` (yaw and pitch as [`Camera::forward`] reads them).
+    pub fn look_at(&mut self, target: Vec3) {
+        let d = (target - self.position).normalize_or_zero();
+        if d != Vec3::ZERO {
+            self.yaw = (-d.x).atan2(-d.z).to_degrees();
+            self.pitch = d.y.clamp(-1.0, 1.0).asin().to_degrees();
+        }
+    }
+
     pub fn forward(&self) -> Vec3 {
         let (y, p) = (self.yaw.to_radians(), self.pitch.to_radians());
         Vec3::new(-y.sin() * p.cos(), p.sin(), -y.cos() * p.cos()).normalize()
@@ -43,6 +74,31 @@ impl Camera {
     }
     pub fn proj(&self, aspect: f32) -> Mat4 {
         math::perspective(self.fov.to_radians(), aspect, self.near, self.far)
+    }
+}
+
+/// A keyframed path at `t`: linear between keys, held outside them (keys are checked to be
+/// non-empty and increasing in time).
+fn path_at(keys: &[CameraKey], t: f32) -> CameraKey {
+    let lerp = |a: f32, b: f32, f: f32| a + (b - a) * f;
+    let i = keys.iter().position(|k| k.time > t).unwrap_or(keys.len());
+    match (i.checked_sub(1).and_then(|j| keys.get(j)), keys.get(i)) {
+        (Some(a), Some(b)) => {
+            let f = (t - a.time) / (b.time - a.time);
+            CameraKey {
+                time: t,
+                position: std::array::from_fn(|n| lerp(a.position[n], b.position[n], f)),
+                yaw: lerp(a.yaw, b.yaw, f),
+                pitch: lerp(a.pitch, b.pitch, f),
+            }
+        }
+        (Some(k), None) | (None, Some(k)) => k.clone(),
+        (None, None) => CameraKey {
+            time: t,
+            position: [0.0; 3],
+            yaw: 0.0,
+            pitch: 0.0,
+        },
     }
 }
 

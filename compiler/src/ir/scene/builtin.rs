@@ -29,6 +29,7 @@ fn camera(position: [f32; 3], yaw: f32, pitch: f32, fov: f32, near: f32, far: f3
         fov,
         near,
         far,
+        animation: None,
         at: KeySpans::default(),
     }
 }

@@ -35,7 +35,27 @@ pub struct CameraDesc {
     pub fov: f32,
     pub near: f32,
     pub far: f32,
+    /// Moves the camera over time (reprojection and temporal effects need motion).
+    pub animation: Option<CameraAnimationDesc>,
     pub at: KeySpans,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum CameraAnimationDesc {
+    /// Circle about the vertical axis through `center`, `speed` degrees per second, from the
+    /// camera's position, always looking at `center`.
+    Orbit { center: [f32; 3], speed: f32 },
+    /// Keyframes, linearly interpolated; held before the first and after the last.
+    Path(Vec<CameraKey>),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraKey {
+    /// Seconds.
+    pub time: f32,
+    pub position: [f32; 3],
+    pub yaw: f32,
+    pub pitch: f32,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -159,6 +179,7 @@ impl SceneDesc {
                 fov: 45.0,
                 near: 0.05,
                 far: 100.0,
+                animation: None,
                 at: KeySpans::default(),
             },
             models: vec![],

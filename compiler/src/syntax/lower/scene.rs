@@ -4,7 +4,7 @@
 
 use super::{Lowerer, Obj, Res};
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
-use crate::ir::scene::{builtin, AnimationDesc, CameraDesc, LightDesc, ModelDesc, SceneFile};
+use crate::ir::scene::{builtin, AnimationDesc, CameraAnimationDesc, CameraDesc, CameraKey, LightDesc, ModelDesc, SceneFile};
 use crate::ir::{Effect, LightKind};
 use crate::span::Spanned;
 use crate::syntax::tree::{Node, Value};
@@ -21,7 +21,7 @@ pub fn scene(root: &Node, dir: &Path, diags: &mut Diagnostics) -> Option<SceneFi
 }
 
 const SCENE_KEYS: &[&str] = &["name", "size", "camera", "builtin", "models", "lights", "effects"];
-const CAMERA_KEYS: &[&str] = &["position", "yaw", "pitch", "fov", "near", "far"];
+const CAMERA_KEYS: &[&str] = &["position", "yaw", "pitch", "fov", "near", "far", "animation"];
 const MODEL_KEYS: &[&str] = &["path", "translation", "rotation", "scale", "triangles", "reflective"];
 const LIGHT_KEYS: &[&str] = &[
     "on",
@@ -124,6 +124,10 @@ impl Lowerer<'_> {
         let fov = self.num(&mut o, "fov");
         let near = self.num(&mut o, "near");
         let far = self.num(&mut o, "far");
+        let animation = match o.take("animation") {
+            Some(a) => Some(self.camera_animation(&a)?),
+            None => None,
+        };
         let at = o.key_spans();
         self.finish(o, CAMERA_KEYS, &[]);
         Some(CameraDesc {
@@ -133,7 +137,40 @@ impl Lowerer<'_> {
             fov: fov?,
             near: near?,
             far: far?,
+            animation,
             at,
+        })
+    }
+
+    /// `Orbit(center, speed)` or `Path(keys: [(time, position, yaw, pitch), ...])`.
+    fn camera_animation(&mut self, n: &Node) -> Res<CameraAnimationDesc> {
+        let mut o = self.obj(n, &["Orbit", "Path"], "camera animation")?;
+        if o.kind == "Orbit" {
+            let center = self.required(&mut o, "center").and_then(|n| self.vec3(&n));
+            let speed = self.required(&mut o, "speed").and_then(|n| self.f32(&n));
+            self.finish(o, &["center", "speed"], &[]);
+            return Some(CameraAnimationDesc::Orbit {
+                center: center?,
+                speed: speed?,
+            });
+        }
+        let keys = self.required(&mut o, "keys").map(|n| self.each(&n, |l, k| l.camera_key(k)));
+        self.finish(o, &["keys"], &[]);
+        Some(CameraAnimationDesc::Path(keys?))
+    }
+
+    fn camera_key(&mut self, n: &Node) -> Res<CameraKey> {
+        let mut o = self.obj(n, &["Key"], "camera key")?;
+        let time = self.required(&mut o, "time").and_then(|n| self.f32(&n));
+        let position = self.required(&mut o, "position").and_then(|n| self.vec3(&n));
+        let yaw = o.take("yaw").map(|n| self.f32(&n)).unwrap_or(Some(0.0));
+        let pitch = o.take("pitch").map(|n| self.f32(&n)).unwrap_or(Some(0.0));
+        self.finish(o, &["time", "position", "yaw", "pitch"], &[]);
+        Some(CameraKey {
+            time: time?,
+            position: position?,
+            yaw: yaw?,
+            pitch: pitch?,
         })
     }
 
