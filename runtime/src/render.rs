@@ -47,7 +47,7 @@ pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result
 
 /// `render` with parameter overrides (each checked against the Plan's parameters).
 pub fn render_with(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
-    render_scene(gpu, exe, scene.clone(), frames, params, &[])
+    render_scene(gpu, exe, scene.clone(), (frames, true), params, &[])
 }
 
 /// `render_with` taking the scene, whose textures are dropped once on the GPU.
@@ -56,11 +56,13 @@ pub fn render_scene(
     gpu: &Gpu,
     exe: &Executable,
     scene: Scene,
-    frames: u32,
+    (frames, reuse): (u32, bool),
     params: &[(String, ParamValue)],
     inputs: &[(String, std::path::PathBuf)],
 ) -> Result<Executor> {
     let mut ex = Executor::with_scene(gpu, exe, scene)?;
+    ex.log_timings = true;
+    ex.set_reuse(reuse);
     for (name, value) in params {
         ex.set_param(name, value.clone())?;
     }

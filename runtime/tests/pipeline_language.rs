@@ -377,3 +377,137 @@ fn an_orbiting_camera_in_a_scene_file_moves_the_image() {
     assert_eq!(diff(&means[2], &means[3]), 0.0, "a still camera renders the same image");
     assert_eq!(diff(&means[0], &means[2]), 0.0, "at time 0 the orbit starts where the camera is");
 }
+
+fn timing_log(path: &Path) -> Vec<Vec<serde_json::Value>> {
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    v.as_array().unwrap().iter().map(|f| f.as_array().unwrap().clone()).collect()
+}
+
+/// In which frames (0-based) a pass ran.
+fn ran(log: &[Vec<serde_json::Value>], pass: &str) -> Vec<usize> {
+    log.iter()
+        .enumerate()
+        .filter(|(_, f)| f.iter().any(|t| t["pass"] == pass && t["reused"] == false))
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// A spot light that is still, then one that sweeps (Rotate): its shadow map is rendered in
+/// the first frame only while the light is still, every frame once it moves; the images are
+/// those of a render that reuses nothing.
+#[test]
+fn static_shadow_maps_are_reused_and_moved_lights_rerender() {
+    let still = "Scene(
+    name: \"spot\",
+    size: (64, 64),
+    builtin: \"cornell\",
+    lights: [Spot(position: (0.0, 1.9, 0.3), direction: (0.2, -1.0, 0.0), inner: 20.0, outer: 30.0, intensity: 4.0, range: 8.0)],
+    effects: [Shadows],
+)
+";
+    let moving = still.replace("range: 8.0)", "range: 8.0, animation: Rotate(speed: 120.0))");
+    let d = project("reuse", &[("still.ron", still), ("moving.ron", &moving)]);
+    for (scene, want) in [("still.ron", vec![0]), ("moving.ron", vec![0, 1, 2, 3])] {
+        let mut images = vec![];
+        for reuse in [true, false] {
+            let (out, json) = (d.join(format!("{scene}-{reuse}.png")), d.join(format!("{scene}-{reuse}.json")));
+            let s = d.join(scene);
+            let mut args = vec![
+                "render",
+                "--scene",
+                s.to_str().unwrap(),
+                "--frames",
+                "4",
+                "--out",
+                out.to_str().unwrap(),
+            ];
+            args.extend(["--timings-json", json.to_str().unwrap()]);
+            if !reuse {
+                args.push("--no-reuse");
+            }
+            let (code, _, err) = cli_common::lightbench(&args);
+            assert_eq!(code, 0, "{err}");
+            let log = timing_log(&json);
+            assert_eq!(log.len(), 4);
+            if reuse {
+                assert_eq!(ran(&log, "shadow_map"), want, "{scene}: frames the shadow map was rendered in");
+                // Nothing moves in the still scene: after the first frame every pass is reused.
+                if scene == "still.ron" {
+                    assert!(log[1..].iter().flatten().all(|t| t["reused"] == true), "{:?}", log[1]);
+                }
+            } else {
+                assert_eq!(ran(&log, "shadow_map"), vec![0, 1, 2, 3]);
+            }
+            images.push(std::fs::read(&out).unwrap());
+        }
+        assert!(images[0] == images[1], "{scene}: the same image with and without reuse");
+    }
+}
+
+/// An initialisation pass (a compute pass that depends on nothing that changes) runs once;
+/// a pass marked `always` runs every frame.
+#[test]
+fn an_initialisation_pass_runs_exactly_once() {
+    let init = "@group(2) @binding(0) var<storage, read_write> lut: array<f32>;
+
+@compute @workgroup_size(4)
+fn cs_main(@builtin(global_invocation_id) id: vec3<u32>) {
+    lut[id.x] = f32(id.x) * 0.25;
+}
+";
+    let show = "@group(2) @binding(0) var<storage, read> lut: array<f32>;
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4<f32>(lut[u32(pos.x)], 0.0, 0.0, 1.0);
+}
+";
+    let pipeline = "pipeline init
+buffer lut: 16 bytes
+texture out: Rgba16Float 4x1
+
+compute init \"init.wgsl\" {
+    writes lut
+    dispatch groups(1, 1, 1)
+}
+
+fullscreen show \"show.wgsl\" {
+    reads lut
+    color out
+    always
+}
+
+output out
+";
+    let d = project(
+        "init",
+        &[
+            ("shaders/init.wgsl", init),
+            ("shaders/show.wgsl", show),
+            ("pipelines/init.lbp", pipeline),
+        ],
+    );
+    let (json, out) = (d.join("t.json"), d.join("out.exr"));
+    let p = d.join("pipelines/init.lbp");
+    let (code, _, err) = cli_common::lightbench(&[
+        "render",
+        "--pipeline",
+        p.to_str().unwrap(),
+        "--frames",
+        "4",
+        "--out",
+        out.to_str().unwrap(),
+        "--timings-json",
+        json.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let log = timing_log(&json);
+    assert_eq!(ran(&log, "init"), vec![0], "the initialisation pass runs once");
+    assert_eq!(ran(&log, "show"), vec![0, 1, 2, 3], "`always` runs every frame");
+    let img = image::open(&out).unwrap().to_rgba32f();
+    assert_eq!(img.get_pixel(3, 0).0[0], 0.75, "the first frame's LUT is still there in the last");
+    let (code, text, err) = cli_common::lightbench(&["plan", p.to_str().unwrap(), "--explain"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(text.contains("runs once (depends on nothing that changes)"), "{text}");
+    assert!(text.contains("runs every frame: `always: true`"), "{text}");
+}

@@ -164,6 +164,42 @@ fn repetitions(p: &PlanPass) -> String {
     format!(" ×{} ({})", p.repetitions, parts.join(", "))
 }
 
+/// When the runtime runs the pass: every frame (and why), or when something it depends on
+/// changed since it last ran.
+fn reuse_word(p: &PlanPass) -> String {
+    let d = &p.depends;
+    if let Some(why) = &d.always {
+        return format!("runs every frame: {why}");
+    }
+    let mut on: Vec<String> = vec![];
+    let flags = [
+        (d.camera, "camera"),
+        (d.time, "time"),
+        (d.frame_index, "frame index"),
+        (d.lights, "lights"),
+        (!p.per_light.is_empty(), "its light"),
+        (d.scene, "scene meshes"),
+        (!p.uniform_blocks.is_empty(), "parameters"),
+        (!p.reads.is_empty() || loads(p), "what it reads"),
+    ];
+    on.extend(flags.iter().filter(|(b, _)| *b).map(|(_, w)| w.to_string()));
+    if on.is_empty() {
+        return "runs once (depends on nothing that changes)".into();
+    }
+    let fields = if d.frame_fields.is_empty() {
+        String::new()
+    } else {
+        format!(" (frame: {})", d.frame_fields.join(", "))
+    };
+    format!("runs when changed: {}{fields}", on.join(", "))
+}
+
+/// Does the pass build on an attachment's earlier content (`load`)?
+fn loads(p: &PlanPass) -> bool {
+    let t = p.work.targets();
+    t.is_some_and(|t| t.color.iter().any(|c| c.load.is_load()) || t.depth.as_ref().is_some_and(|d| d.load.is_load()))
+}
+
 /// Everything a pass writes, as text: attachments, then storage. A depth target only tested
 /// against (not written, loaded) says so.
 fn written(plan: &Plan, p: &PlanPass) -> Vec<String> {
@@ -201,6 +237,7 @@ fn pass_layouts(s: &mut String, plan: &Plan, p: &PlanPass) {
     for st in &p.stages {
         let _ = writeln!(s, "      {} {}#{}", st.stage.word(), st.file, st.entry);
     }
+    let _ = writeln!(s, "      {}", reuse_word(p));
     if !p.after.is_empty() {
         let _ = writeln!(s, "      after: {}", words(&p.after, |a| plan.passes[a.0 as usize].name.clone()));
     }

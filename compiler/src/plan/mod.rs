@@ -4,6 +4,7 @@
 
 mod build;
 mod cull;
+mod deps;
 mod explain;
 mod params;
 mod passes;
@@ -157,6 +158,28 @@ pub struct PlanPass {
     pub uniform_blocks: Vec<UniformBlock>,
     /// Passes whose results this one needs (after culling).
     pub after: Vec<PassId>,
+    /// What its result depends on besides the resources it reads (reuse of unchanged work).
+    pub depends: Depends,
+}
+
+/// What a pass's result depends on besides the resources it reads and its parameter block:
+/// derived from which standard-block fields its shaders read (naga reflection). The
+/// runtime runs a pass only when one of these, or a resource it reads, changed since it
+/// last ran.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Depends {
+    /// Frame-block fields its shaders read.
+    pub frame_fields: Vec<String>,
+    /// The camera: view and projection fields (and jitter), or a back-to-front draw order.
+    pub camera: bool,
+    pub time: bool,
+    pub frame_index: bool,
+    /// The whole light array (a per-light pass always depends on its own light).
+    pub lights: bool,
+    /// The scene's meshes and materials (it draws them).
+    pub scene: bool,
+    /// Runs every frame regardless, and why (`always`, history resources).
+    pub always: Option<String>,
 }
 
 impl PlanPass {

@@ -73,6 +73,7 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
         bind_groups: version.resolved.groups.iter().map(|g| bind_group(g, ids)).collect::<Option<_>>()?,
         uniform_blocks: version.resolved.uniform_blocks.clone(),
         after: after.iter().map(|&j| ids.pass(j)).collect::<Option<_>>()?,
+        depends: super::deps::depends(p, pass, version),
     })
 }
 

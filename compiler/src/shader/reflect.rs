@@ -219,3 +219,64 @@ pub fn builtins(sm: &ShaderModule, ep: usize) -> Vec<naga::BuiltIn> {
     }
     out
 }
+
+/// Names of the members of struct global `global` that entry point `entry` reads, through
+/// every function it calls; every member when the struct is loaded whole. (A uniform
+/// struct can only be reached by member access or a whole load: WGSL passes no pointers
+/// to uniform memory into functions.)
+pub fn members_read(m: &naga::Module, entry: usize, global: Handle<naga::GlobalVariable>) -> std::collections::BTreeSet<String> {
+    let mut functions = vec![&m.entry_points[entry].function];
+    let mut seen = std::collections::BTreeSet::new();
+    let mut used = std::collections::BTreeSet::new();
+    let mut whole = false;
+    while let Some(f) = functions.pop() {
+        let is_global = |h: Handle<naga::Expression>| matches!(f.expressions[h], naga::Expression::GlobalVariable(g) if g == global);
+        for (_, e) in f.expressions.iter() {
+            match *e {
+                naga::Expression::AccessIndex { base, index } if is_global(base) => {
+                    used.insert(index);
+                }
+                naga::Expression::Load { pointer } if is_global(pointer) => whole = true,
+                _ => {}
+            }
+        }
+        let mut calls = vec![];
+        called(&f.body, &mut calls);
+        for c in calls {
+            if seen.insert(c) {
+                functions.push(&m.functions[c]);
+            }
+        }
+    }
+    let ty = &m.types[m.global_variables[global].ty].inner;
+    let TypeInner::Struct { members, .. } = ty else {
+        return Default::default();
+    };
+    members
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| whole || used.contains(&(*i as u32)))
+        .filter_map(|(_, mem)| mem.name.clone())
+        .collect()
+}
+
+/// Functions a block calls, directly or in nested blocks.
+fn called(b: &naga::Block, out: &mut Vec<Handle<naga::Function>>) {
+    use naga::Statement as S;
+    for s in b.iter() {
+        match s {
+            S::Call { function, .. } => out.push(*function),
+            S::Block(inner) => called(inner, out),
+            S::If { accept, reject, .. } => {
+                called(accept, out);
+                called(reject, out);
+            }
+            S::Switch { cases, .. } => cases.iter().for_each(|c| called(&c.body, out)),
+            S::Loop { body, continuing, .. } => {
+                called(body, out);
+                called(continuing, out);
+            }
+            _ => {}
+        }
+    }
+}

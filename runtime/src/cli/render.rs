@@ -47,9 +47,13 @@ pub struct Args {
     /// Image type of dumps: exr (every channel, linear float) or png (8-bit, clamped).
     #[arg(long, value_enum, default_value = "exr")]
     pub dump_format: super::DumpFormat,
-    /// Print a per-pass table: GPU ms (timestamp queries) and CPU encode µs.
+    /// Print a per-pass table: GPU ms (timestamp queries) and CPU encode µs (means over the
+    /// frames each pass ran in), and in how many frames it ran.
     #[arg(long)]
     pub timings: bool,
+    /// Run every pass every frame, even when nothing it depends on changed.
+    #[arg(long)]
+    pub no_reuse: bool,
     #[arg(long, value_name = "FILE")]
     pub timings_json: Option<PathBuf>,
     /// Write a manifest: pipeline and shader hashes, variants, params, adapter, scene.
@@ -132,7 +136,7 @@ fn execute(
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
     let params = parse_params(&exe.plan, params)?;
     // The scene is handed over: its textures are dropped once uploaded.
-    let ex = render_scene(&gpu, &exe, scene, a.frames, &params, inputs)?;
+    let ex = render_scene(&gpu, &exe, scene, (a.frames, !a.no_reuse), &params, inputs)?;
     save_output(a, &gpu, &ex, &exe)?;
     if let Some(names) = &dumps {
         dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;
@@ -188,14 +192,22 @@ fn timings(a: &Args, ex: &Executor, scene_load: std::time::Duration) -> Result<(
             scene_load.as_secs_f64() * 1e3,
             crate::memory::mib(crate::memory::peak_resident())
         );
-        println!("{:<26} {:>5} {:>10} {:>12}", "pass", "reps", "GPU ms", "CPU enc µs");
-        for t in &ex.last_timings {
-            let gpu_ms = t.gpu_ms.map(|v| format!("{v:.3}")).unwrap_or_else(|| "n/a".into());
-            println!("{:<26} {:>5} {:>10} {:>12.1}", t.pass, t.repetitions, gpu_ms, t.cpu_encode_us);
+        let frames = ex.timing_log.len();
+        println!("{:<26} {:>5} {:>10} {:>12} {:>8}", "pass", "reps", "GPU ms", "CPU enc µs", "ran");
+        for (i, t) in ex.last_timings.iter().enumerate() {
+            // Means over the frames the pass ran in (reused frames cost nothing).
+            let ran: Vec<&crate::gpu::PassTiming> = ex.timing_log.iter().filter_map(|f| f.get(i)).filter(|t| !t.reused).collect();
+            let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
+            let gpu_ms = mean(ran.iter().filter_map(|t| t.gpu_ms).collect());
+            let cpu = mean(ran.iter().map(|t| t.cpu_encode_us).collect()).unwrap_or(0.0);
+            let gpu_ms = gpu_ms.map(|v| format!("{v:.3}")).unwrap_or_else(|| "n/a".into());
+            let runs = format!("{}/{frames}", ran.len());
+            println!("{:<26} {:>5} {:>10} {:>12.1} {:>8}", t.pass, t.repetitions, gpu_ms, cpu, runs);
         }
     }
     if let Some(p) = &a.timings_json {
-        let text = serde_json::to_string_pretty(&ex.last_timings).map_err(|e| Error::io(p, e))?;
+        // One array per frame: a reused pass shows `"reused": true` in the frames it skipped.
+        let text = serde_json::to_string_pretty(&ex.timing_log).map_err(|e| Error::io(p, e))?;
         write_atomic(p, text.as_bytes())?;
     }
     Ok(())

@@ -17,6 +17,8 @@ pub const SLOT: u64 = 256;
 
 /// One repetition of a pass: what it binds and renders into, per frame parity.
 pub struct Rep {
+    /// The light this repetition is for (per-light passes).
+    pub light: Option<u32>,
     pub groups: [Vec<(u32, wgpu::BindGroup)>; 2],
     pub color: [Vec<wgpu::TextureView>; 2],
     pub depth: [Option<wgpu::TextureView>; 2],
@@ -105,6 +107,7 @@ impl Binder<'_> {
                 };
                 self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
                 let mut rep = Rep {
+                    light,
                     groups: [vec![], vec![]],
                     color: [vec![], vec![]],
                     depth: [None, None],

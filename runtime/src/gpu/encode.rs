@@ -18,17 +18,18 @@ pub struct PassGpu {
     pub draw_groups: Option<(u32, Vec<wgpu::BindGroup>)>,
 }
 
-/// Record every repetition of pass number `index` into `enc`.
+/// Record the repetitions of pass number `index` that `run` selects into `enc` (the first
+/// and last of them write the pass's timestamps).
 pub fn encode(
     enc: &mut wgpu::CommandEncoder,
-    pass: &PassGpu,
-    index: usize,
+    (pass, index, run): (&PassGpu, usize, &[bool]),
     parity: usize,
     timer: Option<&Timer>,
     scene: (&SceneGpu, &DrawOrder),
 ) {
-    let n = pass.reps.len();
-    for (ri, rep) in pass.reps.iter().enumerate() {
+    let running: Vec<&Rep> = pass.reps.iter().zip(run).filter(|(_, r)| **r).map(|(rep, _)| rep).collect();
+    let n = running.len();
+    for (ri, rep) in running.into_iter().enumerate() {
         let ts = timer.and_then(|t| t.writes(index, ri, n).map(|w| (t, w)));
         match (&pass.built.pipeline, &pass.plan.work) {
             (PipelineKind::Compute(p), Work::Compute { groups, .. }) => {

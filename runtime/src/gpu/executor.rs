@@ -11,6 +11,7 @@ use super::bind_groups::{Binder, SLOT};
 use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
 use super::pool::Pool;
+use super::reuse::{hash_bytes, FrameKeys, PassInputs, Reuse};
 use super::scene_gpu::SceneGpu;
 use super::timing::{PassTiming, Timer};
 use super::{convert, err_scope, Gpu};
@@ -76,10 +77,15 @@ pub struct Executor {
     inputs: FrameInputs,
     pub frame_index: u64,
     pub last_timings: Vec<PassTiming>,
+    /// Every frame's timings, when `log_timings` is set (a long-running viewer leaves it off).
+    pub timing_log: Vec<Vec<PassTiming>>,
+    pub log_timings: bool,
     /// External resources whose contents were supplied (`load_input`) to their current storage.
     pub(super) supplied: std::collections::BTreeSet<String>,
     /// The last frame's view-projection and jitter (the frame block's `prev_*`).
     previous: Option<(glam::Mat4, [f32; 2])>,
+    /// Which passes ran with what (reuse of unchanged work).
+    pub(super) reuse: Reuse,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -153,8 +159,11 @@ impl Executor {
             inputs,
             frame_index: 0,
             last_timings: vec![],
+            timing_log: vec![],
+            log_timings: false,
             supplied: Default::default(),
             previous: None,
+            reuse: Reuse::new(true),
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -175,6 +184,7 @@ impl Executor {
         // A recreated external resource lost what was supplied: it must be supplied again.
         self.supplied.retain(|n| !report.resources_created.contains(n));
         self.upload_data(gpu, &exe.data)?;
+        self.reuse.reset();
         Ok(report)
     }
 
@@ -194,6 +204,7 @@ impl Executor {
         self.inputs.params = params;
         self.inputs.camera = scene.camera.clone();
         self.upload_data(gpu, &exe.data)?;
+        self.reuse.reset();
         Ok(report)
     }
 
@@ -253,7 +264,13 @@ impl Executor {
         Ok(())
     }
 
-    fn write_frame_blocks(&mut self, gpu: &Gpu, inputs: &FrameInputs) {
+    /// Run every pass every frame (`false`), or only those whose inputs changed (the default).
+    pub fn set_reuse(&mut self, on: bool) {
+        self.reuse = Reuse::new(on);
+    }
+
+    /// Write the frame and light blocks; returns what changed-detection compares.
+    fn write_frame_blocks(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> FrameKeys {
         let (w, h) = self.state.plan.resolution;
         let cam = &inputs.camera;
         let view = cam.view();
@@ -293,6 +310,32 @@ impl Executor {
         if !blocks.is_empty() {
             gpu.queue.write_buffer(&self.shared.lights_buf, 0, bytemuck::cast_slice(&blocks));
         }
+        let camera = [frame.view, frame.proj, frame.prev_view_proj];
+        FrameKeys {
+            camera: hash_bytes(bytemuck::cast_slice(
+                &[bytemuck::cast::<_, [f32; 48]>(camera).as_slice(), &frame.camera_pos, &frame.jitter].concat(),
+            )),
+            time: inputs.time.to_bits() as u64,
+            frame_index: self.frame_index,
+            lights: hash_bytes(bytemuck::cast_slice(&blocks)),
+            light: blocks.iter().map(|b| hash_bytes(bytemuck::bytes_of(b))).collect(),
+        }
+    }
+
+    /// Which repetitions of each pass run this frame (see `reuse`).
+    fn decide_runs(&mut self, keys: &FrameKeys) -> Vec<Vec<bool>> {
+        let state = &self.state;
+        let inputs: Vec<PassInputs> = state
+            .passes
+            .iter()
+            .zip(&state.params)
+            .map(|(p, blocks)| PassInputs {
+                plan: &p.plan,
+                params: hash_bytes(&blocks.iter().flat_map(|(_, b)| b.iter().copied()).collect::<Vec<u8>>()),
+                rep_lights: p.reps.iter().map(|r| r.light).collect(),
+            })
+            .collect();
+        self.reuse.decide(&state.plan, keys, &inputs)
     }
 
     /// Render one frame. GPU errors come back as values naming the pass.
@@ -312,7 +355,8 @@ impl Executor {
         }
         self.apply_params(gpu, &inputs.params)?;
         self.inputs = inputs.clone();
-        self.write_frame_blocks(gpu, inputs);
+        let keys = self.write_frame_blocks(gpu, inputs);
+        let run = self.decide_runs(&keys);
         let parity = (self.frame_index & 1) as usize;
         let (state, scene) = (&self.state, &self.shared.scene_gpu);
         let order = scene.draw_order(inputs.camera.position);
@@ -324,7 +368,7 @@ impl Executor {
             let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some(&pass.plan.name),
             });
-            encode(&mut enc, pass, pi, parity, state.timer.as_ref(), (scene, &order));
+            encode(&mut enc, (pass, pi, &run[pi]), parity, state.timer.as_ref(), (scene, &order));
             let cb = enc.finish();
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));
@@ -346,13 +390,21 @@ impl Executor {
             .passes
             .iter()
             .enumerate()
-            .map(|(i, p)| PassTiming {
-                pass: p.plan.name.clone(),
-                repetitions: p.reps.len() as u32,
-                gpu_ms: gpu_ms.as_ref().map(|v| v[i]),
-                cpu_encode_us: cpu_us[i],
+            .map(|(i, p)| {
+                let ran = run[i].iter().filter(|r| **r).count() as u32;
+                PassTiming {
+                    pass: p.plan.name.clone(),
+                    repetitions: p.reps.len() as u32,
+                    repetitions_run: ran,
+                    reused: ran == 0,
+                    gpu_ms: gpu_ms.as_ref().filter(|_| ran > 0).map(|v| v[i]),
+                    cpu_encode_us: cpu_us[i],
+                }
             })
             .collect();
+        if self.log_timings {
+            self.timing_log.push(self.last_timings.clone());
+        }
         let errors = gpu.take_uncaptured();
         if !errors.is_empty() {
             return Err(Error::gpu("rendering", errors.join("; ")));
@@ -446,9 +498,6 @@ fn pipeline(
     Ok(b)
 }
 
-/// The GPU state of an executable: resources (sharing `old`'s where unchanged), samplers,
-/// parameter blocks, pipelines (from `cache`, or built: returned as `Fresh` to be cached once
-/// the whole state is known to be good) and bind groups.
 /// Sub-pixel jitter of frame `n` in pixels: the Halton (2, 3) sequence over 16 frames,
 /// centred (each component within ±0.5).
 pub fn halton_jitter(n: u64) -> [f32; 2] {
@@ -465,6 +514,9 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
     [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
 }
 
+/// The GPU state of an executable: resources (sharing `old`'s where unchanged), samplers,
+/// parameter blocks, pipelines (from `cache`, or built: returned as `Fresh` to be cached once
+/// the whole state is known to be good) and bind groups.
 fn build_state(
     gpu: &Gpu,
     exe: &Executable,

@@ -39,6 +39,8 @@ impl Executor {
         let res = res.clone();
         self.fill(gpu, &res, &bytes)?;
         self.supplied.insert(name.to_string());
+        // New contents: whatever read the old ones runs again.
+        self.reuse.reset();
         Ok(())
     }
 

@@ -10,6 +10,7 @@ mod inputs;
 mod pipelines;
 pub mod pool;
 pub mod readback;
+pub mod reuse;
 pub mod scene_gpu;
 mod timing;
 

@@ -8,7 +8,11 @@ use crate::error::{Error, Result};
 pub struct PassTiming {
     pub pass: String,
     pub repetitions: u32,
-    /// GPU time from timestamp queries (None where the adapter has none).
+    /// Repetitions that ran this frame (the others were reused: nothing they depend on changed).
+    pub repetitions_run: u32,
+    /// Nothing ran: the pass's results from an earlier frame were still valid.
+    pub reused: bool,
+    /// GPU time from timestamp queries (None where the adapter has none, or when reused).
     pub gpu_ms: Option<f64>,
     pub cpu_encode_us: f64,
 }

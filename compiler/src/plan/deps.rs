@@ -1,0 +1,67 @@
+//! Stage `deps`: what each pass's result depends on besides what it reads — the frame-block
+//! fields its entry points actually read (naga reflection), the light array, the scene's
+//! meshes — and which passes must run every frame. The runtime's reuse rule reads this.
+
+use super::Depends;
+use crate::check::PassVersion;
+use crate::ir::{Draw, Pass, PassKind, Pipeline, Read};
+use crate::layout::BindSource;
+use crate::shader::reflect::members_read;
+use std::collections::BTreeSet;
+
+/// Frame-block fields that move with the camera (`jitter` moves the projection).
+pub const CAMERA_FIELDS: [&str; 8] = [
+    "view",
+    "proj",
+    "view_proj",
+    "inv_view_proj",
+    "prev_view_proj",
+    "prev_inv_view_proj",
+    "camera_pos",
+    "jitter",
+];
+
+pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depends {
+    let entries = || version.resolved.groups.iter().flat_map(|g| &g.entries);
+    let mut fields = BTreeSet::new();
+    for e in entries().filter(|e| matches!(e.source, BindSource::Frame)) {
+        for st in &version.stages {
+            let m = &st.module.module;
+            if let Some((h, _)) = m.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(e.name.as_str())) {
+                fields.extend(members_read(m, st.entry, h));
+            }
+        }
+    }
+    let has = |f: &str| fields.contains(f);
+    let draw = match &pass.kind {
+        PassKind::Raster(r) => Some(&r.draw),
+        _ => None,
+    };
+    Depends {
+        camera: CAMERA_FIELDS.iter().any(|f| has(f)) || draw == Some(&Draw::Transparent),
+        time: has("time"),
+        frame_index: has("frame_index"),
+        lights: pass.per_light.is_none() && entries().any(|e| matches!(e.source, BindSource::Lights)),
+        scene: draw.is_some_and(Draw::uses_scene),
+        always: always(p, pass),
+        frame_fields: fields.into_iter().filter(|f| !f.starts_with('_')).collect(),
+    }
+}
+
+/// Why a pass runs every frame, if it must.
+fn always(p: &Pipeline, pass: &Pass) -> Option<String> {
+    if pass.always {
+        return Some("`always: true`".into());
+    }
+    if p.always {
+        return Some("the pipeline sets `always`".into());
+    }
+    // Ping-pong copies alternate each frame: a skipped writer would leave a stale copy.
+    let history = |name: &str| p.resource(name).is_some_and(|r| r.history());
+    if let Some(r) = pass.reads.iter().find(|r| matches!(r, Read::Prev(_))) {
+        return Some(format!("reads the previous frame of `{}`", r.name().value));
+    }
+    pass.written()
+        .find(|w| history(w))
+        .map(|w| format!("writes history resource `{}`", w.value))
+}

@@ -1,0 +1,196 @@
+//! Reuse of unchanged work: which repetitions of which passes run in a frame. A pass runs
+//! when something it depends on (the Plan's `Depends`: camera, time, frame index, lights,
+//! scene; its parameter block; the light it repeats over) changed since it last ran, or a
+//! resource it reads is rewritten this frame. Then, so that every resource holds what a
+//! full frame would leave in it, the earlier writers its inputs need run too (a `load`
+//! chain is rebuilt from its start), and so do later writers of whatever it overwrites.
+
+use lightbench_compiler::ir::{LayerSel, Load};
+use lightbench_compiler::plan::{Plan, PlanPass, ResourceId};
+use std::hash::{Hash, Hasher};
+
+/// What changed between frames, hashed per kind of dependency.
+#[derive(Clone, Debug, Default)]
+pub struct FrameKeys {
+    pub camera: u64,
+    pub time: u64,
+    pub frame_index: u64,
+    pub lights: u64,
+    /// Per active light.
+    pub light: Vec<u64>,
+}
+
+pub fn hash_bytes(b: &[u8]) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    b.hash(&mut h);
+    h.finish()
+}
+
+/// The keys each repetition last ran with.
+pub struct Reuse {
+    /// Off: every pass runs every frame (for comparison, `render --no-reuse`).
+    pub enabled: bool,
+    last: Vec<Vec<Option<u64>>>,
+}
+
+/// What one pass of the frame needs for the decision.
+pub struct PassInputs<'a> {
+    pub plan: &'a PlanPass,
+    /// Hash of its parameter blocks' bytes.
+    pub params: u64,
+    /// The light of each repetition (per-light passes).
+    pub rep_lights: Vec<Option<u32>>,
+}
+
+impl Reuse {
+    pub fn new(enabled: bool) -> Reuse {
+        Reuse { enabled, last: vec![] }
+    }
+
+    /// Forget what ran: the next frame runs everything (new resources, new inputs).
+    pub fn reset(&mut self) {
+        self.last.clear();
+    }
+
+    /// Which repetitions run this frame, per pass; remembers the keys of those that do.
+    pub fn decide(&mut self, plan: &Plan, keys: &FrameKeys, passes: &[PassInputs]) -> Vec<Vec<bool>> {
+        self.last.resize_with(passes.len(), Vec::new);
+        let sigs: Vec<Vec<u64>> = passes.iter().map(|p| signatures(p, keys)).collect();
+        let own: Vec<Vec<bool>> = passes
+            .iter()
+            .zip(&sigs)
+            .zip(&self.last)
+            .map(|((p, s), last)| {
+                let always = !self.enabled || p.plan.depends.always.is_some();
+                s.iter()
+                    .enumerate()
+                    .map(|(r, sig)| always || last.get(r).copied().flatten() != Some(*sig))
+                    .collect()
+            })
+            .collect();
+        let dirty: Vec<bool> = own.iter().map(|o| o.iter().any(|d| *d)).collect();
+        let forced = propagate(plan, &dirty);
+        let run: Vec<Vec<bool>> = passes
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let all = forced[i] || (dirty[i] && !separable(plan, p.plan));
+                own[i].iter().map(|o| all || *o).collect()
+            })
+            .collect();
+        for (i, s) in sigs.iter().enumerate() {
+            self.last[i].resize(s.len(), None);
+            for (r, sig) in s.iter().enumerate() {
+                if run[i][r] {
+                    self.last[i][r] = Some(*sig);
+                }
+            }
+        }
+        run
+    }
+}
+
+/// Each repetition's key: everything its result depends on besides what it reads.
+fn signatures(p: &PassInputs, keys: &FrameKeys) -> Vec<u64> {
+    let d = &p.plan.depends;
+    p.rep_lights
+        .iter()
+        .map(|light| {
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            p.params.hash(&mut h);
+            (d.camera.then_some(keys.camera)).hash(&mut h);
+            (d.time.then_some(keys.time)).hash(&mut h);
+            (d.frame_index.then_some(keys.frame_index)).hash(&mut h);
+            (d.lights.then_some(keys.lights)).hash(&mut h);
+            light.and_then(|l| keys.light.get(l as usize)).hash(&mut h);
+            h.finish()
+        })
+        .collect()
+}
+
+/// Resources a pass reads this frame: declared reads and attachments it loads.
+fn reads_of(p: &PlanPass) -> Vec<ResourceId> {
+    let t = p.work.targets();
+    let loaded_color = t
+        .into_iter()
+        .flat_map(|t| &t.color)
+        .filter(|c| c.load.is_load())
+        .map(|c| c.resource);
+    let loaded_depth = t.and_then(|t| t.depth.as_ref()).filter(|d| d.load.is_load()).map(|d| d.resource);
+    p.reads
+        .iter()
+        .filter(|r| !r.prev)
+        .map(|r| r.resource)
+        .chain(loaded_color)
+        .chain(loaded_depth)
+        .collect()
+}
+
+/// Resources a pass changes: colour targets, a depth target it writes or clears, storage.
+fn writes_of(p: &PlanPass) -> Vec<ResourceId> {
+    let t = p.work.targets();
+    let color = t.into_iter().flat_map(|t| &t.color).map(|c| c.resource);
+    let depth = t
+        .and_then(|t| t.depth.as_ref())
+        .filter(|d| d.write || !matches!(d.load, Load::Load))
+        .map(|d| d.resource);
+    color.chain(depth).chain(p.writes.iter().copied()).collect()
+}
+
+/// Passes that must run in full because of others: forward (a reader of what a running pass
+/// writes), backward (the writer an input needs, unless its result is still in place: it
+/// is the last writer of that resource) and later writers of what a running pass writes.
+fn propagate(plan: &Plan, dirty: &[bool]) -> Vec<bool> {
+    let n = plan.passes.len();
+    let writes: Vec<Vec<ResourceId>> = plan.passes.iter().map(writes_of).collect();
+    let reads: Vec<Vec<ResourceId>> = plan.passes.iter().map(reads_of).collect();
+    let writer_before = |r: ResourceId, p: usize| (0..p).rev().find(|&w| writes[w].contains(&r));
+    let last_writer = |r: ResourceId| (0..n).rev().find(|&w| writes[w].contains(&r));
+    let mut run = dirty.to_vec();
+    let mut forced = vec![false; n];
+    let mut changed = true;
+    while changed {
+        changed = false;
+        let mut mark = |i: usize, run: &mut Vec<bool>| {
+            if !forced[i] {
+                forced[i] = true;
+                run[i] = true;
+                changed = true;
+            }
+        };
+        for p in 0..n {
+            if reads[p].iter().any(|&r| writer_before(r, p).is_some_and(|w| run[w])) {
+                mark(p, &mut run);
+            }
+            if !run[p] {
+                continue;
+            }
+            for &r in &reads[p] {
+                if let Some(w) = writer_before(r, p).filter(|&w| Some(w) != last_writer(r)) {
+                    mark(w, &mut run);
+                }
+            }
+            for &r in &writes[p] {
+                for later in (p + 1..n).filter(|&l| writes[l].contains(&r)) {
+                    mark(later, &mut run);
+                }
+            }
+        }
+    }
+    forced
+}
+
+/// Can the repetitions of a pass run alone? Only when each writes its own part: the
+/// instance of its light (per-light resources) and its cube face (`layer: Face`).
+fn separable(plan: &Plan, p: &PlanPass) -> bool {
+    let own = |r: ResourceId, layer: Option<LayerSel>| {
+        let per_light_ok = p.per_light.is_empty() || !plan.res(r).per_light.is_empty();
+        let face_ok = !p.per_face || layer == Some(LayerSel::Face);
+        per_light_ok && face_ok
+    };
+    let t = p.work.targets();
+    let color = t.into_iter().flat_map(|t| &t.color).all(|c| own(c.resource, Some(c.layer)));
+    let depth = t.and_then(|t| t.depth.as_ref()).is_none_or(|d| own(d.resource, Some(d.layer)));
+    let storage = p.writes.iter().all(|&w| own(w, None));
+    p.repetitions > 1 && color && depth && storage
+}
