@@ -47,7 +47,8 @@ pub struct InstanceBlock {
     pub light: u32,
     pub face: u32,
     pub view_count: u32,
-    pub _pad: u32,
+    /// The mip level of this repetition of a `per_mip` pass (else 0).
+    pub mip: u32,
     /// The pass's own target size in pixels (its first attachment, or the texture a compute
     /// dispatch is sized from; else the output size), then the reciprocals.
     pub target_size: [f32; 4],

@@ -511,3 +511,137 @@ output out
     assert!(text.contains("runs once (depends on nothing that changes)"), "{text}");
     assert!(text.contains("runs every frame: `always: true`"), "{text}");
 }
+
+const COPY: &str = "@group(2) @binding(0) var input: texture_2d<f32>;
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return textureLoad(input, vec2<i32>(pos.xy), 0);
+}
+";
+
+/// Half of the next smaller level, added by the target's blend.
+const UP: &str = "@group(2) @binding(0) var input: texture_2d<f32>;
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return textureLoad(input, vec2<i32>(pos.xy) / 2, 0) * 0.5;
+}
+";
+
+/// Bloom over a 5-level chain: three passes (bright, down per mip, up per mip) against the
+/// same chain spelled with a texture per level and nine passes.
+#[test]
+fn a_mip_chain_in_three_passes_matches_separate_textures() {
+    let chain = "pipeline chain
+texture src: Rgba16Float 32x32
+texture bloom: Rgba16Float 32x32 mips 5
+
+fullscreen pattern \"pattern.wgsl\" {
+    color src
+}
+
+fullscreen bright \"copy.wgsl\" {
+    reads src
+    bind input = src
+    color bloom
+}
+
+fullscreen down \"down.wgsl\" {
+    per_mip 1..4
+    reads mip(bloom, rep-1)
+    bind input = bloom
+    color bloom mip rep
+}
+
+fullscreen up \"up.wgsl\" {
+    per_mip 3..0
+    reads mip(bloom, rep+1)
+    bind input = bloom
+    color bloom load blend Add mip rep
+}
+
+output bloom
+";
+    let mut separate = String::from("pipeline separate\ntexture src: Rgba16Float 32x32\n");
+    for l in 0..5 {
+        separate += &format!("texture b{l}: Rgba16Float {0}x{0}\n", 32 >> l);
+    }
+    separate += "\nfullscreen pattern \"pattern.wgsl\" {\n    color src\n}\n";
+    separate += "\nfullscreen bright \"copy.wgsl\" {\n    reads src\n    bind input = src\n    color b0\n}\n";
+    for l in 1..5 {
+        separate += &format!(
+            "\nfullscreen down{l} \"down.wgsl\" {{\n    reads b{0}\n    bind input = b{0}\n    color b{l}\n}}\n",
+            l - 1
+        );
+    }
+    for l in (0..4).rev() {
+        separate += &format!(
+            "\nfullscreen up{l} \"up.wgsl\" {{\n    reads b{0}\n    bind input = b{0}\n    color b{l} load blend Add\n}}\n",
+            l + 1
+        );
+    }
+    separate += "\noutput b0\n";
+    let d = project(
+        "mips",
+        &[
+            ("shaders/pattern.wgsl", PATTERN),
+            ("shaders/copy.wgsl", COPY),
+            // The bundled mip generator, as the README tells a user to use it.
+            ("shaders/down.wgsl", &std::fs::read_to_string(root().join("shaders/mip_down.wgsl")).unwrap()),
+            ("shaders/up.wgsl", UP),
+            ("pipelines/chain.lbp", chain),
+            ("pipelines/separate.lbp", &separate),
+        ],
+    );
+    let (a, ex) = render_out(&d.join("pipelines/chain.lbp"), 1);
+    let (b, _) = render_out(&d.join("pipelines/separate.lbp"), 1);
+    assert_eq!(ex.plan().passes.len(), 4, "pattern + three chain passes");
+    assert_eq!(ex.plan().pass("down").unwrap().repetitions, 4);
+    let max_err = a.rgba.iter().zip(&b.rgba).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    assert!(max_err < 1e-3, "the mip chain matches separate textures: max error {max_err}");
+    // The blur added something: a texel between spikes is no longer 0.
+    let src_zero = (0..32).find(|x| (x * 7) % 5 != 0).unwrap();
+    assert!(a.pixel(src_zero, 0)[0] > 0.01, "bloom spread light");
+}
+
+#[test]
+fn reading_the_mip_a_pass_writes_is_an_error() {
+    let bad = "pipeline bad
+texture t: Rgba16Float 32x32 mips 3
+
+fullscreen fill \"copy.wgsl\" {
+    color t
+    reads mip(t, 1)
+    bind input = t
+}
+
+fullscreen down \"copy.wgsl\" {
+    per_mip 1..2
+    reads mip(t, rep)
+    bind input = t
+    color t mip rep
+}
+
+fullscreen out_of_range \"copy.wgsl\" {
+    per_mip 1..2
+    reads mip(t, rep+1)
+    bind input = t
+    color t mip rep
+}
+
+output t
+";
+    let d = project("mips-bad", &[("shaders/copy.wgsl", COPY), ("pipelines/bad.lbp", bad)]);
+    let (code, _, err) = cli_common::lightbench(&["check", d.join("pipelines/bad.lbp").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("error[mip-select]: pass `down` reads mip 1 of `t`, which it writes"),
+        "{err}"
+    );
+    assert!(err.contains("bad.lbp:12:18"), "{err}");
+    assert!(
+        err.contains("error[mip-select]: mip 3 of `t` is out of range (at repetition level 2): it has 3 mip level(s)"),
+        "{err}"
+    );
+}

@@ -50,12 +50,13 @@ struct Light {
     face_view_proj: array<mat4x4<f32>, 6>,
 };
 
-// Which repetition of a per-light / per-face pass is running.
+// Which repetition of a per-light / per-face / per-mip pass is running.
 struct Instance {
     light: u32,
     face: u32,
     view_count: u32,
-    _pad: u32,
+    // The mip level this repetition of a `per_mip` pass renders (else 0).
+    mip: u32,
     // x, y: this pass's target size in pixels (its first attachment, or the texture a compute
     // dispatch is sized from; else the output size); z, w: their reciprocals
     target_size: vec4<f32>,

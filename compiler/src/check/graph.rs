@@ -94,7 +94,9 @@ fn read_edges(
             }
             continue;
         }
-        if ws.contains(&i) {
+        // Other mips of what it writes are inputs, not a cycle (checked by `declarations`).
+        let own_mips = ws.contains(&i) && reads_other_mips(pass, &name.value);
+        if ws.contains(&i) && !own_mips {
             diags.push(
                 Diagnostic::error(
                     Code::Cycle,
@@ -108,13 +110,31 @@ fn read_edges(
             );
             continue;
         }
-        if ws.is_empty() && !res.supplied() {
+        let others: Vec<usize> = ws.iter().copied().filter(|&w| w != i).collect();
+        if others.is_empty() && !own_mips && !res.supplied() {
             diags.push(missing_producer(p, pass, name, res, culled));
         }
-        for &w in ws {
+        // A resource rewritten within the frame: a reader sees the writes before it in file
+        // order, and later writers wait for it. With no earlier writer it sees them all.
+        let before: Vec<usize> = others.iter().copied().filter(|&w| w < i).collect();
+        let sources = if before.is_empty() { &others } else { &before };
+        for &w in sources {
             edges.entry((w, i)).or_insert((name.value.clone(), name.span));
         }
+        if !before.is_empty() {
+            for &w in others.iter().filter(|&&w| w > i) {
+                edges.entry((i, w)).or_insert((name.value.clone(), name.span));
+            }
+        }
     }
+}
+
+/// Does a pass that writes `res` read only other mip levels of it (`Mip(..)` reads, written
+/// through attachments only)? Whether the levels really differ is `declarations`' check.
+fn reads_other_mips(pass: &Pass, res: &str) -> bool {
+    let reads_whole = pass.reads.iter().any(|r| r.name().value == res && r.mip().is_none());
+    let storage = pass.writes.iter().any(|w| w.value == res);
+    !reads_whole && !storage && pass.depth_tested().is_none_or(|d| d.value != res)
 }
 
 fn missing_producer(

@@ -83,6 +83,7 @@ codes! {
     BlendNotBlendable = "blend-not-blendable": "blending on a format that cannot blend",
     AttachmentSize = "attachment-size": "attachments of one pass with different sizes",
     LayerSelect = "layer-select": "a `layer` choice the target or pass cannot honour",
+    MipSelect = "mip-select": "a mip level that does not exist, `Rep` without `per_mip`, or a pass reading the mip it writes",
     NoTargets = "no-targets": "a raster or fullscreen pass that renders into nothing",
     MultiviewPerFace = "multiview-per-face": "a multiview pass that also repeats per face",
     RepeatedClear = "repeated-clear": "warning: a repeated pass clears a shared target each time",

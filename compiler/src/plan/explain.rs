@@ -77,10 +77,20 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
 
 fn read_word(plan: &Plan, r: &PlanRead) -> String {
     let name = &plan.res(r.resource).name;
-    if r.prev {
-        format!("Prev({name})")
-    } else {
-        name.clone()
+    match (r.prev, r.mip) {
+        (true, _) => format!("Prev({name})"),
+        (false, Some(m)) => format!("{name}{}", mip_word(m)),
+        (false, None) => name.clone(),
+    }
+}
+
+/// ` mip 2`, ` mip rep-1`: a mip selection as LBP writes it (level 0 of a target: nothing).
+fn mip_word(m: crate::ir::MipSel) -> String {
+    use crate::ir::MipSel;
+    match m {
+        MipSel::Level(l) => format!(" mip {l}"),
+        MipSel::Rep(0) => " mip rep".into(),
+        MipSel::Rep(d) => format!(" mip rep{d:+}"),
     }
 }
 
@@ -150,7 +160,7 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
 
 /// ` ×6 (per Point light, per face)` for repeated passes.
 fn repetitions(p: &PlanPass) -> String {
-    if p.per_light.is_empty() && !p.per_face {
+    if p.per_light.is_empty() && !p.per_face && p.per_mip.is_none() {
         return String::new();
     }
     let kinds: Vec<&str> = p.per_light.iter().map(|k| k.name()).collect();
@@ -160,6 +170,9 @@ fn repetitions(p: &PlanPass) -> String {
     }
     if p.per_face {
         parts.push("per face".to_string());
+    }
+    if let Some(m) = p.per_mip {
+        parts.push(format!("per mip {}..{}", m.from, m.to));
     }
     format!(" ×{} ({})", p.repetitions, parts.join(", "))
 }
@@ -204,7 +217,17 @@ fn loads(p: &PlanPass) -> bool {
 /// against (not written, loaded) says so.
 fn written(plan: &Plan, p: &PlanPass) -> Vec<String> {
     let t = p.work.targets();
-    let color = t.into_iter().flat_map(|t| &t.color).map(|c| plan.res(c.resource).name.clone());
+    let level = |m: crate::ir::MipSel| {
+        if m == crate::ir::MipSel::Level(0) {
+            String::new()
+        } else {
+            mip_word(m)
+        }
+    };
+    let color = t
+        .into_iter()
+        .flat_map(|t| &t.color)
+        .map(|c| format!("{}{}", plan.res(c.resource).name, level(c.mip)));
     let depth = t.and_then(|t| t.depth.as_ref()).map(|d| {
         let tested = !d.write && matches!(d.load, Load::Load);
         format!("{} {}", if tested { "depth-test" } else { "depth" }, plan.res(d.resource).name)

@@ -21,8 +21,8 @@ use crate::check::PassVersion;
 use crate::format::TextureFormat;
 use crate::ir::scene::SceneFeatures;
 use crate::ir::{
-    AddressMode, Blend, CompareFn, CullMode, Draw, FilterMode, LayerSel, LightKind, Load, ParamType, ParamValue, SamplerKind, SizeSpec,
-    Stage, ViewDim,
+    AddressMode, Blend, CompareFn, CullMode, Draw, FilterMode, LayerSel, LightKind, Load, MipRange, MipSel, ParamType, ParamValue,
+    SamplerKind, SizeSpec, Stage, ViewDim,
 };
 use crate::layout::{BindGroupLayout, BindSource, Binding, UniformBlock};
 use crate::profile::Profile;
@@ -72,6 +72,7 @@ pub struct ColorAttachment {
     pub load: Load<[f64; 4]>,
     pub blend: Option<Blend>,
     pub layer: LayerSel,
+    pub mip: MipSel,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -82,6 +83,7 @@ pub struct DepthAttachment {
     pub compare: CompareFn,
     pub write: bool,
     pub layer: LayerSel,
+    pub mip: MipSel,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -140,6 +142,8 @@ pub struct PlanRead {
     pub resource: ResourceId,
     /// The previous frame's value of a history resource.
     pub prev: bool,
+    /// One mip level (else the whole chain).
+    pub mip: Option<MipSel>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -149,7 +153,9 @@ pub struct PlanPass {
     pub stages: Vec<PlanStage>,
     pub per_light: Vec<LightKind>,
     pub per_face: bool,
-    /// How many times the pass runs for this scene (lights × faces).
+    /// The mip levels it repeats over, in order.
+    pub per_mip: Option<MipRange>,
+    /// How many times the pass runs for this scene (lights × faces × mip levels).
     pub repetitions: u32,
     pub reads: Vec<PlanRead>,
     /// Storage writes (attachments are in the work's targets).

@@ -42,6 +42,7 @@ pub(super) fn assemble(p: &Pipeline, cfg: &Config, schedule: &Schedule, kept: &K
 fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version: &PassVersion, ids: &Ids) -> Option<PlanPass> {
     let pass = &p.passes[i];
     let faces = if pass.per_face { 6 } else { 1 };
+    let levels = pass.per_mip.as_ref().map(|m| m.value.levels().len() as u32).unwrap_or(1);
     let lights = pass.per_light.as_ref().map(|k| cfg.scene.light_count(k)).unwrap_or(1);
     let after = schedule.ordered.after.get(&i).map(Vec::as_slice).unwrap_or(&[]);
     Some(PlanPass {
@@ -58,7 +59,8 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
             .collect(),
         per_light: pass.per_light.as_ref().map(|k| k.value.clone()).unwrap_or_default(),
         per_face: pass.per_face,
-        repetitions: lights * faces,
+        per_mip: pass.per_mip.as_ref().map(|m| m.value),
+        repetitions: lights * faces * levels,
         reads: pass
             .reads
             .iter()
@@ -66,6 +68,7 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
                 Some(PlanRead {
                     resource: ids.res(r.name())?,
                     prev: r.is_prev(),
+                    mip: r.mip(),
                 })
             })
             .collect::<Option<_>>()?,
@@ -125,6 +128,7 @@ fn targets(p: &Pipeline, t: &Targets, ids: &Ids) -> Option<PlanTargets> {
             load: c.load,
             blend: c.blend.as_ref().map(|b| b.value),
             layer: c.layer,
+            mip: c.mip.value,
         })
     };
     let depth = |d: &DepthTarget| {
@@ -135,6 +139,7 @@ fn targets(p: &Pipeline, t: &Targets, ids: &Ids) -> Option<PlanTargets> {
             compare: d.compare,
             write: d.write,
             layer: d.layer,
+            mip: d.mip.value,
         })
     };
     Some(PlanTargets {

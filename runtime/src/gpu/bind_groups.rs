@@ -8,7 +8,7 @@ use super::{convert, Gpu};
 use crate::blocks::InstanceBlock;
 use crate::error::{Error, Result};
 use crate::scene::Light;
-use lightbench_compiler::ir::{LayerSel, LightKind};
+use lightbench_compiler::ir::{LayerSel, LightKind, MipSel};
 use lightbench_compiler::layout::{BindSource, BindingType, DrawSlot};
 use lightbench_compiler::plan::{Plan, PlanBindGroup, PlanPass, ResourceId};
 
@@ -19,6 +19,8 @@ pub const SLOT: u64 = 256;
 pub struct Rep {
     /// The light this repetition is for (per-light passes).
     pub light: Option<u32>,
+    /// Workgroups of a per-mip compute repetition sized from a texture (at its level).
+    pub dispatch: Option<[u32; 3]>,
     pub groups: [Vec<(u32, wgpu::BindGroup)>; 2],
     pub color: [Vec<wgpu::TextureView>; 2],
     pub depth: [Option<wgpu::TextureView>; 2],
@@ -69,17 +71,25 @@ impl Binder<'_> {
             .ok_or_else(|| Error::Plan(format!("resource #{} is not in the pool", res.0)))
     }
 
-    /// The size a pass renders at: its first colour (else depth) attachment, or the texture its
-    /// dispatch is sized from, else the Plan's resolution.
-    fn target_size(&self, pp: &PlanPass) -> (u32, u32) {
+    /// The size a pass renders at: its first colour (else depth) attachment at the mip level
+    /// it renders, or the texture its dispatch is sized from (at the repetition's level), else
+    /// the Plan's resolution.
+    fn target_size(&self, pp: &PlanPass, rep_mip: Option<u32>) -> (u32, u32) {
         let t = pp.work.targets();
-        let attachment = t.and_then(|t| t.color.first().map(|c| c.resource).or(t.depth.as_ref().map(|d| d.resource)));
+        let first = t.and_then(|t| {
+            let c = t.color.first().map(|c| (c.resource, c.mip));
+            c.or(t.depth.as_ref().map(|d| (d.resource, d.mip)))
+        });
         let sized = match &pp.work {
-            lightbench_compiler::plan::Work::Compute { sized_from, .. } => *sized_from,
+            lightbench_compiler::plan::Work::Compute { sized_from, .. } => sized_from.map(|r| (r, MipSel::Rep(0))),
             _ => None,
         };
-        match attachment.or(sized).map(|r| &self.plan.res(r).shape) {
-            Some(lightbench_compiler::plan::ResourceShape::Texture { extent, .. }) => *extent,
+        let Some((r, sel)) = first.or(sized) else {
+            return self.plan.resolution;
+        };
+        let level = sel.level(rep_mip.unwrap_or(0)).unwrap_or(0);
+        match &self.plan.res(r).shape {
+            lightbench_compiler::plan::ResourceShape::Texture { extent, .. } => ((extent.0 >> level).max(1), (extent.1 >> level).max(1)),
             _ => self.plan.resolution,
         }
     }
@@ -93,36 +103,45 @@ impl Binder<'_> {
             lights_of(self.lights, &pp.per_light).into_iter().map(Some).collect()
         };
         let faces: Vec<u32> = if pp.per_face { (0..6).collect() } else { vec![0] };
+        let mips: Vec<Option<u32>> = match pp.per_mip {
+            Some(m) => m.levels().into_iter().map(Some).collect(),
+            None => vec![None],
+        };
         let parities = if self.pool.has_history() { 2 } else { 1 };
         let mut reps = vec![];
-        for &light in &lights {
-            for &face in &faces {
-                let (w, h) = self.target_size(pp);
-                let inst = InstanceBlock {
-                    light: light.unwrap_or(0),
-                    face,
-                    view_count: pp.work.multiview().unwrap_or(1),
-                    _pad: 0,
-                    target_size: [w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32],
-                };
-                self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
-                let mut rep = Rep {
-                    light,
-                    groups: [vec![], vec![]],
-                    color: [vec![], vec![]],
-                    depth: [None, None],
-                };
-                for parity in 0..parities {
-                    self.fill(&mut rep, pp, layouts, params, (light, face, *slot, parity))?;
-                }
-                if parities == 1 {
-                    rep.groups[1] = rep.groups[0].clone();
-                    rep.color[1] = rep.color[0].clone();
-                    rep.depth[1] = rep.depth[0].clone();
-                }
-                reps.push(rep);
-                *slot += 1;
+        let mut combos: Vec<(Option<u32>, u32, Option<u32>)> = vec![];
+        for &l in &lights {
+            for &f in &faces {
+                combos.extend(mips.iter().map(|&m| (l, f, m)));
             }
+        }
+        for (light, face, mip) in combos {
+            let (w, h) = self.target_size(pp, mip);
+            let inst = InstanceBlock {
+                light: light.unwrap_or(0),
+                face,
+                view_count: pp.work.multiview().unwrap_or(1),
+                mip: mip.unwrap_or(0),
+                target_size: [w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32],
+            };
+            self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
+            let mut rep = Rep {
+                light,
+                dispatch: mip.and_then(|_| per_mip_groups(pp, (w, h))),
+                groups: [vec![], vec![]],
+                color: [vec![], vec![]],
+                depth: [None, None],
+            };
+            for parity in 0..parities {
+                self.fill(&mut rep, pp, layouts, params, (light, face, mip, *slot, parity))?;
+            }
+            if parities == 1 {
+                rep.groups[1] = rep.groups[0].clone();
+                rep.color[1] = rep.color[0].clone();
+                rep.depth[1] = rep.depth[0].clone();
+            }
+            reps.push(rep);
+            *slot += 1;
         }
         Ok(reps)
     }
@@ -133,21 +152,22 @@ impl Binder<'_> {
         pp: &PlanPass,
         layouts: &[wgpu::BindGroupLayout],
         params: &[wgpu::Buffer],
-        (light, face, slot, parity): (Option<u32>, u32, u64, u32),
+        (light, face, mip, slot, parity): (Option<u32>, u32, Option<u32>, u64, u32),
     ) -> Result<()> {
         let p = parity as usize;
         for g in pp.bind_groups.iter().filter(|g| !g.is_per_draw()) {
             let layout = layouts
                 .get(g.group as usize)
                 .ok_or_else(|| Error::Plan(format!("no layout for group {}", g.group)))?;
-            rep.groups[p].push((g.group, self.group(pp, g, layout, params, light, slot, parity)?));
+            rep.groups[p].push((g.group, self.group(pp, g, layout, params, (light, mip), slot, parity)?));
         }
+        let level = |sel: MipSel| sel.level(mip.unwrap_or(0)).unwrap_or(0);
         if let Some(t) = pp.work.targets() {
             for c in &t.color {
-                rep.color[p].push(self.attachment(c.resource, c.layer, light, face, parity)?);
+                rep.color[p].push(self.attachment(c.resource, (c.layer, level(c.mip)), light, face, parity)?);
             }
             if let Some(d) = &t.depth {
-                rep.depth[p] = Some(self.attachment(d.resource, d.layer, light, face, parity)?);
+                rep.depth[p] = Some(self.attachment(d.resource, (d.layer, level(d.mip)), light, face, parity)?);
             }
         }
         Ok(())
@@ -160,7 +180,7 @@ impl Binder<'_> {
         g: &PlanBindGroup,
         layout: &wgpu::BindGroupLayout,
         params: &[wgpu::Buffer],
-        light: Option<u32>,
+        (light, mip): (Option<u32>, Option<u32>),
         slot: u64,
         parity: u32,
     ) -> Result<wgpu::BindGroup> {
@@ -188,7 +208,14 @@ impl Binder<'_> {
                 ),
                 BindSource::Resource(id) | BindSource::Prev(id) => {
                     let prev = matches!(e.source, BindSource::Prev(_));
-                    self.resource(*id, &e.ty, light, prev, parity)?
+                    // A `Mip(..)` read binds one level: the one it selects at this repetition.
+                    let level = pp
+                        .reads
+                        .iter()
+                        .find(|r| r.resource == *id && !r.prev)
+                        .and_then(|r| r.mip)
+                        .map(|sel| sel.level(mip.unwrap_or(0)).unwrap_or(0));
+                    self.resource(*id, &e.ty, (light, level), prev, parity)?
                 }
                 BindSource::Draw(_) => return Err(Error::Plan("per-draw binding outside the per-draw group".into())),
             };
@@ -212,7 +239,14 @@ impl Binder<'_> {
         }))
     }
 
-    fn resource(&self, id: ResourceId, ty: &BindingType, light: Option<u32>, prev: bool, parity: u32) -> Result<Held<'_>> {
+    fn resource(
+        &self,
+        id: ResourceId,
+        ty: &BindingType,
+        (light, level): (Option<u32>, Option<u32>),
+        prev: bool,
+        parity: u32,
+    ) -> Result<Held<'_>> {
         let entry = self.entry(id)?;
         let inst = self.instance_of(id, light);
         let name = &self.plan.res(id).name;
@@ -224,6 +258,8 @@ impl Binder<'_> {
                 Held::View(tex.create_view(&wgpu::TextureViewDescriptor {
                     dimension: Some(convert::view_dim(*view_dimension)),
                     aspect: aspect(tex),
+                    base_mip_level: level.unwrap_or(0),
+                    mip_level_count: level.map(|_| 1),
                     ..Default::default()
                 }))
             }
@@ -238,7 +274,14 @@ impl Binder<'_> {
 
     /// The view a pass renders into: one layer (base, fixed or the current face), or all
     /// layers as a 2D array for multiview.
-    fn attachment(&self, res: ResourceId, layer: LayerSel, light: Option<u32>, face: u32, parity: u32) -> Result<wgpu::TextureView> {
+    fn attachment(
+        &self,
+        res: ResourceId,
+        (layer, level): (LayerSel, u32),
+        light: Option<u32>,
+        face: u32,
+        parity: u32,
+    ) -> Result<wgpu::TextureView> {
         let e = self.entry(res)?;
         let (dim, range) = match layer {
             LayerSel::All => (wgpu::TextureViewDimension::D2Array, (0, e.key.layers())),
@@ -255,7 +298,7 @@ impl Binder<'_> {
             dimension: Some(dim),
             usage: Some(wgpu::TextureUsages::RENDER_ATTACHMENT),
             aspect: aspect(tex),
-            base_mip_level: 0,
+            base_mip_level: level,
             mip_level_count: Some(1),
             base_array_layer: range.0,
             array_layer_count: Some(range.1),
@@ -309,6 +352,18 @@ impl Binder<'_> {
             }));
         }
         Ok(Some((g.group, list)))
+    }
+}
+
+/// Workgroups covering `extent` for a per-mip compute pass sized from a texture.
+fn per_mip_groups(pp: &PlanPass, (w, h): (u32, u32)) -> Option<[u32; 3]> {
+    match &pp.work {
+        lightbench_compiler::plan::Work::Compute {
+            workgroup_size,
+            sized_from: Some(_),
+            ..
+        } => Some([w.div_ceil(workgroup_size[0].max(1)), h.div_ceil(workgroup_size[1].max(1)), 1]),
+        _ => None,
     }
 }
 

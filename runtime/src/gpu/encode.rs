@@ -45,7 +45,8 @@ pub fn encode(
                 for (g, bg) in &rep.groups[parity] {
                     cp.set_bind_group(*g, bg, &[]);
                 }
-                cp.dispatch_workgroups(groups[0], groups[1], groups[2]);
+                let g = rep.dispatch.unwrap_or(*groups);
+                cp.dispatch_workgroups(g[0], g[1], g[2]);
             }
             (PipelineKind::Render(p), work) => {
                 let colors = color_attachments(pass, rep, parity);

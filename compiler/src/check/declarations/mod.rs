@@ -3,6 +3,7 @@
 //! variant options and fallbacks, and each pass's attachments. The lowering accepts any
 //! value the IR can hold; everything about whether it makes sense is decided here.
 
+mod mips;
 mod params;
 mod refs;
 mod resources;
@@ -24,6 +25,7 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
     for pass in &p.passes {
         refs::pass_refs(p, pass, diags);
         targets::targets(p, pass, profile, diags);
+        mips::mips(p, pass, diags);
     }
     for (what, out) in [("output", Some(&p.output)), ("hdr_output", p.hdr_output.as_ref())] {
         let Some(out) = out else { continue };
