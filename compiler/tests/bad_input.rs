@@ -1108,3 +1108,57 @@ fn parameters_with_the_same_last_segment() {
         115,
     );
 }
+
+const COMPUTE_WGSL: &str = r#"@group(0) @binding(0) var color: texture_2d<f32>;
+@group(0) @binding(1) var linear: sampler;
+@group(0) @binding(2) var<storage, read_write> sums: array<vec4<f32>>;
+
+@compute @workgroup_size(1)
+fn cs_main() {
+    sums[0] = textureSample(color, linear, vec2<f32>(0.5));
+}
+"#;
+
+/// naga reports a stage-forbidden operation with no span: it is located at the operation.
+#[test]
+fn operation_forbidden_in_compute_is_located_at_the_call() {
+    expect(
+        Case {
+            pipeline: &[
+                ("    ],\n    output", "        Compute(name: \"sum\", shader: \"sum.wgsl\", reads: [\"color\"], writes: [\"sums\"], dispatch: Groups(1, 1, 1)),\n    ],\n    output"),
+                ("\"out\": Texture(format: Rgba8Unorm),", "\"out\": Texture(format: Rgba8Unorm),\n        \"sums\": Buffer(size: 16),"),
+            ],
+            files: &[("shaders/sum.wgsl", COMPUTE_WGSL)],
+            ..BASE
+        },
+        "shader-validation",
+        "Entry point cs_main at Compute is invalid",
+        "shaders/sum.wgsl",
+        7,
+        15,
+    );
+}
+
+/// naga's validation messages name types in WGSL and expressions by their source text.
+#[test]
+fn validation_messages_speak_wgsl() {
+    let c = Case {
+        post: &[("    return textureSample(color, linear, uv) * params.exposure;", "    let m = mat4x4<f32>();\n    let v = vec3<f32>(1.0);\n    let bad = m * v;\n    return textureSample(color, linear, uv) * params.exposure;")],
+        ..BASE
+    };
+    expect(
+        Case { ..c },
+        "shader-validation",
+        "Entry point fs_main at Fragment is invalid",
+        "shaders/post.wgsl",
+        13,
+        15,
+    );
+    let text = run(&c).dump();
+    assert!(text.contains("= `m * v` is invalid"), "{text}");
+    assert!(
+        text.contains("(of type mat4x4<f32>) and `vec3<f32>(1.0)` (of type vec3<f32>)"),
+        "{text}"
+    );
+    assert!(!text.contains("Scalar {") && !text.contains("Expression ["), "{text}");
+}

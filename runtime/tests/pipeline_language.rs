@@ -118,7 +118,10 @@ output out
         &[
             ("shaders/pattern.wgsl", PATTERN),
             // The bundled blur, as the README and its header tell a user to use it.
-            ("shaders/blur.wgsl", &std::fs::read_to_string(root().join("shaders/blur.wgsl")).unwrap()),
+            (
+                "shaders/blur.wgsl",
+                &std::fs::read_to_string(root().join("shaders/blur.wgsl")).unwrap(),
+            ),
             ("shaders/blur_h.wgsl", &h),
             ("shaders/blur_v.wgsl", &v),
             ("pipelines/shared.lbp", &shared),
@@ -589,7 +592,10 @@ output bloom
             ("shaders/pattern.wgsl", PATTERN),
             ("shaders/copy.wgsl", COPY),
             // The bundled mip generator, as the README tells a user to use it.
-            ("shaders/down.wgsl", &std::fs::read_to_string(root().join("shaders/mip_down.wgsl")).unwrap()),
+            (
+                "shaders/down.wgsl",
+                &std::fs::read_to_string(root().join("shaders/mip_down.wgsl")).unwrap(),
+            ),
             ("shaders/up.wgsl", UP),
             ("pipelines/chain.lbp", chain),
             ("pipelines/separate.lbp", &separate),
@@ -661,13 +667,26 @@ fn the_readme_lbp_example_checks_and_renders() {
     let p = d.join("pipelines/example.lbp");
     let (code, _, err) = cli_common::lightbench(&["check", p.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    image::RgbaImage::from_pixel(128, 128, image::Rgba([255, 128, 0, 255])).save(d.join("src.png")).unwrap();
+    image::RgbaImage::from_pixel(128, 128, image::Rgba([255, 128, 0, 255]))
+        .save(d.join("src.png"))
+        .unwrap();
     let (out, src) = (d.join("out.exr"), format!("src={}", d.join("src.png").display()));
-    let args = ["render", "--pipeline", p.to_str().unwrap(), "--input", &src, "--out", out.to_str().unwrap()];
+    let args = [
+        "render",
+        "--pipeline",
+        p.to_str().unwrap(),
+        "--input",
+        &src,
+        "--out",
+        out.to_str().unwrap(),
+    ];
     let (code, _, err) = cli_common::lightbench(&args);
     assert_eq!(code, 0, "{err}");
     let img = image::open(&out).unwrap().to_rgba32f();
     assert_eq!(img.dimensions(), (32, 32));
     let px = img.get_pixel(16, 16).0;
-    assert!((px[0] - 1.0).abs() < 1e-3 && (px[1] - 128.0 / 255.0).abs() < 2e-3 && px[2] == 0.0, "{px:?}");
+    assert!(
+        (px[0] - 1.0).abs() < 1e-3 && (px[1] - 128.0 / 255.0).abs() < 2e-3 && px[2] == 0.0,
+        "{px:?}"
+    );
 }

@@ -4,6 +4,7 @@
 
 pub mod cache;
 pub mod include;
+pub mod readable;
 pub mod reflect;
 
 use crate::diag::{Code, Diagnostic, Diagnostics};
@@ -267,7 +268,7 @@ fn compile(
     let info = match validator.validate(&module) {
         Ok(i) => i,
         Err(e) => {
-            diags.push(validation_error(&e, &map));
+            diags.push(validation_error(&e, &map, (&module, &expanded.text)));
             return None;
         }
     };
@@ -320,17 +321,46 @@ fn parse(lang: Lang, text: &str, map: &dyn Fn(naga::Span) -> Span, diags: &mut D
     }
 }
 
-/// A validation error with every span naga gives and the chain of causes as notes.
-fn validation_error(e: &naga::WithSpan<naga::valid::ValidationError>, map: &dyn Fn(naga::Span) -> Span) -> Diagnostic {
-    let mut spans = e.spans().map(|(s, t)| (map(*s), t.clone()));
+/// A validation error with every span naga gives and the chain of causes as notes, in
+/// WGSL terms (see `readable`); an operation the stage forbids is located at the operation.
+fn validation_error(
+    e: &naga::WithSpan<naga::valid::ValidationError>,
+    map: &dyn Fn(naga::Span) -> Span,
+    (module, text): (&naga::Module, &str),
+) -> Diagnostic {
+    let func = readable::function_of(e.as_inner(), module);
+    let say = |msg: &str| {
+        let msg = readable::types(msg, module);
+        match func {
+            Some(f) => readable::expressions(&msg, f, text),
+            None => msg,
+        }
+    };
+    let mut spans: Vec<(Span, String)> = e.spans().map(|(s, t)| (map(*s), say(t))).collect();
+    if let naga::valid::ValidationError::EntryPoint {
+        stage,
+        name,
+        source: naga::valid::EntryPointError::ForbiddenStageOperations,
+    } = e.as_inner()
+    {
+        if let Some(ep) = module.entry_points.iter().find(|ep| ep.stage == *stage && ep.name == *name) {
+            let label = "needs implicit derivatives, which only fragment shaders have (use `textureSampleLevel`)";
+            spans.extend(
+                readable::forbidden_operations(module, ep)
+                    .into_iter()
+                    .map(|s| (map(s), label.to_string())),
+            );
+        }
+    }
+    let mut spans = spans.into_iter().filter(|(s, _)| *s != map(naga::Span::UNDEFINED));
     let (first, first_text) = spans.next().unwrap_or((map(naga::Span::UNDEFINED), String::new()));
-    let mut d = Diagnostic::error(Code::ShaderValidation, e.as_inner().to_string(), first).with_label_text(first_text);
+    let mut d = Diagnostic::error(Code::ShaderValidation, say(&e.as_inner().to_string()), first).with_label_text(first_text);
     for (s, t) in spans {
         d = d.with_secondary(s, t);
     }
     let mut source = std::error::Error::source(e.as_inner());
     while let Some(s) = source {
-        d = d.with_note(s.to_string());
+        d = d.with_note(say(&s.to_string()));
         source = s.source();
     }
     if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {

@@ -261,7 +261,7 @@ pub fn members_read(m: &naga::Module, entry: usize, global: Handle<naga::GlobalV
 }
 
 /// Functions a block calls, directly or in nested blocks.
-fn called(b: &naga::Block, out: &mut Vec<Handle<naga::Function>>) {
+pub(crate) fn called(b: &naga::Block, out: &mut Vec<Handle<naga::Function>>) {
     use naga::Statement as S;
     for s in b.iter() {
         match s {

@@ -1,0 +1,183 @@
+//! Sub-stage of `shaders`: naga's validation errors made readable — types in WGSL syntax
+//! instead of naga's Debug form, expression handles (`[3]`) as the source text they came
+//! from, and operations a stage forbids located at the operation, not at line 1.
+
+use naga::{Handle, Module, Span};
+
+/// A message with naga's Debug types (`Vector { size: Tri, scalar: Scalar { kind: Float,
+/// width: 4 } }`) written as WGSL (`vec3<f32>`).
+pub fn types(msg: &str, m: &Module) -> String {
+    let mut out = String::new();
+    let mut rest = msg;
+    while !rest.is_empty() {
+        if let Some((ty, len)) = parse_type(rest, m) {
+            out.push_str(&ty);
+            rest = &rest[len..];
+        } else {
+            let c = rest.chars().next().unwrap_or(' ');
+            out.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
+}
+
+/// A type in Debug form at the start of `s`: its WGSL name and the length it spans.
+fn parse_type(s: &str, m: &Module) -> Option<(String, usize)> {
+    if let Some(r) = s.strip_prefix("Scalar(") {
+        let (name, n) = scalar(r)?;
+        return r[n..].starts_with(')').then(|| (name, "Scalar(".len() + n + 1));
+    }
+    if s.starts_with("Scalar {") {
+        return scalar(s);
+    }
+    if let Some(r) = s.strip_prefix("Vector { size: ") {
+        let (size, r2) = r.split_once(", scalar: ")?;
+        let n = match size {
+            "Bi" => 2,
+            "Tri" => 3,
+            "Quad" => 4,
+            _ => return None,
+        };
+        let (sc, len) = scalar(r2)?;
+        r2[len..]
+            .starts_with(" }")
+            .then(|| (format!("vec{n}<{sc}>"), s.len() - r2.len() + len + 2))
+    } else if let Some(r) = s.strip_prefix("Matrix { columns: ") {
+        let (cols, r2) = r.split_once(", rows: ")?;
+        let (rows, r3) = r2.split_once(", scalar: ")?;
+        let (sc, len) = scalar(r3)?;
+        let (c, r) = (vector_size(cols)?, vector_size(rows)?);
+        r3[len..]
+            .starts_with(" }")
+            .then(|| (format!("mat{c}x{r}<{sc}>"), s.len() - r3.len() + len + 2))
+    } else if let Some(r) = s.strip_prefix("Pointer { base: [") {
+        let (index, r2) = r.split_once("], space: ")?;
+        let end = r2.find(" }")?;
+        let ty = m
+            .types
+            .iter()
+            .nth(index.parse().ok()?)
+            .map(|(h, _)| crate::shader::reflect::type_name(m, h))?;
+        let space = r2[..end].split([' ', '{']).next()?.to_lowercase();
+        Some((format!("ptr<{space}, {ty}>"), s.len() - r2.len() + end + 2))
+    } else {
+        None
+    }
+}
+
+fn vector_size(s: &str) -> Option<u8> {
+    Some(match s {
+        "Bi" => 2,
+        "Tri" => 3,
+        "Quad" => 4,
+        _ => return None,
+    })
+}
+
+/// `Scalar { kind: Float, width: 4 }` at the start of `s`.
+fn scalar(s: &str) -> Option<(String, usize)> {
+    let r = s.strip_prefix("Scalar { kind: ")?;
+    let (kind, r2) = r.split_once(", width: ")?;
+    let end = r2.find(" }")?;
+    let width: u8 = r2[..end].parse().ok()?;
+    let name = match (kind, width) {
+        ("Float", 2) => "f16",
+        ("Float", 4) => "f32",
+        ("Float", 8) => "f64",
+        ("Sint", 4) => "i32",
+        ("Sint", 8) => "i64",
+        ("Uint", 4) => "u32",
+        ("Uint", 8) => "u64",
+        ("Bool", _) => "bool",
+        ("AbstractInt", _) => "abstract-int",
+        ("AbstractFloat", _) => "abstract-float",
+        _ => return None,
+    };
+    Some((name.to_string(), s.len() - r2.len() + end + 2))
+}
+
+/// Expression handles (`[3]`, `Expression [3]`) as the source text of the expression in
+/// `f`, quoted; handles naga gives no span for stay as they are.
+pub fn expressions(msg: &str, f: &naga::Function, text: &str) -> String {
+    let snippet = |i: usize| -> Option<String> {
+        let (h, _) = f.expressions.iter().nth(i)?;
+        let r = f.expressions.get_span(h).to_range()?;
+        let s = text.get(r)?.trim();
+        (!s.is_empty() && s.len() <= 60 && !s.contains('\n')).then(|| format!("`{s}`"))
+    };
+    let msg = msg.replace("naga::ir::Expression ", "").replace("Expression [", "[");
+    let mut out = String::new();
+    let mut rest = msg.as_str();
+    while let Some(open) = rest.find('[') {
+        out.push_str(&rest[..open]);
+        let after = &rest[open + 1..];
+        let close = after.find(']').filter(|&c| c > 0 && after[..c].bytes().all(|b| b.is_ascii_digit()));
+        match close.and_then(|c| Some((c, snippet(after[..c].parse().ok()?)?))) {
+            Some((c, s)) => {
+                out.push_str(&s);
+                rest = &after[c + 1..];
+            }
+            None => {
+                out.push('[');
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The function a validation error is about, if it names one.
+pub fn function_of<'m>(e: &naga::valid::ValidationError, m: &'m Module) -> Option<&'m naga::Function> {
+    use naga::valid::ValidationError as V;
+    match e {
+        V::Function { handle, .. } => m.functions.try_get(*handle).ok(),
+        V::EntryPoint { stage, name, .. } => m
+            .entry_points
+            .iter()
+            .find(|ep| ep.stage == *stage && ep.name == *name)
+            .map(|ep| &ep.function),
+        _ => None,
+    }
+}
+
+/// Where an entry point (or a function it calls) uses an operation only fragment shaders
+/// may: implicit-derivative sampling and derivatives.
+pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<Span> {
+    let mut spans = vec![];
+    let mut todo = vec![&ep.function];
+    let mut seen = std::collections::BTreeSet::<Handle<naga::Function>>::new();
+    while let Some(f) = todo.pop() {
+        for (h, e) in f.expressions.iter() {
+            let implicit = match e {
+                naga::Expression::ImageSample { level, .. } => matches!(level, naga::SampleLevel::Auto | naga::SampleLevel::Bias(_)),
+                naga::Expression::Derivative { .. } => true,
+                _ => false,
+            };
+            if implicit {
+                spans.push(f.expressions.get_span(h));
+            }
+        }
+        let mut called = vec![];
+        crate::shader::reflect::called(&f.body, &mut called);
+        for h in called {
+            if seen.insert(h) {
+                todo.push(&m.functions[h]);
+            }
+        }
+    }
+    spans
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn debug_types_become_wgsl() {
+        let m = Module::default();
+        let msg = "with [0] (of type Matrix { columns: Quad, rows: Quad, scalar: Scalar { kind: Float, width: 4 } }) and [2] (of type Vector { size: Tri, scalar: Scalar { kind: Float, width: 4 } }), Scalar(Scalar { kind: Uint, width: 4 })";
+        assert_eq!(types(msg, &m), "with [0] (of type mat4x4<f32>) and [2] (of type vec3<f32>), u32");
+    }
+}
