@@ -167,6 +167,12 @@ impl Session {
 
     /// Read and parse a pipeline file into IR (front end chosen by extension).
     pub fn load_pipeline(&mut self, path: &Path) -> Option<Pipeline> {
+        let (name, text) = self.read_pipeline(path)?;
+        self.parse_pipeline(&name, text)
+    }
+
+    /// A pipeline file's name (as diagnostics show it) and text.
+    fn read_pipeline(&mut self, path: &Path) -> Option<(String, String)> {
         let name = path.display().to_string();
         self.dependencies.insert(path.to_path_buf());
         let text = match self.vfs.read(path) {
@@ -180,15 +186,21 @@ impl Session {
                 return None;
             }
         };
-        self.parse_pipeline(&name, text)
+        Some((name, text))
     }
 
     /// Parse pipeline text; `name` decides the front end by extension and is shown in diagnostics.
     pub fn parse_pipeline(&mut self, name: &str, text: String) -> Option<Pipeline> {
+        self.parse_pipeline_partial(name, text).ok()
+    }
+
+    /// Parse pipeline text: the pipeline, or (when lowering reported errors) what of it did
+    /// lower, for the checks that do not depend on what was left out.
+    fn parse_pipeline_partial(&mut self, name: &str, text: String) -> Result<Pipeline, Option<Pipeline>> {
         let file = self.sources.add(name, text.clone());
-        match Path::new(name).extension().and_then(|e| e.to_str()) {
-            Some("ron") => crate::front::ron::parse_pipeline(file, &text, &mut self.diags),
-            Some("lbp") => crate::front::lbp::parse_pipeline(file, &text, &mut self.diags),
+        let tree = match Path::new(name).extension().and_then(|e| e.to_str()) {
+            Some("ron") => crate::front::ron::parse_tree(file, &text, &mut self.diags),
+            Some("lbp") => crate::front::lbp::parse_tree(file, &text, &mut self.diags),
             other => {
                 self.diags.push(Diagnostic::unlocated(
                     Severity::Error,
@@ -201,6 +213,13 @@ impl Session {
                 None
             }
         }
+        .ok_or(None)?;
+        let before = self.diags.error_count();
+        let p = crate::syntax::lower::pipeline_partial(&tree, &mut self.diags).ok_or(None)?;
+        if self.diags.error_count() > before {
+            return Err(Some(p));
+        }
+        Ok(p)
     }
 
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
@@ -277,9 +296,22 @@ impl Session {
         }
     }
 
-    /// Load and check a pipeline file; `None` when it has errors (they are in `diags`).
+    /// Load and check a pipeline file; `None` when it has errors (they are in `diags`). When
+    /// some values do not lower, the shaders of the passes that did are still checked.
     fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
-        let p = self.load_pipeline(path)?;
+        let (name, text) = self.read_pipeline(path)?;
+        let p = match self.parse_pipeline_partial(&name, text) {
+            Ok(p) => p,
+            Err(partial) => {
+                if let Some(partial) = partial {
+                    let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
+                    let mut loader = ShaderLoader::new(root, self.vfs.clone(), self.modules.clone());
+                    check::check_shaders(&partial, profile, &mut loader, &mut self.sources, &mut self.diags);
+                    self.dependencies.extend(loader.dependencies);
+                }
+                return None;
+            }
+        };
         let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
         let checked = self.check(p, &root, profile);
         (!self.diags.has_errors()).then_some(checked)

@@ -418,6 +418,30 @@ fn fragment_output_count_mismatch() {
     );
 }
 
+/// The secondary label points at the fragment entry point's declaration (its result
+/// declares the outputs), not at an unrelated expression of its body.
+#[test]
+fn fragment_output_count_mismatch_points_at_the_entry_point() {
+    let out = run(&Case {
+        pipeline: &[("color: [\"color\"]", "color: [\"color\", \"out\"]")],
+        ..BASE
+    });
+    let d = out
+        .errors()
+        .into_iter()
+        .find(|d| d.code.as_str() == "fragment-outputs")
+        .expect("a fragment-outputs error");
+    let label = d
+        .labels
+        .iter()
+        .find(|l| !l.primary && l.message.contains("entry point"))
+        .expect("a label at the entry point");
+    let f = out.session.sources.get(label.span.file);
+    assert!(f.name.ends_with("shaders/scene.wgsl"), "{}", f.name);
+    assert_eq!(f.line_col(label.span.start as usize), (15, 1));
+    assert_eq!(&f.text[label.span.range()], "fn fs_main");
+}
+
 #[test]
 fn fragment_output_kind_mismatch() {
     expect(
@@ -1161,4 +1185,21 @@ fn validation_messages_speak_wgsl() {
         "{text}"
     );
     assert!(!text.contains("Scalar {") && !text.contains("Expression ["), "{text}");
+}
+
+/// One value that does not lower (an unknown effect) no longer hides the other problems of
+/// the file: the shaders of the passes that did lower are still checked.
+#[test]
+fn an_unknown_value_does_not_hide_shader_errors() {
+    let out = run(&Case {
+        pipeline: &[("depth: \"depth\")", "depth: \"depth\", when: Effect(AmbientOclusion))")],
+        post: &[(
+            "return textureSample(color, linear, uv) * params.exposure;",
+            "return textureSample(color, linear, uv) * params.exposure",
+        )],
+        ..BASE
+    });
+    let codes: Vec<String> = out.located().into_iter().map(|(c, _, f, l, _)| format!("{c} {f}:{l}")).collect();
+    assert!(codes.contains(&"unknown-effect pipelines/p.ron:15".to_string()), "{codes:?}");
+    assert!(codes.iter().any(|c| c.starts_with("wgsl-parse shaders/post.wgsl:")), "{codes:?}");
 }

@@ -58,7 +58,7 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
             ),
             ep_span,
         )
-        .with_secondary(fs.module.entry_span(fs.entry), "entry point body");
+        .with_secondary(fs.module.entry_span(fs.entry), "the entry point, whose result declares its outputs");
         if let Some(first) = pass.color().first() {
             d = d.with_secondary(first.span.to(pass.color()[pass.color().len() - 1].span), "color targets");
         }

@@ -94,6 +94,14 @@ pub fn check_pipeline(
     }
 }
 
+/// Only each pass's shaders (parse, validation, entry points): what can be checked of a
+/// pipeline some of whose values did not lower.
+pub fn check_shaders(p: &Pipeline, profile: &Profile, loader: &mut ShaderLoader, sources: &mut SourceMap, diags: &mut Diagnostics) {
+    for pass in &p.passes {
+        load_stages(pass, None, &profile.features, loader, sources, diags);
+    }
+}
+
 /// The pass's own shaders, then each substitution a variant option makes.
 fn wanted_versions(p: &Pipeline, pass: &Pass) -> Vec<(Option<VariantChoice>, Option<Spanned<String>>)> {
     let mut wanted = vec![(None, None)];

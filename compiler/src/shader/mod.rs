@@ -87,16 +87,27 @@ impl ShaderModule {
         self.map_span(self.module.global_variables.get_span(h))
             .unwrap_or(Span::new(self.root_file(), 0, 0))
     }
+    /// Where an entry point is declared: its `fn name` in the source (naga keeps no span on
+    /// entry points; its first statement is the next best thing, then the file start).
     pub fn entry_span(&self, index: usize) -> Span {
         let ep = &self.module.entry_points[index];
-        // naga keeps no span on the entry point itself; its function's first statement is close,
-        // the file start is the fallback.
-        ep.function
-            .body
-            .span_iter()
-            .next()
-            .and_then(|(_, s)| self.map_span(*s))
+        self.declaration(&ep.name)
+            .or_else(|| ep.function.body.span_iter().next().and_then(|(_, s)| self.map_span(*s)))
             .unwrap_or(Span::new(self.root_file(), 0, 0))
+    }
+
+    /// The span of `fn name` (WGSL) or `void name` (GLSL) in the expanded source.
+    fn declaration(&self, name: &str) -> Option<Span> {
+        let text = &self.expanded.text;
+        ["fn ", "void "].iter().find_map(|kw| {
+            let pat = format!("{kw}{name}");
+            text.match_indices(&pat)
+                .find(|(i, _)| {
+                    let after = text[i + pat.len()..].trim_start();
+                    after.starts_with('(') && (*i == 0 || !text.as_bytes()[i - 1].is_ascii_alphanumeric())
+                })
+                .and_then(|(i, _)| self.expanded.map(i..i + pat.len()))
+        })
     }
 }
 

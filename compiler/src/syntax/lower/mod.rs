@@ -29,6 +29,13 @@ pub fn pipeline(root: &Node, diags: &mut Diagnostics) -> Option<Pipeline> {
     p
 }
 
+/// Lower what lowers: items with errors are left out (the errors are in `diags`). For
+/// checks that do not depend on the left-out items (each pass's shaders), so that one bad
+/// value does not hide every other problem of the file.
+pub fn pipeline_partial(root: &Node, diags: &mut Diagnostics) -> Option<Pipeline> {
+    Lowerer { diags }.pipeline(root)
+}
+
 pub(crate) struct Lowerer<'d> {
     pub diags: &'d mut Diagnostics,
 }
