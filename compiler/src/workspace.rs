@@ -191,12 +191,15 @@ impl Session {
 
     /// Parse pipeline text; `name` decides the front end by extension and is shown in diagnostics.
     pub fn parse_pipeline(&mut self, name: &str, text: String) -> Option<Pipeline> {
-        self.parse_pipeline_partial(name, text).ok()
+        match self.parse_pipeline_partial(name, text) {
+            (Some(p), true) => Some(p),
+            _ => None,
+        }
     }
 
-    /// Parse pipeline text: the pipeline, or (when lowering reported errors) what of it did
-    /// lower, for the checks that do not depend on what was left out.
-    fn parse_pipeline_partial(&mut self, name: &str, text: String) -> Result<Pipeline, Option<Pipeline>> {
+    /// Parse pipeline text: the pipeline and `true`, or (when lowering reported errors) what
+    /// of it did lower and `false`, for the checks that do not depend on what was left out.
+    fn parse_pipeline_partial(&mut self, name: &str, text: String) -> (Option<Pipeline>, bool) {
         let file = self.sources.add(name, text.clone());
         let tree = match Path::new(name).extension().and_then(|e| e.to_str()) {
             Some("ron") => crate::front::ron::parse_tree(file, &text, &mut self.diags),
@@ -212,14 +215,11 @@ impl Session {
                 ));
                 None
             }
-        }
-        .ok_or(None)?;
+        };
+        let Some(tree) = tree else { return (None, false) };
         let before = self.diags.error_count();
-        let p = crate::syntax::lower::pipeline_partial(&tree, &mut self.diags).ok_or(None)?;
-        if self.diags.error_count() > before {
-            return Err(Some(p));
-        }
-        Ok(p)
+        let p = crate::syntax::lower::pipeline_partial(&tree, &mut self.diags);
+        (p, self.diags.error_count() == before)
     }
 
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
@@ -301,8 +301,8 @@ impl Session {
     fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
         let (name, text) = self.read_pipeline(path)?;
         let p = match self.parse_pipeline_partial(&name, text) {
-            Ok(p) => p,
-            Err(partial) => {
+            (Some(p), true) => p,
+            (partial, _) => {
                 if let Some(partial) = partial {
                     let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
                     let mut loader = ShaderLoader::new(root, self.vfs.clone(), self.modules.clone());
