@@ -1203,3 +1203,30 @@ fn an_unknown_value_does_not_hide_shader_errors() {
     assert!(codes.contains(&"unknown-effect pipelines/p.ron:15".to_string()), "{codes:?}");
     assert!(codes.iter().any(|c| c.starts_with("wgsl-parse shaders/post.wgsl:")), "{codes:?}");
 }
+
+/// The same problem in two passes sharing a shader is reported once, with the second pass
+/// as an "also here" label.
+#[test]
+fn a_problem_repeated_per_pass_is_reported_once() {
+    let out = run(&Case {
+        pipeline: &[
+            ("\"out\": Texture(format: Rgba8Unorm),", "\"out\": Texture(format: Rgba8Unorm),\n        \"out2\": Texture(format: Rgba8Unorm),"),
+            ("    ],\n    output: \"out\"", "        Fullscreen(name: \"post2\", shader: \"post.wgsl\", reads: [\"color\"], color: [\"out2\"], params: [\"post.exposure\"]),\n    ],\n    output: \"out\""),
+        ],
+        post: &[("exposure: f32,", "exposure: i32,"), ("* params.exposure", "* f32(params.exposure)")],
+        ..BASE
+    });
+    let found: Vec<_> = out
+        .errors()
+        .into_iter()
+        .filter(|d| d.code.as_str() == "param-type-mismatch")
+        .collect();
+    assert_eq!(found.len(), 1, "{}", out.dump());
+    let also = found[0]
+        .labels
+        .iter()
+        .find(|l| l.message == "also here")
+        .expect("an `also here` label");
+    let f = out.session.sources.get(also.span.file);
+    assert_eq!(f.line_col(also.span.start as usize).0, 18, "{}", out.dump());
+}

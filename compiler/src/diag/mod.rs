@@ -196,10 +196,30 @@ pub struct Diagnostics {
 }
 
 impl Diagnostics {
+    /// Add a diagnostic. The same problem reached again (from another configuration, or
+    /// another pass using the same shader or parameter: same severity, code and message) is
+    /// reported once, with each further place it applies as an "also here" label.
     pub fn push(&mut self, d: Diagnostic) {
-        // The same problem reached from two variant configurations is reported once.
-        if !self.list.contains(&d) {
+        let same = |e: &&mut Diagnostic| e.severity == d.severity && e.code == d.code && e.message == d.message;
+        let Some(existing) = self.list.iter_mut().find(same) else {
             self.list.push(d);
+            return;
+        };
+        for l in d.labels {
+            let known = existing.labels.iter().any(|k| k.span == l.span);
+            if !known {
+                let message = if l.primary { "also here".to_string() } else { l.message };
+                existing.labels.push(Label {
+                    primary: false,
+                    message,
+                    ..l
+                });
+            }
+        }
+        for n in d.notes {
+            if !existing.notes.contains(&n) {
+                existing.notes.push(n);
+            }
         }
     }
     pub fn extend(&mut self, ds: impl IntoIterator<Item = Diagnostic>) {
