@@ -211,6 +211,14 @@ fn data_resources_reach_the_shader_bit_exactly() {
     }
     assert_eq!(img.pixel(4, 1), [7.0, 4_000_000.0, 0.0, 1.0]);
     assert!(ex.plan().resource("noise").unwrap().data);
+    // Dumps write words as the shaders declare them: `array<u32>` as whole numbers.
+    let (p, dump, o) = (d.join("pipelines/data.lbp"), d.join("dump"), d.join("o.exr"));
+    let args = ["render", "--pipeline", p.to_str().unwrap(), "--out", o.to_str().unwrap()];
+    let (code, _, err) = cli_common::lightbench(&[&args[..], &["--dump", "counts,kernel", "--dump-dir", dump.to_str().unwrap()]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(std::fs::read_to_string(dump.join("counts.json")).unwrap(), "[7,4000000]");
+    let k: Vec<f32> = serde_json::from_str(&std::fs::read_to_string(dump.join("kernel.json")).unwrap()).unwrap();
+    assert_eq!(k, kernel);
 }
 
 #[test]

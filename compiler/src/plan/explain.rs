@@ -336,7 +336,7 @@ pub fn shape_word(r: &PlanResource) -> String {
             }
             shape
         }
-        ResourceShape::Buffer { size } => format!("{size} bytes"),
+        ResourceShape::Buffer { size, .. } => format!("{size} bytes"),
     }
 }
 
@@ -394,7 +394,7 @@ pub fn to_dot(plan: &Plan) -> String {
         };
         let detail = match &r.shape {
             ResourceShape::Texture { format, .. } => format.name().to_string(),
-            ResourceShape::Buffer { size } => format!("{size} bytes"),
+            ResourceShape::Buffer { size, .. } => format!("{size} bytes"),
         };
         let _ = writeln!(
             s,

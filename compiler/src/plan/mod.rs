@@ -222,7 +222,19 @@ pub enum ResourceShape {
     Buffer {
         /// Bytes of one instance.
         size: u64,
+        /// What its 32-bit words hold, as the shaders binding it declare them.
+        words: Words,
     },
+}
+
+/// The scalar type of a buffer's words: `U32`/`I32` when every shader binding it declares
+/// only such scalars (e.g. `array<u32>`), else `F32`. Read-backs print them so.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Words {
+    #[default]
+    F32,
+    U32,
+    I32,
 }
 
 /// How passes use a resource (the runtime maps these to wgpu usage flags).

@@ -12,9 +12,56 @@ pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResourc
         .iter()
         .filter_map(|r| {
             let usage = usage(p, r, kept)?;
-            Some(plan_resource(r, cfg, usage))
+            let mut pr = plan_resource(r, cfg, usage);
+            if let ResourceShape::Buffer { words, .. } = &mut pr.shape {
+                *words = buffer_words(r, kept);
+            }
+            Some(pr)
         })
         .collect()
+}
+
+/// The scalar type of a buffer's words, from every shader global bound to it.
+fn buffer_words(r: &Resource, kept: &Kept) -> Words {
+    let mut kinds = BTreeSet::new();
+    for (_, version) in kept {
+        let entries = version
+            .resolved
+            .groups
+            .iter()
+            .flat_map(|g| g.entries.iter().map(move |e| (g.group, e)));
+        for (group, e) in entries.filter(|(_, e)| matches!(&e.source, BindSource::Resource(n) if *n == r.name.value)) {
+            for st in &version.stages {
+                let m = &st.module.module;
+                let global = m
+                    .global_variables
+                    .iter()
+                    .find(|(_, g)| g.binding.as_ref().is_some_and(|b| b.group == group && b.binding == e.binding));
+                if let Some((_, g)) = global {
+                    leaf_kinds(m, g.ty, &mut kinds);
+                }
+            }
+        }
+    }
+    match kinds.into_iter().collect::<Vec<_>>().as_slice() {
+        [naga::ScalarKind::Uint] => Words::U32,
+        [naga::ScalarKind::Sint] => Words::I32,
+        _ => Words::F32,
+    }
+}
+
+fn leaf_kinds(m: &naga::Module, ty: naga::Handle<naga::Type>, out: &mut BTreeSet<naga::ScalarKind>) {
+    use naga::TypeInner as T;
+    match &m.types[ty].inner {
+        T::Scalar(s) | T::Vector { scalar: s, .. } | T::Matrix { scalar: s, .. } | T::Atomic(s) => {
+            out.insert(s.kind);
+        }
+        T::Array { base, .. } | T::BindingArray { base, .. } => leaf_kinds(m, *base, out),
+        T::Struct { members, .. } => members.iter().for_each(|mem| leaf_kinds(m, mem.ty, out)),
+        _ => {
+            out.insert(naga::ScalarKind::Float);
+        }
+    }
 }
 
 /// How the kept passes use `r`; `None` when none touches it.
@@ -76,7 +123,13 @@ fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanReso
             };
             (shape, per_layer * t.layers.value as u64)
         }
-        ResourceKind::Buffer(b) => (ResourceShape::Buffer { size: b.size.value }, b.size.value),
+        ResourceKind::Buffer(b) => (
+            ResourceShape::Buffer {
+                size: b.size.value,
+                words: Words::F32,
+            },
+            b.size.value,
+        ),
     };
     PlanResource {
         name: r.name.value.clone(),

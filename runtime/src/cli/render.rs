@@ -312,7 +312,18 @@ fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::D
             if res.is_buffer() {
                 let words = ex.read_buffer(gpu, name, inst)?;
                 let path = dir.join(format!("{file}.json"));
-                let text = serde_json::to_string(&words).map_err(|e| Error::io(&path, e))?;
+                // Written as the shaders declare the words: `array<u32>` as whole numbers.
+                use lightbench_compiler::plan::{ResourceShape, Words};
+                let text = match res.shape {
+                    ResourceShape::Buffer { words: Words::U32, .. } => {
+                        serde_json::to_string(&words.iter().map(|w| w.to_bits()).collect::<Vec<_>>())
+                    }
+                    ResourceShape::Buffer { words: Words::I32, .. } => {
+                        serde_json::to_string(&words.iter().map(|w| w.to_bits() as i32).collect::<Vec<_>>())
+                    }
+                    _ => serde_json::to_string(&words),
+                }
+                .map_err(|e| Error::io(&path, e))?;
                 write_atomic(&path, text.as_bytes())?;
                 eprintln!("dumped {}", path.display());
                 continue;

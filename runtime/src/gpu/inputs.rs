@@ -28,7 +28,7 @@ impl Executor {
         let bad = |e: String| Error::Usage(format!("--input `{name}`: {} {e}", file.display()));
         let raw = lightbench_compiler::vfs::read_bytes(file, lightbench_compiler::vfs::MAX_FILE_BYTES).map_err(|e| Error::io(file, e))?;
         let bytes = match res.shape {
-            ResourceShape::Buffer { size } => {
+            ResourceShape::Buffer { size, .. } => {
                 let b = data::buffer_from_file(file, raw).map_err(bad)?;
                 data::check_buffer(b, size).map_err(bad)?
             }

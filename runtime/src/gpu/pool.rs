@@ -115,7 +115,7 @@ impl Pool {
 fn create(device: &wgpu::Device, r: &PlanResource, key: &Key) -> Storage {
     let count = key.instances * key.copies;
     match &r.shape {
-        ResourceShape::Buffer { size } => Storage::Buffers(
+        ResourceShape::Buffer { size, .. } => Storage::Buffers(
             (0..count)
                 .map(|i| {
                     device.create_buffer(&wgpu::BufferDescriptor {
