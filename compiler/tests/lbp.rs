@@ -73,6 +73,24 @@ fn formatting_keeps_comments_and_is_idempotent() {
     assert_eq!(once, twice);
 }
 
+/// A comment inside a pass body stays inside it through LBP -> RON -> LBP, and the text
+/// comes back identical.
+#[test]
+fn comments_inside_a_pass_survive_conversion() {
+    let src = std::fs::read_to_string(repo_root().join("pipelines/deferred.lbp")).unwrap();
+    assert!(
+        src.contains("{\n    // Cube-face projections"),
+        "the bundled pipeline has a comment in a pass body"
+    );
+    let as_ron = ron::print::print(&parse_ok("p.lbp", &src), Some(&src));
+    assert!(
+        as_ron.contains("        Raster(\n            // Cube-face projections"),
+        "the comment is inside the RON pass:\n{as_ron}"
+    );
+    let back = lbp::print::print(&parse_ok("p.ron", &as_ron), Some(&as_ron));
+    assert_eq!(back, src, "LBP -> RON -> LBP is the identity");
+}
+
 #[test]
 fn names_that_are_not_identifiers_are_quoted() {
     let src = "pipeline \"my pipe\"\n\ntexture \"out put\": Rgba8Unorm viewport\ntexture \"none\": R8Unorm 4x4\n\nfullscreen f \"f.wgsl\" {\n    reads \"none\"\n    color \"out put\"\n}\n\noutput \"out put\"\n";

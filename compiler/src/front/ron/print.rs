@@ -126,20 +126,19 @@ impl Printer {
         self.out.text.push_str("    passes: [\n");
         for p in items {
             self.out.comments_before(p.span, "        ");
-            // Comments inside the pass body come before it.
-            self.out.comments_before(
-                crate::span::Span::new(p.span.file, p.span.end as usize, p.span.end as usize),
-                "        ",
-            );
+            let inside = crate::span::Span::new(p.span.file, p.span.end as usize, p.span.end as usize);
             match &*p.value {
                 Value::Struct { name, fields } => {
                     let _ = writeln!(self.out.text, "        {}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
+                    // Comments inside the pass body come first in it (as LBP prints them).
+                    self.out.comments_before(inside, "            ");
                     for (k, _, v) in fields {
                         let _ = writeln!(self.out.text, "            {k}: {},", inline(v));
                     }
                     self.out.text.push_str("        ),\n");
                 }
                 _ => {
+                    self.out.comments_before(inside, "        ");
                     let _ = writeln!(self.out.text, "        {},", inline(p));
                 }
             }
