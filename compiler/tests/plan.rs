@@ -235,8 +235,20 @@ fn execution_order_respects_dependencies() {
         .collect();
     assert_eq!(
         after,
-        vec!["ambient", "light_directional_spot", "light_point", "transparent", "luminance"]
+        vec![
+            "ambient",
+            "light_directional_spot",
+            "light_point",
+            "transparent",
+            "bloom_add",
+            "luminance"
+        ]
     );
+    // Bloom reads the lit image and adds to it: after every earlier writer of `hdr`, and
+    // before the exposure is measured.
+    assert!(pos("transparent") < pos("bloom_bright") && pos("bloom_bright") < pos("bloom_down"));
+    assert!(pos("bloom_down") < pos("bloom_up") && pos("bloom_up") < pos("bloom_add"));
+    assert!(pos("bloom_add") < pos("luminance"));
 }
 
 #[test]

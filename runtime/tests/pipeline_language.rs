@@ -698,3 +698,50 @@ fn the_readme_lbp_example_checks_and_renders() {
         "{px:?}"
     );
 }
+
+/// The bundled pipeline's bloom (scenes with `effects: [Bloom]`): written with a mip chain
+/// and per-pass values, it adds blurred light (manual exposure, so the exposure does not
+/// compensate), runs its passes only when the scene calls for it, and reuses them when
+/// nothing changes.
+#[test]
+fn the_bundled_bloom_adds_blurred_light() {
+    let d = project(
+        "bloom",
+        &[("bloom.ron", "Scene(name: \"bloomy\", builtin: \"cornell\", effects: [Bloom])\n")],
+    );
+    let mut images = vec![];
+    for scene in ["cornell".to_string(), d.join("bloom.ron").display().to_string()] {
+        let (out, json) = (d.join(format!("{}.exr", images.len())), d.join(format!("{}.json", images.len())));
+        let args = [
+            "render",
+            "--scene",
+            &scene,
+            "--param",
+            "exposure.automatic=false",
+            "--param",
+            "bloom.threshold=0.2",
+            "--frames",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+            "--timings-json",
+            json.to_str().unwrap(),
+        ];
+        let (code, _, err) = cli_common::lightbench(&args);
+        assert_eq!(code, 0, "{err}");
+        let log = timing_log(&json);
+        let bloom_ran = ran(&log, "bloom_up");
+        images.push((image::open(&out).unwrap().to_rgba32f(), bloom_ran));
+    }
+    let ((plain, plain_ran), (bloom, bloom_ran)) = (&images[0], &images[1]);
+    assert!(plain_ran.is_empty(), "no bloom passes without the effect");
+    assert_eq!(*bloom_ran, vec![0], "bloom runs in the first frame and is reused in the second");
+    assert!(bloom.pixels().all(|p| p.0.iter().all(|v| v.is_finite())), "no NaN or Inf");
+    let mean = |img: &image::Rgba32FImage| img.pixels().map(|p| p.0[0] + p.0[1] + p.0[2]).sum::<f32>() / img.len() as f32;
+    assert!(
+        mean(bloom) > mean(plain) * 1.05,
+        "bloom adds light: {} vs {}",
+        mean(bloom),
+        mean(plain)
+    );
+}
