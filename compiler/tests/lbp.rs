@@ -555,10 +555,11 @@ mod generated {
     fn pass(n: String) -> impl Strategy<Value = Pass> {
         let common = (
             proptest::collection::vec(
-                (name(), 0u8..3, mip()).prop_map(|(n, k, m)| match k {
+                (name(), 0u8..4, mip(), 0u32..8).prop_map(|(n, k, m, l)| match k {
                     0 => Read::Current(sp(n)),
                     1 => Read::Prev(sp(n)),
-                    _ => Read::Mip(sp(n), m),
+                    2 => Read::Mip(sp(n), m),
+                    _ => Read::Layer(sp(n), sp(l)),
                 }),
                 0..3,
             ),

@@ -745,3 +745,40 @@ fn the_bundled_bloom_adds_blurred_light() {
         mean(plain)
     );
 }
+
+/// One layer of an array texture, read as a plain 2D texture (`layer(t, 1)`), while three
+/// passes render the three layers.
+#[test]
+fn one_layer_of_an_array_is_read_as_a_2d_texture() {
+    let fill = "struct Params { value: f32 };
+@group(2) @binding(0) var<uniform> params: Params;
+
+@fragment
+fn fs_main() -> @location(0) vec4<f32> {
+    return vec4<f32>(params.value, 0.0, 0.0, 1.0);
+}
+";
+    let mut pipeline = String::from("pipeline layers\ntexture stack: Rgba16Float 4x4 layers 3 D2Array\ntexture out: Rgba16Float 4x4\n");
+    for l in 0..3 {
+        pipeline += &format!(
+            "\nfullscreen fill{l} \"fill.wgsl\" {{\n    set value = {}\n    color stack layer {l}\n}}\n",
+            0.25 * (l + 1) as f32
+        );
+    }
+    pipeline += "\nfullscreen show \"copy.wgsl\" {\n    reads layer(stack, 1)\n    bind input = stack\n    color out\n}\n\noutput out\n";
+    let d = project(
+        "layers",
+        &[
+            ("shaders/fill.wgsl", fill),
+            ("shaders/copy.wgsl", COPY),
+            ("pipelines/layers.lbp", &pipeline),
+        ],
+    );
+    let (img, _) = render_out(&d.join("pipelines/layers.lbp"), 1);
+    assert_eq!(img.pixel(2, 2), [0.5, 0.0, 0.0, 1.0], "layer 1 holds 0.5");
+    let bad = pipeline.replace("layer(stack, 1)", "layer(stack, 3)");
+    std::fs::write(d.join("pipelines/layers.lbp"), bad).unwrap();
+    let (code, _, err) = cli_common::lightbench(&["check", d.join("pipelines/layers.lbp").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[layer-select]: layer 3 is out of range: `stack` has 3"), "{err}");
+}

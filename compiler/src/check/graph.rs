@@ -196,7 +196,11 @@ fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags:
     }
     for (a, &x) in fresh.iter().enumerate() {
         for &y in &fresh[a + 1..] {
-            if !reaches(edges, x, y) && !reaches(edges, y, x) {
+            // Different layers or mip levels of one texture are different resources here.
+            let overlap = parts(&p.passes[x], res)
+                .iter()
+                .any(|a| parts(&p.passes[y], res).iter().any(|b| a.overlaps(b)));
+            if overlap && !reaches(edges, x, y) && !reaches(edges, y, x) {
                 diags.push(
                     Diagnostic::error(
                         Code::DoubleWriter,
@@ -262,6 +266,48 @@ fn cycle_error(p: &Pipeline, kept: &[usize], order: &[usize], edges: &Edges) -> 
         }
     }
     d.with_note("to use a value from the previous frame, declare the resource with `history: true` and read `Prev(\"name\")`")
+}
+
+/// Layers and mip levels a write covers (`None`: all of them).
+struct Part {
+    layers: Option<BTreeSet<u32>>,
+    mips: Option<BTreeSet<u32>>,
+}
+
+impl Part {
+    fn overlaps(&self, o: &Part) -> bool {
+        let meet = |a: &Option<BTreeSet<u32>>, b: &Option<BTreeSet<u32>>| match (a, b) {
+            (Some(a), Some(b)) => !a.is_disjoint(b),
+            _ => true,
+        };
+        meet(&self.layers, &o.layers) && meet(&self.mips, &o.mips)
+    }
+}
+
+/// What of `res` a pass writes: each attachment's layers and levels; storage writes are whole.
+fn parts(pass: &Pass, res: &str) -> Vec<Part> {
+    let levels = pass.per_mip.as_ref().map(|m| m.value.levels()).unwrap_or_else(|| vec![0]);
+    let part = |layer: LayerSel, mip: MipSel| Part {
+        layers: match layer {
+            LayerSel::Base => Some([0].into()),
+            LayerSel::Index(n) => Some([n].into()),
+            LayerSel::Face => Some((0..6).collect()),
+            LayerSel::All => None,
+        },
+        mips: Some(levels.iter().filter_map(|&l| mip.level(l)).collect()),
+    };
+    let color = pass
+        .color()
+        .iter()
+        .filter(|c| c.resource.value == res)
+        .map(|c| part(c.layer, c.mip.value));
+    let depth = pass.depth().filter(|d| d.resource.value == res).map(|d| part(d.layer, d.mip.value));
+    let storage = pass
+        .writes
+        .iter()
+        .filter(|w| w.value == res)
+        .map(|_| Part { layers: None, mips: None });
+    color.chain(depth).chain(storage).collect()
 }
 
 fn reaches(edges: &Edges, from: usize, to: usize) -> bool {

@@ -302,18 +302,27 @@ pub enum Read {
     Prev(Spanned<String>),
     /// One mip level of the current frame's value.
     Mip(Spanned<String>, Spanned<MipSel>),
+    /// One array layer of the current frame's value, bound as a 2D texture.
+    Layer(Spanned<String>, Spanned<u32>),
 }
 
 impl Read {
     pub fn name(&self) -> &Spanned<String> {
         match self {
-            Read::Current(n) | Read::Prev(n) | Read::Mip(n, _) => n,
+            Read::Current(n) | Read::Prev(n) | Read::Mip(n, _) | Read::Layer(n, _) => n,
         }
     }
     /// The one mip level read, if the read names one.
     pub fn mip(&self) -> Option<MipSel> {
         match self {
             Read::Mip(_, m) => Some(m.value),
+            _ => None,
+        }
+    }
+    /// The one array layer read, if the read names one.
+    pub fn layer(&self) -> Option<u32> {
+        match self {
+            Read::Layer(_, l) => Some(l.value),
             _ => None,
         }
     }

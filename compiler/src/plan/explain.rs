@@ -80,6 +80,7 @@ fn read_word(plan: &Plan, r: &PlanRead) -> String {
     match (r.prev, r.mip) {
         (true, _) => format!("Prev({name})"),
         (false, Some(m)) => format!("{name}{}", mip_word(m)),
+        (false, None) if r.layer.is_some() => format!("{name} layer {}", r.layer.unwrap_or(0)),
         (false, None) => name.clone(),
     }
 }

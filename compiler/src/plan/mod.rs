@@ -144,6 +144,8 @@ pub struct PlanRead {
     pub prev: bool,
     /// One mip level (else the whole chain).
     pub mip: Option<MipSel>,
+    /// One array layer, bound as a 2D texture (else every layer).
+    pub layer: Option<u32>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -69,6 +69,7 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
                     resource: ids.res(r.name())?,
                     prev: r.is_prev(),
                     mip: r.mip(),
+                    layer: r.layer(),
                 })
             })
             .collect::<Option<_>>()?,

@@ -227,6 +227,11 @@ fn read(r: &Read) -> Node {
         Read::Current(_) => Node::str(&n.value, n.span),
         Read::Prev(_) => Node::call("Prev", vec![Node::str(&n.value, n.span)], n.span),
         Read::Mip(_, m) => Node::call("Mip", vec![Node::str(&n.value, n.span), mip(m.value, m.span)], n.span),
+        Read::Layer(_, l) => Node::call(
+            "Layer",
+            vec![Node::str(&n.value, n.span), Node::int(l.value as i64, l.span)],
+            n.span,
+        ),
     }
 }
 

@@ -36,6 +36,13 @@ pub fn lights_of(lights: &[Light], kinds: &[LightKind]) -> Vec<u32> {
         .collect()
 }
 
+/// The part of a texture a read binds: one mip level and/or one layer (else all).
+#[derive(Clone, Copy, Default)]
+struct Sub {
+    level: Option<u32>,
+    layer: Option<u32>,
+}
+
 /// What bind groups are made from.
 pub struct Binder<'a> {
     pub gpu: &'a Gpu,
@@ -209,13 +216,14 @@ impl Binder<'_> {
                 BindSource::Resource(id) | BindSource::Prev(id) => {
                     let prev = matches!(e.source, BindSource::Prev(_));
                     // A `Mip(..)` read binds one level: the one it selects at this repetition.
-                    let level = pp
-                        .reads
-                        .iter()
-                        .find(|r| r.resource == *id && !r.prev)
-                        .and_then(|r| r.mip)
-                        .map(|sel| sel.level(mip.unwrap_or(0)).unwrap_or(0));
-                    self.resource(*id, &e.ty, (light, level), prev, parity)?
+                    // A `Layer(..)` read binds one layer.
+                    let read = pp.reads.iter().find(|r| r.resource == *id && !r.prev);
+                    let level = read.and_then(|r| r.mip).map(|sel| sel.level(mip.unwrap_or(0)).unwrap_or(0));
+                    let sub = Sub {
+                        level,
+                        layer: read.and_then(|r| r.layer),
+                    };
+                    self.resource(*id, &e.ty, (light, sub), prev, parity)?
                 }
                 BindSource::Draw(_) => return Err(Error::Plan("per-draw binding outside the per-draw group".into())),
             };
@@ -239,14 +247,7 @@ impl Binder<'_> {
         }))
     }
 
-    fn resource(
-        &self,
-        id: ResourceId,
-        ty: &BindingType,
-        (light, level): (Option<u32>, Option<u32>),
-        prev: bool,
-        parity: u32,
-    ) -> Result<Held<'_>> {
+    fn resource(&self, id: ResourceId, ty: &BindingType, (light, sub): (Option<u32>, Sub), prev: bool, parity: u32) -> Result<Held<'_>> {
         let entry = self.entry(id)?;
         let inst = self.instance_of(id, light);
         let name = &self.plan.res(id).name;
@@ -258,8 +259,10 @@ impl Binder<'_> {
                 Held::View(tex.create_view(&wgpu::TextureViewDescriptor {
                     dimension: Some(convert::view_dim(*view_dimension)),
                     aspect: aspect(tex),
-                    base_mip_level: level.unwrap_or(0),
-                    mip_level_count: level.map(|_| 1),
+                    base_mip_level: sub.level.unwrap_or(0),
+                    mip_level_count: sub.level.map(|_| 1),
+                    base_array_layer: sub.layer.unwrap_or(0),
+                    array_layer_count: sub.layer.map(|_| 1),
                     ..Default::default()
                 }))
             }

@@ -92,7 +92,16 @@ impl Ctx<'_> {
         };
         let samplers = self.samplers_of(&g.name);
         let sample_type = self.filterability(sample_type, f, &samplers);
-        if let Err(why) = dim_ok(dim, t) {
+        // `Layer("x", n)` binds one layer: a plain 2D texture whatever the declared view.
+        let one_layer = self.pass.reads.iter().any(|r| r.layer().is_some() && r.name().value == res_name);
+        let dim_check = if one_layer {
+            (dim == ShaderDim::D2)
+                .then_some(())
+                .ok_or_else(|| "one layer is read (`Layer`): bind it as `texture_2d`".to_string())
+        } else {
+            dim_ok(dim, t)
+        };
+        if let Err(why) = dim_check {
             diags.push(
                 Diagnostic::error(
                     Code::TextureType,

@@ -1,6 +1,6 @@
-//! Each pass's mip selections: levels that exist at every repetition of a `per_mip` pass,
-//! `Rep` only in such a pass, and a pass that writes some mips of a texture while reading
-//! others never reading the level it writes.
+//! Each pass's subresource selections: mip levels that exist at every repetition of a
+//! `per_mip` pass, `Rep` only in such a pass, a pass that writes some mips of a texture while
+//! reading others never reading the level it writes; layers read one at a time that exist.
 
 use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
@@ -28,6 +28,24 @@ pub(super) fn mips(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
     if ok {
         own_levels(pass, diags);
     }
+    for r in &pass.reads {
+        if let Read::Layer(name, layer) = r {
+            layer_read(p, name, layer, diags);
+        }
+    }
+}
+
+/// `Layer("x", n)`: a texture with at least n + 1 layers.
+fn layer_read(p: &Pipeline, name: &Spanned<String>, layer: &Spanned<u32>, diags: &mut Diagnostics) {
+    let Some(r) = p.resource(name) else { return };
+    let msg = match r.texture() {
+        None => format!("`{}` is a buffer: it has no layers", name.value),
+        Some(t) if layer.value >= t.layers.value => {
+            format!("layer {} is out of range: `{}` has {}", layer.value, name.value, t.layers.value)
+        }
+        Some(_) => return,
+    };
+    diags.push(Diagnostic::error(Code::LayerSelect, msg, layer.span));
 }
 
 /// One selection against the texture's mip count at every repetition level.

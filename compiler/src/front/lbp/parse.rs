@@ -451,6 +451,11 @@ impl Builder<'_> {
                 let name = self.name(k.next()?)?;
                 Some(Node::call("Mip", vec![name, self.mip_sel(k.next()?)?], span))
             }
+            Rule::layer_read => {
+                let mut k = kids(inner);
+                let name = self.name(k.next()?)?;
+                Some(Node::call("Layer", vec![name, self.uint(&k.next()?)?], span))
+            }
             _ => self.name(inner),
         }
     }

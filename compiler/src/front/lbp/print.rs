@@ -300,6 +300,11 @@ fn pass_line(key: &str, v: &Node) -> String {
 fn read(n: &Node) -> String {
     match n.name() {
         Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => format!("prev({})", name(items(n).first().map(text).unwrap_or(""))),
+        Some("Layer") if matches!(&*n.value, Value::Tuple { .. }) => format!(
+            "layer({}, {})",
+            name(items(n).first().map(text).unwrap_or("")),
+            items(n).get(1).map(value).unwrap_or_default()
+        ),
         Some("Mip") if matches!(&*n.value, Value::Tuple { .. }) => format!(
             "mip({}, {})",
             name(items(n).first().map(text).unwrap_or("")),

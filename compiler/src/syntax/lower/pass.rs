@@ -256,7 +256,15 @@ impl Lowerer<'_> {
                 (Value::Tuple { items, .. }, Some("Mip")) if items.len() == 2 => {
                     out.push(Read::Mip(self.string(&items[0])?, self.mip_sel(&items[1])?))
                 }
-                _ => return self.type_err("a resource name, `Prev(\"name\")` or `Mip(\"name\", level)`", it),
+                (Value::Tuple { items, .. }, Some("Layer")) if items.len() == 2 => {
+                    out.push(Read::Layer(self.string(&items[0])?, self.u32(&items[1])?))
+                }
+                _ => {
+                    return self.type_err(
+                        "a resource name, `Prev(\"name\")`, `Mip(\"name\", level)` or `Layer(\"name\", n)`",
+                        it,
+                    )
+                }
             }
         }
         Some(out)
