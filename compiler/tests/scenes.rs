@@ -133,6 +133,37 @@ fn camera_values_out_of_range() {
     );
 }
 
+/// Camera animation: an orbit, or a path whose keys must come at increasing times.
+#[test]
+fn camera_animation_is_checked() {
+    let orbit = BASE.replace("far: 50.0)", "far: 50.0, animation: Orbit(center: (0.0, 1.0, 0.0), speed: 30.0))");
+    assert!(located(&orbit).is_empty(), "{:?}", located(&orbit));
+    let path = "far: 50.0, animation: Path(keys: [Key(time: 0.0, position: (0.0, 1.0, 3.0)), Key(time: 1.0, position: (1.0, 1.0, 3.0), yaw: 10.0)]))";
+    let ok = BASE.replace("far: 50.0)", path);
+    assert!(located(&ok).is_empty(), "{:?}", located(&ok));
+    expect(
+        "far: 50.0)",
+        &path.replace("time: 1.0", "time: 0.0"),
+        "value-out-of-range",
+        "the camera's path keys must be at increasing times: key 1 at 0 s follows 0 s",
+        "animation",
+    );
+    expect(
+        "far: 50.0)",
+        "far: 50.0, animation: Path(keys: []))",
+        "value-out-of-range",
+        "the camera's path has no keys",
+        "animation",
+    );
+    expect(
+        "far: 50.0)",
+        "far: 50.0, animation: Orbit(centre: (0.0, 1.0, 0.0), speed: 30.0))",
+        "unknown-key",
+        "centre",
+        "centre",
+    );
+}
+
 #[test]
 fn light_values_out_of_range() {
     expect(

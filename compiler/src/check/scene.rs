@@ -111,18 +111,26 @@ fn camera(c: &CameraDesc, diags: &mut Diagnostics) {
                 .flat_map(|k| [k.time, k.position[0], k.position[1], k.position[2], k.yaw, k.pitch])
                 .collect();
             if it.finite("animation", &flat) {
-                let increasing = keys.windows(2).all(|w| w[1].time > w[0].time);
-                let first = keys.first().map(|k| k.time).unwrap_or(f32::NAN);
-                it.require(
-                    !keys.is_empty() && increasing,
-                    "animation",
-                    "a path of keys at increasing times",
-                    first,
-                );
+                path_order(keys, &mut it);
             }
         }
         None => {}
     }
+}
+
+/// A camera path needs keys, at increasing times.
+fn path_order(keys: &[crate::ir::scene::CameraKey], it: &mut Item) {
+    let msg = match keys.windows(2).position(|w| w[1].time <= w[0].time) {
+        _ if keys.is_empty() => "the camera's path has no keys".to_string(),
+        Some(i) => format!(
+            "the camera's path keys must be at increasing times: key {} at {} s follows {} s",
+            i + 1,
+            keys[i + 1].time,
+            keys[i].time
+        ),
+        None => return,
+    };
+    it.diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, it.at.of("animation")));
 }
 
 fn model(m: &ModelDesc, diags: &mut Diagnostics) {

@@ -288,3 +288,50 @@ impl Scene {
         self.active_lights().iter().filter(|l| l.kind == kind).count()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn key(time: f32, x: f32, yaw: f32) -> CameraKey {
+        CameraKey {
+            time,
+            position: [x, 1.0, 0.0],
+            yaw,
+            pitch: 0.0,
+        }
+    }
+
+    /// A path interpolates linearly between keys and holds outside them; an orbit keeps
+    /// its radius and looks at its centre.
+    #[test]
+    fn camera_paths_and_orbits() {
+        let cam = Camera {
+            position: Vec3::new(0.0, 1.0, 4.0),
+            yaw: 0.0,
+            pitch: 0.0,
+            fov: 45.0,
+            near: 0.1,
+            far: 10.0,
+            animation: Some(CameraAnimationDesc::Path(vec![key(0.0, 0.0, 0.0), key(2.0, 4.0, 90.0)])),
+        };
+        let mid = cam.at(0.5);
+        assert_eq!((mid.position.x, mid.yaw), (1.0, 22.5));
+        assert_eq!(cam.at(-1.0).position.x, 0.0);
+        assert_eq!(cam.at(5.0).position.x, 4.0);
+        let orbit = Camera {
+            animation: Some(CameraAnimationDesc::Orbit {
+                center: [0.0, 1.0, 0.0],
+                speed: 90.0,
+            }),
+            ..cam
+        };
+        let q = orbit.at(1.0);
+        assert!((q.position - Vec3::new(4.0, 1.0, 0.0)).length() < 1e-4, "{:?}", q.position);
+        assert!(
+            (q.forward() - Vec3::NEG_X).length() < 1e-4,
+            "looks at the centre: {:?}",
+            q.forward()
+        );
+    }
+}
