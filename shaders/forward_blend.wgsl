@@ -24,7 +24,8 @@ fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f
     let m = sample_material(in);
     // Panes are seen from both sides: light the side facing the camera.
     let n = select(-m.n, m.n, front);
-    let v = normalize(frame.camera_pos.xyz - in.world_pos);
+    // Hazard: a pane at the camera position.
+    let v = safe_normalize(frame.camera_pos.xyz - in.world_pos, n);
     var c = m.base.rgb * params.color * (1.0 - m.metallic) * m.occlusion + m.emissive;
     for (var i = 0u; i < frame.light_count; i++) {
         let ls = light_at(lights[i], in.world_pos);

@@ -12,3 +12,4 @@ pub mod io;
 pub mod memory;
 pub mod render;
 pub mod scene;
+pub mod verify;

@@ -1,6 +1,7 @@
 // Reading the G-buffer in lighting passes (group 2, bindings 0..2). Positions come from
 // depth and the inverse view-projection. Depth is read as an unfilterable float texture
 // (texelFetch works on every backend; textureLoad on texture_depth_2d does not on GL).
+#include "lib/math.wgsl"
 
 @group(2) @binding(0) var gbuf_depth: texture_2d<f32>;
 @group(2) @binding(1) var gbuf_normal: texture_2d<f32>;
@@ -35,7 +36,8 @@ fn load_surface(pixel: vec2<i32>) -> Surface {
     s.covered = depth < 1.0;
     s.world = world_from_depth(pixel, min(depth, 0.999999));
     s.n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(nr.xyz), dot(nr.xyz, nr.xyz) > 1e-12);
-    s.v = normalize(frame.camera_pos.xyz - s.world);
+    // Hazard (scenes/hard/camera_in_wall.ron): a surface at the camera position.
+    s.v = safe_normalize(frame.camera_pos.xyz - s.world, s.n);
     s.albedo = albedo.rgb;
     s.metallic = albedo.a;
     s.roughness = nr.w;

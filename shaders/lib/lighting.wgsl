@@ -1,4 +1,5 @@
 // Lighting helpers shared by the light passes (seed 003 §2.3, §3.2).
+#include "lib/math.wgsl"
 
 // Windowed inverse-square attenuation after seed 003 eq. 3.5, (1 - (d/r)^20) / (1 + d^2),
 // with one deviation: the seed's 1 (one world unit squared, which keeps d = 0 finite) is
@@ -47,7 +48,8 @@ fn light_at(l: Light, world: vec3<f32>) -> LightSample {
 
 // Smooth spot cone falloff between the outer and inner cone angles (cosines).
 fn spot_factor(l: Light, to_surface: vec3<f32>) -> f32 {
-    let c = dot(normalize(to_surface), normalize(l.direction.xyz));
+    // Hazard (scenes/hard/point_on_surface.ron): a surface point at the light itself.
+    let c = dot(safe_normalize(to_surface, l.direction.xyz), normalize(l.direction.xyz));
     return smoothstep(l.cone.y, max(l.cone.x, l.cone.y + 1e-4), c);
 }
 
@@ -58,7 +60,8 @@ fn blinn_phong(n: vec3<f32>, l: vec3<f32>, v: vec3<f32>, albedo: vec3<f32>, meta
     if ndl <= 0.0 {
         return vec3<f32>(0.0);
     }
-    let h = normalize(l + v);
+    // Hazard: light and view exactly opposite (l + v = 0).
+    let h = safe_normalize(l + v, n);
     let shininess = 2.0 / max(roughness * roughness * roughness * roughness, 1e-4) - 2.0;
     let spec_color = mix(vec3<f32>(0.04), albedo, metallic);
     let spec = pow(max(dot(n, h), 0.0), max(shininess, 1.0)) * (shininess + 8.0) / 25.132741;

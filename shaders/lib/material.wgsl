@@ -1,6 +1,7 @@
 // Scene meshes seen by the camera, and their materials evaluated at a fragment: what the
 // G-buffer and forward (transparent) passes share. Needs lib/frame.wgsl included first.
 #include "lib/mesh.wgsl"
+#include "lib/math.wgsl"
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -51,7 +52,10 @@ fn sample_material(in: VsOut) -> MaterialSample {
     let occlusion = textureSample(occlusion_map, material_sampler, uv[MAP_OCCLUSION]).r;
     m.emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, uv[MAP_EMISSIVE]).rgb;
     let mapped = textureSample(normal_map, material_sampler, uv[MAP_NORMAL]).xyz;
-    m.n = normalize(in.normal);
+    // Hazard (scenes/hard/zero_normals.ron): zero-length vertex normals. The face normal
+    // from the position's screen derivatives stands in.
+    let face = safe_normalize(cross(dpdx(in.world_pos), dpdy(in.world_pos)), vec3<f32>(0.0, 1.0, 0.0));
+    m.n = safe_normalize(in.normal, face);
     if material.has_normal_map != 0u {
         // Tangent-space normal map; a degenerate tangent falls back to the vertex normal.
         let t_len = length(in.tangent.xyz);

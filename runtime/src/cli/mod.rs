@@ -4,6 +4,7 @@ mod check;
 mod convert;
 pub mod plan;
 mod render;
+mod verify;
 
 use crate::error::{Error, Result};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -60,6 +61,9 @@ pub enum Command {
     Plan(plan::Args),
     /// Render a pipeline on a scene with the GPU (headless) and save the output image.
     Render(render::Args),
+    /// Render every configuration of pipelines on scenes and check every value of every
+    /// resource is finite; names the first pass that produced a NaN or Inf.
+    Verify(verify::Args),
     /// Scene utilities.
     #[command(subcommand)]
     Scene(SceneCommand),
@@ -104,6 +108,7 @@ pub fn run(cli: Cli) -> i32 {
         } => check::run(&paths, format, &profile, scene.as_deref(), shaders.as_deref(), &params),
         Command::Plan(args) => plan::run(args),
         Command::Render(args) => render::run(args),
+        Command::Verify(args) => verify::run(args),
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
         Command::Scene(SceneCommand::Export { out, .. }) if out.extension().and_then(|e| e.to_str()) != Some("gltf") => {

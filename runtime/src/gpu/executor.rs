@@ -25,6 +25,16 @@ use lightbench_compiler::Executable;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// One part of a resource: a light instance, array layer, mip level and history copy.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Part {
+    pub instance: u32,
+    pub layer: u32,
+    pub mip: u32,
+    /// The history copy that holds the previous frame (after a frame: the one it read).
+    pub previous: bool,
+}
+
 /// What changes from frame to frame, passed to every `render_frame`.
 #[derive(Clone, Debug)]
 pub struct FrameInputs {
@@ -322,6 +332,65 @@ impl Executor {
         }
     }
 
+    /// Checks and per-frame blocks before a frame's passes; returns which repetitions run.
+    fn begin_frame(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> Result<Vec<Vec<bool>>> {
+        // External resources are the caller's to fill: never render them as zeros.
+        if let Some(r) = self
+            .state
+            .plan
+            .resources
+            .iter()
+            .find(|r| r.external && !self.supplied.contains(&r.name))
+        {
+            let n = &r.name;
+            return Err(Error::Usage(format!(
+                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input)"
+            )));
+        }
+        self.apply_params(gpu, &inputs.params)?;
+        self.inputs = inputs.clone();
+        let keys = self.write_frame_blocks(gpu, inputs);
+        Ok(self.decide_runs(&keys))
+    }
+
+    /// Render one frame pass by pass, waiting for each and calling `after(self, pass index)`
+    /// once it is done, so its results can be read back (`verify` names the first pass that
+    /// produced a non-finite value this way). `after` returning `true` stops the frame there.
+    /// Slower than `render_frame` (one submission per pass) and untimed.
+    pub fn render_frame_probed(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &FrameInputs,
+        after: &mut dyn FnMut(&Executor, usize) -> Result<bool>,
+    ) -> Result<bool> {
+        let run = self.begin_frame(gpu, inputs)?;
+        let parity = (self.frame_index & 1) as usize;
+        // Counted as rendered from the start, so that reads in `after` see this frame's copies.
+        self.frame_index += 1;
+        let order = self.shared.scene_gpu.draw_order(inputs.camera.position);
+        let mut stopped = false;
+        for (pi, run) in run.iter().enumerate() {
+            let pass = &self.state.passes[pi];
+            let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some(&pass.plan.name),
+            });
+            encode(&mut enc, (pass, pi, run), parity, None, (&self.shared.scene_gpu, &order));
+            gpu.queue.submit([enc.finish()]);
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));
+            }
+            gpu.device
+                .poll(wgpu::PollType::wait_indefinitely())
+                .map_err(|e| Error::gpu("waiting for the GPU", e))?;
+            if after(self, pi)? {
+                stopped = true;
+                break;
+            }
+        }
+        Ok(stopped)
+    }
+
     /// Which repetitions of each pass run this frame (see `reuse`).
     fn decide_runs(&mut self, keys: &FrameKeys) -> Vec<Vec<bool>> {
         let state = &self.state;
@@ -340,23 +409,7 @@ impl Executor {
 
     /// Render one frame. GPU errors come back as values naming the pass.
     pub fn render_frame(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> Result<()> {
-        // External resources are the caller's to fill: never render them as zeros.
-        if let Some(r) = self
-            .state
-            .plan
-            .resources
-            .iter()
-            .find(|r| r.external && !self.supplied.contains(&r.name))
-        {
-            let n = &r.name;
-            return Err(Error::Usage(format!(
-                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input)"
-            )));
-        }
-        self.apply_params(gpu, &inputs.params)?;
-        self.inputs = inputs.clone();
-        let keys = self.write_frame_blocks(gpu, inputs);
-        let run = self.decide_runs(&keys);
+        let run = self.begin_frame(gpu, inputs)?;
         let parity = (self.frame_index & 1) as usize;
         let (state, scene) = (&self.state, &self.shared.scene_gpu);
         let order = scene.draw_order(inputs.camera.position);
@@ -439,6 +492,57 @@ impl Executor {
             .texture(instance, false, self.last_parity())
             .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer")))?;
         super::readback::read_texture(gpu, tex, layer)
+    }
+
+    /// Every part of a resource that holds values: each light instance, layer, mip level
+    /// and, for history resources, both copies (`previous`: the one the last frame read).
+    pub fn parts(&self, name: &str) -> Result<Vec<Part>> {
+        let e = self.entry(name)?;
+        let mips = match e.key.shape {
+            lightbench_compiler::plan::ResourceShape::Texture { mips, .. } => mips.max(1),
+            _ => 1,
+        };
+        let mut out = vec![];
+        for instance in 0..e.key.instances {
+            for previous in (0..e.key.copies).map(|c| c == 1) {
+                for layer in 0..e.key.layers() {
+                    out.extend((0..mips).map(|mip| Part {
+                        instance,
+                        layer,
+                        mip,
+                        previous,
+                    }));
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// One part of a texture as it is now (see `parts`).
+    pub fn read_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Image> {
+        let tex = self
+            .entry(name)?
+            .texture(p.instance, p.previous, self.last_parity())
+            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer_part")))?;
+        super::readback::read_texture_mip(gpu, tex, p.layer, p.mip)
+    }
+
+    /// Non-finite values of one part of a texture (see `readback::scan_texture`).
+    pub fn scan_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Option<super::readback::NonFinite>> {
+        let tex = self
+            .entry(name)?
+            .texture(p.instance, p.previous, self.last_parity())
+            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer")))?;
+        super::readback::scan_texture(gpu, tex, p.layer, p.mip)
+    }
+
+    /// One instance (and copy) of a buffer as it is now, as f32 words.
+    pub fn read_buffer_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Vec<f32>> {
+        let buf = self
+            .entry(name)?
+            .buffer(p.instance, p.previous, self.last_parity())
+            .ok_or_else(|| Error::Resource(format!("`{name}` is a texture")))?;
+        super::readback::read_buffer(gpu, buf)
     }
 
     /// The current value of a buffer resource as f32 words.

@@ -15,7 +15,7 @@ pub mod scene_gpu;
 mod timing;
 
 pub use device::{DeviceOptions, Gpu};
-pub use executor::{halton_jitter, Executor, FrameInputs, ReloadReport};
+pub use executor::{halton_jitter, Executor, FrameInputs, Part, ReloadReport};
 pub use timing::PassTiming;
 
 use crate::error::{Error, Result};

@@ -93,9 +93,91 @@ fn decode(f: wgpu::TextureFormat, t: &[u8]) -> [f32; 4] {
 
 /// Mip 0 of one array layer.
 pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image> {
+    read_texture_mip(gpu, tex, layer, 0)
+}
+
+/// One layer of one mip level.
+pub fn read_texture_mip(gpu: &Gpu, tex: &wgpu::Texture, layer: u32, mip: u32) -> Result<Image> {
     let f = tex.format();
     let bpp = texel_bytes(f)?;
-    let (w, h) = (tex.width(), tex.height());
+    let (w, h, rgba) = with_texels(gpu, tex, (layer, mip), |data, row, (w, h)| {
+        let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let o = (y * row + x * bpp) as usize;
+                rgba.extend_from_slice(&decode(f, &data[o..o + bpp as usize]));
+            }
+        }
+        rgba
+    })?;
+    Ok(Image {
+        width: w,
+        height: h,
+        rgba,
+        srgb: f.is_srgb(),
+    })
+}
+
+/// The first non-finite value of a texture level: (x, y, channel), the value, and how many
+/// non-finite values it holds.
+pub type NonFinite = ((u32, u32, u32), f32, usize);
+
+/// Non-finite values of one layer and mip level, checked on the raw bits (fast: no
+/// decoding): the first as (x, y, channel, value) and how many. `None` without reading for
+/// formats that cannot hold one (normalized and integer formats).
+pub fn scan_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32, mip: u32) -> Result<Option<NonFinite>> {
+    use wgpu::TextureFormat as F;
+    let f = tex.format();
+    let half = matches!(f, F::R16Float | F::Rg16Float | F::Rgba16Float);
+    let single = matches!(f, F::R32Float | F::Rg32Float | F::Rgba32Float | F::Depth32Float);
+    if f == F::Rg11b10Ufloat {
+        let img = read_texture_mip(gpu, tex, layer, mip)?;
+        let count = img.rgba.iter().filter(|v| !v.is_finite()).count();
+        return Ok(img.rgba.iter().position(|v| !v.is_finite()).map(|i| {
+            let t = (i / 4) as u32;
+            ((t % img.width, t / img.width, (i % 4) as u32), img.rgba[i], count)
+        }));
+    }
+    if !half && !single {
+        return Ok(None);
+    }
+    let (size, comps) = (if half { 2 } else { 4 }, texel_bytes(f)? / if half { 2 } else { 4 });
+    let (_, _, found) = with_texels(gpu, tex, (layer, mip), |data, row, (w, h)| {
+        let mut first = None;
+        let mut count = 0;
+        for y in 0..h {
+            let line = &data[(y * row) as usize..][..(w * comps * size) as usize];
+            for (i, c) in line.chunks_exact(size as usize).enumerate() {
+                let (bad, value) = if half {
+                    let bits = u16::from_le_bytes([c[0], c[1]]);
+                    (bits & 0x7c00 == 0x7c00, half::f16::from_bits(bits).to_f32())
+                } else {
+                    let bits = u32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+                    (bits & 0x7f80_0000 == 0x7f80_0000, f32::from_bits(bits))
+                };
+                if bad {
+                    count += 1;
+                    let i = i as u32;
+                    first.get_or_insert(((i / comps, y, i % comps), value));
+                }
+            }
+        }
+        first.map(|(at, v)| (at, v, count))
+    })?;
+    Ok(found)
+}
+
+/// Copy one layer and mip level to a mapped buffer and hand its rows (`row` bytes apart) to
+/// `f` with the level's size.
+fn with_texels<T>(
+    gpu: &Gpu,
+    tex: &wgpu::Texture,
+    (layer, mip): (u32, u32),
+    f: impl FnOnce(&[u8], u32, (u32, u32)) -> T,
+) -> Result<(u32, u32, T)> {
+    let format = tex.format();
+    let bpp = texel_bytes(format)?;
+    let (w, h) = ((tex.width() >> mip).max(1), (tex.height() >> mip).max(1));
     let row = (w * bpp).div_ceil(256) * 256;
     let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("readback"),
@@ -107,9 +189,9 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image>
     enc.copy_texture_to_buffer(
         wgpu::TexelCopyTextureInfo {
             texture: tex,
-            mip_level: 0,
+            mip_level: mip,
             origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
-            aspect: if f.is_depth_stencil_format() {
+            aspect: if format.is_depth_stencil_format() {
                 wgpu::TextureAspect::DepthOnly
             } else {
                 wgpu::TextureAspect::All
@@ -132,7 +214,7 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image>
     let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
     gpu.queue.submit([enc.finish()]);
     if let Some(e) = pollster::block_on(scope.pop()) {
-        return Err(Error::gpu(format!("reading back a {f:?} texture"), e));
+        return Err(Error::gpu(format!("reading back a {format:?} texture"), e));
     }
     let slice = buf.slice(..);
     slice.map_async(wgpu::MapMode::Read, |_| {});
@@ -140,21 +222,10 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image>
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| Error::gpu("waiting for the read-back", e))?;
     let data = slice.get_mapped_range().map_err(|e| Error::gpu("mapping the read-back", e))?;
-    let mut rgba = Vec::with_capacity((w * h * 4) as usize);
-    for y in 0..h {
-        for x in 0..w {
-            let o = (y * row + x * bpp) as usize;
-            rgba.extend_from_slice(&decode(f, &data[o..o + bpp as usize]));
-        }
-    }
+    let out = f(&data, row, (w, h));
     drop(data);
     buf.unmap();
-    Ok(Image {
-        width: w,
-        height: h,
-        rgba,
-        srgb: f.is_srgb(),
-    })
+    Ok((w, h, out))
 }
 
 pub fn read_buffer(gpu: &Gpu, src: &wgpu::Buffer) -> Result<Vec<f32>> {
