@@ -412,9 +412,11 @@ mod generated {
                 })
             },
         );
-        prop_oneof![3 => texture, 1 => buffer].prop_map(move |kind| Resource {
+        let valid = proptest::option::of((float(), float()).prop_map(|(a, b)| sp((a.min(b), a.max(b)))));
+        (prop_oneof![3 => texture, 1 => buffer], valid).prop_map(move |(kind, valid)| Resource {
             name: sp(n.clone()),
             kind,
+            valid,
             span: Span::default(),
         })
     }

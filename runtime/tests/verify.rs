@@ -61,7 +61,7 @@ struct Params { poison: u32 };
 fn fs_main() -> @location(0) vec4<f32> {
     let bad = params.poison != 0u && instance.light == 1u;
     let v = select(0.25, sqrt(-f32(params.poison)), bad);
-    return vec4<f32>(v, f32(instance.light), 0.0, 1.0);
+    return vec4<f32>(v, f32(instance.light), 0.0, 0.0);
 }
 ";
 
@@ -153,4 +153,22 @@ fn a_deliberate_nan_is_traced_to_its_pass_and_light() {
     assert_eq!(o["pass"], "lit");
     assert_eq!(o["output"]["part"]["instance"], 1);
     assert_eq!(o["output"]["value"], "NaN");
+
+    // A declared range: `shade` holds the light index in green, so light 1's share is
+    // outside `valid 0..0.5`.
+    std::fs::write(
+        &p,
+        POISON.replace(
+            "texture shade: Rgba16Float viewport per_light(Point)",
+            "texture shade: Rgba16Float viewport per_light(Point) valid 0..0.5",
+        ),
+    )
+    .unwrap();
+    let (code, out, err) = lightbench(&base);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        out.contains("out of range 0..0.5 `shade` (light instance 1): 1 at pixel (0, 0) channel 1"),
+        "{out}"
+    );
+    assert!(out.contains("first produced by pass `lit` in frame 1"), "{out}");
 }

@@ -111,6 +111,9 @@ pub enum ResourceKind {
 pub struct Resource {
     pub name: Spanned<String>,
     pub kind: ResourceKind,
+    /// The range every value must lie in (`lightbench verify` checks it), e.g. `(0, 65504)`
+    /// for radiance: non-negative and within f16.
+    pub valid: Option<Spanned<(f64, f64)>>,
     pub span: Span,
 }
 

@@ -276,6 +276,8 @@ pub struct PlanResource {
     pub external: bool,
     /// Filled once from the pipeline's `data` (see `Executable::data`).
     pub data: bool,
+    /// The range every value must lie in (`lightbench verify`).
+    pub valid: Option<(f64, f64)>,
     pub usage: BTreeSet<Usage>,
     /// Memory of every instance and history copy.
     pub bytes: u64,

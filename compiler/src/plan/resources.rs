@@ -139,6 +139,7 @@ fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanReso
         history: r.history(),
         external: r.external(),
         data: r.data().is_some(),
+        valid: r.valid.as_ref().map(|v| v.value),
         usage,
         bytes: one * instances as u64 * copies,
     }

@@ -127,6 +127,12 @@ fn resource(r: &Resource) -> Node {
     f.put("history", Node::bool(r.history(), r.span));
     f.put("external", Node::bool(r.external(), r.span));
     f.opt("data", r.data().map(|d| data(&d.value, d.span)));
+    f.opt(
+        "valid",
+        r.valid
+            .as_ref()
+            .map(|v| Node::tuple(vec![Node::float(v.value.0, v.span), Node::float(v.value.1, v.span)], v.span)),
+    );
     f.into_node(Some(kind), r.span, r.span)
 }
 

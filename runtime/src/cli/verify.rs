@@ -146,7 +146,8 @@ fn describe(r: &Report) -> String {
         Some(Problem::NonFinite { found, first }) => {
             for b in found {
                 s += &format!(
-                    "  non-finite `{}`{}: {} at {} ({} value(s))\n",
+                    "  {} `{}`{}: {} at {} ({} value(s))\n",
+                    kind(&b.kind),
                     b.resource,
                     place(&b.place),
                     b.value,
@@ -175,6 +176,13 @@ fn describe(r: &Report) -> String {
         None => {}
     }
     s
+}
+
+fn kind(k: &verify::scan::Kind) -> String {
+    match k {
+        verify::scan::Kind::NonFinite => "non-finite".into(),
+        verify::scan::Kind::OutOfRange { min, max } => format!("out of range {min}..{max}"),
+    }
 }
 
 fn place(p: &str) -> String {

@@ -14,21 +14,45 @@ pub enum At {
     Word(usize),
 }
 
-/// The first non-finite value of a resource part, and how many there are in it.
+/// What is wrong with a value.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    NonFinite,
+    /// Outside the resource's declared `valid` range.
+    OutOfRange {
+        min: f64,
+        max: f64,
+    },
+}
+
+/// The first bad value of a resource part, and how many there are in it.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Bad {
+    pub kind: Kind,
     pub resource: String,
     pub part: Part,
     /// The part in words, naming only what the resource has: `light instance 1, layer 3`.
     pub place: String,
     pub at: At,
-    /// As text: `NaN`, `inf`, `-inf` (JSON has no non-finite numbers).
+    /// As text: `NaN`, `inf`, `-inf` (JSON has no non-finite numbers), or the number.
     pub value: String,
     pub count: usize,
 }
 
-/// The first part of `res` (in `parts` order) holding a non-finite value.
+/// The first part of `res` (in `parts` order) holding a non-finite value, or else a value
+/// outside its declared `valid` range.
 pub fn resource(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part]) -> Result<Option<Bad>> {
+    if let Some(b) = non_finite(gpu, ex, res, parts)? {
+        return Ok(Some(b));
+    }
+    match res.valid {
+        Some(range) => out_of_range(gpu, ex, res, parts, range),
+        None => Ok(None),
+    }
+}
+
+fn non_finite(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part]) -> Result<Option<Bad>> {
     for &part in parts {
         let found = match res.shape {
             // Integer words are always finite.
@@ -43,6 +67,7 @@ pub fn resource(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part]) ->
         };
         if let Some((at, value, count)) = found {
             return Ok(Some(Bad {
+                kind: Kind::NonFinite,
                 resource: res.name.clone(),
                 part,
                 place: place(res, part),
@@ -63,6 +88,48 @@ pub fn all(gpu: &Gpu, ex: &Executor) -> Result<Vec<Bad>> {
         out.extend(resource(gpu, ex, r, &parts)?);
     }
     Ok(out)
+}
+
+/// The first value outside `[min, max]` (the channels the format has; float words).
+fn out_of_range(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part], (min, max): (f64, f64)) -> Result<Option<Bad>> {
+    let outside = |v: f32| (v as f64) < min || (v as f64) > max;
+    for &part in parts {
+        let found = match res.shape {
+            ResourceShape::Buffer { words: Words::F32, .. } => {
+                let w = ex.read_buffer_part(gpu, &res.name, part)?;
+                let count = w.iter().filter(|v| outside(**v)).count();
+                w.iter().position(|v| outside(*v)).map(|i| (At::Word(i), w[i], count))
+            }
+            ResourceShape::Buffer { .. } => None,
+            ResourceShape::Texture { format, .. } => {
+                let img = ex.read_part(gpu, &res.name, part)?;
+                let n = format.components().clamp(1, 4) as usize;
+                let channels = || {
+                    img.rgba
+                        .chunks_exact(4)
+                        .enumerate()
+                        .flat_map(|(t, px)| px[..n].iter().enumerate().map(move |(c, v)| (t, c, *v)))
+                };
+                let count = channels().filter(|(_, _, v)| outside(*v)).count();
+                channels().find(|(_, _, v)| outside(*v)).map(|(t, c, v)| {
+                    let (x, y) = (t as u32 % img.width, t as u32 / img.width);
+                    (At::Pixel { x, y, channel: c as u32 }, v, count)
+                })
+            }
+        };
+        if let Some((at, value, count)) = found {
+            return Ok(Some(Bad {
+                kind: Kind::OutOfRange { min, max },
+                resource: res.name.clone(),
+                part,
+                place: place(res, part),
+                at,
+                value: value.to_string(),
+                count,
+            }));
+        }
+    }
+    Ok(None)
 }
 
 fn place(res: &PlanResource, p: Part) -> String {

@@ -32,6 +32,16 @@ pub(super) fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics
         if let Some(k) = r.per_light() {
             empty_kinds(k, diags);
         }
+        if let Some(v) = r.valid.as_ref().filter(|v| v.value.0 > v.value.1) {
+            diags.push(Diagnostic::error(
+                Code::ValueOutOfRange,
+                format!(
+                    "`valid` of `{}` is an empty range: {} is above {}",
+                    r.name.value, v.value.0, v.value.1
+                ),
+                v.span,
+            ));
+        }
         if r.history() && r.external() {
             diags.push(Diagnostic::error(
                 Code::HistoryExternal,

@@ -288,6 +288,11 @@ impl Builder<'_> {
             Rule::layers => f.put("layers", at, self.uint(&kids(o).next()?)?),
             Rule::mips => f.put("mips", at, self.uint(&kids(o).next()?)?),
             Rule::per_light => f.put("per_light", at, self.per_light(o)),
+            Rule::valid => {
+                let mut k = kids(o);
+                let (lo, hi) = (self.number(&k.next()?)?, self.number(&k.next()?)?);
+                f.put("valid", at, Node::tuple(vec![lo, hi], at))
+            }
             Rule::data => {
                 let inner = kids(o).next()?;
                 let node = match inner.as_rule() {

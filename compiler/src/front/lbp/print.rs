@@ -222,6 +222,7 @@ fn resource(k: &Node, v: &Node) -> String {
             "per_light" => line += &format!(" {}", per_light(n)),
             "history" | "external" => line += &format!(" {key}"),
             "data" => line += &format!(" data {}", data(n)),
+            "valid" => line += &format!(" valid {}", join(items(n), value).replace(", ", "..")),
             _ => {}
         }
     }

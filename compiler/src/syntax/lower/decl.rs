@@ -119,10 +119,17 @@ impl Lowerer<'_> {
             Some(n) => Some(self.data(&n)?),
             None => None,
         };
+        let valid = match o.take("valid") {
+            Some(n) => Some(Spanned::new(
+                self.floats::<2>(&n, "a range `(min, max)`").map(|[a, b]| (a, b))?,
+                n.span,
+            )),
+            None => None,
+        };
         let span = o.span;
         let kind = if o.kind == "Buffer" {
             let size = self.required(&mut o, "size").and_then(|n| self.u64(&n));
-            self.finish(o, &["size", "per_light", "history", "external", "data"], &[]);
+            self.finish(o, &["size", "per_light", "history", "external", "data", "valid"], &[]);
             ResourceKind::Buffer(BufferDesc {
                 size: size?,
                 per_light,
@@ -135,7 +142,7 @@ impl Lowerer<'_> {
             t.data = data;
             ResourceKind::Texture(t)
         };
-        Some(Resource { name, kind, span })
+        Some(Resource { name, kind, valid, span })
     }
 
     fn texture(&mut self, mut o: Obj, per_light: Option<Spanned<Vec<LightKind>>>, history: bool, external: bool) -> Res<TextureDesc> {
@@ -162,6 +169,7 @@ impl Lowerer<'_> {
                 "history",
                 "external",
                 "data",
+                "valid",
             ],
             &[],
         );
