@@ -156,3 +156,25 @@ pub fn capped(mut scene: Scene, max: Option<(u32, u32)>) -> Scene {
     }
     scene
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `each`: the defaults, then every option once; `all`: every combination.
+    #[test]
+    fn variant_requests() {
+        let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
+        let each = requests(&p, VariantMode::Each);
+        assert_eq!(each.len(), 1 + 3 + 2, "{each:?}");
+        assert!(each[0].is_empty());
+        assert!(each.contains(&vec![("cube_shadow".to_string(), "instanced".to_string())]));
+        let all = requests(&p, VariantMode::All);
+        assert_eq!(all.len(), 3 * 2, "{all:?}");
+        assert!(all.iter().all(|r| r.len() == 2));
+        assert!(all.contains(&vec![
+            ("cube_shadow".to_string(), "multiview".to_string()),
+            ("tonemap".to_string(), "simple".to_string())
+        ]));
+    }
+}
