@@ -22,7 +22,7 @@ fn check_bundled_pipelines_succeeds() {
     let (code, _, err) = lightbench(&["check", "pipelines/"]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("checked 2 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
+        err.contains("checked 4 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
         "{err}"
     );
     for profile in ["webgpu", "gl"] {

@@ -129,8 +129,9 @@ fn scene_errors_are_located_in_every_command() {
     assert_eq!(code, 0, "{err}");
     // Every scene file below scenes/ (the hard-case suite included) is checked as a scene.
     let scenes = lightbench_compiler::pipeline_files(&root().join("scenes")).unwrap().len();
+    let pipelines = lightbench_compiler::pipeline_files(&root().join("pipelines")).unwrap().len();
     assert!(
-        err.contains(&format!("checked 2 pipeline file(s) and {scenes} scene file(s)")),
+        err.contains(&format!("checked {pipelines} pipeline file(s) and {scenes} scene file(s)")),
         "{err}"
     );
     // A model that cannot be loaded is reported at its path, by check as by render.

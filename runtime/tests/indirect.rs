@@ -1,0 +1,171 @@
+//! Indirect diffuse light from reflective shadow maps (`pipelines/deferred_gi.ron`), driven as
+//! a user runs it, asserting on pixels of dumped resources.
+
+mod gpu_common;
+
+use gpu_common::*;
+use lightbench::scene::Scene;
+
+/// The Cornell box lit by a spot light under the ceiling (an RSM needs a directional or spot
+/// light), calling for indirect diffuse light.
+const SCENE: &str = "Scene(
+    name: \"gi\",
+    size: (64, 64),
+    builtin: \"cornell\",
+    lights: [Spot(position: (0.0, 1.9, 0.3), direction: (0.0, -1.0, -0.1), inner: 40.0, outer: 60.0, intensity: 3.0, range: 8.0)],
+    effects: [Shadows, IndirectDiffuse],
+)
+";
+
+fn scene() -> Scene {
+    let d = std::env::temp_dir().join(format!("lightbench-gi-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("gi.ron"), SCENE).unwrap();
+    lightbench::scene::load(d.join("gi.ron").to_str().unwrap()).unwrap()
+}
+
+fn render(variants: &[(&str, &str)], frames: u32) -> (lightbench::gpu::Executor, std::sync::MutexGuard<'static, lightbench::gpu::Gpu>) {
+    let g = gpu();
+    let ex = render_with(&g, &root().join("pipelines/deferred_gi.ron"), &scene(), variants, frames);
+    (ex, g)
+}
+
+/// Mean of the rgb channels over a rectangle.
+fn mean(img: &lightbench::io::Image, (x0, y0, x1, y1): (u32, u32, u32, u32)) -> [f32; 3] {
+    let mut s = [0.0f32; 3];
+    let mut n = 0.0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let p = img.pixel(x, y);
+            for c in 0..3 {
+                s[c] += p[c];
+            }
+            n += 1.0;
+        }
+    }
+    s.map(|v| v / n)
+}
+
+/// RSM texels that see the red wall carry red flux, and every drawn texel's position
+/// projects back to the depth the light recorded there.
+#[test]
+fn the_rsm_holds_positions_normals_and_coloured_flux() {
+    let (ex, g) = render(&[], 1);
+    let pos = ex.read_texture(&g, "rsm.position", 0, 0).unwrap();
+    let flux = ex.read_texture(&g, "rsm.flux", 0, 0).unwrap();
+    let depth = ex.read_texture(&g, "rsm.depth", 0, 0).unwrap();
+    let normal = ex.read_texture(&g, "rsm.normal", 0, 0).unwrap();
+    let light = ex
+        .scene()
+        .active_lights()
+        .into_iter()
+        .find(|l| l.kind == lightbench_compiler::ir::LightKind::Spot)
+        .unwrap()
+        .clone();
+    let vp = light.view_proj(ex.scene().bounds());
+    let (mut red_wall, mut drawn) = (0, 0);
+    for y in 0..pos.height {
+        for x in 0..pos.width {
+            let p = pos.pixel(x, y);
+            if p[3] == 0.0 {
+                continue;
+            }
+            drawn += 1;
+            let clip = vp * glam::Vec4::new(p[0], p[1], p[2], 1.0);
+            let d = depth.pixel(x, y)[0];
+            assert!(
+                (clip.z / clip.w - d).abs() < 2e-3,
+                "texel ({x}, {y}): position depth {} vs map {d}",
+                clip.z / clip.w
+            );
+            let n = normal.pixel(x, y);
+            assert!(
+                ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() < 1e-2,
+                "unit normal at ({x}, {y})"
+            );
+            // Lit red-wall texels (outside the spot's cone the flux is 0).
+            let f = flux.pixel(x, y);
+            if p[0] < -0.98 && n[0] > 0.9 && f[0] > 1e-5 {
+                red_wall += 1;
+                assert!(f[0] > 3.0 * f[1] && f[0] > 3.0 * f[2], "red wall flux at ({x}, {y}): {f:?}");
+            }
+        }
+    }
+    assert!(drawn > 1000 && red_wall > 20, "{drawn} texels drawn, {red_wall} on the red wall");
+}
+
+/// The floor next to the red wall receives more red than green indirect light; the floor
+/// next to the green wall more green than red. Turning the variant off removes the passes.
+#[test]
+fn indirect_light_takes_the_colour_of_nearby_walls() {
+    let (ex, g) = render(&[], 1);
+    let ind = ex.read_texture(&g, "gi.indirect", 0, 0).unwrap();
+    let near_red = mean(&ind, (4, 54, 16, 62));
+    let near_green = mean(&ind, (48, 54, 60, 62));
+    assert!(near_red[0] > 1.5 * near_red[1], "next to the red wall: {near_red:?}");
+    assert!(near_green[1] > 1.5 * near_green[0], "next to the green wall: {near_green:?}");
+    assert!(ind.rgba.iter().all(|v| v.is_finite() && *v >= 0.0));
+    drop((ex, g));
+    let (off, _g) = render(&[("indirect_diffuse", "off")], 1);
+    for pass in ["rsm", "indirect_diffuse", "indirect_compose"] {
+        assert!(off.plan().pass(pass).is_none(), "{pass} is culled with indirect_diffuse=off");
+    }
+}
+
+fn timing_log(path: &std::path::Path) -> Vec<Vec<serde_json::Value>> {
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    v.as_array().unwrap().iter().map(|f| f.as_array().unwrap().clone()).collect()
+}
+
+fn ran(log: &[Vec<serde_json::Value>], pass: &str) -> Vec<usize> {
+    let runs = |f: &Vec<serde_json::Value>| f.iter().any(|t| t["pass"] == pass && t["reused"] == false);
+    log.iter().enumerate().filter(|(_, f)| runs(f)).map(|(i, _)| i).collect()
+}
+
+/// `--param gi.strength` changes the image; a static light's RSM is rendered once and reused,
+/// a moving light's every frame (the general reuse rule).
+#[test]
+fn parameters_change_the_image_and_static_rsms_are_reused() {
+    let d = std::env::temp_dir().join(format!("lightbench-gi-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("still.ron"), SCENE).unwrap();
+    std::fs::write(
+        d.join("moving.ron"),
+        SCENE.replace("range: 8.0)", "range: 8.0, animation: Rotate(speed: 90.0))"),
+    )
+    .unwrap();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let render = |scene: &str, out: &str, extra: &[&str]| {
+        let (o, j, s) = (d.join(out), d.join(format!("{out}.json")), d.join(scene));
+        let args = [
+            &["render", "--pipeline", p.to_str().unwrap(), "--scene", s.to_str().unwrap()][..],
+            &["--out", o.to_str().unwrap(), "--timings-json", j.to_str().unwrap()],
+            extra,
+        ]
+        .concat();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+            .args(&args)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        (image::open(&o).unwrap().to_rgba32f(), timing_log(&j))
+    };
+    let (with, log) = render("still.ron", "with.exr", &["--frames", "4"]);
+    assert_eq!(ran(&log, "rsm"), vec![0], "a static light's RSM is rendered once");
+    let (without, _) = render("still.ron", "without.exr", &["--param", "gi.strength=0"]);
+    let floor = |img: &image::Rgba32FImage| {
+        (4..16)
+            .flat_map(|x| (54..62).map(move |y| (x, y)))
+            .map(|(x, y)| img.get_pixel(x, y).0[0])
+            .sum::<f32>()
+    };
+    assert!(
+        floor(&with) > floor(&without) * 1.02,
+        "indirect light brightens the floor: {} vs {}",
+        floor(&with),
+        floor(&without)
+    );
+    let (_, log) = render("moving.ron", "moving.exr", &["--frames", "3"]);
+    assert_eq!(ran(&log, "rsm"), vec![0, 1, 2], "a moving light's RSM is rendered every frame");
+}

@@ -1,0 +1,78 @@
+// Indirect diffuse light from one light's reflective shadow map (seed 000 §4.3.3, §6.3.3,
+// after Dachsbacher and Stamminger): the RSM texels around the receiver's projection act as
+// small lights. Samples follow the seed's polar pattern, s = p + radius · e1 · (sin 2πe2,
+// cos 2πe2), weighted by e1², and each adds
+//     flux · max(n_p · d, 0) · max(n_s · -d, 0) / |d|⁴        (d: receiver to sender).
+// Deviations (README): |d| is clamped below by `gi.min_distance` (the 1/|d|⁴ singularity of
+// a sender next to the receiver); and the flux, which the RSM stores per unit area, is
+// multiplied by the world area each sample stands for (the texel's area, measured from its
+// neighbours' positions, times the texels of the sampled disc per sample), so the result does
+// not depend on the RSM's size or the scene's scale.
+#include "lib/frame.wgsl"
+#include "lib/gbuffer.wgsl"
+
+struct Params {
+    radius: f32,
+    samples: u32,
+    strength: f32,
+    min_distance: f32,
+};
+
+@group(2) @binding(3) var rsm_position: texture_2d<f32>;
+@group(2) @binding(4) var rsm_normal: texture_2d<f32>;
+@group(2) @binding(5) var rsm_flux: texture_2d<f32>;
+@group(2) @binding(6) var<storage, read> gi_pattern: array<vec2<f32>>;
+@group(2) @binding(7) var<uniform> params: Params;
+
+const PI: f32 = 3.14159265;
+
+// World area of RSM texel t: the parallelogram spanned by its neighbours' positions.
+fn texel_area(t: vec2<i32>, p: vec3<f32>, last: vec2<i32>) -> f32 {
+    let px = textureLoad(rsm_position, min(t + vec2<i32>(1, 0), last), 0);
+    let py = textureLoad(rsm_position, min(t + vec2<i32>(0, 1), last), 0);
+    if px.w == 0.0 || py.w == 0.0 {
+        return 0.0;
+    }
+    return length(cross(px.xyz - p, py.xyz - p));
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let s = load_surface(vec2<i32>(pos.xy));
+    if !s.covered {
+        return vec4<f32>(0.0);
+    }
+    let l = lights[instance.light];
+    let clip = l.view_proj * vec4<f32>(s.world, 1.0);
+    // Hazard: a receiver behind a spot light (w ≤ 0) has no place in its map.
+    if clip.w <= 1e-6 {
+        return vec4<f32>(0.0);
+    }
+    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
+    let size = vec2<i32>(textureDimensions(rsm_flux, 0));
+    let last = size - 1;
+    let n = min(params.samples, arrayLength(&gi_pattern));
+    // Texels of the sampled disc that each sample stands for.
+    let per_sample = PI * params.radius * params.radius * f32(size.x * size.y) / f32(max(n, 1u));
+    let min_d2 = params.min_distance * params.min_distance;
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < n; i++) {
+        let e = gi_pattern[i];
+        let a = 2.0 * PI * e.y;
+        let suv = uv + params.radius * e.x * vec2<f32>(sin(a), cos(a));
+        if any(suv < vec2<f32>(0.0)) || any(suv >= vec2<f32>(1.0)) {
+            continue;
+        }
+        let t = min(vec2<i32>(suv * vec2<f32>(size)), last);
+        let sp = textureLoad(rsm_position, t, 0);
+        if sp.w == 0.0 {
+            continue; // nothing drawn there
+        }
+        let sn = textureLoad(rsm_normal, t, 0).xyz;
+        let flux = textureLoad(rsm_flux, t, 0).rgb * texel_area(t, sp.xyz, last) * per_sample;
+        let d = sp.xyz - s.world;
+        let d2 = max(dot(d, d), min_d2);
+        sum += e.x * e.x * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
+    }
+    return vec4<f32>(sum * params.strength / PI, 0.0);
+}

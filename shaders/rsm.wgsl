@@ -1,0 +1,36 @@
+// Reflective shadow map (seed 000 §4.2.2, §6.2.2) of one directional (orthographic, fitted to
+// the scene) or spot (perspective, cone-fitted) light: per texel the world position (w: 1
+// where a surface was drawn, 0 cleared), the normal and the flux — the light arriving at the
+// surface (colour × intensity × attenuation × cone) times its diffuse albedo (the seed's
+// "colour × specular strength"; here glTF base colour × (1 - metallic)). The light's
+// view-projection is the one its shadow map uses.
+#include "lib/frame.wgsl"
+#include "lib/lighting.wgsl"
+#include "lib/material.wgsl"
+
+struct Rsm {
+    @location(0) position: vec4<f32>,
+    @location(1) normal: vec4<f32>,
+    @location(2) flux: vec4<f32>,
+};
+
+@vertex
+fn vs_main(v: VertexIn) -> VsOut {
+    var out = camera_vertex(v);
+    out.clip = lights[instance.light].view_proj * vec4<f32>(out.world_pos, 1.0);
+    return out;
+}
+
+@fragment
+fn fs_main(in: VsOut) -> Rsm {
+    let m = sample_material(in);
+    if m.base.a < material.alpha_cutoff {
+        discard;
+    }
+    let ls = light_at(lights[instance.light], in.world_pos);
+    var out: Rsm;
+    out.position = vec4<f32>(in.world_pos, 1.0);
+    out.normal = vec4<f32>(m.n, 0.0);
+    out.flux = vec4<f32>(ls.radiance * m.base.rgb * (1.0 - m.metallic), 0.0);
+    return out;
+}
