@@ -36,17 +36,41 @@ fn texel_area(t: vec2<i32>, p: vec3<f32>, last: vec2<i32>) -> f32 {
     return length(cross(px.xyz - p, py.xyz - p));
 }
 
+// The seed's fixed pattern: every pixel, every frame, the same samples.
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let s = load_surface(vec2<i32>(pos.xy));
+    return vec4<f32>(gather(vec2<i32>(pos.xy), 0.0), 0.0);
+}
+
+// The temporal variant (after Lambru et al., seed 000 §4.3.3): fewer samples, the pattern
+// rotated by an angle that differs per pixel and per frame; `indirect_accumulate.wgsl`
+// averages the frames over a reprojected history.
+@fragment
+fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<u32>(pos.xy);
+    let h = hash(p.x ^ hash(p.y ^ hash(frame.frame_index)));
+    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0), 0.0);
+}
+
+// PCG-style integer hash.
+fn hash(x: u32) -> u32 {
+    let s = x * 747796405u + 2891336453u;
+    let w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
+    return (w >> 22u) ^ w;
+}
+
+// Irradiance / π at pixel `px` from the light of this repetition; `turn` (in turns) rotates
+// the sample pattern.
+fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
+    let s = load_surface(px);
     if !s.covered {
-        return vec4<f32>(0.0);
+        return vec3<f32>(0.0);
     }
     let l = lights[instance.light];
     let clip = l.view_proj * vec4<f32>(s.world, 1.0);
     // Hazard: a receiver behind a spot light (w ≤ 0) has no place in its map.
     if clip.w <= 1e-6 {
-        return vec4<f32>(0.0);
+        return vec3<f32>(0.0);
     }
     let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
     let size = vec2<i32>(textureDimensions(rsm_flux, 0));
@@ -58,7 +82,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i++) {
         let e = gi_pattern[i];
-        let a = 2.0 * PI * e.y;
+        let a = 2.0 * PI * (e.y + turn);
         let suv = uv + params.radius * e.x * vec2<f32>(sin(a), cos(a));
         if any(suv < vec2<f32>(0.0)) || any(suv >= vec2<f32>(1.0)) {
             continue;
@@ -74,5 +98,5 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let d2 = max(dot(d, d), min_d2);
         sum += e.x * e.x * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
     }
-    return vec4<f32>(sum * params.strength / PI, 0.0);
+    return sum * params.strength / PI;
 }

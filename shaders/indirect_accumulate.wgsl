@@ -1,0 +1,66 @@
+// Temporal accumulation of the rotated indirect diffuse samples (after Lambru et al., seed
+// 000 §4.3.3 and ch. 9): this frame's estimate is averaged with the history reprojected
+// through the previous frame's view-projection, over at most `frames` frames. Where the
+// reprojected surface is not the same one — it was hidden (disocclusion), or outside the
+// previous view — the history is dropped (the position test: the previous frame's depth at
+// the reprojected pixel must reconstruct to this surface, within `reject` of its distance
+// to the camera).
+#include "lib/frame.wgsl"
+#include "lib/gbuffer.wgsl"
+
+struct Params {
+    frames: u32,
+    reject: f32,
+};
+
+@group(2) @binding(3) var gi_indirect: texture_2d<f32>;
+@group(2) @binding(4) var gi_history_prev: texture_2d<f32>;
+@group(2) @binding(5) var gi_depth_prev: texture_2d<f32>;
+@group(2) @binding(6) var<uniform> params: Params;
+
+struct Out {
+    // rgb: accumulated irradiance / π; a: frames in it
+    @location(0) history: vec4<f32>,
+    // this frame's depth, for the next frame's test
+    @location(1) depth: vec4<f32>,
+};
+
+// World position of pixel `p` of the previous frame at depth `d`.
+fn prev_world(p: vec2<i32>, d: f32) -> vec3<f32> {
+    let uv = (vec2<f32>(p) + 0.5) * frame.resolution.zw;
+    let w = frame.prev_inv_view_proj * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
+    return w.xyz / w.w;
+}
+
+@fragment
+fn fs_main(@builtin(position) pos: vec4<f32>) -> Out {
+    let px = vec2<i32>(pos.xy);
+    let current = textureLoad(gi_indirect, px, 0).rgb;
+    let depth = textureLoad(gbuf_depth, px, 0).x;
+    var out: Out;
+    out.history = vec4<f32>(current, 1.0);
+    out.depth = vec4<f32>(depth, 0.0, 0.0, 0.0);
+    if depth >= 1.0 || frame.frame_index == 0u {
+        return out;
+    }
+    let world = world_from_depth(px, depth);
+    let clip = frame.prev_view_proj * vec4<f32>(world, 1.0);
+    // Hazard: behind the previous camera (w ≤ 0): no history.
+    if clip.w <= 1e-6 {
+        return out;
+    }
+    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
+    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+        return out;
+    }
+    let q = vec2<i32>(uv * frame.resolution.xy);
+    let prev_d = textureLoad(gi_depth_prev, q, 0).x;
+    let seen = length(world - frame.camera_pos.xyz);
+    if prev_d >= 1.0 || length(prev_world(q, prev_d) - world) > params.reject * seen {
+        return out; // disoccluded: a different surface was there
+    }
+    let prev = textureLoad(gi_history_prev, q, 0);
+    let n = min(prev.a + 1.0, f32(max(params.frames, 1u)));
+    out.history = vec4<f32>(mix(prev.rgb, current, 1.0 / n), n);
+    return out;
+}
