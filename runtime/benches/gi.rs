@@ -1,0 +1,84 @@
+//! `cargo bench -p lightbench --bench gi`: seed 000 Table 7.1 on the adapter at hand, for
+//! what exists so far — frame time of `pipelines/deferred_gi.ron` with no indirect light
+//! (None) and with indirect diffuse (ID, the seed's fixed 200 samples), as a ratio to None
+//! beside the seed's published ratio; then `fixed` against `temporal` indirect diffuse: time
+//! per frame, ratio, and the temporal result's error to `fixed` after 32 frames. The Cornell
+//! box with a spot light at 128×128, every pass every frame. Needs a GPU adapter (lavapipe is
+//! enough). Not a test.
+
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::render::compile;
+use lightbench::scene::Scene;
+use std::path::Path;
+use std::time::Instant;
+
+const SCENE: &str = "Scene(
+    name: \"gi\",
+    size: (128, 128),
+    builtin: \"cornell\",
+    lights: [Spot(position: (0.0, 1.9, 0.3), direction: (0.0, -1.0, -0.1), inner: 40.0, outer: 60.0, intensity: 3.0, range: 8.0)],
+    effects: [Shadows, IndirectDiffuse],
+)
+";
+
+/// Mean ms per frame over `frames` frames, and the executor after them.
+fn frames(gpu: &Gpu, scene: &Scene, option: &str, frames: u32) -> (f64, Executor) {
+    let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred_gi.ron");
+    let v = [("indirect_diffuse".to_string(), option.to_string())];
+    let (exe, _) = compile(gpu, &pipeline, None, scene, &v).expect("compile");
+    let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
+    ex.set_reuse(false);
+    ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
+    let t = Instant::now();
+    for f in 1..=frames {
+        ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
+    }
+    (t.elapsed().as_secs_f64() * 1e3 / frames as f64, ex)
+}
+
+fn rmse(a: &[f32], b: &[f32]) -> f64 {
+    let sum: f64 = a
+        .chunks_exact(4)
+        .zip(b.chunks_exact(4))
+        .flat_map(|(p, q)| (0..3).map(move |c| ((p[c] - q[c]) as f64).powi(2)))
+        .sum();
+    (sum / (a.len() / 4 * 3).max(1) as f64).sqrt()
+}
+
+fn main() {
+    let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
+    println!("{}", gpu.describe());
+    let dir = std::env::temp_dir().join(format!("lightbench-bench-gi-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::write(dir.join("gi.ron"), SCENE).expect("scene");
+    let scene = lightbench::scene::load(dir.join("gi.ron").to_str().expect("path")).expect("scene");
+    let (none, _) = frames(&gpu, &scene, "off", 8);
+    let (fixed, fx) = frames(&gpu, &scene, "fixed", 8);
+    let (temporal, _) = frames(&gpu, &scene, "temporal", 8);
+    println!("Table 7.1 (the rows that exist: AO, IS are later issues), 128×128, Cornell box + spot light");
+    println!("  {:<12} {:>9} {:>10} {:>12}", "", "ms/frame", "× None", "seed × None");
+    println!("  {:<12} {none:>9.2} {:>10.2} {:>12}", "None", 1.0, "1.0");
+    println!("  {:<12} {fixed:>9.2} {:>10.2} {:>12}", "ID (fixed)", fixed / none, "≈ 2.5");
+    println!("  {:<12} {temporal:>9.2} {:>10.2} {:>12}", "ID (temporal)", temporal / none, "-");
+    let reference = fx.read_texture(&gpu, "gi.indirect", 0, 0).expect("read fixed");
+    let (_, tx) = frames(&gpu, &scene, "temporal", 32);
+    let acc = tx.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
+    let (_, one) = frames(&gpu, &scene, "temporal", 0);
+    let first = one.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
+    println!("fixed vs temporal indirect diffuse:");
+    println!(
+        "  time per frame: fixed {fixed:.2} ms, temporal {temporal:.2} ms, temporal is {:.2}× cheaper in total frame time",
+        fixed / temporal
+    );
+    println!(
+        "  the indirect diffuse part alone (frame time minus None): fixed {:.2} ms, temporal {:.2} ms, {:.1}× cheaper (goal: 10×)",
+        fixed - none,
+        temporal - none,
+        (fixed - none) / (temporal - none).max(1e-6)
+    );
+    println!(
+        "  RMSE to fixed: temporal after 1 frame {:.4}, after 32 frames {:.4}",
+        rmse(&first.rgba, &reference.rgba),
+        rmse(&acc.rgba, &reference.rgba)
+    );
+}
