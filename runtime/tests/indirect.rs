@@ -242,3 +242,126 @@ fn a_moving_camera_leaves_no_ghosts() {
     let never_rejects = rmse(&history_with(&moving, 16, 1.0), &reference);
     assert!(never_rejects.is_finite());
 }
+
+/// A mirror-like floor (metallic 1, roughness 0.02) with a red box standing on it, lit by
+/// a sun; calls for screen-space reflections.
+fn mirror_scene() -> Scene {
+    let scenes = root().join("scenes");
+    let text = format!(
+        "Scene(
+    name: \"mirror\",
+    size: (64, 64),
+    camera: (position: (0.0, 1.0, 3.0), pitch: -20.0, fov: 45.0, near: 0.05, far: 50.0),
+    models: [(path: \"{0}/mirror.gltf\"), (path: \"{0}/red_box.gltf\")],
+    lights: [Directional(direction: (0.3, -1.0, -0.4), intensity: 3.0)],
+    effects: [Shadows, Ssr],
+)
+",
+        scenes.display()
+    );
+    scene_from(&text, "mirror")
+}
+
+/// Does the ray from `o` along `d` hit the red box (0.5 × 1 × 0.5 on y = 0)? Slab test.
+fn hits_box(o: glam::Vec3, d: glam::Vec3) -> bool {
+    let (lo, hi) = (glam::Vec3::new(-0.25, 0.0, -0.25), glam::Vec3::new(0.25, 1.0, 0.25));
+    let inv = d.recip();
+    let (t0, t1) = ((lo - o) * inv, (hi - o) * inv);
+    let (tmin, tmax) = (t0.min(t1).max_element(), t0.max(t1).min_element());
+    tmax > tmin.max(0.0)
+}
+
+/// On the mirror floor, SSR hits exactly where the reflected view ray meets the box
+/// (intersection computed here), and brings the box's red there; the image gets brighter.
+#[test]
+fn ssr_shows_the_box_in_the_mirror_where_geometry_says() {
+    let g = gpu();
+    let scene = mirror_scene();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let ex = render_with(&g, &p, &scene, &[], 1);
+    let ssr = ex.read_texture(&g, "ssr.color", 0, 0).unwrap();
+    let depth = ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap();
+    let cam = &ex.scene().camera;
+    let inv = (cam.proj(1.0) * cam.view()).inverse();
+    let (mut agree, mut floor, mut predicted_hits) = (0, 0, 0);
+    for y in 0..64u32 {
+        for x in 0..64u32 {
+            let d = depth.pixel(x, y)[0];
+            if d >= 1.0 {
+                continue;
+            }
+            let ndc = glam::Vec4::new((x as f32 + 0.5) / 32.0 - 1.0, 1.0 - (y as f32 + 0.5) / 32.0, d, 1.0);
+            let w = inv * ndc;
+            let world = w.truncate() / w.w;
+            if world.y.abs() > 1e-3 || world.x.abs() < 0.3 && world.z.abs() < 0.3 {
+                continue; // not the open floor
+            }
+            floor += 1;
+            let view = (world - cam.position).normalize();
+            let r = glam::Vec3::new(view.x, -view.y, view.z);
+            let expected = hits_box(world, r);
+            let px = ssr.pixel(x, y);
+            let hit = px[3] > 0.5;
+            predicted_hits += expected as u32;
+            agree += (expected == hit) as u32;
+            if hit && expected {
+                assert!(px[0] > 2.0 * px[1], "the box's red at ({x}, {y}): {px:?}");
+            }
+        }
+    }
+    assert!(predicted_hits > 30, "{predicted_hits} floor pixels should reflect the box");
+    assert!(
+        agree as f32 > 0.95 * floor as f32,
+        "{agree} of {floor} floor pixels agree with the ray intersection"
+    );
+}
+
+/// A vertical mirror in front of the camera reflects a red wall *behind* the camera: the
+/// G-buffer cannot see it (SSR misses), the light's RSM can. The wall's red reaches the
+/// mirror only through the RSM fallback; `ssr.rsm.fallback=false` removes it.
+#[test]
+fn indirect_specular_falls_back_to_the_rsm_for_what_the_camera_cannot_see() {
+    let scenes = root().join("scenes");
+    let text = format!(
+        "Scene(
+    name: \"behind\",
+    size: (64, 64),
+    camera: (position: (0.0, 1.0, 3.0), fov: 45.0, near: 0.05, far: 50.0),
+    models: [
+        (path: \"{0}/mirror.gltf\", translation: (0.0, 1.0, -1.0), rotation: (0.0, 90.0, 0.0)),
+        (path: \"{0}/red_box.gltf\", translation: (0.0, 0.0, 5.0), scale: 4.0),
+    ],
+    lights: [Directional(direction: (0.0, -0.5, 1.0), intensity: 3.0)],
+    effects: [Shadows, Ssr],
+)
+",
+        scenes.display()
+    );
+    let scene = scene_from(&text, "behind");
+    let g = gpu();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let (exe, _) = lightbench::render::compile(&g, &p, None, &scene, &[]).unwrap();
+    let render = |fallback: bool| {
+        let params = [("ssr.rsm.fallback".to_string(), lightbench_compiler::ir::ParamValue::Bool(fallback))];
+        lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap()
+    };
+    let on = render(true);
+    let screen = on.read_texture(&g, "ssr.color", 0, 0).unwrap();
+    let fallback = on.read_texture(&g, "ssr.fallback", 0, 0).unwrap();
+    let centre = (32, 32);
+    assert_eq!(
+        screen.pixel(centre.0, centre.1)[3],
+        0.0,
+        "the G-buffer march misses (the wall is behind the camera)"
+    );
+    let f = fallback.pixel(centre.0, centre.1);
+    assert!(f[3] > 0.5 && f[0] > 3.0 * f[1], "the RSM march finds the red wall: {f:?}");
+    let hdr_on = on.read_texture(&g, "hdr", 0, 0).unwrap().pixel(centre.0, centre.1);
+    let off = render(false);
+    let hdr_off = off.read_texture(&g, "hdr", 0, 0).unwrap().pixel(centre.0, centre.1);
+    assert!(hdr_on[0] > 3.0 * hdr_on[1] && hdr_on[0] > 0.01, "the mirror shows red: {hdr_on:?}");
+    assert!(
+        hdr_off[0] < hdr_on[0] * 0.1,
+        "without the fallback the red is gone: {hdr_off:?} vs {hdr_on:?}"
+    );
+}

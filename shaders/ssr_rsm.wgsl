@@ -1,0 +1,60 @@
+// Indirect specular, RSM fallback (seed 000 §4.3.1, §6.3.1, after Sousa et al.): where the
+// screen-space march found nothing (w = 0 in `ssr.color`), the same reflected ray is marched
+// through this light's reflective shadow map, which sees what the camera cannot (a wall
+// behind the camera, Fig. 6.15). A hit is where the ray passes just behind the surface the
+// light sees (within `thickness`, world units); the reflected light is that surface's
+// outgoing diffuse radiance, flux / π. Per light, added up; the seed's b (fallback only on
+// a G-buffer miss) is the w test here. `fallback` off writes nothing.
+#include "lib/frame.wgsl"
+#include "lib/gbuffer.wgsl"
+
+struct Params {
+    step: f32,
+    max_steps: u32,
+    thickness: f32,
+    fallback: u32,
+};
+
+@group(2) @binding(3) var ssr_color: texture_2d<f32>;
+@group(2) @binding(4) var rsm_position: texture_2d<f32>;
+@group(2) @binding(5) var rsm_flux: texture_2d<f32>;
+@group(2) @binding(6) var<uniform> params: Params;
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(frag.xy);
+    if params.fallback == 0u || textureLoad(ssr_color, px, 0).w > 0.0 {
+        return vec4<f32>(0.0);
+    }
+    let s = load_surface(px);
+    if !s.covered {
+        return vec4<f32>(0.0);
+    }
+    let l = lights[instance.light];
+    let size = vec2<f32>(textureDimensions(rsm_flux, 0));
+    let dir = reflect(-s.v, s.n);
+    var pos = s.world + s.n * params.step * 0.5;
+    for (var i = 0u; i < params.max_steps; i++) {
+        pos += dir * params.step;
+        let clip = l.view_proj * vec4<f32>(pos, 1.0);
+        // Hazard: behind a spot light (w ≤ 0) the map has nothing.
+        if clip.w <= 1e-6 {
+            continue;
+        }
+        let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
+        if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+            continue;
+        }
+        let t = vec2<i32>(uv * size);
+        let seen = textureLoad(rsm_position, t, 0);
+        if seen.w == 0.0 {
+            continue;
+        }
+        let seen_clip = l.view_proj * vec4<f32>(seen.xyz, 1.0);
+        let behind = clip.z / clip.w > seen_clip.z / max(seen_clip.w, 1e-6);
+        if behind && length(pos - seen.xyz) < params.thickness {
+            return vec4<f32>(textureLoad(rsm_flux, t, 0).rgb / 3.14159265, 1.0);
+        }
+    }
+    return vec4<f32>(0.0);
+}
