@@ -1,7 +1,7 @@
 //! `cargo bench -p lightbench --bench gi`: seed 000 Table 7.1 on the adapter at hand, for
 //! what exists so far — frame time of `pipelines/deferred_gi.ron` with no indirect light
-//! (None) and with indirect diffuse (ID, the seed's fixed 200 samples), as a ratio to None
-//! beside the seed's published ratio; then `fixed` against `temporal` indirect diffuse: time
+//! (None), indirect specular (IS: SSR with the RSM fallback), indirect diffuse (ID, the
+//! seed's fixed 200 samples) and both, as a ratio to None beside the seed's published ratio; then `fixed` against `temporal` indirect diffuse: time
 //! per frame, ratio, and the temporal result's error to `fixed` after 32 frames. The Cornell
 //! box with a spot light at 128×128, every pass every frame. Needs a GPU adapter (lavapipe is
 //! enough). Not a test.
@@ -26,7 +26,11 @@ fn frames(gpu: &Gpu, scene: &Scene, option: &str, frames: u32) -> (f64, Executor
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred_gi.ron");
     let v = [("indirect_diffuse".to_string(), option.to_string())];
     let (exe, _) = compile(gpu, &pipeline, None, scene, &v).expect("compile");
-    let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
+    run(gpu, &exe, scene, frames)
+}
+
+fn run(gpu: &Gpu, exe: &lightbench_compiler::Executable, scene: &Scene, frames: u32) -> (f64, Executor) {
+    let mut ex = Executor::new(gpu, exe, scene).expect("executor");
     ex.set_reuse(false);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
     let t = Instant::now();
@@ -55,11 +59,24 @@ fn main() {
     let (none, _) = frames(&gpu, &scene, "off", 8);
     let (fixed, fx) = frames(&gpu, &scene, "fixed", 8);
     let (temporal, _) = frames(&gpu, &scene, "temporal", 8);
-    println!("Table 7.1 (the rows that exist: AO, IS are later issues), 128×128, Cornell box + spot light");
-    println!("  {:<12} {:>9} {:>10} {:>12}", "", "ms/frame", "× None", "seed × None");
-    println!("  {:<12} {none:>9.2} {:>10.2} {:>12}", "None", 1.0, "1.0");
-    println!("  {:<12} {fixed:>9.2} {:>10.2} {:>12}", "ID (fixed)", fixed / none, "≈ 2.5");
-    println!("  {:<12} {temporal:>9.2} {:>10.2} {:>12}", "ID (temporal)", temporal / none, "-");
+    // Indirect specular: the same scene calling for SSR too.
+    let with_ssr = SCENE.replace("effects: [Shadows, IndirectDiffuse]", "effects: [Shadows, IndirectDiffuse, Ssr]");
+    std::fs::write(dir.join("is.ron"), with_ssr).expect("scene");
+    let is_scene = lightbench::scene::load(dir.join("is.ron").to_str().expect("path")).expect("scene");
+    let (is, _) = frames(&gpu, &is_scene, "off", 8);
+    let (is_id, _) = frames(&gpu, &is_scene, "fixed", 8);
+    println!("Table 7.1 (the rows without AO, which is a later issue), 128×128, Cornell box + spot light");
+    println!("  {:<14} {:>9} {:>10}", "", "ms/frame", "× None");
+    for (name, ms) in [
+        ("None", none),
+        ("IS", is),
+        ("ID (fixed)", fixed),
+        ("IS+ID (fixed)", is_id),
+        ("ID (temporal)", temporal),
+    ] {
+        println!("  {name:<14} {ms:>9.2} {:>10.2}", ms / none);
+    }
+    println!("  (the seed, on a GPU: ID ≈ 2.5× None)");
     let reference = fx.read_texture(&gpu, "gi.indirect", 0, 0).expect("read fixed");
     let (_, tx) = frames(&gpu, &scene, "temporal", 32);
     let acc = tx.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
