@@ -365,3 +365,26 @@ fn indirect_specular_falls_back_to_the_rsm_for_what_the_camera_cannot_see() {
         "without the fallback the red is gone: {hdr_off:?} vs {hdr_on:?}"
     );
 }
+
+/// Every combination of `deferred_gi.ron`'s options (`--variants all`) stays finite and in
+/// range on the hazards that matter most to it: a light exactly on a surface, a spot light
+/// pointing straight down, a grazing mirror-like floor.
+#[test]
+fn every_combination_stays_finite_on_the_worst_cases() {
+    let hard = root().join("scenes/hard");
+    let scenes: Vec<String> = ["point_on_surface.ron", "spot_down.ron", "mirror_floor.ron"]
+        .iter()
+        .map(|f| hard.join(f).display().to_string())
+        .collect();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let mut args = vec!["verify", p.to_str().unwrap(), "--variants", "all", "--size", "24x24", "--scenes"];
+    args.extend(scenes.iter().map(String::as_str));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(&args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains(": 0 with problems"), "{text}");
+}
