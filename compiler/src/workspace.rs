@@ -5,7 +5,7 @@
 use crate::check::{self, Checked};
 use crate::diag::{Code, Diagnostic, Diagnostics, Severity};
 use crate::ir::Pipeline;
-use crate::plan::{self, Config, Plan};
+use crate::plan::{self, Config, ParamValues, Plan};
 use crate::profile::Profile;
 use crate::scene::SceneFeatures;
 use crate::shader::{ModuleCache, ShaderLoader, ShaderModule};
@@ -239,11 +239,27 @@ impl Session {
 
     /// Plan one configuration. `None` when it has errors (they are in `diags`).
     pub fn plan(&mut self, checked: &Checked, profile: &Profile, scene: &SceneFeatures, variants: &[(String, String)]) -> Option<Plan> {
+        self.plan_with(checked, (profile, scene), variants, &ParamValues::new())
+    }
+
+    /// `plan` with parameter overrides that size resources (`size: Param(..)`).
+    pub fn plan_with(
+        &mut self,
+        checked: &Checked,
+        (profile, scene): (&Profile, &SceneFeatures),
+        variants: &[(String, String)],
+        params: &ParamValues,
+    ) -> Option<Plan> {
         if self.diags.has_errors() {
             return None;
         }
         let selection = plan::select(&checked.pipeline, profile, variants, &mut self.diags)?;
-        let cfg = Config { profile, scene, selection };
+        let cfg = Config {
+            profile,
+            scene,
+            selection,
+            params,
+        };
         plan::build_plan(checked, &cfg, &mut self.diags)
     }
 
@@ -289,7 +305,13 @@ impl Session {
                     continue;
                 }
                 seen.push(selection.chosen.clone());
-                let cfg = Config { profile, scene, selection };
+                let none = ParamValues::new();
+                let cfg = Config {
+                    profile,
+                    scene,
+                    selection,
+                    params: &none,
+                };
                 // The whole Plan, so that what only sizing reveals (extents, mips) fails here.
                 plan::build_plan(checked, &cfg, &mut self.diags);
             }
@@ -338,8 +360,20 @@ impl Session {
         scene: &SceneFeatures,
         variants: &[(String, String)],
     ) -> Option<Executable> {
+        self.executable_with(path, shader_root, (profile, scene), variants, &ParamValues::new())
+    }
+
+    /// `executable` with parameter overrides that size resources (`size: Param(..)`).
+    pub fn executable_with(
+        &mut self,
+        path: &Path,
+        shader_root: Option<&Path>,
+        (profile, scene): (&Profile, &SceneFeatures),
+        variants: &[(String, String)],
+        params: &ParamValues,
+    ) -> Option<Executable> {
         let checked = self.load_checked(path, shader_root, profile)?;
-        let plan = self.plan(&checked, profile, scene, variants)?;
+        let plan = self.plan_with(&checked, (profile, scene), variants, params)?;
         let chosen: BTreeMap<String, String> = plan.variants.iter().map(|v| (v.variant.clone(), v.option.clone())).collect();
         let mut modules = vec![];
         for pp in &plan.passes {

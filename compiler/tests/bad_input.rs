@@ -1230,3 +1230,28 @@ fn a_problem_repeated_per_pass_is_reported_once() {
     let f = out.session.sources.get(also.span.file);
     assert_eq!(f.line_col(also.span.start as usize).0, 18, "{}", out.dump());
 }
+
+/// A texture sized by a parameter needs an Int parameter whose range keeps it plannable.
+#[test]
+fn texture_sized_by_a_parameter_without_a_range() {
+    expect(
+        Case {
+            pipeline: &[
+                (
+                    "\"post.exposure\": Float(default: 1.0, min: 0.0, max: 8.0),",
+                    "\"post.exposure\": Float(default: 1.0, min: 0.0, max: 8.0),\n        \"tile\": Int(default: 64),",
+                ),
+                (
+                    "\"color\": Texture(format: Rgba16Float),",
+                    "\"color\": Texture(format: Rgba16Float),\n        \"tiles\": Texture(format: Rgba16Float, size: Param(\"tile\")),",
+                ),
+            ],
+            ..BASE
+        },
+        "value-out-of-range",
+        "`tiles` is sized by `tile`: give it a range within 1..",
+        "pipelines/p.ron",
+        12,
+        53,
+    );
+}

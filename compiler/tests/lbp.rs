@@ -378,7 +378,8 @@ mod generated {
             proptest::sample::select(TextureFormat::ALL.to_vec()),
             prop_oneof![
                 (1u32..5000, 1u32..5000).prop_map(|(w, h)| SizeSpec::Fixed { width: w, height: h }),
-                (1u32..64).prop_map(|s| SizeSpec::Viewport { scale: s as f64 / 4.0 })
+                (1u32..64).prop_map(|s| SizeSpec::Viewport { scale: s as f64 / 4.0 }),
+                name().prop_map(SizeSpec::Param)
             ],
             1u32..300,
             proptest::sample::select(vec![ViewDim::D2, ViewDim::D2Array, ViewDim::Cube]),

@@ -5,6 +5,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Executor, Gpu};
 use crate::scene::Scene;
 use lightbench_compiler::ir::ParamValue;
+use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::{Executable, Workspace};
 use std::path::Path;
 
@@ -19,8 +20,21 @@ pub fn compile_in(
     scene: &Scene,
     variants: &[(String, String)],
 ) -> Result<(Executable, String)> {
+    compile_with(ws, gpu, (pipeline, shader_root), scene, variants, &ParamValues::new())
+}
+
+/// `compile_in` with parameter overrides, which size resources declared `size: Param(..)`.
+pub fn compile_with(
+    ws: &Workspace,
+    gpu: &Gpu,
+    (pipeline, shader_root): (&Path, Option<&Path>),
+    scene: &Scene,
+    variants: &[(String, String)],
+    params: &ParamValues,
+) -> Result<(Executable, String)> {
     let mut s = ws.session();
-    let exe = s.executable(pipeline, shader_root, &gpu.profile, &scene.features(), variants);
+    let features = scene.features();
+    let exe = s.executable_with(pipeline, shader_root, (&gpu.profile, &features), variants, params);
     let report = s.render();
     match exe {
         Some(e) => Ok((e, report)),
@@ -74,6 +88,15 @@ pub fn render_scene(
         ex.render_frame(gpu, &inputs)?;
     }
     Ok(ex)
+}
+
+/// Parsed `--param` values as overrides (for planning: sizes may depend on them).
+pub fn param_values(plan: &lightbench_compiler::plan::Plan, parsed: &[(String, ParamValue)]) -> Result<ParamValues> {
+    let mut v = ParamValues::new();
+    for (name, value) in parsed {
+        v.set(&plan.params, name, value.clone())?;
+    }
+    Ok(v)
 }
 
 /// `--param NAME=VALUE` texts as typed values of the Plan's parameters (unknown names get a

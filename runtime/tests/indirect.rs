@@ -388,3 +388,44 @@ fn every_combination_stays_finite_on_the_worst_cases() {
     assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.contains(": 0 with problems"), "{text}");
 }
+
+/// The RSM size is a parameter (`rsm.size`, seed: 2048): `--param` plans the maps at that
+/// size; a running executor refuses to change it without a new Plan.
+#[test]
+fn the_rsm_size_is_a_parameter() {
+    let d = std::env::temp_dir().join(format!("lightbench-gi-size-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("s.ron"), SCENE).unwrap();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let (s, out, dump) = (d.join("s.ron"), d.join("o.png"), d.join("dump"));
+    let args = [
+        "render",
+        "--pipeline",
+        p.to_str().unwrap(),
+        "--scene",
+        s.to_str().unwrap(),
+        "--param",
+        "rsm.size=64",
+        "--out",
+        out.to_str().unwrap(),
+        "--dump",
+        "rsm.flux",
+        "--dump-dir",
+        dump.to_str().unwrap(),
+    ];
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let flux = image::open(dump.join("rsm.flux.light0.exr")).unwrap();
+    assert_eq!((flux.width(), flux.height()), (64, 64));
+    let (mut ex, _g) = render(&[], 1);
+    let e = ex
+        .set_param("rsm.size", lightbench_compiler::ir::ParamValue::Int(512))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("parameter `rsm.size` sizes resources (this Plan uses 256)"), "{e}");
+    ex.set_param("rsm.size", lightbench_compiler::ir::ParamValue::Int(256)).unwrap();
+}

@@ -41,16 +41,23 @@ pub enum SizeSpec {
         width: u32,
         height: u32,
     },
+    /// Square, as many texels each way as the Int parameter says (e.g. an RSM's size).
+    Param(String),
 }
 
 impl SizeSpec {
-    pub fn resolve(&self, viewport: (u32, u32)) -> (u32, u32) {
-        match *self {
+    /// The size at this viewport, with `param` giving Int parameters' values.
+    pub fn resolve(&self, viewport: (u32, u32), param: &dyn Fn(&str) -> Option<u32>) -> (u32, u32) {
+        match self {
             SizeSpec::Viewport { scale } => (
                 ((viewport.0 as f64 * scale).round() as u32).max(1),
                 ((viewport.1 as f64 * scale).round() as u32).max(1),
             ),
-            SizeSpec::Fixed { width, height } => (width, height),
+            SizeSpec::Fixed { width, height } => (*width, *height),
+            SizeSpec::Param(name) => {
+                let n = param(name).unwrap_or(1).max(1);
+                (n, n)
+            }
         }
     }
     pub fn describe(&self) -> String {
@@ -58,6 +65,7 @@ impl SizeSpec {
             SizeSpec::Viewport { scale } if *scale == 1.0 => "viewport".into(),
             SizeSpec::Viewport { scale } => format!("viewport × {scale}"),
             SizeSpec::Fixed { width, height } => format!("{width}×{height}"),
+            SizeSpec::Param(name) => format!("{name}²"),
         }
     }
 }

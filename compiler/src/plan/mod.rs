@@ -34,6 +34,23 @@ pub struct Config<'a> {
     pub profile: &'a Profile,
     pub scene: &'a SceneFeatures,
     pub selection: Selection,
+    /// Parameter overrides that size resources (`size: Param(..)`); the rest use defaults.
+    pub params: &'a ParamValues,
+}
+
+impl Config<'_> {
+    /// A texture's extent in this configuration.
+    pub fn extent(&self, p: &crate::ir::Pipeline, size: &SizeSpec) -> (u32, u32) {
+        let param = |name: &str| {
+            let prm = p.param(name)?;
+            let v = self.params.get(name).unwrap_or(&prm.default.value);
+            match v {
+                ParamValue::Int(i) => u32::try_from(*i).ok(),
+                _ => None,
+            }
+        };
+        size.resolve(self.scene.size, &param)
+    }
 }
 
 /// The kept passes in execution order: index into the pipeline's passes, and the version
@@ -312,6 +329,10 @@ pub struct PlanParam {
     pub min: Option<ParamValue>,
     pub max: Option<ParamValue>,
     pub doc: Option<String>,
+    /// For a parameter that sizes resources (`size: Param(..)`): the value this Plan sized
+    /// them with. Another value needs another Plan.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sizes: Option<ParamValue>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -8,7 +8,12 @@ use crate::ir::{out_of_range, Param, ParamType, ParamValue};
 use crate::layout::{FieldSource, FieldType, UniformBlock};
 use std::collections::BTreeMap;
 
-pub fn plan_param(p: &Param) -> PlanParam {
+pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, overrides: &ParamValues) -> PlanParam {
+    let sizes = pipeline
+        .resources
+        .iter()
+        .filter_map(|r| r.texture())
+        .any(|t| matches!(&t.size.value, crate::ir::SizeSpec::Param(n) if *n == p.name.value));
     PlanParam {
         name: p.name.value.clone(),
         ty: p.ty.value.clone(),
@@ -16,6 +21,7 @@ pub fn plan_param(p: &Param) -> PlanParam {
         min: p.min.as_ref().map(|m| m.value.clone()),
         max: p.max.as_ref().map(|m| m.value.clone()),
         doc: p.doc.clone(),
+        sizes: sizes.then(|| overrides.get(&p.name.value).unwrap_or(&p.default.value).clone()),
     }
 }
 
@@ -189,6 +195,7 @@ mod tests {
             min: Some(ParamValue::Float(0.0)),
             max: None,
             doc: None,
+            sizes: None,
         }
     }
 

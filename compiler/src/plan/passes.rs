@@ -103,7 +103,7 @@ fn work(p: &Pipeline, cfg: &Config, pass: &Pass, version: &PassVersion, ids: &Id
             let (groups, sized_from) = match &c.dispatch.value {
                 // One invocation per texel: workgroups to cover the resource at this resolution.
                 Dispatch::Size(r) => {
-                    let extent = p.resource(r)?.texture()?.size.value.resolve(cfg.scene.size);
+                    let extent = cfg.extent(p, &p.resource(r)?.texture()?.size.value);
                     (
                         [extent.0.div_ceil(wg[0].max(1)), extent.1.div_ceil(wg[1].max(1)), 1],
                         Some(ids.res(r)?),

@@ -12,7 +12,7 @@ pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResourc
         .iter()
         .filter_map(|r| {
             let usage = usage(p, r, kept)?;
-            let mut pr = plan_resource(r, cfg, usage);
+            let mut pr = plan_resource(p, r, cfg, usage);
             if let ResourceShape::Buffer { words, .. } = &mut pr.shape {
                 *words = buffer_words(r, kept);
             }
@@ -98,7 +98,7 @@ fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
     touched.then_some(usage)
 }
 
-fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
+fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
     let per_light = r.per_light().map(|k| k.value.clone()).unwrap_or_default();
     let instances = if per_light.is_empty() {
         1
@@ -108,7 +108,7 @@ fn plan_resource(r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanReso
     let copies = if r.history() { 2 } else { 1 };
     let (shape, one) = match &r.kind {
         ResourceKind::Texture(t) => {
-            let extent = t.size.value.resolve(cfg.scene.size);
+            let extent = cfg.extent(p, &t.size.value);
             let texel = t.format.value.bytes() as u64;
             let per_layer: u64 = (0..t.mips.value)
                 .map(|m| ((extent.0 >> m).max(1) as u64) * ((extent.1 >> m).max(1) as u64) * texel)

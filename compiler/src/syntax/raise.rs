@@ -100,6 +100,7 @@ fn size(s: &SizeSpec, span: Span) -> Node {
     match s {
         SizeSpec::Viewport { scale } if *scale == 1.0 => Node::ident("Viewport", span),
         SizeSpec::Viewport { scale } => Node::call("Viewport", vec![Node::float(*scale, span)], span),
+        SizeSpec::Param(name) => Node::call("Param", vec![Node::str(name, span)], span),
         SizeSpec::Fixed { width, height } => {
             Node::call("Fixed", vec![Node::int(*width as i64, span), Node::int(*height as i64, span)], span)
         }

@@ -110,6 +110,18 @@ pub fn run(a: Args) -> i32 {
     let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
     super::check::emit(&s, Format::Human);
     let Some(mut plan) = plan else { return EXIT_ERRORS };
+    // Parameters may size resources (`size: Param(..)`): plan again with them.
+    if !params.is_empty() {
+        let values = match crate::render::parse_params(&plan, &params).and_then(|p| crate::render::param_values(&plan, &p)) {
+            Ok(v) => v,
+            Err(e) => return usage_error(e),
+        };
+        let mut s2 = Session::new();
+        let exe = s2.executable_with(&a.file, a.shaders.as_deref(), (&profile, &scene), &variants, &values);
+        super::check::emit(&s2, Format::Human);
+        let Some(exe) = exe else { return EXIT_ERRORS };
+        plan = exe.plan;
+    }
     if let Err(e) = set_params(&mut plan, &params) {
         return usage_error(e);
     }

@@ -125,8 +125,15 @@ fn execute(
         adapter: a.adapter.clone(),
     })?;
     eprintln!("{}", gpu.describe());
-    let (exe, warnings) = compile(&gpu, &a.pipeline, a.shaders.as_deref(), &scene, variants)?;
+    let (mut exe, warnings) = compile(&gpu, &a.pipeline, a.shaders.as_deref(), &scene, variants)?;
     eprint!("{warnings}");
+    let parsed = parse_params(&exe.plan, params)?;
+    if !parsed.is_empty() {
+        // Parameters may size resources (`size: Param(..)`): plan again with them.
+        let values = crate::render::param_values(&exe.plan, &parsed)?;
+        let ws = lightbench_compiler::Workspace::disk();
+        exe = crate::render::compile_with(&ws, &gpu, (&a.pipeline, a.shaders.as_deref()), &scene, variants, &values)?.0;
+    }
     for v in &exe.plan.variants {
         if let Some(r) = &v.reason {
             eprintln!("variant {} = {} ({r})", v.variant, v.option);
@@ -134,7 +141,7 @@ fn execute(
     }
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
-    let params = parse_params(&exe.plan, params)?;
+    let params = parsed;
     // The scene is handed over: its textures are dropped once uploaded.
     let ex = render_scene(&gpu, &exe, scene, (a.frames, !a.no_reuse), &params, inputs)?;
     save_output(a, &gpu, &ex, &exe)?;

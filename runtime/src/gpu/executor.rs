@@ -252,6 +252,22 @@ impl Executor {
 
     /// Override a parameter for the following frames (checked against the running Plan).
     pub fn set_param(&mut self, name: &str, value: ParamValue) -> Result<()> {
+        // A parameter that sizes resources needs a Plan sized for the new value.
+        if let Some(sized) = self
+            .state
+            .plan
+            .params
+            .iter()
+            .find(|p| p.name == name)
+            .and_then(|p| p.sizes.as_ref())
+        {
+            if *sized != value {
+                return Err(Error::Usage(format!(
+                    "parameter `{name}` sizes resources (this Plan uses {}): plan again with the new value (render --param, or Executor::replace with an Executable compiled for it)",
+                    sized.describe()
+                )));
+            }
+        }
         self.inputs.params.set(&self.state.plan.params, name, value)?;
         Ok(())
     }

@@ -10,7 +10,7 @@ pub(super) fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics
     for r in &p.resources {
         match &r.kind {
             ResourceKind::Texture(t) => {
-                size(r, t, profile, diags);
+                size(p, r, t, profile, diags);
                 layers(r, t, profile, diags);
                 mips(r, t, diags);
             }
@@ -63,7 +63,7 @@ pub(super) fn empty_kinds(k: &Spanned<Vec<LightKind>>, diags: &mut Diagnostics) 
     }
 }
 
-fn size(r: &Resource, t: &TextureDesc, profile: &Profile, diags: &mut Diagnostics) {
+fn size(p: &Pipeline, r: &Resource, t: &TextureDesc, profile: &Profile, diags: &mut Diagnostics) {
     let err = |msg: String| Diagnostic::error(Code::ValueOutOfRange, msg, t.size.span);
     match t.size.value {
         SizeSpec::Viewport { scale } if !(scale > 0.0 && scale <= 16.0) => {
@@ -90,6 +90,33 @@ fn size(r: &Resource, t: &TextureDesc, profile: &Profile, diags: &mut Diagnostic
             }
         }
         SizeSpec::Viewport { .. } => {}
+        SizeSpec::Param(ref name) => size_param(p, r, t, name, profile, diags),
+    }
+}
+
+/// `size: Param("name")`: an Int parameter whose range keeps the size within 1 and the
+/// profile's texture limit, so that every value `--param` accepts plans.
+fn size_param(p: &Pipeline, r: &Resource, t: &TextureDesc, name: &str, profile: &Profile, diags: &mut Diagnostics) {
+    let max = profile.limits.max_texture_dimension_2d as f64;
+    let why = match p.param(name) {
+        None => Some(format!("`{}` is sized by parameter `{name}`, which is not declared", r.name.value)),
+        Some(prm) if prm.ty.value != ParamType::Int => {
+            Some(format!("`{}` is sized by `{name}`, which must be an Int parameter", r.name.value))
+        }
+        Some(prm) => {
+            let lo = prm.min.as_ref().and_then(|m| m.as_floats().first().copied());
+            let hi = prm.max.as_ref().and_then(|m| m.as_floats().first().copied());
+            match (lo, hi) {
+                (Some(lo), Some(hi)) if lo >= 1.0 && hi <= max => None,
+                _ => Some(format!(
+                    "`{}` is sized by `{name}`: give it a range within 1..{max} (`min` and `max`), the profile's texture limit",
+                    r.name.value
+                )),
+            }
+        }
+    };
+    if let Some(msg) = why {
+        diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, t.size.span));
     }
 }
 

@@ -332,6 +332,7 @@ impl Builder<'_> {
                 let (w, h) = (self.uint(&d.next()?)?, self.uint(&d.next()?)?);
                 Node::call("Fixed", vec![w, h], size_span)
             }
+            Rule::param_size => Node::call("Param", vec![self.name(kids(s).next()?)?], size_span),
             _ => match kids(s).next() {
                 None => Node::ident("Viewport", size_span),
                 Some(n) => Node::call("Viewport", vec![self.number(&n)?], size_span),

@@ -196,6 +196,7 @@ fn sampler(k: &Node, v: &Node) -> String {
 fn size(n: &Node) -> String {
     match n.name() {
         Some("Fixed") => format!("{}x{}", value(&items(n)[0]), value(&items(n)[1])),
+        Some("Param") => format!("param({})", name(items(n).first().map(text).unwrap_or(""))),
         _ if items(n).len() == 1 => format!("viewport*{}", value(&items(n)[0])),
         _ => "viewport".to_string(),
     }

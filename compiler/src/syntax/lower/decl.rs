@@ -214,7 +214,8 @@ impl Lowerer<'_> {
                 width: self.u32(&items[0])?.value,
                 height: self.u32(&items[1])?.value,
             },
-            _ => return self.type_err("`Viewport`, `Viewport(scale)` or `Fixed(width, height)`", n),
+            (Value::Tuple { items, .. }, Some("Param")) if items.len() == 1 => SizeSpec::Param(self.string(&items[0])?.value),
+            _ => return self.type_err("`Viewport`, `Viewport(scale)`, `Fixed(width, height)` or `Param(\"name\")`", n),
         };
         Some(Spanned::new(s, n.span))
     }
