@@ -3,8 +3,10 @@
 // through this light's reflective shadow map, which sees what the camera cannot (a wall
 // behind the camera, Fig. 6.15). A hit is where the ray passes just behind the surface the
 // light sees (within `thickness`, world units); the reflected light is that surface's
-// outgoing diffuse radiance, flux / π. Per light, added up; the seed's b (fallback only on
-// a G-buffer miss) is the w test here. `fallback` off writes nothing.
+// outgoing diffuse radiance, flux / π. As the seed does, it counts only where the receiver
+// itself is lit by this light (its (1 - shadow) factor): the light's RSM must see the
+// receiver there. Per light, added up; the seed's b (fallback only on a G-buffer miss) is the
+// w test here. `fallback` off writes nothing.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
 
@@ -20,6 +22,21 @@ struct Params {
 @group(2) @binding(5) var rsm_flux: texture_2d<f32>;
 @group(2) @binding(6) var<uniform> params: Params;
 
+// Does the light see `p` (the receiver's shadow term from its RSM)? Within `thickness` of the
+// surface its map holds there.
+fn lit(l: Light, p: vec3<f32>, size: vec2<f32>) -> bool {
+    let clip = l.view_proj * vec4<f32>(p, 1.0);
+    if clip.w <= 1e-6 {
+        return false;
+    }
+    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
+    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+        return false;
+    }
+    let seen = textureLoad(rsm_position, vec2<i32>(uv * size), 0);
+    return seen.w > 0.0 && length(seen.xyz - p) < params.thickness;
+}
+
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);
@@ -32,6 +49,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let l = lights[instance.light];
     let size = vec2<f32>(textureDimensions(rsm_flux, 0));
+    if !lit(l, s.world, size) {
+        return vec4<f32>(0.0);
+    }
     let dir = reflect(-s.v, s.n);
     var pos = s.world + s.n * params.step * 0.5;
     for (var i = 0u; i < params.max_steps; i++) {

@@ -318,7 +318,8 @@ fn ssr_shows_the_box_in_the_mirror_where_geometry_says() {
 
 /// A vertical mirror in front of the camera reflects a red wall *behind* the camera: the
 /// G-buffer cannot see it (SSR misses), the light's RSM can. The wall's red reaches the
-/// mirror only through the RSM fallback; `ssr.rsm.fallback=false` removes it.
+/// mirror only through the RSM fallback; `ssr.rsm.fallback=false` removes it. A wide spot
+/// light between them lights both (the fallback counts only on receivers the light sees).
 #[test]
 fn indirect_specular_falls_back_to_the_rsm_for_what_the_camera_cannot_see() {
     let scenes = root().join("scenes");
@@ -331,7 +332,7 @@ fn indirect_specular_falls_back_to_the_rsm_for_what_the_camera_cannot_see() {
         (path: \"{0}/mirror.gltf\", translation: (0.0, 1.0, -1.0), rotation: (0.0, 90.0, 0.0)),
         (path: \"{0}/red_box.gltf\", translation: (0.0, 0.0, 5.0), scale: 4.0),
     ],
-    lights: [Directional(direction: (0.0, -0.5, 1.0), intensity: 3.0)],
+    lights: [Spot(position: (0.0, 3.0, 1.5), direction: (0.0, -1.0, 0.0), inner: 70.0, outer: 80.0, intensity: 20.0, range: 30.0)],
     effects: [Shadows, Ssr],
 )
 ",
@@ -364,6 +365,19 @@ fn indirect_specular_falls_back_to_the_rsm_for_what_the_camera_cannot_see() {
         hdr_off[0] < hdr_on[0] * 0.1,
         "without the fallback the red is gone: {hdr_off:?} vs {hdr_on:?}"
     );
+    drop((on, off));
+    // The receiver's shadow term: a sun that lights the wall but not the mirror's face (it
+    // shines from behind the mirror) gives the mirror nothing through the fallback.
+    let sun = text.replace(
+        "Spot(position: (0.0, 3.0, 1.5), direction: (0.0, -1.0, 0.0), inner: 70.0, outer: 80.0, intensity: 20.0, range: 30.0)",
+        "Directional(direction: (0.0, -0.5, 1.0), intensity: 3.0)",
+    );
+    assert_ne!(sun, text);
+    let unlit = scene_from(&sun, "behind-sun");
+    let (exe, _) = lightbench::render::compile(&g, &p, None, &unlit, &[]).unwrap();
+    let ex = lightbench::render::render(&g, &exe, &unlit, 1).unwrap();
+    let f = ex.read_texture(&g, "ssr.fallback", 0, 0).unwrap().pixel(centre.0, centre.1);
+    assert_eq!(f[3], 0.0, "an unlit receiver gets no RSM reflection: {f:?}");
 }
 
 /// Every combination of `deferred_gi.ron`'s options (`--variants all`) stays finite and in
