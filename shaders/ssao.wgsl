@@ -1,0 +1,60 @@
+// Screen-space ambient occlusion (seed 000 §4.2.3, §6.2.3; seed 003 §4.6.3): `samples` points
+// of a hemisphere kernel (a data resource, scaled towards the centre) around each surface,
+// oriented by its normal and turned by a 4×4 tiled rotation (a data resource), projected to
+// the screen; a point is occluded when the surface the camera sees there is nearer than it
+// by more than `bias`, counted with the range check smoothstep(0, 1, radius / |difference|).
+// Output: 1 unoccluded … 0 fully occluded. World-space positions from depth (the seed works
+// in view space; the test is the same).
+#include "lib/frame.wgsl"
+#include "lib/gbuffer.wgsl"
+
+struct Params {
+    radius: f32,
+    samples: u32,
+    bias: f32,
+};
+
+@group(2) @binding(3) var<storage, read> ssao_kernel: array<vec4<f32>>;
+@group(2) @binding(4) var<storage, read> ssao_noise: array<vec2<f32>>;
+@group(2) @binding(5) var<uniform> params: Params;
+
+@fragment
+fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(frag.xy);
+    let s = load_surface(px);
+    if !s.covered {
+        return vec4<f32>(1.0);
+    }
+    let r = ssao_noise[u32(px.x % 4 + (px.y % 4) * 4)];
+    // A tangent frame around the normal, turned by the tile's rotation.
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(s.n.x) > 0.9);
+    let t0 = normalize(cross(helper, s.n));
+    let b0 = cross(s.n, t0);
+    let t = t0 * r.x + b0 * r.y;
+    let b = cross(s.n, t);
+    let n = min(params.samples, arrayLength(&ssao_kernel));
+    var occluded = 0.0;
+    for (var i = 0u; i < n; i++) {
+        let k = ssao_kernel[i].xyz;
+        let p = s.world + (t * k.x + b * k.y + s.n * k.z) * params.radius;
+        let clip = frame.view_proj * vec4<f32>(p, 1.0);
+        if clip.w <= 1e-6 {
+            continue; // Hazard: behind the camera.
+        }
+        let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
+        if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
+            continue;
+        }
+        let q = vec2<i32>(uv * frame.resolution.xy);
+        let d = textureLoad(gbuf_depth, q, 0).x;
+        if d >= 1.0 {
+            continue;
+        }
+        let seen = world_from_depth(q, d);
+        let nearer = length(p - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz);
+        if nearer > params.bias {
+            occluded += smoothstep(0.0, 1.0, params.radius / max(length(seen - p), 1e-6));
+        }
+    }
+    return vec4<f32>(1.0 - occluded / f32(max(n, 1u)));
+}
