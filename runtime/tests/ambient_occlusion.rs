@@ -103,3 +103,40 @@ fn more_samples_mean_less_noise() {
     eprintln!("variance on the strip with 8 and 64 samples: {var:?}");
     assert!(var[1] < var[0], "{var:?}");
 }
+
+/// At depth edges (a neighbour more than 10% farther or nearer), the cross-bilateral blur
+/// keeps each side's occlusion: it changes the raw occlusion there less than the box blur,
+/// which mixes the two sides.
+#[test]
+fn the_bilateral_blur_leaks_less_across_depth_edges() {
+    let g = gpu();
+    let scene = cornell_ao();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let mut leak = vec![];
+    for blur in ["box", "bilateral"] {
+        let ex = render_with(&g, &p, &scene, &[("ao_blur", blur)], 1);
+        let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
+        let blurred = ex.read_texture(&g, "ao.blurred", 0, 0).unwrap();
+        let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+        let cam = ex.scene().camera.position;
+        let dist = |i: usize| world[i].map(|w| (w - cam).length());
+        let (w, h) = (raw.width as usize, raw.height as usize);
+        let mut diffs = vec![];
+        for y in 1..h - 1 {
+            for x in 1..w - 1 {
+                let i = y * w + x;
+                let Some(d) = dist(i) else { continue };
+                let edge = [i - 1, i + 1, i - w, i + w]
+                    .iter()
+                    .any(|&j| dist(j).is_some_and(|e| (e - d).abs() > 0.1 * d));
+                if edge {
+                    diffs.push((blurred.rgba[4 * i] - raw.rgba[4 * i]).abs());
+                }
+            }
+        }
+        assert!(diffs.len() > 20, "{} edge pixels", diffs.len());
+        leak.push(mean(&diffs));
+    }
+    eprintln!("mean |blurred - raw| at depth edges, box vs bilateral: {leak:?}");
+    assert!(leak[1] < leak[0], "{leak:?}");
+}
