@@ -1,7 +1,8 @@
 //! `cargo bench -p lightbench --bench gi`: seed 000 Table 7.1 on the adapter at hand, for
 //! what exists so far — frame time of `pipelines/deferred_gi.ron` with no indirect light
-//! (None), indirect specular (IS: SSR with the RSM fallback), indirect diffuse (ID, the
-//! seed's fixed 200 samples) and both, as a ratio to None beside the seed's published ratio; then `fixed` against `temporal` indirect diffuse: time
+//! (None), indirect specular (IS: SSR with the RSM fallback), ambient occlusion (AO: SSAO),
+//! indirect diffuse (ID, the seed's fixed 200 samples) and their combinations, as a ratio to
+//! None beside the seed's published ratio; then `fixed` against `temporal` indirect diffuse: time
 //! per frame, ratio, and the temporal result's error to `fixed` after 32 frames. The Cornell
 //! box with a spot light at 128×128, every pass every frame. Needs a GPU adapter (lavapipe is
 //! enough). Not a test.
@@ -59,21 +60,40 @@ fn main() {
     let (none, _) = frames(&gpu, &scene, "off", 8);
     let (fixed, fx) = frames(&gpu, &scene, "fixed", 8);
     let (temporal, _) = frames(&gpu, &scene, "temporal", 8);
-    // Indirect specular: the same scene calling for SSR too.
-    let with_ssr = SCENE.replace("effects: [Shadows, IndirectDiffuse]", "effects: [Shadows, IndirectDiffuse, Ssr]");
-    std::fs::write(dir.join("is.ron"), with_ssr).expect("scene");
-    let is_scene = lightbench::scene::load(dir.join("is.ron").to_str().expect("path")).expect("scene");
+    // The other rows: the same scene calling for SSR (IS) and/or ambient occlusion (AO) too.
+    let with = |effects: &str, tag: &str| {
+        let text = SCENE.replace(
+            "effects: [Shadows, IndirectDiffuse]",
+            &format!("effects: [Shadows, IndirectDiffuse, {effects}]"),
+        );
+        std::fs::write(dir.join(format!("{tag}.ron")), text).expect("scene");
+        lightbench::scene::load(dir.join(format!("{tag}.ron")).to_str().expect("path")).expect("scene")
+    };
+    let (is_scene, ao_scene, is_ao_scene) = (
+        with("Ssr", "is"),
+        with("AmbientOcclusion", "ao"),
+        with("Ssr, AmbientOcclusion", "isao"),
+    );
     let (is, _) = frames(&gpu, &is_scene, "off", 8);
     let (is_id, _) = frames(&gpu, &is_scene, "fixed", 8);
-    println!("Table 7.1 (the rows without AO, which is a later issue), 128×128, Cornell box + spot light");
+    let (ao, _) = frames(&gpu, &ao_scene, "off", 8);
+    let (ao_id, _) = frames(&gpu, &ao_scene, "fixed", 8);
+    let (is_ao, _) = frames(&gpu, &is_ao_scene, "off", 8);
+    let (is_ao_id, _) = frames(&gpu, &is_ao_scene, "fixed", 8);
+    println!("Table 7.1, 128×128, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur)");
     println!("  {:<14} {:>9} {:>10}", "", "ms/frame", "× None");
-    for (name, ms) in [
+    let rows = [
         ("None", none),
         ("IS", is),
-        ("ID (fixed)", fixed),
-        ("IS+ID (fixed)", is_id),
+        ("AO", ao),
+        ("ID", fixed),
+        ("IS+AO", is_ao),
+        ("IS+ID", is_id),
+        ("AO+ID", ao_id),
+        ("IS+AO+ID", is_ao_id),
         ("ID (temporal)", temporal),
-    ] {
+    ];
+    for (name, ms) in rows {
         println!("  {name:<14} {ms:>9.2} {:>10.2}", ms / none);
     }
     println!("  (the seed, on a GPU: ID ≈ 2.5× None)");
