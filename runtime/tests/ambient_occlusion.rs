@@ -8,7 +8,7 @@ use lightbench::io::Image;
 use lightbench_compiler::ir::ParamValue;
 
 fn cornell_ao() -> lightbench::scene::Scene {
-    let d = std::env::temp_dir().join(format!("lightbench-ao-{}", std::process::id()));
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-ao-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(
         d.join("ao.ron"),

@@ -18,7 +18,7 @@ const SCENE: &str = "Scene(
 ";
 
 fn scene() -> Scene {
-    let d = std::env::temp_dir().join(format!("lightbench-gi-{}", std::process::id()));
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-gi-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(d.join("gi.ron"), SCENE).unwrap();
     lightbench::scene::load(d.join("gi.ron").to_str().unwrap()).unwrap()
@@ -126,7 +126,7 @@ fn ran(log: &[Vec<serde_json::Value>], pass: &str) -> Vec<usize> {
 /// a moving light's every frame (the general reuse rule).
 #[test]
 fn parameters_change_the_image_and_static_rsms_are_reused() {
-    let d = std::env::temp_dir().join(format!("lightbench-gi-cli-{}", std::process::id()));
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-gi-cli-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(d.join("still.ron"), SCENE).unwrap();
     std::fs::write(
@@ -202,7 +202,7 @@ fn temporal_converges_towards_fixed() {
 }
 
 fn scene_from(text: &str, tag: &str) -> Scene {
-    let d = std::env::temp_dir().join(format!("lightbench-gi-{tag}-{}", std::process::id()));
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-gi-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(d.join("s.ron"), text).unwrap();
     lightbench::scene::load(d.join("s.ron").to_str().unwrap()).unwrap()
@@ -407,7 +407,7 @@ fn every_combination_stays_finite_on_the_worst_cases() {
 /// size; a running executor refuses to change it without a new Plan.
 #[test]
 fn the_rsm_size_is_a_parameter() {
-    let d = std::env::temp_dir().join(format!("lightbench-gi-size-{}", std::process::id()));
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-gi-size-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     std::fs::write(d.join("s.ron"), SCENE).unwrap();
     let p = root().join("pipelines/deferred_gi.ron");
