@@ -102,7 +102,9 @@ pub fn run(a: Args) -> i32 {
     if !a.file.is_file() {
         return usage_error(format!("no such file: {}", a.file.display()));
     }
-    let mut s = Session::new();
+    // One workspace: planning again with parameters reuses the compiled shaders.
+    let ws = lightbench_compiler::Workspace::disk();
+    let mut s = ws.session();
     let scene = match plan_scene(&a, &mut s) {
         Ok(sf) => sf,
         Err(code) => return code,
@@ -116,7 +118,7 @@ pub fn run(a: Args) -> i32 {
             Ok(v) => v,
             Err(e) => return usage_error(e),
         };
-        let mut s2 = Session::new();
+        let mut s2 = ws.session();
         let exe = s2.executable_with(&a.file, a.shaders.as_deref(), (&profile, &scene), &variants, &values);
         super::check::emit(&s2, Format::Human);
         let Some(exe) = exe else { return EXIT_ERRORS };

@@ -5,7 +5,7 @@ use super::{usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Executor, Gpu};
 use crate::io::write_atomic;
-use crate::render::{compile, fnv1a, parse_params, render_scene};
+use crate::render::{compile_in, fnv1a, parse_params, render_scene};
 use crate::scene::Scene;
 use lightbench_compiler::Executable;
 use std::path::{Path, PathBuf};
@@ -125,13 +125,14 @@ fn execute(
         adapter: a.adapter.clone(),
     })?;
     eprintln!("{}", gpu.describe());
-    let (mut exe, warnings) = compile(&gpu, &a.pipeline, a.shaders.as_deref(), &scene, variants)?;
+    // One workspace: planning again with parameters reuses the compiled shaders.
+    let ws = lightbench_compiler::Workspace::disk();
+    let (mut exe, warnings) = compile_in(&ws, &gpu, &a.pipeline, a.shaders.as_deref(), &scene, variants)?;
     eprint!("{warnings}");
     let parsed = parse_params(&exe.plan, params)?;
     if !parsed.is_empty() {
         // Parameters may size resources (`size: Param(..)`): plan again with them.
         let values = crate::render::param_values(&exe.plan, &parsed)?;
-        let ws = lightbench_compiler::Workspace::disk();
         exe = crate::render::compile_with(&ws, &gpu, (&a.pipeline, a.shaders.as_deref()), &scene, variants, &values)?.0;
     }
     for v in &exe.plan.variants {
