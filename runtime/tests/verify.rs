@@ -190,3 +190,27 @@ fn a_deliberate_nan_is_traced_to_its_pass_and_light() {
     );
     assert!(out.contains("first produced by pass `lit` in frame 1"), "{out}");
 }
+
+/// Bad arguments are refused before any GPU work (exit 2); a scene or parameter that does
+/// not fit a configuration is a located failure of that configuration (exit 1).
+#[test]
+fn bad_verify_arguments_are_refused() {
+    let deferred = root().join("pipelines/deferred.ron");
+    let p = deferred.to_str().unwrap();
+    for (args, msg) in [
+        (vec!["verify", p, "--frames", "0"], "--frames must be at least 1"),
+        (vec!["verify", p, "--size", "0x3"], "out of range"),
+        (vec!["verify", "no/such/dir"], "no/such/dir"),
+        (vec!["verify", p, "--param", "exposure.ev"], "invalid --param `exposure.ev`: expected NAME=VALUE"),
+    ] {
+        let (code, _, err) = lightbench(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(msg), "{args:?}: {err}");
+    }
+    let (code, out, _) = lightbench(&["verify", p, "--scenes", "cornell", "--param", "exposure.evv=1"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("failed: --param `exposure.evv`: the pipeline has no such parameter (did you mean `exposure.ev`?)"), "{out}");
+    let (code, out, _) = lightbench(&["verify", p, "--scenes", "no_such_scene.ron"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("no_such_scene.ron") && out.contains("failed:"), "{out}");
+}
