@@ -40,28 +40,20 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 }
 ";
 
-/// A box blur along `dir` with `taps` texels on each side.
-const BLUR: &str = "struct Params { dir: vec2<f32>, taps: u32 };
-@group(2) @binding(0) var input: texture_2d<f32>;
-@group(2) @binding(1) var<uniform> params: Params;
-
-@fragment
-fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let d = vec2<i32>(params.dir);
-    let n = i32(params.taps);
-    var sum = vec4<f32>(0.0);
-    for (var i = -n; i <= n; i++) {
-        sum += textureLoad(input, clamp(vec2<i32>(pos.xy) + d * i, vec2<i32>(0), vec2<i32>(31)), 0);
-    }
-    return sum / f32(2 * n + 1);
-}
-";
-
+/// The bundled `blur.wgsl` written by hand for one direction and 3 taps: no parameter block.
 fn hand_written_blur(dir: &str) -> String {
-    BLUR.replace("struct Params { dir: vec2<f32>, taps: u32 };\n", "")
-        .replace("@group(2) @binding(1) var<uniform> params: Params;\n", "")
-        .replace("vec2<i32>(params.dir)", &format!("vec2<i32>({dir})"))
-        .replace("i32(params.taps)", "3")
+    let mut text = std::fs::read_to_string(root().join("shaders/blur.wgsl")).unwrap();
+    let dir = format!("vec2<i32>({dir})");
+    for (from, to) in [
+        ("struct Params {\n    dir: vec2<f32>,\n    taps: u32,\n};\n", ""),
+        ("@group(2) @binding(1) var<uniform> params: Params;\n", ""),
+        ("vec2<i32>(params.dir)", dir.as_str()),
+        ("i32(params.taps)", "3"),
+    ] {
+        assert!(text.contains(from), "blur.wgsl no longer has `{from}`");
+        text = text.replace(from, to);
+    }
+    text
 }
 
 const BLUR_HEAD: &str = "pipeline blur
