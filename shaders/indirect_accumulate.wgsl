@@ -44,16 +44,11 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> Out {
         return out;
     }
     let world = world_from_depth(px, depth);
-    let clip = frame.prev_view_proj * vec4<f32>(world, 1.0);
-    // Hazard: behind the previous camera (w ≤ 0): no history.
-    if clip.w <= 1e-6 {
-        return out;
+    let on = on_texture(frame.prev_view_proj, world);
+    if !on.inside {
+        return out; // off the previous view, or behind the previous camera: no history
     }
-    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
-    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-        return out;
-    }
-    let q = vec2<i32>(uv * frame.resolution.xy);
+    let q = vec2<i32>(on.uv * frame.resolution.xy);
     let prev_d = textureLoad(gi_depth_prev, q, 0).x;
     let seen = length(world - frame.camera_pos.xyz);
     if prev_d >= 1.0 || length(prev_world(q, prev_d) - world) > params.reject * seen {

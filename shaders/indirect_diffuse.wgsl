@@ -67,12 +67,13 @@ fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     let l = lights[instance.light];
-    let clip = l.view_proj * vec4<f32>(s.world, 1.0);
-    // Hazard: a receiver behind a spot light (w ≤ 0) has no place in its map.
-    if clip.w <= 1e-6 {
+    let on = on_texture(l.view_proj, s.world);
+    // A receiver behind a spot light has no place in its map (samples around a receiver just
+    // off the map may still land on it).
+    if !on.in_front {
         return vec3<f32>(0.0);
     }
-    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
+    let uv = on.uv;
     let size = vec2<i32>(textureDimensions(rsm_flux, 0));
     let last = size - 1;
     let n = min(params.samples, arrayLength(&gi_pattern));

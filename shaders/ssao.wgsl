@@ -37,15 +37,11 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     for (var i = 0u; i < n; i++) {
         let k = ssao_kernel[i].xyz;
         let p = s.world + (t * k.x + b * k.y + s.n * k.z) * params.radius;
-        let clip = frame.view_proj * vec4<f32>(p, 1.0);
-        if clip.w <= 1e-6 {
-            continue; // Hazard: behind the camera.
+        let on = on_texture(frame.view_proj, p);
+        if !on.inside {
+            continue; // off screen or behind the camera
         }
-        let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
-        if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-            continue;
-        }
-        let q = vec2<i32>(uv * frame.resolution.xy);
+        let q = vec2<i32>(on.uv * frame.resolution.xy);
         let d = textureLoad(gbuf_depth, q, 0).x;
         if d >= 1.0 {
             continue;

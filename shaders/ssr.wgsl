@@ -30,15 +30,11 @@ struct Probe {
 fn probe(pos: vec3<f32>) -> Probe {
     var r: Probe;
     r.miss = true;
-    let clip = frame.view_proj * vec4<f32>(pos, 1.0);
-    if clip.w <= 1e-6 {
-        return r; // Hazard: behind the camera.
+    let on = on_texture(frame.view_proj, pos);
+    if !on.inside {
+        return r; // off screen or behind the camera
     }
-    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
-    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-        return r;
-    }
-    r.pixel = vec2<i32>(uv * frame.resolution.xy);
+    r.pixel = vec2<i32>(on.uv * frame.resolution.xy);
     let d = textureLoad(gbuf_depth, r.pixel, 0).x;
     if d >= 1.0 {
         return r;

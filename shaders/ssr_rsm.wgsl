@@ -25,15 +25,11 @@ struct Params {
 // Does the light see `p` (the receiver's shadow term from its RSM)? Within `thickness` of the
 // surface its map holds there.
 fn lit(l: Light, p: vec3<f32>, size: vec2<f32>) -> bool {
-    let clip = l.view_proj * vec4<f32>(p, 1.0);
-    if clip.w <= 1e-6 {
+    let on = on_texture(l.view_proj, p);
+    if !on.inside {
         return false;
     }
-    let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
-    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-        return false;
-    }
-    let seen = textureLoad(rsm_position, vec2<i32>(uv * size), 0);
+    let seen = textureLoad(rsm_position, vec2<i32>(on.uv * size), 0);
     return seen.w > 0.0 && length(seen.xyz - p) < params.thickness;
 }
 
@@ -56,22 +52,16 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var pos = s.world + s.n * params.step * 0.5;
     for (var i = 0u; i < params.max_steps; i++) {
         pos += dir * params.step;
-        let clip = l.view_proj * vec4<f32>(pos, 1.0);
-        // Hazard: behind a spot light (w ≤ 0) the map has nothing.
-        if clip.w <= 1e-6 {
-            continue;
+        let on = on_texture(l.view_proj, pos);
+        if !on.inside {
+            continue; // off the map, or behind a spot light
         }
-        let uv = clip.xy / clip.w * vec2<f32>(0.5, -0.5) + 0.5;
-        if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) {
-            continue;
-        }
-        let t = vec2<i32>(uv * size);
+        let t = vec2<i32>(on.uv * size);
         let seen = textureLoad(rsm_position, t, 0);
         if seen.w == 0.0 {
             continue;
         }
-        let seen_clip = l.view_proj * vec4<f32>(seen.xyz, 1.0);
-        let behind = clip.z / clip.w > seen_clip.z / max(seen_clip.w, 1e-6);
+        let behind = on.depth > on_texture(l.view_proj, seen.xyz).depth;
         if behind && length(pos - seen.xyz) < params.thickness {
             return vec4<f32>(textureLoad(rsm_flux, t, 0).rgb / 3.14159265, 1.0);
         }
