@@ -435,6 +435,27 @@ fn the_rsm_size_is_a_parameter() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let flux = image::open(dump.join("rsm.flux.light0.exr")).unwrap();
     assert_eq!((flux.width(), flux.height()), (64, 64));
+    // `plan --param` plans the maps at the size given; a size outside the range is refused.
+    let plan = |size: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+            .args(["plan", p.to_str().unwrap(), "--param", &format!("rsm.size={size}")])
+            .current_dir(root())
+            .output()
+            .unwrap()
+    };
+    let o = plan("512");
+    assert!(
+        String::from_utf8_lossy(&o.stdout).contains("rsm.size² (512×512)"),
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let o = plan("8192");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("above its max 4096"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let (mut ex, _g) = render(&[], 1);
     let e = ex
         .set_param("rsm.size", lightbench_compiler::ir::ParamValue::Int(512))

@@ -201,7 +201,10 @@ fn bad_verify_arguments_are_refused() {
         (vec!["verify", p, "--frames", "0"], "--frames must be at least 1"),
         (vec!["verify", p, "--size", "0x3"], "out of range"),
         (vec!["verify", "no/such/dir"], "no/such/dir"),
-        (vec!["verify", p, "--param", "exposure.ev"], "invalid --param `exposure.ev`: expected NAME=VALUE"),
+        (
+            vec!["verify", p, "--param", "exposure.ev"],
+            "invalid --param `exposure.ev`: expected NAME=VALUE",
+        ),
     ] {
         let (code, _, err) = lightbench(&args);
         assert_eq!(code, 2, "{args:?}: {err}");
@@ -209,7 +212,10 @@ fn bad_verify_arguments_are_refused() {
     }
     let (code, out, _) = lightbench(&["verify", p, "--scenes", "cornell", "--param", "exposure.evv=1"]);
     assert_eq!(code, 1, "{out}");
-    assert!(out.contains("failed: --param `exposure.evv`: the pipeline has no such parameter (did you mean `exposure.ev`?)"), "{out}");
+    assert!(
+        out.contains("failed: --param `exposure.evv`: the pipeline has no such parameter (did you mean `exposure.ev`?)"),
+        "{out}"
+    );
     let (code, out, _) = lightbench(&["verify", p, "--scenes", "no_such_scene.ron"]);
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("no_such_scene.ron") && out.contains("failed:"), "{out}");
