@@ -1255,3 +1255,111 @@ fn texture_sized_by_a_parameter_without_a_range() {
         53,
     );
 }
+
+/// Two variants' presets for a pipeline: `q` sets the exposure, `r` sets it too (an overlap)
+/// unless a case edits it.
+const PRESETS: &str = "    variants: {\n        \"q\": Variant(default: \"lo\", options: {\"lo\": (params: {\"post.exposure\": 0.5}), \"hi\": (params: {\"post.exposure\": 4})}),\n        \"r\": Variant(default: \"x\", options: {\"x\": (params: {\"post.exposure\": 2.0})}),\n    },\n    output: \"out\",";
+
+fn preset_case<'a>(edits: &'a [(&'a str, &'a str)]) -> Case<'a> {
+    Case { pipeline: edits, ..BASE }
+}
+
+/// A preset naming no parameter is located at the name, with the nearest name suggested.
+#[test]
+fn preset_of_an_unknown_parameter() {
+    let text = PRESETS
+        .replace(
+            "\"r\": Variant(default: \"x\", options: {\"x\": (params: {\"post.exposure\": 2.0})}),\n",
+            "",
+        )
+        .replace(
+            "\"lo\": (params: {\"post.exposure\": 0.5})",
+            "\"lo\": (params: {\"post.exposur\": 0.5})",
+        );
+    let out = run(&preset_case(&[("    output: \"out\",", &text)]));
+    let d = out
+        .errors()
+        .into_iter()
+        .find(|d| d.code.as_str() == "unknown-param")
+        .unwrap_or_else(|| panic!("{}", out.dump()));
+    assert!(d.message.contains("`post.exposur`"), "{}", out.dump());
+    assert!(d.notes.iter().any(|n| n.contains("post.exposure")), "{}", out.dump());
+}
+
+/// A preset value of the wrong type or outside the parameter's range is refused where it is
+/// written.
+#[test]
+fn preset_values_are_typed_and_range_checked() {
+    let one = PRESETS.replace(
+        "\"r\": Variant(default: \"x\", options: {\"x\": (params: {\"post.exposure\": 2.0})}),\n",
+        "",
+    );
+    let typed = one.replace("\"post.exposure\": 0.5", "\"post.exposure\": true");
+    let out = run(&preset_case(&[("    output: \"out\",", &typed)]));
+    assert!(
+        out.errors()
+            .iter()
+            .any(|d| d.code.as_str() == "param-type" && d.message.contains("`post.exposure`")),
+        "{}",
+        out.dump()
+    );
+    let ranged = one.replace("\"post.exposure\": 4", "\"post.exposure\": 9");
+    let out = run(&preset_case(&[("    output: \"out\",", &ranged)]));
+    let d = out
+        .errors()
+        .into_iter()
+        .find(|d| d.code.as_str() == "value-out-of-range")
+        .unwrap_or_else(|| panic!("{}", out.dump()));
+    assert!(d.message.contains("above the max 8"), "{}", d.message);
+}
+
+/// One parameter set by the presets of two variants is an error at the second, pointing
+/// back at the first.
+#[test]
+fn preset_overlap_between_variants() {
+    let out = run(&preset_case(&[("    output: \"out\",", PRESETS)]));
+    let d = out
+        .errors()
+        .into_iter()
+        .find(|d| d.code.as_str() == "preset-overlap")
+        .unwrap_or_else(|| panic!("{}", out.dump()));
+    assert!(d.message.contains("variants `q` and `r`"), "{}", d.message);
+    assert!(
+        d.labels.iter().any(|l| l.message.contains("set by variant `q` here")),
+        "{}",
+        out.dump()
+    );
+}
+
+/// A viewport scaled by a parameter needs a Float parameter ranged within (0, 16].
+#[test]
+fn texture_scaled_by_a_parameter_needs_a_bounded_float() {
+    for (param, why) in [
+        ("\"half\": Int(default: 1, min: 1, max: 2),", "which must be a Float parameter"),
+        ("\"half\": Float(default: 0.5),", "give it a range within (0, 16]"),
+        (
+            "\"half\": Float(default: 0.5, min: 0.0, max: 1.0),",
+            "give it a range within (0, 16]",
+        ),
+    ] {
+        let out = run(&Case {
+            pipeline: &[
+                (
+                    "\"post.exposure\": Float(default: 1.0, min: 0.0, max: 8.0),",
+                    &format!("\"post.exposure\": Float(default: 1.0, min: 0.0, max: 8.0),\n        {param}"),
+                ),
+                (
+                    "\"color\": Texture(format: Rgba16Float),",
+                    "\"color\": Texture(format: Rgba16Float),\n        \"small\": Texture(format: Rgba16Float, size: Viewport(Param(\"half\"))),",
+                ),
+            ],
+            ..BASE
+        });
+        let d = out
+            .errors()
+            .into_iter()
+            .find(|d| d.code.as_str() == "value-out-of-range")
+            .unwrap_or_else(|| panic!("{}", out.dump()));
+        assert!(d.message.contains(why), "{param}: {}", d.message);
+    }
+}

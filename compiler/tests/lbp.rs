@@ -313,6 +313,16 @@ mod generated {
         prop_oneof![-1e6..1e6f64, Just(0.0), Just(1.0), (-1000i32..1000).prop_map(|i| i as f64 / 8.0)]
     }
 
+    /// A preset's value as written: whole numbers stay whole, others stay floats.
+    fn literal() -> impl Strategy<Value = Literal> {
+        prop_oneof![
+            (-1000i64..1000).prop_map(Literal::Int),
+            (-1000i32..1000).prop_map(|i| Literal::Float(i as f64 / 8.0 + 0.0625)),
+            any::<bool>().prop_map(Literal::Bool),
+            proptest::collection::vec(float(), 2..=4).prop_map(Literal::Tuple),
+        ]
+    }
+
     fn kinds() -> impl Strategy<Value = Vec<LightKind>> {
         proptest::sample::subsequence(LightKind::ALL.to_vec(), 1..=3)
     }
@@ -379,7 +389,8 @@ mod generated {
             prop_oneof![
                 (1u32..5000, 1u32..5000).prop_map(|(w, h)| SizeSpec::Fixed { width: w, height: h }),
                 (1u32..64).prop_map(|s| SizeSpec::Viewport { scale: s as f64 / 4.0 }),
-                name().prop_map(SizeSpec::Param)
+                name().prop_map(SizeSpec::Param),
+                name().prop_map(SizeSpec::ViewportParam)
             ],
             1u32..300,
             proptest::sample::select(vec![ViewDim::D2, ViewDim::D2Array, ViewDim::Cube]),
@@ -616,13 +627,15 @@ mod generated {
                 proptest::option::of(name().prop_map(sp)),
                 proptest::collection::vec((name(), file()).prop_map(|(a, b)| (sp(a), sp(b))), 0..2),
                 proptest::option::of(text()),
+                proptest::collection::vec((name(), literal()).prop_map(|(k, v)| (sp(k), sp(v))), 0..3),
             )
-                .prop_map(move |(requires, limits, fallback, shaders, doc)| VariantOption {
+                .prop_map(move |(requires, limits, fallback, shaders, doc, params)| VariantOption {
                     name: sp(n.clone()),
                     requires,
                     limits,
                     fallback,
                     shaders,
+                    params,
                     doc,
                     span: Span::default(),
                 })

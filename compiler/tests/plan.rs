@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use lightbench_compiler::ir::{LightKind, SamplerKind, Stage};
+use lightbench_compiler::ir::{LightKind, ParamValue, SamplerKind, Stage};
 use lightbench_compiler::layout::{BindSource, BindingType, FieldType, SampleType, ShaderDim};
 use lightbench_compiler::plan::{self, Plan, Usage};
 use lightbench_compiler::profile::Profile;
@@ -268,4 +268,58 @@ fn bundled_pipelines_check_clean_on_every_profile() {
             assert!(s.diags.list.is_empty(), "{} on {profile}:\n{}", f.display(), s.render());
         }
     }
+}
+
+/// The extent of a texture in a plan.
+fn extent(plan: &Plan, name: &str) -> (u32, u32) {
+    match &plan.resource(name).unwrap_or_else(|| panic!("no {name}")).shape {
+        plan::ResourceShape::Texture { extent, .. } => *extent,
+        _ => panic!("{name} is a buffer"),
+    }
+}
+
+/// A variant option's preset replaces the parameters' defaults in the Plan (and says so);
+/// a resource scaled by a preset parameter takes its size; a user's override still wins.
+#[test]
+fn presets_set_defaults_and_sizes_and_overrides_win() {
+    let gi = repo_root().join("pipelines/deferred_gi.ron");
+    let profile = Profile::offline("vulkan").unwrap();
+    let mut scene = SceneFeatures::everything();
+    scene.size = (64, 48);
+    let plan_of = |variants: &[(&str, &str)], params: &[(&str, &str)]| {
+        let mut s = Session::new();
+        let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+        let declared = s.load_pipeline(&gi).expect("pipeline");
+        let decl: Vec<_> = declared.params.iter().map(plan::declared_param).collect();
+        let mut values = plan::ParamValues::new();
+        for (k, t) in params {
+            let value = plan::ParamValues::parse_text(&decl, k, t).unwrap();
+            values.set(&decl, k, value).unwrap();
+        }
+        let e = s.executable_with(&gi, None, (&profile, &scene), &v, &values);
+        assert!(!s.diags.has_errors(), "{}", s.render());
+        e.expect("plan").plan
+    };
+    let param = |plan: &Plan, name: &str| plan.params.iter().find(|p| p.name == name).unwrap().clone();
+
+    let custom = plan_of(&[], &[]);
+    assert_eq!(param(&custom, "ao.samples").default, ParamValue::Int(64));
+    assert_eq!(param(&custom, "ao.samples").preset, None);
+    assert_eq!(extent(&custom, "ao.raw"), (64, 48));
+
+    let p1 = plan_of(&[("ao_preset", "ssao1")], &[]);
+    assert_eq!(param(&p1, "ao.samples").default, ParamValue::Int(8));
+    assert_eq!(param(&p1, "ao.samples").preset.as_deref(), Some("ao_preset=ssao1"));
+    assert_eq!(param(&p1, "ao.radius").default, ParamValue::Float(1.0));
+    assert_eq!(extent(&p1, "ao.raw"), (16, 12), "w/4 × h/4");
+    assert_eq!(extent(&p1, "ao.full"), (64, 48));
+    assert!(plan::to_text(&p1, false).contains("presets:\n  ao.radius = 1  (ao_preset=ssao1)"));
+
+    let p3 = plan_of(&[("ao_preset", "ssao3")], &[]);
+    assert_eq!(extent(&p3, "ao.raw"), (32, 24), "w/2 × h/2");
+
+    // The user's own value sizes the buffer, whatever the preset says.
+    let own = plan_of(&[("ao_preset", "ssao1")], &[("ao.scale", "0.5")]);
+    assert_eq!(extent(&own, "ao.raw"), (32, 24));
+    assert_eq!(param(&own, "ao.scale").sizes, Some(ParamValue::Float(0.5)));
 }

@@ -72,6 +72,7 @@ codes! {
     UnknownVariantOption = "unknown-variant-option": "a variant option that does not exist",
     ToggleNotBool = "toggle-not-bool": "a `Toggle` condition on a parameter that is not a Bool",
     FallbackCycle = "fallback-cycle": "variant fallbacks that lead back to themselves",
+    PresetOverlap = "preset-overlap": "one parameter set by the presets of two variants",
     GeometryShader = "geometry-shader": "a geometry stage was asked for; WGSL, naga and wgpu have none",
     OutputNotTexture = "output-not-texture": "the pipeline output is a buffer",
     NotHistory = "not-history": "`Prev(..)` of a resource that keeps no previous frame",

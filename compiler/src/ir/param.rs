@@ -150,7 +150,7 @@ pub fn out_of_range<'a>(
 }
 
 /// A value as a front end read it, before it is checked against the declared type.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Literal {
     Int(i64),
     Float(f64),
@@ -162,7 +162,7 @@ pub enum Literal {
 }
 
 impl Literal {
-    fn describe(&self) -> String {
+    pub fn describe(&self) -> String {
         match self {
             Literal::Int(i) => format!("the integer {i}"),
             Literal::Float(f) => format!("the number {f}"),

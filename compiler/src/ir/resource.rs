@@ -43,21 +43,35 @@ pub enum SizeSpec {
     },
     /// Square, as many texels each way as the Int parameter says (e.g. an RSM's size).
     Param(String),
+    /// The output resolution scaled by a Float parameter (an occlusion buffer at w/2 × h/2).
+    ViewportParam(String),
 }
 
 impl SizeSpec {
-    /// The size at this viewport, with `param` giving Int parameters' values.
-    pub fn resolve(&self, viewport: (u32, u32), param: &dyn Fn(&str) -> Option<u32>) -> (u32, u32) {
-        match self {
-            SizeSpec::Viewport { scale } => (
+    /// The size at this viewport, with `param` giving parameters' values.
+    pub fn resolve(&self, viewport: (u32, u32), param: &dyn Fn(&str) -> Option<f64>) -> (u32, u32) {
+        let scaled = |scale: f64| {
+            (
                 ((viewport.0 as f64 * scale).round() as u32).max(1),
                 ((viewport.1 as f64 * scale).round() as u32).max(1),
-            ),
+            )
+        };
+        match self {
+            SizeSpec::Viewport { scale } => scaled(*scale),
             SizeSpec::Fixed { width, height } => (*width, *height),
             SizeSpec::Param(name) => {
-                let n = param(name).unwrap_or(1).max(1);
+                let n = (param(name).unwrap_or(1.0).max(1.0)) as u32;
                 (n, n)
             }
+            SizeSpec::ViewportParam(name) => scaled(param(name).unwrap_or(1.0)),
+        }
+    }
+
+    /// The parameter the size depends on, if any.
+    pub fn param(&self) -> Option<&str> {
+        match self {
+            SizeSpec::Param(n) | SizeSpec::ViewportParam(n) => Some(n),
+            _ => None,
         }
     }
     pub fn describe(&self) -> String {
@@ -66,6 +80,7 @@ impl SizeSpec {
             SizeSpec::Viewport { scale } => format!("viewport × {scale}"),
             SizeSpec::Fixed { width, height } => format!("{width}×{height}"),
             SizeSpec::Param(name) => format!("{name}²"),
+            SizeSpec::ViewportParam(name) => format!("viewport × {name}"),
         }
     }
 }

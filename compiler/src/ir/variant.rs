@@ -1,5 +1,6 @@
 //! Variants: named choices that swap passes (via `when: Variant(..)`) or shaders.
 
+use super::Literal;
 use crate::profile::Feature;
 use crate::span::{Span, Spanned};
 use serde::{Deserialize, Serialize};
@@ -15,6 +16,10 @@ pub struct VariantOption {
     pub fallback: Option<Spanned<String>>,
     /// Shader substitutions: pass name -> shader file (same entry points).
     pub shaders: Vec<(Spanned<String>, Spanned<String>)>,
+    /// A preset: parameter values the option brings (`set(ao.samples = 8)`), used in place of
+    /// the parameters' defaults while it is chosen; a user's own override still wins.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub params: Vec<(Spanned<String>, Spanned<Literal>)>,
     pub doc: Option<String>,
     pub span: Span,
 }

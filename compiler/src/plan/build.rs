@@ -33,7 +33,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         resolution: cfg.scene.size,
         lights: cfg.scene.lights.iter().map(|(k, n)| (*k, *n)).collect(),
         variants: cfg.selection.notes.clone(),
-        params: p.params.iter().map(|prm| params::plan_param(prm, p, cfg.params)).collect(),
+        params: p.params.iter().map(|prm| params::plan_param(prm, p, cfg)).collect(),
         samplers,
         passes,
         culled: schedule

@@ -32,7 +32,7 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
                 Err(("the scene has no reflective material".into(), false))
             }
         }
-        Condition::Toggle(name) => match p.param(name).map(|prm| &prm.default.value) {
+        Condition::Toggle(name) => match p.param(name).map(|prm| cfg.default_of(p, prm).0) {
             Some(ParamValue::Bool(true)) => Ok(()),
             _ => Err((format!("toggle `{}` is off", name.value), false)),
         },

@@ -124,6 +124,13 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
             .ok();
         }
     }
+    let preset: Vec<_> = plan.params.iter().filter_map(|p| p.preset.as_ref().map(|o| (p, o))).collect();
+    if !preset.is_empty() {
+        let _ = writeln!(s, "\npresets:");
+        for (p, o) in preset {
+            let _ = writeln!(s, "  {} = {}  ({o})", p.name, p.default.describe());
+        }
+    }
     let _ = writeln!(s, "\npasses ({} kept, in order):", plan.passes.len());
     for (i, p) in plan.passes.iter().enumerate() {
         pass_text(&mut s, plan, i, p);

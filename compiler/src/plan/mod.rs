@@ -14,7 +14,7 @@ mod select;
 pub use build::build_plan;
 pub use cull::{schedule, Schedule};
 pub use explain::{to_dot, to_text, work_word};
-pub use params::{plan_param, ParamError, ParamValues};
+pub use params::{declared_param, plan_param, ParamError, ParamValues};
 pub use select::{select, Selection};
 
 use crate::check::PassVersion;
@@ -43,13 +43,29 @@ impl Config<'_> {
     pub fn extent(&self, p: &crate::ir::Pipeline, size: &SizeSpec) -> (u32, u32) {
         let param = |name: &str| {
             let prm = p.param(name)?;
-            let v = self.params.get(name).unwrap_or(&prm.default.value);
+            let v = self.params.get(name).cloned().unwrap_or_else(|| self.default_of(p, prm).0);
             match v {
-                ParamValue::Int(i) => u32::try_from(*i).ok(),
+                ParamValue::Int(i) => u32::try_from(i).ok().map(f64::from),
+                ParamValue::Float(f) => Some(f),
                 _ => None,
             }
         };
         size.resolve(self.scene.size, &param)
+    }
+
+    /// A parameter's value before overrides: the preset of a chosen option that sets it (with
+    /// the option, as `variant=option`), else its declared default.
+    pub fn default_of(&self, p: &crate::ir::Pipeline, prm: &crate::ir::Param) -> (ParamValue, Option<String>) {
+        for v in &p.variants {
+            let chosen = self.selection.chosen.get(&v.name.value).and_then(|o| v.option(o));
+            let set = chosen.and_then(|o| o.params.iter().find(|(k, _)| k.value == prm.name.value).map(|(_, lit)| (o, lit)));
+            if let Some((o, lit)) = set {
+                if let Some(value) = crate::check::declarations::preset_value(p, &prm.name.value, &lit.value) {
+                    return (value, Some(format!("{}={}", v.name.value, o.name.value)));
+                }
+            }
+        }
+        (prm.default.value.clone(), None)
     }
 }
 
@@ -329,6 +345,9 @@ pub struct PlanParam {
     pub min: Option<ParamValue>,
     pub max: Option<ParamValue>,
     pub doc: Option<String>,
+    /// The chosen variant option (`variant=option`) whose preset gave `default`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
     /// For a parameter that sizes resources (`size: Param(..)`): the value this Plan sized
     /// them with. Another value needs another Plan.
     #[serde(default, skip_serializing_if = "Option::is_none")]

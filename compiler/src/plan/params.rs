@@ -8,12 +8,8 @@ use crate::ir::{out_of_range, Param, ParamType, ParamValue};
 use crate::layout::{FieldSource, FieldType, UniformBlock};
 use std::collections::BTreeMap;
 
-pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, overrides: &ParamValues) -> PlanParam {
-    let sizes = pipeline
-        .resources
-        .iter()
-        .filter_map(|r| r.texture())
-        .any(|t| matches!(&t.size.value, crate::ir::SizeSpec::Param(n) if *n == p.name.value));
+/// A parameter as declared: its own default, sizing nothing yet.
+pub fn declared_param(p: &Param) -> PlanParam {
     PlanParam {
         name: p.name.value.clone(),
         ty: p.ty.value.clone(),
@@ -21,7 +17,25 @@ pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, overrides: &ParamVa
         min: p.min.as_ref().map(|m| m.value.clone()),
         max: p.max.as_ref().map(|m| m.value.clone()),
         doc: p.doc.clone(),
-        sizes: sizes.then(|| overrides.get(&p.name.value).unwrap_or(&p.default.value).clone()),
+        preset: None,
+        sizes: None,
+    }
+}
+
+/// A parameter as this configuration has it: `default` is the chosen preset's value where
+/// one sets it; `sizes` the value resources were sized with.
+pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, cfg: &super::Config) -> PlanParam {
+    let sizes = pipeline
+        .resources
+        .iter()
+        .filter_map(|r| r.texture())
+        .any(|t| t.size.value.param() == Some(p.name.value.as_str()));
+    let (default, preset) = cfg.default_of(pipeline, p);
+    PlanParam {
+        sizes: sizes.then(|| cfg.params.get(&p.name.value).unwrap_or(&default).clone()),
+        default,
+        preset,
+        ..declared_param(p)
     }
 }
 
@@ -196,6 +210,7 @@ mod tests {
             max: None,
             doc: None,
             sizes: None,
+            preset: None,
         }
     }
 

@@ -59,6 +59,7 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Option", "requires", Def::EmptyList),
     ("Option", "limits", Def::EmptyMap),
     ("Option", "shaders", Def::EmptyMap),
+    ("Option", "params", Def::EmptyMap),
     // Scene files.
     ("Camera", "yaw", Def::Float(0.0)),
     ("Camera", "pitch", Def::Float(0.0)),

@@ -72,6 +72,17 @@ fn value(v: &ParamValue, span: Span) -> Node {
     }
 }
 
+fn literal(l: &Literal, span: Span) -> Node {
+    match l {
+        Literal::Int(i) => Node::int(*i, span),
+        Literal::Float(f) => Node::float(*f, span),
+        Literal::Bool(b) => Node::bool(*b, span),
+        Literal::Tuple(v) => Node::tuple(v.iter().map(|x| Node::float(*x, span)).collect(), span),
+        // Lowering refuses anything else in a preset; kept as text should one slip through.
+        Literal::Text(s) | Literal::Other(s) => Node::str(s, span),
+    }
+}
+
 fn param(p: &Param) -> Node {
     let mut f = Fields::new("Param");
     if let ParamType::Enum(opts) = &p.ty.value {
@@ -101,6 +112,7 @@ fn size(s: &SizeSpec, span: Span) -> Node {
         SizeSpec::Viewport { scale } if *scale == 1.0 => Node::ident("Viewport", span),
         SizeSpec::Viewport { scale } => Node::call("Viewport", vec![Node::float(*scale, span)], span),
         SizeSpec::Param(name) => Node::call("Param", vec![Node::str(name, span)], span),
+        SizeSpec::ViewportParam(name) => Node::call("Viewport", vec![Node::call("Param", vec![Node::str(name, span)], span)], span),
         SizeSpec::Fixed { width, height } => {
             Node::call("Fixed", vec![Node::int(*width as i64, span), Node::int(*height as i64, span)], span)
         }
@@ -351,6 +363,11 @@ fn option(o: &VariantOption) -> Node {
         .iter()
         .map(|(k, n)| (Node::str(&k.value, k.span), Node::str(&n.value, n.span)));
     f.put("shaders", Node::map(shaders.collect(), o.span));
+    let params = o
+        .params
+        .iter()
+        .map(|(k, v)| (Node::str(&k.value, k.span), literal(&v.value, v.span)));
+    f.put("params", Node::map(params.collect(), o.span));
     f.opt("doc", o.doc.as_ref().map(|d| Node::str(d, o.span)));
     // Options are written anonymously: `"classic": ()`.
     f.into_node(None, o.span, o.span)

@@ -92,12 +92,7 @@ fn check_params(files: &[PathBuf], params: &[String]) -> crate::error::Result<()
         .iter()
         .filter(|f| !is_scene_file(f))
         .filter_map(|f| Session::new().load_pipeline(f))
-        .flat_map(|p| {
-            p.params
-                .iter()
-                .map(|prm| lightbench_compiler::plan::plan_param(prm, &p, &Default::default()))
-                .collect::<Vec<_>>()
-        })
+        .flat_map(|p| p.params.iter().map(lightbench_compiler::plan::declared_param).collect::<Vec<_>>())
         .collect();
     for (name, text) in &params {
         let decls: Vec<_> = declared.iter().filter(|p| &p.name == name).collect();

@@ -1,15 +1,18 @@
 //! Stage `declarations`: what can be checked from the pipeline file alone: unique names,
 //! parameter defaults and ranges, resource shapes, names that refer to other declarations,
-//! variant options and fallbacks, and each pass's attachments. The lowering accepts any
+//! variant options, fallbacks and presets, and each pass's attachments. The lowering accepts any
 //! value the IR can hold; everything about whether it makes sense is decided here.
 
 mod mips;
 mod params;
+mod presets;
 mod refs;
 mod resources;
 mod targets;
 mod unique;
 mod variants;
+
+pub use presets::preset_value;
 
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::ir::*;
@@ -22,6 +25,7 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
     resources::resources(p, profile, diags);
     refs::idents(p, diags);
     variants::variants(p, diags);
+    presets::presets(p, diags);
     for pass in &p.passes {
         refs::pass_refs(p, pass, diags);
         targets::targets(p, pass, profile, diags);

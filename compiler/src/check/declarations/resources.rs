@@ -91,6 +91,32 @@ fn size(p: &Pipeline, r: &Resource, t: &TextureDesc, profile: &Profile, diags: &
         }
         SizeSpec::Viewport { .. } => {}
         SizeSpec::Param(ref name) => size_param(p, r, t, name, profile, diags),
+        SizeSpec::ViewportParam(ref name) => scale_param(p, r, t, name, diags),
+    }
+}
+
+/// `size: Viewport(Param("name"))`: a Float parameter whose range lies within the viewport
+/// scales a literal may have, (0, 16].
+fn scale_param(p: &Pipeline, r: &Resource, t: &TextureDesc, name: &str, diags: &mut Diagnostics) {
+    let why = match p.param(name) {
+        None => Some(format!("`{}` is scaled by parameter `{name}`, which is not declared", r.name.value)),
+        Some(prm) if prm.ty.value != ParamType::Float => {
+            Some(format!("`{}` is scaled by `{name}`, which must be a Float parameter", r.name.value))
+        }
+        Some(prm) => {
+            let lo = prm.min.as_ref().and_then(|m| m.as_floats().first().copied());
+            let hi = prm.max.as_ref().and_then(|m| m.as_floats().first().copied());
+            match (lo, hi) {
+                (Some(lo), Some(hi)) if lo > 0.0 && hi <= 16.0 => None,
+                _ => Some(format!(
+                    "`{}` is scaled by `{name}`: give it a range within (0, 16] (`min` above 0, `max` at most 16)",
+                    r.name.value
+                )),
+            }
+        }
+    };
+    if let Some(msg) = why {
+        diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, t.size.span));
     }
 }
 

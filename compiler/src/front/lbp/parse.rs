@@ -335,6 +335,11 @@ impl Builder<'_> {
             Rule::param_size => Node::call("Param", vec![self.name(kids(s).next()?)?], size_span),
             _ => match kids(s).next() {
                 None => Node::ident("Viewport", size_span),
+                Some(n) if n.as_rule() == Rule::param_size => {
+                    let at = self.span(&n);
+                    let param = Node::call("Param", vec![self.name(kids(n).next()?)?], at);
+                    Node::call("Viewport", vec![param], size_span)
+                }
                 Some(n) => Node::call("Viewport", vec![self.number(&n)?], size_span),
             },
         };
@@ -645,6 +650,10 @@ impl Builder<'_> {
                     f.put("limits", at, Node::map(items, at));
                 }
                 Rule::fallback => f.put("fallback", at, self.name(kids(inner).next()?)?),
+                Rule::preset => {
+                    let pairs = kids(inner).map(|s| self.setting(s)).collect::<Option<Vec<_>>>()?;
+                    f.put("params", at, Node::map(pairs, at));
+                }
                 _ => {
                     let subs = kids(inner)
                         .map(|sub| {

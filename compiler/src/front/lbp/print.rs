@@ -197,6 +197,7 @@ fn size(n: &Node) -> String {
     match n.name() {
         Some("Fixed") => format!("{}x{}", value(&items(n)[0]), value(&items(n)[1])),
         Some("Param") => format!("param({})", name(items(n).first().map(text).unwrap_or(""))),
+        _ if items(n).len() == 1 && items(n)[0].name() == Some("Param") => format!("viewport*{}", size(&items(n)[0])),
         _ if items(n).len() == 1 => format!("viewport*{}", value(&items(n)[0])),
         _ => "viewport".to_string(),
     }
@@ -365,6 +366,13 @@ fn option(f: &[Field]) -> String {
                     .map(|(k, n)| format!("{} = {}", name(text(k)), quote(text(n))))
                     .collect();
                 line += &format!(" shader({})", ss.join(", "));
+            }
+            "params" => {
+                let ss: Vec<String> = entries(v)
+                    .iter()
+                    .map(|(k, n)| format!("{} = {}", name(text(k)), value(n)))
+                    .collect();
+                line += &format!(" set({})", ss.join(", "));
             }
             _ => {}
         }

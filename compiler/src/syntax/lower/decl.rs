@@ -40,8 +40,9 @@ impl Lowerer<'_> {
         })
     }
 
-    fn param_value(&mut self, ty: &ParamType, node: &Node) -> Res<Spanned<ParamValue>> {
-        let lit = match &*node.value {
+    /// A literal as written, its type still open (a number, bool, text or tuple of numbers).
+    pub(super) fn literal(&mut self, node: &Node) -> Res<Literal> {
+        Some(match &*node.value {
             Value::Int(i) => Literal::Int(*i),
             Value::Float(_) => Literal::Float(self.f64(node)?),
             Value::Bool(b) => Literal::Bool(*b),
@@ -54,7 +55,11 @@ impl Lowerer<'_> {
                 Literal::Tuple(v)
             }
             other => Literal::Other(other.kind_word()),
-        };
+        })
+    }
+
+    fn param_value(&mut self, ty: &ParamType, node: &Node) -> Res<Spanned<ParamValue>> {
+        let lit = self.literal(node)?;
         match ty.value_of(lit) {
             Ok(v) => Some(Spanned::new(v, node.span)),
             Err(e) => {
@@ -207,6 +212,12 @@ impl Lowerer<'_> {
     fn size(&mut self, n: &Node) -> Res<Spanned<SizeSpec>> {
         let s = match (&*n.value, n.name()) {
             (Value::Ident(_), Some("Viewport")) => SizeSpec::Viewport { scale: 1.0 },
+            (Value::Tuple { items, .. }, Some("Viewport")) if items.len() == 1 && items[0].name() == Some("Param") => {
+                match &*items[0].value {
+                    Value::Tuple { items: inner, .. } if inner.len() == 1 => SizeSpec::ViewportParam(self.string(&inner[0])?.value),
+                    _ => return self.type_err("`Viewport(Param(\"name\"))`", &items[0]),
+                }
+            }
             (Value::Tuple { items, .. }, Some("Viewport")) if items.len() == 1 => SizeSpec::Viewport {
                 scale: self.f64(&items[0])?,
             },
@@ -215,7 +226,12 @@ impl Lowerer<'_> {
                 height: self.u32(&items[1])?.value,
             },
             (Value::Tuple { items, .. }, Some("Param")) if items.len() == 1 => SizeSpec::Param(self.string(&items[0])?.value),
-            _ => return self.type_err("`Viewport`, `Viewport(scale)`, `Fixed(width, height)` or `Param(\"name\")`", n),
+            _ => {
+                return self.type_err(
+                    "`Viewport`, `Viewport(scale)`, `Viewport(Param(\"name\"))`, `Fixed(width, height)` or `Param(\"name\")`",
+                    n,
+                )
+            }
         };
         Some(Spanned::new(s, n.span))
     }

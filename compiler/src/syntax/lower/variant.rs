@@ -1,7 +1,7 @@
 //! Lowering of variants and their options.
 
 use super::{Lowerer, Res};
-use crate::ir::{Variant, VariantOption};
+use crate::ir::{Literal, Variant, VariantOption};
 use crate::profile::Feature;
 use crate::span::Spanned;
 use crate::syntax::tree::Node;
@@ -59,17 +59,32 @@ impl Lowerer<'_> {
             None => None,
         };
         let shaders = o.get("shaders").and_then(|n| self.string_pairs(&n));
+        let params = o.get("params").and_then(|n| self.presets(&n));
         let doc = o.take("doc").and_then(|n| self.string(&n)).map(|s| s.value);
         let span = o.span;
-        self.finish(o, &["requires", "limits", "fallback", "shaders", "doc"], &[]);
+        self.finish(o, &["requires", "limits", "fallback", "shaders", "params", "doc"], &[]);
         Some(VariantOption {
             name,
             requires: requires?,
             limits: limits?,
             fallback,
             shaders: shaders?,
+            params: params?,
             doc,
             span,
         })
+    }
+
+    /// `params: {"name": value}`: a preset's parameter values, typed by the check against
+    /// each parameter's declaration.
+    fn presets(&mut self, n: &Node) -> Res<Vec<(Spanned<String>, Spanned<Literal>)>> {
+        let mut out = vec![];
+        for (k, v) in self.string_map(n)? {
+            match self.literal(&v)? {
+                Literal::Other(_) => return self.type_err("a number, `true`/`false`, a string or a tuple of numbers", &v),
+                lit => out.push((k, Spanned::new(lit, v.span))),
+            }
+        }
+        Some(out)
     }
 }
