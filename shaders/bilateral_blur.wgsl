@@ -1,7 +1,8 @@
 // Separable cross-bilateral blur (seed 003 eq. 4.7): along `dir`, texels within `size` are
 // averaged with weights that fall with the difference in distance from the camera (relative,
 // `depth_sigma`) and in normal, so occlusion does not leak across depth edges. One shader,
-// two passes: each fixes `dir` with a per-pass value.
+// two passes: each fixes `dir` with a per-pass value. The buffer may be smaller than the
+// screen: each texel is compared by the surface at the centre of its block.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
 
@@ -17,7 +18,8 @@ struct Params {
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(pos.xy);
-    let centre = load_surface(px);
+    let dims = vec2<f32>(textureDimensions(input, 0));
+    let centre = load_surface(gbuffer_pixel(px, dims));
     let here = textureLoad(input, px, 0);
     if !centre.covered {
         return here;
@@ -30,7 +32,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     var total = 0.0;
     for (var i = -n; i <= n; i++) {
         let q = clamp(px + step * i, vec2<i32>(0), last);
-        let s = load_surface(q);
+        let s = load_surface(gbuffer_pixel(q, dims));
         if !s.covered {
             continue;
         }

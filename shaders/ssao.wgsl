@@ -3,8 +3,10 @@
 // oriented by its normal and turned by a 4×4 tiled rotation (a data resource), projected to
 // the screen; a point is occluded when the surface the camera sees there is nearer than it
 // by more than `bias`, counted with the range check smoothstep(0, 1, radius / |difference|).
-// Output: 1 unoccluded … 0 fully occluded. World-space positions from depth (the seed works
-// in view space; the test is the same).
+// With `falloff`, each occluder also weighs 1/(1 + d²), d its distance (seed 003 eq. 4.6).
+// The buffer may be smaller than the screen (`scale`, seed 003 Table 6.4): each texel
+// evaluates the surface at the centre of its block. Output: 1 unoccluded … 0 fully occluded.
+// World-space positions from depth (the seed works in view space; the test is the same).
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
 
@@ -12,6 +14,8 @@ struct Params {
     radius: f32,
     samples: u32,
     bias: f32,
+    scale: f32,
+    falloff: u32,
 };
 
 @group(2) @binding(3) var<storage, read> ssao_kernel: array<vec4<f32>>;
@@ -21,7 +25,7 @@ struct Params {
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);
-    let s = load_surface(px);
+    let s = load_surface(gbuffer_pixel(px, scaled_dims(params.scale)));
     if !s.covered {
         return vec4<f32>(1.0);
     }
@@ -32,10 +36,13 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let b0 = cross(s.n, t0);
     let t = t0 * r.x + b0 * r.y;
     let b = cross(s.n, t);
-    let n = min(params.samples, arrayLength(&ssao_kernel));
+    let size = arrayLength(&ssao_kernel);
+    let n = clamp(params.samples, 1u, size);
     var occluded = 0.0;
     for (var i = 0u; i < n; i++) {
-        let k = ssao_kernel[i].xyz;
+        // Evenly spread over the kernel, whose points grow outwards with their index: fewer
+        // samples still reach the whole radius.
+        let k = ssao_kernel[i * size / n].xyz;
         let p = s.world + (t * k.x + b * k.y + s.n * k.z) * params.radius;
         let on = on_texture(frame.view_proj, p);
         if !on.inside {
@@ -49,8 +56,10 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let seen = world_from_depth(q, d);
         let nearer = length(p - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz);
         if nearer > params.bias {
-            occluded += smoothstep(0.0, 1.0, params.radius / max(length(seen - p), 1e-6));
+            let d = length(seen - p);
+            let weight = select(1.0, 1.0 / (1.0 + d * d), params.falloff != 0u);
+            occluded += smoothstep(0.0, 1.0, params.radius / max(d, 1e-6)) * weight;
         }
     }
-    return vec4<f32>(1.0 - occluded / f32(max(n, 1u)));
+    return vec4<f32>(1.0 - occluded / f32(n));
 }

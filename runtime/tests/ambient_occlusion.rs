@@ -8,14 +8,34 @@ use lightbench::io::Image;
 use lightbench_compiler::ir::ParamValue;
 
 fn cornell_ao() -> lightbench::scene::Scene {
+    cornell_ao_sized(64)
+}
+
+/// The Cornell box calling for ambient occlusion, `n`×`n` pixels.
+fn cornell_ao_sized(n: u32) -> lightbench::scene::Scene {
     let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-ao-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
+    let file = d.join(format!("ao{n}.ron"));
     std::fs::write(
-        d.join("ao.ron"),
-        "Scene(name: \"ao\", size: (64, 64), builtin: \"cornell\", effects: [AmbientOcclusion])\n",
+        &file,
+        format!("Scene(name: \"ao\", size: ({n}, {n}), builtin: \"cornell\", effects: [AmbientOcclusion])\n"),
     )
     .unwrap();
-    lightbench::scene::load(d.join("ao.ron").to_str().unwrap()).unwrap()
+    lightbench::scene::load(file.to_str().unwrap()).unwrap()
+}
+
+/// The world positions under each texel of a buffer smaller than the screen: the G-buffer
+/// pixel at the centre of its block, as the shaders pick it (`gbuffer_pixel`).
+fn texel_positions(world: &[Option<glam::Vec3>], screen: (u32, u32), buf: &Image) -> Vec<Option<glam::Vec3>> {
+    let (sw, sh) = (screen.0 as f32, screen.1 as f32);
+    (0..buf.height)
+        .flat_map(|y| (0..buf.width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let px = (((x as f32 + 0.5) * sw / buf.width as f32) as u32).min(screen.0 - 1);
+            let py = (((y as f32 + 0.5) * sh / buf.height as f32) as u32).min(screen.1 - 1);
+            world[(py * screen.0 + px) as usize]
+        })
+        .collect()
 }
 
 /// World positions of the pixels (None: background), from the depth buffer and the camera.
@@ -139,4 +159,105 @@ fn the_bilateral_blur_leaks_less_across_depth_edges() {
     }
     eprintln!("mean |blurred - raw| at depth edges, box vs bilateral: {leak:?}");
     assert!(leak[1] < leak[0], "{leak:?}");
+}
+
+/// Seed 003 Table 6.4 by name: each preset sizes the occlusion buffer as the table says, and
+/// within a buffer size more samples give less noise on the flat red wall (unblurred).
+#[test]
+fn ssao_presets_size_the_buffer_and_samples_cut_noise() {
+    let g = gpu();
+    let scene = cornell_ao_sized(128);
+    let p = root().join("pipelines/deferred_gi.ron");
+    let mut var = std::collections::BTreeMap::new();
+    for (preset, side) in [("ssao1", 32), ("ssao2", 32), ("ssao3", 64), ("ssao4", 64), ("ssao5", 128)] {
+        let ex = render_with(&g, &p, &scene, &[("ao_preset", preset)], 1);
+        let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
+        assert_eq!((raw.width, raw.height), (side, side), "{preset}");
+        let full = ex.read_texture(&g, "ao.full", 0, 0).unwrap();
+        assert_eq!((full.width, full.height), (128, 128), "{preset}");
+        assert!(full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)), "{preset}");
+        let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+        let texels = texel_positions(&world, (128, 128), &raw);
+        let on_wall = |i: usize| texels[i].is_some_and(|q| (q.x + 1.0).abs() < 0.01);
+        let w = raw.width as usize;
+        // Noise, not the occlusion's slow change across the wall: each texel against the
+        // mean of its 4 neighbours.
+        let residuals: Vec<f32> = (w + 1..raw.rgba.len() / 4 - w - 1)
+            .filter(|&i| [i, i - 1, i + 1, i - w, i + w].iter().all(|&j| on_wall(j)))
+            .map(|i| raw.rgba[4 * i] - [i - 1, i + 1, i - w, i + w].iter().map(|&j| raw.rgba[4 * j]).sum::<f32>() / 4.0)
+            .collect();
+        assert!(residuals.len() > 30, "{preset}: {} wall texels", residuals.len());
+        var.insert(preset, mean(&residuals.iter().map(|r| r * r).collect::<Vec<_>>()));
+    }
+    eprintln!("unblurred noise (mean squared residual) on the red wall per preset: {var:?}");
+    assert!(var["ssao2"] < var["ssao1"], "16 vs 8 samples at w/4: {var:?}");
+    assert!(var["ssao4"] < var["ssao3"], "32 vs 16 samples at w/2: {var:?}");
+}
+
+/// The depth-aware upsample only mixes nearby texels: every screen pixel's occlusion lies
+/// within the range of the 3×3 texels around its own (at w/2), and at full size it is its
+/// texel's value.
+#[test]
+fn the_upsample_stays_within_its_neighbourhood() {
+    let g = gpu();
+    let scene = cornell_ao_sized(64);
+    let p = root().join("pipelines/deferred_gi.ron");
+    for (preset, scale) in [("ssao3", 2usize), ("ssao5", 1)] {
+        let ex = render_with(&g, &p, &scene, &[("ao_preset", preset)], 1);
+        let low = ex.read_texture(&g, "ao.blurred", 0, 0).unwrap();
+        let full = ex.read_texture(&g, "ao.full", 0, 0).unwrap();
+        let depth = ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap();
+        let lw = low.width as usize;
+        let mut checked = 0;
+        for y in 0..64usize {
+            for x in 0..64usize {
+                if depth.pixel(x as u32, y as u32)[0] >= 1.0 {
+                    continue;
+                }
+                let v = full.rgba[4 * (y * 64 + x)];
+                let (tx, ty) = (x / scale, y / scale);
+                let near: Vec<f32> = (-1i32..=1)
+                    .flat_map(|dy| (-1i32..=1).map(move |dx| (dx, dy)))
+                    .filter_map(|(dx, dy)| {
+                        let (qx, qy) = (tx as i32 + dx, ty as i32 + dy);
+                        (qx >= 0 && qy >= 0 && (qx as usize) < lw && (qy as usize) < lw)
+                            .then(|| low.rgba[4 * (qy as usize * lw + qx as usize)])
+                    })
+                    .collect();
+                let (lo, hi) = near.iter().fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+                assert!(v >= lo - 2e-3 && v <= hi + 2e-3, "{preset} ({x},{y}): {v} outside {lo}..{hi}");
+                if scale == 1 {
+                    assert!((v - low.rgba[4 * (y * lw + x)]).abs() < 2e-3, "{preset} ({x},{y})");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 1000, "{checked}");
+    }
+}
+
+/// The 1/(1 + d²) falloff (seed 003 eq. 4.6) only ever lowers an occluder's weight: with it,
+/// no pixel is more occluded, and the box's corners are clearly less so.
+#[test]
+fn the_inverse_square_falloff_weakens_occlusion() {
+    let g = gpu();
+    let scene = cornell_ao();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let raws: Vec<Image> = ["range", "inverse_square"]
+        .iter()
+        .map(|f| {
+            render_with(&g, &p, &scene, &[("ao_falloff", f), ("ao_preset", "ssao5")], 1)
+                .read_texture(&g, "ao.raw", 0, 0)
+                .unwrap()
+        })
+        .collect();
+    let (range, inv) = (&raws[0], &raws[1]);
+    assert!(range.rgba.iter().zip(&inv.rgba).step_by(4).all(|(a, b)| *b >= *a - 1e-3));
+    // Where the range check alone finds occlusion, the falloff takes a clear share of it away.
+    let occluded: Vec<usize> = (0..range.rgba.len() / 4).filter(|&i| range.rgba[4 * i] < 0.9).collect();
+    assert!(occluded.len() > 20, "{}", occluded.len());
+    let occlusion = |img: &Image| mean(&occluded.iter().map(|&i| 1.0 - img.rgba[4 * i]).collect::<Vec<_>>());
+    let (oa, ob) = (occlusion(range), occlusion(inv));
+    eprintln!("mean occlusion where occluded: {oa} (range) vs {ob} (1/(1+d²))");
+    assert!(ob < 0.9 * oa, "{oa} vs {ob}");
 }

@@ -43,3 +43,15 @@ fn load_surface(pixel: vec2<i32>) -> Surface {
     s.roughness = nr.w;
     return s;
 }
+
+// The G-buffer pixel under texel `q` of a buffer of `dims` texels covering the screen (an
+// occlusion buffer at w/2 × h/2 reads the surface at the centre of its 2×2 block).
+fn gbuffer_pixel(q: vec2<i32>, dims: vec2<f32>) -> vec2<i32> {
+    let p = vec2<i32>((vec2<f32>(q) + 0.5) * frame.resolution.xy / max(dims, vec2<f32>(1.0)));
+    return clamp(p, vec2<i32>(0), vec2<i32>(frame.resolution.xy) - 1);
+}
+
+// The texel count of a buffer at `scale` of the screen, rounded as the runtime sizes it.
+fn scaled_dims(scale: f32) -> vec2<f32> {
+    return max(round(frame.resolution.xy * scale), vec2<f32>(1.0));
+}
