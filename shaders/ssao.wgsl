@@ -9,6 +9,7 @@
 // World-space positions from depth (the seed works in view space; the test is the same).
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/ao_kernel.wgsl"
 
 struct Params {
     radius: f32,
@@ -18,8 +19,6 @@ struct Params {
     falloff: u32,
 };
 
-@group(2) @binding(3) var<storage, read> ssao_kernel: array<vec4<f32>>;
-@group(2) @binding(4) var<storage, read> ssao_noise: array<vec2<f32>>;
 @group(2) @binding(5) var<uniform> params: Params;
 
 @fragment
@@ -29,21 +28,11 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     if !s.covered {
         return vec4<f32>(1.0);
     }
-    let r = ssao_noise[u32(px.x % 4 + (px.y % 4) * 4)];
-    // A tangent frame around the normal, turned by the tile's rotation.
-    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(s.n.x) > 0.9);
-    let t0 = normalize(cross(helper, s.n));
-    let b0 = cross(s.n, t0);
-    let t = t0 * r.x + b0 * r.y;
-    let b = cross(s.n, t);
-    let size = arrayLength(&ssao_kernel);
-    let n = clamp(params.samples, 1u, size);
+    let tbn = kernel_frame(s.n, px);
+    let n = kernel_count(params.samples);
     var occluded = 0.0;
     for (var i = 0u; i < n; i++) {
-        // Evenly spread over the kernel, whose points grow outwards with their index: fewer
-        // samples still reach the whole radius.
-        let k = ssao_kernel[i * size / n].xyz;
-        let p = s.world + (t * k.x + b * k.y + s.n * k.z) * params.radius;
+        let p = s.world + kernel_point(tbn, i, n, params.radius);
         let on = on_texture(frame.view_proj, p);
         if !on.inside {
             continue; // off screen or behind the camera
@@ -56,9 +45,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         let seen = world_from_depth(q, d);
         let nearer = length(p - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz);
         if nearer > params.bias {
-            let d = length(seen - p);
-            let weight = select(1.0, 1.0 / (1.0 + d * d), params.falloff != 0u);
-            occluded += smoothstep(0.0, 1.0, params.radius / max(d, 1e-6)) * weight;
+            occluded += occluder_weight(params.radius, length(seen - p), params.falloff != 0u);
         }
     }
     return vec4<f32>(1.0 - occluded / f32(n));
