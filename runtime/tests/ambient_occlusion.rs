@@ -261,3 +261,83 @@ fn the_inverse_square_falloff_weakens_occlusion() {
     eprintln!("mean occlusion where occluded: {oa} (range) vs {ob} (1/(1+d²))");
     assert!(ob < 0.9 * oa, "{oa} vs {ob}");
 }
+
+/// `scenes/hidden_occluder.ron` as bundled, and a copy without the two boxes hidden from the
+/// camera (the glTFs copied beside it).
+fn hidden_occluder_scenes() -> [lightbench::scene::Scene; 2] {
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-mvao-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    for f in ["ground.gltf", "red_box.gltf"] {
+        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(root().join("scenes/hidden_occluder.ron")).unwrap();
+    let without: String = text
+        .lines()
+        .filter(|l| !l.contains("scale: 0.6"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_eq!(
+        text.lines().count() - 2,
+        without.lines().count(),
+        "the two hidden boxes are the `scale: 0.6` models"
+    );
+    std::fs::write(d.join("without.ron"), without).unwrap();
+    let load = |p: &std::path::Path| lightbench::scene::load(p.to_str().unwrap()).unwrap();
+    [load(&root().join("scenes/hidden_occluder.ron")), load(&d.join("without.ron"))]
+}
+
+/// Multi-view AO (seed 000 §4.3.2) in `scenes/hidden_occluder.ron`, as a user renders it: the
+/// boxes that only the sun sees darken the ground beside them under `ao=mvao`, while
+/// camera-only `ao=ssao` cannot tell whether they are there.
+#[test]
+fn multi_view_ao_sees_an_occluder_the_camera_cannot() {
+    let g = gpu();
+    let scenes = hidden_occluder_scenes();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let mut darkening = vec![];
+    for ao in ["ssao", "mvao"] {
+        let mut beside = vec![];
+        for scene in &scenes {
+            let ex = render_with(&g, &p, scene, &[("ao", ao)], 1);
+            let full = ex.read_texture(&g, "ao.full", 0, 0).unwrap();
+            assert!(full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)), "{ao}");
+            let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+            let near = values(&full, &world, |q| q.y.abs() < 0.01 && q.x > -0.1 && q.x < 0.0 && q.z.abs() < 0.25);
+            assert!(near.len() > 3, "{ao}: {} pixels beside the boxes", near.len());
+            beside.push(mean(&near));
+        }
+        darkening.push(beside[1] - beside[0]);
+    }
+    eprintln!("darkening of the ground beside the hidden boxes (ssao, mvao): {darkening:?}");
+    assert!(darkening[0].abs() < 0.005, "ssao: {}", darkening[0]);
+    assert!(darkening[1] > 0.03, "mvao: {}", darkening[1]);
+}
+
+/// A light that is off is no view: multi-view AO culls its pass (and its RSM), and the
+/// occlusion is the camera's alone.
+#[test]
+fn multi_view_ao_skips_lights_that_are_off() {
+    let g = gpu();
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-mvao-off-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    for f in ["ground.gltf", "red_box.gltf"] {
+        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
+    }
+    let text = std::fs::read_to_string(root().join("scenes/hidden_occluder.ron")).unwrap();
+    std::fs::write(d.join("off.ron"), text.replace("Directional(", "Directional(on: false, ")).unwrap();
+    let scene = lightbench::scene::load(d.join("off.ron").to_str().unwrap()).unwrap();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let v = [("ao".to_string(), "mvao".to_string())];
+    let (exe, _) = lightbench::render::compile(&g, &p, None, &scene, &v).unwrap();
+    let culled: Vec<&str> = exe.plan.culled.iter().map(|c| c.name.as_str()).collect();
+    assert!(culled.contains(&"mvao_light") && culled.contains(&"rsm"), "{culled:?}");
+    assert!(exe.plan.pass("mvao_camera").is_some());
+    let ex = lightbench::render::render(&g, &exe, &scene, 1).unwrap();
+    let views = ex.read_texture(&g, "ao.views", 0, 0).unwrap();
+    let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
+    // One view: the normalised result is that view's accessibility wherever it has weight.
+    for i in (0..raw.rgba.len() / 4).filter(|&i| views.rgba[4 * i + 1] > 0.05) {
+        let a = views.rgba[4 * i] / views.rgba[4 * i + 1];
+        assert!((raw.rgba[4 * i] - a).abs() < 0.01, "texel {i}: {} vs {a}", raw.rgba[4 * i]);
+    }
+}

@@ -1,0 +1,113 @@
+// Multi-view ambient occlusion (seed 000 §4.3.2, §6.3.2; Vardis et al.): the SSAO test of
+// each surface evaluated in several views — the camera's G-buffer (`fs_camera`) and every
+// directional or spot light's reflective shadow map (`fs_light`, once per light) — so that
+// occluders the camera cannot see still count. Each view adds (weight × accessibility,
+// weight) to the views buffer; `mvao_resolve.wgsl` divides. The weight mixes the directional
+// weight max(0, n · dir_v) (dir_v towards the view's centre of projection) and the distance
+// weight 1 - Σ min(|p - s_i|, r) / (K r) (s_i the surfaces the samples found) with the weight
+// bias: (1 - bias) · dir + bias · dist. A view that does not see the surface itself (it lies
+// in that light's shadow) gets no weight: its samples would describe another surface.
+#include "lib/frame.wgsl"
+#include "lib/gbuffer.wgsl"
+#include "lib/ao_kernel.wgsl"
+
+struct Params {
+    radius: f32,
+    samples: u32,
+    bias: f32,
+    scale: f32,
+    falloff: u32,
+    weight_bias: f32,
+};
+
+@group(2) @binding(5) var<uniform> params: Params;
+@group(2) @binding(6) var rsm_position: texture_2d<f32>;
+
+// One view's result: occluded samples (weighted) and the summed distance term.
+struct ViewAo {
+    occluded: f32,
+    distance: f32,
+};
+
+fn weighted(v: ViewAo, n: u32, dir_weight: f32) -> vec4<f32> {
+    let k = f32(n);
+    let dist_weight = 1.0 - v.distance / (k * params.radius);
+    let w = (1.0 - params.weight_bias) * dir_weight + params.weight_bias * dist_weight;
+    return vec4<f32>(w * (1.0 - v.occluded / k), w, 0.0, 0.0);
+}
+
+@fragment
+fn fs_camera(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(frag.xy);
+    let s = load_surface(gbuffer_pixel(px, scaled_dims(params.scale)));
+    if !s.covered {
+        return vec4<f32>(0.0);
+    }
+    let tbn = kernel_frame(s.n, px);
+    let n = kernel_count(params.samples);
+    var v = ViewAo(0.0, 0.0);
+    for (var i = 0u; i < n; i++) {
+        let p = s.world + kernel_point(tbn, i, n, params.radius);
+        let on = on_texture(frame.view_proj, p);
+        let q = vec2<i32>(on.uv * frame.resolution.xy);
+        let d = select(1.0, textureLoad(gbuf_depth, q, 0).x, on.inside);
+        if d >= 1.0 {
+            v.distance += params.radius; // nothing found: as far as counts
+            continue;
+        }
+        let seen = world_from_depth(q, d);
+        v.distance += min(length(seen - p), params.radius);
+        if length(p - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz) > params.bias {
+            v.occluded += occluder_weight(params.radius, length(seen - p), params.falloff != 0u);
+        }
+    }
+    return weighted(v, n, max(0.0, dot(s.n, s.v)));
+}
+
+// Distance from the light along its view: depth for a directional light, range for a spot.
+fn light_depth(l: Light, p: vec3<f32>) -> f32 {
+    if l.kind == LIGHT_DIRECTIONAL {
+        return dot(p, safe_normalize(l.direction.xyz, vec3<f32>(0.0, -1.0, 0.0)));
+    }
+    return length(p - l.position.xyz);
+}
+
+// The surface the light sees where `p` projects on its RSM (w: 0 where nothing was drawn or
+// `p` is off the map).
+fn rsm_seen(l: Light, p: vec3<f32>) -> vec4<f32> {
+    let on = on_texture(l.view_proj, p);
+    if !on.inside {
+        return vec4<f32>(0.0);
+    }
+    let dims = vec2<f32>(textureDimensions(rsm_position, 0));
+    return textureLoad(rsm_position, vec2<i32>(on.uv * dims), 0);
+}
+
+@fragment
+fn fs_light(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let px = vec2<i32>(frag.xy);
+    let s = load_surface(gbuffer_pixel(px, scaled_dims(params.scale)));
+    let l = lights[instance.light];
+    let own = rsm_seen(l, s.world);
+    // The light must see the surface itself (within the bias and a tenth of the radius).
+    if !s.covered || own.w == 0.0 || light_depth(l, s.world) - light_depth(l, own.xyz) > params.bias + 0.1 * params.radius {
+        return vec4<f32>(0.0);
+    }
+    let to_view = select(safe_normalize(l.position.xyz - s.world, s.n), -safe_normalize(l.direction.xyz, vec3<f32>(0.0, -1.0, 0.0)), l.kind == LIGHT_DIRECTIONAL);
+    let tbn = kernel_frame(s.n, px);
+    let n = kernel_count(params.samples);
+    var v = ViewAo(0.0, 0.0);
+    for (var i = 0u; i < n; i++) {
+        let p = s.world + kernel_point(tbn, i, n, params.radius);
+        let seen = rsm_seen(l, p);
+        if seen.w == 0.0 {
+            v.distance += params.radius;
+            continue;
+        }
+        v.distance += min(length(seen.xyz - p), params.radius);
+        if light_depth(l, p) - light_depth(l, seen.xyz) > params.bias {
+            v.occluded += occluder_weight(params.radius, length(seen.xyz - p), params.falloff != 0u);
+        }
+    }
+    return weighted(v, n, max(0.0, dot(s.n, to_view)));
+}
