@@ -15,7 +15,6 @@ struct Params {
     radius: f32,
     samples: u32,
     bias: f32,
-    scale: f32,
     falloff: u32,
     weight_bias: f32,
 };
@@ -39,7 +38,7 @@ fn weighted(v: ViewAo, n: u32, dir_weight: f32) -> vec4<f32> {
 @fragment
 fn fs_camera(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);
-    let s = load_surface(gbuffer_pixel(px, scaled_dims(params.scale)));
+    let s = load_surface(target_gbuffer_pixel(frag.xy));
     if !s.covered {
         return vec4<f32>(0.0);
     }
@@ -86,7 +85,7 @@ fn rsm_seen(l: Light, p: vec3<f32>) -> vec4<f32> {
 @fragment
 fn fs_light(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);
-    let s = load_surface(gbuffer_pixel(px, scaled_dims(params.scale)));
+    let s = load_surface(target_gbuffer_pixel(frag.xy));
     let l = lights[instance.light];
     let own = rsm_seen(l, s.world);
     // The light must see the surface itself (within the bias and a tenth of the radius).

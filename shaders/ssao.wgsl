@@ -4,7 +4,7 @@
 // the screen; a point is occluded when the surface the camera sees there is nearer than it
 // by more than `bias`, counted with the range check smoothstep(0, 1, radius / |difference|).
 // With `falloff`, each occluder also weighs 1/(1 + d²), d its distance (seed 003 eq. 4.6).
-// The buffer may be smaller than the screen (`scale`, seed 003 Table 6.4): each texel
+// The buffer may be smaller than the screen (seed 003 Table 6.4): each texel
 // evaluates the surface at the centre of its block. Output: 1 unoccluded … 0 fully occluded.
 // World-space positions from depth (the seed works in view space; the test is the same).
 #include "lib/frame.wgsl"
@@ -15,7 +15,6 @@ struct Params {
     radius: f32,
     samples: u32,
     bias: f32,
-    scale: f32,
     falloff: u32,
 };
 
@@ -24,7 +23,7 @@ struct Params {
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);
-    let s = load_surface(gbuffer_pixel(px, scaled_dims(params.scale)));
+    let s = load_surface(target_gbuffer_pixel(frag.xy));
     if !s.covered {
         return vec4<f32>(1.0);
     }

@@ -71,6 +71,7 @@ pub enum BindingType {
 pub const FRAME: &str = "frame";
 pub const INSTANCE: &str = "instance";
 pub const LIGHTS: &str = "lights";
+pub const TRIANGLES: &str = "triangles";
 
 macro_rules! draw_slots {
     ($( $variant:ident = $name:literal ),* $(,)?) => {
@@ -114,6 +115,9 @@ pub enum BindSource<R, S> {
     Instance,
     /// The scene's light array (storage, read-only).
     Lights,
+    /// The scene's opaque and masked triangles in world space, 3 `vec4` (w: 1) each
+    /// (storage, read-only), for vertex pulling and ray queries.
+    Triangles,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
 }

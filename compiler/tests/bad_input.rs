@@ -1363,3 +1363,63 @@ fn texture_scaled_by_a_parameter_needs_a_bounded_float() {
         assert!(d.message.contains(why), "{param}: {}", d.message);
     }
 }
+
+const VOLUME_WGSL: &str = r#"@group(0) @binding(0) var<storage, read> triangles: array<vec4<f32>>;
+
+@vertex
+fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) t: u32) -> @builtin(position) vec4<f32> {
+    return vec4<f32>(triangles[3u * t + v % 3u].xyz, 1.0);
+}
+
+@fragment
+fn fs_main() -> @location(0) vec4<f32> {
+    return vec4<f32>(1.0);
+}
+"#;
+
+/// Vertex pulling over the scene (`draw: Triangles(n)`) with the standard `triangles` binding
+/// checks clean; a zero vertex count, `instances`, or a `triangles` of the wrong type do not.
+#[test]
+fn per_triangle_draws_and_the_triangles_binding() {
+    let pass = |draw: &str| {
+        format!("        Raster(name: \"vol\", shader: \"vol.wgsl\", {draw}, color: [Target(resource: \"color\", load: Load)]),\n    ],\n    output: \"out\"")
+    };
+    let case = |draw: &str, shader: &str| {
+        let edit = pass(draw);
+        let out = {
+            let pipeline = [("    ],\n    output: \"out\"", edit.as_str())];
+            run(&Case {
+                pipeline: &pipeline,
+                files: &[("shaders/vol.wgsl", shader)],
+                ..BASE
+            })
+        };
+        out
+    };
+    let ok = case("draw: Triangles(24)", VOLUME_WGSL);
+    assert!(ok.errors().is_empty(), "{}", ok.dump());
+    let zero = case("draw: Triangles(0)", VOLUME_WGSL);
+    assert!(
+        zero.errors().iter().any(|d| d.message == "a raster pass draws at least one vertex"),
+        "{}",
+        zero.dump()
+    );
+    let inst = case("draw: Triangles(24), instances: 2", VOLUME_WGSL);
+    assert!(
+        inst.errors().iter().any(|d| d.message.contains("takes no `instances`")),
+        "{}",
+        inst.dump()
+    );
+    let uniform = VOLUME_WGSL.replace(
+        "var<storage, read> triangles: array<vec4<f32>>",
+        "var<uniform> triangles: array<vec4<f32>, 3>",
+    );
+    let bad = case("draw: Triangles(24)", &uniform);
+    assert!(
+        bad.errors().iter().any(|d| d.code.as_str() == "binding-type"
+            && d.message
+                .contains("the scene's triangle array `triangles` must be `var<storage, read>`")),
+        "{}",
+        bad.dump()
+    );
+}

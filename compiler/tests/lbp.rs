@@ -539,9 +539,11 @@ mod generated {
                     vertex: r(&f1, &e1),
                     fragment,
                     targets,
-                    draw: verts
-                        .map(Draw::Vertices)
-                        .unwrap_or(if pick % 2 == 0 { Draw::Scene } else { Draw::Transparent }),
+                    draw: match (verts, pick % 4) {
+                        (Some(n), 0 | 1) => Draw::Vertices(n),
+                        (Some(n), _) => Draw::Triangles(n),
+                        (None, k) => [Draw::Scene, Draw::Transparent][k as usize % 2].clone(),
+                    },
                     cull,
                     instances: sp(instances),
                     multiview: mv.map(sp),

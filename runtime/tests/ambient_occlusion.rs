@@ -341,3 +341,86 @@ fn multi_view_ao_skips_lights_that_are_off() {
         assert!((raw.rgba[4 * i] - a).abs() < 0.01, "texel {i}: {} vs {a}", raw.rgba[4 * i]);
     }
 }
+
+/// Noise on the red wall: each texel against the mean of its 4 neighbours (mean squared), on
+/// texels whose neighbours are all on the wall.
+fn wall_noise(img: &Image, world: &[Option<glam::Vec3>]) -> (f32, usize) {
+    let on_wall = |i: usize| world[i].is_some_and(|q| (q.x + 1.0).abs() < 0.01);
+    let w = img.width as usize;
+    let residuals: Vec<f32> = (w + 1..img.rgba.len() / 4 - w - 1)
+        .filter(|&i| [i, i - 1, i + 1, i - w, i + w].iter().all(|&j| on_wall(j)))
+        .map(|i| img.rgba[4 * i] - [i - 1, i + 1, i - w, i + w].iter().map(|&j| img.rgba[4 * j]).sum::<f32>() / 4.0)
+        .collect();
+    (mean(&residuals.iter().map(|r| r * r).collect::<Vec<_>>()), residuals.len())
+}
+
+/// Corner darkening: mean occlusion on the floor along the red wall minus on the open floor.
+fn corner_darkening(ao: &Image, world: &[Option<glam::Vec3>]) -> f32 {
+    let floor = |p: glam::Vec3| p.y.abs() < 0.01;
+    let corner = values(ao, world, |p| floor(p) && p.x < -0.93);
+    let open = values(ao, world, |p| floor(p) && p.x.abs() < 0.25 && p.z > 0.75);
+    assert!(corner.len() > 5 && open.len() > 5);
+    mean(&open) - mean(&corner)
+}
+
+/// Ambient occlusion volumes (seed 003 §4.6.4) drawn by vertex pulling, at the seed's radius 1:
+/// the corner darkens as under SSAO at radius 1 (preset ssao5) within 0.05, and the flat wall
+/// carries no sampling noise (unblurred SSAO does; AOV is never blurred): what is left is the
+/// occlusion's smooth change. `plan` shows the per-triangle draw.
+#[test]
+fn ao_volumes_darken_corners_like_ssao_without_noise() {
+    let g = gpu();
+    let scene = cornell_ao_sized(64);
+    let p = root().join("pipelines/deferred_gi.ron");
+    let v = [("ao".to_string(), "aov".to_string())];
+    let (exe, _) = lightbench::render::compile(&g, &p, None, &scene, &v).unwrap();
+    let text = lightbench_compiler::plan::to_text(&exe.plan, false);
+    assert!(
+        text.contains("aov                    raster     Triangles(24): 24 vertices × each scene triangle"),
+        "{text}"
+    );
+    let aov = lightbench::render::render(&g, &exe, &scene, 1).unwrap();
+    let ssao = render_with(&g, &p, &scene, &[("ao", "ssao"), ("ao_preset", "ssao5")], 1);
+    let world = world_positions(&aov, &aov.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+    let a_full = aov.read_texture(&g, "ao.full", 0, 0).unwrap();
+    let s_full = ssao.read_texture(&g, "ao.full", 0, 0).unwrap();
+    assert!(a_full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)));
+    let (da, ds) = (corner_darkening(&a_full, &world), corner_darkening(&s_full, &world));
+    let (na, count) = wall_noise(&aov.read_texture(&g, "aov.accessibility", 0, 0).unwrap(), &world);
+    let (ns, _) = wall_noise(&ssao.read_texture(&g, "ao.raw", 0, 0).unwrap(), &world);
+    eprintln!("corner darkening aov {da} vs ssao {ds}; wall noise aov {na} vs raw ssao {ns} ({count} texels)");
+    assert!(da > 0.05 && (da - ds).abs() < 0.05, "aov {da} vs ssao {ds}");
+    assert!(count > 30 && na < 1e-4 && na < ns / 20.0, "aov {na} vs ssao {ns}");
+}
+
+/// The AOV presets of seed 003 Table 6.5 size the accessibility buffer w, w/2, w/4; the
+/// upsampled result keeps the corner darkening. On the GL backend (llvmpipe), which has
+/// storage buffers in vertex shaders, the volumes render alike.
+#[test]
+fn ao_volume_presets_and_the_gl_backend() {
+    let vk = gpu();
+    let scene = cornell_ao_sized(64);
+    let p = root().join("pipelines/deferred_gi.ron");
+    let mut full = None;
+    for (preset, side) in [("aov1", 64), ("aov2", 32), ("aov3", 16)] {
+        let ex = render_with(&vk, &p, &scene, &[("ao", "aov"), ("aov_preset", preset)], 1);
+        let acc = ex.read_texture(&vk, "aov.accessibility", 0, 0).unwrap();
+        assert_eq!((acc.width, acc.height), (side, side), "{preset}");
+        let world = world_positions(&ex, &ex.read_texture(&vk, "gbuf.depth", 0, 0).unwrap());
+        let d = corner_darkening(&ex.read_texture(&vk, "ao.full", 0, 0).unwrap(), &world);
+        assert!(d > 0.05, "{preset}: corner darkening {d}");
+        if preset == "aov1" {
+            full = Some(ex.read_texture(&vk, "ao.full", 0, 0).unwrap());
+        }
+    }
+    let gl = lightbench::gpu::Gpu::new(&lightbench::gpu::DeviceOptions {
+        backend: Some(lightbench::gpu::device::BackendChoice::Gl),
+        adapter: None,
+    })
+    .unwrap_or_else(|e| panic!("the GL backend (llvmpipe through EGL) must be available: {e}"));
+    let on_gl = render_with(&gl, &p, &scene, &[("ao", "aov")], 1)
+        .read_texture(&gl, "ao.full", 0, 0)
+        .unwrap();
+    let e = lightbench::io::rmse(&on_gl, full.as_ref().unwrap()).unwrap();
+    assert!(e < 0.01, "GL vs Vulkan RMSE of the AOV occlusion: {e}");
+}

@@ -51,7 +51,8 @@ fn gbuffer_pixel(q: vec2<i32>, dims: vec2<f32>) -> vec2<i32> {
     return clamp(p, vec2<i32>(0), vec2<i32>(frame.resolution.xy) - 1);
 }
 
-// The texel count of a buffer at `scale` of the screen, rounded as the runtime sizes it.
-fn scaled_dims(scale: f32) -> vec2<f32> {
-    return max(round(frame.resolution.xy * scale), vec2<f32>(1.0));
+// The G-buffer pixel under fragment `frag` of this pass's target (which may be smaller than
+// the screen).
+fn target_gbuffer_pixel(frag: vec2<f32>) -> vec2<i32> {
+    return gbuffer_pixel(vec2<i32>(frag), instance.target_size.xy);
 }

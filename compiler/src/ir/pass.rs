@@ -202,6 +202,11 @@ pub enum Draw {
     Transparent,
     /// A fixed vertex count with no vertex buffers (procedural geometry).
     Vertices(u32),
+    /// Vertex pulling over the scene: this many vertices for each triangle of the opaque and
+    /// masked meshes, as one instance per triangle; the shader reads triangle
+    /// `instance_index` from the standard `triangles` buffer (volumes a geometry shader
+    /// would emit, e.g. ambient occlusion volumes).
+    Triangles(u32),
 }
 
 impl Draw {

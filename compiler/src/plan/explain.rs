@@ -14,6 +14,9 @@ pub fn work_word(plan: &Plan, w: &Work) -> String {
         Work::Raster {
             draw: Draw::Vertices(n), ..
         } => format!("Vertices({n})"),
+        Work::Raster {
+            draw: Draw::Triangles(n), ..
+        } => format!("Triangles({n}): {n} vertices × each scene triangle (vertex pulling)"),
         Work::Fullscreen { .. } => "Fullscreen".into(),
         Work::Compute {
             groups: [x, y, z],
@@ -71,6 +74,7 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
         BindSource::Frame => "<frame>".into(),
         BindSource::Instance => "<instance>".into(),
         BindSource::Lights => "<lights>".into(),
+        BindSource::Triangles => "<triangles>".into(),
         BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
 }

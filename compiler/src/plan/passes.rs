@@ -166,6 +166,7 @@ fn bind_group(g: &NamedGroup, ids: &Ids) -> Option<PlanBindGroup> {
                 BindSource::Frame => BindSource::Frame,
                 BindSource::Instance => BindSource::Instance,
                 BindSource::Lights => BindSource::Lights,
+                BindSource::Triangles => BindSource::Triangles,
                 BindSource::Draw(d) => BindSource::Draw(*d),
             };
             Some(Binding {

@@ -233,6 +233,7 @@ fn raster(f: &mut Fields, r: &Raster, file: &str, span: Span) {
             Draw::Scene => Node::ident("Scene", span),
             Draw::Transparent => Node::ident("Transparent", span),
             Draw::Vertices(n) => Node::call("Vertices", vec![Node::int(n as i64, span)], span),
+            Draw::Triangles(n) => Node::call("Triangles", vec![Node::int(n as i64, span)], span),
         },
     );
     f.put("cull", Node::ident(r.cull.name(), span));

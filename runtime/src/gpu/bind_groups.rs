@@ -51,6 +51,8 @@ pub struct Binder<'a> {
     pub samplers: &'a [wgpu::Sampler],
     pub frame: &'a wgpu::Buffer,
     pub lights_buf: &'a wgpu::Buffer,
+    /// The scene's triangles (standard binding `triangles`).
+    pub triangles: &'a wgpu::Buffer,
     pub instance: &'a wgpu::Buffer,
     pub lights: &'a [Light],
 }
@@ -196,6 +198,7 @@ impl Binder<'_> {
             let r = match &e.source {
                 BindSource::Frame => Held::Buf(self.frame.as_entire_buffer_binding()),
                 BindSource::Lights => Held::Buf(self.lights_buf.as_entire_buffer_binding()),
+                BindSource::Triangles => Held::Buf(self.triangles.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

@@ -98,6 +98,9 @@ fn draw(rp: &mut wgpu::RenderPass, pass: &PassGpu, work: &Work, (scene, order): 
             instances,
             ..
         } => rp.draw(0..*n, 0..(*instances).max(1)),
+        Work::Raster {
+            draw: Draw::Triangles(n), ..
+        } => rp.draw(0..*n, 0..scene.triangle_count),
         _ => rp.draw(0..3, 0..1),
     }
 }

@@ -667,6 +667,7 @@ fn build_state(
         samplers: &samplers,
         frame: &shared.frame_buf,
         lights_buf: &shared.lights_buf,
+        triangles: &shared.scene_gpu.triangles,
         instance: &instance_buf,
         lights: &shared.lights,
     };

@@ -40,6 +40,11 @@ pub struct SceneGpu {
     pub materials: Vec<MaterialGpu>,
     /// One per distinct material sampler.
     pub samplers: Vec<wgpu::Sampler>,
+    /// The standard `triangles` binding: world-space corners of the opaque and masked
+    /// triangles drawn, 3 `vec4` (w: 1) each; one zeroed triangle when there are none (a
+    /// binding cannot be empty).
+    pub triangles: wgpu::Buffer,
+    pub triangle_count: u32,
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
@@ -243,6 +248,32 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
     Ok(out)
 }
 
+/// The world-space triangles of the meshes `draw: Scene` draws (the drawn fraction of each).
+fn triangles(device: &wgpu::Device, scene: &Scene) -> (wgpu::Buffer, u32) {
+    let mut corners: Vec<[f32; 4]> = vec![];
+    for m in &scene.meshes {
+        if scene.materials.get(m.material).is_none_or(|mat| mat.alpha == AlphaMode::Blend) {
+            continue;
+        }
+        let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
+        for &i in drawn {
+            let Some(v) = m.vertices.get(i as usize) else { continue };
+            corners.push(m.transform.transform_point3(glam::Vec3::from(v.position)).extend(1.0).to_array());
+        }
+    }
+    corners.truncate(corners.len() / 3 * 3);
+    let count = (corners.len() / 3) as u32;
+    if corners.is_empty() {
+        corners = vec![[0.0; 4]; 3];
+    }
+    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("scene triangles"),
+        contents: bytemuck::cast_slice(&corners),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    (buffer, count)
+}
+
 /// World-space centre of a mesh's bounding box.
 fn mesh_centre(m: &crate::scene::Mesh) -> glam::Vec3 {
     let (lo, hi) = m
@@ -293,6 +324,7 @@ impl SceneGpu {
         let textures = upload_textures(device, queue, std::mem::take(&mut scene.textures))?;
         let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
         let meshes = meshes(device, scene)?;
+        let (triangles, triangle_count) = triangles(device, scene);
         let mut samplers: Vec<wgpu::Sampler> = sampler_descs.iter().map(|d| sampler(device, d)).collect();
         if samplers.is_empty() {
             samplers.push(sampler(device, &SamplerDesc::default()));
@@ -301,6 +333,8 @@ impl SceneGpu {
             meshes,
             materials,
             samplers,
+            triangles,
+            triangle_count,
         })
     }
 }

@@ -47,6 +47,23 @@ fn raster_counts(pass: &Pass, r: &Raster, diags: &mut Diagnostics) {
             r.instances.span,
         ));
     }
+    if matches!(r.draw, Draw::Vertices(0) | Draw::Triangles(0)) {
+        diags.push(Diagnostic::error(
+            Code::ValueOutOfRange,
+            "a raster pass draws at least one vertex",
+            pass.name.span,
+        ));
+    }
+    if matches!(r.draw, Draw::Triangles(_)) && r.instances.value > 1 {
+        diags.push(
+            Diagnostic::error(
+                Code::ValueOutOfRange,
+                "`draw: Triangles(..)` draws one instance per scene triangle; it takes no `instances`",
+                r.instances.span,
+            )
+            .with_secondary(pass.name.span, "in this pass"),
+        );
+    }
     if let Some(v) = &r.multiview {
         if pass.per_face {
             diags.push(Diagnostic::error(

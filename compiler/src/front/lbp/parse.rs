@@ -411,6 +411,7 @@ impl Builder<'_> {
                 let inner = parts.pop()?;
                 match inner.as_rule() {
                     Rule::vertices => Some(Node::call("Vertices", vec![self.uint(&kids(inner).next()?)?], at)),
+                    Rule::triangles => Some(Node::call("Triangles", vec![self.uint(&kids(inner).next()?)?], at)),
                     _ => Some(self.word(&inner)),
                 }
             }

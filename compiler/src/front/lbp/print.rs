@@ -266,7 +266,11 @@ fn pass_line(key: &str, v: &Node) -> String {
         "fragment" if v.name() == Some("None") && matches!(&*v.value, Value::Ident(_)) => "fragment none".into(),
         "vertex" | "fragment" | "entry" => format!("{key} {}", stage(v)),
         "draw" if matches!(&*v.value, Value::Ident(_)) => format!("draw {}", text(v)),
-        "draw" => format!("draw vertices({})", items(v).first().map(value).unwrap_or_default()),
+        "draw" => format!(
+            "draw {}({})",
+            v.name().unwrap_or("Vertices").to_lowercase(),
+            items(v).first().map(value).unwrap_or_default()
+        ),
         "cull" => format!("cull {}", text(v)),
         "per_light" => per_light(v),
         "per_face" => "per_face".into(),

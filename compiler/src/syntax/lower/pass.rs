@@ -150,7 +150,8 @@ impl Lowerer<'_> {
             (Value::Ident(_), Some("Scene")) => Some(Draw::Scene),
             (Value::Ident(_), Some("Transparent")) => Some(Draw::Transparent),
             (Value::Tuple { items, .. }, Some("Vertices")) if items.len() == 1 => Some(Draw::Vertices(self.u32(&items[0])?.value)),
-            _ => self.type_err("`Scene`, `Transparent` or `Vertices(count)`", &n),
+            (Value::Tuple { items, .. }, Some("Triangles")) if items.len() == 1 => Some(Draw::Triangles(self.u32(&items[0])?.value)),
+            _ => self.type_err("`Scene`, `Transparent`, `Vertices(count)` or `Triangles(count)`", &n),
         });
         let cull = o
             .get("cull")
