@@ -2,7 +2,8 @@
 //! what exists so far — frame time of `pipelines/deferred_gi.ron` with no indirect light
 //! (None), indirect specular (IS: SSR with the RSM fallback), ambient occlusion (AO: SSAO),
 //! indirect diffuse (ID, the seed's fixed 200 samples) and their combinations, as a ratio to
-//! None beside the seed's published ratio; then `fixed` against `temporal` indirect diffuse: time
+//! None beside the seed's published ratio, and the AO rows again with multi-view AO (the seed's
+//! technique) and AO volumes; then `fixed` against `temporal` indirect diffuse: time
 //! per frame, ratio, and the temporal result's error to `fixed` after 32 frames. The Cornell
 //! box with a spot light at 128×128, every pass every frame. Needs a GPU adapter (lavapipe is
 //! enough). Not a test.
@@ -24,8 +25,16 @@ const SCENE: &str = "Scene(
 
 /// Mean ms per frame over `frames` frames, and the executor after them.
 fn frames(gpu: &Gpu, scene: &Scene, option: &str, frames: u32) -> (f64, Executor) {
+    frames_ao(gpu, scene, (option, "ssao"), frames)
+}
+
+/// `frames` with the AO technique chosen too.
+fn frames_ao(gpu: &Gpu, scene: &Scene, (option, ao): (&str, &str), frames: u32) -> (f64, Executor) {
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred_gi.ron");
-    let v = [("indirect_diffuse".to_string(), option.to_string())];
+    let v = [
+        ("indirect_diffuse".to_string(), option.to_string()),
+        ("ao".to_string(), ao.to_string()),
+    ];
     let (exe, _) = compile(gpu, &pipeline, None, scene, &v).expect("compile");
     run(gpu, &exe, scene, frames)
 }
@@ -80,7 +89,10 @@ fn main() {
     let (ao_id, _) = frames(&gpu, &ao_scene, "fixed", 8);
     let (is_ao, _) = frames(&gpu, &is_ao_scene, "off", 8);
     let (is_ao_id, _) = frames(&gpu, &is_ao_scene, "fixed", 8);
-    println!("Table 7.1, 128×128, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur)");
+    let (mvao, _) = frames_ao(&gpu, &ao_scene, ("off", "mvao"), 8);
+    let (mvao_id, _) = frames_ao(&gpu, &ao_scene, ("fixed", "mvao"), 8);
+    let (aov, _) = frames_ao(&gpu, &ao_scene, ("off", "aov"), 8);
+    println!("Table 7.1, 128×128, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur unless named)");
     println!("  {:<14} {:>9} {:>10}", "", "ms/frame", "× None");
     let rows = [
         ("None", none),
@@ -92,6 +104,9 @@ fn main() {
         ("AO+ID", ao_id),
         ("IS+AO+ID", is_ao_id),
         ("ID (temporal)", temporal),
+        ("AO (mvao)", mvao),
+        ("AO (mvao)+ID", mvao_id),
+        ("AO (aov)", aov),
     ];
     for (name, ms) in rows {
         println!("  {name:<14} {ms:>9.2} {:>10.2}", ms / none);
