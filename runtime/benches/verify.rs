@@ -39,7 +39,7 @@ fn main() {
         }
     });
     let scanned = ms(&mut || {
-        let found = verify::configuration(&gpu, &exe, &scene, FRAMES, &[]).expect("verify");
+        let found = verify::configuration(&gpu, &exe, &scene, (FRAMES, &mut Default::default()), &[]).expect("verify");
         assert!(found.is_none(), "the Cornell box is finite");
     });
     let bisect = ms(&mut || {

@@ -6,7 +6,7 @@ mod cli_common;
 use cli_common::{lightbench, root, scratch};
 
 /// Every bundled pipeline (`pipelines/`) × every variant option × every hard-case scene
-/// (`scenes/hard/`), 3 frames at 32×32 at most: no value of any resource is NaN or Inf.
+/// (`scenes/hard/`), 2 frames (history read back once) at 24×24 at most: no value of any resource is NaN or Inf.
 /// Pipelines and scenes added later are picked up by the directories.
 #[test]
 fn bundled_pipelines_stay_finite_on_every_hard_case() {
@@ -45,9 +45,9 @@ fn bundled_pipelines_stay_finite_on_every_hard_case() {
                 "--scenes",
                 hard.to_str().unwrap(),
                 "--size",
-                "32x32",
+                "24x24",
                 "--frames",
-                "3",
+                "2",
                 "--format",
                 "json",
             ],
@@ -204,6 +204,10 @@ fn bad_verify_arguments_are_refused() {
         (
             vec!["verify", p, "--param", "exposure.ev"],
             "invalid --param `exposure.ev`: expected NAME=VALUE",
+        ),
+        (
+            vec!["verify", p, "--variants", "all", "--vary", "cube_shadows"],
+            "--vary `cube_shadows`: no checked pipeline has this variant (did you mean `cube_shadow`?)",
         ),
     ] {
         let (code, _, err) = lightbench(&args);

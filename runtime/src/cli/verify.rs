@@ -17,6 +17,10 @@ pub struct Args {
     /// `each`: the defaults and every variant option once; `all`: every combination.
     #[arg(long, value_enum, default_value = "each")]
     pub variants: VariantMode,
+    /// Only these variants change, comma-separated (the others stay at their default): keeps
+    /// `--variants all` to the combinations that matter.
+    #[arg(long, value_delimiter = ',', value_name = "VARIANT,...")]
+    pub vary: Vec<String>,
     /// Frames rendered per configuration (history resources need more than one).
     #[arg(long, default_value_t = 3)]
     pub frames: u32,
@@ -53,10 +57,14 @@ pub fn run(a: Args) -> i32 {
         Ok(p) => p,
         Err(e) => return usage_error(e),
     };
+    if let Err(e) = check_vary(&pipelines, &a.vary) {
+        return usage_error(e);
+    }
     let opts = Options {
         frames: a.frames,
         max_size,
         variants: a.variants,
+        vary: a.vary.clone(),
         shaders: a.shaders.clone(),
         params,
         workspace: lightbench_compiler::Workspace::disk(),
@@ -67,6 +75,24 @@ pub fn run(a: Args) -> i32 {
             eprintln!("error: {e}");
             EXIT_ERRORS
         }
+    }
+}
+
+/// Every `--vary` name is a variant of some pipeline checked (a typo would vary nothing).
+fn check_vary(pipelines: &[PathBuf], vary: &[String]) -> std::result::Result<(), String> {
+    let names: Vec<String> = pipelines
+        .iter()
+        .filter_map(|p| lightbench_compiler::Session::new().load_pipeline(p))
+        .flat_map(|p| p.variants.into_iter().map(|v| v.name.value))
+        .collect();
+    match vary.iter().find(|v| !names.contains(v)) {
+        Some(v) => {
+            let hint = lightbench_compiler::diag::did_you_mean(v, names.iter().map(String::as_str))
+                .map(|m| format!(" (did you mean `{m}`?)"))
+                .unwrap_or_default();
+            Err(format!("--vary `{v}`: no checked pipeline has this variant{hint}"))
+        }
+        None => Ok(()),
     }
 }
 

@@ -152,9 +152,14 @@ impl Executor {
     /// An executor that takes the scene: its decoded textures are dropped once uploaded, so a
     /// large model is not held twice in memory. `scene()` then has no texture data.
     pub fn with_scene(gpu: &Gpu, exe: &Executable, scene: Scene) -> Result<Executor> {
+        Self::with_cache(gpu, exe, scene, PipelineCache::default())
+    }
+
+    /// `with_scene`, starting from the pipelines another executor built on this device
+    /// (`take_cache`): a run over many configurations compiles each pass pipeline once.
+    pub fn with_cache(gpu: &Gpu, exe: &Executable, scene: Scene, mut cache: PipelineCache) -> Result<Executor> {
         let camera = scene.camera.clone();
         let shared = Shared::new(gpu, scene)?;
-        let mut cache = PipelineCache::default();
         let inputs = FrameInputs {
             time: 0.0,
             camera,
@@ -177,6 +182,11 @@ impl Executor {
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
+    }
+
+    /// The compiled pipelines, for the next executor on this device (`with_cache`).
+    pub fn take_cache(self) -> PipelineCache {
+        self.cache
     }
 
     /// Replace the running Plan at a frame boundary. The new state is built on the side and

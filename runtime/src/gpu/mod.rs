@@ -8,6 +8,7 @@ mod encode;
 pub mod executor;
 mod inputs;
 mod pipelines;
+pub use pipelines::PipelineCache;
 pub mod pool;
 pub mod readback;
 pub mod reuse;

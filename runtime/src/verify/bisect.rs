@@ -31,7 +31,7 @@ pub fn first_offender(
     frames: u32,
     params: &[(String, lightbench_compiler::ir::ParamValue)],
 ) -> Result<Option<Offender>> {
-    let mut ex = super::executor(gpu, exe, scene, params)?;
+    let mut ex = super::executor(gpu, exe, scene, params, Default::default())?;
     let mut found: Option<Offender> = None;
     for f in 0..frames.max(1) {
         let inputs = ex.inputs(f as f32 / 60.0);
