@@ -47,17 +47,11 @@ fn fs_camera(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var v = ViewAo(0.0, 0.0);
     for (var i = 0u; i < n; i++) {
         let p = s.world + kernel_point(tbn, i, n, params.radius);
-        let on = on_texture(frame.view_proj, p);
-        let q = vec2<i32>(on.uv * frame.resolution.xy);
-        let d = select(1.0, textureLoad(gbuf_depth, q, 0).x, on.inside);
-        if d >= 1.0 {
-            v.distance += params.radius; // nothing found: as far as counts
-            continue;
-        }
-        let seen = world_from_depth(q, d);
-        v.distance += min(length(seen - p), params.radius);
-        if length(p - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz) > params.bias {
-            v.occluded += occluder_weight(params.radius, length(seen - p), params.falloff != 0u);
+        let c = camera_sample(p, params.bias);
+        // Nothing found counts as far as the radius.
+        v.distance += select(params.radius, min(length(c.seen - p), params.radius), c.found);
+        if c.occluded {
+            v.occluded += occluder_weight(params.radius, length(c.seen - p), params.falloff != 0u);
         }
     }
     return weighted(v, n, max(0.0, dot(s.n, s.v)));

@@ -32,19 +32,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var occluded = 0.0;
     for (var i = 0u; i < n; i++) {
         let p = s.world + kernel_point(tbn, i, n, params.radius);
-        let on = on_texture(frame.view_proj, p);
-        if !on.inside {
-            continue; // off screen or behind the camera
-        }
-        let q = vec2<i32>(on.uv * frame.resolution.xy);
-        let d = textureLoad(gbuf_depth, q, 0).x;
-        if d >= 1.0 {
-            continue;
-        }
-        let seen = world_from_depth(q, d);
-        let nearer = length(p - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz);
-        if nearer > params.bias {
-            occluded += occluder_weight(params.radius, length(seen - p), params.falloff != 0u);
+        let c = camera_sample(p, params.bias);
+        if c.occluded {
+            occluded += occluder_weight(params.radius, length(c.seen - p), params.falloff != 0u);
         }
     }
     return vec4<f32>(1.0 - occluded / f32(n));

@@ -178,16 +178,9 @@ fn ssao_presets_size_the_buffer_and_samples_cut_noise() {
         assert!(full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)), "{preset}");
         let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
         let texels = texel_positions(&world, (128, 128), &raw);
-        let on_wall = |i: usize| texels[i].is_some_and(|q| (q.x + 1.0).abs() < 0.01);
-        let w = raw.width as usize;
-        // Noise, not the occlusion's slow change across the wall: each texel against the
-        // mean of its 4 neighbours.
-        let residuals: Vec<f32> = (w + 1..raw.rgba.len() / 4 - w - 1)
-            .filter(|&i| [i, i - 1, i + 1, i - w, i + w].iter().all(|&j| on_wall(j)))
-            .map(|i| raw.rgba[4 * i] - [i - 1, i + 1, i - w, i + w].iter().map(|&j| raw.rgba[4 * j]).sum::<f32>() / 4.0)
-            .collect();
-        assert!(residuals.len() > 30, "{preset}: {} wall texels", residuals.len());
-        var.insert(preset, mean(&residuals.iter().map(|r| r * r).collect::<Vec<_>>()));
+        let (noise, count) = wall_noise(&raw, &texels);
+        assert!(count > 30, "{preset}: {count} wall texels");
+        var.insert(preset, noise);
     }
     eprintln!("unblurred noise (mean squared residual) on the red wall per preset: {var:?}");
     assert!(var["ssao2"] < var["ssao1"], "16 vs 8 samples at w/4: {var:?}");

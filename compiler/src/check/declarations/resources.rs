@@ -95,49 +95,55 @@ fn size(p: &Pipeline, r: &Resource, t: &TextureDesc, profile: &Profile, diags: &
     }
 }
 
+/// What a parameter that sizes a texture must be: its type, a test of its range, and how
+/// the range reads in the message.
+struct SizeRule {
+    verb: &'static str,
+    ty: ParamType,
+    /// The type with its article, as the message says it ("an Int").
+    ty_word: &'static str,
+    range_ok: fn(f64, f64, f64) -> bool,
+    wanted: String,
+}
+
 /// `size: Viewport(Param("name"))`: a Float parameter whose range lies within the viewport
 /// scales a literal may have, (0, 16].
 fn scale_param(p: &Pipeline, r: &Resource, t: &TextureDesc, name: &str, diags: &mut Diagnostics) {
-    let why = match p.param(name) {
-        None => Some(format!("`{}` is scaled by parameter `{name}`, which is not declared", r.name.value)),
-        Some(prm) if prm.ty.value != ParamType::Float => {
-            Some(format!("`{}` is scaled by `{name}`, which must be a Float parameter", r.name.value))
-        }
-        Some(prm) => {
-            let lo = prm.min.as_ref().and_then(|m| m.as_floats().first().copied());
-            let hi = prm.max.as_ref().and_then(|m| m.as_floats().first().copied());
-            match (lo, hi) {
-                (Some(lo), Some(hi)) if lo > 0.0 && hi <= 16.0 => None,
-                _ => Some(format!(
-                    "`{}` is scaled by `{name}`: give it a range within (0, 16] (`min` above 0, `max` at most 16)",
-                    r.name.value
-                )),
-            }
-        }
+    let rule = SizeRule {
+        verb: "scaled",
+        ty: ParamType::Float,
+        ty_word: "a Float",
+        range_ok: |lo, hi, _| lo > 0.0 && hi <= 16.0,
+        wanted: "a range within (0, 16] (`min` above 0, `max` at most 16)".into(),
     };
-    if let Some(msg) = why {
-        diags.push(Diagnostic::error(Code::ValueOutOfRange, msg, t.size.span));
-    }
+    sizing_param(p, r, t, name, (rule, 16.0), diags);
 }
 
 /// `size: Param("name")`: an Int parameter whose range keeps the size within 1 and the
 /// profile's texture limit, so that every value `--param` accepts plans.
 fn size_param(p: &Pipeline, r: &Resource, t: &TextureDesc, name: &str, profile: &Profile, diags: &mut Diagnostics) {
     let max = profile.limits.max_texture_dimension_2d as f64;
+    let rule = SizeRule {
+        verb: "sized",
+        ty: ParamType::Int,
+        ty_word: "an Int",
+        range_ok: |lo, hi, max| lo >= 1.0 && hi <= max,
+        wanted: format!("a range within 1..{max} (`min` and `max`), the profile's texture limit"),
+    };
+    sizing_param(p, r, t, name, (rule, max), diags);
+}
+
+fn sizing_param(p: &Pipeline, r: &Resource, t: &TextureDesc, name: &str, (rule, max): (SizeRule, f64), diags: &mut Diagnostics) {
+    let (res, verb) = (&r.name.value, rule.verb);
     let why = match p.param(name) {
-        None => Some(format!("`{}` is sized by parameter `{name}`, which is not declared", r.name.value)),
-        Some(prm) if prm.ty.value != ParamType::Int => {
-            Some(format!("`{}` is sized by `{name}`, which must be an Int parameter", r.name.value))
-        }
+        None => Some(format!("`{res}` is {verb} by parameter `{name}`, which is not declared")),
+        Some(prm) if prm.ty.value != rule.ty => Some(format!("`{res}` is {verb} by `{name}`, which must be {} parameter", rule.ty_word)),
         Some(prm) => {
             let lo = prm.min.as_ref().and_then(|m| m.as_floats().first().copied());
             let hi = prm.max.as_ref().and_then(|m| m.as_floats().first().copied());
             match (lo, hi) {
-                (Some(lo), Some(hi)) if lo >= 1.0 && hi <= max => None,
-                _ => Some(format!(
-                    "`{}` is sized by `{name}`: give it a range within 1..{max} (`min` and `max`), the profile's texture limit",
-                    r.name.value
-                )),
+                (Some(lo), Some(hi)) if (rule.range_ok)(lo, hi, max) => None,
+                _ => Some(format!("`{res}` is {verb} by `{name}`: give it {}", rule.wanted)),
             }
         }
     };
