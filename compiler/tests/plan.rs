@@ -96,6 +96,31 @@ fn webgpu_falls_back_twice_with_reasons() {
     assert!(plan.pass("shadow_cube_classic").is_some());
 }
 
+/// `multiview!` asks for the option with fallbacks refused: where the profile lacks what it
+/// needs, that is an error naming what is missing; where it has it, the option runs.
+#[test]
+fn a_forced_option_does_not_fall_back() {
+    let mut s = Session::new();
+    let gl = Profile::offline("gl").unwrap();
+    let v = vec![("cube_shadow".to_string(), "multiview!".to_string())];
+    let plan = s.plan_file(&deferred(), None, &gl, &SceneFeatures::everything(), &v);
+    assert!(plan.is_none());
+    let d = s
+        .diags
+        .errors()
+        .find(|d| d.code.as_str() == "variant-unsupported")
+        .unwrap_or_else(|| panic!("{}", s.render()));
+    assert!(
+        d.message
+            .contains("option `multiview` was asked for without fallback (`multiview!`) but needs feature Multiview"),
+        "{}",
+        d.message
+    );
+    let plan = plan_with("vulkan", None, &[("cube_shadow", "multiview!")]);
+    let chosen = plan.variants.iter().find(|v| v.variant == "cube_shadow").unwrap();
+    assert_eq!(chosen.option, "multiview");
+}
+
 #[test]
 fn layouts_come_from_formats_and_shader_use() {
     let plan = plan_with("vulkan", None, &[]);

@@ -41,12 +41,11 @@ pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], d
     let mut sel = Selection::default();
     for var in &p.variants {
         let requested_opt = requested.iter().rev().find(|(k, _)| *k == var.name.value).map(|(_, v)| v.clone());
-        let (chosen, reasons) = choose(
-            var,
-            requested_opt.clone().unwrap_or_else(|| var.default.value.clone()),
-            profile,
-            diags,
-        )?;
+        let (start, forced) = match &requested_opt {
+            Some(v) => (strip_forced(v).to_string(), v.ends_with('!')),
+            None => (var.default.value.clone(), false),
+        };
+        let (chosen, reasons) = choose(var, (start, forced), profile, diags)?;
         let reason = if !reasons.is_empty() {
             Some(reasons.join("; "))
         } else {
@@ -62,8 +61,14 @@ pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], d
     (diags.error_count() == before).then_some(sel)
 }
 
+/// `multiview!`: the option, with fallbacks refused.
+fn strip_forced(v: &str) -> &str {
+    v.strip_suffix('!').unwrap_or(v)
+}
+
 fn check_requested(p: &Pipeline, requested: &[(String, String)], diags: &mut Diagnostics) {
     for (k, v) in requested {
+        let v = strip_forced(v);
         let d = match p.variant(k) {
             None => {
                 let names: Vec<&str> = p.variants.iter().map(|v| v.name.value.as_str()).collect();
@@ -87,8 +92,9 @@ fn check_requested(p: &Pipeline, requested: &[(String, String)], diags: &mut Dia
 }
 
 /// Follow fallbacks from `start` while the profile lacks what an option needs; the chosen
-/// option and why each step fell back. An option without a usable fallback is an error.
-fn choose(var: &Variant, start: String, profile: &Profile, diags: &mut Diagnostics) -> Option<(String, Vec<String>)> {
+/// option and why each step fell back. An option without a usable fallback, or asked for
+/// with `!` (`forced`: no fallback wanted), is an error.
+fn choose(var: &Variant, (start, forced): (String, bool), profile: &Profile, diags: &mut Diagnostics) -> Option<(String, Vec<String>)> {
     let mut cur = start;
     let mut reasons = vec![];
     let mut seen = vec![];
@@ -96,6 +102,22 @@ fn choose(var: &Variant, start: String, profile: &Profile, diags: &mut Diagnosti
         let o = var.option(&cur)?;
         let lacks = missing(o, profile);
         if lacks.is_empty() {
+            return Some((cur, reasons));
+        }
+        if forced {
+            diags.push(
+                Diagnostic::unlocated(
+                    Severity::Error,
+                    Code::VariantUnsupported,
+                    format!(
+                        "variant `{}` option `{cur}` was asked for without fallback (`{cur}!`) but needs {}, which profile `{}` lacks",
+                        var.name.value,
+                        lacks.join(", "),
+                        profile.name
+                    ),
+                )
+                .with_note(format!("drop the `!` to let `{cur}` fall back along its declared fallbacks")),
+            );
             return Some((cur, reasons));
         }
         seen.push(cur.clone());
