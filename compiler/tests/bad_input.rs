@@ -1423,3 +1423,18 @@ fn per_triangle_draws_and_the_triangles_binding() {
         bad.dump()
     );
 }
+
+/// `shadow_casters` only means something on a pass that runs per light.
+#[test]
+fn shadow_casters_without_per_light() {
+    let out = run(&Case {
+        pipeline: &[("params: [\"post.exposure\"]),", "params: [\"post.exposure\"], shadow_casters: true),")],
+        ..BASE
+    });
+    let d = out
+        .errors()
+        .into_iter()
+        .find(|d| d.code.as_str() == "casters-without-lights")
+        .unwrap_or_else(|| panic!("{}", out.dump()));
+    assert!(d.message.contains("pass `post` runs for shadow-casting lights only but not per light"), "{}", d.message);
+}

@@ -50,6 +50,7 @@ fn scene(effects: &[Effect]) -> SceneFeatures {
     SceneFeatures {
         name: "test".into(),
         lights: [(LightKind::Point, 1)].into_iter().collect(),
+        casters: [(LightKind::Point, 1)].into_iter().collect(),
         effects: effects.iter().copied().collect(),
         reflective: false,
         transparent: false,

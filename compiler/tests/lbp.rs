@@ -596,8 +596,9 @@ mod generated {
             proptest::collection::vec((name(), values).prop_map(|(k, v)| (sp(k), sp(v))), 0..3),
             proptest::option::of((0u32..12, 0u32..12).prop_map(|(from, to)| sp(MipRange { from, to }))),
             any::<bool>(),
+            any::<bool>(),
         );
-        (kind(), common, extra).prop_map(move |(kind, c, (values, per_mip, always))| {
+        (kind(), common, extra).prop_map(move |(kind, c, (values, per_mip, always, shadow_casters))| {
             let (reads, writes, params, block, bind, when, per_light, per_face) = c;
             Pass {
                 name: sp(n.clone()),
@@ -610,6 +611,7 @@ mod generated {
                 when: when.map(sp),
                 per_light: per_light.map(sp),
                 per_face,
+                shadow_casters,
                 values,
                 per_mip,
                 always,

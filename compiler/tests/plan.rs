@@ -234,11 +234,37 @@ fn memory_scales_with_lights_and_resolution() {
     let mut scene = SceneFeatures::everything();
     scene.size = (1920, 1080);
     scene.lights.insert(LightKind::Point, 4);
+    scene.casters.insert(LightKind::Point, 4);
     let plan = s.plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[]).unwrap();
     let cube = plan.resource("shadow.cube").unwrap();
     assert_eq!((cube.instances, cube.bytes), (4, 4 * 512 * 512 * 4 * 6));
     assert_eq!(plan.resource("hdr").unwrap().bytes, 1920 * 1080 * 8);
     assert_eq!(plan.pass("shadow_cube_classic").unwrap().repetitions, 24);
+}
+
+/// Shadow passes (`shadow_casters`) repeat for the lights that cast shadows only; with none,
+/// they are culled, saying why. The lights' shadow maps keep one instance per light.
+#[test]
+fn shadow_passes_run_for_casting_lights_only() {
+    let mut s = Session::new();
+    let mut scene = SceneFeatures::everything();
+    scene.lights.insert(LightKind::Point, 4);
+    scene.casters.insert(LightKind::Point, 1);
+    let plan = s.plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[]).unwrap();
+    assert_eq!(plan.pass("shadow_cube_classic").unwrap().repetitions, 6);
+    assert_eq!(plan.pass("light_point").unwrap().repetitions, 4);
+    assert_eq!(plan.resource("shadow.cube").unwrap().instances, 4);
+    assert!(plan::to_text(&plan, false).contains("Scene ×6 (per Point light casting shadows, per face)"));
+    scene.casters.clear();
+    let plan = s.plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[]);
+    assert!(!s.diags.has_errors(), "{}", s.render());
+    let plan = plan.unwrap();
+    let why = |name: &str| plan.culled.iter().find(|c| c.name == name).map(|c| c.reason.clone());
+    assert_eq!(
+        why("shadow_cube_classic").as_deref(),
+        Some("runs per shadow-casting Point light and no such light casts shadows")
+    );
+    assert!(why("shadow_map").is_some());
 }
 
 #[test]

@@ -467,3 +467,53 @@ fn a_device_opened_elsewhere_renders_alike() {
     let e = rmse(&ours, &theirs).unwrap();
     assert!(e < 0.01, "RMSE {e}");
 }
+
+/// A point light with `shadows: false` (a scene file as a user writes it) gets no shadow
+/// pass — none is timed — and lights the ground as if nothing stood in its way: wherever the
+/// ground is seen in both, the image equals the same scene without the box. With shadows
+/// on, the box's shadow shows there.
+#[test]
+fn a_light_without_shadows_gets_no_shadow_pass() {
+    let g = gpu();
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-noshadow-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    for f in ["ground.gltf", "red_box.gltf"] {
+        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
+    }
+    let scene = |shadows: bool, with_box: bool| {
+        let text = format!(
+            "Scene(name: \"s\", size: (64, 64), camera: (position: (0.0, 2.0, 3.0), pitch: -30.0, fov: 50.0),\n\
+             models: [(path: \"ground.gltf\", scale: 0.2){}],\n\
+             lights: [Point(position: (-1.0, 1.5, 0.0), intensity: 5.0, range: 8.0, shadows: {shadows})])\n",
+            if with_box { ", (path: \"red_box.gltf\")" } else { "" }
+        );
+        let path = d.join(format!("s_{shadows}_{with_box}.ron"));
+        std::fs::write(&path, text).unwrap();
+        lightbench::scene::load(path.to_str().unwrap()).unwrap()
+    };
+    let render = |s: &Scene| {
+        let ex = render_with(&g, &deferred(), s, &[], 1);
+        let timed: Vec<String> = ex.last_timings.iter().map(|t| t.pass.clone()).collect();
+        let out = (
+            ex.read_texture(&g, "hdr", 0, 0).unwrap(),
+            ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap(),
+        );
+        (ex.plan().clone(), timed, out)
+    };
+    let (plan, timed, (off, depth)) = render(&scene(false, true));
+    assert!(!timed.iter().any(|t| t.starts_with("shadow_cube")), "{timed:?}");
+    let culled = plan.culled.iter().find(|c| c.name == "shadow_cube_classic").expect("culled");
+    assert!(culled.reason.contains("no such light casts shadows"), "{}", culled.reason);
+    let (_, _, (open, open_depth)) = render(&scene(false, false));
+    let (_, timed_on, (on, _)) = render(&scene(true, true));
+    assert!(timed_on.iter().any(|t| t == "shadow_cube_classic"), "{timed_on:?}");
+    let ground: Vec<usize> = (0..64 * 64)
+        .filter(|&i| depth.rgba[4 * i] < 1.0 && (depth.rgba[4 * i] - open_depth.rgba[4 * i]).abs() < 1e-6)
+        .collect();
+    assert!(ground.len() > 500, "{} ground pixels seen in both", ground.len());
+    let diff = |a: &Image, b: &Image, i: usize| (0..3).map(|c| (a.rgba[4 * i + c] - b.rgba[4 * i + c]).abs()).fold(0.0f32, f32::max);
+    let worst = ground.iter().map(|&i| diff(&off, &open, i)).fold(0.0f32, f32::max);
+    assert!(worst < 2e-3, "unshadowed light vs no box: largest difference {worst}");
+    let shadowed = ground.iter().filter(|&&i| diff(&on, &open, i) > 0.01).count();
+    assert!(shadowed > 20, "with shadows on, {shadowed} ground pixels lie in the box's shadow");
+}

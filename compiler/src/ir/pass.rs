@@ -358,6 +358,9 @@ pub struct Pass {
     pub per_light: Option<Spanned<Vec<LightKind>>>,
     /// Run once per cube face (6 times; per light when `per_light` is set too).
     pub per_face: bool,
+    /// With `per_light`: run only for the lights that cast shadows (a light's `shadows:
+    /// false` removes its repetition; its shader reads it as unshadowed).
+    pub shadow_casters: bool,
     /// Run once per mip level of this range (targets and reads select levels with `Rep`).
     pub per_mip: Option<Spanned<MipRange>>,
     /// Run every frame even when nothing it depends on changed (hidden inputs).

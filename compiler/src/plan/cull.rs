@@ -150,9 +150,21 @@ fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String
                 continue;
             }
         }
-        if let Some(kinds) = pass.per_light.as_ref().filter(|k| cfg.scene.light_count(k) == 0) {
+        if let Some(kinds) = pass
+            .per_light
+            .as_ref()
+            .filter(|k| cfg.scene.repeats_for(k, pass.shadow_casters) == 0)
+        {
             let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
-            culled.insert(i, format!("runs per {} light and the scene has none", names.join(" or ")));
+            let what = if pass.shadow_casters && cfg.scene.light_count(kinds) > 0 {
+                format!(
+                    "runs per shadow-casting {} light and no such light casts shadows",
+                    names.join(" or ")
+                )
+            } else {
+                format!("runs per {} light and the scene has none", names.join(" or "))
+            };
+            culled.insert(i, what);
             continue;
         }
         if matches!(&pass.kind, PassKind::Raster(r) if r.draw == Draw::Transparent) && !cfg.scene.transparent {

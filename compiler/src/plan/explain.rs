@@ -178,7 +178,8 @@ fn repetitions(p: &PlanPass) -> String {
     let kinds: Vec<&str> = p.per_light.iter().map(|k| k.name()).collect();
     let mut parts = vec![];
     if !kinds.is_empty() {
-        parts.push(format!("per {} light", kinds.join("/")));
+        let casting = if p.shadow_casters { " casting shadows" } else { "" };
+        parts.push(format!("per {} light{casting}", kinds.join("/")));
     }
     if p.per_face {
         parts.push("per face".to_string());

@@ -187,6 +187,9 @@ pub struct PlanPass {
     pub work: Work,
     pub stages: Vec<PlanStage>,
     pub per_light: Vec<LightKind>,
+    /// Only the lights of `per_light` that cast shadows.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub shadow_casters: bool,
     pub per_face: bool,
     /// The mip levels it repeats over, in order.
     pub per_mip: Option<MipRange>,

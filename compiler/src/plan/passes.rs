@@ -43,7 +43,11 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
     let pass = &p.passes[i];
     let faces = if pass.per_face { 6 } else { 1 };
     let levels = pass.per_mip.as_ref().map(|m| m.value.levels().len() as u32).unwrap_or(1);
-    let lights = pass.per_light.as_ref().map(|k| cfg.scene.light_count(k)).unwrap_or(1);
+    let lights = pass
+        .per_light
+        .as_ref()
+        .map(|k| cfg.scene.repeats_for(k, pass.shadow_casters))
+        .unwrap_or(1);
     let after = schedule.ordered.after.get(&i).map(Vec::as_slice).unwrap_or(&[]);
     Some(PlanPass {
         name: pass.name.value.clone(),
@@ -59,6 +63,7 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
             .collect(),
         per_light: pass.per_light.as_ref().map(|k| k.value.clone()).unwrap_or_default(),
         per_face: pass.per_face,
+        shadow_casters: pass.shadow_casters,
         per_mip: pass.per_mip.as_ref().map(|m| m.value),
         repetitions: lights * faces * levels,
         reads: pass

@@ -40,6 +40,7 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Pass", "param_block", Def::Str("params")),
     ("Pass", "bind", Def::EmptyMap),
     ("Pass", "per_face", Def::Bool(false)),
+    ("Pass", "shadow_casters", Def::Bool(false)),
     ("Pass", "values", Def::EmptyMap),
     ("Pass", "always", Def::Bool(false)),
     ("Pipeline", "always", Def::Bool(false)),

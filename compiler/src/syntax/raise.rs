@@ -195,6 +195,7 @@ fn pass(p: &Pass) -> Node {
     }
     f.opt("per_light", p.per_light.as_ref().map(|k| kinds(k, k.span)));
     f.put("per_face", Node::bool(p.per_face, p.span));
+    f.put("shadow_casters", Node::bool(p.shadow_casters, p.span));
     f.opt("per_mip", p.per_mip.as_ref().map(|m| mip_range(m.value, m.span)));
     f.put("always", Node::bool(p.always, p.span));
     f.put("reads", Node::list(p.reads.iter().map(read).collect(), p.span));

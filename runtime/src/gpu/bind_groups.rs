@@ -109,7 +109,13 @@ impl Binder<'_> {
         let lights: Vec<Option<u32>> = if pp.per_light.is_empty() {
             vec![None]
         } else {
-            lights_of(self.lights, &pp.per_light).into_iter().map(Some).collect()
+            // Resources keep one instance per light of the kinds; a `shadow_casters` pass
+            // renders only the casters' instances.
+            lights_of(self.lights, &pp.per_light)
+                .into_iter()
+                .filter(|&i| !pp.shadow_casters || self.lights[i as usize].shadows)
+                .map(Some)
+                .collect()
         };
         let faces: Vec<u32> = if pp.per_face { (0..6).collect() } else { vec![0] };
         let mips: Vec<Option<u32>> = match pp.per_mip {

@@ -276,7 +276,8 @@ impl Scene {
             self.active_lights().iter().map(|l| l.kind),
             &self.effects,
             self.meshes.iter().any(|m| m.reflective),
-        );
+        )
+        .with_casters(self.active_lights().iter().filter(|l| l.shadows).map(|l| l.kind));
         f.transparent = self
             .meshes
             .iter()

@@ -27,6 +27,16 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
     variants::variants(p, diags);
     presets::presets(p, diags);
     for pass in &p.passes {
+        if pass.shadow_casters && pass.per_light.is_none() {
+            diags.push(
+                Diagnostic::error(
+                    Code::CastersWithoutLights,
+                    format!("pass `{}` runs for shadow-casting lights only but not per light", pass.name.value),
+                    pass.name.span,
+                )
+                .with_note("add `per_light: [..]` (LBP `per_light(..)`), or remove `shadow_casters`"),
+            );
+        }
         refs::pass_refs(p, pass, diags);
         targets::targets(p, pass, profile, diags);
         mips::mips(p, pass, diags);

@@ -161,6 +161,7 @@ fn keyword(r: &Rule) -> Option<&'static str> {
         Rule::when => "when",
         Rule::per_light => "per_light",
         Rule::per_face => "per_face",
+        Rule::shadow_casters => "shadow_casters",
         Rule::per_mip => "per_mip",
         Rule::always => "always",
         Rule::set => "set",

@@ -390,7 +390,7 @@ impl Builder<'_> {
 
     fn pass_item(&mut self, item: P, at: Span) -> Option<Node> {
         let rule = item.as_rule();
-        if rule == Rule::per_face || rule == Rule::always {
+        if rule == Rule::per_face || rule == Rule::always || rule == Rule::shadow_casters {
             return Some(Node::bool(true, at));
         }
         if rule == Rule::per_light {

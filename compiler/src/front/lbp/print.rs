@@ -274,6 +274,7 @@ fn pass_line(key: &str, v: &Node) -> String {
         "cull" => format!("cull {}", text(v)),
         "per_light" => per_light(v),
         "per_face" => "per_face".into(),
+        "shadow_casters" => "shadow_casters".into(),
         "always" => "always".into(),
         "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
         "values" => format!(

@@ -193,9 +193,13 @@ impl SceneDesc {
     /// What the compiler needs to cull and size a Plan, counting `extra` lights too (the
     /// KHR lights of glTF models, which only the runtime reads).
     pub fn features(&self, extra: impl IntoIterator<Item = LightKind>) -> SceneFeatures {
+        let extra: Vec<LightKind> = extra.into_iter().collect();
         let on = self.lights.iter().filter(|l| l.on).map(|l| l.kind);
+        let casters = self.lights.iter().filter(|l| l.on && l.shadows).map(|l| l.kind);
         let reflective = self.models.iter().any(|m| m.reflective);
-        let mut f = SceneFeatures::new(&self.name, self.size, on.chain(extra), &self.effects, reflective);
+        // Models' KHR lights cast shadows (glTF cannot say otherwise).
+        let mut f = SceneFeatures::new(&self.name, self.size, on.chain(extra.iter().copied()), &self.effects, reflective)
+            .with_casters(casters.chain(extra.iter().copied()));
         // Only loading a model shows whether it has blended materials: assume it may.
         f.transparent = !self.models.is_empty();
         f
@@ -207,6 +211,8 @@ pub struct SceneFeatures {
     pub name: String,
     /// Lights that are on, by kind.
     pub lights: BTreeMap<LightKind, u32>,
+    /// Of those, the ones that cast shadows.
+    pub casters: BTreeMap<LightKind, u32>,
     pub effects: BTreeSet<Effect>,
     pub reflective: bool,
     /// Some mesh blends (glTF alphaMode BLEND): `draw: Transparent` passes have work.
@@ -229,6 +235,7 @@ impl SceneFeatures {
         }
         SceneFeatures {
             name: name.into(),
+            casters: lights.clone(),
             lights,
             effects: effects.clone(),
             reflective,
@@ -243,6 +250,7 @@ impl SceneFeatures {
         SceneFeatures {
             name: "<all features>".into(),
             lights: LightKind::ALL.into_iter().map(|k| (k, 1)).collect(),
+            casters: LightKind::ALL.into_iter().map(|k| (k, 1)).collect(),
             effects: Effect::ALL.into_iter().collect(),
             reflective: true,
             transparent: true,
@@ -252,6 +260,29 @@ impl SceneFeatures {
 
     pub fn light_count(&self, kinds: &[LightKind]) -> u32 {
         kinds.iter().map(|k| self.lights.get(k).copied().unwrap_or(0)).sum()
+    }
+
+    /// The lights of these kinds that cast shadows.
+    pub fn caster_count(&self, kinds: &[LightKind]) -> u32 {
+        kinds.iter().map(|k| self.casters.get(k).copied().unwrap_or(0)).sum()
+    }
+
+    /// How many times a per-light pass over `kinds` repeats (`casters`: shadow casters only).
+    pub fn repeats_for(&self, kinds: &[LightKind], casters: bool) -> u32 {
+        if casters {
+            self.caster_count(kinds)
+        } else {
+            self.light_count(kinds)
+        }
+    }
+
+    /// Set which of the lights cast shadows (kinds of the casting lights that are on).
+    pub fn with_casters(mut self, casters: impl IntoIterator<Item = LightKind>) -> Self {
+        self.casters.clear();
+        for k in casters {
+            *self.casters.entry(k).or_insert(0u32) += 1;
+        }
+        self
     }
 }
 

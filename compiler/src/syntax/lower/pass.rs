@@ -7,7 +7,7 @@ use crate::ir::*;
 use crate::span::{Span, Spanned};
 use crate::syntax::tree::{Node, Value};
 
-const COMMON: [&str; 13] = [
+const COMMON: [&str; 14] = [
     "name",
     "shader",
     "reads",
@@ -19,6 +19,7 @@ const COMMON: [&str; 13] = [
     "when",
     "per_light",
     "per_face",
+    "shadow_casters",
     "per_mip",
     "always",
 ];
@@ -78,6 +79,7 @@ impl Lowerer<'_> {
             None => None,
         };
         let per_face = o.get("per_face").and_then(|n| self.bool(&n));
+        let shadow_casters = o.get("shadow_casters").and_then(|n| self.bool(&n));
         let values = o.get("values").and_then(|n| self.values(&n));
         let per_mip = match o.take("per_mip") {
             Some(n) => Some(self.mip_range(&n)?),
@@ -95,6 +97,7 @@ impl Lowerer<'_> {
             when,
             per_light,
             per_face: per_face?,
+            shadow_casters: shadow_casters?,
             values: values?,
             per_mip,
             always: always?,
