@@ -1428,7 +1428,10 @@ fn per_triangle_draws_and_the_triangles_binding() {
 #[test]
 fn shadow_casters_without_per_light() {
     let out = run(&Case {
-        pipeline: &[("params: [\"post.exposure\"]),", "params: [\"post.exposure\"], shadow_casters: true),")],
+        pipeline: &[(
+            "params: [\"post.exposure\"]),",
+            "params: [\"post.exposure\"], shadow_casters: true),",
+        )],
         ..BASE
     });
     let d = out
@@ -1436,5 +1439,10 @@ fn shadow_casters_without_per_light() {
         .into_iter()
         .find(|d| d.code.as_str() == "casters-without-lights")
         .unwrap_or_else(|| panic!("{}", out.dump()));
-    assert!(d.message.contains("pass `post` runs for shadow-casting lights only but not per light"), "{}", d.message);
+    assert!(
+        d.message
+            .contains("pass `post` runs for shadow-casting lights only but not per light"),
+        "{}",
+        d.message
+    );
 }

@@ -258,11 +258,7 @@ fn the_inverse_square_falloff_weakens_occlusion() {
 /// `scenes/hidden_occluder.ron` as bundled, and a copy without the two boxes hidden from the
 /// camera (the glTFs copied beside it).
 fn hidden_occluder_scenes() -> [lightbench::scene::Scene; 2] {
-    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-mvao-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    for f in ["ground.gltf", "red_box.gltf"] {
-        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
-    }
+    let d = scene_dir("mvao", &["ground.gltf", "red_box.gltf"]);
     let text = std::fs::read_to_string(root().join("scenes/hidden_occluder.ron")).unwrap();
     let without: String = text
         .lines()
@@ -311,11 +307,7 @@ fn multi_view_ao_sees_an_occluder_the_camera_cannot() {
 #[test]
 fn multi_view_ao_skips_lights_that_are_off() {
     let g = gpu();
-    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-mvao-off-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    for f in ["ground.gltf", "red_box.gltf"] {
-        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
-    }
+    let d = scene_dir("mvao-off", &["ground.gltf", "red_box.gltf"]);
     let text = std::fs::read_to_string(root().join("scenes/hidden_occluder.ron")).unwrap();
     std::fs::write(d.join("off.ron"), text.replace("Directional(", "Directional(on: false, ")).unwrap();
     let scene = lightbench::scene::load(d.join("off.ron").to_str().unwrap()).unwrap();

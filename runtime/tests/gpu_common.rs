@@ -55,3 +55,14 @@ pub fn memory_project() -> std::sync::Arc<lightbench_compiler::vfs::MemoryVfs> {
     add(&vfs, &root().join("shaders"), Path::new("mem/shaders"));
     vfs
 }
+
+/// A scratch folder for scene files written by a test (`tag` names it), holding copies of
+/// the bundled models a scene there refers to.
+pub fn scene_dir(tag: &str, models: &[&str]) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    for f in models {
+        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
+    }
+    d
+}

@@ -475,11 +475,7 @@ fn a_device_opened_elsewhere_renders_alike() {
 #[test]
 fn a_light_without_shadows_gets_no_shadow_pass() {
     let g = gpu();
-    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-noshadow-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    for f in ["ground.gltf", "red_box.gltf"] {
-        std::fs::copy(root().join("scenes").join(f), d.join(f)).unwrap();
-    }
+    let d = scene_dir("noshadow", &["ground.gltf", "red_box.gltf"]);
     let scene = |shadows: bool, with_box: bool| {
         let text = format!(
             "Scene(name: \"s\", size: (64, 64), camera: (position: (0.0, 2.0, 3.0), pitch: -30.0, fov: 50.0),\n\
