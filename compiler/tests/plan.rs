@@ -243,7 +243,7 @@ fn memory_scales_with_lights_and_resolution() {
 }
 
 /// Shadow passes (`shadow_casters`) repeat for the lights that cast shadows only; with none,
-/// they are culled, saying why. The lights' shadow maps keep one instance per light.
+/// they are culled, saying why. Shadow maps get an instance per casting light only.
 #[test]
 fn shadow_passes_run_for_casting_lights_only() {
     let mut s = Session::new();
@@ -253,7 +253,10 @@ fn shadow_passes_run_for_casting_lights_only() {
     let plan = s.plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[]).unwrap();
     assert_eq!(plan.pass("shadow_cube_classic").unwrap().repetitions, 6);
     assert_eq!(plan.pass("light_point").unwrap().repetitions, 4);
-    assert_eq!(plan.resource("shadow.cube").unwrap().instances, 4);
+    // The cube maps follow the casting lights: one, not four.
+    let cube = plan.resource("shadow.cube").unwrap();
+    assert!(cube.casters_only);
+    assert_eq!((cube.instances, cube.bytes), (1, 512 * 512 * 4 * 6));
     assert!(plan::to_text(&plan, false).contains("Scene ×6 (per Point light casting shadows, per face)"));
     scene.casters.clear();
     let plan = s.plan_file(&deferred(), None, &Profile::vulkan(), &scene, &[]);

@@ -512,4 +512,24 @@ fn a_light_without_shadows_gets_no_shadow_pass() {
     assert!(worst < 2e-3, "unshadowed light vs no box: largest difference {worst}");
     let shadowed = ground.iter().filter(|&&i| diff(&on, &open, i) > 0.01).count();
     assert!(shadowed > 20, "with shadows on, {shadowed} ground pixels lie in the box's shadow");
+    // A casting and a non-casting light, in either order: the caster's cube map (the only
+    // instance) is found by the right light.
+    let two = |first: &str, second: &str| {
+        let text = format!(
+            "Scene(name: \"t\", size: (64, 64), camera: (position: (0.0, 2.0, 3.0), pitch: -30.0, fov: 50.0),\n\
+             models: [(path: \"ground.gltf\", scale: 0.2), (path: \"red_box.gltf\")],\n\
+             lights: [{first}, {second}])\n"
+        );
+        let path = d.join(format!("two_{}.ron", first.len()));
+        std::fs::write(&path, text).unwrap();
+        let s = lightbench::scene::load(path.to_str().unwrap()).unwrap();
+        let ex = render_with(&g, &deferred(), &s, &[], 1);
+        assert_eq!(ex.plan().resource("shadow.cube").unwrap().instances, 1);
+        ex.read_texture(&g, "hdr", 0, 0).unwrap()
+    };
+    let caster = "Point(position: (-1.0, 1.5, 0.0), intensity: 5.0, range: 8.0)";
+    let plain = "Point(position: (1.0, 1.5, 0.5), intensity: 2.0, range: 8.0, shadows: false)";
+    let (a, b) = (two(caster, plain), two(plain, caster));
+    let e = rmse(&a, &b).unwrap();
+    assert!(e < 1e-4, "light order changed the image: RMSE {e}");
 }

@@ -357,7 +357,8 @@ fn resource_line(r: &PlanResource) -> String {
     let mut extra = String::new();
     if !r.per_light.is_empty() {
         let k: Vec<&str> = r.per_light.iter().map(|k| k.name()).collect();
-        extra += &format!(" per {} light ×{}", k.join("/"), r.instances);
+        let casting = if r.casters_only { " casting shadows" } else { "" };
+        extra += &format!(" per {} light{casting} ×{}", k.join("/"), r.instances);
     }
     if r.history {
         extra += " history ×2";

@@ -306,7 +306,11 @@ pub struct PlanResource {
     pub name: String,
     pub shape: ResourceShape,
     pub per_light: Vec<LightKind>,
-    /// Instances for this scene: one per matching light, else one.
+    /// Written only by `shadow_casters` passes: one instance per casting light (at least one).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub casters_only: bool,
+    /// Instances for this scene: one per matching light (casting light for `casters_only`),
+    /// else one.
     pub instances: u32,
     pub history: bool,
     pub external: bool,

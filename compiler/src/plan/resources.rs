@@ -100,10 +100,14 @@ fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
 
 fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
     let per_light = r.per_light().map(|k| k.value.clone()).unwrap_or_default();
-    let instances = if per_light.is_empty() {
-        1
-    } else {
-        cfg.scene.light_count(&per_light)
+    // Maps only shadow passes write need an instance per casting light only (at least one,
+    // which the lights that cast none bind and ignore).
+    let mut writers = p.passes.iter().filter(|q| q.written().any(|w| w.value == r.name.value)).peekable();
+    let casters_only = !per_light.is_empty() && writers.peek().is_some() && writers.all(|q| q.shadow_casters);
+    let instances = match (per_light.is_empty(), casters_only) {
+        (true, _) => 1,
+        (false, true) => cfg.scene.caster_count(&per_light).max(1),
+        (false, false) => cfg.scene.light_count(&per_light),
     };
     let copies = if r.history() { 2 } else { 1 };
     let (shape, one) = match &r.kind {
@@ -135,6 +139,7 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
         name: r.name.value.clone(),
         shape,
         per_light,
+        casters_only,
         instances,
         history: r.history(),
         external: r.external(),

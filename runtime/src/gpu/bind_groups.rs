@@ -69,7 +69,12 @@ impl Binder<'_> {
     fn instance_of(&self, res: ResourceId, light: Option<u32>) -> u32 {
         let r = self.plan.res(res);
         match (r.per_light.is_empty(), light) {
-            (false, Some(l)) => lights_of(self.lights, &r.per_light).iter().position(|&i| i == l).unwrap_or(0) as u32,
+            // A light that casts no shadows binds instance 0 of a casters-only map (unread).
+            (false, Some(l)) => lights_of(self.lights, &r.per_light)
+                .into_iter()
+                .filter(|&i| !r.casters_only || self.lights[i as usize].shadows)
+                .position(|i| i == l)
+                .unwrap_or(0) as u32,
             _ => 0,
         }
     }
