@@ -533,3 +533,54 @@ fn a_light_without_shadows_gets_no_shadow_pass() {
     let e = rmse(&a, &b).unwrap();
     assert!(e < 1e-4, "light order changed the image: RMSE {e}");
 }
+
+/// Cube shadows with `cube.pcf` soften their edges the same way under every cube-shadow
+/// option; `cube.normal_offset` removes the acne that no depth bias leaves (bias 0).
+#[test]
+fn cube_shadow_pcf_and_normal_offset() {
+    let g = gpu();
+    let scene = builtin::cornell();
+    let p = deferred();
+    let hdr_with = |variant: &str, params: &[(&str, lightbench_compiler::ir::ParamValue)]| {
+        let v = [("cube_shadow".to_string(), variant.to_string())];
+        let (exe, _) = lightbench::render::compile(&g, &p, None, &scene, &v).unwrap();
+        let params: Vec<(String, lightbench_compiler::ir::ParamValue)> = params.iter().map(|(k, v)| (k.to_string(), v.clone())).collect();
+        lightbench::render::render_with(&g, &exe, &scene, 1, &params)
+            .unwrap()
+            .read_texture(&g, "hdr", 0, 0)
+            .unwrap()
+    };
+    use lightbench_compiler::ir::ParamValue::{Bool, Float};
+    let hard = hdr_with("classic", &[]);
+    let soft = hdr_with("classic", &[("cube.pcf", Bool(true))]);
+    let changed = (0..hard.rgba.len() / 4)
+        .filter(|&i| (hard.rgba[4 * i] - soft.rgba[4 * i]).abs() > 1e-3)
+        .count();
+    assert!(
+        changed > 20 && changed < hard.rgba.len() / 4 / 4,
+        "PCF changes shadow edges only: {changed} pixels"
+    );
+    for v in ["multiview", "instanced"] {
+        let e = rmse(&soft, &hdr_with(v, &[("cube.pcf", Bool(true))])).unwrap();
+        eprintln!("pcf: classic vs {v} RMSE {e}");
+        assert!(e < 0.02, "pcf: classic vs {v} RMSE {e}");
+    }
+    let acne = |img: &Image| {
+        (0..hard.rgba.len() / 4)
+            .filter(|&i| img.rgba[4 * i] < hard.rgba[4 * i] * 0.9)
+            .count()
+    };
+    let unbiased = hdr_with("classic", &[("cube.bias", Float(0.0))]);
+    let offset = hdr_with("classic", &[("cube.bias", Float(0.0)), ("cube.normal_offset", Float(0.02))]);
+    eprintln!(
+        "pixels darker than the biased image by 10%: bias 0 {}, bias 0 + normal offset {}",
+        acne(&unbiased),
+        acne(&offset)
+    );
+    assert!(
+        acne(&offset) * 4 < acne(&unbiased).max(1),
+        "{} vs {}",
+        acne(&offset),
+        acne(&unbiased)
+    );
+}

@@ -32,21 +32,36 @@ fn cube_face(dir: vec3<f32>) -> u32 {
 }
 
 // Shadow of a point light from its cube map: the depth of the surface on the face its
-// direction falls on, minus the bias, compared in one lookup.
-fn cube_shadow(map: texture_depth_cube, cmp: sampler_comparison, l: Light, to_light: vec3<f32>, dist: f32, bias: f32) -> f32 {
+// direction `dir` (light to surface) falls on, minus the bias, compared in one lookup — or,
+// with `pcf`, in 3×3 lookups one texel apart across that face.
+fn cube_shadow(map: texture_depth_cube, cmp: sampler_comparison, l: Light, dir: vec3<f32>, bias: f32, pcf: bool) -> f32 {
     if l.casts_shadows == 0u {
         return 1.0;
     }
-    let dir = -to_light * dist;
     let a = abs(dir);
     let major = max(a.x, max(a.y, a.z));
     let depth = cube_face_depth(major, l.cone.z, l.cone.w) - bias;
-    return textureSampleCompareLevel(map, cmp, dir, depth);
+    if !pcf {
+        return textureSampleCompareLevel(map, cmp, dir, depth);
+    }
+    // Two axes across the face the direction falls on, one texel (2 · major / size) long.
+    let axis = select(select(vec3<f32>(0.0, 0.0, 1.0), vec3<f32>(0.0, 1.0, 0.0), a.y >= a.z && a.y >= a.x), vec3<f32>(1.0, 0.0, 0.0), a.x >= a.y && a.x >= a.z);
+    let u = normalize(cross(axis, select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), axis.y > 0.5)));
+    let v = cross(axis, u);
+    let step = 2.0 * major / f32(textureDimensions(map).x);
+    var lit = 0.0;
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            lit += textureSampleCompareLevel(map, cmp, dir + (u * f32(x) + v * f32(y)) * step, depth);
+        }
+    }
+    return lit / 9.0;
 }
 
 // Shadow of a point light whose cube faces were rendered into a 3×2 atlas (one instanced
-// pass): project with the face's matrix, then look up inside that face's tile.
-fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, to_light: vec3<f32>, bias: f32) -> f32 {
+// pass): project with the face's matrix, then look up inside that face's tile (with `pcf`,
+// 3×3 lookups, each kept inside the tile).
+fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, to_light: vec3<f32>, bias: f32, pcf: bool) -> f32 {
     if l.casts_shadows == 0u {
         return 1.0;
     }
@@ -59,9 +74,17 @@ fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, worl
     let tile = vec2<f32>(f32(face % 3u), f32(face / 3u));
     // Stay half a texel inside the tile so filtering never reads the neighbour face.
     let half_texel = 0.5 / vec2<f32>(textureDimensions(atlas));
-    let in_tile = clamp(vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5), half_texel * vec2<f32>(3.0, 2.0), 1.0 - half_texel * vec2<f32>(3.0, 2.0));
-    let uv = (tile + in_tile) / vec2<f32>(3.0, 2.0);
-    return textureSampleCompareLevel(atlas, cmp, uv, ndc.z - bias);
+    let lo = half_texel * vec2<f32>(3.0, 2.0);
+    let at = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    let taps = select(0, 1, pcf);
+    var lit = 0.0;
+    for (var y = -taps; y <= taps; y++) {
+        for (var x = -taps; x <= taps; x++) {
+            let in_tile = clamp(at + vec2<f32>(f32(x), f32(y)) * lo * 2.0, lo, 1.0 - lo);
+            lit += textureSampleCompareLevel(atlas, cmp, (tile + in_tile) / vec2<f32>(3.0, 2.0), ndc.z - bias);
+        }
+    }
+    return lit / f32((2 * taps + 1) * (2 * taps + 1));
 }
 
 // Shadow of a directional (orthographic) or spot (perspective) light from its 2D map, with
