@@ -205,9 +205,13 @@ fn uniform_block_offsets_follow_the_shader_struct() {
         .collect();
     assert_eq!(
         fields,
-        vec![("bias", "shadow.bias", 0, 4, "f32"), ("pcf", "shadow.pcf", 4, 4, "u32")]
+        vec![
+            ("bias", "shadow.bias", 0, 4, "f32"),
+            ("pcf", "shadow.pcf", 4, 4, "u32"),
+            ("normal_offset", "shadow.normal_offset", 8, 4, "f32")
+        ]
     );
-    assert_eq!((b.size, b.align, b.group, b.binding), (8, 4, 2, 5));
+    assert_eq!((b.size, b.align, b.group, b.binding), (12, 4, 2, 5));
     let a = &plan.pass("ambient").unwrap().uniform_blocks[0];
     assert_eq!((a.size, a.align), (16, 16), "vec3<f32> is 16-aligned in uniform space");
     assert_eq!(a.fields[0].ty, FieldType::Vec3F32);

@@ -98,7 +98,7 @@ fn plan_explain_names_culling_reasons() {
         out.contains("shadow_cube_atlas          variant not chosen: `cube_shadow` is `classic`, this pass belongs to `instanced`"),
         "{out}"
     );
-    assert!(out.contains("block `params`: 8 bytes, align 4"), "{out}");
+    assert!(out.contains("block `params`: 12 bytes, align 4"), "{out}");
 }
 
 #[test]

@@ -150,8 +150,10 @@ fn plan_scene(a: &Args, s: &mut Session) -> std::result::Result<SceneFeatures, i
         if a.scene.is_some() {
             return Err(usage_error("--lights is for planning without a scene; the scene's lights are used"));
         }
+        // Lights cast shadows unless a scene says otherwise.
         for (k, n) in parse_lights(l).map_err(usage_error)? {
             scene.lights.insert(k, n);
+            scene.casters.insert(k, n);
         }
     }
     Ok(scene)
