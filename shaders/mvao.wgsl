@@ -10,6 +10,7 @@
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
 #include "lib/ao_kernel.wgsl"
+#include "lib/rsm.wgsl"
 
 struct Params {
     radius: f32,
@@ -65,23 +66,12 @@ fn light_depth(l: Light, p: vec3<f32>) -> f32 {
     return length(p - l.position.xyz);
 }
 
-// The surface the light sees where `p` projects on its RSM (w: 0 where nothing was drawn or
-// `p` is off the map).
-fn rsm_seen(l: Light, p: vec3<f32>) -> vec4<f32> {
-    let on = on_texture(l.view_proj, p);
-    if !on.inside {
-        return vec4<f32>(0.0);
-    }
-    let dims = vec2<f32>(textureDimensions(rsm_position, 0));
-    return textureLoad(rsm_position, vec2<i32>(on.uv * dims), 0);
-}
-
 @fragment
 fn fs_light(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);
     let s = load_surface(target_gbuffer_pixel(frag.xy));
     let l = lights[instance.light];
-    let own = rsm_seen(l, s.world);
+    let own = rsm_seen(rsm_position, l, s.world);
     // The light must see the surface itself (within the bias and a tenth of the radius).
     if !s.covered || own.w == 0.0 || light_depth(l, s.world) - light_depth(l, own.xyz) > params.bias + 0.1 * params.radius {
         return vec4<f32>(0.0);
@@ -92,7 +82,7 @@ fn fs_light(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var v = ViewAo(0.0, 0.0);
     for (var i = 0u; i < n; i++) {
         let p = s.world + kernel_point(tbn, i, n, params.radius);
-        let seen = rsm_seen(l, p);
+        let seen = rsm_seen(rsm_position, l, p);
         if seen.w == 0.0 {
             v.distance += params.radius;
             continue;

@@ -9,6 +9,7 @@
 // w test here. `fallback` off writes nothing.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/rsm.wgsl"
 
 struct Params {
     step: f32,
@@ -24,12 +25,8 @@ struct Params {
 
 // Does the light see `p` (the receiver's shadow term from its RSM)? Within `thickness` of the
 // surface its map holds there.
-fn lit(l: Light, p: vec3<f32>, size: vec2<f32>) -> bool {
-    let on = on_texture(l.view_proj, p);
-    if !on.inside {
-        return false;
-    }
-    let seen = textureLoad(rsm_position, vec2<i32>(on.uv * size), 0);
+fn lit(l: Light, p: vec3<f32>) -> bool {
+    let seen = rsm_seen(rsm_position, l, p);
     return seen.w > 0.0 && length(seen.xyz - p) < params.thickness;
 }
 
@@ -45,7 +42,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let l = lights[instance.light];
     let size = vec2<f32>(textureDimensions(rsm_flux, 0));
-    if !lit(l, s.world, size) {
+    if !lit(l, s.world) {
         return vec4<f32>(0.0);
     }
     let dir = reflect(-s.v, s.n);
