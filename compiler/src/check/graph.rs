@@ -111,7 +111,10 @@ fn read_edges(
             continue;
         }
         let others: Vec<usize> = ws.iter().copied().filter(|&w| w != i).collect();
-        if others.is_empty() && !own_mips && !res.supplied() && !casters_only(p, name, res, culled) {
+        // Shadow maps whose writers were all culled for lack of casting lights stay cleared;
+        // the lights read as unshadowed.
+        let unshadowed = p.written_by_casters_only(res) && ws.is_empty();
+        if others.is_empty() && !own_mips && !res.supplied() && !unshadowed {
             diags.push(missing_producer(p, pass, name, res, culled));
         }
         // A resource rewritten within the frame: a reader sees the writes before it in file
@@ -135,16 +138,6 @@ fn reads_other_mips(pass: &Pass, res: &str) -> bool {
     let reads_whole = pass.reads.iter().any(|r| r.name().value == res && r.mip().is_none());
     let storage = pass.writes.iter().any(|w| w.value == res);
     !reads_whole && !storage && pass.depth_tested().is_none_or(|d| d.value != res)
-}
-
-/// A per-light resource whose only writers are `shadow_casters` passes culled because no
-/// light casts shadows: its instances stay cleared, and the lights read as unshadowed.
-fn casters_only(p: &Pipeline, name: &crate::span::Spanned<String>, res: &Resource, culled: &BTreeMap<usize, String>) -> bool {
-    let mut writers = culled
-        .keys()
-        .filter(|j| p.passes[**j].written().any(|w| w.value == name.value))
-        .peekable();
-    res.per_light().is_some() && writers.peek().is_some() && writers.all(|j| p.passes[*j].shadow_casters)
 }
 
 fn missing_producer(

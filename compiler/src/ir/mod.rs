@@ -76,6 +76,17 @@ impl Pipeline {
     pub fn variant(&self, name: &str) -> Option<&Variant> {
         self.variants.iter().find(|v| v.name.value == name)
     }
+
+    /// A per-light resource that only `shadow_casters` passes write (a shadow map): it needs
+    /// an instance per casting light, and may go unwritten when no light casts shadows.
+    pub fn written_by_casters_only(&self, r: &Resource) -> bool {
+        let mut writers = self
+            .passes
+            .iter()
+            .filter(|q| q.written().any(|w| w.value == r.name.value))
+            .peekable();
+        r.per_light().is_some() && writers.peek().is_some() && writers.all(|q| q.shadow_casters)
+    }
 }
 
 /// The identifier a shader uses for a declared name: every character that cannot

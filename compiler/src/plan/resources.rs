@@ -102,8 +102,7 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
     let per_light = r.per_light().map(|k| k.value.clone()).unwrap_or_default();
     // Maps only shadow passes write need an instance per casting light only (at least one,
     // which the lights that cast none bind and ignore).
-    let mut writers = p.passes.iter().filter(|q| q.written().any(|w| w.value == r.name.value)).peekable();
-    let casters_only = !per_light.is_empty() && writers.peek().is_some() && writers.all(|q| q.shadow_casters);
+    let casters_only = p.written_by_casters_only(r);
     let instances = match (per_light.is_empty(), casters_only) {
         (true, _) => 1,
         (false, true) => cfg.scene.caster_count(&per_light).max(1),
