@@ -48,13 +48,19 @@ fn load_tri(i: u32) -> Tri {
     return t;
 }
 
+// The outward normal, in the triangle's plane, of its edge from `a` to `b` (counter-clockwise
+// seen from the front).
+fn edge_out(a: vec3<f32>, b: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    return safe_normalize(cross(b - a, n), n);
+}
+
 // Corner `k` of the grown triangle: the exact offset of both edges meeting there by `r`
 // (capped for slivers, whose corners would fly off).
 fn grown(t: Tri, k: u32, r: f32) -> vec3<f32> {
     let v = array<vec3<f32>, 3>(t.a, t.b, t.c);
     let p = v[k];
-    let e_in = safe_normalize(cross(p - v[(k + 2u) % 3u], t.n), t.n);
-    let e_out = safe_normalize(cross(v[(k + 1u) % 3u] - p, t.n), t.n);
+    let e_in = edge_out(v[(k + 2u) % 3u], p, t.n);
+    let e_out = edge_out(p, v[(k + 1u) % 3u], t.n);
     return p + (e_in + e_out) * r / max(1.0 + dot(e_in, e_out), 0.1);
 }
 
@@ -63,8 +69,7 @@ fn in_prism(t: Tri, base: array<vec3<f32>, 3>, q: vec3<f32>, margin: f32) -> boo
     let h = dot(q - t.a, t.n);
     var inside = h > -margin && h < params.radius + margin;
     for (var k = 0u; k < 3u; k++) {
-        let edge = base[(k + 1u) % 3u] - base[k];
-        inside = inside && dot(q - base[k], safe_normalize(cross(edge, t.n), t.n)) < margin;
+        inside = inside && dot(q - base[k], edge_out(base[k], base[(k + 1u) % 3u], t.n)) < margin;
     }
     return inside;
 }
@@ -152,7 +157,7 @@ fn distance_to(t: Tri, p: vec3<f32>, h: f32) -> f32 {
     let v = array<vec3<f32>, 3>(t.a, t.b, t.c);
     var out2 = 0.0;
     for (var k = 0u; k < 3u; k++) {
-        let e = safe_normalize(cross(v[(k + 1u) % 3u] - v[k], t.n), t.n);
+        let e = edge_out(v[k], v[(k + 1u) % 3u], t.n);
         out2 += pow(max(dot(p - v[k], e), 0.0), 2.0);
     }
     return sqrt(h * h + out2);
