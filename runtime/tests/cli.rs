@@ -112,6 +112,36 @@ fn plan_unknown_variant_is_an_error_with_suggestion() {
     assert!(err.contains("did you mean `cube_shadow`?"), "{err}");
 }
 
+/// `--variant k=option!` as the README writes it: where the profile cannot run the option,
+/// an error naming what it lacks and exit 1, nothing planned; where it can, the option runs.
+#[test]
+fn a_forced_variant_option_refuses_to_fall_back() {
+    let (code, out, err) = lightbench(&[
+        "plan",
+        "pipelines/deferred.ron",
+        "--profile",
+        "gl",
+        "--variant",
+        "cube_shadow=multiview!",
+    ]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(
+        err.contains("error[variant-unsupported]: variant `cube_shadow` option `multiview` was asked for without fallback (`multiview!`)"),
+        "{err}"
+    );
+    let (code, out, err) = lightbench(&[
+        "plan",
+        "pipelines/deferred.ron",
+        "--profile",
+        "vulkan",
+        "--variant",
+        "cube_shadow=multiview!",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("cube_shadow = multiview"), "{out}");
+}
+
 #[test]
 fn plan_dot_and_json() {
     let (code, out, _) = lightbench(&["plan", "pipelines/deferred.ron", "--dot"]);
