@@ -72,6 +72,7 @@ pub const FRAME: &str = "frame";
 pub const INSTANCE: &str = "instance";
 pub const LIGHTS: &str = "lights";
 pub const TRIANGLES: &str = "triangles";
+pub const LIGHT_VOLUMES: &str = "light_volumes";
 
 macro_rules! draw_slots {
     ($( $variant:ident = $name:literal ),* $(,)?) => {
@@ -118,6 +119,9 @@ pub enum BindSource<R, S> {
     /// The scene's opaque and masked triangles in world space, 3 `vec4` (w: 1) each
     /// (storage, read-only), for vertex pulling and ray queries.
     Triangles,
+    /// The runtime's light-volume meshes, non-indexed triangle lists of `vec4` corners (w: the
+    /// shape, see `shaders/lib/light_volume.wgsl`), drawn by `draw: LightVolume` passes.
+    LightVolumes,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
 }

@@ -2,22 +2,11 @@
 // depth and the inverse view-projection. Depth is read as an unfilterable float texture
 // (texelFetch works on every backend; textureLoad on texture_depth_2d does not on GL).
 #include "lib/math.wgsl"
+#include "lib/surface.wgsl"
 
 @group(2) @binding(0) var gbuf_depth: texture_2d<f32>;
 @group(2) @binding(1) var gbuf_normal: texture_2d<f32>;
 @group(2) @binding(2) var gbuf_albedo: texture_2d<f32>;
-
-struct Surface {
-    world: vec3<f32>,
-    n: vec3<f32>,
-    // direction to the camera
-    v: vec3<f32>,
-    albedo: vec3<f32>,
-    metallic: f32,
-    roughness: f32,
-    // false for background pixels (nothing was drawn there)
-    covered: bool,
-};
 
 // World position of a pixel centre at the given depth (wgpu NDC: y up, depth 0..1).
 fn world_from_depth(pixel: vec2<i32>, depth: f32) -> vec3<f32> {

@@ -1,5 +1,6 @@
-// What every deferred light pass shares (seed 003 §3.2): the G-buffer surface under the
-// pixel, the light this repetition runs for, its unshadowed radiance and direction.
+// What every light pass shares (seed 003 §3.2): the surface (from the G-buffer under the
+// pixel in deferred passes, else from a mesh fragment: lib/forward.wgsl), the light this
+// repetition runs for, its unshadowed radiance and direction.
 #include "lib/frame.wgsl"
 #include "lib/lighting.wgsl"
 #include "lib/shadow.wgsl"
@@ -22,10 +23,14 @@ struct LitPixel {
     ls: LightSample,
 };
 
-fn lit_pixel(pos: vec4<f32>) -> LitPixel {
+fn lit_surface(s: Surface) -> LitPixel {
     var p: LitPixel;
-    p.s = load_surface(vec2<i32>(pos.xy));
+    p.s = s;
     p.l = lights[instance.light];
     p.ls = sample_light(p.l, p.s);
     return p;
+}
+
+fn lit_pixel(pos: vec4<f32>) -> LitPixel {
+    return lit_surface(load_surface(vec2<i32>(pos.xy)));
 }

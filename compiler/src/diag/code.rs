@@ -78,6 +78,7 @@ codes! {
     NotHistory = "not-history": "`Prev(..)` of a resource that keeps no previous frame",
     PerLightMismatch = "per-light-mismatch": "per-light resources used by passes that do not iterate those lights",
     CastersWithoutLights = "casters-without-lights": "`shadow_casters` on a pass that does not run per light",
+    VolumeWithoutLights = "volume-without-lights": "`draw: LightVolume` on a pass that does not run per light",
     NotATexture = "not-a-texture": "a buffer used as an attachment",
     DepthAsColor = "depth-as-color": "a depth format used as a color target",
     ColorAsDepth = "color-as-depth": "a color format used as a depth target",

@@ -207,6 +207,12 @@ pub enum Draw {
     /// `instance_index` from the standard `triangles` buffer (volumes a geometry shader
     /// would emit, e.g. ambient occlusion volumes).
     Triangles(u32),
+    /// In a per-light pass: the bounding volume of the repetition's light, from the runtime's
+    /// standard `light_volumes` buffer (a sphere for point lights, a cone for spot lights, one
+    /// full-screen triangle for directional lights), for deferred lighting that shades only the
+    /// pixels a light can reach (seed 003 §3.2.1). The vertex shader reads its vertex from
+    /// `light_volumes` (see `shaders/lib/light_volume.wgsl`).
+    LightVolume,
 }
 
 impl Draw {

@@ -17,6 +17,9 @@ pub fn work_word(plan: &Plan, w: &Work) -> String {
         Work::Raster {
             draw: Draw::Triangles(n), ..
         } => format!("Triangles({n}): {n} vertices × each scene triangle (vertex pulling)"),
+        Work::Raster {
+            draw: Draw::LightVolume, ..
+        } => "LightVolume: the bounding volume of each light (standard `light_volumes`)".into(),
         Work::Fullscreen { .. } => "Fullscreen".into(),
         Work::Compute {
             groups: [x, y, z],
@@ -75,6 +78,7 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
         BindSource::Instance => "<instance>".into(),
         BindSource::Lights => "<lights>".into(),
         BindSource::Triangles => "<triangles>".into(),
+        BindSource::LightVolumes => "<light_volumes>".into(),
         BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
 }

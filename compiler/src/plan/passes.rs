@@ -172,6 +172,7 @@ fn bind_group(g: &NamedGroup, ids: &Ids) -> Option<PlanBindGroup> {
                 BindSource::Instance => BindSource::Instance,
                 BindSource::Lights => BindSource::Lights,
                 BindSource::Triangles => BindSource::Triangles,
+                BindSource::LightVolumes => BindSource::LightVolumes,
                 BindSource::Draw(d) => BindSource::Draw(*d),
             };
             Some(Binding {

@@ -233,6 +233,7 @@ fn raster(f: &mut Fields, r: &Raster, file: &str, span: Span) {
         match r.draw {
             Draw::Scene => Node::ident("Scene", span),
             Draw::Transparent => Node::ident("Transparent", span),
+            Draw::LightVolume => Node::ident("LightVolume", span),
             Draw::Vertices(n) => Node::call("Vertices", vec![Node::int(n as i64, span)], span),
             Draw::Triangles(n) => Node::call("Triangles", vec![Node::int(n as i64, span)], span),
         },

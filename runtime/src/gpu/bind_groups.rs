@@ -24,6 +24,8 @@ pub struct Rep {
     pub groups: [Vec<(u32, wgpu::BindGroup)>; 2],
     pub color: [Vec<wgpu::TextureView>; 2],
     pub depth: [Option<wgpu::TextureView>; 2],
+    /// The vertices of its light's volume (`draw: LightVolume` passes).
+    pub volume: std::ops::Range<u32>,
 }
 
 /// Light indices (into the active light array) a per-light list of kinds iterates, in order.
@@ -53,6 +55,8 @@ pub struct Binder<'a> {
     pub lights_buf: &'a wgpu::Buffer,
     /// The scene's triangles (standard binding `triangles`).
     pub triangles: &'a wgpu::Buffer,
+    /// The light-volume meshes (standard binding `light_volumes`) and their ranges.
+    pub volumes: (&'a wgpu::Buffer, &'a super::light_volumes::LightVolumes),
     pub instance: &'a wgpu::Buffer,
     pub lights: &'a [Light],
 }
@@ -151,6 +155,7 @@ impl Binder<'_> {
                 groups: [vec![], vec![]],
                 color: [vec![], vec![]],
                 depth: [None, None],
+                volume: light.map(|l| self.volumes.1.range_for(&self.lights[l as usize])).unwrap_or(0..0),
             };
             for parity in 0..parities {
                 self.fill(&mut rep, pp, layouts, params, (light, face, mip, *slot, parity))?;
@@ -210,6 +215,7 @@ impl Binder<'_> {
                 BindSource::Frame => Held::Buf(self.frame.as_entire_buffer_binding()),
                 BindSource::Lights => Held::Buf(self.lights_buf.as_entire_buffer_binding()),
                 BindSource::Triangles => Held::Buf(self.triangles.as_entire_buffer_binding()),
+                BindSource::LightVolumes => Held::Buf(self.volumes.0.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

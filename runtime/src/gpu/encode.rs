@@ -67,7 +67,7 @@ pub fn encode(
                 for (g, bg) in &rep.groups[parity] {
                     rp.set_bind_group(*g, bg, &[]);
                 }
-                draw(&mut rp, pass, work, scene);
+                draw(&mut rp, (pass, rep), work, scene);
             }
             // The cache builds compute pipelines for compute work only.
             (PipelineKind::Compute(_), _) => {}
@@ -75,7 +75,7 @@ pub fn encode(
     }
 }
 
-fn draw(rp: &mut wgpu::RenderPass, pass: &PassGpu, work: &Work, (scene, order): (&SceneGpu, &DrawOrder)) {
+fn draw(rp: &mut wgpu::RenderPass, (pass, rep): (&PassGpu, &Rep), work: &Work, (scene, order): (&SceneGpu, &DrawOrder)) {
     match work {
         Work::Raster { draw, instances, .. } if draw.uses_scene() => {
             let meshes = if *draw == Draw::Transparent {
@@ -101,6 +101,9 @@ fn draw(rp: &mut wgpu::RenderPass, pass: &PassGpu, work: &Work, (scene, order): 
         Work::Raster {
             draw: Draw::Triangles(n), ..
         } => rp.draw(0..*n, 0..scene.triangle_count),
+        Work::Raster {
+            draw: Draw::LightVolume, ..
+        } => rp.draw(rep.volume.clone(), 0..1),
         _ => rp.draw(0..3, 0..1),
     }
 }

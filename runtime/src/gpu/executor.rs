@@ -678,6 +678,7 @@ fn build_state(
         frame: &shared.frame_buf,
         lights_buf: &shared.lights_buf,
         triangles: &shared.scene_gpu.triangles,
+        volumes: (&shared.scene_gpu.light_volumes, &shared.scene_gpu.volumes),
         instance: &instance_buf,
         lights: &shared.lights,
     };

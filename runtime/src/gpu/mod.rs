@@ -7,6 +7,7 @@ pub mod device;
 mod encode;
 pub mod executor;
 mod inputs;
+pub mod light_volumes;
 mod pipelines;
 pub use pipelines::PipelineCache;
 pub mod pool;

@@ -45,6 +45,9 @@ pub struct SceneGpu {
     /// binding cannot be empty).
     pub triangles: wgpu::Buffer,
     pub triangle_count: u32,
+    /// The standard `light_volumes` binding and the range each light's volume takes in it.
+    pub light_volumes: wgpu::Buffer,
+    pub volumes: super::light_volumes::LightVolumes,
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
@@ -329,12 +332,20 @@ impl SceneGpu {
         if samplers.is_empty() {
             samplers.push(sampler(device, &SamplerDesc::default()));
         }
+        let volumes = super::light_volumes::LightVolumes::new();
+        let light_volumes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("light volumes"),
+            contents: bytemuck::cast_slice(&volumes.corners),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         Ok(SceneGpu {
             meshes,
             materials,
             samplers,
             triangles,
             triangle_count,
+            light_volumes,
+            volumes,
         })
     }
 }

@@ -37,6 +37,17 @@ pub fn check(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
                 .with_note("add `per_light: [..]` (LBP `per_light(..)`), or remove `shadow_casters`"),
             );
         }
+        let volume = matches!(&pass.kind, PassKind::Raster(r) if r.draw == Draw::LightVolume);
+        if volume && pass.per_light.is_none() {
+            diags.push(
+                Diagnostic::error(
+                    Code::VolumeWithoutLights,
+                    format!("pass `{}` draws light volumes but does not run per light", pass.name.value),
+                    pass.name.span,
+                )
+                .with_note("add `per_light: [..]` (LBP `per_light(..)`): each repetition draws its light's volume"),
+            );
+        }
         refs::pass_refs(p, pass, diags);
         targets::targets(p, pass, profile, diags);
         mips::mips(p, pass, diags);

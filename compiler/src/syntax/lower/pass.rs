@@ -152,9 +152,10 @@ impl Lowerer<'_> {
         let draw = o.get("draw").and_then(|n| match (&*n.value, n.name()) {
             (Value::Ident(_), Some("Scene")) => Some(Draw::Scene),
             (Value::Ident(_), Some("Transparent")) => Some(Draw::Transparent),
+            (Value::Ident(_), Some("LightVolume")) => Some(Draw::LightVolume),
             (Value::Tuple { items, .. }, Some("Vertices")) if items.len() == 1 => Some(Draw::Vertices(self.u32(&items[0])?.value)),
             (Value::Tuple { items, .. }, Some("Triangles")) if items.len() == 1 => Some(Draw::Triangles(self.u32(&items[0])?.value)),
-            _ => self.type_err("`Scene`, `Transparent`, `Vertices(count)` or `Triangles(count)`", &n),
+            _ => self.type_err("`Scene`, `Transparent`, `LightVolume`, `Vertices(count)` or `Triangles(count)`", &n),
         });
         let cull = o
             .get("cull")

@@ -1,0 +1,60 @@
+// Forward shading (seed 003 §2.4, §5.1): the scene drawn with its lighting computed as it is
+// drawn, no G-buffer. `fs_single` shades every light in one pass (§2.4.1, listing 5.3);
+// `fs_depth` and `fs_ambient` open multi-pass lighting (§5.1.2), whose per-light passes use
+// `fs_forward` of the deferred light shaders over this file's `vs_main`.
+#include "lib/frame.wgsl"
+#include "lib/lighting.wgsl"
+#include "lib/forward.wgsl"
+
+struct Params {
+    // ambient light (linear RGB)
+    color: vec3<f32>,
+};
+
+@group(2) @binding(0) var<uniform> params: Params;
+
+// Every forward pass transforms vertices here, so that the depth of the pre-pass and the
+// depth the later passes test with `Equal` come from the same arithmetic.
+@vertex
+fn vs_main(v: VertexIn) -> VsOut {
+    return camera_vertex(v);
+}
+
+// Ambient light and emission, as the deferred `ambient` pass computes them.
+fn ambient(m: MaterialSample) -> vec3<f32> {
+    return m.base.rgb * params.color * (1.0 - m.metallic) * m.occlusion + m.emissive;
+}
+
+// The depth pre-pass: depth only (cut-outs discarded, so that `Equal` later matches).
+@fragment
+fn fs_depth(in: VsOut) {
+    if cut_out(sample_material(in)) {
+        discard;
+    }
+}
+
+@fragment
+fn fs_ambient(in: VsOut) -> @location(0) vec4<f32> {
+    let m = sample_material(in);
+    if cut_out(m) {
+        discard;
+    }
+    return vec4<f32>(ambient(m), 1.0);
+}
+
+// Single-pass lighting: ambient, emission and every light of the storage buffer, without
+// shadows (one shader would need every light's shadow map bound at once, seed 003 §4.4).
+@fragment
+fn fs_single(in: VsOut) -> @location(0) vec4<f32> {
+    let m = sample_material(in);
+    if cut_out(m) {
+        discard;
+    }
+    let s = material_surface(in, m);
+    var c = ambient(m);
+    for (var i = 0u; i < frame.light_count; i++) {
+        let ls = light_at(lights[i], s.world);
+        c += blinn_phong(s.n, ls.to_light, s.v, s.albedo, s.metallic, s.roughness) * ls.radiance;
+    }
+    return vec4<f32>(c, 1.0);
+}
