@@ -1446,3 +1446,54 @@ fn shadow_casters_without_per_light() {
         d.message
     );
 }
+
+const LIGHT_VOLUME_WGSL: &str = r#"@group(0) @binding(0) var<storage, read> light_volumes: array<vec4<f32>>;
+
+@vertex
+fn vs_main(@builtin(vertex_index) v: u32) -> @builtin(position) vec4<f32> {
+    return vec4<f32>(light_volumes[v].xyz, 1.0);
+}
+
+@fragment
+fn fs_main() -> @location(0) vec4<f32> {
+    return vec4<f32>(1.0);
+}
+"#;
+
+/// `draw: LightVolume` with the standard `light_volumes` binding checks clean in a per-light
+/// pass; outside one it is `volume-without-lights`, and a `light_volumes` of the wrong type
+/// is `binding-type`.
+#[test]
+fn light_volume_draws_need_per_light_passes() {
+    let case = |extra: &str, shader: &str| {
+        let edit = format!(
+            "        Raster(name: \"vol\", shader: \"vol.wgsl\", draw: LightVolume, cull: Front{extra}, color: [Target(resource: \"color\", load: Load)]),\n    ],\n    output: \"out\""
+        );
+        let pipeline = [("    ],\n    output: \"out\"", edit.as_str())];
+        run(&Case {
+            pipeline: &pipeline,
+            files: &[("shaders/vol.wgsl", shader)],
+            ..BASE
+        })
+    };
+    let ok = case(", per_light: [Point, Spot]", LIGHT_VOLUME_WGSL);
+    assert!(ok.errors().is_empty(), "{}", ok.dump());
+    let bare = case("", LIGHT_VOLUME_WGSL);
+    let d = bare
+        .errors()
+        .into_iter()
+        .find(|d| d.code.as_str() == "volume-without-lights")
+        .unwrap_or_else(|| panic!("{}", bare.dump()));
+    assert!(d.message.contains("pass `vol` draws light volumes but does not run per light"), "{}", d.message);
+    let uniform = LIGHT_VOLUME_WGSL.replace(
+        "var<storage, read> light_volumes: array<vec4<f32>>",
+        "var<uniform> light_volumes: array<vec4<f32>, 3>",
+    );
+    let bad = case(", per_light: [Point]", &uniform);
+    assert!(
+        bad.errors().iter().any(|d| d.code.as_str() == "binding-type"
+            && d.message.contains("the light-volume meshes `light_volumes` must be `var<storage, read>`")),
+        "{}",
+        bad.dump()
+    );
+}
