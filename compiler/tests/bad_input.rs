@@ -1484,7 +1484,11 @@ fn light_volume_draws_need_per_light_passes() {
         .into_iter()
         .find(|d| d.code.as_str() == "volume-without-lights")
         .unwrap_or_else(|| panic!("{}", bare.dump()));
-    assert!(d.message.contains("pass `vol` draws light volumes but does not run per light"), "{}", d.message);
+    assert!(
+        d.message.contains("pass `vol` draws light volumes but does not run per light"),
+        "{}",
+        d.message
+    );
     let uniform = LIGHT_VOLUME_WGSL.replace(
         "var<storage, read> light_volumes: array<vec4<f32>>",
         "var<uniform> light_volumes: array<vec4<f32>, 3>",
@@ -1492,7 +1496,8 @@ fn light_volume_draws_need_per_light_passes() {
     let bad = case(", per_light: [Point]", &uniform);
     assert!(
         bad.errors().iter().any(|d| d.code.as_str() == "binding-type"
-            && d.message.contains("the light-volume meshes `light_volumes` must be `var<storage, read>`")),
+            && d.message
+                .contains("the light-volume meshes `light_volumes` must be `var<storage, read>`")),
         "{}",
         bad.dump()
     );

@@ -209,6 +209,9 @@ fn golden_cornell_matches() {
 /// colonnade. `multiview` must really run: CI's lavapipe (Mesa 25 from bookworm-backports)
 /// renders multiview correctly, and a driver whose multiview fails the probe (Mesa 22.3) fails
 /// this test instead of skipping it.
+/// How far dual paraboloid shadows may stray from classic cube shadows (HDR RMSE).
+const DUAL_PARABOLOID_RMSE: f64 = 0.015;
+
 #[test]
 fn cube_shadow_variants_agree() {
     let g = gpu();
@@ -238,10 +241,12 @@ fn cube_shadow_variants_agree() {
             ex.read_texture(&g, "hdr", 0, 0).unwrap()
         };
         let classic = hdr("classic");
-        for v in ["multiview", "instanced"] {
+        // Dual paraboloid maps sample the surroundings differently (two hemispheres at 512²
+        // against six faces at 512²), so shadow edges move by a texel here and there.
+        for (v, bound) in [("multiview", 0.02), ("instanced", 0.02), ("dual_paraboloid", DUAL_PARABOLOID_RMSE)] {
             let e = rmse(&classic, &hdr(v)).unwrap();
             eprintln!("{}: classic vs {v} RMSE {e}", scene.name);
-            assert!(e < 0.02, "{}: classic vs {v} RMSE {e}", scene.name);
+            assert!(e < bound, "{}: classic vs {v} RMSE {e}", scene.name);
         }
     }
 }

@@ -78,7 +78,7 @@ fn shadowed_models_agree_with_every_shadow_kind() {
         .lights
         .push(lightbench::scene::Light::point(Vec3::new(0.0, 2.0, 0.0), Vec3::ONE, 20.0, 12.0));
     for scene in [builtin::cornell(), colonnade] {
-        for cube in ["classic", "instanced"] {
+        for cube in ["classic", "instanced", "dual_paraboloid"] {
             let (reference, _) = hdr(&g, &scene, &[("lighting", "deferred_fullscreen"), ("cube_shadow", cube)]);
             for model in ["forward_multi", "deferred_volumes"] {
                 let (img, _) = hdr(&g, &scene, &[("lighting", model), ("cube_shadow", cube)]);
