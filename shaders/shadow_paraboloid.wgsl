@@ -2,13 +2,14 @@
 //
 // The tessellation caveat: the paraboloid projection bends straight lines, but the rasterizer
 // joins projected corners with straight edges, so a large triangle's interpolated depth is
-// wrong inside it and its true (bent) outline is not what gets rasterized. Here each triangle
-// is pulled whole from the standard `triangles` buffer (`draw: Triangles(3)`) and drawn grown
-// around its centre on the map, the more the larger it is there; each fragment computes its
-// depth exactly — the ray from the light through its map point meets the triangle's plane —
-// and fragments whose ray misses the triangle are discarded. What remains of the caveat: a
-// triangle bending beyond its growth (a huge one across the hemispheres' seam) leaves thin
-// slivers uncovered, where light leaks; and the growth costs fragment work.
+// wrong inside it and its true (bent) outline is not what gets rasterized. Here each scene
+// triangle is pulled whole from the standard `triangles` buffer (`draw: Triangles(6)`),
+// clipped to the hemisphere (a fan of up to two triangles) and drawn grown around its centre
+// by how far its edges bow on the map; each fragment computes its depth exactly — the ray
+// from the light through its map point meets the triangle's plane — and fragments whose ray
+// misses the triangle are discarded. What remains of the caveat: the bow is estimated (at the
+// edge's middle direction, × 1.5), so a huge triangle may still leave slivers where light
+// leaks; the growth and the exact depth (no early depth test) cost fragment work.
 #include "lib/frame.wgsl"
 #include "lib/math.wgsl"
 #include "lib/paraboloid.wgsl"
@@ -28,6 +29,65 @@ struct VsOut {
     @location(2) @interpolate(flat) c: vec3<f32>,
 };
 
+// The paraboloid projection is the stereographic one, which maps the great circle an edge
+// lies on to a circle: an edge projects to an arc. How far it bows out of its chord is
+// estimated at the projected middle direction of the edge.
+fn bow(di: vec3<f32>, dj: vec3<f32>, ci: vec2<f32>, cj: vec2<f32>) -> f32 {
+    let mid = paraboloid_project(safe_normalize(di + dj, di));
+    let chord = cj - ci;
+    let len = length(chord);
+    return select(0.0, abs(chord.x * (mid.y - ci.y) - chord.y * (mid.x - ci.x)) / len, len > 1e-9);
+}
+
+// Distance from `p` to the line through `ci` and `cj`.
+fn line_distance(p: vec2<f32>, ci: vec2<f32>, cj: vec2<f32>) -> f32 {
+    let chord = cj - ci;
+    return abs(chord.x * (p.y - ci.y) - chord.y * (p.x - ci.x)) / max(length(chord), 1e-12);
+}
+
+// How much the projected triangle must grow around its centre so that every edge moves out
+// past its arc (1.5 × the estimated bow); a triangle whose edges do not bend is drawn as is.
+fn growth(dirs: array<vec3<f32>, 3>, corners: array<vec2<f32>, 3>, centre: vec2<f32>) -> f32 {
+    var g = 1.0;
+    for (var k = 0u; k < 3u; k++) {
+        let j = (k + 1u) % 3u;
+        let h = line_distance(centre, corners[k], corners[j]);
+        g = max(g, 1.0 + 1.5 * bow(dirs[k], dirs[j], corners[k], corners[j]) / max(h, 1e-6));
+    }
+    return min(g, MAX_GROWTH);
+}
+
+// The cap on any growth (a triangle seen almost edge-on has a tiny height on the map).
+const MAX_GROWTH: f32 = 16.0;
+
+// The part of a triangle (corners relative to the light, hemisphere coordinates) on the
+// hemisphere's side of the plane through the light (z ≥ 0): 0, 3 or 4 corners.
+struct Clipped {
+    p: array<vec3<f32>, 4>,
+    n: u32,
+};
+
+fn clip_to_hemisphere(d: array<vec3<f32>, 3>) -> Clipped {
+    var c: Clipped;
+    c.n = 0u;
+    for (var i = 0u; i < 3u; i++) {
+        let j = (i + 1u) % 3u;
+        let a = d[i];
+        let b = d[j];
+        if a.z >= 0.0 {
+            c.p[c.n] = a;
+            c.n += 1u;
+        }
+        if (a.z >= 0.0) != (b.z >= 0.0) {
+            c.p[c.n] = mix(a, b, a.z / (a.z - b.z));
+            c.n += 1u;
+        }
+    }
+    return c;
+}
+
+// Six vertices per scene triangle: its part on this hemisphere as a fan of up to two
+// triangles (the second collapses to a point when the part is a triangle).
 @vertex
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) t: u32) -> VsOut {
     let l = lights[instance.light];
@@ -36,18 +96,23 @@ fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) t: u32) -> Vs
     out.b = triangles[3u * t + 1u].xyz;
     out.c = triangles[3u * t + 2u].xyz;
     let f = paraboloid_frame(l, params.side);
+    let part = clip_to_hemisphere(array<vec3<f32>, 3>(f * (out.a - l.position.xyz), f * (out.b - l.position.xyz), f * (out.c - l.position.xyz)));
+    let fan = v / 3u;
+    if part.n < 3u + fan {
+        out.pos = vec4<f32>(2.0, 2.0, 0.5, 1.0);
+        return out;
+    }
+    let ids = array<u32, 3>(0u, 1u + fan, 2u + fan);
+    var dirs: array<vec3<f32>, 3>;
     var corners: array<vec2<f32>, 3>;
     for (var k = 0u; k < 3u; k++) {
-        let d = f * (triangles[3u * t + k].xyz - l.position.xyz);
-        corners[k] = paraboloid_project(d / max(length(d), 1e-12));
+        dirs[k] = safe_normalize(part.p[ids[k]], vec3<f32>(0.0, 0.0, 1.0));
+        corners[k] = paraboloid_project(dirs[k]);
     }
     // Grown around its centre so that the bent outline of the true triangle stays inside (the
-    // fragment stage discards what the triangle does not cover): the larger the triangle on
-    // the map, the more its edges bend, the more it grows.
+    // fragment stage discards what the triangle does not cover).
     let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
-    let extent = max(distance(corners[0], corners[1]), max(distance(corners[1], corners[2]), distance(corners[2], corners[0])));
-    let growth = 1.1 + 4.0 * min(extent, 2.0);
-    out.pos = vec4<f32>(centre + (corners[v % 3u] - centre) * growth, 0.5, 1.0);
+    out.pos = vec4<f32>(centre + (corners[v % 3u] - centre) * growth(dirs, corners, centre), 0.5, 1.0);
     return out;
 }
 
