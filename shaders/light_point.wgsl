@@ -28,6 +28,16 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(lit(p), 0.0);
 }
 
+// Deferred over the fat G-buffer layout.
+@fragment
+fn fs_fat(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = lit_surface(load_surface_fat(vec2<i32>(pos.xy)));
+    if !p.s.covered {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(lit(p), 0.0);
+}
+
 @fragment
 fn fs_forward(in: VsOut) -> @location(0) vec4<f32> {
     let m = sample_material(in);

@@ -1,12 +1,20 @@
-// Reading the G-buffer in lighting passes (group 2, bindings 0..2). Positions come from
-// depth and the inverse view-projection. Depth is read as an unfilterable float texture
-// (texelFetch works on every backend; textureLoad on texture_depth_2d does not on GL).
+// Reading the G-buffer in lighting passes (group 2, bindings 0..2; the fat layout's 6..7).
+// Two layouts (variant `gbuffer` of pipelines/deferred.ron, seed 003 §3.1, §5.2):
+// - packed (`load_surface`): the normal in 2 × 16-bit fixed point (lib/normal_packing.wgsl),
+//   positions reconstructed from depth and the inverse view-projection;
+// - fat (`load_surface_fat`): the world-space normal as half floats and the world position
+//   stored as 32-bit floats.
+// Depth is read as an unfilterable float texture (texelFetch works on every backend;
+// textureLoad on texture_depth_2d does not on GL).
 #include "lib/math.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/normal_packing.wgsl"
 
 @group(2) @binding(0) var gbuf_depth: texture_2d<f32>;
-@group(2) @binding(1) var gbuf_normal: texture_2d<f32>;
+@group(2) @binding(1) var gbuf_normal: texture_2d<u32>;
 @group(2) @binding(2) var gbuf_albedo: texture_2d<f32>;
+@group(2) @binding(6) var gbuf_position: texture_2d<f32>;
+@group(2) @binding(7) var gbuf_fat_normal: texture_2d<f32>;
 
 // World position of a pixel centre at the given depth (wgpu NDC: y up, depth 0..1).
 fn world_from_depth(pixel: vec2<i32>, depth: f32) -> vec3<f32> {
@@ -16,21 +24,34 @@ fn world_from_depth(pixel: vec2<i32>, depth: f32) -> vec3<f32> {
     return w.xyz / w.w;
 }
 
-fn load_surface(pixel: vec2<i32>) -> Surface {
-    let depth = textureLoad(gbuf_depth, pixel, 0).x;
-    let nr = textureLoad(gbuf_normal, pixel, 0);
+// What both layouts store alike: albedo and metallic; and the direction to the camera.
+fn surface_at(world: vec3<f32>, n: vec3<f32>, roughness: f32, covered: bool, pixel: vec2<i32>) -> Surface {
     let albedo = textureLoad(gbuf_albedo, pixel, 0);
     var s: Surface;
-    // The depth buffer is cleared to 1: nothing was drawn there.
-    s.covered = depth < 1.0;
-    s.world = world_from_depth(pixel, min(depth, 0.999999));
-    s.n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(nr.xyz), dot(nr.xyz, nr.xyz) > 1e-12);
+    s.covered = covered;
+    s.world = world;
+    s.n = n;
     // Hazard (scenes/hard/camera_in_wall.ron): a surface at the camera position.
     s.v = safe_normalize(frame.camera_pos.xyz - s.world, s.n);
     s.albedo = albedo.rgb;
     s.metallic = albedo.a;
-    s.roughness = nr.w;
+    s.roughness = roughness;
     return s;
+}
+
+fn load_surface(pixel: vec2<i32>) -> Surface {
+    let depth = textureLoad(gbuf_depth, pixel, 0).x;
+    let nr = unpack_normal_roughness(textureLoad(gbuf_normal, pixel, 0));
+    // The depth buffer is cleared to 1: nothing was drawn there.
+    return surface_at(world_from_depth(pixel, min(depth, 0.999999)), nr.n, nr.roughness, depth < 1.0, pixel);
+}
+
+fn load_surface_fat(pixel: vec2<i32>) -> Surface {
+    // w: 1 where something was drawn (the target is cleared to 0).
+    let p = textureLoad(gbuf_position, pixel, 0);
+    let nr = textureLoad(gbuf_fat_normal, pixel, 0);
+    let n = select(vec3<f32>(0.0, 0.0, 1.0), normalize(nr.xyz), dot(nr.xyz, nr.xyz) > 1e-12);
+    return surface_at(p.xyz, n, nr.w, p.w > 0.5, pixel);
 }
 
 // The G-buffer pixel under texel `q` of a buffer of `dims` texels covering the screen (an
