@@ -12,7 +12,7 @@ use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
 use super::pool::Pool;
 use super::reuse::{hash_bytes, FrameKeys, PassInputs, Reuse};
-use super::scene_gpu::SceneGpu;
+use super::scene_gpu::{DrawOrder, SceneGpu};
 use super::timing::{PassTiming, Timer};
 use super::{convert, err_scope, Gpu};
 use crate::blocks::{FrameBlock, LightBlock};
@@ -90,6 +90,8 @@ pub struct Executor {
     /// Every frame's timings, when `log_timings` is set (a long-running viewer leaves it off).
     pub timing_log: Vec<Vec<PassTiming>>,
     pub log_timings: bool,
+    /// GPU timestamps per pass (`PassTiming::gpu_ms`); on by default where the adapter has them.
+    timing: bool,
     /// External resources whose contents were supplied (`load_input`) to their current storage.
     pub(super) supplied: std::collections::BTreeSet<String>,
     /// The last frame's view-projection and jitter (the frame block's `prev_*`).
@@ -176,6 +178,7 @@ impl Executor {
             last_timings: vec![],
             timing_log: vec![],
             log_timings: false,
+            timing: true,
             supplied: Default::default(),
             previous: None,
             reuse: Reuse::new(true),
@@ -300,6 +303,12 @@ impl Executor {
         Ok(())
     }
 
+    /// Time passes on the GPU with timestamp queries (the default, where the adapter has them)
+    /// or not: then `gpu_ms` is `None`, and a frame spends nothing on writing and reading them.
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing = on;
+    }
+
     /// Run every pass every frame (`false`), or only those whose inputs changed (the default).
     pub fn set_reuse(&mut self, on: bool) {
         self.reuse = Reuse::new(on);
@@ -417,6 +426,23 @@ impl Executor {
         Ok(stopped)
     }
 
+    /// The first pass whose encoding raises a validation error, as that error (nothing is
+    /// submitted: encoding alone raises it).
+    fn blame(&self, gpu: &Gpu, (run, parity): (&[Vec<bool>], usize), order: &DrawOrder) -> Option<Error> {
+        for (pi, pass) in self.state.passes.iter().enumerate() {
+            let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some(&pass.plan.name),
+            });
+            encode(&mut enc, (pass, pi, &run[pi]), parity, None, (&self.shared.scene_gpu, order));
+            drop(enc.finish());
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Some(Error::gpu(format!("pass `{}`", pass.plan.name), e));
+            }
+        }
+        None
+    }
+
     /// Which repetitions of each pass run this frame (see `reuse`).
     fn decide_runs(&mut self, keys: &FrameKeys) -> Vec<Vec<bool>> {
         let state = &self.state;
@@ -438,24 +464,29 @@ impl Executor {
         let run = self.begin_frame(gpu, inputs)?;
         let parity = (self.frame_index & 1) as usize;
         let (state, scene) = (&self.state, &self.shared.scene_gpu);
+        let timer = state.timer.as_ref().filter(|_| self.timing);
         let order = scene.draw_order(inputs.camera.position);
-        let mut buffers = vec![];
+        // One error scope for the frame: a scope per pass costs more than encoding a pass.
+        // Should it catch an error, the frame is encoded again pass by pass to name the pass.
+        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut enc = gpu
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut cpu_us = vec![];
         for (pi, pass) in state.passes.iter().enumerate() {
             let start = Instant::now();
-            let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some(&pass.plan.name),
-            });
-            encode(&mut enc, (pass, pi, &run[pi]), parity, state.timer.as_ref(), (scene, &order));
-            let cb = enc.finish();
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));
-            }
-            buffers.push(cb);
+            encode(&mut enc, (pass, pi, &run[pi]), parity, timer, (scene, &order));
             cpu_us.push(start.elapsed().as_secs_f64() * 1e6);
         }
-        buffers.extend(state.timer.as_ref().map(|t| t.resolve(gpu)));
+        let mut buffers = vec![enc.finish()];
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(self
+                .blame(gpu, (&run, parity), &order)
+                .unwrap_or_else(|| Error::gpu("encoding the frame", e)));
+        }
+        let state = &self.state;
+        let timer = state.timer.as_ref().filter(|_| self.timing);
+        buffers.extend(timer.map(|t| t.resolve(gpu)));
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         gpu.queue.submit(buffers);
         if let Some(e) = pollster::block_on(scope.pop()) {
@@ -464,7 +495,7 @@ impl Executor {
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("waiting for the GPU", e))?;
-        let gpu_ms = state.timer.as_ref().map(|t| t.read(gpu)).transpose()?;
+        let gpu_ms = timer.map(|t| t.read(gpu)).transpose()?;
         self.last_timings = state
             .passes
             .iter()

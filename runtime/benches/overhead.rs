@@ -1,0 +1,723 @@
+//! `cargo bench -p lightbench --bench overhead`: what running `pipelines/deferred.ron` through
+//! the Plan executor costs against a small wgpu renderer written by hand for the same passes
+//! (here, in the bench: not part of the product). Not a test; needs a GPU adapter (lavapipe
+//! is enough).
+//!
+//! The Cornell box at 128×128 runs six passes: G-buffer, six cube-shadow faces, ambient,
+//! the point light, the luminance reduction and the tone map. The hand-written renderer
+//! builds its own textures, layouts, pipelines and bind groups from the same WGSL (as the
+//! compiler expanded it), records the frame into one encoder and submits it; it renders the
+//! same image (checked). Reported: wall-clock frame time of each (mean after a warm-up), their
+//! ratio (goal ≤ 1.05×), and the executor's CPU encode time per pass (goal ≤ 20 µs).
+
+use lightbench::blocks::{FrameBlock, InstanceBlock, LightBlock, Vertex};
+use lightbench::gpu::scene_gpu::SceneGpu;
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::scene::{builtin, Scene};
+use lightbench_compiler::shader::ShaderModule;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+use wgpu::util::DeviceExt;
+
+const FRAMES: u32 = 200;
+const SIZE: (u32, u32) = (128, 128);
+const CUBE: u32 = 512;
+
+fn texture(
+    gpu: &Gpu,
+    label: &str,
+    (w, h, layers): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+fn view(t: &wgpu::Texture) -> wgpu::TextureView {
+    t.create_view(&Default::default())
+}
+
+fn module(gpu: &Gpu, m: &ShaderModule) -> wgpu::ShaderModule {
+    gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&m.path),
+        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(m.module.clone())),
+    })
+}
+
+/// Layout entries: (binding, type).
+fn layout(gpu: &Gpu, entries: &[(u32, wgpu::BindingType)]) -> wgpu::BindGroupLayout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = entries
+        .iter()
+        .map(|(binding, ty)| wgpu::BindGroupLayoutEntry {
+            binding: *binding,
+            // Writable storage in a vertex stage needs a feature: compute and fragment only.
+            visibility: match ty {
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    ..
+                } => wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE,
+                _ => wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE,
+            },
+            ty: *ty,
+            count: None,
+        })
+        .collect();
+    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &entries,
+    })
+}
+
+fn group(gpu: &Gpu, layout: &wgpu::BindGroupLayout, entries: &[(u32, wgpu::BindingResource)]) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = entries
+        .iter()
+        .map(|(binding, r)| wgpu::BindGroupEntry {
+            binding: *binding,
+            resource: r.clone(),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout,
+        entries: &entries,
+    })
+}
+
+const UNIFORM: wgpu::BindingType = wgpu::BindingType::Buffer {
+    ty: wgpu::BufferBindingType::Uniform,
+    has_dynamic_offset: false,
+    min_binding_size: None,
+};
+
+const fn storage(read_only: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Storage { read_only },
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    }
+}
+
+const fn tex(sample_type: wgpu::TextureSampleType, dim: wgpu::TextureViewDimension) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: dim,
+        multisampled: false,
+    }
+}
+
+const FLOAT: wgpu::BindingType = tex(wgpu::TextureSampleType::Float { filterable: true }, wgpu::TextureViewDimension::D2);
+const UNFILTERED: wgpu::BindingType = tex(wgpu::TextureSampleType::Float { filterable: false }, wgpu::TextureViewDimension::D2);
+
+fn uniform(gpu: &Gpu, bytes: &[u8]) -> wgpu::Buffer {
+    gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytes,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+    })
+}
+
+fn f32s(v: &[f32]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// The scene's vertex layout (`shaders/lib/mesh.wgsl`'s `VertexIn`).
+fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRS: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2
+    ];
+    wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &ATTRS,
+    }
+}
+
+struct RenderPipe<'a> {
+    modules: &'a [wgpu::ShaderModule],
+    entries: (&'a str, Option<&'a str>),
+    layouts: &'a [&'a wgpu::BindGroupLayout],
+    scene_vertices: bool,
+    color: &'a [wgpu::TextureFormat],
+    depth: Option<(wgpu::CompareFunction, bool)>,
+    cull: Option<wgpu::Face>,
+    blend: Option<wgpu::BlendState>,
+}
+
+fn render_pipeline(gpu: &Gpu, p: RenderPipe) -> wgpu::RenderPipeline {
+    let layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: None,
+        bind_group_layouts: &p.layouts.iter().map(|l| Some(*l)).collect::<Vec<_>>(),
+        immediate_size: 0,
+    });
+    let buffers = if p.scene_vertices { vec![Some(vertex_layout())] } else { vec![] };
+    let targets: Vec<Option<wgpu::ColorTargetState>> = p
+        .color
+        .iter()
+        .map(|f| {
+            Some(wgpu::ColorTargetState {
+                format: *f,
+                blend: p.blend,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        })
+        .collect();
+    let fs_module = p.modules.last().expect("a module");
+    gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: None,
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &p.modules[0],
+            entry_point: Some(p.entries.0),
+            compilation_options: Default::default(),
+            buffers: &buffers,
+        },
+        fragment: p.entries.1.map(|e| wgpu::FragmentState {
+            module: fs_module,
+            entry_point: Some(e),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        primitive: wgpu::PrimitiveState {
+            cull_mode: p.cull,
+            ..Default::default()
+        },
+        depth_stencil: p.depth.map(|(compare, write)| wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(write),
+            depth_compare: Some(compare),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The hand-written renderer: everything made up front, one encoder per frame.
+struct Hand {
+    frame: wgpu::Buffer,
+    lights: wgpu::Buffer,
+    pipes: [wgpu::RenderPipeline; 5],
+    luminance: wgpu::ComputePipeline,
+    /// Per mesh: the G-buffer's material group and the shadow pass's mesh group.
+    mesh_groups: Vec<(wgpu::BindGroup, wgpu::BindGroup)>,
+    frame_group: wgpu::BindGroup,
+    /// The shadow pass's group 0, one per cube face; the light pass's.
+    face_groups: Vec<wgpu::BindGroup>,
+    light_group0: wgpu::BindGroup,
+    /// Group 2 of ambient, the point light, luminance and the tone map.
+    groups2: [wgpu::BindGroup; 4],
+    empty: wgpu::BindGroup,
+    views: Views,
+}
+
+struct Views {
+    gbuf: [wgpu::TextureView; 3],
+    depth: wgpu::TextureView,
+    faces: Vec<wgpu::TextureView>,
+    hdr: wgpu::TextureView,
+    ldr: wgpu::TextureView,
+    ldr_texture: wgpu::Texture,
+}
+
+/// The compiled passes' shader modules by pass name (the same expanded WGSL the executor runs).
+fn modules_of(gpu: &Gpu, exe: &lightbench_compiler::workspace::Executable, pass: &str) -> Vec<wgpu::ShaderModule> {
+    let i = exe
+        .plan
+        .passes
+        .iter()
+        .position(|p| p.name == pass)
+        .unwrap_or_else(|| panic!("no pass {pass}"));
+    exe.modules[i].iter().map(|m: &Arc<ShaderModule>| module(gpu, m)).collect()
+}
+
+impl Hand {
+    fn new(gpu: &Gpu, exe: &lightbench_compiler::workspace::Executable, scene: &Scene, sg: &SceneGpu) -> Hand {
+        use wgpu::TextureFormat as F;
+        use wgpu::TextureUsages as U;
+        let (w, h) = SIZE;
+        let rt = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING;
+        let gbuf = [
+            texture(gpu, "gbuf.normal", (w, h, 1), F::Rgba16Uint, rt),
+            texture(gpu, "gbuf.albedo", (w, h, 1), F::Rgba8Unorm, rt),
+            texture(gpu, "gbuf.emissive", (w, h, 1), F::Rgba16Float, rt),
+        ];
+        let depth = texture(gpu, "gbuf.depth", (w, h, 1), F::Depth32Float, rt);
+        let cube = texture(gpu, "shadow.cube", (CUBE, CUBE, 6), F::Depth32Float, rt);
+        let hdr = texture(gpu, "hdr", (w, h, 1), F::Rgba16Float, rt);
+        let ldr_texture = texture(gpu, "ldr", (w, h, 1), F::Rgba8UnormSrgb, rt | U::COPY_SRC);
+        let lum = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lum"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let frame = uniform(gpu, &[0; std::mem::size_of::<FrameBlock>()]);
+        let lights = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("lights"),
+            size: (std::mem::size_of::<LightBlock>() * scene.lights.len().max(1)) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let instances: Vec<wgpu::Buffer> = (0..6)
+            .map(|face| {
+                let block = InstanceBlock {
+                    light: 0,
+                    face,
+                    view_count: 1,
+                    mip: 0,
+                    target_size: [CUBE as f32, CUBE as f32, 1.0 / CUBE as f32, 1.0 / CUBE as f32],
+                };
+                uniform(gpu, bytemuck::bytes_of(&block))
+            })
+            .collect();
+        let screen_instance = uniform(
+            gpu,
+            bytemuck::bytes_of(&InstanceBlock {
+                light: 0,
+                face: 0,
+                view_count: 1,
+                mip: 0,
+                target_size: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            }),
+        );
+        // Parameter blocks at the pipeline's defaults.
+        let ambient = uniform(gpu, &f32s(&[0.03, 0.03, 0.035, 0.0]));
+        let point = uniform(gpu, &f32s(&[0.002, 0.0, 0.0, 0.0]));
+        let mut key = f32s(&[0.18]);
+        key.extend(1u32.to_le_bytes());
+        key.extend(f32s(&[0.0, 0.0]));
+        let exposure = uniform(gpu, &key);
+        let cmp = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+
+        let depth_tex = tex(wgpu::TextureSampleType::Depth, wgpu::TextureViewDimension::Cube);
+        let l0_frame = layout(gpu, &[(0, UNIFORM)]);
+        let l0_light = layout(gpu, &[(0, UNIFORM), (1, UNIFORM), (2, storage(true))]);
+        let l0_empty = layout(gpu, &[]);
+        let l1_material = layout(
+            gpu,
+            &[
+                (0, UNIFORM),
+                (1, UNIFORM),
+                (2, FLOAT),
+                (3, FLOAT),
+                (4, FLOAT),
+                (5, FLOAT),
+                (6, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering)),
+                (7, FLOAT),
+            ],
+        );
+        let l1_mesh = layout(gpu, &[(0, UNIFORM)]);
+        let l2_ambient = layout(gpu, &[(0, FLOAT), (1, FLOAT), (2, UNIFORM)]);
+        let l2_point = layout(
+            gpu,
+            &[
+                (0, UNFILTERED),
+                (1, tex(wgpu::TextureSampleType::Uint, wgpu::TextureViewDimension::D2)),
+                (2, FLOAT),
+                (3, depth_tex),
+                (4, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)),
+                (5, UNIFORM),
+            ],
+        );
+        let l2_lum = layout(gpu, &[(0, FLOAT), (1, UNFILTERED), (2, storage(false)), (3, UNIFORM)]);
+        let l2_tonemap = layout(gpu, &[(0, FLOAT), (1, storage(true))]);
+
+        let m = |pass: &str| modules_of(gpu, exe, pass);
+        let (gm, sm, am, pm, tm) = (m("gbuffer"), m("shadow_cube_classic"), m("ambient"), m("light_point"), m("tonemap"));
+        let add = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::One,
+                operation: wgpu::BlendOperation::Add,
+            },
+        };
+        let screen = |modules: &[wgpu::ShaderModule], layouts: &[&wgpu::BindGroupLayout], color: F, blend| {
+            render_pipeline(
+                gpu,
+                RenderPipe {
+                    modules,
+                    entries: ("fullscreen_vs", Some("fs_main")),
+                    layouts,
+                    scene_vertices: false,
+                    color: &[color],
+                    depth: None,
+                    cull: None,
+                    blend,
+                },
+            )
+        };
+        let pipes = [
+            render_pipeline(
+                gpu,
+                RenderPipe {
+                    modules: &gm,
+                    entries: ("vs_main", Some("fs_main")),
+                    layouts: &[&l0_frame, &l1_material],
+                    scene_vertices: true,
+                    color: &[F::Rgba16Uint, F::Rgba8Unorm, F::Rgba16Float],
+                    depth: Some((wgpu::CompareFunction::Less, true)),
+                    cull: Some(wgpu::Face::Back),
+                    blend: None,
+                },
+            ),
+            render_pipeline(
+                gpu,
+                RenderPipe {
+                    modules: &sm,
+                    entries: ("vs_main", None),
+                    layouts: &[&l0_light, &l1_mesh],
+                    scene_vertices: true,
+                    color: &[],
+                    depth: Some((wgpu::CompareFunction::Less, true)),
+                    cull: None,
+                    blend: None,
+                },
+            ),
+            screen(&am, &[&l0_empty, &l0_empty, &l2_ambient], F::Rgba16Float, None),
+            screen(&pm, &[&l0_light, &l0_empty, &l2_point], F::Rgba16Float, Some(add)),
+            screen(&tm, &[&l0_empty, &l0_empty, &l2_tonemap], F::Rgba8UnormSrgb, None),
+        ];
+        let lm = m("luminance");
+        let lum_layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&l0_empty), Some(&l0_empty), Some(&l2_lum)],
+            immediate_size: 0,
+        });
+        let luminance = gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: None,
+            layout: Some(&lum_layout),
+            module: &lm[0],
+            entry_point: Some("cs_main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+
+        let mesh_groups = sg
+            .meshes
+            .iter()
+            .map(|mesh| {
+                let mat = &sg.materials[mesh.material];
+                let t = &mat.textures;
+                let material = group(
+                    gpu,
+                    &l1_material,
+                    &[
+                        (0, mesh.block.as_entire_binding()),
+                        (1, mat.block.as_entire_binding()),
+                        (2, wgpu::BindingResource::TextureView(&t[0])),
+                        (3, wgpu::BindingResource::TextureView(&t[1])),
+                        (4, wgpu::BindingResource::TextureView(&t[2])),
+                        (5, wgpu::BindingResource::TextureView(&t[3])),
+                        (6, wgpu::BindingResource::Sampler(&sg.samplers[mat.sampler])),
+                        (7, wgpu::BindingResource::TextureView(&t[4])),
+                    ],
+                );
+                (material, group(gpu, &l1_mesh, &[(0, mesh.block.as_entire_binding())]))
+            })
+            .collect();
+        let frame_group = group(gpu, &l0_frame, &[(0, frame.as_entire_binding())]);
+        let light_group = |instance: &wgpu::Buffer| {
+            group(
+                gpu,
+                &l0_light,
+                &[
+                    (0, frame.as_entire_binding()),
+                    (1, instance.as_entire_binding()),
+                    (2, lights.as_entire_binding()),
+                ],
+            )
+        };
+        let face_groups = instances.iter().map(light_group).collect();
+        let light_group0 = light_group(&screen_instance);
+        let gv: Vec<wgpu::TextureView> = gbuf.iter().map(view).collect();
+        let depth_view = view(&depth);
+        let cube_view = cube.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::Cube),
+            ..Default::default()
+        });
+        let hdr_view = view(&hdr);
+        let tv = wgpu::BindingResource::TextureView;
+        let groups2 = [
+            group(
+                gpu,
+                &l2_ambient,
+                &[(0, tv(&gv[1])), (1, tv(&gv[2])), (2, ambient.as_entire_binding())],
+            ),
+            group(
+                gpu,
+                &l2_point,
+                &[
+                    (0, tv(&depth_view)),
+                    (1, tv(&gv[0])),
+                    (2, tv(&gv[1])),
+                    (3, tv(&cube_view)),
+                    (4, wgpu::BindingResource::Sampler(&cmp)),
+                    (5, point.as_entire_binding()),
+                ],
+            ),
+            group(
+                gpu,
+                &l2_lum,
+                &[
+                    (0, tv(&hdr_view)),
+                    (1, tv(&depth_view)),
+                    (2, lum.as_entire_binding()),
+                    (3, exposure.as_entire_binding()),
+                ],
+            ),
+            group(gpu, &l2_tonemap, &[(0, tv(&hdr_view)), (1, lum.as_entire_binding())]),
+        ];
+        let empty = group(gpu, &l0_empty, &[]);
+        let faces = (0..6)
+            .map(|f| {
+                cube.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: f,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let [n, a, e] = [&gbuf[0], &gbuf[1], &gbuf[2]].map(view);
+        Hand {
+            frame,
+            lights,
+            pipes,
+            luminance,
+            mesh_groups,
+            frame_group,
+            face_groups,
+            light_group0,
+            groups2,
+            empty,
+            views: Views {
+                gbuf: [n, a, e],
+                depth: depth_view,
+                faces,
+                hdr: hdr_view,
+                ldr: view(&ldr_texture),
+                ldr_texture,
+            },
+        }
+    }
+}
+
+fn color<'a>(v: &'a wgpu::TextureView, load: wgpu::LoadOp<wgpu::Color>) -> Option<wgpu::RenderPassColorAttachment<'a>> {
+    Some(wgpu::RenderPassColorAttachment {
+        view: v,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        },
+    })
+}
+
+fn depth(v: &wgpu::TextureView, load: wgpu::LoadOp<f32>) -> Option<wgpu::RenderPassDepthStencilAttachment<'_>> {
+    Some(wgpu::RenderPassDepthStencilAttachment {
+        view: v,
+        depth_ops: Some(wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        }),
+        stencil_ops: None,
+    })
+}
+
+fn pass<'a>(
+    enc: &'a mut wgpu::CommandEncoder,
+    colors: &[Option<wgpu::RenderPassColorAttachment>],
+    d: Option<wgpu::RenderPassDepthStencilAttachment>,
+) -> wgpu::RenderPass<'a> {
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: None,
+        color_attachments: colors,
+        depth_stencil_attachment: d,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+impl Hand {
+    /// The uniforms the executor writes each frame: camera and lights.
+    fn write_blocks(&self, gpu: &Gpu, scene: &Scene, time: f32) {
+        let (w, h) = SIZE;
+        let cam = &scene.camera;
+        let view = cam.view();
+        let proj = cam.proj(w as f32 / h as f32);
+        let vp = proj * view;
+        let block = FrameBlock {
+            view: view.to_cols_array_2d(),
+            proj: proj.to_cols_array_2d(),
+            view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
+            prev_view_proj: vp.to_cols_array_2d(),
+            prev_inv_view_proj: vp.inverse().to_cols_array_2d(),
+            camera_pos: cam.position.extend(1.0).to_array(),
+            resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            jitter: [0.0; 4],
+            time,
+            frame_index: 0,
+            light_count: scene.lights.len() as u32,
+            _pad: 0,
+        };
+        gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&block));
+        let bounds = scene.bounds();
+        let lights: Vec<LightBlock> = scene.lights.iter().map(|l| l.at(time).block(bounds)).collect();
+        gpu.queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
+    }
+
+    fn frame(&self, gpu: &Gpu, scene: &Scene, sg: &SceneGpu, time: f32) {
+        self.write_blocks(gpu, scene, time);
+        let v = &self.views;
+        let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let meshes = |rp: &mut wgpu::RenderPass, material: bool| {
+            for (mesh, (mg, sg_)) in sg.meshes.iter().zip(&self.mesh_groups) {
+                rp.set_bind_group(1, if material { mg } else { sg_ }, &[]);
+                rp.set_vertex_buffer(0, mesh.vertices.slice(..));
+                rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
+                rp.draw_indexed(0..mesh.index_count, 0, 0..1);
+            }
+        };
+        {
+            let colors: Vec<_> = v.gbuf.iter().map(|g| color(g, clear)).collect();
+            let mut rp = pass(&mut enc, &colors, depth(&v.depth, wgpu::LoadOp::Clear(1.0)));
+            rp.set_pipeline(&self.pipes[0]);
+            rp.set_bind_group(0, &self.frame_group, &[]);
+            meshes(&mut rp, true);
+        }
+        for (face, g) in v.faces.iter().zip(&self.face_groups) {
+            let mut rp = pass(&mut enc, &[], depth(face, wgpu::LoadOp::Clear(1.0)));
+            rp.set_pipeline(&self.pipes[1]);
+            rp.set_bind_group(0, g, &[]);
+            meshes(&mut rp, false);
+        }
+        let screen =
+            |enc: &mut wgpu::CommandEncoder, target: &wgpu::TextureView, load, pipe: usize, g0: &wgpu::BindGroup, g2: &wgpu::BindGroup| {
+                let mut rp = pass(enc, &[color(target, load)], None);
+                rp.set_pipeline(&self.pipes[pipe]);
+                rp.set_bind_group(0, g0, &[]);
+                rp.set_bind_group(1, &self.empty, &[]);
+                rp.set_bind_group(2, g2, &[]);
+                rp.draw(0..3, 0..1);
+            };
+        screen(
+            &mut enc,
+            &v.hdr,
+            wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            2,
+            &self.empty,
+            &self.groups2[0],
+        );
+        screen(&mut enc, &v.hdr, wgpu::LoadOp::Load, 3, &self.light_group0, &self.groups2[1]);
+        {
+            let mut cp = enc.begin_compute_pass(&Default::default());
+            cp.set_pipeline(&self.luminance);
+            cp.set_bind_group(0, &self.empty, &[]);
+            cp.set_bind_group(1, &self.empty, &[]);
+            cp.set_bind_group(2, &self.groups2[2], &[]);
+            cp.dispatch_workgroups(1, 1, 1);
+        }
+        screen(&mut enc, &v.ldr, clear, 4, &self.empty, &self.groups2[3]);
+        gpu.queue.submit([enc.finish()]);
+        gpu.device.poll(wgpu::PollType::wait_indefinitely()).expect("wait");
+    }
+}
+
+fn main() {
+    let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
+    println!("{}", gpu.describe());
+    let mut scene = builtin::cornell();
+    scene.size = SIZE;
+    let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
+    let (exe, _) = lightbench::render::compile(&gpu, &pipeline, None, &scene, &[]).expect("compile");
+    let passes: Vec<&str> = exe.plan.passes.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(
+        passes,
+        ["gbuffer", "shadow_cube_classic", "ambient", "light_point", "luminance", "tonemap"],
+        "the hand-written renderer mirrors these passes"
+    );
+
+    let mut ex = Executor::new(&gpu, &exe, &scene).expect("executor");
+    ex.set_reuse(false);
+    let mut uploaded = scene.clone();
+    let sg = SceneGpu::new(&gpu.device, &gpu.queue, &mut uploaded).expect("scene upload");
+    let hand = Hand::new(&gpu, &exe, &scene, &sg);
+
+    // Both render the same image.
+    ex.render_frame(&gpu, &ex.inputs(0.0)).expect("frame");
+    hand.frame(&gpu, &scene, &sg, 0.0);
+    let ours = ex.read_texture(&gpu, "ldr", 0, 0).expect("read");
+    let theirs = lightbench::gpu::readback::read_texture(&gpu, &hand.views.ldr_texture, 0).expect("read");
+    let e = lightbench::io::rmse(&ours, &theirs).expect("same size");
+    println!("same image: RMSE {e:.6} between the executor's and the hand-written renderer's output");
+    assert!(e < 1e-3, "the renderers disagree: RMSE {e}");
+
+    println!(
+        "Executor overhead: deferred.ron on the Cornell box, {}×{}, mean of {FRAMES} frames each",
+        SIZE.0, SIZE.1
+    );
+    for timing in [true, false] {
+        ex.set_timing(timing);
+        // Interleaved, so that drift in the machine's load hits both alike.
+        let (mut t_ex, mut t_hand, mut encode_us, mut encoded) = (0.0, 0.0, 0.0, 0usize);
+        for f in 0..FRAMES {
+            let time = f as f32 / 60.0;
+            let inputs = ex.inputs(time);
+            let start = Instant::now();
+            ex.render_frame(&gpu, &inputs).expect("frame");
+            t_ex += start.elapsed().as_secs_f64();
+            encode_us += ex.last_timings.iter().map(|t| t.cpu_encode_us).sum::<f64>();
+            encoded += ex.last_timings.len();
+            let start = Instant::now();
+            hand.frame(&gpu, &scene, &sg, time);
+            t_hand += start.elapsed().as_secs_f64();
+        }
+        let (ms_ex, ms_hand) = (t_ex * 1e3 / FRAMES as f64, t_hand * 1e3 / FRAMES as f64);
+        println!(
+            "  {}:",
+            if timing {
+                "with GPU timestamps per pass (the default)"
+            } else {
+                "without (Executor::set_timing(false))"
+            }
+        );
+        println!("    Plan executor        {ms_ex:>8.3} ms per frame");
+        println!("    hand-written wgpu    {ms_hand:>8.3} ms per frame");
+        println!("    ratio                {:>8.3}×   (goal ≤ 1.05×)", ms_ex / ms_hand);
+        println!(
+            "    CPU encode per pass  {:>8.1} µs   (goal ≤ 20 µs; {} passes a frame)",
+            encode_us / encoded.max(1) as f64,
+            passes.len()
+        );
+    }
+}
