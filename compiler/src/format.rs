@@ -94,7 +94,9 @@ impl TextureFormat {
     }
     /// Usable as a color attachment on this profile.
     pub fn renderable(self, profile: &Profile) -> bool {
-        !self.is_depth() && (self != TextureFormat::Rg11b10Ufloat || profile.has(Feature::Rg11b10UfloatRenderable))
+        !self.is_depth()
+            && (self != TextureFormat::Rg11b10Ufloat || profile.has(Feature::Rg11b10UfloatRenderable))
+            && (!self.is_32bit_float() || profile.has(Feature::Float32Renderable))
     }
 
     pub fn is_srgb(self) -> bool {

@@ -30,6 +30,7 @@ features! {
     DualSourceBlending => "DUAL_SOURCE_BLENDING",
     CubeArrayTextures => "CUBE_ARRAY_TEXTURES",
     Rg11b10UfloatRenderable => "RG11B10UFLOAT_RENDERABLE",
+    Float32Renderable => "(format capability: R32Float, Rg32Float, Rgba32Float as render attachments; GL lacks it)",
     GeometryShader => "(none: WGSL, naga and wgpu have no geometry stage)",
 }
 
@@ -125,7 +126,8 @@ impl Profile {
     pub fn webgpu() -> Self {
         Profile {
             name: "webgpu".into(),
-            features: BTreeSet::new(),
+            // WebGPU core renders to 32-bit float formats.
+            features: [Feature::Float32Renderable].into_iter().collect(),
             limits: Limits::webgpu(),
         }
     }
@@ -153,6 +155,7 @@ impl Profile {
             Feature::DepthClipControl,
             Feature::DualSourceBlending,
             Feature::CubeArrayTextures,
+            Feature::Float32Renderable,
         ]
         .into_iter()
         .collect();

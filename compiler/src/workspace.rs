@@ -259,6 +259,7 @@ impl Session {
             scene,
             selection,
             params,
+            scene_known: true,
         };
         plan::build_plan(checked, &cfg, &mut self.diags)
     }
@@ -268,6 +269,7 @@ impl Session {
     /// one calling for none (both with every light kind), so both sides of effect conditions
     /// are checked.
     pub fn check_configurations(&mut self, checked: &Checked, profile: &Profile, scene: Option<&SceneFeatures>) {
+        let scene_given = scene.is_some();
         let scenes = match scene {
             Some(s) => vec![s.clone()],
             // A scene without effects only changes something if some condition asks for one.
@@ -311,6 +313,7 @@ impl Session {
                     scene,
                     selection,
                     params: &none,
+                    scene_known: scene_given,
                 };
                 // The whole Plan, so that what only sizing reveals (extents, mips) fails here.
                 plan::build_plan(checked, &cfg, &mut self.diags);

@@ -323,7 +323,14 @@ fn bundled_pipelines_check_clean_on_every_profile() {
         for f in lightbench_compiler::pipeline_files(&repo_root().join("pipelines")).unwrap() {
             let mut s = Session::new();
             s.check_file(&f, None, &Profile::offline(profile).unwrap(), None);
-            assert!(s.diags.list.is_empty(), "{} on {profile}:\n{}", f.display(), s.render());
+            // Except: on GL, `deferred_gi`'s RSM and temporal depth need 32-bit float targets
+            // (warned about; see `formats_gl_cannot_render_to_fall_back_or_fail_where_kept`).
+            let unexpected = s.diags.list.iter().any(|d| {
+                !(profile == "gl"
+                    && d.severity == lightbench_compiler::diag::Severity::Warning
+                    && d.code.as_str() == "format-not-renderable")
+            });
+            assert!(!unexpected, "{} on {profile}:\n{}", f.display(), s.render());
         }
     }
 }
@@ -380,4 +387,45 @@ fn presets_set_defaults_and_sizes_and_overrides_win() {
     let own = plan_of(&[("ao_preset", "ssao1")], &[("ao.scale", "0.5")]);
     assert_eq!(extent(&own, "ao.raw"), (32, 24));
     assert_eq!(param(&own, "ao.scale").sizes, Some(ParamValue::Float(0.5)));
+}
+
+/// GL cannot render to 32-bit float formats: the fat G-buffer falls back to packed there with
+/// its reason, and a plan of `deferred_gi.ron` that keeps a pass rendering to one (the RSM,
+/// for a scene with indirect light) fails at that pass's target; `check` without a scene
+/// warns (the pass may be culled), and a scene that culls it plans fine.
+#[test]
+fn formats_gl_cannot_render_to_fall_back_or_fail_where_kept() {
+    let plan = plan_with("gl", None, &[("gbuffer", "fat")]);
+    let v = plan.variants.iter().find(|v| v.variant == "gbuffer").unwrap();
+    assert_eq!(v.option, "packed");
+    assert!(v.reason.as_deref().unwrap().contains("needs feature Float32Renderable"), "{v:?}");
+
+    let gi = repo_root().join("pipelines/deferred_gi.ron");
+    let gl = Profile::offline("gl").unwrap();
+    let mut s = Session::new();
+    s.check_file(&gi, None, &gl, None);
+    assert!(!s.diags.has_errors(), "{}", s.render());
+    assert!(
+        s.render()
+            .contains("warning[format-not-renderable]: format Rgba32Float of `rsm.position` cannot be rendered to on profile `gl`: a plan that keeps pass `rsm` fails"),
+        "{}",
+        s.render()
+    );
+    let mut s = Session::new();
+    let mut indirect = SceneFeatures::everything();
+    indirect.name = "indirect".into();
+    assert!(s.plan_file(&gi, None, &gl, &indirect, &[]).is_none());
+    let text = s.render();
+    assert!(
+        text.contains(
+            "error[format-not-renderable]: pass `rsm` renders to `rsm.position`, whose format Rgba32Float profile `gl` cannot render to"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("deferred_gi.ron:"), "located in the pipeline file: {text}");
+    let mut s = Session::new();
+    let mut plain = SceneFeatures::everything();
+    plain.effects.clear();
+    plain.reflective = false;
+    assert!(s.plan_file(&gi, None, &gl, &plain, &[]).is_some(), "{}", s.render());
 }

@@ -351,6 +351,36 @@ fn gl_backend_falls_back_from_multiview_and_renders_alike() {
     assert_eq!(on_gl.non_finite(), 0);
     let e = rmse(&on_gl, &on_vk).unwrap();
     assert!(e < 0.03, "GL vs Vulkan RMSE {e}");
+    // The lighting models and dual paraboloid shadows need nothing GL lacks; the fat G-buffer
+    // stores positions in 32-bit floats, which GL cannot render to: it falls back to packed.
+    let v = vec![("gbuffer".to_string(), "fat".to_string())];
+    let (exe, _) = lightbench::render::compile(&gl, &deferred(), None, &scene, &v).unwrap();
+    let chosen = exe.plan.variants.iter().find(|c| c.variant == "gbuffer").unwrap();
+    assert_eq!(chosen.option, "packed");
+    assert!(
+        chosen.reason.as_deref().unwrap_or("").contains("needs feature Float32Renderable"),
+        "{chosen:?}"
+    );
+    for (k, o) in [
+        ("lighting", "forward_single"),
+        ("lighting", "forward_multi"),
+        ("lighting", "deferred_volumes"),
+        ("cube_shadow", "dual_paraboloid"),
+    ] {
+        let v = vec![(k.to_string(), o.to_string())];
+        let (exe, _) = lightbench::render::compile(&gl, &deferred(), None, &scene, &v).unwrap();
+        let chosen = &exe.plan.variants.iter().find(|c| c.variant == k).unwrap().option;
+        assert_eq!(chosen, o, "{k}={o} fell back on GL");
+        let on_gl = lightbench::render::render(&gl, &exe, &scene, 1)
+            .unwrap()
+            .read_texture(&gl, "hdr", 0, 0)
+            .unwrap();
+        let on_vk = render_with(&vk, &deferred(), &scene, &[(k, o)], 1)
+            .read_texture(&vk, "hdr", 0, 0)
+            .unwrap();
+        let e = rmse(&on_gl, &on_vk).unwrap();
+        assert!(on_gl.non_finite() == 0 && e < 0.03, "{k}={o}: GL vs Vulkan RMSE {e}");
+    }
 }
 
 /// Does the segment from `a` to `b` pass through the box `half` placed by `model`?

@@ -116,3 +116,24 @@ impl Condition {
         }
     }
 }
+
+impl Condition {
+    /// Features every configuration where this condition holds has: those the variant options
+    /// it requires need (an option is only chosen where the profile has what it requires).
+    pub fn implied_features(&self, p: &super::Pipeline) -> std::collections::BTreeSet<crate::profile::Feature> {
+        match self {
+            Condition::Variant(v, o) => p
+                .variant(&v.value)
+                .and_then(|var| var.option(&o.value))
+                .map(|opt| opt.requires.iter().map(|f| f.value).collect())
+                .unwrap_or_default(),
+            Condition::All(cs) => cs.iter().flat_map(|c| c.value.implied_features(p)).collect(),
+            Condition::Any(cs) => {
+                let mut sets = cs.iter().map(|c| c.value.implied_features(p));
+                let first = sets.next().unwrap_or_default();
+                sets.fold(first, |acc, s| acc.intersection(&s).copied().collect())
+            }
+            _ => Default::default(),
+        }
+    }
+}

@@ -5,7 +5,7 @@
 
 use super::*;
 use crate::check::Checked;
-use crate::diag::Diagnostics;
+use crate::diag::{Code, Diagnostic, Diagnostics};
 
 pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Plan> {
     let p = &checked.pipeline;
@@ -18,6 +18,9 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         .iter()
         .map(|&i| checked.version(i, &cfg.selection.chosen).map(|v| (i, v)))
         .collect::<Option<_>>()?;
+    if cfg.scene_known {
+        renderable(p, cfg, &kept, diags);
+    }
     // Resources the kept passes touch, with usages, extents and sizes; samplers they bind.
     let resources = resources::derive(p, cfg, &kept);
     resources::check_extents(p, cfg, &resources, diags);
@@ -54,4 +57,33 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         jitter: p.jitter,
     };
     (diags.error_count() == before).then_some(plan)
+}
+
+/// Every color target of a kept pass renders on the profile (the declaration check only warns
+/// about conditional passes, which may be culled).
+fn renderable(p: &crate::ir::Pipeline, cfg: &Config, kept: &Kept, diags: &mut Diagnostics) {
+    for &(i, _) in kept {
+        let pass = &p.passes[i];
+        for c in pass.targets().map(|t| t.color.as_slice()).unwrap_or(&[]) {
+            let Some(t) = p.resource(&c.resource).and_then(|r| r.texture()) else {
+                continue;
+            };
+            if !t.format.value.is_depth() && !t.format.value.renderable(cfg.profile) {
+                diags.push(
+                    Diagnostic::error(
+                        Code::FormatNotRenderable,
+                        format!(
+                            "pass `{}` renders to `{}`, whose format {} profile `{}` cannot render to",
+                            pass.name.value,
+                            c.resource.value,
+                            t.format.value.name(),
+                            cfg.profile.name
+                        ),
+                        c.resource.span,
+                    )
+                    .with_secondary(t.format.span, "format declared here"),
+                );
+            }
+        }
+    }
 }

@@ -36,6 +36,10 @@ pub struct Config<'a> {
     pub selection: Selection,
     /// Parameter overrides that size resources (`size: Param(..)`); the rest use defaults.
     pub params: &'a ParamValues,
+    /// A real scene (`plan`, `render`, `check --scene`), not `check`'s stand-ins for every
+    /// scene: only then does a kept pass that renders to a format the profile cannot render to
+    /// fail the plan (without one, the declaration check warns).
+    pub scene_known: bool,
 }
 
 impl Config<'_> {

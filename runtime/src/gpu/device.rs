@@ -70,6 +70,23 @@ impl Gpu {
         {
             features.insert(Feature::CubeArrayTextures);
         }
+        // GL (through EGL on llvmpipe, or GLES) may not render to 32-bit float formats.
+        let renders = |f: wgpu::TextureFormat| {
+            adapter
+                .get_texture_format_features(f)
+                .allowed_usages
+                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+        };
+        if [
+            wgpu::TextureFormat::R32Float,
+            wgpu::TextureFormat::Rg32Float,
+            wgpu::TextureFormat::Rgba32Float,
+        ]
+        .into_iter()
+        .all(renders)
+        {
+            features.insert(Feature::Float32Renderable);
+        }
         let mut notes = vec![];
         if features.contains(&Feature::Multiview) && !multiview_works(&device, &queue) {
             // Seen on Mesa 22 lavapipe: the feature is exposed but every view lands in layer 0.

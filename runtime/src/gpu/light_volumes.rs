@@ -34,6 +34,12 @@ pub struct LightVolumes {
     screen: Range<u32>,
 }
 
+impl Default for LightVolumes {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl LightVolumes {
     pub fn new() -> LightVolumes {
         fn push(tris: Vec<[glam::Vec3; 3]>, shape: f32, corners: &mut Vec<[f32; 4]>) -> Range<u32> {

@@ -24,7 +24,7 @@ pub(super) fn targets(p: &Pipeline, pass: &Pass, profile: &Profile, diags: &mut 
     }
     let mut sized: Vec<(&TextureDesc, &Spanned<String>)> = vec![];
     for c in &t.color {
-        if let Some(tex) = color_target(p, c, profile, diags) {
+        if let Some(tex) = color_target(p, (pass, c), profile, diags) {
             sized.push((tex, &c.resource));
             layer_check(p, pass, &c.resource, c.layer, c.span, diags);
         }
@@ -95,7 +95,12 @@ fn attachment<'a>(p: &'a Pipeline, res: &Spanned<String>, what: &str, diags: &mu
     t
 }
 
-fn color_target<'a>(p: &'a Pipeline, c: &ColorTarget, profile: &Profile, diags: &mut Diagnostics) -> Option<&'a TextureDesc> {
+fn color_target<'a>(
+    p: &'a Pipeline,
+    (pass, c): (&Pass, &ColorTarget),
+    profile: &Profile,
+    diags: &mut Diagnostics,
+) -> Option<&'a TextureDesc> {
     let t = attachment(p, &c.resource, "color", diags)?;
     let f = t.format.value;
     if f.is_depth() {
@@ -110,20 +115,32 @@ fn color_target<'a>(p: &'a Pipeline, c: &ColorTarget, profile: &Profile, diags: 
         );
         return None;
     }
-    if !f.renderable(profile) {
-        diags.push(
-            Diagnostic::error(
+    // A pass that runs only under variant options has what those options require.
+    let mut with_options = profile.clone();
+    if let Some(w) = &pass.when {
+        with_options.features.extend(w.value.implied_features(p));
+    }
+    if !f.renderable(&with_options) {
+        let msg = format!(
+            "format {} of `{}` cannot be rendered to on profile `{}`",
+            f.name(),
+            c.resource.value,
+            profile.name
+        );
+        // A conditional pass may be culled where it would fail: planning one that keeps it
+        // is the error (plan::build), here a warning.
+        let d = match pass.when {
+            None => Diagnostic::error(Code::FormatNotRenderable, msg, c.resource.span),
+            Some(_) => Diagnostic::warning(
                 Code::FormatNotRenderable,
-                format!(
-                    "format {} of `{}` cannot be rendered to on profile `{}`",
-                    f.name(),
-                    c.resource.value,
-                    profile.name
-                ),
+                format!("{msg}: a plan that keeps pass `{}` fails", pass.name.value),
                 c.resource.span,
-            )
-            .with_secondary(t.format.span, "format declared here")
-            .with_note("Rg11b10Ufloat needs the Rg11b10UfloatRenderable feature; Rgba16Float renders everywhere"),
+            ),
+        };
+        diags.push(
+            d.with_secondary(t.format.span, "format declared here").with_note(
+                "Rg11b10Ufloat needs the Rg11b10UfloatRenderable feature, 32-bit floats Float32Renderable (GL lacks it); Rgba16Float renders everywhere",
+            ),
         );
     }
     if let Some(b) = c.blend.as_ref().filter(|_| !f.blendable()) {
