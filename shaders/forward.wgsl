@@ -3,7 +3,6 @@
 // `fs_depth` and `fs_ambient` open multi-pass lighting (§5.1.2), whose per-light passes use
 // `fs_forward` of the deferred light shaders over this file's `vs_main`.
 #include "lib/frame.wgsl"
-#include "lib/lighting.wgsl"
 #include "lib/forward.wgsl"
 
 struct Params {
@@ -20,11 +19,6 @@ fn vs_main(v: VertexIn) -> VsOut {
     return camera_vertex(v);
 }
 
-// Ambient light and emission, as the deferred `ambient` pass computes them.
-fn ambient(m: MaterialSample) -> vec3<f32> {
-    return m.base.rgb * params.color * (1.0 - m.metallic) * m.occlusion + m.emissive;
-}
-
 // The depth pre-pass: depth only (cut-outs discarded, so that `Equal` later matches).
 @fragment
 fn fs_depth(in: VsOut) {
@@ -39,7 +33,7 @@ fn fs_ambient(in: VsOut) -> @location(0) vec4<f32> {
     if cut_out(m) {
         discard;
     }
-    return vec4<f32>(ambient(m), 1.0);
+    return vec4<f32>(ambient_term(m, params.color), 1.0);
 }
 
 // Single-pass lighting: ambient, emission and every light of the storage buffer, without
@@ -50,11 +44,5 @@ fn fs_single(in: VsOut) -> @location(0) vec4<f32> {
     if cut_out(m) {
         discard;
     }
-    let s = material_surface(in, m);
-    var c = ambient(m);
-    for (var i = 0u; i < frame.light_count; i++) {
-        let ls = light_at(lights[i], s.world);
-        c += blinn_phong(s.n, ls.to_light, s.v, s.albedo, s.metallic, s.roughness) * ls.radiance;
-    }
-    return vec4<f32>(c, 1.0);
+    return vec4<f32>(ambient_term(m, params.color) + all_lights(material_surface(in, m)), 1.0);
 }

@@ -5,8 +5,7 @@
 // G-buffer's, not written, so nearer opaque surfaces hide them and they hide nothing.
 // Transparent surfaces cast no shadows (shadow passes draw the opaque scene).
 #include "lib/frame.wgsl"
-#include "lib/lighting.wgsl"
-#include "lib/material.wgsl"
+#include "lib/forward.wgsl"
 
 struct Params {
     color: vec3<f32>,
@@ -22,14 +21,11 @@ fn vs_main(v: VertexIn) -> VsOut {
 @fragment
 fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     let m = sample_material(in);
+    var s = material_surface(in, m);
     // Panes are seen from both sides: light the side facing the camera.
-    let n = select(-m.n, m.n, front);
+    s.n = select(-m.n, m.n, front);
     // Hazard: a pane at the camera position.
-    let v = safe_normalize(frame.camera_pos.xyz - in.world_pos, n);
-    var c = m.base.rgb * params.color * (1.0 - m.metallic) * m.occlusion + m.emissive;
-    for (var i = 0u; i < frame.light_count; i++) {
-        let ls = light_at(lights[i], in.world_pos);
-        c += blinn_phong(n, ls.to_light, v, m.base.rgb, m.metallic, m.roughness) * ls.radiance;
-    }
+    s.v = safe_normalize(frame.camera_pos.xyz - in.world_pos, s.n);
+    let c = ambient_term(m, params.color) + all_lights(s);
     return vec4<f32>(c, clamp(m.base.a, 0.0, 1.0));
 }

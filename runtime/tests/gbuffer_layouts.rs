@@ -10,7 +10,7 @@ use gpu_common::*;
 use lightbench::gpu::Gpu;
 use lightbench::io::{rmse, Image};
 use lightbench::scene::geometry::{quad, sphere};
-use lightbench::scene::{builtin, Mesh, Scene};
+use lightbench::scene::{builtin, Scene};
 use lightbench_compiler::workspace::Workspace;
 
 fn hdr(g: &Gpu, scene: &Scene, variants: &[(&str, &str)]) -> Image {
@@ -33,15 +33,6 @@ fn relative_rmse(reference: &Image, other: &Image) -> f64 {
 fn normals_scene() -> Scene {
     let mut scene = builtin::cornell();
     scene.size = (64, 64);
-    let mesh = |name: &str, (vertices, indices): (Vec<lightbench::blocks::Vertex>, Vec<u32>), transform: Mat4| Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material: 0,
-        transform,
-        triangle_fraction: 1.0,
-        reflective: false,
-    };
     scene
         .meshes
         .push(mesh("ball", sphere(0.3, 12, 16), Mat4::from_translation(Vec3::new(0.4, 1.3, 0.3))));
@@ -57,9 +48,12 @@ fn normals_scene() -> Scene {
 #[test]
 fn packed_and_fat_layouts_light_alike() {
     let g = gpu();
-    let mut colonnade = builtin::colonnade();
-    colonnade.size = (128, 64);
-    for scene in [builtin::cornell(), colonnade, builtin::many_lights(10), normals_scene()] {
+    for scene in [
+        builtin::cornell(),
+        colonnade_with_point_light(),
+        builtin::many_lights(10),
+        normals_scene(),
+    ] {
         for model in ["deferred_fullscreen", "deferred_volumes"] {
             let packed = hdr(&g, &scene, &[("gbuffer", "packed"), ("lighting", model)]);
             let fat = hdr(&g, &scene, &[("gbuffer", "fat"), ("lighting", model)]);

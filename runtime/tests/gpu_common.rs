@@ -66,3 +66,34 @@ pub fn scene_dir(tag: &str, models: &[&str]) -> PathBuf {
     }
     d
 }
+
+/// A mesh of the first material, placed by `transform`.
+pub fn mesh(
+    name: &str,
+    (vertices, indices): (Vec<lightbench::blocks::Vertex>, Vec<u32>),
+    transform: glam::Mat4,
+) -> lightbench::scene::Mesh {
+    lightbench::scene::Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material: 0,
+        transform,
+        triangle_fraction: 1.0,
+        reflective: false,
+    }
+}
+
+/// The colonnade (128×64) with a point light among its columns, which has none of its own:
+/// what cube-shadow comparisons render besides the Cornell box.
+pub fn colonnade_with_point_light() -> Scene {
+    let mut colonnade = lightbench::scene::builtin::colonnade();
+    colonnade.size = (128, 64);
+    colonnade.lights.push(lightbench::scene::Light::point(
+        glam::Vec3::new(0.0, 2.0, 0.0),
+        glam::Vec3::ONE,
+        20.0,
+        12.0,
+    ));
+    colonnade
+}

@@ -7,19 +7,7 @@ use glam::{Mat4, Vec3};
 use gpu_common::*;
 use lightbench::io::{rmse, Image};
 use lightbench::scene::geometry::{cuboid, quad};
-use lightbench::scene::{builtin, Camera, Light, Material, Mesh, Scene};
-
-fn mesh(name: &str, (vertices, indices): (Vec<lightbench::blocks::Vertex>, Vec<u32>), transform: Mat4) -> Mesh {
-    Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material: 0,
-        transform,
-        triangle_fraction: 1.0,
-        reflective: false,
-    }
-}
+use lightbench::scene::{builtin, Camera, Light, Material, Scene};
 
 /// A 6×6 white floor seen from above and in front, an optional box, and one light.
 fn stage(boxes: &[(Vec3, Vec3)], light: Light) -> Scene {
@@ -220,13 +208,7 @@ fn cube_shadow_variants_agree() {
         "this test needs an adapter with working multiview (lavapipe from Mesa 25; see README): {}",
         g.describe()
     );
-    // The colonnade has no point light of its own: one among the columns casts the cube shadows.
-    let mut colonnade = builtin::colonnade();
-    colonnade.size = (128, 64);
-    colonnade
-        .lights
-        .push(lightbench::scene::Light::point(Vec3::new(0.0, 2.0, 0.0), Vec3::ONE, 20.0, 12.0));
-    for scene in [builtin::cornell(), colonnade] {
+    for scene in [builtin::cornell(), colonnade_with_point_light()] {
         let hdr = |v: &str| {
             let ex = render_with(&g, &deferred(), &scene, &[("cube_shadow", v)], 1);
             let chosen = ex

@@ -72,12 +72,7 @@ fn the_four_lighting_models_agree_for_1_10_and_100_lights() {
 #[test]
 fn shadowed_models_agree_with_every_shadow_kind() {
     let g = gpu();
-    let mut colonnade = builtin::colonnade();
-    colonnade.size = (128, 64);
-    colonnade
-        .lights
-        .push(lightbench::scene::Light::point(Vec3::new(0.0, 2.0, 0.0), Vec3::ONE, 20.0, 12.0));
-    for scene in [builtin::cornell(), colonnade] {
+    for scene in [builtin::cornell(), colonnade_with_point_light()] {
         for cube in ["classic", "instanced", "dual_paraboloid"] {
             let (reference, _) = hdr(&g, &scene, &[("lighting", "deferred_fullscreen"), ("cube_shadow", cube)]);
             for model in ["forward_multi", "deferred_volumes"] {

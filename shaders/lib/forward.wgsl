@@ -2,6 +2,7 @@
 // material instead of a G-buffer. Needs lib/frame.wgsl included first.
 #include "lib/material.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/lighting.wgsl"
 
 // Cut-outs (alphaMode MASK) are discarded where the G-buffer pass discards them.
 fn cut_out(m: MaterialSample) -> bool {
@@ -19,4 +20,19 @@ fn material_surface(in: VsOut, m: MaterialSample) -> Surface {
     s.roughness = m.roughness;
     s.covered = true;
     return s;
+}
+
+// Ambient light (`ambient`, linear RGB) and emission, as the deferred `ambient` pass adds them.
+fn ambient_term(m: MaterialSample, ambient: vec3<f32>) -> vec3<f32> {
+    return m.base.rgb * ambient * (1.0 - m.metallic) * m.occlusion + m.emissive;
+}
+
+// Every light of the storage buffer reflected at `s`, unshadowed (single-pass lighting).
+fn all_lights(s: Surface) -> vec3<f32> {
+    var c = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i++) {
+        let ls = light_at(lights[i], s.world);
+        c += blinn_phong(s.n, ls.to_light, s.v, s.albedo, s.metallic, s.roughness) * ls.radiance;
+    }
+    return c;
 }
