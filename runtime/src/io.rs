@@ -18,6 +18,16 @@ pub struct Image {
 impl Image {
     /// Copy the red channel to green and blue: a one-channel texture (depth, AO, a mask)
     /// then reads as grey rather than red.
+    /// Numbers as a one-row, one-channel image (a buffer's words, for comparisons).
+    pub fn row(values: Vec<f32>) -> Image {
+        Image {
+            width: values.len() as u32,
+            height: 1,
+            rgba: values.iter().flat_map(|&v| [v, 0.0, 0.0, 1.0]).collect(),
+            srgb: false,
+        }
+    }
+
     pub fn grey_from_red(&mut self) {
         for px in self.rgba.chunks_exact_mut(4) {
             px[1] = px[0];

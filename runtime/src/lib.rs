@@ -5,6 +5,7 @@ pub use error::{Error, Result};
 
 pub mod blocks;
 pub mod cli;
+pub mod diff;
 pub mod error;
 pub mod files;
 pub mod gpu;

@@ -255,6 +255,33 @@ fn written(plan: &Plan, p: &PlanPass) -> Vec<String> {
         .collect()
 }
 
+/// What a pass is, a fact a line, with names instead of indices (`lightbench diff` compares
+/// two Plans' passes by these; the `after:` line is left out, order being compared apart).
+pub fn pass_facts(plan: &Plan, p: &PlanPass) -> Vec<String> {
+    let mut s = String::new();
+    let _ = writeln!(s, "{} {}{}", p.work.kind_word(), work_word(plan, &p.work), repetitions(p));
+    let _ = writeln!(
+        s,
+        "reads [{}] -> writes [{}]",
+        words(&p.reads, |r| read_word(plan, r)),
+        written(plan, p).join(", ")
+    );
+    pass_layouts(&mut s, plan, p);
+    s.lines()
+        .map(|l| l.trim().to_string())
+        .filter(|l| !l.is_empty() && !l.starts_with("after:"))
+        .collect()
+}
+
+/// A resource as `plan` lists it: shape, instances, memory, usage.
+pub fn resource_fact(r: &PlanResource) -> String {
+    resource_line(r).split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+pub fn mib_text(bytes: u64) -> String {
+    mib(bytes)
+}
+
 fn pass_text(s: &mut String, plan: &Plan, i: usize, p: &PlanPass) {
     let _ = writeln!(
         s,

@@ -5,6 +5,7 @@
 mod build;
 mod cull;
 mod deps;
+mod diff;
 mod explain;
 mod params;
 mod passes;
@@ -13,7 +14,8 @@ mod select;
 
 pub use build::build_plan;
 pub use cull::{schedule, Schedule};
-pub use explain::{to_dot, to_text, work_word};
+pub use diff::{diff, Change, PassChange, PlanDiff};
+pub use explain::{mib_text, pass_facts, resource_fact, to_dot, to_text, work_word};
 pub use params::{declared_param, plan_param, ParamError, ParamValues};
 pub use select::{select, Selection};
 

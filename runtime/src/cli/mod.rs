@@ -2,6 +2,7 @@
 
 mod check;
 mod convert;
+mod diff;
 pub mod plan;
 mod render;
 mod verify;
@@ -64,6 +65,9 @@ pub enum Command {
     /// Render every configuration of pipelines on scenes and check every value of every
     /// resource is finite; names the first pass that produced a NaN or Inf.
     Verify(verify::Args),
+    /// Compare two pipelines, or one in two configurations: Plan structure, the pixels of
+    /// every shared resource, per-pass time; a report in markdown, HTML or JSON.
+    Diff(diff::Args),
     /// Scene utilities.
     #[command(subcommand)]
     Scene(SceneCommand),
@@ -109,6 +113,7 @@ pub fn run(cli: Cli) -> i32 {
         Command::Plan(args) => plan::run(args),
         Command::Render(args) => render::run(args),
         Command::Verify(args) => verify::run(args),
+        Command::Diff(args) => diff::run(args),
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
         Command::Scene(SceneCommand::Export { out, .. }) if out.extension().and_then(|e| e.to_str()) != Some("gltf") => {

@@ -1,0 +1,137 @@
+//! Stage `metrics` of `diff`: how far apart two images of one resource are — RMSE, largest
+//! difference, PSNR, and for 8-bit colour images mean FLIP (`nv-flip`, NVIDIA's perceptual
+//! metric) and SSIM (`image-compare`, mean over 8×8 windows) — and a per-pixel error map.
+
+use crate::io::{linear_to_srgb, Image};
+use serde::Serialize;
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Metrics {
+    /// Over the first `channels` channels, in the stored encoding.
+    pub rmse: f64,
+    pub max_abs: f64,
+    /// Against the larger of 1 and A's largest magnitude; `None` when the images are equal.
+    pub psnr_db: Option<f64>,
+    pub flip_mean: Option<f64>,
+    pub ssim: Option<f64>,
+}
+
+pub struct Compared {
+    pub metrics: Metrics,
+    /// Per pixel, 0..1: FLIP's error for colour images, else the largest channel difference
+    /// over the image's largest (all 0 when equal).
+    pub error_map: Vec<f32>,
+}
+
+/// 8-bit sRGB RGB of an image (for FLIP and SSIM, which take display images).
+fn srgb8(img: &Image) -> Vec<u8> {
+    img.rgba
+        .chunks(4)
+        .flat_map(|p| {
+            [0, 1, 2].map(|c| {
+                let v = if img.srgb { p[c] } else { linear_to_srgb(p[c]) };
+                (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+            })
+        })
+        .collect()
+}
+
+/// Mean FLIP and its error map; SSIM (both on 8-bit sRGB).
+fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
+    let (ra, rb) = (srgb8(a), srgb8(b));
+    let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &ra);
+    let fb = nv_flip::FlipImageRgb8::with_data(b.width, b.height, &rb);
+    let map = nv_flip::flip(fa, fb, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
+    let mean = nv_flip::FlipPool::from_image(&map).mean() as f64;
+    let ssim = match (
+        image::RgbImage::from_raw(a.width, a.height, ra),
+        image::RgbImage::from_raw(b.width, b.height, rb),
+    ) {
+        // SSIM's windows need the image to hold one.
+        (Some(x), Some(y)) if a.width >= 8 && a.height >= 8 => {
+            image_compare::rgb_similarity_structure(&image_compare::Algorithm::MSSIMSimple, &x, &y)
+                .ok()
+                .map(|s| s.score)
+        }
+        _ => None,
+    };
+    (mean, map.to_vec(), ssim)
+}
+
+/// Compare B against A (same size). `channels`: how many channels the format has;
+/// `colour`: an 8-bit colour image, which gets FLIP and SSIM.
+pub fn compare(a: &Image, b: &Image, channels: usize, colour: bool) -> Compared {
+    let n = channels.clamp(1, 4);
+    let (mut sum, mut max_abs, mut peak) = (0.0f64, 0.0f64, 1.0f64);
+    let mut diff_map = Vec::with_capacity((a.width * a.height) as usize);
+    for (pa, pb) in a.rgba.chunks(4).zip(b.rgba.chunks(4)) {
+        let mut px = 0.0f64;
+        for c in 0..n {
+            let d = (pa[c] as f64 - pb[c] as f64).abs();
+            // NaN compares as the largest difference there is.
+            let d = if d.is_nan() { f64::INFINITY } else { d };
+            sum += d * d;
+            px = px.max(d);
+            peak = peak.max((pa[c] as f64).abs());
+        }
+        max_abs = max_abs.max(px);
+        diff_map.push(px);
+    }
+    let rmse = (sum / (diff_map.len() * n).max(1) as f64).sqrt();
+    let psnr_db = (rmse > 0.0).then(|| 20.0 * (peak / rmse).log10());
+    let (flip_mean, error_map, ssim) = if colour {
+        let (m, map, s) = perceptual(a, b);
+        (Some(m), map, s)
+    } else {
+        let scale = if max_abs > 0.0 && max_abs.is_finite() { max_abs } else { 1.0 };
+        (None, diff_map.iter().map(|d| (d / scale).min(1.0) as f32).collect(), None)
+    };
+    Compared {
+        metrics: Metrics {
+            rmse,
+            max_abs,
+            psnr_db,
+            flip_mean,
+            ssim,
+        },
+        error_map,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn image(w: u32, h: u32, f: impl Fn(u32, u32) -> [f32; 4]) -> Image {
+        let mut rgba = vec![];
+        for y in 0..h {
+            for x in 0..w {
+                rgba.extend(f(x, y));
+            }
+        }
+        Image {
+            width: w,
+            height: h,
+            rgba,
+            srgb: true,
+        }
+    }
+
+    #[test]
+    fn equal_images_measure_zero_and_a_change_shows_where_it_is() {
+        let a = image(32, 32, |x, y| [x as f32 / 32.0, y as f32 / 32.0, 0.5, 1.0]);
+        let same = compare(&a, &a.clone(), 4, true);
+        assert_eq!((same.metrics.rmse, same.metrics.max_abs, same.metrics.psnr_db), (0.0, 0.0, None));
+        assert_eq!(same.metrics.flip_mean, Some(0.0));
+        assert!(same.metrics.ssim.unwrap() > 0.999);
+        // A bright square in the top-left corner.
+        let b = image(32, 32, |x, y| if x < 8 && y < 8 { [1.0, 1.0, 1.0, 1.0] } else { a.pixel(x, y) });
+        let d = compare(&a, &b, 4, true);
+        assert!(d.metrics.flip_mean.unwrap() > 0.01 && d.metrics.rmse > 0.05 && d.metrics.max_abs > 0.5);
+        assert!(d.error_map[0] > 0.5 && d.error_map[31 * 32 + 31] < 0.05, "hot where it changed");
+        let f = compare(&a, &b, 1, false);
+        assert_eq!(f.metrics.flip_mean, None);
+        assert_eq!(f.error_map[0], 1.0);
+        assert!(f.metrics.psnr_db.unwrap() > 0.0);
+    }
+}
