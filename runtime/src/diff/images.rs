@@ -5,25 +5,28 @@ use crate::error::Result;
 use crate::io::{write_atomic, Image};
 use std::path::Path;
 
-/// A display version of a read-back image: colour as stored (PNG encodes linear values to
-/// sRGB); other data stretched from the lowest to the highest value seen in either image,
-/// single-channel data as grey. `range` is that (min, max).
-fn display(img: &Image, channels: usize, range: Option<(f32, f32)>) -> Image {
-    let mut out = img.clone();
-    if let Some((lo, hi)) = range {
-        let span = if hi > lo { hi - lo } else { 1.0 };
-        for (i, v) in out.rgba.iter_mut().enumerate() {
-            if i % 4 != 3 {
-                *v = if v.is_finite() { (*v - lo) / span } else { 1.0 };
+/// A read-back image as 8-bit sRGB RGB for display: colour as stored (linear values are
+/// sRGB-encoded, as PNG stores them); with `range`, data stretched from its lowest to its
+/// highest value; single-channel data as grey; non-finite values white.
+fn display_rgb8(img: &Image, channels: usize, range: Option<(f32, f32)>) -> Vec<u8> {
+    let encode = |v: f32| -> u8 {
+        let v = match range {
+            Some((lo, hi)) if v.is_finite() => (v - lo) / if hi > lo { hi - lo } else { 1.0 },
+            Some(_) => 1.0,
+            None if img.srgb => v,
+            None => crate::io::linear_to_srgb(v),
+        };
+        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
+    };
+    let mut out = Vec::with_capacity(img.rgba.len() / 4 * 3);
+    for p in img.rgba.chunks(4) {
+        match channels {
+            1 => {
+                let g = encode(p[0]);
+                out.extend([g, g, g]);
             }
+            _ => out.extend([encode(p[0]), encode(p[1]), encode(p[2])]),
         }
-        out.srgb = true;
-    }
-    if channels == 1 {
-        out.grey_from_red();
-    }
-    for px in out.rgba.chunks_mut(4) {
-        px[3] = 1.0;
     }
     out
 }
@@ -39,31 +42,27 @@ pub fn value_range(a: &Image, b: &Image, channels: usize) -> (f32, f32) {
         .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
 }
 
-/// The error map (0..1 per pixel) through the magma colour map, as 8-bit RGB.
-fn heat_rgb(map: &[f32], (w, h): (u32, u32)) -> Vec<u8> {
-    let values = nv_flip::FlipImageFloat::with_data(w, h, map);
-    values.apply_color_lut(&nv_flip::magma_lut()).to_vec()
+/// The error map (0..1 per pixel) through the magma colour map (FLIP's), as 8-bit RGB.
+fn heat_rgb(map: &[f32]) -> Vec<u8> {
+    static LUT: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+    let lut = LUT.get_or_init(|| nv_flip::magma_lut().to_vec());
+    let entries = (lut.len() / 3).max(1);
+    map.iter()
+        .flat_map(|&v| {
+            let i = ((v.clamp(0.0, 1.0) * (entries - 1) as f32).round() as usize).min(entries - 1) * 3;
+            [lut[i], lut[i + 1], lut[i + 2]]
+        })
+        .collect()
 }
 
 fn png(rgb: Vec<u8>, (w, h): (u32, u32), path: &Path) -> Result<()> {
     let img = image::RgbImage::from_raw(w, h, rgb).ok_or_else(|| crate::error::Error::io(path, "image size mismatch"))?;
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)
+    // Fast compression: a report writes a few dozen of these.
+    use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+    let mut bytes = vec![];
+    img.write_with_encoder(PngEncoder::new_with_quality(&mut bytes, CompressionType::Fast, FilterType::Sub))
         .map_err(|e| crate::error::Error::io(path, e))?;
-    write_atomic(path, &bytes.into_inner())
-}
-
-/// 8-bit RGB of a display image (sRGB-encoded as PNG stores it).
-fn rgb8(img: &Image) -> Vec<u8> {
-    img.rgba
-        .chunks(4)
-        .flat_map(|p| {
-            [0, 1, 2].map(|c| {
-                let v = if img.srgb { p[c] } else { crate::io::linear_to_srgb(p[c]) };
-                (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-            })
-        })
-        .collect()
+    write_atomic(path, &bytes)
 }
 
 /// Write `<stem>.heat.png` and `<stem>.side.png` (A | B | heat-map) into `dir`; returns their
@@ -77,8 +76,8 @@ pub fn write(
 ) -> Result<(String, String)> {
     let (w, h) = (a.width, a.height);
     let range = stretch.then(|| value_range(a, b, channels));
-    let heat = heat_rgb(map, (w, h));
-    let panels = [rgb8(&display(a, channels, range)), rgb8(&display(b, channels, range)), heat.clone()];
+    let heat = heat_rgb(map);
+    let panels = [display_rgb8(a, channels, range), display_rgb8(b, channels, range), heat.clone()];
     // Three panels side by side, 2 px apart on grey.
     let gap = 2u32;
     let sw = 3 * w + 2 * gap;

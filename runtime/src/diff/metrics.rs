@@ -59,7 +59,8 @@ fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
 }
 
 /// Compare B against A (same size). `channels`: how many channels the format has;
-/// `colour`: an 8-bit colour image, which gets FLIP and SSIM.
+/// `colour`: an image meant for display (an sRGB format), which gets FLIP and SSIM — both
+/// measure what a viewer sees, which data such as normals or albedo are not.
 pub fn compare(a: &Image, b: &Image, channels: usize, colour: bool) -> Compared {
     let n = channels.clamp(1, 4);
     let (mut sum, mut max_abs, mut peak) = (0.0f64, 0.0f64, 1.0f64);
