@@ -271,3 +271,18 @@ fn bad_arguments_are_usage_errors() {
         assert!(err.starts_with("error: "), "{err}");
     }
 }
+
+/// Two pipelines whose outputs have different names still have their outputs compared.
+#[test]
+fn outputs_are_compared_whatever_their_names() {
+    let dir = scratch("renamed");
+    let renamed = project_with(&dir.join("b"), "tonemap.wgsl", |t| format!("{t}\n"));
+    let text = std::fs::read_to_string(&renamed).unwrap().replace("\"ldr\"", "\"final\"");
+    std::fs::write(&renamed, text).unwrap();
+    let (code, r, err) = diff_json(&["pipelines/deferred.ron", renamed.to_str().unwrap()], &dir.join("report"));
+    assert_eq!(code, 0, "{err}");
+    let out = &r["images"][0];
+    assert_eq!(out["resource"], "ldr / final");
+    assert_eq!(out["metrics"]["flip_mean"].as_f64(), Some(0.0));
+    assert_eq!(names(&r["structure"]["resources"]), ["final", "ldr"]);
+}

@@ -219,32 +219,37 @@ fn incomparable(a: &PlanResource, b: &PlanResource) -> Option<String> {
 /// Resources left out of the comparison: (name, why).
 type Skipped = Vec<(String, String)>;
 
-/// The resources to compare (the output first) and those left out with the reason.
-fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<&'p str>, Skipped)> {
-    let out = a.output_resource().name.as_str();
-    let mut names: Vec<&str> = vec![out];
-    names.extend(a.resources.iter().map(|r| r.name.as_str()).filter(|n| *n != out));
-    let mut skipped = vec![];
+/// Pairs of resources to compare, (A's name, B's name): the outputs first, whatever their
+/// names, then the resources of the same name; and those left out with the reason.
+fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<(&'p str, &'p str)>, Skipped)> {
+    let (oa, ob) = (a.output_resource(), b.output_resource());
     if let Some(list) = only {
         if let Some(bad) = list.iter().find(|n| a.resource(n).is_none() && b.resource(n).is_none()) {
             return Err(Error::Usage(format!("--resources: neither side has a resource `{bad}`")));
         }
-        names.retain(|n| *n == out || list.iter().any(|l| l == n));
     }
-    let mut keep = vec![];
-    for n in names {
-        match (a.resource(n), b.resource(n)) {
-            (Some(ra), Some(rb)) => match incomparable(ra, rb) {
-                Some(why) => skipped.push((n.to_string(), why)),
-                None => keep.push(n),
-            },
-            _ => skipped.push((n.to_string(), "only in A".into())),
+    let wanted = |n: &str| only.is_none_or(|l| l.iter().any(|x| x == n));
+    let mut candidates = vec![(oa, Some(ob))];
+    candidates.extend(
+        a.resources
+            .iter()
+            .filter(|r| r.name != oa.name && r.name != ob.name && wanted(&r.name))
+            .map(|r| (r, b.resource(&r.name))),
+    );
+    let (mut keep, mut skipped) = (vec![], vec![]);
+    for (ra, rb) in candidates {
+        match rb.map(|rb| (rb, incomparable(ra, rb))) {
+            Some((rb, None)) => keep.push((ra.name.as_str(), rb.name.as_str())),
+            Some((_, Some(why))) => skipped.push((ra.name.clone(), why)),
+            None => skipped.push((ra.name.clone(), "only in A".into())),
         }
     }
-    for r in b.resources.iter().filter(|r| a.resource(&r.name).is_none()) {
-        if only.is_none_or(|l| l.contains(&r.name)) {
-            skipped.push((r.name.clone(), "only in B".into()));
-        }
+    for r in b
+        .resources
+        .iter()
+        .filter(|r| a.resource(&r.name).is_none() && r.name != ob.name && wanted(&r.name))
+    {
+        skipped.push((r.name.clone(), "only in B".into()));
     }
     Ok((keep, skipped))
 }
@@ -284,26 +289,30 @@ struct Slice {
 }
 
 /// Read back every slice (light instance, layer) of a resource both sides have.
-fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), name: &str) -> Result<Vec<Slice>> {
+fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&str, &str)) -> Result<Vec<Slice>> {
     let r = ea.plan().resource(name).expect("paired resources exist");
-    let slices_b = eb.slices(name)?;
+    let slices_b = eb.slices(name_b)?;
     let mut out = vec![];
     for slice in ea.slices(name)?.into_iter().filter(|s| slices_b.contains(s)) {
         let (a, b, channels, colour, format) = match &r.shape {
             ResourceShape::Texture { format, .. } => {
                 let (a, b) = (
                     ea.read_texture(gpu, name, slice.0, slice.1)?,
-                    eb.read_texture(gpu, name, slice.0, slice.1)?,
+                    eb.read_texture(gpu, name_b, slice.0, slice.1)?,
                 );
                 (a, b, format.components() as usize, format.is_srgb(), format.name().to_string())
             }
             ResourceShape::Buffer { .. } => {
-                let words = |ex: &Executor| ex.read_buffer(gpu, name, slice.0).map(crate::io::Image::row);
-                (words(ea)?, words(eb)?, 1, false, "buffer".to_string())
+                let words = |ex: &Executor, n: &str| ex.read_buffer(gpu, n, slice.0).map(crate::io::Image::row);
+                (words(ea, name)?, words(eb, name_b)?, 1, false, "buffer".to_string())
             }
         };
         out.push(Slice {
-            name: name.to_string(),
+            name: if name == name_b {
+                name.to_string()
+            } else {
+                format!("{name} / {name_b}")
+            },
             slice,
             a,
             b,
@@ -345,13 +354,13 @@ fn analyze(s: &Slice, out: &Path) -> Result<ImageDiff> {
 /// Read back and compare every slice of `names`: each resource's slices are analysed on
 /// rayon's threads while the next resource is read back (FLIP alone takes ~0.1 s at 512² on
 /// one core). Results keep the order of `names`.
-fn compare_all(gpu: &Gpu, sides: (&Executor, &Executor), names: &[&str], out: &Path) -> Result<Vec<ImageDiff>> {
+fn compare_all(gpu: &Gpu, sides: (&Executor, &Executor), names: &[(&str, &str)], out: &Path) -> Result<Vec<ImageDiff>> {
     let results = std::sync::Mutex::new(vec![]);
     let mut read_error = None;
     rayon::scope(|sc| {
         let mut order = 0usize;
         for name in names {
-            let slices = match read_resource(gpu, sides, name) {
+            let slices = match read_resource(gpu, sides, *name) {
                 Ok(s) => s,
                 Err(e) => {
                     read_error = Some(e);
