@@ -120,6 +120,28 @@ impl Image {
     }
 }
 
+/// A file-name-safe stem for one slice of a resource: its name (other characters as `_`),
+/// then `.light{i}` for per-light resources and `.layer{l}` for layered ones (dumps, diffs).
+pub fn slice_stem(name: &str, r: &lightbench_compiler::plan::PlanResource, (inst, layer): (u32, u32)) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if !r.per_light.is_empty() {
+        s += &format!(".light{inst}");
+    }
+    if r.layers() > 1 {
+        s += &format!(".layer{layer}");
+    }
+    s
+}
+
 pub fn srgb_to_linear(v: f32) -> f32 {
     if v <= 0.04045 {
         v / 12.92

@@ -299,24 +299,8 @@ fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::D
             .plan()
             .resource(name)
             .ok_or_else(|| Error::Resource(format!("--dump: `{name}` vanished from the plan")))?;
-        let safe: String = name
-            .chars()
-            .map(|c| {
-                if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' {
-                    c
-                } else {
-                    '_'
-                }
-            })
-            .collect();
         for (inst, layer) in ex.slices(name)? {
-            let mut file = safe.clone();
-            if !res.per_light.is_empty() {
-                file += &format!(".light{inst}");
-            }
-            if res.layers() > 1 {
-                file += &format!(".layer{layer}");
-            }
+            let file = crate::io::slice_stem(name, res, (inst, layer));
             if res.is_buffer() {
                 let words = ex.read_buffer(gpu, name, inst)?;
                 let path = dir.join(format!("{file}.json"));

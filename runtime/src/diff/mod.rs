@@ -254,27 +254,6 @@ fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<(
     Ok((keep, skipped))
 }
 
-/// A file-name-safe stem for one slice of a resource.
-fn stem(name: &str, r: &PlanResource, (inst, layer): (u32, u32)) -> String {
-    let mut s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if !r.per_light.is_empty() {
-        s += &format!(".light{inst}");
-    }
-    if r.layers() > 1 {
-        s += &format!(".layer{layer}");
-    }
-    s
-}
-
 /// Both sides' values of one slice of a resource, as read back.
 struct Slice {
     name: String,
@@ -320,7 +299,7 @@ fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&
             colour,
             format,
             buffer: r.is_buffer(),
-            stem: stem(name, r, slice),
+            stem: crate::io::slice_stem(name, r, slice),
         });
     }
     Ok(out)
