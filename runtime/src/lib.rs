@@ -4,6 +4,7 @@
 pub use error::{Error, Result};
 
 pub mod blocks;
+pub mod bundled;
 pub mod cli;
 pub mod diff;
 pub mod error;

@@ -2,7 +2,7 @@
 
 mod cli_common;
 
-use cli_common::{lightbench as run, scratch as temp};
+use cli_common::{lightbench as run, root, scratch as temp};
 
 #[test]
 fn render_writes_image_dumps_timings_and_manifest() {
@@ -117,4 +117,59 @@ fn scene_export_writes_gltf_and_bin() {
         assert!(out.is_file() && d.join(format!("{name}.bin")).is_file());
     }
     assert_eq!(run(&["scene", "export", "sponza", d.join("s.gltf").to_str().unwrap()]).0, 2);
+}
+
+/// `lightbench ARGS` run in `dir`: (exit code, stderr).
+fn lightbench_in(dir: &std::path::Path, args: &[&str]) -> (i32, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run lightbench");
+    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// README command 1 from a folder with no checkout: the bundled default pipeline renders.
+#[test]
+fn render_works_outside_a_checkout() {
+    let d = temp("no-checkout");
+    let (code, err) = lightbench_in(&d, &["render"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("rendering the one bundled in lightbench"), "{err}");
+    let img = image::open(d.join("lightbench.png")).unwrap().to_rgb8();
+    let first = img.get_pixel(0, 0);
+    let differing = img.pixels().filter(|p| p != &first).count();
+    assert!(differing > 1000, "a non-uniform image: {differing} pixels differ from the first");
+}
+
+/// `init` writes the bundled project into a fresh folder, refuses to overwrite anything, and
+/// what it wrote renders.
+#[test]
+fn init_writes_the_bundled_project_and_overwrites_nothing() {
+    let d = temp("init");
+    let (code, err) = lightbench_in(&d, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    let proj = d.join("proj");
+    for f in [
+        "pipelines/deferred.ron",
+        "pipelines/deferred_gi.lbp",
+        "shaders/lib/frame.wgsl",
+        "scenes/sun_only.ron",
+        "scenes/chair.gltf",
+    ] {
+        assert_eq!(std::fs::read(proj.join(f)).unwrap(), std::fs::read(root().join(f)).unwrap(), "{f}");
+    }
+    std::fs::write(proj.join("shaders/tonemap.wgsl"), "// mine\n").unwrap();
+    let (code, err) = lightbench_in(&d, &["init", "proj"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("exists already; init writes into a fresh folder and overwrites nothing"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(proj.join("shaders/tonemap.wgsl")).unwrap(), "// mine\n");
+    std::fs::remove_file(proj.join("shaders/tonemap.wgsl")).unwrap();
+    std::fs::copy(root().join("shaders/tonemap.wgsl"), proj.join("shaders/tonemap.wgsl")).unwrap();
+    let (code, err) = lightbench_in(&proj, &["render", "--scene", "scenes/sun_only.ron", "--size", "32x32"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("bundled"), "the project's own files are used: {err}");
 }

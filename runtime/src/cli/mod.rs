@@ -68,6 +68,9 @@ pub enum Command {
     /// Compare two pipelines, or one in two configurations: Plan structure, the pixels of
     /// every shared resource, per-pass time; a report in markdown, HTML or JSON.
     Diff(diff::Args),
+    /// Write the pipelines, shaders and scenes bundled in lightbench into a folder (a fresh
+    /// one: nothing is overwritten) as the start of your own project.
+    Init { dir: PathBuf },
     /// Scene utilities.
     #[command(subcommand)]
     Scene(SceneCommand),
@@ -114,6 +117,22 @@ pub fn run(cli: Cli) -> i32 {
         Command::Render(args) => render::run(args),
         Command::Verify(args) => verify::run(args),
         Command::Diff(args) => diff::run(args),
+        Command::Init { dir } => match crate::bundled::init(&dir) {
+            Ok(files) => {
+                eprintln!(
+                    "wrote {} files into {} (pipelines/, shaders/, scenes/); try: cd {} && lightbench render",
+                    files.len(),
+                    dir.display(),
+                    dir.display()
+                );
+                EXIT_OK
+            }
+            Err(Error::Usage(msg)) => usage_error(msg),
+            Err(e) => {
+                eprintln!("error: {e}");
+                EXIT_ERRORS
+            }
+        },
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
         Command::Scene(SceneCommand::Export { out, .. }) if out.extension().and_then(|e| e.to_str()) != Some("gltf") => {

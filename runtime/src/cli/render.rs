@@ -13,9 +13,10 @@ use std::time::Instant;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Pipeline file (.ron or .lbp).
-    #[arg(long, default_value = "pipelines/deferred.ron")]
-    pub pipeline: PathBuf,
+    /// Pipeline file (.ron or .lbp); default `pipelines/deferred.ron`, or the copy bundled
+    /// in the binary when there is none on disk.
+    #[arg(long)]
+    pub pipeline: Option<PathBuf>,
     /// Scene file (.ron) or built-in scene: cornell, colonnade, many_lights.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
@@ -85,9 +86,10 @@ pub fn run(a: Args) -> i32 {
     if !matches!(ext.as_deref(), Some("png" | "exr")) {
         return usage_error(format!("--out {}: use a .png or .exr file name", a.out.display()));
     }
-    if !a.pipeline.is_file() {
-        return usage_error(format!("no such pipeline file: {}", a.pipeline.display()));
-    }
+    let (pipeline, ws) = match resolve_pipeline(a.pipeline.as_deref()) {
+        Ok(p) => p,
+        Err(e) => return usage_error(e),
+    };
     if let Err(e) = distinct_outputs(&a) {
         return usage_error(e);
     }
@@ -95,7 +97,7 @@ pub fn run(a: Args) -> i32 {
         Ok(s) => s,
         Err(e) => return usage_error(e),
     };
-    match execute(&a, &variants, &params, &inputs, size) {
+    match execute(&a, (&pipeline, &ws), (&variants, &params), &inputs, size) {
         Ok(()) => EXIT_OK,
         // Compile and scene errors are rendered diagnostics already.
         Err(Error::Compile(report) | Error::Scene(report)) => {
@@ -110,10 +112,33 @@ pub fn run(a: Args) -> i32 {
     }
 }
 
+/// The pipeline to render and the workspace that reads it: the file named; else
+/// `pipelines/deferred.ron` on disk; else the copy bundled in the binary.
+fn resolve_pipeline(named: Option<&Path>) -> Result<(PathBuf, lightbench_compiler::Workspace)> {
+    match named {
+        Some(p) if !p.is_file() => Err(Error::Usage(format!("no such pipeline file: {}", p.display()))),
+        Some(p) => Ok((p.to_path_buf(), lightbench_compiler::Workspace::disk())),
+        None if Path::new(crate::bundled::DEFAULT_PIPELINE).is_file() => Ok((
+            PathBuf::from(crate::bundled::DEFAULT_PIPELINE),
+            lightbench_compiler::Workspace::disk(),
+        )),
+        None => {
+            eprintln!(
+                "no {} here: rendering the one bundled in lightbench (`lightbench init DIR` writes the bundled pipelines, shaders and scenes out)",
+                crate::bundled::DEFAULT_PIPELINE
+            );
+            Ok((crate::bundled::default_pipeline(), crate::bundled::workspace()))
+        }
+    }
+}
+
+/// `key=value` pairs as given (variant choices, parameter texts).
+type Settings<'a> = &'a [(String, String)];
+
 fn execute(
     a: &Args,
-    variants: &[(String, String)],
-    params: &[(String, String)],
+    (pipeline, ws): (&Path, &lightbench_compiler::Workspace),
+    (variants, params): (Settings, Settings),
     inputs: &[(String, PathBuf)],
     size: Option<(u32, u32)>,
 ) -> Result<()> {
@@ -126,14 +151,13 @@ fn execute(
     })?;
     eprintln!("{}", gpu.describe());
     // One workspace: planning again with parameters reuses the compiled shaders.
-    let ws = lightbench_compiler::Workspace::disk();
-    let (mut exe, warnings) = compile_in(&ws, &gpu, &a.pipeline, a.shaders.as_deref(), &scene, variants)?;
+    let (mut exe, warnings) = compile_in(ws, &gpu, pipeline, a.shaders.as_deref(), &scene, variants)?;
     eprint!("{warnings}");
     let parsed = parse_params(&exe.plan, params)?;
     if !parsed.is_empty() {
         // Parameters may size resources (`size: Param(..)`): plan again with them.
         let values = crate::render::param_values(&exe.plan, &parsed)?;
-        exe = crate::render::compile_with(&ws, &gpu, (&a.pipeline, a.shaders.as_deref()), &scene, variants, &values)?.0;
+        exe = crate::render::compile_with(ws, &gpu, (pipeline, a.shaders.as_deref()), &scene, variants, &values)?.0;
     }
     for v in &exe.plan.variants {
         if let Some(r) = &v.reason {
@@ -151,7 +175,7 @@ fn execute(
     }
     timings(a, &ex, loaded)?;
     if let Some(p) = &a.manifest {
-        manifest(p, a, &gpu, &ex, &exe)?;
+        manifest(p, (a, pipeline), &gpu, &ex, &exe)?;
     }
     Ok(())
 }
@@ -221,21 +245,22 @@ fn timings(a: &Args, ex: &Executor, scene_load: std::time::Duration) -> Result<(
     Ok(())
 }
 
-fn manifest(p: &Path, a: &Args, gpu: &Gpu, ex: &Executor, exe: &Executable) -> Result<()> {
+fn manifest(p: &Path, (a, pipeline): (&Args, &Path), gpu: &Gpu, ex: &Executor, exe: &Executable) -> Result<()> {
     let values = ex.inputs(0.0).params;
     let scene = ex.scene();
     let files: Vec<serde_json::Value> = exe
         .files
         .iter()
         .map(|f| {
-            let hash = std::fs::read(f)
+            let hash = crate::bundled::read(f)
+                .or_else(|| std::fs::read(f).ok())
                 .map(|b| format!("{:016x}", fnv1a(&b)))
-                .unwrap_or_else(|_| "unreadable".into());
+                .unwrap_or_else(|| "unreadable".into());
             serde_json::json!({"file": f.display().to_string(), "fnv1a64": hash})
         })
         .collect();
     let m = serde_json::json!({
-        "pipeline": a.pipeline.display().to_string(),
+        "pipeline": pipeline.display().to_string(),
         "files": files,
         "variants": exe.plan.variants,
         "params": exe.plan.params.iter().map(|p| serde_json::json!({"name": p.name, "value": values.value_of(p)})).collect::<Vec<_>>(),
