@@ -173,3 +173,47 @@ fn init_writes_the_bundled_project_and_overwrites_nothing() {
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("bundled"), "the project's own files are used: {err}");
 }
+
+/// `render --watch` as the README writes it: a running render reloads a saved shader edit,
+/// reports a broken save and keeps going, and rewrites `--out` after each reload.
+#[test]
+fn render_watch_reloads_and_reports() {
+    let d = temp("watch");
+    let (code, err) = lightbench_in(&d, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    let proj = d.join("proj");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["render", "--watch", "--watch-reloads", "2", "--size", "32x32", "--out", "w.png"])
+        .current_dir(&proj)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait for the first frame, then save an edit and a broken file.
+    let started = std::time::Instant::now();
+    while !proj.join("w.png").is_file() {
+        assert!(started.elapsed().as_secs() < 60, "no first frame");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let first = std::fs::read(proj.join("w.png")).unwrap();
+    let tonemap = proj.join("shaders/tonemap.wgsl");
+    let text = std::fs::read_to_string(&tonemap).unwrap();
+    std::fs::write(&tonemap, text.replace("vec3<f32>(1.0)), 1.0);", "vec3<f32>(1.0)) * 0.5, 1.0);")).unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    std::fs::write(&tonemap, "fn broken(").unwrap();
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("reloaded: first new frame") && err.contains("ms after the change"),
+        "{err}"
+    );
+    assert!(
+        err.contains("reload failed: still rendering the last good pipeline") && err.contains("error["),
+        "{err}"
+    );
+    assert_ne!(
+        std::fs::read(proj.join("w.png")).unwrap(),
+        first,
+        "--out rewritten after the reload"
+    );
+}

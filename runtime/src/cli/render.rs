@@ -55,6 +55,13 @@ pub struct Args {
     /// Run every pass every frame, even when nothing it depends on changed.
     #[arg(long)]
     pub no_reuse: bool,
+    /// Keep rendering, headless, and reload when the pipeline, a shader it reads or the scene
+    /// file changes: each reload's outcome and latency is printed, `--out` rewritten after it.
+    #[arg(long)]
+    pub watch: bool,
+    /// With `--watch`: stop after this many reloads (successful or not); default: never.
+    #[arg(long, value_name = "N", requires = "watch")]
+    pub watch_reloads: Option<u32>,
     #[arg(long, value_name = "FILE")]
     pub timings_json: Option<PathBuf>,
     /// Write a manifest: pipeline and shader hashes, variants, params, adapter, scene.
@@ -150,6 +157,9 @@ fn execute(
         adapter: a.adapter.clone(),
     })?;
     eprintln!("{}", gpu.describe());
+    if a.watch {
+        return watch(a, &gpu, pipeline, scene, (variants, params));
+    }
     // One workspace: planning again with parameters reuses the compiled shaders.
     let (mut exe, warnings) = compile_in(ws, &gpu, pipeline, a.shaders.as_deref(), &scene, variants)?;
     eprint!("{warnings}");
@@ -176,6 +186,58 @@ fn execute(
     timings(a, &ex, loaded)?;
     if let Some(p) = &a.manifest {
         manifest(p, (a, pipeline), &gpu, &ex, &exe)?;
+    }
+    Ok(())
+}
+
+/// `--watch`: render continuously, reloading on changes (see `crate::reload`).
+fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params): (Settings, Settings)) -> Result<()> {
+    if pipeline.starts_with(crate::bundled::ROOT) {
+        return Err(Error::Usage(
+            "--watch needs pipeline files on disk to watch: `lightbench init DIR` writes the bundled ones out".into(),
+        ));
+    }
+    let scene_file = Path::new(&a.scene);
+    let scene_file = scene_file.is_file().then_some(scene_file);
+    let (mut reloader, exe) = crate::reload::Reloader::new(gpu, (pipeline, a.shaders.as_deref()), (&scene, scene_file), variants)?;
+    let mut ex = Executor::with_scene(gpu, &exe, scene)?;
+    for (name, value) in parse_params(&exe.plan, params)? {
+        ex.set_param(&name, value)?;
+    }
+    let frame = |ex: &mut Executor| -> Result<()> {
+        let inputs = ex.inputs(ex.frame_index as f32 / 60.0);
+        ex.render_frame(gpu, &inputs)
+    };
+    frame(&mut ex)?;
+    ex.read_texture(gpu, &ex.plan().output_resource().name.clone(), 0, 0)?
+        .save(&a.out)?;
+    eprintln!("watching {} (and the shaders and scene it reads); Ctrl-C stops", pipeline.display());
+    let mut reloads = 0;
+    while a.watch_reloads.is_none_or(|n| reloads < n) {
+        let Some(outcome) = reloader.poll(gpu, &mut ex, std::time::Duration::from_millis(16)) else {
+            frame(&mut ex)?;
+            continue;
+        };
+        reloads += 1;
+        match outcome {
+            crate::reload::Outcome::Reloaded { latency, compile, .. } => {
+                let start = Instant::now();
+                frame(&mut ex)?;
+                let total = latency + start.elapsed();
+                ex.read_texture(gpu, &ex.plan().output_resource().name.clone(), 0, 0)?
+                    .save(&a.out)?;
+                eprintln!(
+                    "reloaded: first new frame {:.1} ms after the change (compiling {:.1} ms); wrote {}",
+                    total.as_secs_f64() * 1e3,
+                    compile.as_secs_f64() * 1e3,
+                    a.out.display()
+                );
+            }
+            crate::reload::Outcome::Failed { message, .. } => {
+                eprint!("{message}");
+                eprintln!("reload failed: still rendering the last good pipeline");
+            }
+        }
     }
     Ok(())
 }

@@ -1,0 +1,221 @@
+//! Stage `reload`: hot reload while rendering. The pipeline file, every shader and include
+//! the compiler read for it, and the scene file are watched (`notify`, debounced); after a
+//! change the pipeline is compiled again (unchanged shader modules come from the workspace's
+//! cache) and the new Plan replaces the running one at a frame boundary. A compile error, or a
+//! shader wgpu rejects when building pipelines, leaves the last good Plan rendering and is
+//! reported; the next good save recovers.
+//!
+//! The folders holding the files are watched, not the files: editors that write a temporary
+//! file and rename it over, or delete and create, replace the file's inode, which a watch on
+//! the file itself would lose.
+
+use crate::error::{Error, Result};
+use crate::gpu::{Executor, Gpu, ReloadReport};
+use crate::scene::Scene;
+use lightbench_compiler::plan::ParamValues;
+use lightbench_compiler::{Executable, Workspace};
+use notify_debouncer_full::notify::{RecommendedWatcher, RecursiveMode};
+use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, RecommendedCache};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
+use std::time::{Duration, Instant};
+
+/// Quiet time after the last event before a change counts (editors write in bursts).
+pub const DEBOUNCE: Duration = Duration::from_millis(30);
+
+/// An absolute, normalised path (`..` and `.` resolved textually; symlinks as written).
+fn absolute(p: &Path) -> PathBuf {
+    let joined = if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        std::env::current_dir().unwrap_or_default().join(p)
+    };
+    lightbench_compiler::vfs::normalize(&joined)
+}
+
+/// Watched files and the folders watched for them.
+struct Watch {
+    debouncer: Debouncer<RecommendedWatcher, RecommendedCache>,
+    rx: Receiver<DebounceEventResult>,
+    files: BTreeSet<PathBuf>,
+    dirs: BTreeSet<PathBuf>,
+}
+
+impl Watch {
+    fn new() -> Result<Watch> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        let debouncer = new_debouncer(DEBOUNCE, None, tx).map_err(|e| Error::Usage(format!("cannot watch files: {e}")))?;
+        Ok(Watch {
+            debouncer,
+            rx,
+            files: BTreeSet::new(),
+            dirs: BTreeSet::new(),
+        })
+    }
+
+    /// Watch these files (and no others): their folders join the watched ones.
+    fn set_files(&mut self, files: impl IntoIterator<Item = PathBuf>) -> Result<()> {
+        self.files = files.into_iter().map(|f| absolute(&f)).collect();
+        let dirs: BTreeSet<PathBuf> = self.files.iter().filter_map(|f| f.parent().map(Path::to_path_buf)).collect();
+        for d in dirs.difference(&self.dirs.clone()) {
+            if d.is_dir() {
+                self.debouncer
+                    .watch(d, RecursiveMode::NonRecursive)
+                    .map_err(|e| Error::io(d, format!("cannot watch: {e}")))?;
+                self.dirs.insert(d.clone());
+            }
+        }
+        Ok(())
+    }
+
+    /// The watched files that changed, and when the first change happened; waits up to
+    /// `timeout` for one.
+    fn changed(&mut self, timeout: Duration) -> Option<(BTreeSet<PathBuf>, Instant)> {
+        let mut changed = BTreeSet::new();
+        let mut first: Option<Instant> = None;
+        let mut take = |r: DebounceEventResult, changed: &mut BTreeSet<PathBuf>| {
+            // Reads and closes change nothing (an editor or the compiler reading the file).
+            for ev in r.unwrap_or_default().into_iter().filter(|e| !e.event.kind.is_access()) {
+                for p in &ev.event.paths {
+                    let p = absolute(p);
+                    if self.files.contains(&p) {
+                        changed.insert(p);
+                        first = Some(first.map_or(ev.time, |f| f.min(ev.time)));
+                    }
+                }
+            }
+        };
+        match self.rx.recv_timeout(timeout) {
+            Ok(r) => take(r, &mut changed),
+            Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => return None,
+        }
+        while let Ok(r) = self.rx.try_recv() {
+            take(r, &mut changed);
+        }
+        first.map(|t| (changed, t))
+    }
+}
+
+/// What a change led to.
+#[derive(Debug)]
+pub enum Outcome {
+    /// The new Plan runs from the next frame. `latency`: from the first change to the swap;
+    /// `compile`: of that, compiling and planning.
+    Reloaded {
+        report: ReloadReport,
+        latency: Duration,
+        compile: Duration,
+        files: Vec<PathBuf>,
+    },
+    /// The last good Plan keeps rendering; `message` is the diagnostic (as `check` prints it)
+    /// or the GPU's error.
+    Failed { message: String, files: Vec<PathBuf> },
+}
+
+/// What a running pipeline was compiled from, and the watch over it.
+pub struct Reloader {
+    ws: Workspace,
+    pipeline: PathBuf,
+    shaders: Option<PathBuf>,
+    variants: Vec<(String, String)>,
+    params: ParamValues,
+    scene_file: Option<PathBuf>,
+    features: lightbench_compiler::scene::SceneFeatures,
+    watch: Watch,
+    /// The last failure, until a reload succeeds.
+    pub last_error: Option<String>,
+}
+
+impl Reloader {
+    /// Compile the pipeline for the scene and start watching what it read (and `scene_file`).
+    pub fn new(
+        gpu: &Gpu,
+        (pipeline, shaders): (&Path, Option<&Path>),
+        (scene, scene_file): (&Scene, Option<&Path>),
+        variants: &[(String, String)],
+    ) -> Result<(Reloader, Executable)> {
+        let mut r = Reloader {
+            ws: Workspace::disk(),
+            pipeline: pipeline.to_path_buf(),
+            shaders: shaders.map(Path::to_path_buf),
+            variants: variants.to_vec(),
+            params: ParamValues::new(),
+            scene_file: scene_file.map(absolute),
+            features: scene.features(),
+            watch: Watch::new()?,
+            last_error: None,
+        };
+        let exe = r.compile(gpu).map_err(Error::Compile)?;
+        r.watch_files(&exe)?;
+        Ok((r, exe))
+    }
+
+    fn watch_files(&mut self, exe: &Executable) -> Result<()> {
+        let mut files: Vec<PathBuf> = exe.files.iter().cloned().collect();
+        files.push(self.pipeline.clone());
+        files.extend(self.scene_file.clone());
+        self.watch.set_files(files)
+    }
+
+    /// Compile and plan again; `Err` holds the diagnostics as `check` renders them.
+    fn compile(&self, gpu: &Gpu) -> std::result::Result<Executable, String> {
+        let mut s = self.ws.session();
+        let exe = s.executable_with(
+            &self.pipeline,
+            self.shaders.as_deref(),
+            (&gpu.profile, &self.features),
+            &self.variants,
+            &self.params,
+        );
+        exe.ok_or_else(|| s.render())
+    }
+
+    /// Wait up to `timeout` for a change to what the running Plan was built from; on one,
+    /// rebuild and swap it into `ex` (or keep the old and report why not).
+    pub fn poll(&mut self, gpu: &Gpu, ex: &mut Executor, timeout: Duration) -> Option<Outcome> {
+        let (changed, since) = self.watch.changed(timeout)?;
+        let files: Vec<PathBuf> = changed.iter().cloned().collect();
+        let scene = match self.scene_file.as_ref().filter(|f| changed.contains(*f)) {
+            Some(f) => match crate::scene::load(&f.display().to_string()) {
+                Ok(s) => Some(s),
+                Err(e) => return Some(self.failed(e.to_string(), files)),
+            },
+            None => None,
+        };
+        if let Some(s) = &scene {
+            self.features = s.features();
+        }
+        let start = Instant::now();
+        let exe = match self.compile(gpu) {
+            Ok(exe) => exe,
+            Err(message) => return Some(self.failed(message, files)),
+        };
+        let compile = start.elapsed();
+        // Files the new Plan reads may differ (an include added or removed).
+        if let Err(e) = self.watch_files(&exe) {
+            return Some(self.failed(e.to_string(), files));
+        }
+        let swapped = match &scene {
+            Some(s) => ex.replace_scene(gpu, &exe, s),
+            None => ex.replace(gpu, &exe),
+        };
+        match swapped {
+            Ok(report) => {
+                self.last_error = None;
+                Some(Outcome::Reloaded {
+                    report,
+                    latency: since.elapsed(),
+                    compile,
+                    files,
+                })
+            }
+            Err(e) => Some(self.failed(e.to_string(), files)),
+        }
+    }
+
+    fn failed(&mut self, message: String, files: Vec<PathBuf>) -> Outcome {
+        self.last_error = Some(message.clone());
+        Outcome::Failed { message, files }
+    }
+}
