@@ -121,6 +121,8 @@ pub struct Reloader {
     variants: Vec<(String, String)>,
     params: ParamValues,
     scene_file: Option<PathBuf>,
+    /// The size rendered at: a reloaded scene file keeps it (it may come from `--size`).
+    size: (u32, u32),
     features: lightbench_compiler::scene::SceneFeatures,
     watch: Watch,
     /// The last failure, until a reload succeeds.
@@ -142,6 +144,7 @@ impl Reloader {
             variants: variants.to_vec(),
             params: ParamValues::new(),
             scene_file: scene_file.map(absolute),
+            size: scene.size,
             features: scene.features(),
             watch: Watch::new()?,
             last_error: None,
@@ -178,7 +181,10 @@ impl Reloader {
         let files: Vec<PathBuf> = changed.iter().cloned().collect();
         let scene = match self.scene_file.as_ref().filter(|f| changed.contains(*f)) {
             Some(f) => match crate::scene::load(&f.display().to_string()) {
-                Ok(s) => Some(s),
+                Ok(mut s) => {
+                    s.size = self.size;
+                    Some(s)
+                }
                 Err(e) => return Some(self.failed(e.to_string(), files)),
             },
             None => None,

@@ -209,3 +209,28 @@ fn a_hostile_burst_of_edits_ends_with_the_last_valid_content() {
     let fresh = start(&g, &dir).frame(&g);
     assert!((now - fresh).abs() < 1e-6, "running {now}, fresh {fresh}");
 }
+
+/// The scene file is watched too: an edited light relights the running scene.
+#[test]
+fn an_edited_scene_file_reloads_the_scene() {
+    let g = gpu();
+    let dir = project("scene");
+    let file = dir.join("scenes/sun_only.ron");
+    let mut scene = lightbench::scene::load(file.to_str().unwrap()).unwrap();
+    scene.size = (32, 32);
+    let (reloader, exe) = Reloader::new(&g, (&dir.join("pipelines/deferred.ron"), None), (&scene, Some(file.as_path())), &[]).unwrap();
+    let ex = Executor::new(&g, &exe, &scene).unwrap();
+    let mut r = Running { reloader, ex };
+    let before = r.hdr_mean(&g);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let brighter = text.replace("intensity: 3.0, shadows: true", "intensity: 9.0, shadows: true");
+    assert_ne!(brighter, text);
+    std::fs::write(&file, brighter).unwrap();
+    r.until(&g, reloaded);
+    let after = r.hdr_mean(&g);
+    assert!(after > before * 1.5, "{before} -> {after}");
+    // A broken scene file keeps the running scene.
+    std::fs::write(&file, "Scene(name: ").unwrap();
+    r.until(&g, |o| matches!(o, Outcome::Failed { .. }));
+    assert_eq!(r.hdr_mean(&g), after);
+}
