@@ -258,13 +258,28 @@ fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<(
 struct Slice {
     name: String,
     slice: (u32, u32),
-    a: crate::io::Image,
-    b: crate::io::Image,
+    a: Values,
+    b: Values,
     channels: usize,
     colour: bool,
     format: String,
     buffer: bool,
     stem: String,
+}
+
+/// A slice's values: texels as copied (decoded on the analysing thread) or a buffer's words.
+enum Values {
+    Texels(crate::gpu::readback::Raw),
+    Words(crate::io::Image),
+}
+
+impl Values {
+    fn image(self) -> Result<crate::io::Image> {
+        match self {
+            Values::Texels(raw) => raw.decode(),
+            Values::Words(img) => Ok(img),
+        }
+    }
 }
 
 /// Read back every slice (light instance, layer) of a resource both sides have.
@@ -276,13 +291,13 @@ fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&
         let (a, b, channels, colour, format) = match &r.shape {
             ResourceShape::Texture { format, .. } => {
                 let (a, b) = (
-                    ea.read_texture(gpu, name, slice.0, slice.1)?,
-                    eb.read_texture(gpu, name_b, slice.0, slice.1)?,
+                    Values::Texels(ea.read_texture_raw(gpu, name, slice.0, slice.1)?),
+                    Values::Texels(eb.read_texture_raw(gpu, name_b, slice.0, slice.1)?),
                 );
                 (a, b, format.components() as usize, format.is_srgb(), format.name().to_string())
             }
             ResourceShape::Buffer { .. } => {
-                let words = |ex: &Executor, n: &str| ex.read_buffer(gpu, n, slice.0).map(crate::io::Image::row);
+                let words = |ex: &Executor, n: &str| ex.read_buffer(gpu, n, slice.0).map(|w| Values::Words(crate::io::Image::row(w)));
                 (words(ea, name)?, words(eb, name_b)?, 1, false, "buffer".to_string())
             }
         };
@@ -306,24 +321,19 @@ fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&
 }
 
 /// Metrics and images of one slice (runs on any thread).
-fn analyze(s: &Slice, out: &Path) -> Result<ImageDiff> {
-    let compared = metrics::compare(&s.a, &s.b, s.channels, s.colour);
+fn analyze(s: Slice, out: &Path) -> Result<ImageDiff> {
+    let (a, b) = (s.a.image()?, s.b.image()?);
+    let compared = metrics::compare(&a, &b, s.channels, s.colour);
     let files = match s.buffer {
         true => None,
-        false => Some(images::write(
-            out,
-            &s.stem,
-            (&s.a, &s.b),
-            (s.channels, !s.colour),
-            &compared.error_map,
-        )?),
+        false => Some(images::write(out, &s.stem, (&a, &b), (s.channels, !s.colour), &compared.error_map)?),
     };
     Ok(ImageDiff {
-        resource: s.name.clone(),
+        resource: s.name,
         instance: s.slice.0,
         layer: s.slice.1,
-        format: s.format.clone(),
-        size: (s.a.width, s.a.height),
+        format: s.format,
+        size: (a.width, a.height),
         metrics: compared.metrics,
         heat_map: files.as_ref().map(|f| f.0.clone()),
         side_by_side: files.map(|f| f.1),
@@ -350,7 +360,7 @@ fn compare_all(gpu: &Gpu, sides: (&Executor, &Executor), names: &[(&str, &str)],
                 let (i, results) = (order, &results);
                 order += 1;
                 sc.spawn(move |_| {
-                    let r = analyze(&s, out);
+                    let r = analyze(s, out);
                     results.lock().unwrap_or_else(|e| e.into_inner()).push((i, r));
                 });
             }

@@ -551,6 +551,15 @@ impl Executor {
         super::readback::read_texture(gpu, tex, layer)
     }
 
+    /// `read_texture` without decoding (see `readback::Raw`).
+    pub fn read_texture_raw(&self, gpu: &Gpu, name: &str, instance: u32, layer: u32) -> Result<super::readback::Raw> {
+        let tex = self
+            .entry(name)?
+            .texture(instance, false, self.last_parity())
+            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer")))?;
+        super::readback::read_texture_raw(gpu, tex, layer)
+    }
+
     /// Every part of a resource that holds values: each light instance, layer, mip level
     /// and, for history resources, both copies (`previous`: the one the last frame read).
     pub fn parts(&self, name: &str) -> Result<Vec<Part>> {

@@ -96,6 +96,47 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image>
     read_texture_mip(gpu, tex, layer, 0)
 }
 
+/// A layer's texels as copied from the GPU, not yet decoded (decoding can then run on
+/// another thread: `lightbench diff` decodes while it reads the next resource).
+pub struct Raw {
+    format: wgpu::TextureFormat,
+    bytes: Vec<u8>,
+    row: u32,
+    size: (u32, u32),
+}
+
+impl Raw {
+    pub fn decode(&self) -> Result<Image> {
+        let f = self.format;
+        let bpp = texel_bytes(f)?;
+        let (w, h) = self.size;
+        let mut rgba = Vec::with_capacity((w * h * 4) as usize);
+        for y in 0..h {
+            for x in 0..w {
+                let o = (y * self.row + x * bpp) as usize;
+                rgba.extend_from_slice(&decode(f, &self.bytes[o..o + bpp as usize]));
+            }
+        }
+        Ok(Image {
+            width: w,
+            height: h,
+            rgba,
+            srgb: f.is_srgb(),
+        })
+    }
+}
+
+/// Mip 0 of one layer, copied to the CPU undecoded.
+pub fn read_texture_raw(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Raw> {
+    let (w, h, (bytes, row)) = with_texels(gpu, tex, (layer, 0), |data, row, _| (data.to_vec(), row))?;
+    Ok(Raw {
+        format: tex.format(),
+        bytes,
+        row,
+        size: (w, h),
+    })
+}
+
 /// One layer of one mip level.
 pub fn read_texture_mip(gpu: &Gpu, tex: &wgpu::Texture, layer: u32, mip: u32) -> Result<Image> {
     let f = tex.format();
