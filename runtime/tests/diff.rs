@@ -286,3 +286,13 @@ fn outputs_are_compared_whatever_their_names() {
     assert_eq!(out["metrics"]["flip_mean"].as_f64(), Some(0.0));
     assert_eq!(names(&r["structure"]["resources"]), ["final", "ldr"]);
 }
+
+/// A side that does not compile: its diagnostics, located in the file, and exit 1.
+#[test]
+fn a_broken_side_reports_its_diagnostics() {
+    let dir = scratch("broken");
+    let broken = project_with(&dir.join("b"), "tonemap.wgsl", |t| t.replace("fn fs_main(", "fn fs_main(("));
+    let (code, _, err) = lightbench(&["diff", "pipelines/deferred.ron", broken.to_str().unwrap(), "--no-render"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("error[") && err.contains("tonemap.wgsl:"), "{err}");
+}
