@@ -16,3 +16,4 @@ pub mod reload;
 pub mod render;
 pub mod scene;
 pub mod verify;
+pub mod viewer;

@@ -154,6 +154,16 @@ impl Reloader {
         Ok((r, exe))
     }
 
+    /// Compile with these variant choices from now on (a viewer switched one).
+    pub fn set_variants(&mut self, variants: &[(String, String)]) {
+        self.variants = variants.to_vec();
+    }
+
+    /// Plan for this scene from now on (a viewer toggled a light).
+    pub fn set_scene(&mut self, scene: &Scene) {
+        self.features = scene.features();
+    }
+
     fn watch_files(&mut self, exe: &Executable) -> Result<()> {
         let mut files: Vec<PathBuf> = exe.files.iter().cloned().collect();
         files.push(self.pipeline.clone());

@@ -6,6 +6,7 @@ mod diff;
 pub mod plan;
 mod render;
 mod verify;
+mod view;
 
 use crate::error::{Error, Result};
 use clap::{Parser, Subcommand, ValueEnum};
@@ -68,6 +69,9 @@ pub enum Command {
     /// Compare two pipelines, or one in two configurations: Plan structure, the pixels of
     /// every shared resource, per-pass time; a report in markdown, HTML or JSON.
     Diff(diff::Args),
+    /// Open a window onto a running pipeline: any buffer, camera and light controls,
+    /// parameters and variants, per-pass costs, screenshots.
+    View(view::Args),
     /// Write the pipelines, shaders and scenes bundled in lightbench into a folder (a fresh
     /// one: nothing is overwritten) as the start of your own project.
     Init { dir: PathBuf },
@@ -117,6 +121,7 @@ pub fn run(cli: Cli) -> i32 {
         Command::Render(args) => render::run(args),
         Command::Verify(args) => verify::run(args),
         Command::Diff(args) => diff::run(args),
+        Command::View(args) => view::run(args),
         Command::Init { dir } => match crate::bundled::init(&dir) {
             Ok(files) => {
                 eprintln!(

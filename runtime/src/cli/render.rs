@@ -121,7 +121,7 @@ pub fn run(a: Args) -> i32 {
 
 /// The pipeline to render and the workspace that reads it: the file named; else
 /// `pipelines/deferred.ron` on disk; else the copy bundled in the binary.
-fn resolve_pipeline(named: Option<&Path>) -> Result<(PathBuf, lightbench_compiler::Workspace)> {
+pub(super) fn resolve_pipeline(named: Option<&Path>) -> Result<(PathBuf, lightbench_compiler::Workspace)> {
     match named {
         Some(p) if !p.is_file() => Err(Error::Usage(format!("no such pipeline file: {}", p.display()))),
         Some(p) => Ok((p.to_path_buf(), lightbench_compiler::Workspace::disk())),

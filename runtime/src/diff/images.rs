@@ -8,7 +8,7 @@ use std::path::Path;
 /// A read-back image as 8-bit sRGB RGB for display: colour as stored (linear values are
 /// sRGB-encoded, as PNG stores them); with `range`, data stretched from its lowest to its
 /// highest value; single-channel data as grey; non-finite values white.
-fn display_rgb8(img: &Image, channels: usize, range: Option<(f32, f32)>) -> Vec<u8> {
+pub fn display_rgb8(img: &Image, channels: usize, range: Option<(f32, f32)>) -> Vec<u8> {
     let encode = |v: f32| -> u8 {
         let v = match range {
             Some((lo, hi)) if v.is_finite() => (v - lo) / if hi > lo { hi - lo } else { 1.0 },

@@ -142,6 +142,22 @@ impl Gpu {
     }
 }
 
+impl Gpu {
+    /// A device that can present to `surface` (the viewer's window), with the same features,
+    /// limits and probes as `Gpu::new`.
+    pub fn for_surface(instance: &wgpu::Instance, surface: &wgpu::Surface) -> Result<Gpu> {
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: Some(surface),
+            ..Default::default()
+        }))
+        .map_err(|e| Error::Adapter(format!("no GPU adapter can present to the window: {e}")))?;
+        let (device, queue) = open_device(&adapter)?;
+        Gpu::from_parts(adapter, device, queue)
+    }
+}
+
 fn choose_adapter(opts: &DeviceOptions) -> Result<wgpu::Adapter> {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     desc.backends = desc_backends(opts);

@@ -1,0 +1,91 @@
+//! `lightbench view`: open the viewer on a pipeline and a scene (optionally scripted).
+
+use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use crate::error::{Error, Result};
+use crate::viewer::{Options, Step};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Pipeline file; default `pipelines/deferred.ron`, or the bundled one when none is here.
+    #[arg(long)]
+    pub pipeline: Option<PathBuf>,
+    /// Scene file or built-in scene.
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    #[arg(long, value_name = "WxH")]
+    pub size: Option<String>,
+    #[arg(long = "variant", value_name = "K=V")]
+    pub variants: Vec<String>,
+    #[arg(long)]
+    pub shaders: Option<PathBuf>,
+    /// Run these actions, one per line, then close: next-view, prev-view, next-slice,
+    /// prev-slice, view NAME, light N, toggle-light, rotate-light YAW PITCH, move X Y Z,
+    /// look YAW PITCH, param NAME=VALUE, variant NAME=OPTION, screenshot FILE, frames N.
+    #[arg(long, value_name = "FILE")]
+    pub script: Option<PathBuf>,
+    /// Save a screenshot of the shown image to FILE after N frames, then close.
+    #[arg(long, value_name = "N")]
+    pub screenshot_after: Option<u32>,
+    #[arg(long, value_name = "FILE", default_value = "lightbench-view.png")]
+    pub screenshot: PathBuf,
+}
+
+fn script(a: &Args) -> Result<Vec<Step>> {
+    let mut steps = vec![];
+    if let Some(f) = &a.script {
+        let text = std::fs::read_to_string(f).map_err(|e| Error::io(f, e))?;
+        for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
+            match line.strip_prefix("frames ") {
+                Some(n) => steps.push(Step::Frames(
+                    n.trim()
+                        .parse()
+                        .map_err(|_| Error::Usage(format!("{}: `{line}`: frames N", f.display())))?,
+                )),
+                None => steps.push(Step::Line(line.to_string())),
+            }
+        }
+    }
+    if let Some(n) = a.screenshot_after {
+        steps.push(Step::Frames(n));
+        steps.push(Step::Line(format!("screenshot {}", a.screenshot.display())));
+    }
+    Ok(steps)
+}
+
+fn execute(a: &Args) -> Result<()> {
+    let variants = super::parse_variants(&a.variants)?;
+    let steps = script(a)?;
+    let (pipeline, workspace) = super::render::resolve_pipeline(a.pipeline.as_deref())?;
+    let mut s = lightbench_compiler::Session::new();
+    let loaded = crate::scene::load_in(&mut s, &a.scene);
+    eprint!("{}", s.render());
+    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
+    if let Some(sz) = &a.size {
+        scene.size = super::plan::parse_size(sz)?;
+    }
+    let opts = Options {
+        workspace,
+        pipeline,
+        shaders: a.shaders.clone(),
+        scene,
+        variants,
+        scripted: !steps.is_empty(),
+    };
+    crate::viewer::run(opts, steps)
+}
+
+pub fn run(a: Args) -> i32 {
+    match execute(&a) {
+        Ok(()) => EXIT_OK,
+        Err(Error::Usage(msg)) => usage_error(msg),
+        Err(Error::Compile(report) | Error::Scene(report)) => {
+            eprint!("{report}");
+            EXIT_ERRORS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            EXIT_ERRORS
+        }
+    }
+}

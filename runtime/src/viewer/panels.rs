@@ -1,0 +1,158 @@
+//! Sub-stage `panels` of the viewer: the egui side panel — frame time, per-pass costs,
+//! parameter widgets made from the Plan's declared parameters, variant choices, lights, and
+//! the last error. Widgets only push `Action`s; the viewer applies them.
+
+use super::state::{Action, Viewer};
+use lightbench_compiler::ir::{ParamType, ParamValue};
+
+pub fn panels(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
+    egui::Panel::left("controls").default_size(340.0).show(ui, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            if let Some(e) = &v.last_error {
+                ui.colored_label(egui::Color32::from_rgb(255, 90, 90), format!("error: {e}"));
+            }
+            ui.label(format!("frame {:.2} ms ({:.0} fps, running mean)", v.frame_ms, 1000.0 / v.frame_ms.max(1e-3)));
+            timings(ui, v);
+            params(ui, v, actions);
+            variants(ui, v, actions);
+            lights(ui, v, actions);
+            ui.label("O/P: buffer view · K/L: light or layer · 1–9, 0: light · Q: on/off · arrows: turn it · WASD, Space, Ctrl, Shift, left drag: camera · F12: screenshot");
+        });
+    });
+}
+
+fn timings(ui: &mut egui::Ui, v: &Viewer) {
+    egui::CollapsingHeader::new("passes").default_open(true).show(ui, |ui| {
+        egui::Grid::new("passes").striped(true).show(ui, |ui| {
+            ui.label("pass");
+            ui.label("GPU ms");
+            ui.label("CPU µs");
+            ui.end_row();
+            for t in &v.ex.last_timings {
+                ui.label(&t.pass);
+                ui.label(match (t.reused, t.gpu_ms) {
+                    (true, _) => "reused".to_string(),
+                    (false, Some(ms)) => format!("{ms:.3}"),
+                    (false, None) => "—".to_string(),
+                });
+                ui.label(format!("{:.1}", t.cpu_encode_us));
+                ui.end_row();
+            }
+        });
+    });
+}
+
+fn params(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("parameters").show(ui, |ui| {
+        let values = v.ex.inputs(0.0).params;
+        for p in &v.ex.plan().params {
+            let now = values.value_of(p).clone();
+            let (lo, hi) = (p.min.as_ref().and_then(first), p.max.as_ref().and_then(first));
+            let changed = match (&p.ty, &now) {
+                (ParamType::Float, ParamValue::Float(x)) => {
+                    let mut x = *x;
+                    let range = lo.unwrap_or(0.0)..=hi.unwrap_or(1.0);
+                    ui.add(egui::Slider::new(&mut x, range).text(&p.name))
+                        .changed()
+                        .then_some(ParamValue::Float(x))
+                }
+                (ParamType::Int, ParamValue::Int(x)) => {
+                    let mut x = *x;
+                    let range = lo.unwrap_or(0.0) as i64..=hi.unwrap_or(64.0) as i64;
+                    ui.add(egui::Slider::new(&mut x, range).text(&p.name))
+                        .changed()
+                        .then_some(ParamValue::Int(x))
+                }
+                (ParamType::Bool, ParamValue::Bool(b)) => {
+                    let mut b = *b;
+                    ui.checkbox(&mut b, &p.name).changed().then_some(ParamValue::Bool(b))
+                }
+                (ParamType::Color, ParamValue::Vec(c)) if c.len() >= 3 => {
+                    let mut rgb = [c[0] as f32, c[1] as f32, c[2] as f32];
+                    let r = ui.horizontal(|ui| {
+                        let r = ui.color_edit_button_rgb(&mut rgb);
+                        ui.label(&p.name);
+                        r
+                    });
+                    r.inner.changed().then(|| ParamValue::Vec(rgb.iter().map(|&x| x as f64).collect()))
+                }
+                (ParamType::Enum(options), ParamValue::Enum(cur)) => {
+                    let mut chosen = cur.clone();
+                    egui::ComboBox::from_label(&p.name).selected_text(&chosen).show_ui(ui, |ui| {
+                        for o in options {
+                            ui.selectable_value(&mut chosen, o.clone(), o);
+                        }
+                    });
+                    (chosen != *cur).then_some(ParamValue::Enum(chosen))
+                }
+                _ => {
+                    ui.label(format!("{} = {}", p.name, now.describe()));
+                    None
+                }
+            };
+            if let Some(value) = changed {
+                actions.push(Action::Param(p.name.clone(), value));
+            }
+        }
+    });
+}
+
+/// A parameter bound's first number (a slider's end).
+fn first(v: &ParamValue) -> Option<f64> {
+    match v {
+        ParamValue::Float(x) => Some(*x),
+        ParamValue::Int(i) => Some(*i as f64),
+        ParamValue::Vec(v) => v.first().copied(),
+        _ => None,
+    }
+}
+
+fn variants(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("variants").default_open(true).show(ui, |ui| {
+        for c in &v.ex.plan().variants {
+            let mut chosen = c.option.clone();
+            let options = v
+                .options
+                .iter()
+                .find(|(name, _)| *name == c.variant)
+                .map(|(_, o)| o.as_slice())
+                .unwrap_or(&[]);
+            egui::ComboBox::from_label(&c.variant).selected_text(&chosen).show_ui(ui, |ui| {
+                for (o, missing) in options {
+                    // Options the adapter cannot run are shown disabled, with what they need.
+                    let r = ui.add_enabled(missing.is_none(), egui::Button::selectable(chosen == *o, o.as_str()));
+                    if r.clicked() {
+                        chosen = o.clone();
+                    }
+                    if let Some(m) = missing {
+                        r.on_disabled_hover_text(m.as_str());
+                    }
+                }
+            });
+            if let Some(r) = &c.reason {
+                ui.small(r);
+            }
+            if chosen != c.option {
+                actions.push(Action::Variant(c.variant.clone(), chosen));
+            }
+        }
+    });
+}
+
+fn lights(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
+    egui::CollapsingHeader::new("lights").default_open(true).show(ui, |ui| {
+        for (i, l) in v.scene.lights.iter().enumerate() {
+            ui.horizontal(|ui| {
+                let selected = i == v.light;
+                if ui.selectable_label(selected, format!("{} {:?}", i + 1, l.kind)).clicked() {
+                    actions.push(Action::SelectLight(i));
+                }
+                let mut on = l.on;
+                if ui.checkbox(&mut on, "on").changed() {
+                    actions.push(Action::SelectLight(i));
+                    actions.push(Action::ToggleLight);
+                }
+            });
+        }
+    });
+}

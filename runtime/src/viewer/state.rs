@@ -1,0 +1,328 @@
+//! Sub-stage `state` of the viewer: what is shown and how input changes it — the buffer
+//! view, the selected light, the camera, parameters and variants — as `Action`s applied to a
+//! running executor. Keys, widgets and `--script` lines all become actions: one code path.
+
+use crate::error::{Error, Result};
+use crate::gpu::{Executor, Gpu};
+use crate::scene::{Camera, Scene};
+use lightbench_compiler::ir::ParamValue;
+use lightbench_compiler::plan::{ParamValues, ResourceShape};
+use lightbench_compiler::{Executable, Workspace};
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Show the next (previous) entry of `views()`.
+    NextView,
+    PrevView,
+    /// The next (previous) light instance or layer of the shown resource.
+    NextSlice,
+    PrevSlice,
+    View(String),
+    SelectLight(usize),
+    ToggleLight,
+    /// Turn the selected spot or directional light: yaw and pitch, degrees.
+    RotateLight(f32, f32),
+    /// Move the camera in its own frame (right, up, forward), world units.
+    Move(glam::Vec3),
+    /// Turn the camera: yaw and pitch, degrees.
+    Look(f32, f32),
+    Param(String, ParamValue),
+    Variant(String, String),
+    Screenshot(PathBuf),
+}
+
+pub struct Viewer {
+    pub ex: Executor,
+    ws: Workspace,
+    pipeline: PathBuf,
+    shaders: Option<PathBuf>,
+    pub variants: Vec<(String, String)>,
+    pub scene: Scene,
+    pub camera: Camera,
+    /// 0: the output; then the Plan's textures in order.
+    pub view: usize,
+    pub slice: usize,
+    pub light: usize,
+    /// Frame time, ms, averaged exponentially (seed 000 §7.1: a running mean, not one frame).
+    pub frame_ms: f64,
+    pub frames: u64,
+    /// Why the last change could not be made (shown until the next one succeeds).
+    pub last_error: Option<String>,
+    /// Each variant's options, with what the adapter lacks for those it cannot run.
+    pub options: Vec<(String, Vec<OptionState>)>,
+    /// Hot reload of the pipeline and shader files (not for the bundled pipeline).
+    reloader: Option<crate::reload::Reloader>,
+}
+
+/// A variant option and, when the adapter cannot run it, what it needs.
+pub type OptionState = (String, Option<String>);
+
+/// Compile `pipeline` for `scene` with `variants`; `Err` holds the rendered diagnostics.
+fn compile(
+    ws: &Workspace,
+    (pipeline, shaders): (&Path, Option<&Path>),
+    gpu: &Gpu,
+    scene: &Scene,
+    variants: &[(String, String)],
+) -> Result<Executable> {
+    let mut s = ws.session();
+    let exe = s.executable_with(pipeline, shaders, (&gpu.profile, &scene.features()), variants, &ParamValues::new());
+    exe.ok_or_else(|| Error::Compile(s.render()))
+}
+
+impl Viewer {
+    pub fn new(
+        gpu: &Gpu,
+        (ws, pipeline, shaders): (Workspace, &Path, Option<&Path>),
+        scene: Scene,
+        variants: &[(String, String)],
+    ) -> Result<Viewer> {
+        let exe = compile(&ws, (pipeline, shaders), gpu, &scene, variants)?;
+        let ex = Executor::new(gpu, &exe, &scene)?;
+        let options = ws
+            .session()
+            .load_pipeline(pipeline)
+            .map(|p| {
+                p.variants
+                    .iter()
+                    .map(|v| {
+                        let opts = v.options.iter().map(|o| {
+                            let lacks: Vec<&str> = o
+                                .requires
+                                .iter()
+                                .filter(|f| !gpu.profile.has(f.value))
+                                .map(|f| f.value.name())
+                                .collect();
+                            (
+                                o.name.value.clone(),
+                                (!lacks.is_empty()).then(|| format!("needs {}", lacks.join(", "))),
+                            )
+                        });
+                        (v.name.value.clone(), opts.collect())
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        Ok(Viewer {
+            ex,
+            ws,
+            pipeline: pipeline.to_path_buf(),
+            shaders: shaders.map(Path::to_path_buf),
+            variants: variants.to_vec(),
+            camera: scene.camera.clone(),
+            scene,
+            view: 0,
+            slice: 0,
+            light: 0,
+            frame_ms: 0.0,
+            frames: 0,
+            last_error: None,
+            options,
+            reloader: None,
+        })
+    }
+
+    /// The Plan again for the current scene and variants, swapped in at this frame boundary.
+    fn rebuild(&mut self, gpu: &Gpu, scene_changed: bool) -> Result<()> {
+        let exe = compile(
+            &self.ws,
+            (&self.pipeline, self.shaders.as_deref()),
+            gpu,
+            &self.scene,
+            &self.variants,
+        )?;
+        match scene_changed {
+            true => self.ex.replace_scene(gpu, &exe, &self.scene)?,
+            false => self.ex.replace(gpu, &exe)?,
+        };
+        if let Some(r) = self.reloader.as_mut() {
+            r.set_variants(&self.variants);
+            r.set_scene(&self.scene);
+        }
+        // The scene's camera would come back with a new scene: keep the viewer's.
+        Ok(())
+    }
+
+    /// Watch the pipeline's files and reload on a change (see `crate::reload`).
+    pub fn watch(&mut self, gpu: &Gpu) -> Result<()> {
+        let (mut r, _) = crate::reload::Reloader::new(gpu, (&self.pipeline, self.shaders.as_deref()), (&self.scene, None), &self.variants)?;
+        r.set_scene(&self.scene);
+        self.reloader = Some(r);
+        Ok(())
+    }
+
+    /// Apply a reload if a watched file changed; its failure stays shown until one succeeds.
+    pub fn poll_reload(&mut self, gpu: &Gpu) {
+        let Some(r) = self.reloader.as_mut() else { return };
+        match r.poll(gpu, &mut self.ex, std::time::Duration::ZERO) {
+            Some(crate::reload::Outcome::Reloaded { .. }) => self.last_error = None,
+            Some(crate::reload::Outcome::Failed { message, .. }) => self.last_error = Some(message),
+            None => {}
+        }
+    }
+
+    /// Render one frame from the viewer's camera.
+    pub fn frame(&mut self, gpu: &Gpu) -> Result<()> {
+        let start = std::time::Instant::now();
+        let mut inputs = self.ex.inputs(self.frames as f32 / 60.0);
+        inputs.camera = self.camera.clone();
+        self.ex.render_frame(gpu, &inputs)?;
+        let ms = start.elapsed().as_secs_f64() * 1e3;
+        self.frame_ms = if self.frames == 0 { ms } else { 0.9 * self.frame_ms + 0.1 * ms };
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// What can be shown: `output`, then every texture of the Plan.
+    pub fn views(&self) -> Vec<String> {
+        let plan = self.ex.plan();
+        let mut v = vec!["output".to_string()];
+        v.extend(plan.resources.iter().filter(|r| !r.is_buffer()).map(|r| r.name.clone()));
+        v
+    }
+
+    /// The resource name shown, and its (instance, layer) slices.
+    fn shown(&self) -> Result<(String, Vec<(u32, u32)>)> {
+        let views = self.views();
+        let name = match self.view.min(views.len() - 1) {
+            0 => self.ex.plan().output_resource().name.clone(),
+            i => views[i].clone(),
+        };
+        let slices = self.ex.slices(&name)?;
+        Ok((name, slices))
+    }
+
+    /// The shown image mapped for display (8-bit RGB) and a caption naming it.
+    pub fn view_image(&self, gpu: &Gpu) -> Result<(u32, u32, Vec<u8>, String)> {
+        let (name, slices) = self.shown()?;
+        let (inst, layer) = slices[self.slice % slices.len().max(1)];
+        let img = self.ex.read_texture(gpu, &name, inst, layer)?;
+        let format = match &self.ex.plan().resource(&name).map(|r| r.shape.clone()) {
+            Some(ResourceShape::Texture { format, .. }) => *format,
+            _ => return Err(Error::Resource(format!("`{name}` is not a texture"))),
+        };
+        let rgb = super::display::rgb8(&img, format);
+        let mut caption = format!("{name} ({})", format.name());
+        if slices.len() > 1 {
+            caption += &format!(
+                " — light {inst}, layer {layer} ({} of {})",
+                self.slice % slices.len() + 1,
+                slices.len()
+            );
+        }
+        Ok((img.width, img.height, rgb, caption))
+    }
+
+    /// The shown image as a PNG file (atomic).
+    fn screenshot(&self, gpu: &Gpu, path: &Path) -> Result<()> {
+        let (w, h, rgb, _) = self.view_image(gpu)?;
+        let img = image::RgbImage::from_raw(w, h, rgb).ok_or_else(|| Error::io(path, "image size mismatch"))?;
+        let mut bytes = std::io::Cursor::new(vec![]);
+        img.write_to(&mut bytes, image::ImageFormat::Png).map_err(|e| Error::io(path, e))?;
+        crate::io::write_atomic(path, &bytes.into_inner())
+    }
+
+    /// Apply an action; on failure the viewer keeps running as it was and says why.
+    pub fn apply(&mut self, gpu: &Gpu, a: Action) -> Result<()> {
+        let r = self.apply_inner(gpu, a);
+        self.last_error = r.as_ref().err().map(|e| e.to_string());
+        r
+    }
+
+    fn apply_inner(&mut self, gpu: &Gpu, a: Action) -> Result<()> {
+        let n = self.views().len();
+        match a {
+            Action::NextView => (self.view, self.slice) = ((self.view + 1) % n, 0),
+            Action::PrevView => (self.view, self.slice) = ((self.view + n - 1) % n, 0),
+            Action::NextSlice => self.slice += 1,
+            Action::PrevSlice => self.slice = self.slice.checked_sub(1).unwrap_or(usize::MAX / 2),
+            Action::View(name) => {
+                self.view = self
+                    .views()
+                    .iter()
+                    .position(|v| *v == name)
+                    .ok_or_else(|| Error::Usage(format!("no view `{name}`")))?;
+                self.slice = 0;
+            }
+            Action::SelectLight(i) if i < self.scene.lights.len() => self.light = i,
+            Action::SelectLight(i) => return Err(Error::Usage(format!("there is no light {}", i + 1))),
+            Action::ToggleLight => {
+                let l = self
+                    .scene
+                    .lights
+                    .get_mut(self.light)
+                    .ok_or_else(|| Error::Usage("the scene has no lights".into()))?;
+                l.on = !l.on;
+                self.rebuild(gpu, true)?;
+            }
+            Action::RotateLight(yaw, pitch) => {
+                let l = self
+                    .scene
+                    .lights
+                    .get_mut(self.light)
+                    .ok_or_else(|| Error::Usage("the scene has no lights".into()))?;
+                let q = glam::Quat::from_rotation_y(yaw.to_radians()) * glam::Quat::from_rotation_x(pitch.to_radians());
+                l.direction = q * l.direction;
+                self.rebuild(gpu, true)?;
+            }
+            Action::Move(d) => {
+                let f = self.camera.forward();
+                let right = f.cross(glam::Vec3::Y).normalize_or_zero();
+                self.camera.position += right * d.x + glam::Vec3::Y * d.y + f * d.z;
+            }
+            Action::Look(yaw, pitch) => {
+                self.camera.yaw += yaw;
+                self.camera.pitch = (self.camera.pitch + pitch).clamp(-89.0, 89.0);
+            }
+            Action::Param(name, value) => self.ex.set_param(&name, value)?,
+            Action::Variant(k, o) => {
+                let before = self.variants.clone();
+                self.variants.retain(|(v, _)| *v != k);
+                self.variants.push((k, o));
+                if let Err(e) = self.rebuild(gpu, false) {
+                    self.variants = before;
+                    return Err(e);
+                }
+            }
+            Action::Screenshot(path) => self.screenshot(gpu, &path)?,
+        }
+        Ok(())
+    }
+}
+
+/// One `--script` line as an action: `next-view`, `prev-view`, `next-slice`, `prev-slice`,
+/// `view NAME`, `light N` (1-based), `toggle-light`, `rotate-light YAW PITCH`,
+/// `move X Y Z`, `look YAW PITCH`, `param NAME=VALUE`, `variant NAME=OPTION`,
+/// `screenshot FILE`. (`frames N` is the window's: render N frames.)
+pub fn parse_action(line: &str, plan: &lightbench_compiler::plan::Plan) -> Result<Action> {
+    let bad = || Error::Usage(format!("script line `{line}`: see `lightbench view --help` for the actions"));
+    let mut words = line.split_whitespace();
+    let cmd = words.next().ok_or_else(bad)?;
+    let rest: Vec<&str> = words.collect();
+    let num = |i: usize| rest.get(i).and_then(|w| w.parse::<f32>().ok()).ok_or_else(bad);
+    let pair = || rest.first().and_then(|w| w.split_once('=')).ok_or_else(bad);
+    Ok(match cmd {
+        "next-view" => Action::NextView,
+        "prev-view" => Action::PrevView,
+        "next-slice" => Action::NextSlice,
+        "prev-slice" => Action::PrevSlice,
+        "view" => Action::View(rest.first().ok_or_else(bad)?.to_string()),
+        "light" => Action::SelectLight((num(0)? as usize).checked_sub(1).ok_or_else(bad)?),
+        "toggle-light" => Action::ToggleLight,
+        "rotate-light" => Action::RotateLight(num(0)?, num(1)?),
+        "move" => Action::Move(glam::vec3(num(0)?, num(1)?, num(2)?)),
+        "look" => Action::Look(num(0)?, num(1)?),
+        "param" => {
+            let (k, v) = pair()?;
+            let value = ParamValues::parse_text(&plan.params, k, v).map_err(|e| Error::Usage(format!("script line `{line}`: {e:?}")))?;
+            Action::Param(k.to_string(), value)
+        }
+        "variant" => {
+            let (k, v) = pair()?;
+            Action::Variant(k.to_string(), v.to_string())
+        }
+        "screenshot" => Action::Screenshot(PathBuf::from(rest.first().ok_or_else(bad)?)),
+        _ => return Err(bad()),
+    })
+}

@@ -1,0 +1,58 @@
+//! The viewer under Xvfb on lavapipe (CI installs `xvfb`): a scripted session that renders,
+//! cycles through every buffer view, switches the cube-shadow variant, toggles a light,
+//! changes a parameter through the widgets' code path (`Action::Param`) and takes
+//! screenshots. Needs `xvfb-run`; fails (never skips) without it.
+
+mod cli_common;
+
+use cli_common::{root, scratch};
+use std::process::Command;
+
+#[test]
+fn a_scripted_viewer_session_under_xvfb() {
+    let d = scratch("viewer");
+    // Every view: the output, then each texture of the Plan.
+    let plan = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["plan", "pipelines/deferred.ron", "--scene", "cornell", "--json"])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let plan: serde_json::Value = serde_json::from_slice(&plan.stdout).expect("plan JSON");
+    let textures: Vec<String> = plan["resources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["shape"].get("Texture").is_some())
+        .map(|r| r["name"].as_str().unwrap().to_string())
+        .collect();
+    assert!(textures.len() >= 6, "{textures:?}");
+    let mut script = String::from("frames 2\nscreenshot view0.png\n");
+    for i in 1..=textures.len() {
+        script += &format!("next-view\nframes 1\nscreenshot view{i}.png\n");
+    }
+    script += "variant cube_shadow=instanced\nframes 1\nlight 1\ntoggle-light\nframes 1\ntoggle-light\nparam exposure.ev=1\nparam exposure.automatic=false\nframes 1\nview output\nscreenshot last.png\n";
+    std::fs::write(d.join("script.txt"), script).unwrap();
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["view", "--pipeline"])
+        .arg(root().join("pipelines/deferred.ron"))
+        .args(["--size", "64x64", "--script", "script.txt"])
+        .current_dir(&d)
+        .output()
+        .expect("xvfb-run must be installed (apt-get install xvfb xauth; .ci/run does)");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let shot = |name: &str| image::open(d.join(name)).unwrap_or_else(|e| panic!("{name}: {e}\n{err}")).to_rgb8();
+    let first = shot("view0.png");
+    let uniform = |img: &image::RgbImage| img.pixels().all(|p| p == img.get_pixel(0, 0));
+    assert!(!uniform(&first), "the output screenshot is not uniform");
+    for i in 1..=textures.len() {
+        shot(&format!("view{i}.png"));
+    }
+    assert_ne!(shot("view1.png").into_raw(), first.clone().into_raw(), "two buffer views differ");
+    // Exposure fixed at +1 EV after the variant switch and the light toggled off and on.
+    let last = shot("last.png");
+    assert!(!uniform(&last));
+    assert_ne!(last.into_raw(), first.into_raw(), "the parameter change shows");
+}
