@@ -1,5 +1,6 @@
 //! The viewer under Xvfb on lavapipe (CI installs `xvfb`): a scripted session that renders,
-//! cycles through every buffer view, switches the cube-shadow variant, toggles a light,
+//! cycles through every buffer view, switches the cube-shadow variant, toggles, adds and
+//! removes a light, calls for bloom,
 //! changes a parameter through the widgets' code path (`Action::Param`) and takes
 //! screenshots. Needs `xvfb-run`; fails (never skips) without it.
 
@@ -30,7 +31,10 @@ fn a_scripted_viewer_session_under_xvfb() {
     for i in 1..=textures.len() {
         script += &format!("next-view\nframes 1\nscreenshot view{i}.png\n");
     }
-    script += "variant cube_shadow=instanced\nframes 1\nlight 1\ntoggle-light\nframes 1\ntoggle-light\nparam exposure.ev=1\nparam exposure.automatic=false\nframes 1\nview output\nscreenshot last.png\n";
+    script += "variant cube_shadow=instanced\nframes 1\nlight 1\ntoggle-light\nframes 1\ntoggle-light\n";
+    // Lights added and removed, an effect called for: each a new Plan at a frame boundary.
+    script += "add-light Spot\nframes 1\neffect Bloom=true\nframes 1\nremove-light\nframes 1\n";
+    script += "param exposure.ev=1\nparam exposure.automatic=false\nframes 1\nview output\nscreenshot last.png\n";
     std::fs::write(d.join("script.txt"), script).unwrap();
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1024x768x24"])

@@ -16,6 +16,10 @@ pub fn panels(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
             params(ui, v, actions);
             variants(ui, v, actions);
             lights(ui, v, actions);
+            effects(ui, v, actions);
+            if ui.button("screenshot (F12)").clicked() {
+                actions.push(Action::Screenshot(format!("lightbench-view-{}-{}.png", std::process::id(), v.frames).into()));
+            }
             ui.label("O/P: buffer view · K/L: light or layer · 1–9, 0: light · Q: on/off · arrows: turn it · WASD, Space, Ctrl, Shift, left drag: camera · F12: screenshot");
         });
     });
@@ -140,19 +144,84 @@ fn variants(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
 }
 
 fn lights(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
+    use lightbench_compiler::ir::LightKind;
     egui::CollapsingHeader::new("lights").default_open(true).show(ui, |ui| {
         for (i, l) in v.scene.lights.iter().enumerate() {
-            ui.horizontal(|ui| {
-                let selected = i == v.light;
-                if ui.selectable_label(selected, format!("{} {:?}", i + 1, l.kind)).clicked() {
-                    actions.push(Action::SelectLight(i));
+            let selected = i == v.light;
+            if ui
+                .selectable_label(selected, format!("{} {:?}{}", i + 1, l.kind, if l.on { "" } else { " (off)" }))
+                .clicked()
+            {
+                actions.push(Action::SelectLight(i));
+            }
+            if selected {
+                let mut edited = l.clone();
+                light_editor(ui, &mut edited);
+                if edited != *l {
+                    actions.push(Action::SetLight(i, Box::new(edited)));
                 }
-                let mut on = l.on;
-                if ui.checkbox(&mut on, "on").changed() {
-                    actions.push(Action::SelectLight(i));
-                    actions.push(Action::ToggleLight);
+            }
+        }
+        ui.horizontal(|ui| {
+            for kind in LightKind::ALL {
+                if ui.button(format!("+ {}", kind.name())).clicked() {
+                    actions.push(Action::AddLight(kind));
                 }
-            });
+            }
+            if ui.button("remove").clicked() {
+                actions.push(Action::RemoveLight);
+            }
+        });
+    });
+}
+
+/// Every field of a light as widgets.
+fn light_editor(ui: &mut egui::Ui, l: &mut crate::scene::Light) {
+    use lightbench_compiler::ir::LightKind;
+    egui::ComboBox::from_label("kind").selected_text(l.kind.name()).show_ui(ui, |ui| {
+        for k in LightKind::ALL {
+            ui.selectable_value(&mut l.kind, k, k.name());
+        }
+    });
+    ui.checkbox(&mut l.on, "on");
+    ui.checkbox(&mut l.shadows, "shadows");
+    let mut c = l.color.to_array();
+    ui.horizontal(|ui| {
+        ui.color_edit_button_rgb(&mut c);
+        ui.label("colour");
+    });
+    l.color = glam::Vec3::from(c);
+    ui.add(egui::Slider::new(&mut l.intensity, 0.0..=50.0).text("intensity"));
+    if l.kind != LightKind::Directional {
+        vec3(ui, "position", &mut l.position);
+        ui.add(egui::Slider::new(&mut l.range, 0.1..=100.0).text("range"));
+    }
+    if l.kind != LightKind::Point {
+        vec3(ui, "direction", &mut l.direction);
+    }
+    if l.kind == LightKind::Spot {
+        ui.add(egui::Slider::new(&mut l.outer_angle, 1.0..=89.0).text("outer cone °"));
+        ui.add(egui::Slider::new(&mut l.inner_angle, 0.0..=l.outer_angle).text("inner cone °"));
+    }
+}
+
+fn vec3(ui: &mut egui::Ui, label: &str, v: &mut glam::Vec3) {
+    ui.horizontal(|ui| {
+        for c in [&mut v.x, &mut v.y, &mut v.z] {
+            ui.add(egui::DragValue::new(c).speed(0.05));
+        }
+        ui.label(label);
+    });
+}
+
+fn effects(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
+    use lightbench_compiler::ir::Effect;
+    egui::CollapsingHeader::new("effects").show(ui, |ui| {
+        for e in Effect::ALL {
+            let mut on = v.scene.effects.contains(&e);
+            if ui.checkbox(&mut on, e.name()).changed() {
+                actions.push(Action::Effect(e, on));
+            }
         }
     });
 }

@@ -30,6 +30,13 @@ pub enum Action {
     Param(String, ParamValue),
     Variant(String, String),
     Screenshot(PathBuf),
+    /// Replace light `i` (kind, colour, intensity, position, direction, cone, shadows…).
+    SetLight(usize, Box<crate::scene::Light>),
+    AddLight(lightbench_compiler::ir::LightKind),
+    /// Remove the selected light.
+    RemoveLight,
+    /// Call for an effect or stop calling for it (passes conditioned on it run or are culled).
+    Effect(lightbench_compiler::ir::Effect, bool),
 }
 
 pub struct Viewer {
@@ -286,6 +293,43 @@ impl Viewer {
                 }
             }
             Action::Screenshot(path) => self.screenshot(gpu, &path)?,
+            Action::SetLight(i, l) => {
+                let slot = self
+                    .scene
+                    .lights
+                    .get_mut(i)
+                    .ok_or_else(|| Error::Usage(format!("there is no light {}", i + 1)))?;
+                *slot = *l;
+                self.rebuild(gpu, true)?;
+            }
+            Action::AddLight(kind) => {
+                let at = self.camera.position + self.camera.forward();
+                let (c, f) = (glam::Vec3::ONE, self.camera.forward());
+                self.scene.lights.push(match kind {
+                    lightbench_compiler::ir::LightKind::Point => crate::scene::Light::point(at, c, 2.0, 5.0),
+                    lightbench_compiler::ir::LightKind::Spot => {
+                        crate::scene::Light::spot(self.camera.position, f, 20.0, 30.0, c, 4.0, 10.0)
+                    }
+                    lightbench_compiler::ir::LightKind::Directional => crate::scene::Light::directional(f, c, 1.0),
+                });
+                self.light = self.scene.lights.len() - 1;
+                self.rebuild(gpu, true)?;
+            }
+            Action::RemoveLight => {
+                if self.light >= self.scene.lights.len() {
+                    return Err(Error::Usage("no light is selected".into()));
+                }
+                self.scene.lights.remove(self.light);
+                self.light = self.light.min(self.scene.lights.len().saturating_sub(1));
+                self.rebuild(gpu, true)?;
+            }
+            Action::Effect(e, on) => {
+                match on {
+                    true => self.scene.effects.insert(e),
+                    false => self.scene.effects.remove(&e),
+                };
+                self.rebuild(gpu, true)?;
+            }
         }
         Ok(())
     }
@@ -294,7 +338,7 @@ impl Viewer {
 /// One `--script` line as an action: `next-view`, `prev-view`, `next-slice`, `prev-slice`,
 /// `view NAME`, `light N` (1-based), `toggle-light`, `rotate-light YAW PITCH`,
 /// `move X Y Z`, `look YAW PITCH`, `param NAME=VALUE`, `variant NAME=OPTION`,
-/// `screenshot FILE`. (`frames N` is the window's: render N frames.)
+/// `screenshot FILE`, `add-light Point|Spot|Directional`, `remove-light`, `effect NAME=true|false`. (`frames N` is the window's: render N frames.)
 pub fn parse_action(line: &str, plan: &lightbench_compiler::plan::Plan) -> Result<Action> {
     let bad = || Error::Usage(format!("script line `{line}`: see `lightbench view --help` for the actions"));
     let mut words = line.split_whitespace();
@@ -323,6 +367,13 @@ pub fn parse_action(line: &str, plan: &lightbench_compiler::plan::Plan) -> Resul
             Action::Variant(k.to_string(), v.to_string())
         }
         "screenshot" => Action::Screenshot(PathBuf::from(rest.first().ok_or_else(bad)?)),
+        "add-light" => Action::AddLight(lightbench_compiler::ir::LightKind::from_name(rest.first().ok_or_else(bad)?).ok_or_else(bad)?),
+        "remove-light" => Action::RemoveLight,
+        "effect" => {
+            let (k, v) = pair()?;
+            let e = lightbench_compiler::ir::Effect::from_name(k).ok_or_else(bad)?;
+            Action::Effect(e, v.parse().map_err(|_| bad())?)
+        }
         _ => return Err(bad()),
     })
 }
