@@ -209,7 +209,7 @@ impl Viewer {
             Some(ResourceShape::Texture { format, .. }) => *format,
             _ => return Err(Error::Resource(format!("`{name}` is not a texture"))),
         };
-        let rgb = super::display::rgb8(&img, format);
+        let rgb = super::display::rgb8(&img, format, (self.camera.near, self.camera.far));
         let mut caption = format!("{name} ({})", format.name());
         if slices.len() > 1 {
             caption += &format!(
