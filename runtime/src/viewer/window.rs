@@ -206,20 +206,25 @@ impl Running {
         self.paint(output.shapes, output.textures_delta, output.pixels_per_point)
     }
 
-    fn paint(&mut self, shapes: Vec<egui::epaint::ClippedShape>, delta: egui::TexturesDelta, ppp: f32) -> Result<()> {
+    fn paint(&mut self, shapes: Vec<egui::epaint::ClippedShape>, mut delta: egui::TexturesDelta, ppp: f32) -> Result<()> {
+        // egui's texture changes are applied every frame, drawn or not (it asserts so).
+        for (id, deltas) in delta.set.drain() {
+            for d in deltas {
+                self.renderer.update_texture(&self.gpu.device, &self.gpu.queue, id, &d);
+            }
+        }
+        let freed: Vec<egui::TextureId> = delta.free.drain().collect();
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f) | wgpu::CurrentSurfaceTexture::Suboptimal(f) => f,
             _ => {
                 self.surface.configure(&self.gpu.device, &self.config);
+                for id in &freed {
+                    self.renderer.free_texture(id);
+                }
                 return Ok(());
             }
         };
         let (gpu, renderer) = (&self.gpu, &mut self.renderer);
-        for (id, deltas) in &delta.set {
-            for d in deltas {
-                renderer.update_texture(&gpu.device, &gpu.queue, *id, d);
-            }
-        }
         let jobs = self.egui.tessellate(shapes, ppp);
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [self.config.width, self.config.height],
@@ -250,7 +255,7 @@ impl Running {
         cmds.push(enc.finish());
         gpu.queue.submit(cmds);
         gpu.queue.present(frame);
-        for id in &delta.free {
+        for id in &freed {
             renderer.free_texture(id);
         }
         Ok(())
