@@ -83,18 +83,6 @@ fn parse_limits(text: Option<&str>, render: bool) -> Result<Vec<(Metric, f64)>> 
     Ok(out)
 }
 
-fn load_scene(a: &Args) -> Result<Scene> {
-    let size = a.size.as_deref().map(parse_size).transpose()?;
-    let mut s = lightbench_compiler::Session::new();
-    let loaded = crate::scene::load_in(&mut s, &a.scene);
-    eprint!("{}", s.render());
-    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
-    if let Some(sz) = size {
-        scene.size = sz;
-    }
-    Ok(scene)
-}
-
 /// Plan one side: settings naming a variant choose it, the rest are parameters (which may
 /// size resources, so the side is planned again with them).
 fn plan_side(ws: &Workspace, side: spec::Side, a: &Args, (profile, scene): (&Profile, &Scene)) -> Result<Planned> {
@@ -143,7 +131,8 @@ fn execute(a: &Args) -> Result<bool> {
         "all" => None,
         list => Some(list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect()),
     };
-    let scene = load_scene(a)?;
+    let size = a.size.as_deref().map(parse_size).transpose()?;
+    let scene = super::load_scene(&a.scene, size)?;
     let ws = Workspace::disk();
     let report = if a.no_render {
         let profile = super::profile(&a.profile)?;

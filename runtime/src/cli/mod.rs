@@ -186,6 +186,23 @@ pub fn parse_assignments(flag: &str, form: &str, args: &[String]) -> Result<Vec<
     Ok(out)
 }
 
+/// The scene `--scene` names (built-in name, scene file or glTF model) at the `--size` asked
+/// for; its warnings are shown, its errors stop (rendered already: `Error::Scene` is empty).
+/// A model shown on its own is framed for the size it is rendered at.
+pub fn load_scene(spec: &str, size: Option<(u32, u32)>) -> Result<crate::scene::Scene> {
+    let mut s = lightbench_compiler::Session::new();
+    let loaded = crate::scene::load_in(&mut s, spec);
+    eprint!("{}", s.render());
+    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
+    if let Some(sz) = size {
+        scene.size = sz;
+        if lightbench_compiler::scene::is_model(std::path::Path::new(spec)) {
+            scene.camera = crate::scene::framing::frame(&scene);
+        }
+    }
+    Ok(scene)
+}
+
 pub fn usage_error(msg: impl std::fmt::Display) -> i32 {
     eprintln!("error: {msg}");
     EXIT_USAGE

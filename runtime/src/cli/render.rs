@@ -150,7 +150,7 @@ fn execute(
     size: Option<(u32, u32)>,
 ) -> Result<()> {
     let started = Instant::now();
-    let scene = load_scene(a, size)?;
+    let scene = super::load_scene(&a.scene, size)?;
     let loaded = started.elapsed();
     let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,
@@ -240,22 +240,6 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
         }
     }
     Ok(())
-}
-
-/// The scene named by `--scene` at the `--size` asked for; warnings are shown, errors stop.
-fn load_scene(a: &Args, size: Option<(u32, u32)>) -> Result<Scene> {
-    let mut s = lightbench_compiler::Session::new();
-    let loaded = crate::scene::load_in(&mut s, &a.scene);
-    eprint!("{}", s.render());
-    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
-    if let Some(sz) = size {
-        scene.size = sz;
-        // A model rendered on its own is framed for the size it is rendered at.
-        if lightbench_compiler::scene::is_model(Path::new(&a.scene)) {
-            scene.camera = crate::scene::framing::frame(&scene);
-        }
-    }
-    Ok(scene)
 }
 
 /// `--out`: the output, or for an .exr the pipeline's linear `hdr_output` when it names one.

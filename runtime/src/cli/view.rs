@@ -57,13 +57,8 @@ fn execute(a: &Args) -> Result<()> {
     let variants = super::parse_variants(&a.variants)?;
     let steps = script(a)?;
     let (pipeline, workspace) = super::render::resolve_pipeline(a.pipeline.as_deref())?;
-    let mut s = lightbench_compiler::Session::new();
-    let loaded = crate::scene::load_in(&mut s, &a.scene);
-    eprint!("{}", s.render());
-    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
-    if let Some(sz) = &a.size {
-        scene.size = super::plan::parse_size(sz)?;
-    }
+    let size = a.size.as_deref().map(super::plan::parse_size).transpose()?;
+    let scene = super::load_scene(&a.scene, size)?;
     let opts = Options {
         workspace,
         pipeline,
