@@ -55,7 +55,8 @@ fn heat_rgb(map: &[f32]) -> Vec<u8> {
         .collect()
 }
 
-fn png(rgb: Vec<u8>, (w, h): (u32, u32), path: &Path) -> Result<()> {
+/// An 8-bit RGB image as a PNG file (atomic).
+pub fn png(rgb: Vec<u8>, (w, h): (u32, u32), path: &Path) -> Result<()> {
     let img = image::RgbImage::from_raw(w, h, rgb).ok_or_else(|| crate::error::Error::io(path, "image size mismatch"))?;
     // Fast compression: a report writes a few dozen of these.
     use image::codecs::png::{CompressionType, FilterType, PngEncoder};

@@ -2,7 +2,8 @@
 //! difference, PSNR, and for 8-bit colour images mean FLIP (`nv-flip`, NVIDIA's perceptual
 //! metric) and SSIM (`image-compare`, mean over 8×8 windows) — and a per-pixel error map.
 
-use crate::io::{linear_to_srgb, Image};
+use super::images::display_rgb8;
+use crate::io::Image;
 use serde::Serialize;
 
 #[derive(Clone, Debug, Serialize)]
@@ -23,22 +24,10 @@ pub struct Compared {
     pub error_map: Vec<f32>,
 }
 
-/// 8-bit sRGB RGB of an image (for FLIP and SSIM, which take display images).
-fn srgb8(img: &Image) -> Vec<u8> {
-    img.rgba
-        .chunks(4)
-        .flat_map(|p| {
-            [0, 1, 2].map(|c| {
-                let v = if img.srgb { p[c] } else { linear_to_srgb(p[c]) };
-                (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-            })
-        })
-        .collect()
-}
-
 /// Mean FLIP and its error map; SSIM (both on 8-bit sRGB).
 fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
-    let (ra, rb) = (srgb8(a), srgb8(b));
+    // FLIP and SSIM take display images: 8-bit sRGB.
+    let (ra, rb) = (display_rgb8(a, 3, None), display_rgb8(b, 3, None));
     let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &ra);
     let fb = nv_flip::FlipImageRgb8::with_data(b.width, b.height, &rb);
     let map = nv_flip::flip(fa, fb, nv_flip::DEFAULT_PIXELS_PER_DEGREE);

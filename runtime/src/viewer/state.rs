@@ -224,10 +224,7 @@ impl Viewer {
     /// The shown image as a PNG file (atomic).
     fn screenshot(&self, gpu: &Gpu, path: &Path) -> Result<()> {
         let (w, h, rgb, _) = self.view_image(gpu)?;
-        let img = image::RgbImage::from_raw(w, h, rgb).ok_or_else(|| Error::io(path, "image size mismatch"))?;
-        let mut bytes = std::io::Cursor::new(vec![]);
-        img.write_to(&mut bytes, image::ImageFormat::Png).map_err(|e| Error::io(path, e))?;
-        crate::io::write_atomic(path, &bytes.into_inner())
+        crate::diff::images::png(rgb, (w, h), path)
     }
 
     /// Apply an action; on failure the viewer keeps running as it was and says why.
