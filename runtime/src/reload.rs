@@ -137,8 +137,20 @@ impl Reloader {
         (scene, scene_file): (&Scene, Option<&Path>),
         variants: &[(String, String)],
     ) -> Result<(Reloader, Executable)> {
+        Self::in_workspace(Workspace::disk(), gpu, (pipeline, shaders), (scene, scene_file), variants)
+    }
+
+    /// `new` compiling in a workspace the caller already compiled in (its shader modules are
+    /// not validated again).
+    pub fn in_workspace(
+        ws: Workspace,
+        gpu: &Gpu,
+        (pipeline, shaders): (&Path, Option<&Path>),
+        (scene, scene_file): (&Scene, Option<&Path>),
+        variants: &[(String, String)],
+    ) -> Result<(Reloader, Executable)> {
         let mut r = Reloader {
-            ws: Workspace::disk(),
+            ws,
             pipeline: pipeline.to_path_buf(),
             shaders: shaders.map(Path::to_path_buf),
             variants: variants.to_vec(),

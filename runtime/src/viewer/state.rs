@@ -153,8 +153,13 @@ impl Viewer {
 
     /// Watch the pipeline's files and reload on a change (see `crate::reload`).
     pub fn watch(&mut self, gpu: &Gpu) -> Result<()> {
-        let (mut r, _) = crate::reload::Reloader::new(gpu, (&self.pipeline, self.shaders.as_deref()), (&self.scene, None), &self.variants)?;
-        r.set_scene(&self.scene);
+        let (r, _) = crate::reload::Reloader::in_workspace(
+            self.ws.clone(),
+            gpu,
+            (&self.pipeline, self.shaders.as_deref()),
+            (&self.scene, None),
+            &self.variants,
+        )?;
         self.reloader = Some(r);
         Ok(())
     }
