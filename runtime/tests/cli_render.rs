@@ -2,7 +2,7 @@
 
 mod cli_common;
 
-use cli_common::{lightbench as run, root, scratch as temp};
+use cli_common::{lightbench as run, lightbench_in, root, scratch as temp};
 
 #[test]
 fn render_writes_image_dumps_timings_and_manifest() {
@@ -119,21 +119,11 @@ fn scene_export_writes_gltf_and_bin() {
     assert_eq!(run(&["scene", "export", "sponza", d.join("s.gltf").to_str().unwrap()]).0, 2);
 }
 
-/// `lightbench ARGS` run in `dir`: (exit code, stderr).
-fn lightbench_in(dir: &std::path::Path, args: &[&str]) -> (i32, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run lightbench");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
-}
-
 /// README command 1 from a folder with no checkout: the bundled default pipeline renders.
 #[test]
 fn render_works_outside_a_checkout() {
     let d = temp("no-checkout");
-    let (code, err) = lightbench_in(&d, &["render"]);
+    let (code, _, err) = lightbench_in(&d, &["render"]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("rendering the one bundled in lightbench"), "{err}");
     let img = image::open(d.join("lightbench.png")).unwrap().to_rgb8();
@@ -147,7 +137,7 @@ fn render_works_outside_a_checkout() {
 #[test]
 fn init_writes_the_bundled_project_and_overwrites_nothing() {
     let d = temp("init");
-    let (code, err) = lightbench_in(&d, &["init", "proj"]);
+    let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
     assert_eq!(code, 0, "{err}");
     let proj = d.join("proj");
     for f in [
@@ -160,7 +150,7 @@ fn init_writes_the_bundled_project_and_overwrites_nothing() {
         assert_eq!(std::fs::read(proj.join(f)).unwrap(), std::fs::read(root().join(f)).unwrap(), "{f}");
     }
     std::fs::write(proj.join("shaders/tonemap.wgsl"), "// mine\n").unwrap();
-    let (code, err) = lightbench_in(&d, &["init", "proj"]);
+    let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("exists already; init writes into a fresh folder and overwrites nothing"),
@@ -169,7 +159,7 @@ fn init_writes_the_bundled_project_and_overwrites_nothing() {
     assert_eq!(std::fs::read_to_string(proj.join("shaders/tonemap.wgsl")).unwrap(), "// mine\n");
     std::fs::remove_file(proj.join("shaders/tonemap.wgsl")).unwrap();
     std::fs::copy(root().join("shaders/tonemap.wgsl"), proj.join("shaders/tonemap.wgsl")).unwrap();
-    let (code, err) = lightbench_in(&proj, &["render", "--scene", "scenes/sun_only.ron", "--size", "32x32"]);
+    let (code, _, err) = lightbench_in(&proj, &["render", "--scene", "scenes/sun_only.ron", "--size", "32x32"]);
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("bundled"), "the project's own files are used: {err}");
 }
@@ -179,7 +169,7 @@ fn init_writes_the_bundled_project_and_overwrites_nothing() {
 #[test]
 fn render_watch_reloads_and_reports() {
     let d = temp("watch");
-    let (code, err) = lightbench_in(&d, &["init", "proj"]);
+    let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
     assert_eq!(code, 0, "{err}");
     let proj = d.join("proj");
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
@@ -216,4 +206,17 @@ fn render_watch_reloads_and_reports() {
         first,
         "--out rewritten after the reload"
     );
+}
+
+/// `--watch` needs files on disk to watch, and `--watch-reloads` needs `--watch`: usage errors.
+#[test]
+fn render_watch_bad_arguments() {
+    let d = temp("watch-bad");
+    let (code, _, err) = lightbench_in(&d, &["render", "--watch"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--watch needs pipeline files on disk to watch"), "{err}");
+    assert!(!d.join("lightbench.png").exists(), "nothing written");
+    let (code, _, err) = lightbench_in(&d, &["render", "--watch-reloads", "2"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--watch"), "{err}");
 }

@@ -296,3 +296,25 @@ fn a_broken_side_reports_its_diagnostics() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("error[") && err.contains("tonemap.wgsl:"), "{err}");
 }
+
+/// The README's first `diff` command, typed as written, in a project `init` wrote.
+#[test]
+fn the_readme_command_runs_as_typed() {
+    let dir = scratch("readme");
+    let (code, _, err) = cli_common::lightbench_in(&dir, &["init", "."]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = cli_common::lightbench_in(
+        &dir,
+        &[
+            "diff",
+            "pipelines/deferred.ron@cube_shadow=classic",
+            "pipelines/deferred.ron@cube_shadow=instanced",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.starts_with("# lightbench diff") && out.contains("| shadow_cube_atlas |") && out.contains("## Time"),
+        "{out}"
+    );
+    assert!(dir.join("lightbench-diff/report.md").is_file() && dir.join("lightbench-diff/ldr.side.png").is_file());
+}

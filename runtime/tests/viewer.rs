@@ -7,6 +7,7 @@
 mod cli_common;
 
 use cli_common::{root, scratch};
+use std::path::Path;
 use std::process::Command;
 
 #[test]
@@ -59,4 +60,40 @@ fn a_scripted_viewer_session_under_xvfb() {
     let last = shot("last.png");
     assert!(!uniform(&last));
     assert_ne!(last.into_raw(), first.into_raw(), "the parameter change shows");
+}
+
+/// `lightbench view ARGS` under Xvfb, in `dir`: (exit code, stderr).
+fn view_in(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(env!("CARGO_BIN_EXE_lightbench"))
+        .arg("view")
+        .arg("--pipeline")
+        .arg(root().join("pipelines/deferred.ron"))
+        .args(["--size", "48x48"])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("xvfb-run must be installed (apt-get install xvfb xauth; .ci/run does)");
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// `--screenshot-after N` saves the shown image and closes; a bad script line is a usage error
+/// (exit 2) naming the line, a missing script an error naming the file, and neither writes a
+/// screenshot.
+#[test]
+fn screenshot_after_and_bad_scripts() {
+    let d = scratch("viewer-args");
+    let (code, err) = view_in(&d, &["--screenshot-after", "3", "--screenshot", "s.png"]);
+    assert_eq!(code, Some(0), "{err}");
+    let img = image::open(d.join("s.png")).unwrap().to_rgb8();
+    assert!(img.pixels().any(|p| p != img.get_pixel(0, 0)), "a non-uniform screenshot");
+    std::fs::write(d.join("bad.txt"), "frames 1\nfrobnicate 3\nscreenshot never.png\n").unwrap();
+    let (code, err) = view_in(&d, &["--script", "bad.txt"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("script line `frobnicate 3`"), "{err}");
+    let (code, err) = view_in(&d, &["--script", "missing.txt"]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("missing.txt"), "{err}");
+    assert!(!d.join("never.png").exists(), "nothing written after the bad line");
 }

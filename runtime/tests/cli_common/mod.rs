@@ -26,6 +26,20 @@ pub fn lightbench(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// Run `lightbench ARGS` in `dir`: (exit code, stdout, stderr).
+pub fn lightbench_in(dir: &Path, args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run lightbench");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 pub fn scratch(tag: &str) -> PathBuf {
     let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{tag}", env!("CARGO_CRATE_NAME")));
     let _ = std::fs::remove_dir_all(&d);
