@@ -12,6 +12,7 @@ pub mod files;
 pub mod gpu;
 pub mod io;
 pub mod memory;
+pub mod reference;
 pub mod reload;
 pub mod render;
 pub mod scene;

@@ -4,6 +4,7 @@ mod check;
 mod convert;
 mod diff;
 pub mod plan;
+mod reference;
 mod render;
 mod verify;
 mod view;
@@ -69,6 +70,9 @@ pub enum Command {
     /// Compare two pipelines, or one in two configurations: Plan structure, the pixels of
     /// every shared resource, per-pass time; a report in markdown, HTML or JSON.
     Diff(diff::Args),
+    /// Render reference images with a CPU path tracer (direct light with exact shadows, AO,
+    /// one-bounce indirect diffuse, indirect specular, full global illumination) as EXR.
+    Reference(reference::Args),
     /// Open a window onto a running pipeline: any buffer, camera and light controls,
     /// parameters and variants, per-pass costs, screenshots.
     View(view::Args),
@@ -122,6 +126,7 @@ pub fn run(cli: Cli) -> i32 {
         Command::Verify(args) => verify::run(args),
         Command::Diff(args) => diff::run(args),
         Command::View(args) => view::run(args),
+        Command::Reference(args) => reference::run(args),
         Command::Init { dir } => match crate::bundled::init(&dir) {
             Ok(files) => {
                 eprintln!(

@@ -1,0 +1,121 @@
+//! `lightbench reference`: parse the options, load the scene, render (or find in `--out`)
+//! the reference terms and report where they are.
+
+use super::plan::parse_size;
+use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use crate::error::{Error, Result};
+use crate::reference::{store, Brdf, Budget, Settings, Term};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Scene file or built-in scene.
+    #[arg(long, default_value = "cornell")]
+    pub scene: String,
+    /// Size to render at, overriding the scene's.
+    #[arg(long, value_name = "WxH")]
+    pub size: Option<String>,
+    /// Samples per pixel.
+    #[arg(long, conflicts_with = "seconds", value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub spp: Option<u32>,
+    /// Render for about this long instead (whole passes of 4 samples per pixel).
+    #[arg(long)]
+    pub seconds: Option<f64>,
+    /// Terms: direct, ao, indirect_diffuse, indirect_specular, full (comma-separated).
+    #[arg(long, default_value = "direct,ao")]
+    pub terms: String,
+    /// AO radius (world units).
+    #[arg(long, default_value_t = 0.5)]
+    pub ao_radius: f32,
+    /// Weigh AO blockers by 1/(1 + d²), as SSAO's `ao.falloff`.
+    #[arg(long)]
+    pub ao_falloff: bool,
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Reflectance model: the shaders' Blinn-Phong, or Lambert for transport checks.
+    #[arg(long, value_enum, default_value = "blinn-phong")]
+    pub brdf: Brdf,
+    /// Folder for TERM.exr, TERM.variance.exr and reference.json.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `a,b,c` as terms (each once).
+pub fn parse_terms(text: &str) -> Result<Vec<Term>> {
+    let mut out = vec![];
+    for name in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let t = Term::from_name(name).ok_or_else(|| {
+            Error::Usage(format!(
+                "unknown reference term `{name}` (expected one of {})",
+                Term::NAMES.join(", ")
+            ))
+        })?;
+        if !out.contains(&t) {
+            out.push(t);
+        }
+    }
+    if out.is_empty() {
+        return Err(Error::Usage("--terms names no term".into()));
+    }
+    Ok(out)
+}
+
+fn settings(a: &Args) -> Result<Settings> {
+    let budget = match (a.spp, a.seconds) {
+        (_, Some(t)) if !(t.is_finite() && t > 0.0) => return Err(Error::Usage(format!("--seconds {t}: expected a positive number"))),
+        (_, Some(t)) => Budget::Seconds(t),
+        (n, None) => Budget::Spp(n.unwrap_or(64)),
+    };
+    if !(a.ao_radius.is_finite() && a.ao_radius > 0.0) {
+        return Err(Error::Usage(format!("--ao-radius {}: expected a positive number", a.ao_radius)));
+    }
+    Ok(Settings {
+        budget,
+        terms: parse_terms(&a.terms)?,
+        ao_radius: a.ao_radius,
+        ao_falloff: a.ao_falloff,
+        seed: a.seed,
+        brdf: a.brdf,
+    })
+}
+
+fn execute(a: &Args) -> Result<()> {
+    let s = settings(a)?;
+    let size = a.size.as_deref().map(parse_size).transpose()?;
+    let scene = super::load_scene(&a.scene, size)?;
+    let (r, fresh) = store::cached(&scene, &s, &a.out, !a.quiet)?;
+    let what = if fresh {
+        "rendered"
+    } else {
+        "up to date (same scene and settings)"
+    };
+    eprintln!(
+        "reference {what}: {} at {}x{}, {} spp, {} triangles, {:.2} s",
+        scene.name, scene.size.0, scene.size.1, r.spp, r.triangles, r.seconds
+    );
+    for t in &r.terms {
+        let n = (t.mean.width * t.mean.height) as f64;
+        let mean: f64 = t.mean.rgba.chunks_exact(4).map(|p| (p[0] + p[1] + p[2]) as f64 / 3.0).sum::<f64>() / n;
+        eprintln!(
+            "  {}: {}  (mean {mean:.4})",
+            t.term.name(),
+            a.out.join(format!("{}.exr", t.term.name())).display()
+        );
+    }
+    Ok(())
+}
+
+pub fn run(a: Args) -> i32 {
+    match execute(&a) {
+        Ok(()) => EXIT_OK,
+        Err(Error::Usage(msg)) => usage_error(msg),
+        Err(Error::Scene(_)) => EXIT_ERRORS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            EXIT_ERRORS
+        }
+    }
+}

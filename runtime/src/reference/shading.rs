@@ -1,0 +1,152 @@
+//! Stage `shading` of the reference renderer: lights and the BRDF, defined exactly as the
+//! raster shaders define them in `shaders/lib/lighting.wgsl` (the one documented definition:
+//! windowed attenuation, spot cone, normalised Blinn-Phong), so that the only difference
+//! between a raster image and the reference is the algorithm. Change one, change both:
+//! `tests/reference.rs` renders the Cornell box both ways and compares.
+
+use super::world::Hit;
+use crate::scene::Light;
+use glam::Vec3;
+use lightbench_compiler::ir::LightKind;
+use std::f32::consts::PI;
+
+/// `ATTENUATION_SOFTNESS` of `lib/lighting.wgsl`.
+pub const ATTENUATION_SOFTNESS: f32 = 6.0;
+
+/// `attenuation()`: (1 - (d/r)^20) / ((r/6)^2 + d^2), 0 from the range on.
+pub fn attenuation(d: f32, range: f32) -> f32 {
+    let r = range.max(1e-30);
+    let x = (d / r).clamp(0.0, 1.0);
+    let soft = r / ATTENUATION_SOFTNESS;
+    (1.0 - x.powi(20)) / (soft * soft + d * d)
+}
+
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// A light as the shaders see it: `color × intensity`, unit direction, cone cosines.
+#[derive(Clone, Debug)]
+pub struct PunctualLight {
+    pub kind: LightKind,
+    pub radiance: Vec3,
+    pub position: Vec3,
+    pub direction: Vec3,
+    pub range: f32,
+    pub cos_inner: f32,
+    pub cos_outer: f32,
+}
+
+impl PunctualLight {
+    /// The light at time 0 (as `Light::block` fills the shaders' light array).
+    pub fn new(l: &Light) -> PunctualLight {
+        let l = l.at(0.0);
+        PunctualLight {
+            kind: l.kind,
+            radiance: l.color * l.intensity,
+            position: l.position,
+            direction: l.direction.try_normalize().unwrap_or(Vec3::NEG_Y),
+            range: l.range,
+            cos_inner: l.inner_angle.to_radians().cos(),
+            cos_outer: l.outer_angle.to_radians().cos(),
+        }
+    }
+
+    /// `light_at()`: light arriving at `p` before shadowing, the unit vector towards the
+    /// light, and its distance (infinite for directional lights).
+    pub fn at(&self, p: Vec3) -> (Vec3, Vec3, f32) {
+        if self.kind == LightKind::Directional {
+            return (self.radiance, -self.direction, f32::INFINITY);
+        }
+        let d = self.position - p;
+        let dist = d.length();
+        let to_light = d / dist.max(1e-6);
+        let mut radiance = self.radiance * attenuation(dist, self.range);
+        if self.kind == LightKind::Spot {
+            // `spot_factor()`, with the same guard for a point at the light itself.
+            let c = (-d).try_normalize().unwrap_or(self.direction).dot(self.direction);
+            radiance *= smoothstep(self.cos_outer, self.cos_inner.max(self.cos_outer + 1e-4), c);
+        }
+        (radiance, to_light, dist)
+    }
+}
+
+/// Which reflectance model surfaces have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+pub enum Brdf {
+    /// The shaders' normalised Blinn-Phong (`blinn_phong()`): what every comparison uses.
+    BlinnPhong,
+    /// Diffuse only, albedo × (1 - metallic) / π: for transport checks with an analytic
+    /// answer (the white furnace), where a specular lobe's energy would not be constant.
+    Lambert,
+}
+
+/// Phong exponent of a roughness (`blinn_phong()`).
+pub fn shininess(roughness: f32) -> f32 {
+    2.0 / (roughness.powi(4)).max(1e-4) - 2.0
+}
+
+impl Brdf {
+    /// Diffuse reflectance and specular colour of a surface.
+    pub fn lobes(self, h: &Hit) -> (Vec3, Vec3) {
+        let diffuse = h.albedo * (1.0 - h.metallic);
+        match self {
+            Brdf::BlinnPhong => (diffuse, Vec3::splat(0.04).lerp(h.albedo, h.metallic)),
+            Brdf::Lambert => (diffuse, Vec3::ZERO),
+        }
+    }
+
+    /// BRDF × cos θ_l for light arriving from `l` seen from `v` (`blinn_phong()`).
+    pub fn eval(self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
+        let ndl = h.n.dot(l).max(0.0);
+        if ndl <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let (diffuse, spec_color) = self.lobes(h);
+        let s = shininess(h.roughness);
+        let half = (l + v).try_normalize().unwrap_or(h.n);
+        let spec = h.n.dot(half).max(0.0).powf(s.max(1.0)) * (s + 8.0) / 25.132741;
+        (diffuse / PI + spec_color * spec) * ndl
+    }
+
+    /// Probability of sampling the specular lobe (its share of the reflectance).
+    fn specular_share(self, h: &Hit) -> f32 {
+        let (d, s) = self.lobes(h);
+        let (d, s) = (d.max_element(), s.max_element());
+        if d + s <= 0.0 {
+            0.0
+        } else {
+            s / (d + s)
+        }
+    }
+
+    /// Density of `sample` drawing `l` (one-sample mixture of the cosine and specular lobes).
+    pub fn pdf(self, h: &Hit, l: Vec3, v: Vec3) -> f32 {
+        let ps = self.specular_share(h);
+        let cos = h.n.dot(l).max(0.0) / PI;
+        if ps == 0.0 {
+            return cos;
+        }
+        let half = (l + v).try_normalize().unwrap_or(h.n);
+        let spec = super::sample::power_lobe_pdf(h.n, shininess(h.roughness).max(1.0), half) / (4.0 * v.dot(half).abs().max(1e-6));
+        (1.0 - ps) * cos + ps * spec
+    }
+
+    /// A direction to continue a path in, from the lobes in proportion to their reflectance,
+    /// and its weight BRDF × cos / pdf (zero when it points below the surface).
+    pub fn sample(self, h: &Hit, v: Vec3, u: (f32, f32), choose: f32) -> (Vec3, Vec3) {
+        let ps = self.specular_share(h);
+        let l = if choose < ps {
+            let half = super::sample::power_lobe(h.n, shininess(h.roughness).max(1.0), u);
+            (2.0 * v.dot(half) * half - v).normalize_or_zero()
+        } else {
+            super::sample::cosine_hemisphere(h.n, u)
+        };
+        let pdf = self.pdf(h, l, v);
+        if h.ng.dot(l) <= 0.0 || pdf <= 0.0 {
+            return (l, Vec3::ZERO);
+        }
+        (l, self.eval(h, l, v) / pdf)
+    }
+}

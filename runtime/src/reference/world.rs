@@ -1,0 +1,276 @@
+//! Stage `world` of the reference renderer: the scene the raster passes draw, as world-space
+//! triangles in a BVH, with the surface (position, normals, material) at any hit.
+//!
+//! BVH: obvhs over bvh. obvhs builds a compressed 8-wide BVH (PLOC, SAH-guided) and traverses
+//! it 4 nodes at a time with SIMD, with closest-hit and any-hit traversal built in; it shares
+//! our glam 0.34 and needs no other heavy dependency. bvh 0.13 returns every shape whose box
+//! a ray crosses (a Vec per ray, no closest-hit early-out), which costs several times as much
+//! per ray on scenes of more than a few hundred triangles.
+
+use crate::scene::{AlphaMode, ImageData, Material, Scene, Wrap};
+use glam::{Vec2, Vec3, Vec3A, Vec4};
+use obvhs::cwbvh::{builder::build_cwbvh_from_tris, CwBvh};
+use obvhs::ray::{Ray, RayHit};
+use obvhs::triangle::Triangle;
+use obvhs::BvhBuildParams;
+
+/// One triangle's vertex attributes, in world space.
+#[derive(Clone, Copy)]
+struct Corner {
+    normal: Vec3,
+    uv: Vec2,
+    uv1: Vec2,
+    tangent: Vec4,
+}
+
+/// The surface at a ray hit, its material evaluated as `lib/material.wgsl` does.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    pub t: f32,
+    pub position: Vec3,
+    /// Shading normal (interpolated, normal-mapped), turned towards the ray's origin.
+    pub n: Vec3,
+    /// Geometric normal, on the same side as `n`: rays leave along it.
+    pub ng: Vec3,
+    pub albedo: Vec3,
+    pub metallic: f32,
+    pub roughness: f32,
+    pub emissive: Vec3,
+}
+
+pub struct World {
+    bvh: CwBvh,
+    /// Triangles in BVH order (so a leaf's primitive id indexes them directly).
+    tris: Vec<Triangle>,
+    corners: Vec<[Corner; 3]>,
+    material: Vec<u32>,
+    materials: Vec<Material>,
+    textures: Vec<ImageData>,
+}
+
+impl World {
+    /// Every drawn triangle of the scene (each mesh's `triangle_fraction` as the raster draws
+    /// it), with its mesh's transform applied.
+    pub fn new(scene: &Scene) -> World {
+        let (mut tris, mut corners, mut material) = (vec![], vec![], vec![]);
+        for m in &scene.meshes {
+            let normal_matrix = m.transform.inverse().transpose();
+            let drawn = m.drawn_indices() as usize;
+            for idx in m.indices[..drawn.min(m.indices.len())].chunks_exact(3) {
+                let vs = [idx[0], idx[1], idx[2]].map(|i| m.vertices.get(i as usize).copied().unwrap_or_else(bytemuck::Zeroable::zeroed));
+                let p = vs.map(|v| Vec3A::from(m.transform.transform_point3(Vec3::from(v.position))));
+                tris.push(Triangle {
+                    v0: p[0],
+                    v1: p[1],
+                    v2: p[2],
+                });
+                corners.push(vs.map(|v| {
+                    Corner {
+                        normal: normal_matrix.transform_vector3(Vec3::from(v.normal)),
+                        uv: Vec2::from(v.uv),
+                        uv1: Vec2::from(v.uv1),
+                        tangent: m
+                            .transform
+                            .transform_vector3(Vec3::from_slice(&v.tangent[..3]))
+                            .extend(v.tangent[3]),
+                    }
+                }));
+                material.push(m.material as u32);
+            }
+        }
+        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut std::time::Duration::default());
+        // Reorder so that BVH primitive ids index the arrays without an indirection.
+        let order: Vec<usize> = bvh.primitive_indices.iter().map(|&i| i as usize).collect();
+        let mut bvh = bvh;
+        bvh.primitive_indices = (0..order.len() as u32).collect();
+        World {
+            bvh,
+            tris: order.iter().map(|&i| tris[i]).collect(),
+            corners: order.iter().map(|&i| corners[i]).collect(),
+            material: order.iter().map(|&i| material[i]).collect(),
+            materials: scene.materials.clone(),
+            textures: scene.textures.clone(),
+        }
+    }
+
+    pub fn triangles(&self) -> usize {
+        self.tris.len()
+    }
+
+    /// Distance to triangle `i` along `ray`, or infinity; cut-out texels (alpha mask) and,
+    /// with the probability of their transparency, blended ones let the ray through.
+    fn intersect(&self, ray: &Ray, i: usize) -> f32 {
+        let t = self.tris[i].intersect(ray);
+        if !t.is_finite() {
+            return t;
+        }
+        let Some(mat) = self.materials.get(self.material[i] as usize) else {
+            return t;
+        };
+        let cutoff = match mat.alpha {
+            AlphaMode::Opaque => return t,
+            AlphaMode::Mask(c) => c,
+            // Stochastic transparency, decided by a hash of the ray and triangle: the same
+            // ray always meets the same surfaces (bit-identical reruns).
+            AlphaMode::Blend => super::sample::unit_hash(&[ray.origin.x, ray.origin.y, ray.direction.z, i as f32, t]),
+        };
+        let (bary, _) = self.barycentrics(i, Vec3::from(ray.origin + ray.direction * t));
+        let alpha = self.base_color(mat, self.uv_at(i, bary, 0)).w;
+        if alpha < cutoff {
+            f32::INFINITY
+        } else {
+            t
+        }
+    }
+
+    /// The nearest surface along `dir` from `origin` between `tmin` and `tmax`.
+    pub fn trace(&self, origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+        let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
+        let mut hit = RayHit::none();
+        if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i)) {
+            return None;
+        }
+        Some(self.surface(hit.primitive_id as usize, origin, dir, hit.t))
+    }
+
+    /// Whether anything lies along `dir` from `origin` between `tmin` and `tmax`.
+    pub fn occluded(&self, origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> bool {
+        let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
+        !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i))
+    }
+
+    /// Barycentric weights of `p` on triangle `i` and its (unnormalised) face normal.
+    fn barycentrics(&self, i: usize, p: Vec3) -> (Vec3, Vec3) {
+        let t = &self.tris[i];
+        let (a, b, c) = (Vec3::from(t.v0), Vec3::from(t.v1), Vec3::from(t.v2));
+        let n = (b - a).cross(c - a);
+        let area = n.length_squared().max(1e-30);
+        let wb = (p - a).cross(c - a).dot(n) / area;
+        let wc = (b - a).cross(p - a).dot(n) / area;
+        (Vec3::new(1.0 - wb - wc, wb, wc), n)
+    }
+
+    fn uv_at(&self, i: usize, w: Vec3, set: u32) -> Vec2 {
+        let c = &self.corners[i];
+        let (a, b, d) = if set == 0 {
+            (c[0].uv, c[1].uv, c[2].uv)
+        } else {
+            (c[0].uv1, c[1].uv1, c[2].uv1)
+        };
+        a * w.x + b * w.y + d * w.z
+    }
+
+    fn surface(&self, i: usize, origin: Vec3, dir: Vec3, t: f32) -> Hit {
+        let position = origin + dir * t;
+        let (w, face) = self.barycentrics(i, position);
+        let c = &self.corners[i];
+        let ng = face.normalize_or(Vec3::Y);
+        let interpolated = c[0].normal * w.x + c[1].normal * w.y + c[2].normal * w.z;
+        // Zero-length vertex normals: the face normal stands in (as in the shaders).
+        let mut n = interpolated.try_normalize().unwrap_or(ng);
+        let default = Material::color("default", [1.0; 3], 1.0);
+        let mat = self.materials.get(self.material[i] as usize).unwrap_or(&default);
+        let map = |k: u32| self.uv_at(i, w, (mat.uv_sets >> k) & 1);
+        if let Some(tex) = mat.normal_texture.and_then(|t| self.textures.get(t)) {
+            let tangent = c[0].tangent * w.x + c[1].tangent * w.y + c[2].tangent * w.z;
+            n = normal_mapped(
+                n,
+                tangent,
+                sample(tex, mat, self.transform_uv(mat, map(2))).truncate(),
+                mat.normal_scale,
+            );
+        }
+        let base = self.base_color(mat, map(0));
+        let mr = mat
+            .metallic_roughness_texture
+            .and_then(|t| self.textures.get(t))
+            .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, map(1))));
+        let emissive = mat
+            .emissive_texture
+            .and_then(|t| self.textures.get(t))
+            .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, map(3))));
+        // Two-sided: normals face the incoming ray.
+        let (ng, n) = if ng.dot(dir) > 0.0 {
+            (-ng, if n.dot(dir) > 0.0 { -n } else { n })
+        } else {
+            (ng, if n.dot(ng) < 0.0 { -n } else { n })
+        };
+        Hit {
+            t,
+            position,
+            n,
+            ng,
+            albedo: base.truncate(),
+            metallic: (mat.metallic * mr.z).clamp(0.0, 1.0),
+            roughness: (mat.roughness * mr.y).clamp(0.03, 1.0),
+            emissive: Vec3::from(mat.emissive) * emissive.truncate(),
+        }
+    }
+
+    fn transform_uv(&self, mat: &Material, uv: Vec2) -> Vec2 {
+        let [r0, r1] = mat.uv_transform;
+        Vec2::new(r0[0] * uv.x + r0[1] * uv.y + r0[2], r1[0] * uv.x + r1[1] * uv.y + r1[2])
+    }
+
+    fn base_color(&self, mat: &Material, uv: Vec2) -> Vec4 {
+        let tex = mat
+            .base_color_texture
+            .and_then(|t| self.textures.get(t))
+            .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, uv)));
+        Vec4::from(mat.base_color) * tex
+    }
+}
+
+/// The tangent-space normal map applied as `lib/material.wgsl` applies it.
+fn normal_mapped(n: Vec3, tangent: Vec4, texel: Vec3, scale: f32) -> Vec3 {
+    let t_len = tangent.truncate().length();
+    if t_len <= 1e-6 {
+        return n;
+    }
+    let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or_zero();
+    let b = n.cross(t) * tangent.w;
+    let k = texel * 2.0 - 1.0;
+    (t * k.x * scale + b * k.y * scale + n * k.z).try_normalize().unwrap_or(n)
+}
+
+/// Bilinear texel fetch with the material's wrap modes; sRGB textures are decoded to linear.
+fn sample(img: &ImageData, mat: &Material, uv: Vec2) -> Vec4 {
+    let (w, h) = (img.width.max(1) as i64, img.height.max(1) as i64);
+    let x = uv.x * w as f32 - 0.5;
+    let y = uv.y * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let texel = |xi: i64, yi: i64| -> Vec4 {
+        let (xi, yi) = (wrap(xi, w, mat.sampler.wrap[0]), wrap(yi, h, mat.sampler.wrap[1]));
+        let o = ((yi * w + xi) * 4) as usize;
+        let px = img.rgba.get(o..o + 4).unwrap_or(&[255; 4]);
+        let f = |v: u8, colour: bool| {
+            let v = v as f32 / 255.0;
+            if colour && img.srgb {
+                crate::io::srgb_to_linear(v)
+            } else {
+                v
+            }
+        };
+        Vec4::new(f(px[0], true), f(px[1], true), f(px[2], true), f(px[3], false))
+    };
+    let (x0, y0) = (x0 as i64, y0 as i64);
+    let top = texel(x0, y0).lerp(texel(x0 + 1, y0), fx);
+    let bottom = texel(x0, y0 + 1).lerp(texel(x0 + 1, y0 + 1), fx);
+    top.lerp(bottom, fy)
+}
+
+fn wrap(i: i64, n: i64, mode: Wrap) -> i64 {
+    match mode {
+        Wrap::Repeat => i.rem_euclid(n),
+        Wrap::Clamp => i.clamp(0, n - 1),
+        Wrap::Mirror => {
+            let m = i.rem_euclid(2 * n);
+            if m < n {
+                m
+            } else {
+                2 * n - 1 - m
+            }
+        }
+    }
+}
