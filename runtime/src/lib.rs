@@ -16,5 +16,6 @@ pub mod reference;
 pub mod reload;
 pub mod render;
 pub mod scene;
+pub mod sweep;
 pub mod verify;
 pub mod viewer;

@@ -54,6 +54,47 @@ pub fn compile(
     compile_in(&Workspace::disk(), gpu, pipeline, shader_root, scene, variants)
 }
 
+/// A pipeline planned in one configuration.
+pub struct Configured {
+    pub exe: Executable,
+    /// The parameter overrides among the settings, typed.
+    pub params: Vec<(String, ParamValue)>,
+    /// Warnings, rendered as `lightbench check` shows them.
+    pub warnings: String,
+}
+
+/// Plan `pipeline` for `scene` against `profile` with `settings` (`key=value`): a key naming
+/// one of the pipeline's variants chooses its option, any other is a parameter (which may
+/// size resources, so the pipeline is planned again with them). Errors come back rendered,
+/// as `Error::Compile`.
+pub fn plan_configured(
+    ws: &Workspace,
+    (pipeline, shader_root): (&Path, Option<&Path>),
+    (profile, scene): (&lightbench_compiler::profile::Profile, &Scene),
+    settings: &[(String, String)],
+) -> Result<Configured> {
+    let features = scene.features();
+    let compile = |variants: &[(String, String)], params: &ParamValues| {
+        let mut s = ws.session();
+        let exe = s.executable_with(pipeline, shader_root, (profile, &features), variants, params);
+        let report = s.render();
+        exe.map(|e| (e, report.clone())).ok_or(Error::Compile(report))
+    };
+    let (first, _) = compile(&[], &ParamValues::new())?;
+    let (variants, params): (Vec<_>, Vec<_>) = settings
+        .iter()
+        .cloned()
+        .partition(|(k, _)| first.plan.variants.iter().any(|v| v.variant == *k));
+    let parsed = parse_params(&first.plan, &params)?;
+    let values = param_values(&first.plan, &parsed)?;
+    let (exe, warnings) = compile(&variants, &values)?;
+    Ok(Configured {
+        exe,
+        params: parsed,
+        warnings,
+    })
+}
+
 /// Build an executor and render `frames` frames (time advancing 1/60 s per frame).
 pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result<Executor> {
     render_with(gpu, exe, scene, frames, &[])

@@ -7,7 +7,6 @@ use crate::diff::{self, report, spec, Metric, Options, Planned};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Gpu};
 use crate::scene::Scene;
-use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::Workspace;
 use std::path::PathBuf;
@@ -83,29 +82,26 @@ fn parse_limits(text: Option<&str>, render: bool) -> Result<Vec<(Metric, f64)>> 
     Ok(out)
 }
 
-/// Plan one side: settings naming a variant choose it, the rest are parameters (which may
-/// size resources, so the side is planned again with them).
+/// Plan one side in its configuration (see `render::plan_configured`), its diagnostics shown.
 fn plan_side(ws: &Workspace, side: spec::Side, a: &Args, (profile, scene): (&Profile, &Scene)) -> Result<Planned> {
     if !side.pipeline.is_file() {
         return Err(Error::Usage(format!("no such pipeline file: {}", side.pipeline.display())));
     }
-    let features = scene.features();
-    let compile = |variants: &[(String, String)], params: &ParamValues| {
-        let mut s = ws.session();
-        let exe = s.executable_with(&side.pipeline, a.shaders.as_deref(), (profile, &features), variants, params);
-        eprint!("{}", s.render());
-        exe.ok_or_else(|| Error::Compile(String::new()))
-    };
-    let first = compile(&[], &ParamValues::new())?;
-    let (variants, params): (Vec<_>, Vec<_>) = side
-        .settings
-        .iter()
-        .cloned()
-        .partition(|(k, _)| first.plan.variants.iter().any(|v| v.variant == *k));
-    let parsed = crate::render::parse_params(&first.plan, &params)?;
-    let values = crate::render::param_values(&first.plan, &parsed)?;
-    let exe = compile(&variants, &values)?;
-    Ok(Planned { side, exe, params: parsed })
+    match crate::render::plan_configured(ws, (&side.pipeline, a.shaders.as_deref()), (profile, scene), &side.settings) {
+        Ok(c) => {
+            eprint!("{}", c.warnings);
+            Ok(Planned {
+                side,
+                exe: c.exe,
+                params: c.params,
+            })
+        }
+        Err(Error::Compile(report)) => {
+            eprint!("{report}");
+            Err(Error::Compile(String::new()))
+        }
+        Err(e) => Err(e),
+    }
 }
 
 fn write_report(a: &Args, r: &diff::Report) -> Result<()> {

@@ -6,6 +6,7 @@ mod diff;
 pub mod plan;
 mod reference;
 mod render;
+mod sweep;
 mod verify;
 mod view;
 
@@ -73,6 +74,10 @@ pub enum Command {
     /// Render reference images with a CPU path tracer (direct light with exact shadows, AO,
     /// one-bounce indirect diffuse, indirect specular, full global illumination) as EXR.
     Reference(reference::Args),
+    /// What accuracy costs in time: render a pipeline over a grid of settings, time the
+    /// effect's passes and measure its error against a reference; CSV, JSON, markdown and
+    /// an SVG plot with the Pareto front. `sweep merge` joins shards.
+    Sweep(sweep::Args),
     /// Open a window onto a running pipeline: any buffer, camera and light controls,
     /// parameters and variants, per-pass costs, screenshots.
     View(view::Args),
@@ -127,6 +132,7 @@ pub fn run(cli: Cli) -> i32 {
         Command::Diff(args) => diff::run(args),
         Command::View(args) => view::run(args),
         Command::Reference(args) => reference::run(args),
+        Command::Sweep(args) => sweep::run(args),
         Command::Init { dir } => match crate::bundled::init(&dir) {
             Ok(files) => {
                 eprintln!(

@@ -24,14 +24,20 @@ pub struct Compared {
     pub error_map: Vec<f32>,
 }
 
-/// Mean FLIP and its error map; SSIM (both on 8-bit sRGB).
-fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
-    // FLIP and SSIM take display images: 8-bit sRGB.
+/// Mean FLIP of two colour images (as displayed: 8-bit sRGB) and its error map.
+pub fn flip(a: &Image, b: &Image) -> (f64, Vec<f32>) {
     let (ra, rb) = (display_rgb8(a, 3, None), display_rgb8(b, 3, None));
     let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &ra);
     let fb = nv_flip::FlipImageRgb8::with_data(b.width, b.height, &rb);
     let map = nv_flip::flip(fa, fb, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    let mean = nv_flip::FlipPool::from_image(&map).mean() as f64;
+    (nv_flip::FlipPool::from_image(&map).mean() as f64, map.to_vec())
+}
+
+/// Mean FLIP and its error map; SSIM (both on 8-bit sRGB).
+fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
+    // FLIP and SSIM take display images: 8-bit sRGB.
+    let (mean, map) = flip(a, b);
+    let (ra, rb) = (display_rgb8(a, 3, None), display_rgb8(b, 3, None));
     let ssim = match (
         image::RgbImage::from_raw(a.width, a.height, ra),
         image::RgbImage::from_raw(b.width, b.height, rb),
@@ -44,7 +50,7 @@ fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
         }
         _ => None,
     };
-    (mean, map.to_vec(), ssim)
+    (mean, map, ssim)
 }
 
 /// Compare B against A (same size). `channels`: how many channels the format has;

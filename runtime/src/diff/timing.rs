@@ -4,7 +4,7 @@
 use crate::gpu::Executor;
 use serde::Serialize;
 
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct Stats {
     pub median: f64,
     pub min: f64,

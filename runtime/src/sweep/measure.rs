@@ -1,0 +1,127 @@
+//! Stage `measure` of `sweep`: how far a raster estimate is from the reference term — RMSE
+//! corrected for the reference's own noise, bias, and for colour terms mean FLIP — over the
+//! pixels both images have.
+
+use crate::error::{Error, Result};
+use crate::io::Image;
+use crate::reference::{Term, TermImage};
+use serde::{Deserialize, Serialize};
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorMetrics {
+    /// √max(0, MSE − mean reference variance): the error the estimate would have against a
+    /// noise-free reference (the reference's noise adds its variance to the expected MSE).
+    pub rmse: f64,
+    /// √MSE against the reference as it is.
+    pub rmse_raw: f64,
+    /// Mean of (estimate − reference): negative where the effect darkens too much.
+    pub bias: f64,
+    /// Mean FLIP of both images mapped by L/(1+L) to 8-bit sRGB (colour terms only).
+    pub flip: Option<f64>,
+    /// Estimate values that are NaN or infinite (left out of the means above).
+    pub non_finite: usize,
+}
+
+/// Channels a term has: AO is one (red), the others are colour.
+pub fn channels(term: Term) -> usize {
+    if term == Term::Ao {
+        1
+    } else {
+        3
+    }
+}
+
+pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<ErrorMetrics> {
+    let r = &reference.mean;
+    if (estimate.width, estimate.height) != (r.width, r.height) {
+        return Err(Error::Usage(format!(
+            "`{resource}` is {}x{} but the reference is {}x{}: compare a resource the size of the viewport",
+            estimate.width, estimate.height, r.width, r.height
+        )));
+    }
+    let n = channels(reference.term);
+    let est = estimate.linear();
+    let (mut se, mut var, mut diff, mut count, mut non_finite) = (0.0f64, 0.0f64, 0.0f64, 0usize, 0usize);
+    for ((e, f), v) in est
+        .chunks_exact(4)
+        .zip(r.rgba.chunks_exact(4))
+        .zip(reference.variance.rgba.chunks_exact(4))
+    {
+        for c in 0..n {
+            if !e[c].is_finite() {
+                non_finite += 1;
+                continue;
+            }
+            let d = e[c] as f64 - f[c] as f64;
+            se += d * d;
+            diff += d;
+            var += v[c] as f64;
+            count += 1;
+        }
+    }
+    let k = count.max(1) as f64;
+    let mse = se / k;
+    Ok(ErrorMetrics {
+        rmse: (mse - var / k).max(0.0).sqrt(),
+        rmse_raw: mse.sqrt(),
+        bias: diff / k,
+        flip: (n == 3).then(|| flip(&est, r)),
+        non_finite,
+    })
+}
+
+/// Mean FLIP of the two (linear) images, each mapped by L/(1+L).
+fn flip(estimate: &[f32], reference: &Image) -> f64 {
+    let mapped = |rgba: &[f32]| Image {
+        width: reference.width,
+        height: reference.height,
+        rgba: rgba
+            .iter()
+            .enumerate()
+            .map(|(i, &v)| {
+                if i % 4 == 3 || !v.is_finite() {
+                    1.0
+                } else {
+                    v.max(0.0) / (1.0 + v.max(0.0))
+                }
+            })
+            .collect(),
+        srgb: false,
+    };
+    crate::diff::metrics::flip(&mapped(estimate), &mapped(&reference.rgba)).0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat(v: f32, var: f32) -> (Image, Image) {
+        let img = |x: f32| Image {
+            width: 8,
+            height: 8,
+            rgba: [x, x, x, 1.0].repeat(64),
+            srgb: false,
+        };
+        (img(v), img(var))
+    }
+
+    /// A reference whose noise (its variance) explains all of the difference measures 0.
+    #[test]
+    fn the_reference_noise_is_subtracted() {
+        let (mean, variance) = flat(0.5, 0.01);
+        let r = TermImage {
+            term: Term::Ao,
+            mean,
+            variance,
+        };
+        let (est, _) = flat(0.6, 0.0);
+        let m = error(&est, &r, "ao").unwrap();
+        assert!((m.rmse_raw - 0.1).abs() < 1e-6 && m.rmse.abs() < 1e-3, "{m:?}");
+        assert!((m.bias - 0.1).abs() < 1e-6 && m.flip.is_none());
+        let (est, _) = flat(0.8, 0.0);
+        let m = error(&est, &r, "ao").unwrap();
+        assert!((m.rmse - (0.09f64 - 0.01).sqrt()).abs() < 1e-5, "{m:?}");
+        let small = Image { width: 4, ..est };
+        assert!(error(&small, &r, "ao").unwrap_err().to_string().contains("size of the viewport"));
+    }
+}

@@ -1,0 +1,234 @@
+//! `lightbench sweep`: what accuracy costs in time. For every point of a sweep spec (scenes,
+//! sizes, variant options and parameter values), render the pipeline, time the effect's
+//! passes and the frame on the GPU, and measure the compared resource against a reference
+//! term from the path tracer. Sub-stages: `spec` (the file and its points), `measure`
+//! (error metrics), `rows` (the resumable store, shards and merging), `pareto`, `report`
+//! (CSV, JSON, markdown, SVG); here: the run itself.
+
+pub mod measure;
+pub mod pareto;
+pub mod report;
+pub mod rows;
+pub mod spec;
+
+use crate::diff::timing::stats;
+use crate::error::{Error, Result};
+use crate::gpu::{Executor, Gpu};
+use crate::reference::{self, Budget, Reference, Settings};
+use crate::scene::Scene;
+use lightbench_compiler::Workspace;
+use rows::Row;
+use spec::{Loaded, Point};
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+pub struct Options {
+    pub out: PathBuf,
+    /// (K, N): measure the points whose index is K modulo N.
+    pub shard: (usize, usize),
+    /// Where references are cached (default: `OUT/references`).
+    pub references: Option<PathBuf>,
+    pub progress: bool,
+}
+
+/// What a run did.
+pub struct Summary {
+    pub measured: usize,
+    pub skipped: usize,
+    pub rows: Vec<Row>,
+    pub points: usize,
+    pub written: Vec<PathBuf>,
+}
+
+/// Scenes and references, each made once per (scene, size).
+struct Inputs {
+    scenes: HashMap<(String, Option<(u32, u32)>), Scene>,
+    references: HashMap<(String, Option<(u32, u32)>), (Reference, String)>,
+}
+
+pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
+    let points = spec::points(l);
+    let mut rows = rows::load(&opts.out)?;
+    if let Some(other) = rows.iter().find(|r| r.spec != l.fingerprint) {
+        return Err(Error::Usage(format!(
+            "{} holds rows of another sweep spec ({} `{}`): use a fresh --out, or delete its {}",
+            opts.out.display(),
+            other.sweep,
+            other.spec,
+            rows::FILE
+        )));
+    }
+    let ws = Workspace::disk();
+    let mine: Vec<&Point> = points.iter().filter(|p| p.index % opts.shard.1 == opts.shard.0).collect();
+    let todo: Vec<&Point> = mine.iter().copied().filter(|p| !rows.iter().any(|r| r.id == p.id())).collect();
+    let mut inputs = Inputs {
+        scenes: HashMap::new(),
+        references: HashMap::new(),
+    };
+    let bar = progress(todo.len(), opts.progress);
+    for p in &todo {
+        bar.set_message(p.id());
+        let row = measure_point(gpu, &ws, l, (p, points.len()), opts, &mut inputs)?;
+        rows.push(row);
+        rows::save(&opts.out, &rows)?;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    rows.sort_by_key(|r| r.index);
+    let written = report::write_all(&opts.out, &rows, points.len())?;
+    Ok(Summary {
+        measured: todo.len(),
+        skipped: mine.len() - todo.len(),
+        rows,
+        points: points.len(),
+        written,
+    })
+}
+
+fn progress(n: usize, visible: bool) -> indicatif::ProgressBar {
+    if !visible {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(n as u64);
+    if let Ok(st) = indicatif::ProgressStyle::with_template("sweep {bar:30} {pos}/{len} points, ETA {eta}  {msg}") {
+        bar.set_style(st);
+    }
+    bar
+}
+
+fn scene<'a>(inputs: &'a mut Inputs, l: &Loaded, p: &Point) -> Result<&'a Scene> {
+    let key = (p.scene.clone(), p.size);
+    if !inputs.scenes.contains_key(&key) {
+        let s = crate::cli::load_scene(&l.scene(&p.scene), p.size)?;
+        inputs.scenes.insert(key.clone(), s);
+    }
+    Ok(&inputs.scenes[&key])
+}
+
+fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> Result<()> {
+    let key = (p.scene.clone(), p.size);
+    if inputs.references.contains_key(&key) {
+        return Ok(());
+    }
+    let scene = scene(inputs, l, p)?.clone();
+    let r = &l.spec.reference;
+    let settings = Settings {
+        budget: Budget::Spp(r.spp),
+        terms: vec![r.term],
+        ao_radius: r.ao_radius,
+        ao_falloff: r.ao_falloff,
+        seed: r.seed,
+        brdf: reference::Brdf::BlinnPhong,
+    };
+    let cache_key = reference::store::key(&scene, &settings);
+    let dir = opts
+        .references
+        .clone()
+        .unwrap_or_else(|| opts.out.join("references"))
+        .join(&cache_key);
+    let (made, _) = reference::store::cached(&scene, &settings, &dir, false)?;
+    inputs.references.insert(key, (made, cache_key));
+    Ok(())
+}
+
+/// Names in the spec the pipeline does not have (checked against the default plan).
+fn check_names(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) -> Result<()> {
+    for (k, _) in &p.settings {
+        if !plan.params.iter().any(|q| q.name == *k) && !plan.variants.iter().any(|v| v.variant == *k) {
+            return Err(l.error_at(
+                &format!("\"{k}\""),
+                format!("`{k}` is neither a parameter nor a variant of the pipeline"),
+            ));
+        }
+    }
+    for pass in &l.spec.effect {
+        if !plan.passes.iter().any(|q| q.name == *pass) && !plan.culled.iter().any(|c| c.name == *pass) {
+            return Err(l.error_in("effect", &format!("\"{pass}\""), format!("the pipeline has no pass `{pass}`")));
+        }
+    }
+    if plan.resource(&l.spec.compare).is_none() {
+        return Err(l.error_in(
+            "compare",
+            &format!("\"{}\"", l.spec.compare),
+            format!("the pipeline has no resource `{}`", l.spec.compare),
+        ));
+    }
+    Ok(())
+}
+
+fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usize), opts: &Options, inputs: &mut Inputs) -> Result<Row> {
+    reference_for(inputs, l, p, opts)?;
+    let scene = scene(inputs, l, p)?.clone();
+    let pipeline = l.pipeline();
+    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &[]).and_then(|c| {
+        check_names(l, &c.exe.plan, p)?;
+        crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)
+    })?;
+    let mut ex = Executor::new(gpu, &configured.exe, &scene)?;
+    ex.set_reuse(false);
+    for (name, value) in &configured.params {
+        ex.set_param(name, value.clone())?;
+    }
+    let (effect, frame, timing) = time_frames(gpu, &mut ex, l)?;
+    let estimate = ex.read_texture(gpu, &l.spec.compare, 0, 0)?;
+    let (reference, key) = &inputs.references[&(p.scene.clone(), p.size)];
+    let term = reference
+        .term(l.spec.reference.term)
+        .ok_or_else(|| Error::Usage("the reference lacks its term".into()))?;
+    let error = measure::error(&estimate, term, &l.spec.compare).map_err(|e| l.error_at("compare", e))?;
+    Ok(Row {
+        spec: l.fingerprint.clone(),
+        sweep: l.name.clone(),
+        index: p.index,
+        points: total,
+        id: p.id(),
+        scene: scene.name.clone(),
+        size: scene.size,
+        settings: p.varying.clone(),
+        variants: configured
+            .exe
+            .plan
+            .variants
+            .iter()
+            .map(|v| (v.variant.clone(), v.option.clone()))
+            .collect(),
+        effect_ms: effect,
+        frame_ms: frame,
+        timing: timing.into(),
+        error,
+        reference: key.clone(),
+        reference_spp: reference.spp,
+    })
+}
+
+type Timed = (Option<crate::diff::timing::Stats>, Option<crate::diff::timing::Stats>, &'static str);
+
+/// Warm-up frames, then the measured ones: per frame the effect's GPU ms (its passes
+/// summed) and the frame's (all passes; wall-clock where the adapter has no timestamps).
+/// Time stands still (every frame at t = 0) so the image matches the reference's scene.
+fn time_frames(gpu: &Gpu, ex: &mut Executor, l: &Loaded) -> Result<Timed> {
+    let inputs = ex.inputs(0.0);
+    for _ in 0..l.spec.warmup {
+        ex.render_frame(gpu, &inputs)?;
+    }
+    let (mut effect, mut frame, mut wall) = (vec![], vec![], vec![]);
+    for _ in 0..l.spec.frames {
+        let start = Instant::now();
+        ex.render_frame(gpu, &inputs)?;
+        wall.push(start.elapsed().as_secs_f64() * 1e3);
+        let gpu_ms: Option<f64> = ex.last_timings.iter().map(|t| t.gpu_ms).sum();
+        let effect_ms: Option<f64> = ex
+            .last_timings
+            .iter()
+            .filter(|t| l.spec.effect.contains(&t.pass))
+            .map(|t| t.gpu_ms)
+            .sum();
+        frame.extend(gpu_ms);
+        effect.extend(effect_ms);
+    }
+    if frame.is_empty() {
+        return Ok((None, stats(&wall), "wall"));
+    }
+    Ok((stats(&effect), stats(&frame), "gpu"))
+}

@@ -1,0 +1,111 @@
+//! Stage `rows` of `sweep`: one row per measured point, kept in `rows.jsonl` (a JSON object
+//! a line). Each finished point rewrites the file atomically with its row added, so a sweep
+//! killed at any moment loses at most the point it was measuring, and a rerun skips what is
+//! there. Shards write their own folders; `merge` joins them.
+
+use super::measure::ErrorMetrics;
+use crate::diff::timing::Stats;
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+pub const FILE: &str = "rows.jsonl";
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// Fingerprint of the sweep spec the row belongs to.
+    pub spec: String,
+    pub sweep: String,
+    /// Position in the spec's point order, and how many points the spec has.
+    pub index: usize,
+    pub points: usize,
+    pub id: String,
+    pub scene: String,
+    pub size: (u32, u32),
+    /// The settings that vary between points, in the spec's order.
+    pub settings: Vec<(String, String)>,
+    /// Every variant's option as planned (fallbacks taken where the adapter lacks a feature).
+    pub variants: Vec<(String, String)>,
+    /// GPU ms of the effect's passes per frame (`None` without GPU timestamps).
+    pub effect_ms: Option<Stats>,
+    /// GPU ms of the whole frame (wall-clock ms without GPU timestamps; see `timing`).
+    pub frame_ms: Option<Stats>,
+    /// "gpu" or "wall".
+    pub timing: String,
+    pub error: ErrorMetrics,
+    /// The reference's cache key and samples per pixel.
+    pub reference: String,
+    pub reference_spp: u32,
+}
+
+impl Row {
+    /// The cost axis: the effect's time, else the frame's.
+    pub fn cost_ms(&self) -> Option<f64> {
+        self.effect_ms.or(self.frame_ms).map(|s| s.median)
+    }
+    /// The point's settings as a short label: the values, comma-separated.
+    pub fn label(&self) -> String {
+        self.settings.iter().map(|(_, v)| v.as_str()).collect::<Vec<_>>().join(", ")
+    }
+}
+
+/// The rows in `dir` (none yet: empty). A line that does not parse — the tail of a write cut
+/// short by something other than this program — is an error naming the line.
+pub fn load(dir: &Path) -> Result<Vec<Row>> {
+    let path = dir.join(FILE);
+    let text = match std::fs::read_to_string(&path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(vec![]),
+        Err(e) => return Err(Error::io(&path, e)),
+    };
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| serde_json::from_str(l).map_err(|e| Error::io(&path, format!("line {}: {e}", i + 1))))
+        .collect()
+}
+
+/// Write `rows` (sorted by index) as `dir/rows.jsonl`, atomically.
+pub fn save(dir: &Path, rows: &[Row]) -> Result<()> {
+    let mut sorted: Vec<&Row> = rows.iter().collect();
+    sorted.sort_by_key(|r| r.index);
+    let mut text = String::new();
+    for r in sorted {
+        text.push_str(&serde_json::to_string(r).map_err(|e| Error::io(dir, e))?);
+        text.push('\n');
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    crate::io::write_atomic(&dir.join(FILE), text.as_bytes())
+}
+
+/// The rows of several folders (shards) as one sweep: the same spec throughout, each point
+/// once. Returns the rows and how many points the spec has.
+pub fn merge(dirs: &[&Path]) -> Result<(Vec<Row>, usize)> {
+    let mut out: Vec<Row> = vec![];
+    for dir in dirs {
+        let rows = load(dir)?;
+        if rows.is_empty() {
+            return Err(Error::Usage(format!("{}: no {FILE} with rows in it", dir.display())));
+        }
+        for r in rows {
+            if let Some(first) = out.first() {
+                if first.spec != r.spec {
+                    return Err(Error::Usage(format!(
+                        "{}: rows of another sweep spec ({} `{}`, not {} `{}`)",
+                        dir.display(),
+                        r.sweep,
+                        r.spec,
+                        first.sweep,
+                        first.spec
+                    )));
+                }
+            }
+            if !out.iter().any(|o| o.id == r.id) {
+                out.push(r);
+            }
+        }
+    }
+    out.sort_by_key(|r| r.index);
+    let points = out.first().map_or(0, |r| r.points);
+    Ok((out, points))
+}
