@@ -171,12 +171,12 @@ fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usi
         ex.set_param(name, value.clone())?;
     }
     let (effect, frame, timing) = time_frames(gpu, &mut ex, l)?;
-    let estimate = ex.read_texture(gpu, &l.spec.compare, 0, 0)?;
+    let estimate = ex.read_texture(gpu, &p.compare, 0, 0)?;
     let (reference, key) = &inputs.references[&(p.scene.clone(), p.size)];
     let term = reference
         .term(l.spec.reference.term)
         .ok_or_else(|| Error::Usage("the reference lacks its term".into()))?;
-    let error = measure::error(&estimate, term, &l.spec.compare).map_err(|e| l.error_at("compare", e))?;
+    let error = measure::error(&estimate, term, &p.compare).map_err(|e| l.error_at("compare", e))?;
     Ok(Row {
         spec: l.fingerprint.clone(),
         sweep: l.name.clone(),

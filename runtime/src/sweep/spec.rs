@@ -117,7 +117,8 @@ pub struct Spec {
     /// Settings every point has: variant options and parameter values.
     #[serde(default)]
     pub set: Ordered<Value>,
-    /// Explicit points (each a set of settings), each crossed with the grid.
+    /// Explicit points (each a set of settings, and optionally `compare`: the resource that
+    /// holds this point's estimate), each crossed with the grid.
     #[serde(default)]
     pub points: Vec<Ordered<Value>>,
     /// Every combination of these values.
@@ -190,6 +191,9 @@ pub struct Point {
     pub settings: Vec<(String, String)>,
     /// The settings that vary between points (the point's label).
     pub varying: Vec<(String, String)>,
+    /// The resource compared: the spec's `compare`, or the point's own (a listed point's
+    /// `compare` key, for options that leave their estimate elsewhere).
+    pub compare: String,
 }
 
 impl Point {
@@ -225,6 +229,9 @@ pub fn load(path: &Path) -> Result<Loaded> {
 /// What the spec says that cannot work, wherever the pipeline is not needed to tell.
 fn check(l: &Loaded) -> Result<()> {
     let s = &l.spec;
+    if s.set.contains_key(COMPARE) || s.grid.contains_key(COMPARE) {
+        return Err(l.error_at("\"compare\"", "`compare` may be given by a listed point, not in `set` or `grid`"));
+    }
     if s.scenes.is_empty() {
         return Err(l.error_at("scenes", "`scenes` names no scene"));
     }
@@ -265,16 +272,23 @@ fn check(l: &Loaded) -> Result<()> {
     Ok(())
 }
 
+/// The key of a listed point that names its compared resource (not a setting).
+const COMPARE: &str = "compare";
+
 /// Every point, numbered.
 pub fn points(l: &Loaded) -> Vec<Point> {
     let s = &l.spec;
     let fixed: Vec<(String, String)> = s.set.iter().map(|(k, v)| (k.clone(), v.text())).collect();
-    let listed: Vec<Vec<(String, String)>> = if s.points.is_empty() {
-        vec![vec![]]
+    let listed: Vec<(Vec<(String, String)>, String)> = if s.points.is_empty() {
+        vec![(vec![], s.compare.clone())]
     } else {
         s.points
             .iter()
-            .map(|p| p.iter().map(|(k, v)| (k.clone(), v.text())).collect())
+            .map(|p| {
+                let compare = p.iter().find(|(k, _)| k == COMPARE).map_or(s.compare.clone(), |(_, v)| v.text());
+                let own = p.iter().filter(|(k, _)| k != COMPARE).map(|(k, v)| (k.clone(), v.text())).collect();
+                (own, compare)
+            })
             .collect()
     };
     let mut combos: Vec<Vec<(String, String)>> = vec![vec![]];
@@ -298,7 +312,7 @@ pub fn points(l: &Loaded) -> Vec<Point> {
     let mut out = vec![];
     for scene in &s.scenes {
         for size in &sizes {
-            for own in &listed {
+            for (own, compare) in &listed {
                 for combo in &combos {
                     let varying: Vec<(String, String)> = own.iter().chain(combo).cloned().collect();
                     out.push(Point {
@@ -307,6 +321,7 @@ pub fn points(l: &Loaded) -> Vec<Point> {
                         size: *size,
                         settings: fixed.iter().chain(&varying).cloned().collect(),
                         varying,
+                        compare: compare.clone(),
                     });
                 }
             }

@@ -1,0 +1,336 @@
+//! `lightbench sweep` and `lightbench reference` as the README tells a user to run them: the
+//! bundled specs, the Pareto front in the CSV and the SVG, resuming after a kill, shards and
+//! merging, and the errors a bad spec gets.
+
+mod cli_common;
+
+use cli_common::{lightbench, root, scratch};
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+/// A CSV file as rows of named fields (the writer's quoting: "…" with "" inside).
+fn csv(path: &Path) -> Vec<BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let parse = |line: &str| -> Vec<String> {
+        let (mut out, mut cur, mut quoted, mut chars) = (vec![], String::new(), false, line.chars().peekable());
+        while let Some(c) = chars.next() {
+            match (c, quoted) {
+                ('"', true) if chars.peek() == Some(&'"') => {
+                    cur.push('"');
+                    chars.next();
+                }
+                ('"', _) => quoted = !quoted,
+                (',', false) => out.push(std::mem::take(&mut cur)),
+                _ => cur.push(c),
+            }
+        }
+        out.push(cur);
+        out
+    };
+    let mut lines = text.lines();
+    let head = parse(lines.next().unwrap());
+    lines.map(|l| head.iter().cloned().zip(parse(l)).collect()).collect()
+}
+
+fn num(row: &BTreeMap<String, String>, k: &str) -> f64 {
+    row[k].parse().unwrap_or_else(|_| panic!("{k} = `{}`", row[k]))
+}
+
+/// The texts of an SVG's <text> elements.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| t.split_once('>'))
+        .map(|(_, rest)| rest.split("</text>").next().unwrap().trim().to_string())
+        .collect()
+}
+
+fn sweep(spec: &str, out: &Path, extra: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["sweep", spec, "--out", out.to_str().unwrap(), "--quiet"];
+    args.extend_from_slice(extra);
+    lightbench(&args)
+}
+
+/// What must be the same in two runs of one spec (timings are measurements and are not).
+fn outcome(dir: &Path) -> Vec<(String, String, String, String, String)> {
+    csv(&dir.join("results.csv"))
+        .into_iter()
+        .map(|r| {
+            (
+                r["index"].clone(),
+                r["rmse"].clone(),
+                r["bias"].clone(),
+                r["flip"].clone(),
+                r["variants"].clone(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn shadows_sweep_on_the_cornell_box_draws_its_pareto_front() {
+    let out = scratch("shadows");
+    let (code, stdout, err) = sweep("sweeps/shadows.ron", &out, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.contains("# Sweep `shadows`"), "{stdout}");
+    let rows = csv(&out.join("results.csv"));
+    assert!(rows.len() >= 5, "{} points", rows.len());
+    for r in &rows {
+        assert_eq!(r["scene"], "cornell");
+        assert_eq!(r["timing"], "gpu", "lavapipe has timestamps");
+        assert!(num(r, "effect_ms") > 0.0 && num(r, "effect_ms") <= num(r, "frame_ms"));
+        assert!(num(r, "rmse").is_finite() && num(r, "flip") >= 0.0 && r["non_finite"] == "0");
+    }
+    // Coarse unfiltered maps with little bias are the worst; some setting does much better.
+    let rmse: Vec<f64> = rows.iter().map(|r| num(r, "rmse")).collect();
+    let (lo, hi) = (
+        rmse.iter().cloned().fold(f64::INFINITY, f64::min),
+        rmse.iter().cloned().fold(0.0, f64::max),
+    );
+    assert!(hi > 2.0 * lo, "settings matter: RMSE {lo}..{hi}");
+    // The front in the CSV is the front of the CSV's own numbers.
+    for r in &rows {
+        let (c, e) = (num(r, "effect_ms"), num(r, "rmse"));
+        let dominated = rows.iter().any(|o| {
+            let (oc, oe) = (num(o, "effect_ms"), num(o, "rmse"));
+            oc <= c && oe <= e && (oc < c || oe < e)
+        });
+        assert_eq!(r["pareto"] == "true", !dominated, "row {}", r["index"]);
+    }
+    // The plot marks exactly those points (★), and labels every point with its settings.
+    let svg = std::fs::read_to_string(out.join("pareto_cornell_64x64.svg")).unwrap();
+    let texts = svg_texts(&svg);
+    let label = |r: &BTreeMap<String, String>| format!("{}, {}, {}", r["cube.size"], r["cube.pcf"], r["cube.bias"]);
+    let mut starred: Vec<String> = texts.iter().filter_map(|t| t.strip_prefix("★ ").map(String::from)).collect();
+    let mut front: Vec<String> = rows.iter().filter(|r| r["pareto"] == "true").map(label).collect();
+    starred.sort();
+    front.sort();
+    assert!(!front.is_empty());
+    assert_eq!(starred, front);
+    for r in &rows {
+        assert!(
+            texts.iter().any(|t| t.trim_start_matches("★ ") == label(r)),
+            "no label for {}",
+            label(r)
+        );
+    }
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    assert_eq!(json.as_array().unwrap().len(), rows.len());
+    // A second run finds every point done and measures nothing again.
+    let (code, _, err) = sweep("sweeps/shadows.ron", &out, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("0 point(s) measured, 12 already done"), "{err}");
+}
+
+/// Every bundled spec runs, and measures against a reference of its own term.
+#[test]
+fn every_bundled_sweep_spec_runs() {
+    for (spec, term_column) in [
+        ("ao", "ao_preset"),
+        ("indirect_diffuse", "indirect_diffuse"),
+        ("ssr", "ssr.max_steps"),
+    ] {
+        let out = scratch(spec);
+        let (code, _, err) = sweep(&format!("sweeps/{spec}.ron"), &out, &[]);
+        assert_eq!(code, 0, "{spec}: {err}");
+        let rows = csv(&out.join("results.csv"));
+        assert!(rows.len() >= 5, "{spec}: {} points", rows.len());
+        assert!(
+            rows.iter().all(|r| !r[term_column].is_empty() && num(r, "rmse").is_finite()),
+            "{spec}"
+        );
+        assert!(rows.iter().any(|r| r["pareto"] == "true"), "{spec}");
+        let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
+        assert_eq!(refs.len(), 1, "{spec}: one scene and size, one reference");
+    }
+    let listed: Vec<String> = std::fs::read_dir(root().join("sweeps"))
+        .unwrap()
+        .filter_map(|e| e.unwrap().file_name().into_string().ok())
+        .filter(|n| n.ends_with(".ron"))
+        .collect();
+    assert_eq!(listed.len(), 4, "a new spec needs a line in this test: {listed:?}");
+}
+
+/// A copy of the shadows spec that takes longer per point (so a kill lands mid-sweep).
+fn slow_shadows(dir: &Path) -> String {
+    let text = std::fs::read_to_string(root().join("sweeps/shadows.ron")).unwrap();
+    let pipeline = root().join("pipelines/deferred.lbp");
+    let text = text
+        .replace("\"../pipelines/deferred.lbp\"", &format!("{:?}", pipeline.display().to_string()))
+        .replace("frames: 5", "frames: 30");
+    let p = dir.join("slow_shadows.ron");
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+#[test]
+fn a_killed_sweep_resumes_and_finishes_with_the_same_rows() {
+    let dir = scratch("resume");
+    let spec = slow_shadows(&dir);
+    let (whole, cut) = (dir.join("whole"), dir.join("cut"));
+    let (code, _, err) = sweep(&spec, &whole, &[]);
+    assert_eq!(code, 0, "{err}");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["sweep", &spec, "--out", cut.to_str().unwrap(), "--quiet"])
+        .current_dir(root())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let rows_file = cut.join("rows.jsonl");
+    let start = Instant::now();
+    let rows_now = || std::fs::read_to_string(&rows_file).map(|t| t.lines().count()).unwrap_or(0);
+    while rows_now() < 3 && start.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let done = rows_now();
+    assert!((3..12).contains(&done), "killed after {done} of 12 points");
+    assert!(!cut.join("results.csv").exists(), "killed before the end");
+    let (code, _, err) = sweep(&spec, &cut, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(&format!("{} point(s) measured, {done} already done", 12 - done)),
+        "{err}"
+    );
+    assert_eq!(outcome(&cut), outcome(&whole));
+}
+
+#[test]
+fn shards_merged_equal_the_whole_sweep() {
+    let dir = scratch("shards");
+    let (whole, a, b, merged) = (dir.join("whole"), dir.join("a"), dir.join("b"), dir.join("merged"));
+    for (out, shard) in [(&whole, None), (&a, Some("0/2")), (&b, Some("1/2"))] {
+        let extra: Vec<&str> = shard.map(|s| vec!["--shard", s]).unwrap_or_default();
+        let (code, _, err) = sweep("sweeps/shadows.ron", out, &extra);
+        assert_eq!(code, 0, "{err}");
+    }
+    assert_eq!(csv(&a.join("results.csv")).len(), 6);
+    let (code, _, err) = lightbench(&[
+        "sweep",
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(outcome(&merged), outcome(&whole));
+    assert!(merged.join("pareto_cornell_64x64.svg").is_file() && merged.join("report.md").is_file());
+    // A shard alone is reported as incomplete; shards of different specs do not merge.
+    let (code, _, err) = lightbench(&["sweep", "merge", a.to_str().unwrap(), "--out", dir.join("half").to_str().unwrap()]);
+    assert_eq!(code, 0);
+    assert!(err.contains("6 of 12 points"), "{err}");
+    let other = dir.join("other");
+    let (code, _, err) = sweep("sweeps/ssr.ron", &other, &[]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = lightbench(&[
+        "sweep",
+        "merge",
+        a.to_str().unwrap(),
+        other.to_str().unwrap(),
+        "--out",
+        dir.join("x").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("another sweep spec"), "{err}");
+    // Nor does a folder of one spec take rows of another.
+    let (code, _, err) = sweep("sweeps/ssr.ron", &a, &[]);
+    assert_eq!(code, 2);
+    assert!(err.contains("rows of another sweep spec"), "{err}");
+}
+
+#[test]
+fn bad_specs_get_located_errors() {
+    let dir = scratch("bad");
+    let base = std::fs::read_to_string(root().join("sweeps/shadows.ron")).unwrap().replace(
+        "\"../pipelines/deferred.lbp\"",
+        &format!("{:?}", root().join("pipelines/deferred.lbp").display().to_string()),
+    );
+    for (i, (from, to, message)) in [
+        (
+            "\"cube.pcf\": [false, true]",
+            "\"cube.pfc\": [false, true]",
+            "`cube.pfc` is neither a parameter nor a variant",
+        ),
+        ("\"light_point\"]", "\"light_pint\"]", "the pipeline has no pass `light_pint`"),
+        ("compare: \"hdr\"", "compare: \"shadow.cube\"", "the size of the viewport"),
+        ("compare: \"hdr\"", "compare: \"nothing\"", "the pipeline has no resource `nothing`"),
+        ("term: direct", "term: glow", ""),
+        ("warmup: 1", "warmup: -1", ""),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let text = base.replace(from, to);
+        assert_ne!(text, base, "{from}");
+        let p = dir.join(format!("bad{i}.ron"));
+        std::fs::write(&p, &text).unwrap();
+        let (code, _, err) = sweep(p.to_str().unwrap(), &dir.join(format!("out{i}")), &[]);
+        assert_eq!(code, 2, "{to}: {err}");
+        assert!(err.contains(message), "{to}: {err}");
+        let line = text.lines().position(|l| l.contains(to)).unwrap() + 1;
+        let at = format!("bad{i}.ron:{line}:");
+        assert!(err.contains(&at), "{to}: error not at line {line}: {err}");
+    }
+    let (code, _, err) = lightbench(&["sweep", "sweeps/shadows.ron", "--shard", "2/2"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("expected K/N"), "{err}");
+}
+
+#[test]
+fn reference_command_writes_exr_terms_and_reuses_them() {
+    let out = scratch("reference");
+    let args = [
+        "reference",
+        "--scene",
+        "cornell",
+        "--size",
+        "32x32",
+        "--spp",
+        "8",
+        "--terms",
+        "ao,direct",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, _, err) = lightbench(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("reference rendered"), "{err}");
+    for f in [
+        "ao.exr",
+        "ao.variance.exr",
+        "ao.png",
+        "direct.exr",
+        "direct.variance.exr",
+        "reference.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    let ao = image::open(out.join("ao.exr")).unwrap().to_rgba32f();
+    assert_eq!(ao.dimensions(), (32, 32));
+    assert!(ao.pixels().all(|p| (0.0..=1.0).contains(&p.0[0])) && ao.pixels().any(|p| p.0[0] < 0.9));
+    let manifest: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("reference.json")).unwrap()).unwrap();
+    assert_eq!(manifest["spp"], 8);
+    assert!(manifest["samples_per_second"].as_f64().unwrap() > 0.0);
+    let before = std::fs::read(out.join("ao.exr")).unwrap();
+    let (code, _, err) = lightbench(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("up to date"), "{err}");
+    assert_eq!(std::fs::read(out.join("ao.exr")).unwrap(), before);
+    for (bad, message) in [
+        (vec!["--terms", "ao,glow"], "unknown reference term `glow`"),
+        (vec!["--seconds", "0"], "expected a positive number"),
+        (vec!["--ao-radius=-1"], "expected a positive number"),
+        (vec!["--spp", "0"], "0 is not in 1..=1000000"),
+    ] {
+        let mut a = vec!["reference", "--out", out.to_str().unwrap()];
+        a.extend(bad.iter());
+        let (code, _, err) = lightbench(&a);
+        assert_eq!(code, 2, "{bad:?}: {err}");
+        assert!(err.contains(message), "{bad:?}: {err}");
+    }
+}
