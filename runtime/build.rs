@@ -1,5 +1,5 @@
-//! Build step: the bundled pipelines, shaders and scenes (`../pipelines`, `../shaders`,
-//! `../scenes`) listed for `include_bytes!`, so that the binary runs its default pipeline from
+//! Build step: the bundled pipelines, shaders, scenes and sweep specs (`../pipelines`,
+//! `../shaders`, `../scenes`, `../sweeps`) listed for `include_bytes!`, so that the binary runs its default pipeline from
 //! any directory and `lightbench init` can write them out (see `src/bundled.rs`).
 
 use std::fmt::Write;
@@ -25,7 +25,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let mut files = vec![];
-    for dir in ["pipelines", "shaders", "scenes"] {
+    for dir in ["pipelines", "shaders", "scenes", "sweeps"] {
         println!("cargo:rerun-if-changed={}", root.join(dir).display());
         walk(&root.join(dir), &mut files);
     }

@@ -127,11 +127,7 @@ fn shadows_sweep_on_the_cornell_box_draws_its_pareto_front() {
 /// Every bundled spec runs, and measures against a reference of its own term.
 #[test]
 fn every_bundled_sweep_spec_runs() {
-    for (spec, term_column) in [
-        ("ao", "ao_preset"),
-        ("indirect_diffuse", "indirect_diffuse"),
-        ("ssr", "ssr.max_steps"),
-    ] {
+    for (spec, term_column) in [("ao", "ao"), ("indirect_diffuse", "indirect_diffuse"), ("ssr", "ssr.max_steps")] {
         let out = scratch(spec);
         let (code, _, err) = sweep(&format!("sweeps/{spec}.ron"), &out, &[]);
         assert_eq!(code, 0, "{spec}: {err}");
@@ -333,4 +329,43 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
         assert_eq!(code, 2, "{bad:?}: {err}");
         assert!(err.contains(message), "{bad:?}: {err}");
     }
+}
+
+/// The README's spec example is `sweeps/shadows.ron` without its leading comment, and its
+/// reference command runs as written.
+#[test]
+fn readme_examples_are_the_bundled_spec_and_run() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let block = readme
+        .split("```ron\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .find(|b| b.starts_with("Sweep("))
+        .expect("a sweep example in the README");
+    let spec = std::fs::read_to_string(root().join("sweeps/shadows.ron")).unwrap();
+    let body: String = spec.lines().filter(|l| !l.starts_with("//")).map(|l| format!("{l}\n")).collect();
+    assert_eq!(block, body, "README example and sweeps/shadows.ron differ");
+    let line = readme
+        .lines()
+        .find(|l| l.starts_with("lightbench reference --scene"))
+        .expect("a reference example");
+    let dir = scratch("readme");
+    let args: Vec<&str> = line.split_whitespace().skip(1).collect();
+    let (code, _, err) = cli_common::lightbench_in(&dir, &args);
+    assert_eq!(code, 0, "{line}: {err}");
+    for t in ["direct", "ao", "full"] {
+        assert!(dir.join("ref").join(format!("{t}.exr")).is_file(), "{t}");
+    }
+}
+
+/// A project written by `init` holds the sweep specs, and they run there as the README says.
+#[test]
+fn init_projects_run_the_bundled_shadows_sweep() {
+    let dir = scratch("init");
+    let (code, _, err) = cli_common::lightbench_in(&dir, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    let proj = dir.join("proj");
+    let (code, _, err) = cli_common::lightbench_in(&proj, &["sweep", "sweeps/shadows.ron", "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(csv(&proj.join("sweep-shadows/results.csv")).len(), 12);
 }

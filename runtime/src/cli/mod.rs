@@ -81,7 +81,7 @@ pub enum Command {
     /// Open a window onto a running pipeline: any buffer, camera and light controls,
     /// parameters and variants, per-pass costs, screenshots.
     View(view::Args),
-    /// Write the pipelines, shaders and scenes bundled in lightbench into a folder (a fresh
+    /// Write the pipelines, shaders, scenes and sweep specs bundled in lightbench into a folder (a fresh
     /// one: nothing is overwritten) as the start of your own project.
     Init { dir: PathBuf },
     /// Scene utilities.
@@ -136,7 +136,7 @@ pub fn run(cli: Cli) -> i32 {
         Command::Init { dir } => match crate::bundled::init(&dir) {
             Ok(files) => {
                 eprintln!(
-                    "wrote {} files into {} (pipelines/, shaders/, scenes/); try: cd {} && lightbench render",
+                    "wrote {} files into {} (pipelines/, shaders/, scenes/, sweeps/); try: cd {} && lightbench render",
                     files.len(),
                     dir.display(),
                     dir.display()
@@ -197,21 +197,9 @@ pub fn parse_assignments(flag: &str, form: &str, args: &[String]) -> Result<Vec<
     Ok(out)
 }
 
-/// The scene `--scene` names (built-in name, scene file or glTF model) at the `--size` asked
-/// for; its warnings are shown, its errors stop (rendered already: `Error::Scene` is empty).
-/// A model shown on its own is framed for the size it is rendered at.
+/// The scene `--scene` names at the `--size` asked for (see `scene::load::load_sized`).
 pub fn load_scene(spec: &str, size: Option<(u32, u32)>) -> Result<crate::scene::Scene> {
-    let mut s = lightbench_compiler::Session::new();
-    let loaded = crate::scene::load_in(&mut s, spec);
-    eprint!("{}", s.render());
-    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
-    if let Some(sz) = size {
-        scene.size = sz;
-        if lightbench_compiler::scene::is_model(std::path::Path::new(spec)) {
-            scene.camera = crate::scene::framing::frame(&scene);
-        }
-    }
-    Ok(scene)
+    crate::scene::load::load_sized(spec, size)
 }
 
 pub fn usage_error(msg: impl std::fmt::Display) -> i32 {

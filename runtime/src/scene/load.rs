@@ -23,6 +23,23 @@ pub fn load_in(s: &mut Session, spec: &str) -> Option<Scene> {
     instantiate(&desc, &mut s.diags)
 }
 
+/// What a command loads: the scene `spec` names (built-in name, scene file or glTF model) at
+/// the `size` asked for; its warnings are shown, its errors stop (rendered already:
+/// `Error::Scene` is empty). A model shown on its own is framed for the size it is rendered at.
+pub fn load_sized(spec: &str, size: Option<(u32, u32)>) -> Result<Scene> {
+    let mut s = Session::new();
+    let loaded = load_in(&mut s, spec);
+    eprint!("{}", s.render());
+    let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
+    if let Some(sz) = size {
+        scene.size = sz;
+        if lightbench_compiler::scene::is_model(std::path::Path::new(spec)) {
+            scene.camera = framing::frame(&scene);
+        }
+    }
+    Ok(scene)
+}
+
 /// The description with its geometry; a model that cannot be loaded is an error at its path.
 pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
     let mut scene = Scene::from_desc(desc);

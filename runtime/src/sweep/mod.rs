@@ -100,7 +100,7 @@ fn progress(n: usize, visible: bool) -> indicatif::ProgressBar {
 fn scene<'a>(inputs: &'a mut Inputs, l: &Loaded, p: &Point) -> Result<&'a Scene> {
     let key = (p.scene.clone(), p.size);
     if !inputs.scenes.contains_key(&key) {
-        let s = crate::cli::load_scene(&l.scene(&p.scene), p.size)?;
+        let s = crate::scene::load::load_sized(&l.scene(&p.scene), p.size)?;
         inputs.scenes.insert(key.clone(), s);
     }
     Ok(&inputs.scenes[&key])

@@ -1,0 +1,98 @@
+//! `cargo bench -p lightbench --bench reference`: the reference path tracer on this machine.
+//! First, the Cornell box at 128² and 64 samples per pixel, term by term and all together:
+//! seconds and camera-ray samples per second, and the same AO run on one thread as the
+//! baseline (the ratio is rayon's speed-up). Second, the goal: a converged 128² AO reference
+//! (per-pixel relative standard error ≤ 2%) in under a minute on 2 cores — a 64-spp pilot tells
+//! how many samples the worst pixel needs, the final run is timed and checked, and its time
+//! is printed as a ratio to the minute. Not a test.
+
+use lightbench::reference::{self, Budget, Reference, Settings, Term};
+use lightbench::scene::builtin;
+use std::time::Instant;
+
+const GOAL_SECONDS: f64 = 60.0;
+const TARGET: f64 = 0.02;
+/// Pixels darker than this are reported but not held to the target: their relative error
+/// needs (1 − p)/(p · 0.02²) samples, without bound as AO → 0.
+const DARK: f32 = 0.1;
+
+fn settings(terms: &[Term], spp: u32) -> Settings {
+    Settings {
+        budget: Budget::Spp(spp),
+        terms: terms.to_vec(),
+        ..Settings::default()
+    }
+}
+
+/// Largest relative standard error over pixels at least `DARK`, and how many are darker.
+fn worst(r: &Reference) -> (f64, usize) {
+    let t = r.term(Term::Ao).expect("ao");
+    let mut worst = 0.0f64;
+    let mut dark = 0;
+    for (m, v) in t.mean.rgba.chunks_exact(4).zip(t.variance.rgba.chunks_exact(4)) {
+        if m[0] < DARK {
+            dark += 1;
+            continue;
+        }
+        worst = worst.max((v[0] as f64).sqrt() / m[0] as f64);
+    }
+    (worst, dark)
+}
+
+fn main() {
+    let mut scene = builtin::cornell();
+    scene.size = (128, 128);
+    let pixels = 128.0 * 128.0;
+    println!(
+        "Cornell box 128x128, 64 spp ({} triangles)",
+        reference::world::World::new(&scene).triangles()
+    );
+    let all = [Term::Direct, Term::Ao, Term::IndirectDiffuse, Term::IndirectSpecular, Term::Full];
+    let mut ao_seconds = 0.0;
+    for terms in all.iter().map(|t| vec![*t]).chain([all.to_vec()]) {
+        let start = Instant::now();
+        let r = reference::render(&scene, &settings(&terms, 64), false);
+        let s = start.elapsed().as_secs_f64();
+        let samples: f64 = terms.iter().map(|t| if *t == Term::Direct { pixels } else { pixels * 64.0 }).sum();
+        let names: Vec<&str> = terms.iter().map(|t| t.name()).collect();
+        println!("  {:<55} {s:>7.3} s  {:>6.2} M samples/s", names.join("+"), samples / s / 1e6);
+        if terms == [Term::Ao] {
+            ao_seconds = s;
+        }
+        assert_eq!(r.spp, 64);
+    }
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
+    let start = Instant::now();
+    one.install(|| reference::render(&scene, &settings(&[Term::Ao], 64), false));
+    let single = start.elapsed().as_secs_f64();
+    println!(
+        "  ao on 1 thread (baseline): {single:.3} s; {} threads: {ao_seconds:.3} s, {:.2}x faster",
+        rayon::current_num_threads(),
+        single / ao_seconds
+    );
+
+    println!("Converged AO at 128x128, radius 0.5 (goal: relative standard error <= 2% per pixel in < {GOAL_SECONDS} s)");
+    let start = Instant::now();
+    let pilot = reference::render(&scene, &settings(&[Term::Ao], 64), false);
+    let (w, dark) = worst(&pilot);
+    let need = ((64.0 * (w / TARGET).powi(2)).ceil() as u32).next_multiple_of(4).max(64);
+    let final_start = Instant::now();
+    let r = reference::render(&scene, &settings(&[Term::Ao], need), false);
+    let final_seconds = final_start.elapsed().as_secs_f64();
+    let total = start.elapsed().as_secs_f64();
+    let (got, _) = worst(&r);
+    println!(
+        "  pilot 64 spp: worst relative standard error {:.4} ({dark} pixels darker than {DARK} not held to it)",
+        w
+    );
+    println!(
+        "  final {need} spp: {final_seconds:.2} s ({:.2} M samples/s), worst {got:.4} (target {TARGET}: {})",
+        pixels * need as f64 / final_seconds / 1e6,
+        if got <= TARGET { "met" } else { "NOT met" }
+    );
+    println!(
+        "  pilot + final {total:.2} s = {:.2}x the {GOAL_SECONDS} s goal ({})",
+        total / GOAL_SECONDS,
+        if total < GOAL_SECONDS { "met" } else { "NOT met" }
+    );
+}
