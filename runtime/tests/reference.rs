@@ -199,3 +199,78 @@ fn cornell_direct_light_agrees_with_the_raster_deferred_pipeline() {
     assert!(share > 0.98, "{:.2}% of values within 2%", share * 100.0);
     assert!(median < 0.003, "median relative difference {median}");
 }
+
+/// Every light kind and a textured material, both ways: a floor with an sRGB base-colour
+/// gradient texture and a metallic-roughness map, a box, a spot light (cone edge inside the
+/// view), a sun and an unshadowed point light; the raster `hdr` with ambient 0 and unfiltered
+/// shadow maps against the reference's `direct`.
+#[test]
+fn every_light_kind_and_textures_agree_with_the_raster_pipeline() {
+    use lightbench::scene::{ImageData, Light};
+    let (mut vs, mut is) = (vec![], vec![]);
+    quad(Vec3::ZERO, Vec3::X * 2.0, Vec3::NEG_Z * 2.0, &mut vs, &mut is);
+    let mut floor = Material::color("floor", [1.0; 3], 1.0);
+    floor.base_color_texture = Some(0);
+    floor.metallic_roughness_texture = Some(1);
+    floor.roughness = 1.0;
+    let gradient = ImageData {
+        width: 4,
+        height: 4,
+        rgba: (0..16u32)
+            .flat_map(|i| [60 + (i % 4) as u8 * 50, 200, 60 + (i / 4) as u8 * 50, 255])
+            .collect(),
+        srgb: true,
+    };
+    // Roughness (green) 0.4 everywhere: a visible specular highlight of the sun.
+    let mr = ImageData {
+        width: 1,
+        height: 1,
+        rgba: vec![0, 102, 0, 255],
+        srgb: false,
+    };
+    let mut box_mesh = mesh("box", cuboid(Vec3::new(0.3, 0.4, 0.3)), 1);
+    box_mesh.transform = Mat4::from_translation(Vec3::new(0.3, 0.4, -0.2));
+    let mut s = scene(
+        vec![mesh("floor", (vs, is), 0), box_mesh],
+        vec![floor, Material::color("box", [0.7, 0.3, 0.2], 0.5)],
+        camera(Vec3::new(0.0, 1.6, 2.6), -30.0),
+        (64, 64),
+    );
+    s.textures = vec![gradient, mr];
+    let mut point = Light::point(Vec3::new(-0.8, 0.6, 0.6), Vec3::new(0.4, 0.6, 1.0), 1.5, 3.0);
+    point.shadows = false;
+    s.lights = vec![
+        Light::spot(
+            Vec3::new(-0.3, 1.5, -0.3),
+            Vec3::new(0.2, -1.0, 0.1),
+            20.0,
+            30.0,
+            Vec3::ONE,
+            4.0,
+            4.0,
+        ),
+        Light::directional(Vec3::new(-0.5, -1.0, -0.4), Vec3::new(1.0, 0.9, 0.8), 1.0),
+        point,
+    ];
+    s.effects.insert(lightbench_compiler::ir::Effect::Shadows);
+    let r = reference::render(&s, &settings(&[Term::Direct], 1), false);
+    let reference = &r.term(Term::Direct).unwrap().mean;
+    let gpu = gpu_common::gpu();
+    let (exe, _) = lightbench::render::compile(&gpu, &gpu_common::deferred(), None, &s, &[]).unwrap();
+    let set = [("ambient.color", "(0, 0, 0)"), ("shadow.pcf", "false")].map(|(k, v)| (k.to_string(), v.to_string()));
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    let ex = lightbench::render::render_with(&gpu, &exe, &s, 1, &params).unwrap();
+    let raster = ex.read_texture(&gpu, "hdr", 0, 0).unwrap();
+    let mut rel: Vec<f64> = raster
+        .rgba
+        .chunks_exact(4)
+        .zip(reference.rgba.chunks_exact(4))
+        .flat_map(|(g, f)| (0..3).map(move |c| (g[c] - f[c]).abs() as f64 / (f[c].abs() as f64).max(0.02)))
+        .collect();
+    rel.sort_by(f64::total_cmp);
+    let share = rel.iter().filter(|&&x| x < 0.03).count() as f64 / rel.len() as f64;
+    let median = rel[rel.len() / 2];
+    eprintln!("within 3%: {:.2}%, median relative difference {median:.5}", share * 100.0);
+    assert!(share > 0.95, "{:.2}% of values within 3%", share * 100.0);
+    assert!(median < 0.01, "median relative difference {median}");
+}
