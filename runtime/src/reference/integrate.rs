@@ -105,7 +105,7 @@ impl Context<'_> {
         let mut sum = self.direct(&h, v);
         let mut throughput = Vec3::ONE;
         for bounce in 1..=MAX_BOUNCES {
-            let (u, choose) = (rng.pair(), rng.next());
+            let (u, choose) = (rng.pair(), rng.uniform());
             let (l, w) = self.brdf.sample(&h, v, u, choose);
             throughput *= w;
             if throughput.max_element() <= 0.0 {
@@ -113,7 +113,7 @@ impl Context<'_> {
             }
             if bounce > ROULETTE_FROM {
                 let survive = throughput.max_element().min(0.95);
-                if rng.next() >= survive {
+                if rng.uniform() >= survive {
                     break;
                 }
                 throughput /= survive;

@@ -24,13 +24,13 @@ impl Rng {
     }
 
     /// Uniform in [0, 1).
-    pub fn next(&mut self) -> f32 {
+    pub fn uniform(&mut self) -> f32 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         (mix(self.0) >> 40) as f32 * (1.0 / (1u64 << 24) as f32)
     }
 
     pub fn pair(&mut self) -> (f32, f32) {
-        (self.next(), self.next())
+        (self.uniform(), self.uniform())
     }
 }
 
@@ -81,11 +81,11 @@ mod tests {
     #[test]
     fn streams_are_deterministic_and_uniform() {
         let (mut a, mut b) = (Rng::new(7, 3, 1, 0), Rng::new(7, 3, 1, 0));
-        let xs: Vec<f32> = (0..10_000).map(|_| a.next()).collect();
-        assert!(xs.iter().all(|&x| x == b.next() && (0.0..1.0).contains(&x)));
+        let xs: Vec<f32> = (0..10_000).map(|_| a.uniform()).collect();
+        assert!(xs.iter().all(|&x| x == b.uniform() && (0.0..1.0).contains(&x)));
         let mean = xs.iter().sum::<f32>() / xs.len() as f32;
         assert!((mean - 0.5).abs() < 0.01, "{mean}");
-        assert_ne!(Rng::new(7, 3, 1, 0).next(), Rng::new(7, 3, 2, 0).next());
+        assert_ne!(Rng::new(7, 3, 1, 0).uniform(), Rng::new(7, 3, 2, 0).uniform());
     }
 
     /// Cosine sampling: E[cos θ] = 2/3 and every direction above the surface.

@@ -41,10 +41,13 @@ pub struct Summary {
     pub written: Vec<PathBuf>,
 }
 
-/// Scenes and references, each made once per (scene, size).
+/// A scene as a spec names it, at a size (none: its own).
+type SceneKey = (String, Option<(u32, u32)>);
+
+/// Scenes and references (with their cache keys), each made once per scene and size.
 struct Inputs {
-    scenes: HashMap<(String, Option<(u32, u32)>), Scene>,
-    references: HashMap<(String, Option<(u32, u32)>), (Reference, String)>,
+    scenes: HashMap<SceneKey, Scene>,
+    references: HashMap<SceneKey, (Reference, String)>,
 }
 
 pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
