@@ -36,16 +36,7 @@ fn bundled() -> Vec<PathBuf> {
 /// the file renders the example as written.
 #[test]
 fn readme_scene_example_is_the_bundled_room() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let block = readme
-        .split("```ron\n")
-        .skip(1)
-        .filter_map(|b| b.split("```").next())
-        .find(|b| b.starts_with("Scene("))
-        .expect("a scene example in the README");
-    let room = std::fs::read_to_string(root().join("scenes/room.ron")).unwrap();
-    let body: String = room.lines().filter(|l| !l.starts_with("//")).map(|l| format!("{l}\n")).collect();
-    assert_eq!(block, body, "README example and scenes/room.ron differ");
+    cli_common::assert_readme_block_is("Scene(", "scenes/room.ron");
 }
 
 #[test]

@@ -335,16 +335,8 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
 /// reference command runs as written.
 #[test]
 fn readme_examples_are_the_bundled_spec_and_run() {
+    cli_common::assert_readme_block_is("Sweep(", "sweeps/shadows.ron");
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let block = readme
-        .split("```ron\n")
-        .skip(1)
-        .filter_map(|b| b.split("```").next())
-        .find(|b| b.starts_with("Sweep("))
-        .expect("a sweep example in the README");
-    let spec = std::fs::read_to_string(root().join("sweeps/shadows.ron")).unwrap();
-    let body: String = spec.lines().filter(|l| !l.starts_with("//")).map(|l| format!("{l}\n")).collect();
-    assert_eq!(block, body, "README example and sweeps/shadows.ron differ");
     let line = readme
         .lines()
         .find(|l| l.starts_with("lightbench reference --scene"))

@@ -46,3 +46,18 @@ pub fn scratch(tag: &str) -> PathBuf {
     std::fs::create_dir_all(&d).unwrap();
     d
 }
+
+/// Assert that the README's first ```ron block starting with `opening` is the bundled file
+/// `rel` without its leading comment lines: the example as written is the file tests run.
+pub fn assert_readme_block_is(opening: &str, rel: &str) {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let block = readme
+        .split("```ron\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .find(|b| b.starts_with(opening))
+        .unwrap_or_else(|| panic!("a `{opening}` example in the README"));
+    let file = std::fs::read_to_string(root().join(rel)).unwrap();
+    let body: String = file.lines().filter(|l| !l.starts_with("//")).map(|l| format!("{l}\n")).collect();
+    assert_eq!(block, body, "README example and {rel} differ");
+}
