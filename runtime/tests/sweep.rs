@@ -322,6 +322,7 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
         (vec!["--seconds", "0"], "expected a positive number"),
         (vec!["--ao-radius=-1"], "expected a positive number"),
         (vec!["--spp", "0"], "0 is not in 1..=1000000"),
+        (vec!["--size", "16384x16384", "--terms", "direct,ao,full"], "GiB of sums and images"),
     ] {
         let mut a = vec!["reference", "--out", out.to_str().unwrap()];
         a.extend(bad.iter());

@@ -144,6 +144,12 @@ impl Camera {
 type Sums = Vec<f64>;
 const SLOTS: usize = 6;
 
+/// Bytes a render of `terms` terms at `size` holds: the f64 sums, then mean and variance
+/// images per term.
+pub fn memory_bytes((w, h): (u32, u32), terms: usize) -> u64 {
+    w as u64 * h as u64 * terms as u64 * (SLOTS as u64 * 8 + 2 * 16)
+}
+
 /// Render every term of `s` for `scene` at its size. `progress` draws a bar with ETA.
 pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
     let start = Instant::now();

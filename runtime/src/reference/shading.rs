@@ -150,3 +150,30 @@ impl Brdf {
         (l, self.eval(h, l, v) / pdf)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The shaders' definitions as this module restates them: a change to one of these lines
+    /// of `shaders/lib/lighting.wgsl` must come with the same change here (and the Cornell
+    /// comparison in `tests/reference.rs` checks the whole of it).
+    #[test]
+    fn the_shader_definitions_are_the_ones_restated_here() {
+        let wgsl = include_str!("../../../shaders/lib/lighting.wgsl");
+        for line in [
+            format!("const ATTENUATION_SOFTNESS: f32 = {ATTENUATION_SOFTNESS:?};"),
+            "return (1.0 - x20) / (soft * soft + d * d);".into(),
+            "return smoothstep(l.cone.y, max(l.cone.x, l.cone.y + 1e-4), c);".into(),
+            "let shininess = 2.0 / max(roughness * roughness * roughness * roughness, 1e-4) - 2.0;".into(),
+            "let spec_color = mix(vec3<f32>(0.04), albedo, metallic);".into(),
+            "let spec = pow(max(dot(n, h), 0.0), max(shininess, 1.0)) * (shininess + 8.0) / 25.132741;".into(),
+            "return (diffuse / 3.14159265 + spec_color * spec) * ndl;".into(),
+        ] {
+            assert!(wgsl.contains(&line), "lib/lighting.wgsl no longer has `{line}`");
+        }
+        // Windowed: full strength near, 0 at the range; the range of 6 is the seed's 1/(1 + d²).
+        assert!((attenuation(1.0, 6.0) - (1.0 - (1.0f32 / 6.0).powi(20)) / 2.0).abs() < 1e-6);
+        assert_eq!(attenuation(6.0, 6.0), 0.0);
+    }
+}

@@ -13,6 +13,8 @@ use std::path::Path;
 /// Bumped when the renderer's results change for the same inputs (old caches then miss).
 const VERSION: u32 = 1;
 const MANIFEST: &str = "reference.json";
+/// Largest working set a reference may take (the machine this runs on has 24 GiB).
+const MAX_BYTES: u64 = 8 << 30;
 
 #[derive(Serialize, Deserialize)]
 struct Manifest {
@@ -148,6 +150,17 @@ pub fn load(scene: &Scene, s: &Settings, dir: &Path) -> Result<Option<Reference>
 pub fn cached(scene: &Scene, s: &Settings, dir: &Path, progress: bool) -> Result<(Reference, bool)> {
     if let Some(r) = load(scene, s, dir)? {
         return Ok((r, false));
+    }
+    let need = super::memory_bytes(scene.size, s.terms.len());
+    if need > MAX_BYTES {
+        return Err(Error::Usage(format!(
+            "a reference of {} term(s) at {}x{} needs {:.1} GiB of sums and images (at most {} GiB): render it smaller or with fewer terms",
+            s.terms.len(),
+            scene.size.0,
+            scene.size.1,
+            need as f64 / (1u64 << 30) as f64,
+            MAX_BYTES >> 30
+        )));
     }
     let r = super::render(scene, s, progress);
     write(&r, scene, s, dir)?;
