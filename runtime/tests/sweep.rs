@@ -362,3 +362,53 @@ fn init_projects_run_the_bundled_shadows_sweep() {
     assert_eq!(code, 0, "{err}");
     assert_eq!(csv(&proj.join("sweep-shadows/results.csv")).len(), 12);
 }
+
+/// Several sizes make a plot and a reference each; `--references` shares the references
+/// between runs; a time budget renders whole passes of 4 samples.
+#[test]
+fn sizes_get_their_own_plots_and_shared_references() {
+    let dir = scratch("sizes");
+    let text = std::fs::read_to_string(root().join("sweeps/shadows.ron"))
+        .unwrap()
+        .replace(
+            "\"../pipelines/deferred.lbp\"",
+            &format!("{:?}", root().join("pipelines/deferred.lbp").display().to_string()),
+        )
+        .replace("sizes: [(64, 64)]", "sizes: [(32, 32), (48, 40)]")
+        .replace("\"cube.size\": [32, 128, 512]", "\"cube.size\": [64, 256]")
+        .replace("\"cube.pcf\": [false, true],", "");
+    let spec = dir.join("sizes.ron");
+    std::fs::write(&spec, text).unwrap();
+    let refs = dir.join("refs");
+    for out in ["a", "b"] {
+        let (code, _, err) = sweep(spec.to_str().unwrap(), &dir.join(out), &["--references", refs.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+    }
+    let rows = csv(&dir.join("b/results.csv"));
+    assert_eq!(rows.len(), 8);
+    assert_eq!(rows.iter().filter(|r| r["width"] == "48" && r["height"] == "40").count(), 4);
+    for plot in ["pareto_cornell_32x32.svg", "pareto_cornell_48x40.svg"] {
+        assert!(dir.join("b").join(plot).is_file(), "{plot}");
+    }
+    assert_eq!(std::fs::read_dir(&refs).unwrap().count(), 2, "one reference per size, made once");
+    assert!(!dir.join("a/references").exists());
+
+    let out = dir.join("timed");
+    let (code, _, err) = lightbench(&[
+        "reference",
+        "--seconds",
+        "0.3",
+        "--size",
+        "32x32",
+        "--terms",
+        "ao",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let manifest: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("reference.json")).unwrap()).unwrap();
+    let spp = manifest["spp"].as_u64().unwrap();
+    assert!(spp >= 4 && spp % 4 == 0, "{spp}");
+    assert_eq!(manifest["settings"]["budget"]["seconds"], 0.3);
+}

@@ -236,10 +236,10 @@ pub fn svg(g: &Group, keys: &[String]) -> Result<String> {
             } else {
                 (BLACK.stroke_width(1), label.clone())
             };
-            chart.draw_series([Circle::new((*x, *y), 4, style)]).map_err(plot_error)?;
-            chart
-                .draw_series([Text::new(text, (*x, *y), ("sans-serif", 11).into_font())])
-                .map_err(plot_error)?;
+            // The marker at the point, its label just right of it.
+            let marker =
+                EmptyElement::at((*x, *y)) + Circle::new((0, 0), 4, style) + Text::new(text, (7, -5), ("sans-serif", 11).into_font());
+            chart.draw_series([marker]).map_err(plot_error)?;
         }
         root.present().map_err(plot_error)?;
     }
