@@ -409,6 +409,6 @@ fn sizes_get_their_own_plots_and_shared_references() {
     assert_eq!(code, 0, "{err}");
     let manifest: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("reference.json")).unwrap()).unwrap();
     let spp = manifest["spp"].as_u64().unwrap();
-    assert!(spp >= 4 && spp % 4 == 0, "{spp}");
+    assert!(spp >= 4 && spp.is_multiple_of(4), "{spp}");
     assert_eq!(manifest["settings"]["budget"]["seconds"], 0.3);
 }
