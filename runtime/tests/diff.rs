@@ -207,7 +207,16 @@ fn structure_needs_no_driver() {
     // What needs rendering cannot be asked for without it.
     let (code, _, err) = hidden(&["diff", a, b, "--no-render", "--fail-above", "flip=0.01"]);
     assert_eq!(code, Some(2), "{err}");
-    let (code, _, err) = hidden(&["diff", a, b, "--no-render", "--fail-above", "memory=1.0"]);
+    let (code, _, err) = hidden(&[
+        "diff",
+        a,
+        b,
+        "--no-render",
+        "--fail-above",
+        "memory=1.0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code, Some(0), "the same memory: {err}");
 }
 
