@@ -1,7 +1,7 @@
 // Indirect diffuse light from one light's reflective shadow map (seed 000 §4.3.3, §6.3.3,
 // after Dachsbacher and Stamminger): the RSM texels around the receiver's projection act as
 // small lights. Samples follow the seed's polar pattern, s = p + radius · e1 · (sin 2πe2,
-// cos 2πe2), weighted by e1², and each adds
+// cos 2πe2), weighted by e1² (2·e1 with `gi.area_weights`, see `sample_weight`), and each adds
 //     flux · max(n_p · d, 0) · max(n_s · -d, 0) / |d|⁴        (d: receiver to sender).
 // Deviations (README): |d| is clamped below by `gi.min_distance` (the 1/|d|⁴ singularity of
 // a sender next to the receiver); and the flux, which the RSM stores per unit area, is
@@ -16,6 +16,7 @@ struct Params {
     samples: u32,
     strength: f32,
     min_distance: f32,
+    area_weights: u32,
 };
 
 @group(2) @binding(3) var rsm_position: texture_2d<f32>;
@@ -50,6 +51,15 @@ fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);
     let h = hash(p.x ^ hash(p.y ^ hash(frame.frame_index)));
     return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0), 0.0);
+}
+
+// The weight of a sample at e1 (its distance from the centre over the radius). Samples are
+// uniform in e1, so their density on the disc falls as 1/e1: the disc area each stands for is
+// 2·e1 times the mean (`area_weights`, unbiased). The seed's e1² averages 1/3 instead, so it
+// gathers about a third of the light (`lightbench sweep sweeps/indirect_diffuse.ron` shows it
+// against the path-traced reference).
+fn sample_weight(e1: f32) -> f32 {
+    return select(e1 * e1, 2.0 * e1, params.area_weights != 0u);
 }
 
 // PCG-style integer hash.
@@ -97,7 +107,7 @@ fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
         let flux = textureLoad(rsm_flux, t, 0).rgb * texel_area(t, sp.xyz, last) * per_sample;
         let d = sp.xyz - s.world;
         let d2 = max(dot(d, d), min_d2);
-        sum += e.x * e.x * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
+        sum += sample_weight(e.x) * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
     }
     return sum * params.strength / PI;
 }

@@ -140,6 +140,20 @@ fn every_bundled_sweep_spec_runs() {
         assert!(rows.iter().any(|r| r["pareto"] == "true"), "{spec}");
         let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
         assert_eq!(refs.len(), 1, "{spec}: one scene and size, one reference");
+        if spec == "indirect_diffuse" {
+            // Area weights gather more of the light the seed's e1² weights leave out.
+            for pair in rows.chunks(2) {
+                assert_eq!(
+                    (pair[0]["gi.area_weights"].as_str(), pair[1]["gi.area_weights"].as_str()),
+                    ("false", "true")
+                );
+                let (seed, area) = (num(&pair[0], "bias"), num(&pair[1], "bias"));
+                assert!(
+                    seed < area && area < 0.0,
+                    "bias {seed} with the seed's weights, {area} with area weights"
+                );
+            }
+        }
     }
     let listed: Vec<String> = std::fs::read_dir(root().join("sweeps"))
         .unwrap()
