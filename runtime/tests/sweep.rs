@@ -127,7 +127,12 @@ fn shadows_sweep_on_the_cornell_box_draws_its_pareto_front() {
 /// Every bundled spec runs, and measures against a reference of its own term.
 #[test]
 fn every_bundled_sweep_spec_runs() {
-    for (spec, term_column) in [("ao", "ao"), ("indirect_diffuse", "indirect_diffuse"), ("ssr", "ssr.max_steps")] {
+    for (spec, term_column) in [
+        ("ao", "ao"),
+        ("indirect_diffuse", "indirect_diffuse"),
+        ("ssr", "ssr.max_steps"),
+        ("frame", "indirect_diffuse"),
+    ] {
         let out = scratch(spec);
         let (code, _, err) = sweep(&format!("sweeps/{spec}.ron"), &out, &[]);
         assert_eq!(code, 0, "{spec}: {err}");
@@ -140,6 +145,20 @@ fn every_bundled_sweep_spec_runs() {
         assert!(rows.iter().any(|r| r["pareto"] == "true"), "{spec}");
         let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
         assert_eq!(refs.len(), 1, "{spec}: one scene and size, one reference");
+        if spec == "frame" {
+            // Indirect diffuse light brings the frame nearer full global illumination, at a
+            // cost; a configuration whose effect passes are all culled costs 0.
+            let at = |gi: &str, ao: &str| {
+                rows.iter()
+                    .find(|r| {
+                        r["indirect_diffuse"] == gi && r["ao"] == ao && r["ambient.color"] == "(0, 0, 0)" && r["gi.area_weights"].is_empty()
+                    })
+                    .unwrap()
+            };
+            let (none, fixed) = (at("off", "none"), at("fixed", "none"));
+            assert!(num(fixed, "rmse") < num(none, "rmse") && num(fixed, "bias") > num(none, "bias"));
+            assert!(num(fixed, "effect_ms") > 0.0 && none["effect_ms"] == "0", "{}", none["effect_ms"]);
+        }
         if spec == "indirect_diffuse" {
             // Area weights gather more of the light the seed's e1² weights leave out.
             for pair in rows.chunks(2) {
@@ -160,7 +179,7 @@ fn every_bundled_sweep_spec_runs() {
         .filter_map(|e| e.unwrap().file_name().into_string().ok())
         .filter(|n| n.ends_with(".ron"))
         .collect();
-    assert_eq!(listed.len(), 4, "a new spec needs a line in this test: {listed:?}");
+    assert_eq!(listed.len(), 5, "a new spec needs a line in this test: {listed:?}");
 }
 
 /// A copy of the shadows spec that takes longer per point (so a kill lands mid-sweep).

@@ -227,8 +227,9 @@ fn time_frames(gpu: &Gpu, ex: &mut Executor, l: &Loaded) -> Result<Timed> {
             .filter(|t| l.spec.effect.contains(&t.pass))
             .map(|t| t.gpu_ms)
             .sum();
-        frame.extend(gpu_ms);
-        effect.extend(effect_ms);
+        // An empty float sum is -0.0 (passes all culled): count it as 0.
+        frame.extend(gpu_ms.map(|v| v + 0.0));
+        effect.extend(effect_ms.map(|v| v + 0.0));
     }
     if frame.is_empty() {
         return Ok((None, stats(&wall), "wall"));
