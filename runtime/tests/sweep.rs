@@ -445,3 +445,47 @@ fn sizes_get_their_own_plots_and_shared_references() {
     assert!(spp >= 4 && spp.is_multiple_of(4), "{spp}");
     assert_eq!(manifest["settings"]["budget"]["seconds"], 0.3);
 }
+
+/// Growing a grid measures only the new points; shrinking it keeps the rows on file but out
+/// of the reports; measuring another way needs a fresh folder.
+#[test]
+fn editing_the_grid_reuses_the_points_still_listed() {
+    let dir = scratch("edit");
+    let base = std::fs::read_to_string(root().join("sweeps/shadows.ron")).unwrap().replace(
+        "\"../pipelines/deferred.lbp\"",
+        &format!("{:?}", root().join("pipelines/deferred.lbp").display().to_string()),
+    );
+    let spec = dir.join("edit.ron");
+    let out = dir.join("out");
+    let run = |grid: &str| {
+        std::fs::write(&spec, base.replace("\"cube.size\": [32, 128, 512]", grid)).unwrap();
+        let (code, _, err) = sweep(spec.to_str().unwrap(), &out, &[]);
+        (code, err)
+    };
+    let (code, err) = run("\"cube.size\": [32, 128]");
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = run("\"cube.size\": [32, 128, 512]");
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("4 point(s) measured, 8 already done"), "{err}");
+    let rows = csv(&out.join("results.csv"));
+    let indexes: Vec<String> = rows.iter().map(|r| r["index"].clone()).collect();
+    assert_eq!(indexes, (0..12).map(|i| i.to_string()).collect::<Vec<_>>());
+    assert_eq!(
+        (rows[4]["cube.size"].as_str(), rows[8]["cube.size"].as_str()),
+        ("128", "512"),
+        "rows in the spec's current order"
+    );
+    let (code, err) = run("\"cube.size\": [128]");
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("0 point(s) measured, 4 already done"), "{err}");
+    assert_eq!(csv(&out.join("results.csv")).len(), 4);
+    assert_eq!(
+        std::fs::read_to_string(out.join("rows.jsonl")).unwrap().lines().count(),
+        12,
+        "nothing lost"
+    );
+    std::fs::write(&spec, base.replace("frames: 5", "frames: 6")).unwrap();
+    let (code, _, err) = sweep(spec.to_str().unwrap(), &out, &[]);
+    assert_eq!(code, 2);
+    assert!(err.contains("rows of another sweep spec"), "{err}");
+}

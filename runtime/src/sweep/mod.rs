@@ -62,28 +62,37 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
             rows::FILE
         )));
     }
+    let id = |p: &Point| p.id(&l.spec.compare);
+    // Rows of points the spec still lists take their places in its current order; rows of
+    // points it no longer lists stay in the file, out of the reports.
+    for r in rows.iter_mut() {
+        if let Some(p) = points.iter().find(|p| id(p) == r.id) {
+            (r.index, r.points) = (p.index, points.len());
+        }
+    }
     let ws = Workspace::disk();
     let mine: Vec<&Point> = points.iter().filter(|p| p.index % opts.shard.1 == opts.shard.0).collect();
-    let todo: Vec<&Point> = mine.iter().copied().filter(|p| !rows.iter().any(|r| r.id == p.id())).collect();
+    let todo: Vec<&Point> = mine.iter().copied().filter(|p| !rows.iter().any(|r| r.id == id(p))).collect();
     let mut inputs = Inputs {
         scenes: HashMap::new(),
         references: HashMap::new(),
     };
     let bar = progress(todo.len(), opts.progress);
     for p in &todo {
-        bar.set_message(p.id());
+        bar.set_message(id(p));
         let row = measure_point(gpu, &ws, l, (p, points.len()), opts, &mut inputs)?;
         rows.push(row);
         rows::save(&opts.out, &rows)?;
         bar.inc(1);
     }
     bar.finish_and_clear();
-    rows.sort_by_key(|r| r.index);
-    let written = report::write_all(&opts.out, &rows, points.len())?;
+    let mut listed: Vec<Row> = rows.into_iter().filter(|r| points.iter().any(|p| id(p) == r.id)).collect();
+    listed.sort_by_key(|r| r.index);
+    let written = report::write_all(&opts.out, &listed, points.len())?;
     Ok(Summary {
         measured: todo.len(),
         skipped: mine.len() - todo.len(),
-        rows,
+        rows: listed,
         points: points.len(),
         written,
     })
@@ -185,7 +194,7 @@ fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usi
         sweep: l.name.clone(),
         index: p.index,
         points: total,
-        id: p.id(),
+        id: p.id(&l.spec.compare),
         scene: scene.name.clone(),
         size: scene.size,
         settings: p.varying.clone(),

@@ -135,7 +135,7 @@ pub struct Spec {
     pub frames: u32,
 }
 
-/// A sweep file loaded: the spec, where it is, and a fingerprint of what it asks for.
+/// A sweep file loaded: the spec, where it is, and a fingerprint of how it measures.
 #[derive(Clone, Debug)]
 pub struct Loaded {
     pub path: PathBuf,
@@ -197,12 +197,16 @@ pub struct Point {
 }
 
 impl Point {
-    /// Stable identity across runs and shards.
-    pub fn id(&self) -> String {
+    /// Stable identity across runs, shards and edits of the spec's lists: the scene, the
+    /// size, the varying settings, and the compared resource where the point names its own.
+    pub fn id(&self, default_compare: &str) -> String {
         let size = self.size.map(|(w, h)| format!("{w}x{h}")).unwrap_or_else(|| "scene-size".into());
         let mut id = format!("{} {size}", self.scene);
         for (k, v) in &self.varying {
             id.push_str(&format!(" {k}={v}"));
+        }
+        if self.compare != default_compare {
+            id.push_str(&format!(" compare={}", self.compare));
         }
         id
     }
@@ -214,7 +218,13 @@ pub fn load(path: &Path) -> Result<Loaded> {
         .from_str(&text)
         .map_err(|e| Error::Usage(format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code)))?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("sweep").to_string();
-    let fingerprint = format!("{:016x}", crate::render::fnv1a(format!("{spec:?}").as_bytes()));
+    // What decides how a point is measured; the lists of scenes, sizes, points and grid
+    // values may change between runs (rows of points still listed are kept).
+    let how = format!(
+        "{:?} {:?} {:?} {:?} {:?} {} {}",
+        spec.pipeline, spec.set, spec.effect, spec.compare, spec.reference, spec.warmup, spec.frames
+    );
+    let fingerprint = format!("{:016x}", crate::render::fnv1a(how.as_bytes()));
     let loaded = Loaded {
         path: path.to_path_buf(),
         name,
@@ -368,7 +378,7 @@ mod tests {
     fn grids_expand_in_key_order_last_key_fastest() {
         let l = loaded(BASE).unwrap();
         let p = points(&l);
-        let ids: Vec<String> = p.iter().map(Point::id).collect();
+        let ids: Vec<String> = p.iter().map(|p| p.id("hdr")).collect();
         assert_eq!(
             ids,
             [
