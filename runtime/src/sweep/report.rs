@@ -196,20 +196,29 @@ fn plot_error(e: impl std::fmt::Display) -> Error {
 /// Error against cost for one group, front points filled and joined, every point labelled.
 pub fn svg(g: &Group, keys: &[String]) -> Result<String> {
     use plotters::prelude::*;
+    let key_list = |r: &Row| r.settings.iter().map(|(k, _)| k.clone()).collect::<Vec<_>>();
+    let uniform = g.rows.iter().all(|r| key_list(r) == keys);
     let pts: Vec<(f64, f64, bool, String)> = g
         .rows
         .iter()
         .zip(&g.front)
-        .filter_map(|(r, &f)| r.cost_ms().map(|c| (c, r.error.rmse, f, r.label())))
+        .filter_map(|(r, &f)| r.cost_ms().map(|c| (c, r.error.rmse, f, r.label(uniform))))
         .collect();
-    let xmax = pts.iter().map(|p| p.0).fold(0.0, f64::max).max(1e-6) * 1.25;
+    // Room on the right for the longest label (about 6.5 px a character on an 850 px axis).
+    let longest = pts.iter().map(|p| p.3.chars().count()).max().unwrap_or(0) as f64;
+    let room = ((longest * 6.5 + 30.0) / 850.0).clamp(0.2, 0.6);
+    let xmax = pts.iter().map(|p| p.0).fold(0.0, f64::max).max(1e-6) / (1.0 - room);
     let ymax = pts.iter().map(|p| p.1).fold(0.0, f64::max).max(1e-9) * 1.15;
     let effect = g.rows.first().is_some_and(|r| r.effect_ms.is_some());
     let mut text = String::new();
     {
         let root = SVGBackend::with_string(&mut text, (960, 640)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;
-        let title = format!("{} at {}x{}: error vs time ({})", g.scene, g.size.0, g.size.1, keys.join(", "));
+        let title = if uniform {
+            format!("{} at {}x{}: error vs time ({})", g.scene, g.size.0, g.size.1, keys.join(", "))
+        } else {
+            format!("{} at {}x{}: error vs time", g.scene, g.size.0, g.size.1)
+        };
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
             .margin(20)

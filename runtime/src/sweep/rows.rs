@@ -43,9 +43,19 @@ impl Row {
     pub fn cost_ms(&self) -> Option<f64> {
         self.effect_ms.or(self.frame_ms).map(|s| s.median)
     }
-    /// The point's settings as a short label: the values, comma-separated.
-    pub fn label(&self) -> String {
-        self.settings.iter().map(|(_, v)| v.as_str()).collect::<Vec<_>>().join(", ")
+    /// The point's settings as a label: the values, comma-separated, where every point of its
+    /// plot has the same keys (`uniform`: the plot's title names them); else variant options
+    /// as they are (they name themselves) and numbers and booleans as `last.segment=value`.
+    pub fn label(&self, uniform: bool) -> String {
+        let part = |(k, v): &(String, String)| {
+            let named = v.parse::<f64>().is_ok() || v == "true" || v == "false";
+            match k.split_once('.') {
+                _ if uniform || !named => v.clone(),
+                Some((_, rest)) => format!("{rest}={v}"),
+                None => format!("{k}={v}"),
+            }
+        };
+        self.settings.iter().map(part).collect::<Vec<_>>().join(", ")
     }
 }
 
