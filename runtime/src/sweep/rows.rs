@@ -119,3 +119,41 @@ pub fn merge(dirs: &[&Path]) -> Result<(Vec<Row>, usize)> {
     let points = out.first().map_or(0, |r| r.points);
     Ok((out, points))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn labels_name_numbers_where_points_differ_in_keys() {
+        let row = Row {
+            spec: String::new(),
+            sweep: "s".into(),
+            index: 0,
+            points: 1,
+            id: "x".into(),
+            scene: "cornell".into(),
+            size: (8, 8),
+            settings: vec![
+                ("indirect_diffuse".into(), "temporal".into()),
+                ("gi.temporal.samples".into(), "4".into()),
+                ("gi.area_weights".into(), "true".into()),
+            ],
+            variants: vec![],
+            effect_ms: None,
+            frame_ms: None,
+            timing: "gpu".into(),
+            error: ErrorMetrics {
+                rmse: 0.0,
+                rmse_raw: 0.0,
+                bias: 0.0,
+                flip: None,
+                non_finite: 0,
+            },
+            reference: String::new(),
+            reference_spp: 1,
+        };
+        assert_eq!(row.label(true), "temporal, 4, true");
+        assert_eq!(row.label(false), "temporal, temporal.samples=4, area_weights=true");
+    }
+}
