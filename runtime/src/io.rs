@@ -52,6 +52,26 @@ impl Image {
             .collect()
     }
 
+    /// HDR colour for display: each colour channel of the linear values mapped by L/(1+L)
+    /// (negative as 0, non-finite as 1, a visible white); alpha as it is.
+    pub fn tone_mapped(&self) -> Image {
+        let rgba = self
+            .linear()
+            .into_iter()
+            .enumerate()
+            .map(|(i, v)| match (i % 4 == 3, v.is_finite()) {
+                (true, _) => v,
+                (false, true) => v.max(0.0) / (1.0 + v.max(0.0)),
+                (false, false) => 1.0,
+            })
+            .collect();
+        Image {
+            rgba,
+            srgb: false,
+            ..*self
+        }
+    }
+
     /// Texels that are NaN or infinite.
     pub fn non_finite(&self) -> usize {
         self.rgba.iter().filter(|v| !v.is_finite()).count()

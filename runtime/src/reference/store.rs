@@ -107,15 +107,11 @@ pub fn write(r: &Reference, scene: &Scene, s: &Settings, dir: &Path) -> Result<(
 
 /// A PNG to look at: radiance mapped by L/(1+L) (AO as it is).
 fn preview(t: &TermImage) -> Image {
-    let mut img = t.mean.clone();
-    if t.term != Term::Ao {
-        for (i, v) in img.rgba.iter_mut().enumerate() {
-            if i % 4 != 3 {
-                *v /= 1.0 + v.max(0.0);
-            }
-        }
+    if t.term == Term::Ao {
+        t.mean.clone()
+    } else {
+        t.mean.tone_mapped()
     }
-    img
 }
 
 /// The reference in `dir` if it was made from the same scene and settings.

@@ -65,30 +65,20 @@ pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<
         rmse: (mse - var / k).max(0.0).sqrt(),
         rmse_raw: mse.sqrt(),
         bias: diff / k,
-        flip: (n == 3).then(|| flip(&est, r)),
+        flip: (n == 3).then(|| flip(est, r)),
         non_finite,
     })
 }
 
 /// Mean FLIP of the two (linear) images, each mapped by L/(1+L).
-fn flip(estimate: &[f32], reference: &Image) -> f64 {
-    let mapped = |rgba: &[f32]| Image {
+fn flip(estimate: Vec<f32>, reference: &Image) -> f64 {
+    let estimate = Image {
         width: reference.width,
         height: reference.height,
-        rgba: rgba
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| {
-                if i % 4 == 3 || !v.is_finite() {
-                    1.0
-                } else {
-                    v.max(0.0) / (1.0 + v.max(0.0))
-                }
-            })
-            .collect(),
+        rgba: estimate,
         srgb: false,
     };
-    crate::diff::metrics::flip(&mapped(estimate), &mapped(&reference.rgba)).0
+    crate::diff::metrics::flip(&estimate.tone_mapped(), &reference.tone_mapped()).0
 }
 
 #[cfg(test)]

@@ -14,13 +14,7 @@ pub fn rgb8(img: &Image, format: TextureFormat, (near, far): (f32, f32)) -> Vec<
     let eight_bit = format.bytes() / format.components().max(1) == 1;
     let hdr_colour = channels >= 3 && !eight_bit && format.kind() == ScalarKind::Float && !format.is_depth();
     if hdr_colour {
-        let mut mapped = img.clone();
-        for (i, v) in mapped.rgba.iter_mut().enumerate() {
-            if i % 4 != 3 {
-                *v = if v.is_finite() { v.max(0.0) / (1.0 + v.max(0.0)) } else { 1.0 };
-            }
-        }
-        return display_rgb8(&mapped, channels, None);
+        return display_rgb8(&img.tone_mapped(), channels, None);
     }
     if channels >= 3 && eight_bit {
         return display_rgb8(img, channels, None);
