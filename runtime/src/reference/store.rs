@@ -34,49 +34,26 @@ struct Manifest {
 /// Everything the images depend on, hashed: geometry, materials, textures, lights, camera,
 /// size, settings and the renderer's version.
 pub fn key(scene: &Scene, s: &Settings) -> String {
-    let mut h = Fnv::default();
-    h.text(&format!("v{VERSION} {:?} {:?} {:?}", scene.size, scene.camera, s));
+    let mut h = crate::render::Fnv1a::default();
+    h.field(format!("v{VERSION} {:?} {:?} {:?}", scene.size, scene.camera, s).as_bytes());
     for m in &scene.meshes {
-        h.bytes(bytemuck::cast_slice(&m.vertices));
-        h.bytes(bytemuck::cast_slice(
+        h.field(bytemuck::cast_slice(&m.vertices));
+        h.field(bytemuck::cast_slice(
             &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())],
         ));
-        h.text(&format!("{} {:?}", m.material, m.transform));
+        h.field(format!("{} {:?}", m.material, m.transform).as_bytes());
     }
     for m in &scene.materials {
-        h.text(&format!("{m:?}"));
+        h.field(format!("{m:?}").as_bytes());
     }
     for t in &scene.textures {
-        h.text(&format!("{} {} {}", t.width, t.height, t.srgb));
-        h.bytes(&t.rgba);
+        h.field(format!("{} {} {}", t.width, t.height, t.srgb).as_bytes());
+        h.field(&t.rgba);
     }
     for l in scene.active_lights() {
-        h.text(&format!("{:?}", l.at(0.0)));
+        h.field(format!("{:?}", l.at(0.0)).as_bytes());
     }
     format!("{:016x}", h.0)
-}
-
-struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    fn bytes(&mut self, b: &[u8]) {
-        for &x in b {
-            self.0 ^= x as u64;
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        // Length-delimited, so that moving bytes between fields changes the key.
-        self.0 ^= b.len() as u64;
-        self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    fn text(&mut self, t: &str) {
-        self.bytes(t.as_bytes());
-    }
 }
 
 /// Write the reference's images and manifest into `dir` (each file atomically; the manifest
