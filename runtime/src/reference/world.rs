@@ -87,8 +87,14 @@ impl World {
             bvh,
             tris: order.iter().map(|&i| tris[i]).collect(),
             corners: order.iter().map(|&i| corners[i]).collect(),
-            material: order.iter().map(|&i| material[i]).collect(),
-            materials: scene.materials.clone(),
+            material: order.iter().map(|&i| material[i].min(scene.materials.len() as u32)).collect(),
+            // One past the scene's: white, for a mesh whose material index is out of range.
+            materials: scene
+                .materials
+                .iter()
+                .cloned()
+                .chain([Material::color("default", [1.0; 3], 1.0)])
+                .collect(),
             textures: scene.textures.clone(),
         }
     }
@@ -104,9 +110,7 @@ impl World {
         if !t.is_finite() {
             return t;
         }
-        let Some(mat) = self.materials.get(self.material[i] as usize) else {
-            return t;
-        };
+        let mat = &self.materials[self.material[i] as usize];
         let cutoff = match mat.alpha {
             AlphaMode::Opaque => return t,
             AlphaMode::Mask(c) => c,
@@ -168,8 +172,7 @@ impl World {
         let interpolated = c[0].normal * w.x + c[1].normal * w.y + c[2].normal * w.z;
         // Zero-length vertex normals: the face normal stands in (as in the shaders).
         let mut n = interpolated.try_normalize().unwrap_or(ng);
-        let default = Material::color("default", [1.0; 3], 1.0);
-        let mat = self.materials.get(self.material[i] as usize).unwrap_or(&default);
+        let mat = &self.materials[self.material[i] as usize];
         let map = |k: u32| self.uv_at(i, w, (mat.uv_sets >> k) & 1);
         if let Some(tex) = mat.normal_texture.and_then(|t| self.textures.get(t)) {
             let tangent = c[0].tangent * w.x + c[1].tangent * w.y + c[2].tangent * w.z;
