@@ -286,7 +286,11 @@ fn bad_specs_get_located_errors() {
         ),
         ("\"light_point\"]", "\"light_pint\"]", "the pipeline has no pass `light_pint`"),
         ("compare: \"hdr\"", "compare: \"shadow.cube\"", "the size of the viewport"),
-        ("compare: \"hdr\"", "compare: \"nothing\"", "the pipeline has no resource `nothing`"),
+        (
+            "compare: \"hdr\"",
+            "compare: \"nothing\"",
+            "this configuration has no resource `nothing`",
+        ),
         ("term: direct", "term: glow", ""),
         ("warmup: 1", "warmup: -1", ""),
     ]
@@ -304,6 +308,20 @@ fn bad_specs_get_located_errors() {
         let at = format!("bad{i}.ron:{line}:");
         assert!(err.contains(&at), "{to}: error not at line {line}: {err}");
     }
+    // A point's own compared resource is checked in its configuration, located on its line.
+    let own = std::fs::read_to_string(root().join("sweeps/indirect_diffuse.ron"))
+        .unwrap()
+        .replace("\"../", &format!("\"{}/", root().display()))
+        .replace("\"gi.samples\": 25}", "\"gi.samples\": 25, \"compare\": \"gi.indirekt\"}");
+    let p = dir.join("bad_own.ron");
+    std::fs::write(&p, &own).unwrap();
+    let (code, _, err) = sweep(p.to_str().unwrap(), &dir.join("out_own"), &[]);
+    assert_eq!(code, 2, "{err}");
+    let line = own.lines().position(|l| l.contains("gi.indirekt")).unwrap() + 1;
+    assert!(
+        err.contains(&format!("bad_own.ron:{line}:")) && err.contains("no resource `gi.indirekt`"),
+        "{err}"
+    );
     let (code, _, err) = lightbench(&["sweep", "sweeps/shadows.ron", "--shard", "2/2"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("expected K/N"), "{err}");

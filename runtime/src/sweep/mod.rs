@@ -77,6 +77,12 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
         scenes: HashMap::new(),
         references: HashMap::new(),
     };
+    if let Some(first) = todo.first() {
+        // The names the spec uses do not depend on the point: checked once, planned as it is.
+        let scene = scene(&mut inputs, l, first)?.clone();
+        let plan = crate::render::plan_configured(&ws, (&l.pipeline(), None), (&gpu.profile, &scene), &[])?;
+        check_names(l, &plan.exe.plan, &points)?;
+    }
     let bar = progress(todo.len(), opts.progress);
     for p in &todo {
         bar.set_message(id(p));
@@ -144,9 +150,10 @@ fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> 
     Ok(())
 }
 
-/// Names in the spec the pipeline does not have (checked against the default plan).
-fn check_names(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) -> Result<()> {
-    for (k, _) in &p.settings {
+/// Settings and effect passes the spec names that the pipeline does not have (checked
+/// against its default plan, whose culled passes count).
+fn check_names(l: &Loaded, plan: &lightbench_compiler::plan::Plan, points: &[Point]) -> Result<()> {
+    for (k, _) in points.iter().flat_map(|p| &p.settings) {
         if !plan.params.iter().any(|q| q.name == *k) && !plan.variants.iter().any(|v| v.variant == *k) {
             return Err(l.error_at(
                 &format!("\"{k}\""),
@@ -159,24 +166,32 @@ fn check_names(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) ->
             return Err(l.error_in("effect", &format!("\"{pass}\""), format!("the pipeline has no pass `{pass}`")));
         }
     }
-    if plan.resource(&l.spec.compare).is_none() {
-        return Err(l.error_in(
-            "compare",
-            &format!("\"{}\"", l.spec.compare),
-            format!("the pipeline has no resource `{}`", l.spec.compare),
-        ));
-    }
     Ok(())
+}
+
+/// The point's compared resource, if its configuration has it (located where it is named:
+/// the spec's `compare`, or the point's own).
+fn check_compare(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) -> Result<()> {
+    if plan.resource(&p.compare).is_some() {
+        return Ok(());
+    }
+    let (needle, msg) = (
+        format!("\"{}\"", p.compare),
+        format!("this configuration has no resource `{}`", p.compare),
+    );
+    Err(if p.compare == l.spec.compare {
+        l.error_in("compare", &needle, msg)
+    } else {
+        l.error_at(&needle, msg)
+    })
 }
 
 fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usize), opts: &Options, inputs: &mut Inputs) -> Result<Row> {
     reference_for(inputs, l, p, opts)?;
     let scene = scene(inputs, l, p)?.clone();
     let pipeline = l.pipeline();
-    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &[]).and_then(|c| {
-        check_names(l, &c.exe.plan, p)?;
-        crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)
-    })?;
+    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)?;
+    check_compare(l, &configured.exe.plan, p)?;
     let mut ex = Executor::new(gpu, &configured.exe, &scene)?;
     ex.set_reuse(false);
     for (name, value) in &configured.params {
