@@ -265,6 +265,18 @@ fn shards_merged_equal_the_whole_sweep() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("another sweep spec"), "{err}");
+    // A folder without rows is named, and nothing is written.
+    let (code, _, err) = lightbench(&[
+        "sweep",
+        "merge",
+        a.to_str().unwrap(),
+        dir.join("empty").to_str().unwrap(),
+        "--out",
+        dir.join("y").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("empty: no rows.jsonl with rows in it"), "{err}");
+    assert!(!dir.join("y").exists());
     // Nor does a folder of one spec take rows of another.
     let (code, _, err) = sweep("sweeps/ssr.ron", &a, &[]);
     assert_eq!(code, 2);
@@ -303,6 +315,7 @@ fn bad_specs_get_located_errors() {
         std::fs::write(&p, &text).unwrap();
         let (code, _, err) = sweep(p.to_str().unwrap(), &dir.join(format!("out{i}")), &[]);
         assert_eq!(code, 2, "{to}: {err}");
+        assert!(!dir.join(format!("out{i}/rows.jsonl")).exists(), "{to}: no rows written");
         assert!(err.contains(message), "{to}: {err}");
         let line = text.lines().position(|l| l.contains(to)).unwrap() + 1;
         let at = format!("bad{i}.ron:{line}:");
@@ -375,11 +388,13 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
         (vec!["--spp", "0"], "0 is not in 1..=1000000"),
         (vec!["--size", "16384x16384", "--terms", "direct,ao,full"], "GiB of sums and images"),
     ] {
-        let mut a = vec!["reference", "--out", out.to_str().unwrap()];
+        let fresh = out.join("fresh");
+        let mut a = vec!["reference", "--out", fresh.to_str().unwrap()];
         a.extend(bad.iter());
         let (code, _, err) = lightbench(&a);
         assert_eq!(code, 2, "{bad:?}: {err}");
         assert!(err.contains(message), "{bad:?}: {err}");
+        assert!(!fresh.exists(), "{bad:?}: nothing written");
     }
 }
 
@@ -409,7 +424,8 @@ fn init_projects_run_the_bundled_shadows_sweep() {
     let (code, _, err) = cli_common::lightbench_in(&dir, &["init", "proj"]);
     assert_eq!(code, 0, "{err}");
     let proj = dir.join("proj");
-    let (code, _, err) = cli_common::lightbench_in(&proj, &["sweep", "sweeps/shadows.ron", "--quiet"]);
+    // As the spec's comment and the README type it.
+    let (code, _, err) = cli_common::lightbench_in(&proj, &["sweep", "sweeps/shadows.ron"]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(csv(&proj.join("sweep-shadows/results.csv")).len(), 12);
 }
