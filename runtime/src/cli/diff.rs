@@ -128,7 +128,7 @@ fn execute(a: &Args) -> Result<bool> {
         list => Some(list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect()),
     };
     let size = a.size.as_deref().map(parse_size).transpose()?;
-    let scene = super::load_scene(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size)?;
     let ws = Workspace::disk();
     let report = if a.no_render {
         let profile = super::profile(&a.profile)?;

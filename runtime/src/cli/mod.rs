@@ -197,11 +197,6 @@ pub fn parse_assignments(flag: &str, form: &str, args: &[String]) -> Result<Vec<
     Ok(out)
 }
 
-/// The scene `--scene` names at the `--size` asked for (see `scene::load::load_sized`).
-pub fn load_scene(spec: &str, size: Option<(u32, u32)>) -> Result<crate::scene::Scene> {
-    crate::scene::load::load_sized(spec, size)
-}
-
 pub fn usage_error(msg: impl std::fmt::Display) -> i32 {
     eprintln!("error: {msg}");
     EXIT_USAGE

@@ -150,7 +150,7 @@ fn execute(
     size: Option<(u32, u32)>,
 ) -> Result<()> {
     let started = Instant::now();
-    let scene = super::load_scene(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size)?;
     let loaded = started.elapsed();
     let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,

@@ -58,7 +58,7 @@ fn execute(a: &Args) -> Result<()> {
     let steps = script(a)?;
     let (pipeline, workspace) = super::render::resolve_pipeline(a.pipeline.as_deref())?;
     let size = a.size.as_deref().map(super::plan::parse_size).transpose()?;
-    let scene = super::load_scene(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size)?;
     let opts = Options {
         workspace,
         pipeline,
