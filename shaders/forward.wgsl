@@ -21,15 +21,15 @@ fn vs_main(v: VertexIn) -> VsOut {
 
 // The depth pre-pass: depth only (cut-outs discarded, so that `Equal` later matches).
 @fragment
-fn fs_depth(in: VsOut) {
-    if cut_out(sample_material(in)) {
+fn fs_depth(in: VsOut, @builtin(front_facing) facing: bool) {
+    if cut_out(sample_material(in, facing)) {
         discard;
     }
 }
 
 @fragment
-fn fs_ambient(in: VsOut) -> @location(0) vec4<f32> {
-    let m = sample_material(in);
+fn fs_ambient(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let m = sample_material(in, facing);
     if cut_out(m) {
         discard;
     }
@@ -39,8 +39,8 @@ fn fs_ambient(in: VsOut) -> @location(0) vec4<f32> {
 // Single-pass lighting: ambient, emission and every light of the storage buffer, without
 // shadows (one shader would need every light's shadow map bound at once, seed 003 §4.4).
 @fragment
-fn fs_single(in: VsOut) -> @location(0) vec4<f32> {
-    let m = sample_material(in);
+fn fs_single(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let m = sample_material(in, facing);
     if cut_out(m) {
         discard;
     }

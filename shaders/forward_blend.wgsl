@@ -19,11 +19,12 @@ fn vs_main(v: VertexIn) -> VsOut {
 }
 
 @fragment
-fn fs_main(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let m = sample_material(in);
+fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let m = sample_material(in, facing);
+    if m.hidden {
+        discard; // the back of a single-sided pane
+    }
     var s = material_surface(in, m);
-    // Panes are seen from both sides: light the side facing the camera.
-    s.n = select(-m.n, m.n, front);
     // Hazard: a pane at the camera position.
     s.v = safe_normalize(frame.camera_pos.xyz - in.world_pos, s.n);
     let c = ambient_term(m, params.color) + all_lights(s);

@@ -28,10 +28,10 @@ fn vs_main(v: VertexIn) -> VsOut {
 }
 
 @fragment
-fn fs_main(in: VsOut) -> Packed {
-    let m = sample_material(in);
-    if m.base.a < material.alpha_cutoff {
-        discard; // alphaMode MASK: a cut-out
+fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> Packed {
+    let m = sample_material(in, facing);
+    if cut_out(m) {
+        discard; // alphaMode MASK, or the back of a single-sided surface
     }
     var out: Packed;
     out.normal = pack_normal_roughness(m.n, m.roughness);
@@ -42,9 +42,9 @@ fn fs_main(in: VsOut) -> Packed {
 }
 
 @fragment
-fn fs_fat(in: VsOut) -> Fat {
-    let m = sample_material(in);
-    if m.base.a < material.alpha_cutoff {
+fn fs_fat(in: VsOut, @builtin(front_facing) facing: bool) -> Fat {
+    let m = sample_material(in, facing);
+    if cut_out(m) {
         discard;
     }
     var out: Fat;
@@ -57,8 +57,8 @@ fn fs_fat(in: VsOut) -> Fat {
 // The fat layout's world positions (w = 1: something was drawn here), in a second pass with
 // depth test `Equal` (all the fat targets at once exceed WebGPU's bytes-per-sample limit).
 @fragment
-fn fs_fat_position(in: VsOut) -> @location(0) vec4<f32> {
-    if sample_material(in).base.a < material.alpha_cutoff {
+fn fs_fat_position(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    if cut_out(sample_material(in, facing)) {
         discard;
     }
     return vec4<f32>(in.world_pos, 1.0);

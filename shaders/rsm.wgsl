@@ -3,7 +3,8 @@
 // where a surface was drawn, 0 cleared), the normal and the flux — the light arriving at the
 // surface (colour × intensity × attenuation × cone) times its diffuse albedo (the seed's
 // "colour × specular strength"; here glTF base colour × (1 - metallic)). The light's
-// view-projection is the one its shadow map uses.
+// view-projection is the one its shadow map uses. Every surface is drawn (`cull None`): all
+// of them block light; the normal is the side facing the light.
 #include "lib/frame.wgsl"
 #include "lib/lighting.wgsl"
 #include "lib/material.wgsl"
@@ -22,8 +23,8 @@ fn vs_main(v: VertexIn) -> VsOut {
 }
 
 @fragment
-fn fs_main(in: VsOut) -> Rsm {
-    let m = sample_material(in);
+fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> Rsm {
+    let m = sample_material(in, facing);
     if m.base.a < material.alpha_cutoff {
         discard;
     }
@@ -31,6 +32,9 @@ fn fs_main(in: VsOut) -> Rsm {
     var out: Rsm;
     out.position = vec4<f32>(in.world_pos, 1.0);
     out.normal = vec4<f32>(m.n, 0.0);
-    out.flux = vec4<f32>(ls.radiance * m.base.rgb * (1.0 - m.metallic), 0.0);
+    // The lit back of a single-sided surface blocks the light but reflects none of it
+    // where it can be seen (it is seen from its front only).
+    let reflected = select(1.0, 0.0, m.hidden);
+    out.flux = vec4<f32>(ls.radiance * m.base.rgb * (1.0 - m.metallic) * reflected, 0.0);
     return out;
 }

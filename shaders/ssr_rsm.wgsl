@@ -4,12 +4,13 @@
 // behind the camera, Fig. 6.15). A hit is where the ray passes just behind the surface the
 // light sees (within `thickness`, world units); the reflected light is that surface's
 // outgoing diffuse radiance, flux / π. As the seed does, it counts only where the receiver
-// itself is lit by this light (its (1 - shadow) factor): the light's RSM must see the
-// receiver there. Per light, added up; the seed's b (fallback only on a G-buffer miss) is the
+// itself is lit by this light (its (1 - shadow) factor): the receiver faces the light and the
+// light's RSM sees it there (the RSM holds both faces of every surface). Per light, added up; the seed's b (fallback only on a G-buffer miss) is the
 // w test here. `fallback` off writes nothing.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
 #include "lib/rsm.wgsl"
+#include "lib/lighting.wgsl"
 
 struct Params {
     step: f32,
@@ -23,11 +24,12 @@ struct Params {
 @group(2) @binding(5) var rsm_flux: texture_2d<f32>;
 @group(2) @binding(6) var<uniform> params: Params;
 
-// Does the light see `p` (the receiver's shadow term from its RSM)? Within `thickness` of the
-// surface its map holds there.
-fn lit(l: Light, p: vec3<f32>) -> bool {
+// Does the light reach the receiver at `p` facing `n` (its shadow term from the RSM)? It faces
+// the light, and is within `thickness` of the surface the map holds there.
+fn lit(l: Light, p: vec3<f32>, n: vec3<f32>) -> bool {
     let seen = rsm_seen(rsm_position, l, p);
-    return seen.w > 0.0 && length(seen.xyz - p) < params.thickness;
+    let faces = dot(n, light_at(l, p).to_light) > 0.0;
+    return faces && seen.w > 0.0 && length(seen.xyz - p) < params.thickness;
 }
 
 @fragment
@@ -42,7 +44,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let l = lights[instance.light];
     let size = vec2<f32>(textureDimensions(rsm_flux, 0));
-    if !lit(l, s.world) {
+    if !lit(l, s.world, s.n) {
         return vec4<f32>(0.0);
     }
     let dir = reflect(-s.v, s.n);

@@ -162,7 +162,9 @@ fn layouts_come_from_formats_and_shader_use() {
         }
     ));
     // Visibility from actual entry-point use.
-    assert_eq!(binding(&plan, "gbuffer", "mesh").visibility, vec![Stage::Vertex]);
+    assert_eq!(binding(&plan, "shadow_map", "mesh").visibility, vec![Stage::Vertex]);
+    // The G-buffer's fragments read the model's handedness (sidedness, lib/material.wgsl).
+    assert_eq!(binding(&plan, "gbuffer", "mesh").visibility, vec![Stage::Vertex, Stage::Fragment]);
     assert_eq!(binding(&plan, "gbuffer", "material").visibility, vec![Stage::Fragment]);
     assert_eq!(
         binding(&plan, "luminance", "lum").ty,

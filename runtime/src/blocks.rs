@@ -79,7 +79,9 @@ pub struct MaterialBlock {
     /// Bit k set: map k (base colour, metallic-roughness, normal, emissive, occlusion) reads
     /// the second UV set.
     pub uv_sets: u32,
-    pub _pad1: f32,
+    /// 1: glTF `doubleSided` (back faces are drawn, their normal flipped); 0: back faces
+    /// are not seen.
+    pub double_sided: u32,
 }
 
 /// Interleaved scene vertex: locations 0..4 of the standard vertex layout.

@@ -367,3 +367,33 @@ fn a_blend_pane_over_a_red_wall_blends_over() {
     }
     assert!(blended[0] > 0.1 && blended[2] > 0.1, "both show: {blended:?}");
 }
+
+/// glTF `doubleSided` decides whether a surface is seen from behind, and a scene file's model
+/// `double_sided` overrides it: the quad turned over (its back to the camera and the sun
+/// above) is drawn only when double-sided, lit as its own side (its normal flipped).
+#[test]
+fn double_sided_is_read_and_a_scene_file_overrides_it() {
+    let d = scratch("double-sided");
+    let seen = |double_sided: Option<bool>, scene_says: Option<bool>| -> Option<[f32; 4]> {
+        write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], None, |doc| {
+            if let Some(v) = double_sided {
+                doc["materials"][0]["doubleSided"] = serde_json::json!(v);
+            }
+        });
+        let over = scene_says.map_or(String::new(), |v| format!(", double_sided: {v}"));
+        let text = format!(
+            "Scene(\n    size: (32, 32),\n    camera: (position: (0.0, 3.0, 0.01), pitch: -89.0, fov: 60.0, near: 0.1, far: 10.0),\n    models: [(path: \"model.gltf\", rotation: (0.0, 180.0, 0.0){over})],\n    lights: [Directional(direction: (0.0, -1.0, 0.0), intensity: 2.0)],\n)\n"
+        );
+        std::fs::write(d.join("turned.ron"), text).unwrap();
+        let s = scene::load(d.join("turned.ron").to_str().unwrap()).unwrap();
+        let g = gpu();
+        let ex = render_with(&g, &deferred(), &s, &[], 1);
+        let depth = ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap().pixel(16, 16)[0];
+        (depth < 1.0).then(|| ex.read_texture(&g, "hdr", 0, 0).unwrap().pixel(16, 16))
+    };
+    assert_eq!(seen(None, None), None, "single-sided by default: its back is not drawn");
+    let lit = seen(Some(true), None).expect("doubleSided: its back is drawn");
+    assert!(lit[0] > 0.3, "lit from above through its flipped normal: {lit:?}");
+    assert_eq!(seen(Some(true), Some(false)), None, "the scene file makes it single-sided");
+    assert!(seen(Some(false), Some(true)).is_some(), "the scene file makes it double-sided");
+}

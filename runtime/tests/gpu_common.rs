@@ -33,6 +33,42 @@ pub fn render_with(gpu: &Gpu, pipeline: &Path, scene: &Scene, variants: &[(&str,
     lightbench::render::render(gpu, &exe, scene, frames).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The raster `hdr` of `pipeline` (with `variants` and `params`; ambient 0 among them to
+/// compare direct light) and the reference's `direct` term (1 spp: it is exact) of `s`.
+pub fn raster_and_direct(s: &Scene, pipeline: &Path, variants: &[(&str, &str)], params: &[(&str, &str)]) -> (Image, Image) {
+    use lightbench::reference::{Budget, Settings, Term};
+    let settings = Settings {
+        budget: Budget::Spp(1),
+        terms: vec![Term::Direct],
+        ..Settings::default()
+    };
+    let r = lightbench::reference::render(s, &settings, false);
+    let reference = r.term(Term::Direct).unwrap().mean.clone();
+    let gpu = gpu();
+    let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    let (exe, _) = lightbench::render::compile(&gpu, pipeline, None, s, &v).unwrap_or_else(|e| panic!("{e}"));
+    let set: Vec<(String, String)> = params.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    let ex = lightbench::render::render_with(&gpu, &exe, s, 1, &params).unwrap();
+    (ex.read_texture(&gpu, "hdr", 0, 0).unwrap(), reference)
+}
+
+/// Two images value by value (RGB): the share of values within `tolerance` (relative, against
+/// at least 0.02) and the median relative difference.
+pub fn agreement(raster: &Image, reference: &Image, tolerance: f64) -> (f64, f64) {
+    let mut rel: Vec<f64> = raster
+        .rgba
+        .chunks_exact(4)
+        .zip(reference.rgba.chunks_exact(4))
+        .flat_map(|(g, f)| (0..3).map(move |c| (g[c] - f[c]).abs() as f64 / (f[c].abs() as f64).max(0.02)))
+        .collect();
+    rel.sort_by(f64::total_cmp);
+    let share = rel.iter().filter(|&&x| x < tolerance).count() as f64 / rel.len() as f64;
+    let median = rel[rel.len() / 2];
+    eprintln!("within {tolerance}: {:.2}%, median relative difference {median:.5}", share * 100.0);
+    (share, median)
+}
+
 pub fn output(gpu: &Gpu, ex: &Executor) -> Image {
     ex.read_texture(gpu, &ex.plan().output_resource().name, 0, 0).unwrap()
 }

@@ -6,7 +6,13 @@ mod gpu_common;
 
 use glam::{Mat4, Vec3};
 use lightbench::io::Image;
-use lightbench::reference::{self, integrate::Context, sample::Rng, world::World, Brdf, Budget, Settings, Term};
+use lightbench::reference::{
+    self,
+    integrate::Context,
+    sample::Rng,
+    world::{Faces, World},
+    Brdf, Budget, Settings, Term,
+};
 use lightbench::scene::geometry::{cuboid, quad};
 use lightbench::scene::{builtin, Camera, Material, Mesh, Scene};
 use std::collections::BTreeSet;
@@ -68,6 +74,8 @@ fn white_furnace_converges_to_e_over_one_minus_a() {
     for (a, e) in [(0.5f32, 1.0f32), (0.8, 0.25)] {
         let mut m = Material::color("furnace", [a; 3], 1.0);
         m.emissive = [e; 3];
+        // Its faces point out: seen from inside, it must be double-sided.
+        m.double_sided = true;
         let s = scene(
             vec![mesh("box", cuboid(Vec3::splat(1.0)), 0)],
             vec![m],
@@ -114,7 +122,9 @@ fn floor_and_wall(wall: bool) -> Scene {
 /// The AO term at the floor point (x, 0, 0), averaged over `n` samples.
 fn ao_at(s: &Scene, x: f32, radius: f32, n: u32) -> f64 {
     let world = World::new(s);
-    let hit = world.trace(Vec3::new(x, 1.0, 0.0), Vec3::NEG_Y, 0.0, 10.0).expect("the floor");
+    let hit = world
+        .trace(Vec3::new(x, 1.0, 0.0), Vec3::NEG_Y, (0.0, 10.0), Faces::Seen)
+        .expect("the floor");
     let ctx = Context {
         world: &world,
         lights: vec![],
@@ -174,25 +184,8 @@ fn the_same_seed_gives_bit_identical_images_on_any_thread_count() {
 /// (ambient 0 among them), compared value by value: the share of values within `tolerance`
 /// (relative, against at least 0.02) and the median relative difference.
 fn direct_agreement(s: &Scene, params: &[(&str, &str)], tolerance: f64) -> (f64, f64) {
-    let r = reference::render(s, &settings(&[Term::Direct], 1), false);
-    let reference = &r.term(Term::Direct).unwrap().mean;
-    let gpu = gpu_common::gpu();
-    let (exe, _) = lightbench::render::compile(&gpu, &gpu_common::deferred(), None, s, &[]).unwrap();
-    let set: Vec<(String, String)> = params.iter().map(|(k, v)| (k.to_string(), v.to_string())).collect();
-    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
-    let ex = lightbench::render::render_with(&gpu, &exe, s, 1, &params).unwrap();
-    let raster = ex.read_texture(&gpu, "hdr", 0, 0).unwrap();
-    let mut rel: Vec<f64> = raster
-        .rgba
-        .chunks_exact(4)
-        .zip(reference.rgba.chunks_exact(4))
-        .flat_map(|(g, f)| (0..3).map(move |c| (g[c] - f[c]).abs() as f64 / (f[c].abs() as f64).max(0.02)))
-        .collect();
-    rel.sort_by(f64::total_cmp);
-    let share = rel.iter().filter(|&&x| x < tolerance).count() as f64 / rel.len() as f64;
-    let median = rel[rel.len() / 2];
-    eprintln!("within {tolerance}: {:.2}%, median relative difference {median:.5}", share * 100.0);
-    (share, median)
+    let (raster, reference) = gpu_common::raster_and_direct(s, &gpu_common::deferred(), &[], params);
+    gpu_common::agreement(&raster, &reference, tolerance)
 }
 
 /// Both sides define lights and materials the same way: the raster deferred pipeline's HDR

@@ -4,11 +4,6 @@
 #include "lib/surface.wgsl"
 #include "lib/lighting.wgsl"
 
-// Cut-outs (alphaMode MASK) are discarded where the G-buffer pass discards them.
-fn cut_out(m: MaterialSample) -> bool {
-    return m.base.a < material.alpha_cutoff;
-}
-
 fn material_surface(in: VsOut, m: MaterialSample) -> Surface {
     var s: Surface;
     s.world = in.world_pos;

@@ -36,8 +36,8 @@ fn fs_fat(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 @fragment
-fn fs_forward(in: VsOut) -> @location(0) vec4<f32> {
-    let m = sample_material(in);
+fn fs_forward(in: VsOut, @builtin(front_facing) facing: bool) -> @location(0) vec4<f32> {
+    let m = sample_material(in, facing);
     if cut_out(m) {
         discard;
     }

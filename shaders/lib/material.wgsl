@@ -34,11 +34,28 @@ struct MaterialSample {
     emissive: vec3<f32>,
     // ambient occlusion to apply (1: none)
     occlusion: f32,
+    // the back of a single-sided surface: not seen (callers discard it, see `cut_out`)
+    hidden: bool,
 };
 
-// Every map of the material at this fragment. All samples come first: implicit derivatives
-// need uniform control flow, so callers may discard only afterwards.
-fn sample_material(in: VsOut) -> MaterialSample {
+// Sidedness, one rule (glTF `doubleSided`): the front of a triangle is the side its
+// counter-clockwise winding faces, swapped by a mirroring transform (negative determinant,
+// glTF §3.7.4). `facing` is the rasterizer's `front_facing`.
+fn seen_from_front(facing: bool) -> bool {
+    let m = mat3x3<f32>(mesh.model[0].xyz, mesh.model[1].xyz, mesh.model[2].xyz);
+    return facing != (determinant(m) < 0.0);
+}
+
+// Fragments that draw nothing: cut-outs (alphaMode MASK) and the backs of single-sided
+// surfaces.
+fn cut_out(m: MaterialSample) -> bool {
+    return m.base.a < material.alpha_cutoff || m.hidden;
+}
+
+// Every map of the material at this fragment, its normal turned to the side seen (`facing`:
+// the `front_facing` builtin). All samples come first: implicit derivatives need uniform
+// control flow, so callers may discard (`cut_out`) only afterwards.
+fn sample_material(in: VsOut, facing: bool) -> MaterialSample {
     let uv = array<vec2<f32>, 5>(
         material_uv(in.uv, in.uv1, MAP_BASE_COLOR),
         material_uv(in.uv, in.uv1, MAP_METALLIC_ROUGHNESS),
@@ -71,5 +88,9 @@ fn sample_material(in: VsOut) -> MaterialSample {
     m.roughness = clamp(material.roughness * mr.g, 0.03, 1.0);
     m.metallic = clamp(material.metallic * mr.b, 0.0, 1.0);
     m.occlusion = mix(1.0, occlusion, material.occlusion_strength);
+    let front = seen_from_front(facing);
+    m.hidden = !front && material.double_sided == 0u;
+    // The back of a double-sided surface is lit as its own side: the normal flips.
+    m.n = select(-m.n, m.n, front);
     return m;
 }

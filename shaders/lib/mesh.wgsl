@@ -23,7 +23,8 @@ struct Material {
     occlusion_strength: f32,
     // bit k: map k (base colour, metallic-roughness, normal, emissive, occlusion) reads uv1
     uv_sets: u32,
-    _pad1: f32,
+    // glTF doubleSided (1): back faces are drawn with the normal flipped; else not seen
+    double_sided: u32,
 };
 
 struct VertexIn {

@@ -61,6 +61,7 @@ fn model_scene(spec: &str, sources: &mut SourceMap) -> SceneDesc {
         scale: 1.0,
         triangles: 1.0,
         reflective: false,
+        double_sided: None,
         at: super::KeySpans {
             span,
             keys: Default::default(),

@@ -316,7 +316,7 @@ fn material_block(m: &Material) -> MaterialBlock {
         },
         occlusion_strength: if m.occlusion_texture.is_some() { m.occlusion_strength } else { 0.0 },
         uv_sets: m.uv_sets,
-        _pad1: 0.0,
+        double_sided: m.double_sided as u32,
     }
 }
 

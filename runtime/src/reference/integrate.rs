@@ -4,7 +4,7 @@
 
 use super::sample::{cosine_hemisphere, power_lobe, Rng};
 use super::shading::{shininess, Brdf, PunctualLight};
-use super::world::{Hit, World};
+use super::world::{Faces, Hit, World};
 use glam::Vec3;
 
 /// Bounces after which Russian roulette may end a `full` path, and the hard cap.
@@ -61,7 +61,7 @@ impl Context<'_> {
         if h.ng.dot(d) <= 0.0 {
             return 0.0;
         }
-        match self.world.trace(self.origin(h), d, 0.0, self.ao_radius) {
+        match self.world.trace(self.origin(h), d, (0.0, self.ao_radius), Faces::Both) {
             Some(hit) if self.ao_falloff => 1.0 - 1.0 / (1.0 + hit.t * hit.t),
             Some(_) => 0.0,
             None => 1.0,
@@ -76,7 +76,7 @@ impl Context<'_> {
         if h.ng.dot(d) <= 0.0 {
             return Vec3::ZERO;
         }
-        match self.world.trace(self.origin(h), d, 0.0, f32::INFINITY) {
+        match self.world.trace(self.origin(h), d, (0.0, f32::INFINITY), Faces::Seen) {
             Some(y) => self.direct_light(&y, -d),
             None => Vec3::ZERO,
         }
@@ -92,7 +92,7 @@ impl Context<'_> {
         if h.ng.dot(l) <= 0.0 || h.n.dot(l) <= 0.0 {
             return Vec3::ZERO;
         }
-        match self.world.trace(self.origin(h), l, 0.0, f32::INFINITY) {
+        match self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen) {
             Some(y) => self.direct(&y, -l),
             None => Vec3::ZERO,
         }
@@ -118,7 +118,7 @@ impl Context<'_> {
                 }
                 throughput /= survive;
             }
-            let Some(y) = self.world.trace(self.origin(&h), l, 0.0, f32::INFINITY) else {
+            let Some(y) = self.world.trace(self.origin(&h), l, (0.0, f32::INFINITY), Faces::Seen) else {
                 break;
             };
             sum += throughput * self.direct(&y, -l);

@@ -233,7 +233,7 @@ fn pass_row(
     let (w, _) = cam.size;
     for x in 0..w {
         let (origin, dir, len) = cam.ray(x, y);
-        let hit = ctx.world.trace(origin, dir, 0.0, len);
+        let hit = ctx.world.trace(origin, dir, (0.0, len), world::Faces::Seen);
         let pixel = (y * w + x) as u64;
         for (k, &term) in terms.iter().enumerate() {
             let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];

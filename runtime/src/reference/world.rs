@@ -38,6 +38,18 @@ pub struct Hit {
     pub emissive: Vec3,
 }
 
+/// Which faces a ray meets. The one sidedness rule, as the raster pipelines draw it: what
+/// the camera sees, directly or by a bounce, is a surface's front, or either side of a
+/// double-sided one (glTF `doubleSided`); what blocks light (shadows, occlusion) is every
+/// surface, from either side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Faces {
+    /// Camera and bounce rays: the backs of single-sided surfaces let them through.
+    Seen,
+    /// Occlusion: every face.
+    Both,
+}
+
 pub struct World {
     bvh: CwBvh,
     /// Triangles in BVH order (so a leaf's primitive id indexes them directly).
@@ -56,8 +68,16 @@ impl World {
         for m in &scene.meshes {
             let normal_matrix = m.transform.inverse().transpose();
             let drawn = m.drawn_indices() as usize;
+            // A mirroring transform swaps the sides of its triangles (glTF §3.7.4): wind them
+            // the other way, so that the face normal always points out of the front.
+            let mirrored = m.transform.determinant() < 0.0;
             for idx in m.indices[..drawn.min(m.indices.len())].chunks_exact(3) {
-                let vs = [idx[0], idx[1], idx[2]].map(|i| m.vertices.get(i as usize).copied().unwrap_or_else(bytemuck::Zeroable::zeroed));
+                let idx = if mirrored {
+                    [idx[0], idx[2], idx[1]]
+                } else {
+                    [idx[0], idx[1], idx[2]]
+                };
+                let vs = idx.map(|i| m.vertices.get(i as usize).copied().unwrap_or_else(bytemuck::Zeroable::zeroed));
                 let p = vs.map(|v| Vec3A::from(m.transform.transform_point3(Vec3::from(v.position))));
                 tris.push(Triangle {
                     v0: p[0],
@@ -104,13 +124,18 @@ impl World {
     }
 
     /// Distance to triangle `i` along `ray`, or infinity; cut-out texels (alpha mask) and,
-    /// with the probability of their transparency, blended ones let the ray through.
-    fn intersect(&self, ray: &Ray, i: usize) -> f32 {
-        let t = self.tris[i].intersect(ray);
+    /// with the probability of their transparency, blended ones let the ray through. With
+    /// `Faces::Seen` so does the back of a single-sided surface.
+    fn intersect(&self, ray: &Ray, i: usize, faces: Faces) -> f32 {
+        let t = hit_distance(&self.tris[i], ray);
         if !t.is_finite() {
             return t;
         }
         let mat = &self.materials[self.material[i] as usize];
+        let tri = &self.tris[i];
+        if faces == Faces::Seen && !mat.double_sided && (tri.v1 - tri.v0).cross(tri.v2 - tri.v0).dot(ray.direction) > 0.0 {
+            return f32::INFINITY;
+        }
         let cutoff = match mat.alpha {
             AlphaMode::Opaque => return t,
             AlphaMode::Mask(c) => c,
@@ -127,11 +152,12 @@ impl World {
         }
     }
 
-    /// The nearest surface along `dir` from `origin` between `tmin` and `tmax`.
-    pub fn trace(&self, origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
+    /// The nearest surface along `dir` from `origin` between `tmin` and `tmax`, of the
+    /// `faces` asked for.
+    pub fn trace(&self, origin: Vec3, dir: Vec3, (tmin, tmax): (f32, f32), faces: Faces) -> Option<Hit> {
         let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
         let mut hit = RayHit::none();
-        if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i)) {
+        if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i, faces)) {
             return None;
         }
         Some(self.surface(hit.primitive_id as usize, origin, dir, hit.t))
@@ -140,7 +166,7 @@ impl World {
     /// Whether anything lies along `dir` from `origin` between `tmin` and `tmax`.
     pub fn occluded(&self, origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> bool {
         let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
-        !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i))
+        !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i, Faces::Both))
     }
 
     /// Barycentric weights of `p` on triangle `i` and its (unnormalised) face normal.
@@ -192,7 +218,8 @@ impl World {
             .emissive_texture
             .and_then(|t| self.textures.get(t))
             .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, map(3))));
-        // Two-sided: normals face the incoming ray.
+        // Normals face the incoming ray: a back is hit only where it is seen (double-sided)
+        // or by an occlusion ray.
         let (ng, n) = if ng.dot(dir) > 0.0 {
             (-ng, if n.dot(dir) > 0.0 { -n } else { n })
         } else {
@@ -225,6 +252,32 @@ impl World {
 }
 
 /// The tangent-space normal map applied as `lib/material.wgsl` applies it.
+/// Möller–Trumbore, from either side, edges included: a ray through the edge two triangles
+/// share hits one of them whichever side it comes from (obvhs's `Triangle::intersect` tests
+/// signs by bits, so -0.0 on a shared edge seen from behind misses both).
+fn hit_distance(tri: &Triangle, ray: &Ray) -> f32 {
+    let (e1, e2) = (tri.v1 - tri.v0, tri.v2 - tri.v0);
+    let p = ray.direction.cross(e2);
+    let det = e1.dot(p);
+    if det == 0.0 || !det.is_finite() {
+        return f32::INFINITY;
+    }
+    let inv = 1.0 / det;
+    let s = ray.origin - tri.v0;
+    let u = s.dot(p) * inv;
+    let q = s.cross(e1);
+    let v = ray.direction.dot(q) * inv;
+    if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
+        return f32::INFINITY;
+    }
+    let t = e2.dot(q) * inv;
+    if t >= ray.tmin && t <= ray.tmax {
+        t
+    } else {
+        f32::INFINITY
+    }
+}
+
 fn normal_mapped(n: Vec3, tangent: Vec4, texel: Vec3, scale: f32) -> Vec3 {
     let t_len = tangent.truncate().length();
     if t_len <= 1e-6 {

@@ -92,7 +92,7 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
     let materials: Vec<Value> = scene
         .materials
         .iter()
-        .map(|m| json!({"name": m.name, "pbrMetallicRoughness": {"baseColorFactor": m.base_color, "metallicFactor": m.metallic, "roughnessFactor": m.roughness}, "emissiveFactor": m.emissive}))
+        .map(|m| json!({"name": m.name, "pbrMetallicRoughness": {"baseColorFactor": m.base_color, "metallicFactor": m.metallic, "roughnessFactor": m.roughness}, "emissiveFactor": m.emissive, "doubleSided": m.double_sided}))
         .collect();
     let mut lights = vec![];
     for l in scene.lights.iter().filter(|l| l.on) {

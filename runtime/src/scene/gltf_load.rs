@@ -140,6 +140,7 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
         },
         sampler: material_sampler(m),
         uv_sets: uv_sets(m),
+        double_sided: m.double_sided(),
     })
 }
 

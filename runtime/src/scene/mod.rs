@@ -174,6 +174,10 @@ pub struct Material {
     /// Bit k set: map k (base colour, metallic-roughness, normal, emissive, occlusion) reads
     /// TEXCOORD_1.
     pub uv_sets: u32,
+    /// glTF `doubleSided`: seen from both sides (the back with its normal flipped). A
+    /// single-sided surface is invisible from behind but, like every surface, still blocks
+    /// light from both sides.
+    pub double_sided: bool,
 }
 
 impl Material {
@@ -195,6 +199,7 @@ impl Material {
             alpha: AlphaMode::Opaque,
             sampler: SamplerDesc::default(),
             uv_sets: 0,
+            double_sided: false,
         }
     }
 }

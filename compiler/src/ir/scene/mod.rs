@@ -138,6 +138,8 @@ pub struct ModelDesc {
     /// Fraction of each mesh's triangles drawn, in (0, 1].
     pub triangles: f32,
     pub reflective: bool,
+    /// Overrides glTF `doubleSided` for every material of the model (`None`: as the file says).
+    pub double_sided: Option<bool>,
     pub at: KeySpans,
 }
 

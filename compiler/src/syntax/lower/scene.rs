@@ -22,7 +22,15 @@ pub fn scene(root: &Node, dir: &Path, diags: &mut Diagnostics) -> Option<SceneFi
 
 const SCENE_KEYS: &[&str] = &["name", "size", "camera", "builtin", "models", "lights", "effects"];
 const CAMERA_KEYS: &[&str] = &["position", "yaw", "pitch", "fov", "near", "far", "animation"];
-const MODEL_KEYS: &[&str] = &["path", "translation", "rotation", "scale", "triangles", "reflective"];
+const MODEL_KEYS: &[&str] = &[
+    "path",
+    "translation",
+    "rotation",
+    "scale",
+    "triangles",
+    "reflective",
+    "double_sided",
+];
 const LIGHT_KEYS: &[&str] = &[
     "on",
     "color",
@@ -185,6 +193,11 @@ impl Lowerer<'_> {
         let scale = self.num(&mut o, "scale");
         let triangles = self.num(&mut o, "triangles");
         let reflective = o.get("reflective").and_then(|n| self.bool(&n));
+        // No default: absent, each material keeps the glTF file's `doubleSided`.
+        let double_sided = match o.take("double_sided") {
+            Some(n) => self.bool(&n).map(Some),
+            None => Some(None),
+        };
         let at = o.key_spans();
         self.finish(o, MODEL_KEYS, &[]);
         let path = path?;
@@ -196,6 +209,7 @@ impl Lowerer<'_> {
             scale: scale?,
             triangles: triangles?,
             reflective: reflective?,
+            double_sided: double_sided?,
             at,
         })
     }
