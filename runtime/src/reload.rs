@@ -124,6 +124,8 @@ pub struct Reloader {
     /// The size rendered at: a reloaded scene file keeps it (it may come from `--size`).
     size: (u32, u32),
     features: lightbench_compiler::scene::SceneFeatures,
+    /// Effects a reloaded scene file calls for besides its own (`--effect`).
+    added_effects: Vec<lightbench_compiler::ir::Effect>,
     watch: Watch,
     /// The last failure, until a reload succeeds.
     pub last_error: Option<String>,
@@ -158,6 +160,7 @@ impl Reloader {
             scene_file: scene_file.map(absolute),
             size: scene.size,
             features: scene.features(),
+            added_effects: vec![],
             watch: Watch::new()?,
             last_error: None,
         };
@@ -169,6 +172,11 @@ impl Reloader {
     /// Compile with these variant choices from now on (a viewer switched one).
     pub fn set_variants(&mut self, variants: &[(String, String)]) {
         self.variants = variants.to_vec();
+    }
+
+    /// A reloaded scene file calls for these effects too (`--effect`).
+    pub fn add_effects(&mut self, effects: &[lightbench_compiler::ir::Effect]) {
+        self.added_effects.extend(effects.iter().copied());
     }
 
     /// Plan for this scene from now on (a viewer toggled a light).
@@ -205,6 +213,7 @@ impl Reloader {
             Some(f) => match crate::scene::load(&f.display().to_string()) {
                 Ok(mut s) => {
                     s.size = self.size;
+                    s.effects.extend(self.added_effects.iter().copied());
                     Some(s)
                 }
                 Err(e) => return Some(self.failed(e.to_string(), files)),

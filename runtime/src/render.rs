@@ -159,6 +159,25 @@ pub fn parse_params(plan: &lightbench_compiler::plan::Plan, args: &[(String, Str
 }
 
 /// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).
+/// What a command says once about a Plan: the effects the pipeline serves that the scene does
+/// not call for, and how to ask for them (a model rendered on its own otherwise silently does
+/// no GI).
+pub fn uncalled_effects_note(plan: &lightbench_compiler::plan::Plan) -> Option<String> {
+    if plan.uncalled_effects.is_empty() {
+        return None;
+    }
+    let names: Vec<&str> = plan.uncalled_effects.iter().map(|e| e.name()).collect();
+    let flags: Vec<String> = names.iter().map(|n| format!("--effect {n}")).collect();
+    Some(format!(
+        "note: {}: the passes for {} are culled: the scene `{}` does not call for {}; add {} to run them",
+        plan.pipeline,
+        names.join(", "),
+        plan.scene,
+        if names.len() == 1 { "it" } else { "them" },
+        flags.join(" ")
+    ))
+}
+
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h = Fnv1a::default();
     h.write(bytes);

@@ -220,3 +220,45 @@ fn render_watch_bad_arguments() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--watch"), "{err}");
 }
+
+/// A model given on its own calls for shadows only: `deferred_gi` culls its indirect passes
+/// and says so once, naming the flag; `--effect IndirectDiffuse` runs them (the README's
+/// command); an unknown effect is a usage error with a suggestion.
+#[test]
+fn effect_adds_to_a_model_given_on_its_own_and_culled_effects_are_noted() {
+    let d = temp("effect");
+    let out = d.join("gi.png").display().to_string();
+    let model = root().join("scenes/chair.gltf").display().to_string();
+    let gi = root().join("pipelines/deferred_gi.ron").display().to_string();
+    let base = [
+        "render",
+        "--pipeline",
+        &gi,
+        "--scene",
+        &model,
+        "--size",
+        "48x48",
+        "--out",
+        &out,
+        "--timings",
+    ];
+    let (code, stdout, err) = run(&base);
+    assert_eq!(code, 0, "{err}");
+    let notes: Vec<&str> = err.lines().filter(|l| l.starts_with("note: deferred_gi: the passes for")).collect();
+    assert_eq!(notes.len(), 1, "{err}");
+    assert!(
+        notes[0].contains("IndirectDiffuse") && notes[0].contains("--effect IndirectDiffuse"),
+        "{err}"
+    );
+    assert!(!stdout.lines().any(|l| l.starts_with("indirect_diffuse")), "{stdout}");
+    let (code, stdout, err) = run(&[&base[..], &["--effect", "IndirectDiffuse"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(stdout.lines().any(|l| l.starts_with("indirect_diffuse")), "{stdout}");
+    assert!(!err.contains("IndirectDiffuse"), "no longer noted: {err}");
+    let (code, _, err) = run(&[&base[..], &["--effect", "IndirectDifuse"]].concat());
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("unknown effect `IndirectDifuse`") && err.contains("did you mean `IndirectDiffuse`?"),
+        "{err}"
+    );
+}

@@ -96,6 +96,22 @@ impl Condition {
         }
     }
 
+    /// Every effect the expression names (under `Not` too), in order, each once.
+    pub fn effects(&self) -> Vec<Effect> {
+        let mut out = vec![];
+        self.collect_effects(&mut out);
+        out
+    }
+
+    fn collect_effects(&self, out: &mut Vec<Effect>) {
+        match self {
+            Condition::Effect(e) if !out.contains(e) => out.push(*e),
+            Condition::Not(c) => c.collect_effects(out),
+            Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| c.collect_effects(out)),
+            _ => {}
+        }
+    }
+
     /// Does the value depend on the effects or materials a scene calls for?
     pub fn mentions_scene_effects(&self) -> bool {
         match self {

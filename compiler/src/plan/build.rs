@@ -47,6 +47,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
                 reason: why.clone(),
             })
             .collect(),
+        uncalled_effects: uncalled_effects(p, cfg, &schedule),
         output: ids.res(&p.output.value)?,
         hdr_output: match &p.hdr_output {
             Some(h) => Some(ids.res(&h.value)?),
@@ -57,6 +58,21 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         jitter: p.jitter,
     };
     (diags.error_count() == before).then_some(plan)
+}
+
+/// Effects named in the conditions of culled passes that the scene does not call for.
+fn uncalled_effects(p: &crate::ir::Pipeline, cfg: &Config, schedule: &Schedule) -> Vec<Effect> {
+    let mut out: Vec<Effect> = vec![];
+    for &i in schedule.culled.keys() {
+        let Some(when) = &p.passes[i].when else { continue };
+        for e in when.value.effects() {
+            if !cfg.scene.effects.contains(&e) && !out.contains(&e) {
+                out.push(e);
+            }
+        }
+    }
+    out.sort_by_key(|e| Effect::ALL.iter().position(|a| a == e));
+    out
 }
 
 /// Every color target of a kept pass renders on the profile (the declaration check only warns

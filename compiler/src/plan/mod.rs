@@ -23,7 +23,7 @@ use crate::check::PassVersion;
 use crate::format::TextureFormat;
 use crate::ir::scene::SceneFeatures;
 use crate::ir::{
-    AddressMode, Blend, CompareFn, CullMode, Draw, FilterMode, LayerSel, LightKind, Load, MipRange, MipSel, ParamType, ParamValue,
+    AddressMode, Blend, CompareFn, CullMode, Draw, Effect, FilterMode, LayerSel, LightKind, Load, MipRange, MipSel, ParamType, ParamValue,
     SamplerKind, SizeSpec, Stage, ViewDim,
 };
 use crate::layout::{BindGroupLayout, BindSource, Binding, UniformBlock};
@@ -391,6 +391,10 @@ pub struct Plan {
     /// Passes in execution order.
     pub passes: Vec<PlanPass>,
     pub culled: Vec<CulledPass>,
+    /// Effects that passes of the pipeline serve, culled because the scene does not call for
+    /// them (a model given on its own calls for shadows only): what `render` notes once.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub uncalled_effects: Vec<Effect>,
     pub resources: Vec<PlanResource>,
     pub output: ResourceId,
     /// The linear image before tone mapping, when the pipeline names one (`hdr_output`).

@@ -27,6 +27,8 @@ pub struct Args {
     /// Scene file or built-in scene both sides render.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
+    #[command(flatten)]
+    pub effects: super::EffectArgs,
     /// Size to render at, overriding the scene's.
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
@@ -128,7 +130,7 @@ fn execute(a: &Args) -> Result<bool> {
         list => Some(list.split(',').map(|s| s.trim().to_string()).filter(|s| !s.is_empty()).collect()),
     };
     let size = a.size.as_deref().map(parse_size).transpose()?;
-    let scene = crate::scene::load::load_sized(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size, &a.effects.effects)?;
     let ws = Workspace::disk();
     let report = if a.no_render {
         let profile = super::profile(&a.profile)?;

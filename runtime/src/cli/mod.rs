@@ -201,3 +201,24 @@ pub fn usage_error(msg: impl std::fmt::Display) -> i32 {
     eprintln!("error: {msg}");
     EXIT_USAGE
 }
+
+/// `--effect NAME` (render, view, verify, diff, sweep): effects added to those the scene
+/// calls for, so that a model given on its own (which calls for shadows only) can run a
+/// pipeline's effect passes.
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct EffectArgs {
+    /// Add an effect to the scene's (repeatable): Shadows, AmbientOcclusion, MultiViewAo, Ssr,
+    /// IndirectDiffuse, IndirectSpecular, Bloom.
+    #[arg(long = "effect", value_name = "NAME", value_parser = parse_effect)]
+    pub effects: Vec<lightbench_compiler::ir::Effect>,
+}
+
+fn parse_effect(s: &str) -> std::result::Result<lightbench_compiler::ir::Effect, String> {
+    use lightbench_compiler::ir::Effect;
+    Effect::from_name(s.trim()).ok_or_else(|| {
+        format!(
+            "unknown effect `{s}`: {}",
+            lightbench_compiler::diag::suggestion_note(s.trim(), &Effect::NAMES)
+        )
+    })
+}

@@ -85,7 +85,7 @@ fn settings(a: &Args) -> Result<Settings> {
 fn execute(a: &Args) -> Result<()> {
     let s = settings(a)?;
     let size = a.size.as_deref().map(parse_size).transpose()?;
-    let scene = crate::scene::load::load_sized(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size, &[])?;
     let (r, fresh) = store::cached(&scene, &s, &a.out, !a.quiet)?;
     let what = if fresh {
         "rendered"

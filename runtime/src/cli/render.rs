@@ -20,6 +20,8 @@ pub struct Args {
     /// Scene file (.ron) or built-in scene: cornell, colonnade, many_lights.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
+    #[command(flatten)]
+    pub effects: super::EffectArgs,
     /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
     #[arg(long = "variant", value_name = "K=V")]
     pub variants: Vec<String>,
@@ -150,7 +152,7 @@ fn execute(
     size: Option<(u32, u32)>,
 ) -> Result<()> {
     let started = Instant::now();
-    let scene = crate::scene::load::load_sized(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size, &a.effects.effects)?;
     let loaded = started.elapsed();
     let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,
@@ -173,6 +175,9 @@ fn execute(
         if let Some(r) = &v.reason {
             eprintln!("variant {} = {} ({r})", v.variant, v.option);
         }
+    }
+    if let Some(note) = crate::render::uncalled_effects_note(&exe.plan) {
+        eprintln!("{note}");
     }
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
@@ -200,6 +205,7 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
     let scene_file = Path::new(&a.scene);
     let scene_file = scene_file.is_file().then_some(scene_file);
     let (mut reloader, exe) = crate::reload::Reloader::new(gpu, (pipeline, a.shaders.as_deref()), (&scene, scene_file), variants)?;
+    reloader.add_effects(&a.effects.effects);
     let mut ex = Executor::with_scene(gpu, &exe, scene)?;
     for (name, value) in parse_params(&exe.plan, params)? {
         ex.set_param(&name, value)?;

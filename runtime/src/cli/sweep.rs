@@ -24,6 +24,8 @@ pub struct Args {
     /// Reference cache folder (default: OUT/references); share it between shards on one disk.
     #[arg(long)]
     pub references: Option<PathBuf>,
+    #[command(flatten)]
+    pub effects: super::EffectArgs,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -46,7 +48,8 @@ pub enum MergeCommand {
 
 fn execute(a: &Args) -> Result<()> {
     let path = a.spec.as_ref().ok_or_else(|| Error::Usage("name a sweep spec".into()))?;
-    let loaded = spec::load(path)?;
+    let mut loaded = spec::load(path)?;
+    loaded.add_effects(&a.effects.effects);
     let shard = a.shard.as_deref().map(spec::parse_shard).transpose()?.unwrap_or((0, 1));
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from(format!("sweep-{}", loaded.name)));
     let gpu = Gpu::new(&DeviceOptions {

@@ -14,6 +14,8 @@ pub struct Args {
     /// hard-case suite `scenes/hard/`.
     #[arg(long, num_args = 1..)]
     pub scenes: Vec<String>,
+    #[command(flatten)]
+    pub effects: super::EffectArgs,
     /// `each`: the defaults and every variant option once; `all`: every combination.
     #[arg(long, value_enum, default_value = "each")]
     pub variants: VariantMode,
@@ -109,7 +111,10 @@ fn execute(a: &Args, pipelines: &[PathBuf], scenes: &[String], opts: &Options) -
     let mut reports = vec![];
     for spec in scenes {
         let scene = match crate::scene::load(spec) {
-            Ok(s) => verify::capped(s, opts.max_size),
+            Ok(mut s) => {
+                s.effects.extend(a.effects.effects.iter().copied());
+                verify::capped(s, opts.max_size)
+            }
             Err(e) => {
                 bar.inc(pipelines.len() as u64);
                 reports.extend(pipelines.iter().map(|p| failed(p, spec, e.to_string())));

@@ -13,6 +13,8 @@ pub struct Args {
     /// Scene file or built-in scene.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
+    #[command(flatten)]
+    pub effects: super::EffectArgs,
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
     #[arg(long = "variant", value_name = "K=V")]
@@ -58,7 +60,7 @@ fn execute(a: &Args) -> Result<()> {
     let steps = script(a)?;
     let (pipeline, workspace) = super::render::resolve_pipeline(a.pipeline.as_deref())?;
     let size = a.size.as_deref().map(super::plan::parse_size).transpose()?;
-    let scene = crate::scene::load::load_sized(&a.scene, size)?;
+    let scene = crate::scene::load::load_sized(&a.scene, size, &a.effects.effects)?;
     let opts = Options {
         workspace,
         pipeline,

@@ -6,7 +6,7 @@ use super::{builtin, framing, gltf_load, Animation, Camera, Light, Scene};
 use crate::error::{Error, Result};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
-use lightbench_compiler::ir::LightKind;
+use lightbench_compiler::ir::{Effect, LightKind};
 use lightbench_compiler::scene::{AnimationDesc, LightDesc, ModelDesc, SceneDesc};
 use lightbench_compiler::Session;
 
@@ -26,11 +26,13 @@ pub fn load_in(s: &mut Session, spec: &str) -> Option<Scene> {
 /// What a command loads: the scene `spec` names (built-in name, scene file or glTF model) at
 /// the `size` asked for; its warnings are shown, its errors stop (rendered already:
 /// `Error::Scene` is empty). A model shown on its own is framed for the size it is rendered at.
-pub fn load_sized(spec: &str, size: Option<(u32, u32)>) -> Result<Scene> {
+/// `effects` (`--effect`) are added to those the scene calls for.
+pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> Result<Scene> {
     let mut s = Session::new();
     let loaded = load_in(&mut s, spec);
     eprint!("{}", s.render());
     let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
+    scene.effects.extend(effects.iter().copied());
     if let Some(sz) = size {
         scene.size = sz;
         if lightbench_compiler::scene::is_model(std::path::Path::new(spec)) {
@@ -138,8 +140,12 @@ fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<Vec<String>> {
             &mut mat.metallic_roughness_texture,
             &mut mat.emissive_texture,
             &mut mat.normal_texture,
+            &mut mat.occlusion_texture,
         ] {
             *t = t.map(|i| i + tex_base);
+        }
+        if let Some(two) = m.double_sided {
+            mat.double_sided = two;
         }
         scene.materials.push(mat);
     }

@@ -82,6 +82,9 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
         let scene = scene(&mut inputs, l, first)?.clone();
         let plan = crate::render::plan_configured(&ws, (&l.pipeline(), None), (&gpu.profile, &scene), &[])?;
         check_names(l, &plan.exe.plan, &points)?;
+        if let Some(note) = crate::render::uncalled_effects_note(&plan.exe.plan) {
+            eprintln!("{note}");
+        }
     }
     let bar = progress(todo.len(), opts.progress);
     for p in &todo {
@@ -118,7 +121,7 @@ fn progress(n: usize, visible: bool) -> indicatif::ProgressBar {
 fn scene<'a>(inputs: &'a mut Inputs, l: &Loaded, p: &Point) -> Result<&'a Scene> {
     let key = (p.scene.clone(), p.size);
     if !inputs.scenes.contains_key(&key) {
-        let s = crate::scene::load::load_sized(&l.scene(&p.scene), p.size)?;
+        let s = crate::scene::load::load_sized(&l.scene(&p.scene), p.size, &l.effects)?;
         inputs.scenes.insert(key.clone(), s);
     }
     Ok(&inputs.scenes[&key])

@@ -143,9 +143,23 @@ pub struct Loaded {
     pub spec: Spec,
     pub text: String,
     pub fingerprint: String,
+    /// Effects every scene of the sweep is to call for besides its own (`--effect`).
+    pub effects: Vec<lightbench_compiler::ir::Effect>,
 }
 
 impl Loaded {
+    /// Add effects to every scene the sweep renders. They change what is measured, so they
+    /// are part of the fingerprint: rows measured without them are not mixed in.
+    pub fn add_effects(&mut self, effects: &[lightbench_compiler::ir::Effect]) {
+        let new: Vec<_> = effects.iter().filter(|e| !self.effects.contains(e)).copied().collect();
+        if new.is_empty() {
+            return;
+        }
+        self.effects.extend(new);
+        let how = format!("{} effects {:?}", self.fingerprint, self.effects);
+        self.fingerprint = format!("{:016x}", crate::render::fnv1a(how.as_bytes()));
+    }
+
     pub fn dir(&self) -> &Path {
         self.path.parent().unwrap_or(Path::new("."))
     }
@@ -231,6 +245,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
         spec,
         text,
         fingerprint,
+        effects: vec![],
     };
     check(&loaded)?;
     Ok(loaded)
