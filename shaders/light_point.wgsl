@@ -5,6 +5,7 @@
 @group(2) @binding(3) var shadow_cube: texture_depth_cube;
 
 fn lit(p: LitPixel) -> vec3<f32> {
-    let dir = p.s.world + p.s.n * params.normal_offset - p.l.position.xyz;
-    return shade(p.s, p.ls) * cube_shadow(shadow_cube, shadow_cmp, p.l, dir, params.bias, params.pcf != 0u);
+    let texel = cube_texel(p.s.world - p.l.position.xyz, f32(textureDimensions(shadow_cube).x));
+    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias, params.normal_offset, texel);
+    return shade(p.s, p.ls) * cube_shadow(shadow_cube, shadow_cmp, p.l, at - p.l.position.xyz, params.pcf != 0u);
 }

@@ -5,7 +5,9 @@
 @group(2) @binding(3) var shadow_atlas: texture_depth_2d;
 
 fn lit(p: LitPixel) -> vec3<f32> {
-    let at = p.s.world + p.s.n * params.normal_offset;
+    // A face's tile is a third of the atlas wide.
+    let texel = cube_texel(p.s.world - p.l.position.xyz, f32(textureDimensions(shadow_atlas).x) / 3.0);
+    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias, params.normal_offset, texel);
     let to_light = safe_normalize(p.l.position.xyz - at, p.ls.to_light);
-    return shade(p.s, p.ls) * atlas_shadow(shadow_atlas, shadow_cmp, p.l, at, to_light, params.bias, params.pcf != 0u);
+    return shade(p.s, p.ls) * atlas_shadow(shadow_atlas, shadow_cmp, p.l, at, to_light, params.pcf != 0u);
 }

@@ -6,6 +6,7 @@
 @group(2) @binding(3) var shadow_paraboloid: texture_depth_2d_array;
 
 fn lit(p: LitPixel) -> vec3<f32> {
-    let d = p.s.world + p.s.n * params.normal_offset - p.l.position.xyz;
-    return shade(p.s, p.ls) * paraboloid_shadow(shadow_paraboloid, shadow_cmp, p.l, d, params.bias, params.pcf != 0u);
+    let texel = paraboloid_texel(distance(p.s.world, p.l.position.xyz), f32(textureDimensions(shadow_paraboloid).x));
+    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias, params.normal_offset, texel);
+    return shade(p.s, p.ls) * paraboloid_shadow(shadow_paraboloid, shadow_cmp, p.l, at - p.l.position.xyz, params.pcf != 0u);
 }

@@ -7,10 +7,12 @@
 #include "lib/light_pass.wgsl"
 #include "lib/forward.wgsl"
 
+// Against acne, in shadow-map texels at the receiver (lib/shadow.wgsl's shadow_lookup_point).
 struct Params {
+    // receivers are looked up this many texels towards the light
     bias: f32,
     pcf: u32,
-    // surfaces are looked up this far along their normal (against acne)
+    // and this many along their normal, at grazing light
     normal_offset: f32,
 };
 

@@ -30,9 +30,15 @@ fn paraboloid_depth(dist: f32, l: Light) -> f32 {
     return (dist - l.cone.z) / max(l.cone.w - l.cone.z, 1e-6);
 }
 
+// World width of one paraboloid texel (`size` across the disc) at distance `dist`: the
+// projection's widest, at the hemisphere's axis (the map spans 2 units over 90°).
+fn paraboloid_texel(dist: f32, size: f32) -> f32 {
+    return 4.0 * dist / size;
+}
+
 // Shadow of a point light from its two paraboloid maps (layer per hemisphere): `d` runs from
-// the light to the surface; with `pcf`, 3×3 lookups one texel apart on the map.
-fn paraboloid_shadow(maps: texture_depth_2d_array, cmp: sampler_comparison, l: Light, d: vec3<f32>, bias: f32, pcf: bool) -> f32 {
+// the light to the receiver's lookup point; with `pcf`, 3×3 lookups one texel apart on the map.
+fn paraboloid_shadow(maps: texture_depth_2d_array, cmp: sampler_comparison, l: Light, d: vec3<f32>, pcf: bool) -> f32 {
     if l.casts_shadows == 0u {
         return 1.0;
     }
@@ -42,7 +48,7 @@ fn paraboloid_shadow(maps: texture_depth_2d_array, cmp: sampler_comparison, l: L
     let layer = select(1, 0, front.z >= 0.0);
     let p = paraboloid_project(paraboloid_frame(l, side) * d / max(dist, 1e-12));
     let uv = vec2<f32>(0.5 + 0.5 * p.x, 0.5 - 0.5 * p.y);
-    let depth = paraboloid_depth(dist, l) - bias;
+    let depth = paraboloid_depth(dist, l);
     let texel = 1.0 / vec2<f32>(textureDimensions(maps));
     let taps = select(0, 1, pcf);
     var lit = 0.0;

@@ -1,5 +1,30 @@
 // Shadow-map lookups shared by the light passes.
 
+// Where a receiver at `world` (normal `n`, `to_light` towards the light) is looked up in a
+// shadow map, against acne, in shadow-map texels (`texel`: one texel's width in world units
+// at the receiver) so that it holds at any scale and under any projection: `bias` texels
+// towards the light, and `normal_offset` texels along the normal in proportion to the sine of
+// the incidence (nothing where the light falls straight on; the most at grazing light, where
+// a texel's footprint spans the most depth).
+fn shadow_lookup_point(world: vec3<f32>, n: vec3<f32>, to_light: vec3<f32>, bias: f32, normal_offset: f32, texel: f32) -> vec3<f32> {
+    let c = clamp(dot(n, to_light), 0.0, 1.0);
+    return world + to_light * (bias * texel) + n * (normal_offset * texel * sqrt(1.0 - c * c));
+}
+
+// World width of one texel of a 2D shadow map (`size` texels across) at `world`: the
+// projection's x scale at the point's w (1 for a directional light's orthographic box).
+fn map_texel(l: Light, world: vec3<f32>, size: f32) -> f32 {
+    let w = (l.view_proj * vec4<f32>(world, 1.0)).w;
+    let row0 = vec3<f32>(l.view_proj[0].x, l.view_proj[1].x, l.view_proj[2].x);
+    return 2.0 * abs(w) / (size * max(length(row0), 1e-20));
+}
+
+// World width of one texel of a 90° cube face (`size` texels across) at `dir` from the light.
+fn cube_texel(dir: vec3<f32>, size: f32) -> f32 {
+    let a = abs(dir);
+    return 2.0 * max(a.x, max(a.y, a.z)) / size;
+}
+
 // 3×3 percentage-closer filtering with a comparison sampler.
 fn pcf_2d(map: texture_depth_2d, cmp: sampler_comparison, uv: vec2<f32>, depth: f32) -> f32 {
     let texel = 1.0 / vec2<f32>(textureDimensions(map));
@@ -31,16 +56,16 @@ fn cube_face(dir: vec3<f32>) -> u32 {
     return select(5u, 4u, dir.z >= 0.0);
 }
 
-// Shadow of a point light from its cube map: the depth of the surface on the face its
-// direction `dir` (light to surface) falls on, minus the bias, compared in one lookup — or,
-// with `pcf`, in 3×3 lookups one texel apart across that face.
-fn cube_shadow(map: texture_depth_cube, cmp: sampler_comparison, l: Light, dir: vec3<f32>, bias: f32, pcf: bool) -> f32 {
+// Shadow of a point light from its cube map: the depth of the point `dir` from the light (the
+// receiver's lookup point) on the face it falls on, compared in one lookup — or, with `pcf`,
+// in 3×3 lookups one texel apart across that face.
+fn cube_shadow(map: texture_depth_cube, cmp: sampler_comparison, l: Light, dir: vec3<f32>, pcf: bool) -> f32 {
     if l.casts_shadows == 0u {
         return 1.0;
     }
     let a = abs(dir);
     let major = max(a.x, max(a.y, a.z));
-    let depth = cube_face_depth(major, l.cone.z, l.cone.w) - bias;
+    let depth = cube_face_depth(major, l.cone.z, l.cone.w);
     if !pcf {
         return textureSampleCompareLevel(map, cmp, dir, depth);
     }
@@ -61,7 +86,7 @@ fn cube_shadow(map: texture_depth_cube, cmp: sampler_comparison, l: Light, dir: 
 // Shadow of a point light whose cube faces were rendered into a 3×2 atlas (one instanced
 // pass): project with the face's matrix, then look up inside that face's tile (with `pcf`,
 // 3×3 lookups, each kept inside the tile).
-fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, to_light: vec3<f32>, bias: f32, pcf: bool) -> f32 {
+fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, to_light: vec3<f32>, pcf: bool) -> f32 {
     if l.casts_shadows == 0u {
         return 1.0;
     }
@@ -81,15 +106,15 @@ fn atlas_shadow(atlas: texture_depth_2d, cmp: sampler_comparison, l: Light, worl
     for (var y = -taps; y <= taps; y++) {
         for (var x = -taps; x <= taps; x++) {
             let in_tile = clamp(at + vec2<f32>(f32(x), f32(y)) * lo * 2.0, lo, 1.0 - lo);
-            lit += textureSampleCompareLevel(atlas, cmp, (tile + in_tile) / vec2<f32>(3.0, 2.0), ndc.z - bias);
+            lit += textureSampleCompareLevel(atlas, cmp, (tile + in_tile) / vec2<f32>(3.0, 2.0), ndc.z);
         }
     }
     return lit / f32((2 * taps + 1) * (2 * taps + 1));
 }
 
-// Shadow of a directional (orthographic) or spot (perspective) light from its 2D map, with
-// a slope-scaled bias against acne that stays small enough to avoid peter-panning.
-fn map_shadow(map: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, n: vec3<f32>, to_light: vec3<f32>, bias: f32, pcf: bool) -> f32 {
+// Shadow of a directional (orthographic) or spot (perspective) light from its 2D map at the
+// receiver's lookup point `world`.
+fn map_shadow(map: texture_depth_2d, cmp: sampler_comparison, l: Light, world: vec3<f32>, pcf: bool) -> f32 {
     if l.casts_shadows == 0u {
         return 1.0;
     }
@@ -102,8 +127,7 @@ fn map_shadow(map: texture_depth_2d, cmp: sampler_comparison, l: Light, world: v
     if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) || ndc.z > 1.0 {
         return 1.0;
     }
-    let slope = sqrt(max(1.0 - pow(dot(n, to_light), 2.0), 0.0)) / max(dot(n, to_light), 0.05);
-    let depth = ndc.z - bias * (1.0 + min(slope, 8.0));
+    let depth = ndc.z;
     if pcf {
         return pcf_2d(map, cmp, uv, depth);
     }
