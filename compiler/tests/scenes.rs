@@ -322,6 +322,32 @@ fn builtin_base_is_merged_and_names_work_everywhere() {
     assert!(d.notes[0].contains("did you mean `cornell`?"), "{:?}", d.notes);
 }
 
+/// `builtin_lights: false` drops the built-in's lights, so the file's light the scene alone;
+/// a value that is not a boolean is located.
+#[test]
+fn builtin_lights_false_keeps_only_the_files_lights() {
+    let text = "Scene(builtin: \"cornell\", builtin_lights: false, lights: [Spot()])";
+    let d = load(text).0.expect("valid");
+    assert_eq!(d.lights.len(), 1, "the file's spot light alone");
+    assert_eq!(d.features([]).lights.get(&LightKind::Point), None);
+    let bad = "Scene(builtin: \"cornell\", builtin_lights: 0)";
+    let found = located(bad);
+    assert!(
+        found
+            .iter()
+            .any(|(_, m, l, c)| m.contains("`true` or `false`") && (*l, *c) == (1, 43)),
+        "{found:?}"
+    );
+    // The double_sided override of a model is a boolean too.
+    let found = located("Scene(models: [(path: \"m.gltf\", double_sided: 1)])");
+    assert!(
+        found
+            .iter()
+            .any(|(_, m, l, c)| m.contains("`true` or `false`") && (*l, *c) == (1, 47)),
+        "{found:?}"
+    );
+}
+
 /// The README's scene example and every bundled scene file load; the runtime's tests
 /// render them.
 #[test]

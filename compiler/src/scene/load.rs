@@ -113,7 +113,8 @@ pub fn load_text(path: &Path, text: String, sources: &mut SourceMap, diags: &mut
 }
 
 /// The file's scene over its `builtin:` base: name, size and camera replace the base's;
-/// models, lights and effects are added to it.
+/// models, lights and effects are added to it (lights replace its own with
+/// `builtin_lights: false`).
 fn merge(f: SceneFile, stem: &str) -> SceneDesc {
     let base = f.builtin.as_ref().and_then(|b| builtin::by_name(&b.value));
     let mut desc = base.unwrap_or_else(|| SceneDesc::empty(stem));
@@ -125,6 +126,9 @@ fn merge(f: SceneFile, stem: &str) -> SceneDesc {
         desc.camera = c;
     }
     desc.models.extend(f.models);
+    if !f.builtin_lights {
+        desc.lights.clear();
+    }
     desc.lights.extend(f.lights);
     desc.effects.extend(f.effects);
     desc

@@ -296,6 +296,8 @@ pub struct SceneFile {
     pub size: Option<Spanned<(u32, u32)>>,
     pub camera: Option<CameraDesc>,
     pub builtin: Option<Spanned<String>>,
+    /// `builtin_lights: false`: the base's lights are dropped (the file's own replace them).
+    pub builtin_lights: bool,
     pub models: Vec<ModelDesc>,
     pub lights: Vec<LightDesc>,
     pub effects: BTreeSet<Effect>,

@@ -20,7 +20,7 @@ pub fn scene(root: &Node, dir: &Path, diags: &mut Diagnostics) -> Option<SceneFi
     s
 }
 
-const SCENE_KEYS: &[&str] = &["name", "size", "camera", "builtin", "models", "lights", "effects"];
+const SCENE_KEYS: &[&str] = &["name", "size", "camera", "builtin", "builtin_lights", "models", "lights", "effects"];
 const CAMERA_KEYS: &[&str] = &["position", "yaw", "pitch", "fov", "near", "far", "animation"];
 const MODEL_KEYS: &[&str] = &[
     "path",
@@ -61,6 +61,10 @@ impl Lowerer<'_> {
         let size = o.take("size").and_then(|n| self.size_pair(&n));
         let camera = o.take("camera").and_then(|n| self.camera(&n));
         let builtin = o.take("builtin").and_then(|n| self.builtin_name(&n));
+        let builtin_lights = match o.take("builtin_lights") {
+            Some(n) => self.bool(&n),
+            None => Some(true),
+        };
         let models = o.take("models").map(|n| self.each(&n, |l, m| l.model(m, dir)));
         let lights = o.take("lights").map(|n| self.each(&n, |l, m| l.light(m)));
         let effects = o.take("effects").and_then(|n| self.effects(&n));
@@ -70,6 +74,7 @@ impl Lowerer<'_> {
             size,
             camera,
             builtin,
+            builtin_lights: builtin_lights?,
             models: models.unwrap_or_default(),
             lights: lights.unwrap_or_default(),
             effects: effects.unwrap_or_default(),
