@@ -4,9 +4,8 @@
 // cos 2πe2), weighted by e1² (2·e1 with `gi.area_weights`, see `sample_weight`), and each adds
 //     flux · max(n_p · d, 0) · max(n_s · -d, 0) / |d|⁴        (d: receiver to sender).
 // Deviations (README): |d| is clamped below by `gi.min_distance` (the 1/|d|⁴ singularity of
-// a sender next to the receiver); and the flux, which the RSM stores per unit area, is
-// multiplied by the world area each sample stands for (the texel's area, measured from its
-// neighbours' positions, times the texels of the sampled disc per sample), so the result does
+// a sender next to the receiver); and each sample's flux is the light its texel reflects in
+// all (`texel_power`) times the texels of the sampled disc it stands for, so the result does
 // not depend on the RSM's size or the scene's scale.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
@@ -27,20 +26,33 @@ struct Params {
 
 const PI: f32 = 3.14159265;
 
-// World area of RSM texel t: the parallelogram spanned by its neighbours' positions.
-fn texel_area(t: vec2<i32>, p: vec3<f32>, last: vec2<i32>) -> f32 {
-    let px = textureLoad(rsm_position, min(t + vec2<i32>(1, 0), last), 0);
-    let py = textureLoad(rsm_position, min(t + vec2<i32>(0, 1), last), 0);
-    if px.w == 0.0 || py.w == 0.0 {
-        return 0.0;
-    }
-    return length(cross(px.xyz - p, py.xyz - p));
+// The light RSM texel t reflects in all (per π: radiance times area): the flux map holds
+// radiosity per unit of the sender's own area, lit at incidence θ; the texel covers
+// texel_width² across the light's direction, 1/cos θ of that on the surface. The product,
+// light × albedo × texel_width², does not depend on how the sender is turned (an area
+// measured from neighbouring texels' positions would jump at every silhouette).
+fn texel_power(l: Light, t: vec2<i32>, sp: vec3<f32>, sn: vec3<f32>, size: f32) -> vec3<f32> {
+    let to_light = select(safe_normalize(l.position.xyz - sp, sn), -safe_normalize(l.direction.xyz, sn), l.kind == LIGHT_DIRECTIONAL);
+    let cos_s = max(dot(sn, to_light), 1e-3);
+    let w = texel_width(l.view_proj, sp, size);
+    return textureLoad(rsm_flux, t, 0).rgb / cos_s * w * w;
 }
 
 // The seed's fixed pattern: every pixel, every frame, the same samples.
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(gather(vec2<i32>(pos.xy), 0.0), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), 0.0, false), 0.0);
+}
+
+// The filtered variant: samples uniform in area over the disc (radius · √e1, each standing
+// for the same area, so every weight is 1: unbiased for the disc), the pattern rotated by an
+// angle per pixel (the same every frame), which turns the fixed pattern's structured error
+// into noise that a cross-bilateral blur (bilateral_blur.wgsl) removes.
+@fragment
+fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let p = vec2<u32>(pos.xy);
+    let h = hash(p.x ^ hash(p.y));
+    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0, true), 0.0);
 }
 
 // The temporal variant (after Lambru et al., seed 000 §4.3.3): fewer samples, the pattern
@@ -50,7 +62,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);
     let h = hash(p.x ^ hash(p.y ^ hash(frame.frame_index)));
-    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0, false), 0.0);
 }
 
 // The weight of a sample at e1 (its distance from the centre over the radius). Samples are
@@ -70,20 +82,20 @@ fn hash(x: u32) -> u32 {
 }
 
 // Irradiance / π at pixel `px` from the light of this repetition; `turn` (in turns) rotates
-// the sample pattern.
-fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
+// the sample pattern; `uniform_area` places samples uniformly in area (weight 1) instead of
+// uniformly in radius (the seed's, weighted by `sample_weight`).
+fn gather(px: vec2<i32>, turn: f32, uniform_area: bool) -> vec3<f32> {
     let s = load_surface(px);
     if !s.covered {
         return vec3<f32>(0.0);
     }
     let l = lights[instance.light];
     let on = on_texture(l.view_proj, s.world);
-    // A receiver behind a spot light has no place in its map (samples around a receiver just
-    // off the map may still land on it).
-    if !on.in_front {
-        return vec3<f32>(0.0);
-    }
-    let uv = on.uv;
+    // The disc is centred where the receiver projects (samples around a receiver just off the
+    // map may still land on it); a receiver behind a spot light (a ceiling above it) has no
+    // place in its map but is lit by what it lights all the same: its disc is centred on the
+    // map.
+    let uv = select(vec2<f32>(0.5), on.uv, on.in_front);
     let size = vec2<i32>(textureDimensions(rsm_flux, 0));
     let last = size - 1;
     let n = min(params.samples, arrayLength(&gi_pattern));
@@ -94,7 +106,9 @@ fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
     for (var i = 0u; i < n; i++) {
         let e = gi_pattern[i];
         let a = 2.0 * PI * (e.y + turn);
-        let suv = uv + params.radius * e.x * vec2<f32>(sin(a), cos(a));
+        let r = select(e.x, sqrt(e.x), uniform_area);
+        let weight = select(sample_weight(e.x), 1.0, uniform_area);
+        let suv = uv + params.radius * r * vec2<f32>(sin(a), cos(a));
         if any(suv < vec2<f32>(0.0)) || any(suv >= vec2<f32>(1.0)) {
             continue;
         }
@@ -104,10 +118,13 @@ fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
             continue; // nothing drawn there
         }
         let sn = textureLoad(rsm_normal, t, 0).xyz;
-        let flux = textureLoad(rsm_flux, t, 0).rgb * texel_area(t, sp.xyz, last) * per_sample;
+        let flux = texel_power(l, t, sp.xyz, sn, f32(size.x)) * per_sample;
         let d = sp.xyz - s.world;
         let d2 = max(dot(d, d), min_d2);
-        sum += sample_weight(e.x) * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
+        sum += weight * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
     }
-    return sum * params.strength / PI;
+    // The sum is ∫ B cos θ_p cos θ_s / |d|² dA = π E (B: the senders' radiosity, E: the
+    // receiver's irradiance); the term held is E / π (the receiver's Lambert 1/π, applied
+    // here, as indirect_compose.wgsl says).
+    return sum * params.strength / (PI * PI);
 }

@@ -1,6 +1,7 @@
 // Log-average luminance and the brightest luminance (Lwhite) of the HDR buffer by a GPU
 // reduction (seed 003 §4.2, §5.4), one workgroup striding over the whole image, and the
-// exposure the tone mappers apply.
+// exposure the tone mappers apply. "Luminance" is lib/luminance.wgsl's tone value: each
+// pixel's largest channel unless `by_luminance` (the seed's luminance).
 // Only pixels something was drawn on count (depth < 1): an object alone on an empty
 // background is exposed for the object, not for the black around it (a deviation from the
 // seed, which averages every pixel). A frame with nothing drawn, or nothing lit, gives
@@ -11,6 +12,7 @@ struct Params {
     key: f32,
     automatic: u32,
     ev: f32,
+    by_luminance: u32,
 };
 
 @group(2) @binding(0) var hdr: texture_2d<f32>;
@@ -36,7 +38,7 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
         if textureLoad(gbuf_depth, pixel, 0).x >= 1.0 {
             continue; // background: nothing drawn here
         }
-        var l = luminance(textureLoad(hdr, pixel, 0).rgb);
+        var l = tone_value(textureLoad(hdr, pixel, 0).rgb, params.by_luminance != 0u);
         // Inf/NaN from an overflowing f16 target must not poison the average.
         l = select(0.0, l, l >= 0.0 && l < 65504.0);
         s += log(DELTA + l);
@@ -60,6 +62,7 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
         lum.log_average = select(DELTA, average, covered[0] > 0u);
         lum.white = max_lum[0];
         lum.covered = f32(covered[0]);
+        lum.by_luminance = select(0.0, 1.0, params.by_luminance != 0u);
         lum.exposure = select(exp2(params.ev), params.key / max(lum.log_average, DELTA), params.automatic != 0u);
     }
 }

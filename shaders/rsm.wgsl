@@ -1,8 +1,9 @@
 // Reflective shadow map (seed 000 §4.2.2, §6.2.2) of one directional (orthographic, fitted to
 // the scene) or spot (perspective, cone-fitted) light: per texel the world position (w: 1
-// where a surface was drawn, 0 cleared), the normal and the flux — the light arriving at the
-// surface (colour × intensity × attenuation × cone) times its diffuse albedo (the seed's
-// "colour × specular strength"; here glTF base colour × (1 - metallic)). The light's
+// where a surface was drawn, 0 cleared), the normal and the flux — the light arriving per unit
+// of the surface's own area (colour × intensity × attenuation × cone × cos θ, θ the light's
+// incidence) times its diffuse albedo (the seed's "colour × specular strength"; here glTF base
+// colour × (1 - metallic)): the radiosity a gathering pass multiplies by a texel's world area. The light's
 // view-projection is the one its shadow map uses. Every surface is drawn (`cull None`): all
 // of them block light; the normal is the side facing the light.
 #include "lib/frame.wgsl"
@@ -35,6 +36,7 @@ fn fs_main(in: VsOut, @builtin(front_facing) facing: bool) -> Rsm {
     // The lit back of a single-sided surface blocks the light but reflects none of it
     // where it can be seen (it is seen from its front only).
     let reflected = select(1.0, 0.0, m.hidden);
-    out.flux = vec4<f32>(ls.radiance * m.base.rgb * (1.0 - m.metallic) * reflected, 0.0);
+    let incidence = max(dot(m.n, ls.to_light), 0.0);
+    out.flux = vec4<f32>(ls.radiance * incidence * m.base.rgb * (1.0 - m.metallic) * reflected, 0.0);
     return out;
 }

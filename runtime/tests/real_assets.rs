@@ -144,7 +144,8 @@ fn a_filled_frame_is_exposed_as_before_and_manual_exposure_works() {
     let (mut all, mut drawn, mut n) = (0.0f64, 0.0f64, 0usize);
     for i in 0..(hdr.width * hdr.height) as usize {
         let p = &hdr.rgba[i * 4..i * 4 + 3];
-        let l = (1e-4 + 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]).ln() as f64;
+        // The tone value: each pixel's largest channel (lib/luminance.wgsl).
+        let l = (1e-4 + p[0].max(p[1]).max(p[2])).ln() as f64;
         all += l;
         if depth.rgba[i * 4] < 1.0 {
             drawn += l;

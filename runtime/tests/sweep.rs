@@ -144,7 +144,8 @@ fn every_bundled_sweep_spec_runs() {
         );
         assert!(rows.iter().any(|r| r["pareto"] == "true"), "{spec}");
         let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
-        assert_eq!(refs.len(), 1, "{spec}: one scene and size, one reference");
+        let scenes = if spec == "indirect_diffuse" { 2 } else { 1 };
+        assert_eq!(refs.len(), scenes, "{spec}: one reference per scene and size");
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a
             // cost; a configuration whose effect passes are all culled costs 0.
@@ -160,17 +161,30 @@ fn every_bundled_sweep_spec_runs() {
             assert!(num(fixed, "effect_ms") > 0.0 && none["effect_ms"] == "0", "{}", none["effect_ms"]);
         }
         if spec == "indirect_diffuse" {
-            // Area weights gather more of the light the seed's e1² weights leave out.
-            for pair in rows.chunks(2) {
-                assert_eq!(
-                    (pair[0]["gi.area_weights"].as_str(), pair[1]["gi.area_weights"].as_str()),
-                    ("false", "true")
-                );
-                let (seed, area) = (num(&pair[0], "bias"), num(&pair[1], "bias"));
-                assert!(
-                    seed < area && area < 0.0,
-                    "bias {seed} with the seed's weights, {area} with area weights"
-                );
+            for scene in ["cornell_spot", "cornell_sun"] {
+                let of = |gi: &str, key: &str, value: &str, weights: &str| {
+                    rows.iter()
+                        .find(|r| r["scene"] == scene && r["indirect_diffuse"] == gi && r[key] == value && r["gi.area_weights"] == weights)
+                        .unwrap_or_else(|| panic!("{scene}: no {gi} point with {key} = {value}"))
+                };
+                // Area weights gather more of the light the seed's e1² weights leave out, but
+                // the seed's small disc leaves out most of it either way.
+                for n in ["50", "200"] {
+                    let (seed, area) = (
+                        num(of("fixed", "gi.samples", n, "false"), "bias"),
+                        num(of("fixed", "gi.samples", n, "true"), "bias"),
+                    );
+                    assert!(
+                        seed < area && area < 0.0,
+                        "{scene}: bias {seed} with the seed's weights, {area} with area weights"
+                    );
+                }
+                // The default, filtered, is the nearest in the mean and in RMSE.
+                let filtered = of("filtered", "gi.filtered.samples", "32", "");
+                for r in rows.iter().filter(|r| r["scene"] == scene && r["indirect_diffuse"] != "filtered") {
+                    assert!(num(filtered, "bias").abs() < num(r, "bias").abs(), "{scene}: bias of {r:?}");
+                    assert!(num(filtered, "rmse") < num(r, "rmse"), "{scene}: RMSE of {r:?}");
+                }
             }
         }
     }
@@ -325,7 +339,11 @@ fn bad_specs_get_located_errors() {
     let own = std::fs::read_to_string(root().join("sweeps/indirect_diffuse.ron"))
         .unwrap()
         .replace("\"../", &format!("\"{}/", root().display()))
-        .replace("\"gi.samples\": 25}", "\"gi.samples\": 25, \"compare\": \"gi.indirekt\"}");
+        .replace(
+            "\"gi.samples\": 50, \"gi.area_weights\": false}",
+            "\"gi.samples\": 50, \"gi.area_weights\": false, \"compare\": \"gi.indirekt\"}",
+        );
+    assert!(own.contains("gi.indirekt"));
     let p = dir.join("bad_own.ron");
     std::fs::write(&p, &own).unwrap();
     let (code, _, err) = sweep(p.to_str().unwrap(), &dir.join("out_own"), &[]);

@@ -29,3 +29,12 @@ fn on_texture(view_proj: mat4x4<f32>, p: vec3<f32>) -> OnTexture {
     t.inside = t.in_front && all(t.uv >= vec2<f32>(0.0)) && all(t.uv < vec2<f32>(1.0));
     return t;
 }
+
+// World width of one texel at `p` of a map `size` texels across seen through `view_proj`
+// (orthographic or perspective): the projection's x scale at the point's w (1 for an
+// orthographic one). Its square is the area a texel covers across the view direction there.
+fn texel_width(view_proj: mat4x4<f32>, p: vec3<f32>, size: f32) -> f32 {
+    let w = (view_proj * vec4<f32>(p, 1.0)).w;
+    let row0 = vec3<f32>(view_proj[0].x, view_proj[1].x, view_proj[2].x);
+    return 2.0 * abs(w) / (size * max(length(row0), 1e-20));
+}

@@ -11,14 +11,6 @@ fn shadow_lookup_point(world: vec3<f32>, n: vec3<f32>, to_light: vec3<f32>, bias
     return world + to_light * (bias * texel) + n * (normal_offset * texel * sqrt(1.0 - c * c));
 }
 
-// World width of one texel of a 2D shadow map (`size` texels across) at `world`: the
-// projection's x scale at the point's w (1 for a directional light's orthographic box).
-fn map_texel(l: Light, world: vec3<f32>, size: f32) -> f32 {
-    let w = (l.view_proj * vec4<f32>(world, 1.0)).w;
-    let row0 = vec3<f32>(l.view_proj[0].x, l.view_proj[1].x, l.view_proj[2].x);
-    return 2.0 * abs(w) / (size * max(length(row0), 1e-20));
-}
-
 // World width of one texel of a 90° cube face (`size` texels across) at `dir` from the light.
 fn cube_texel(dir: vec3<f32>, size: f32) -> f32 {
     let a = abs(dir);
