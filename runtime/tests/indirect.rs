@@ -559,3 +559,43 @@ fn error_stats(img: &lightbench::io::Image, reference: &lightbench::io::Image, v
         (hf / n - var / n).max(0.0).sqrt(),
     )
 }
+
+/// A rough floor is no mirror: at roughness 0.5 (past `ssr.max_roughness`, 0.4) indirect
+/// specular adds nothing to the image though the march still hits the box, while
+/// `--param ssr.max_roughness=1` brings the sharp reflection back.
+#[test]
+fn a_rough_floor_reflects_nothing_by_default() {
+    let g = gpu();
+    let mut scene = mirror_scene();
+    for m in scene.materials.iter_mut().filter(|m| m.roughness < 0.1) {
+        m.roughness = 0.5;
+    }
+    let p = root().join("pipelines/deferred_gi.ron");
+    let (exe, _) = lightbench::render::compile(&g, &p, None, &scene, &[]).unwrap();
+    let hdr = |max: f64| {
+        let params = [("ssr.max_roughness".to_string(), lightbench_compiler::ir::ParamValue::Float(max))];
+        let ex = lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap();
+        let hits = ex
+            .read_texture(&g, "ssr.color", 0, 0)
+            .unwrap()
+            .rgba
+            .chunks_exact(4)
+            .filter(|p| p[3] > 0.0)
+            .count();
+        (ex.read_texture(&g, "hdr", 0, 0).unwrap(), hits)
+    };
+    let (rough, hits) = hdr(0.4);
+    let (mirror, _) = hdr(1.0);
+    let mut plain = scene.clone();
+    plain.effects.remove(&lightbench_compiler::ir::Effect::Ssr);
+    let (exe, _) = lightbench::render::compile(&g, &p, None, &plain, &[]).unwrap();
+    let without = lightbench::render::render(&g, &exe, &plain, 1)
+        .unwrap()
+        .read_texture(&g, "hdr", 0, 0)
+        .unwrap();
+    assert!(hits > 100, "the march still hits: {hits} pixels");
+    let e = rmse(&rough, &without);
+    let m = rmse(&mirror, &without);
+    eprintln!("RMSE to the image without SSR: {e} by default, {m} with every roughness reflecting");
+    assert!(e < 1e-4 && m > 0.005, "{e} vs {m}");
+}
