@@ -103,6 +103,19 @@ pub fn scene_dir(tag: &str, models: &[&str]) -> PathBuf {
     d
 }
 
+/// A camera at `position`, facing -z tilted by `pitch` degrees, 60° field of view.
+pub fn camera(position: glam::Vec3, pitch: f32) -> lightbench::scene::Camera {
+    lightbench::scene::Camera {
+        position,
+        yaw: 0.0,
+        pitch,
+        fov: 60.0,
+        near: 0.01,
+        far: 100.0,
+        animation: None,
+    }
+}
+
 /// A mesh of the first material, placed by `transform`.
 pub fn mesh(
     name: &str,

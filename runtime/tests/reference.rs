@@ -5,6 +5,7 @@
 mod gpu_common;
 
 use glam::{Mat4, Vec3};
+use gpu_common::camera;
 use lightbench::io::Image;
 use lightbench::reference::{
     self,
@@ -39,18 +40,6 @@ fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, camera: Camera, size: (u32
         textures: vec![],
         lights: vec![],
         effects: BTreeSet::new(),
-    }
-}
-
-fn camera(position: Vec3, pitch: f32) -> Camera {
-    Camera {
-        position,
-        yaw: 0.0,
-        pitch,
-        fov: 60.0,
-        near: 0.01,
-        far: 100.0,
-        animation: None,
     }
 }
 

@@ -35,18 +35,6 @@ fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, camera: Camera, light: Lig
     s
 }
 
-fn camera(position: Vec3, pitch: f32) -> Camera {
-    Camera {
-        position,
-        yaw: 0.0,
-        pitch,
-        fov: 60.0,
-        near: 0.05,
-        far: 50.0,
-        animation: None,
-    }
-}
-
 /// A floor (facing up) under a single-sided square occluder at height 1 whose normal faces
 /// the light above (`faces_light`) or the floor; the camera looks down from the front, so it
 /// sees the occluder's top: its front, or its back (not drawn).
