@@ -18,7 +18,14 @@ const PI: f32 = 3.14159265;
 struct Params {
     radius: f32,
     strength: f32,
+    // the radius in world units, else in the scene's (lib/frame.wgsl)
+    world: u32,
 };
+
+// How far a triangle occludes, in world units.
+fn radius() -> f32 {
+    return params.radius * length_unit(params.world);
+}
 
 @group(2) @binding(3) var<storage, read> triangles: array<vec4<f32>>;
 @group(2) @binding(4) var<uniform> params: Params;
@@ -67,7 +74,7 @@ fn grown(t: Tri, k: u32, r: f32) -> vec3<f32> {
 // Whether `q` lies in the prism grown by `margin` (the near plane's reach).
 fn in_prism(t: Tri, base: array<vec3<f32>, 3>, q: vec3<f32>, margin: f32) -> bool {
     let h = dot(q - t.a, t.n);
-    var inside = h > -margin && h < params.radius + margin;
+    var inside = h > -margin && h < radius() + margin;
     for (var k = 0u; k < 3u; k++) {
         inside = inside && dot(q - base[k], edge_out(base[k], base[(k + 1u) % 3u], t.n)) < margin;
     }
@@ -79,7 +86,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ti: u32) -> 
     var out: VsOut;
     out.tri = ti;
     let t = load_tri(ti);
-    let r = params.radius;
+    let r = radius();
     let base = array<vec3<f32>, 3>(grown(t, 0u, r), grown(t, 1u, r), grown(t, 2u, r));
     // The near plane's distance, from the projection (perspective: proj[3][2] / proj[2][2]).
     let near = abs(frame.proj[3][2] / min(frame.proj[2][2], -1e-6));
@@ -172,13 +179,13 @@ fn fs_main(in: VsOut) -> @location(0) vec4<f32> {
     // error: a point at a wall's foot may land just behind the wall's plane and must still
     // see it (no bright seam in the corner), while a triangle the surface lies in occludes
     // nothing (from just below, it would cover the whole hemisphere).
-    let eps = 1e-3 * max(1.0, length(s.world - frame.camera_pos.xyz));
+    let eps = 1e-3 * max(frame.scene_radius, length(s.world - frame.camera_pos.xyz));
     let coplanar = abs(h) < eps && dot(t.n, s.n) > 0.9;
-    if !s.covered || !t.ok || coplanar || h <= -eps || h >= params.radius {
+    if !s.covered || !t.ok || coplanar || h <= -eps || h >= radius() {
         return vec4<f32>(1.0);
     }
     let d = distance_to(t, s.world, max(h, 0.0));
-    let falloff = pow(clamp(1.0 - d / params.radius, 0.0, 1.0), 2.0);
+    let falloff = pow(clamp(1.0 - d / radius(), 0.0, 1.0), 2.0);
     let poly = clipped(t, s.world, s.n);
     if poly.count < 3u || falloff <= 0.0 {
         return vec4<f32>(1.0);

@@ -16,6 +16,8 @@ struct Params {
     strength: f32,
     min_distance: f32,
     area_weights: u32,
+    // min_distance in world units, else in the scene's (lib/frame.wgsl)
+    world: u32,
 };
 
 @group(2) @binding(3) var rsm_position: texture_2d<f32>;
@@ -101,7 +103,8 @@ fn gather(px: vec2<i32>, turn: f32, uniform_area: bool) -> vec3<f32> {
     let n = min(params.samples, arrayLength(&gi_pattern));
     // Texels of the sampled disc that each sample stands for.
     let per_sample = PI * params.radius * params.radius * f32(size.x * size.y) / f32(max(n, 1u));
-    let min_d2 = params.min_distance * params.min_distance;
+    let min_d = params.min_distance * length_unit(params.world);
+    let min_d2 = min_d * min_d;
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i++) {
         let e = gi_pattern[i];

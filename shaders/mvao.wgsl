@@ -18,6 +18,9 @@ struct Params {
     bias: f32,
     falloff: u32,
     weight_bias: f32,
+    // lengths (radius, bias) in world units, else in the scene's (lib/frame.wgsl); a view's
+    // distances are kept in that unit
+    world: u32,
 };
 
 @group(2) @binding(5) var<uniform> params: Params;
@@ -45,14 +48,16 @@ fn fs_camera(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let tbn = kernel_frame(s.n, px);
     let n = kernel_count(params.samples);
+    let unit = length_unit(params.world);
     var v = ViewAo(0.0, 0.0);
     for (var i = 0u; i < n; i++) {
-        let p = s.world + kernel_point(tbn, i, n, params.radius);
-        let c = camera_sample(p, params.bias);
+        let p = s.world + kernel_point(tbn, i, n, params.radius * unit);
+        let c = camera_sample(p, params.bias * unit);
+        let d = length(c.seen - p) / unit;
         // Nothing found counts as far as the radius.
-        v.distance += select(params.radius, min(length(c.seen - p), params.radius), c.found);
+        v.distance += select(params.radius, min(d, params.radius), c.found);
         if c.occluded {
-            v.occluded += occluder_weight(params.radius, length(c.seen - p), params.falloff != 0u);
+            v.occluded += occluder_weight(params.radius, d, params.falloff != 0u);
         }
     }
     return weighted(v, n, max(0.0, dot(s.n, s.v)));
@@ -72,8 +77,9 @@ fn fs_light(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let s = load_surface(target_gbuffer_pixel(frag.xy));
     let l = lights[instance.light];
     let own = rsm_seen(rsm_position, l, s.world);
+    let unit = length_unit(params.world);
     // The light must see the surface itself (within the bias and a tenth of the radius).
-    if !s.covered || own.w == 0.0 || light_depth(l, s.world) - light_depth(l, own.xyz) > params.bias + 0.1 * params.radius {
+    if !s.covered || own.w == 0.0 || (light_depth(l, s.world) - light_depth(l, own.xyz)) / unit > params.bias + 0.1 * params.radius {
         return vec4<f32>(0.0);
     }
     let to_view = select(safe_normalize(l.position.xyz - s.world, s.n), -safe_normalize(l.direction.xyz, vec3<f32>(0.0, -1.0, 0.0)), l.kind == LIGHT_DIRECTIONAL);
@@ -81,15 +87,16 @@ fn fs_light(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let n = kernel_count(params.samples);
     var v = ViewAo(0.0, 0.0);
     for (var i = 0u; i < n; i++) {
-        let p = s.world + kernel_point(tbn, i, n, params.radius);
+        let p = s.world + kernel_point(tbn, i, n, params.radius * unit);
         let seen = rsm_seen(rsm_position, l, p);
         if seen.w == 0.0 {
             v.distance += params.radius;
             continue;
         }
-        v.distance += min(length(seen.xyz - p), params.radius);
-        if light_depth(l, p) - light_depth(l, seen.xyz) > params.bias {
-            v.occluded += occluder_weight(params.radius, length(seen.xyz - p), params.falloff != 0u);
+        let d = length(seen.xyz - p) / unit;
+        v.distance += min(d, params.radius);
+        if (light_depth(l, p) - light_depth(l, seen.xyz)) / unit > params.bias {
+            v.occluded += occluder_weight(params.radius, d, params.falloff != 0u);
         }
     }
     return weighted(v, n, max(0.0, dot(s.n, to_view)));

@@ -16,6 +16,8 @@ struct Params {
     samples: u32,
     bias: f32,
     falloff: u32,
+    // lengths (radius, bias) in world units, else in the scene's (lib/frame.wgsl)
+    world: u32,
 };
 
 @group(2) @binding(5) var<uniform> params: Params;
@@ -29,12 +31,14 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     }
     let tbn = kernel_frame(s.n, px);
     let n = kernel_count(params.samples);
+    let unit = length_unit(params.world);
     var occluded = 0.0;
     for (var i = 0u; i < n; i++) {
-        let p = s.world + kernel_point(tbn, i, n, params.radius);
-        let c = camera_sample(p, params.bias);
+        let p = s.world + kernel_point(tbn, i, n, params.radius * unit);
+        let c = camera_sample(p, params.bias * unit);
         if c.occluded {
-            occluded += occluder_weight(params.radius, length(c.seen - p), params.falloff != 0u);
+            // Distances in the length unit, so that the falloff 1/(1 + d²) is scale-free too.
+            occluded += occluder_weight(params.radius, length(c.seen - p) / unit, params.falloff != 0u);
         }
     }
     return vec4<f32>(1.0 - occluded / f32(n));

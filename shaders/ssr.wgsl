@@ -14,7 +14,18 @@ struct Params {
     max_steps: u32,
     thickness: f32,
     binary_steps: u32,
+    // lengths (step, thickness) in world units, else in the scene's (lib/frame.wgsl)
+    world: u32,
 };
+
+// The march step and the thickness, in world units.
+fn march_step() -> f32 {
+    return params.step * length_unit(params.world);
+}
+
+fn thickness() -> f32 {
+    return params.thickness * length_unit(params.world);
+}
 
 @group(2) @binding(3) var hdr: texture_2d<f32>;
 @group(2) @binding(4) var<uniform> params: Params;
@@ -52,15 +63,15 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(0.0);
     }
     let dir = reflect(-s.v, s.n);
-    var pos = s.world + s.n * params.step * 0.5;
-    var step = dir * params.step;
+    var pos = s.world + s.n * march_step() * 0.5;
+    var step = dir * march_step();
     for (var i = 0u; i < params.max_steps; i++) {
         pos += step;
         let p = probe(pos);
         if p.miss || p.behind <= 0.0 {
             continue;
         }
-        if p.behind > params.thickness {
+        if p.behind > thickness() {
             continue; // passed behind a surface too far: not the one it hits
         }
         // Binary search between the last two positions.

@@ -17,7 +17,18 @@ struct Params {
     max_steps: u32,
     thickness: f32,
     fallback: u32,
+    // lengths (step, thickness) in world units, else in the scene's (lib/frame.wgsl)
+    world: u32,
 };
+
+// The march step and the thickness, in world units.
+fn march_step() -> f32 {
+    return params.step * length_unit(params.world);
+}
+
+fn thickness() -> f32 {
+    return params.thickness * length_unit(params.world);
+}
 
 @group(2) @binding(3) var ssr_color: texture_2d<f32>;
 @group(2) @binding(4) var rsm_position: texture_2d<f32>;
@@ -29,7 +40,7 @@ struct Params {
 fn lit(l: Light, p: vec3<f32>, n: vec3<f32>) -> bool {
     let seen = rsm_seen(rsm_position, l, p);
     let faces = dot(n, light_at(l, p).to_light) > 0.0;
-    return faces && seen.w > 0.0 && length(seen.xyz - p) < params.thickness;
+    return faces && seen.w > 0.0 && length(seen.xyz - p) < thickness();
 }
 
 @fragment
@@ -48,9 +59,9 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
         return vec4<f32>(0.0);
     }
     let dir = reflect(-s.v, s.n);
-    var pos = s.world + s.n * params.step * 0.5;
+    var pos = s.world + s.n * march_step() * 0.5;
     for (var i = 0u; i < params.max_steps; i++) {
-        pos += dir * params.step;
+        pos += dir * march_step();
         let on = on_texture(l.view_proj, pos);
         if !on.inside {
             continue; // off the map, or behind a spot light
@@ -61,7 +72,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
             continue;
         }
         let behind = on.depth > on_texture(l.view_proj, seen.xyz).depth;
-        if behind && length(pos - seen.xyz) < params.thickness {
+        if behind && length(pos - seen.xyz) < thickness() {
             return vec4<f32>(textureLoad(rsm_flux, t, 0).rgb / 3.14159265, 1.0);
         }
     }

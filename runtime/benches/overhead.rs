@@ -574,6 +574,7 @@ impl Hand {
         let view = cam.view();
         let proj = cam.proj(w as f32 / h as f32);
         let vp = proj * view;
+        let bounds = scene.bounds();
         let block = FrameBlock {
             view: view.to_cols_array_2d(),
             proj: proj.to_cols_array_2d(),
@@ -587,10 +588,9 @@ impl Hand {
             time,
             frame_index: 0,
             light_count: scene.lights.len() as u32,
-            _pad: 0,
+            scene_radius: (bounds.1 - bounds.0).length() * 0.5,
         };
         gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&block));
-        let bounds = scene.bounds();
         let lights: Vec<LightBlock> = scene.lights.iter().map(|l| l.at(time).block(bounds)).collect();
         gpu.queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
     }

@@ -23,7 +23,8 @@ pub struct FrameBlock {
     pub time: f32,
     pub frame_index: u32,
     pub light_count: u32,
-    pub _pad: u32,
+    /// The scene's bounding-sphere radius: the length unit of scale-free parameters.
+    pub scene_radius: f32,
 }
 
 #[repr(C)]

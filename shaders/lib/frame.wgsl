@@ -28,7 +28,8 @@ struct Frame {
     // Frames rendered before this one (0 in the first).
     frame_index: u32,
     light_count: u32,
-    _pad: u32,
+    // The radius of the scene's bounding sphere: what scale-free lengths are fractions of.
+    scene_radius: f32,
 };
 
 struct Light {
@@ -65,3 +66,10 @@ struct Instance {
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> instance: Instance;
 @group(0) @binding(2) var<storage, read> lights: array<Light>;
+
+// The unit of a pass's lengths (AO radii, SSR steps, ...): the scene's bounding radius, so
+// that a scene looks the same at any scale; world units where `world` (parameter
+// `lengths.world`) is set.
+fn length_unit(world: u32) -> f32 {
+    return select(frame.scene_radius, 1.0, world != 0u);
+}

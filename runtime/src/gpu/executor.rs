@@ -343,7 +343,7 @@ impl Executor {
             time: inputs.time,
             frame_index: self.frame_index as u32,
             light_count: self.shared.lights.len() as u32,
-            _pad: 0,
+            scene_radius: ((self.shared.bounds.1 - self.shared.bounds.0).length() * 0.5).max(1e-6),
         };
         gpu.queue.write_buffer(&self.shared.frame_buf, 0, bytemuck::bytes_of(&frame));
         let blocks: Vec<LightBlock> = self
