@@ -82,6 +82,8 @@ fn culled_passes_name_their_reason() {
     );
     let kept: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(kept, vec!["base", "ao_off", "compose"]);
+    // What `render` notes: the effect a culled pass asks for (not `ao_off`'s `Not`).
+    assert_eq!(plan.uncalled_effects, vec![Effect::AmbientOcclusion]);
     let text = lightbench_compiler::plan::to_text(&plan, true);
     assert!(text.contains("stats                      output unreachable"), "{text}");
 }
@@ -100,6 +102,8 @@ fn the_scene_decides_which_writer_runs() {
         )
         .unwrap();
     assert!(plan.pass("ssao").is_some() && plan.pass("ao_off").is_none());
+    // `ao_off` is culled by `Not(Effect(AmbientOcclusion))`: no effect is missing.
+    assert!(plan.uncalled_effects.is_empty(), "{:?}", plan.uncalled_effects);
     assert_eq!(
         plan.culled.iter().find(|c| c.name == "ao_off").unwrap().reason,
         "condition `Not(Effect(AmbientOcclusion))` is false: Effect(AmbientOcclusion) holds"

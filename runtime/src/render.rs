@@ -158,7 +158,6 @@ pub fn parse_params(plan: &lightbench_compiler::plan::Plan, args: &[(String, Str
     Ok(out)
 }
 
-/// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).
 /// What a command says once about a Plan: the effects the pipeline serves that the scene does
 /// not call for, and how to ask for them (a model rendered on its own otherwise silently does
 /// no GI).
@@ -178,6 +177,7 @@ pub fn uncalled_effects_note(plan: &lightbench_compiler::plan::Plan) -> Option<S
     ))
 }
 
+/// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).
 pub fn fnv1a(bytes: &[u8]) -> u64 {
     let mut h = Fnv1a::default();
     h.write(bytes);

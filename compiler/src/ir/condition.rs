@@ -96,7 +96,8 @@ impl Condition {
         }
     }
 
-    /// Every effect the expression names (under `Not` too), in order, each once.
+    /// The effects the expression asks for (not those under `Not`, which a pass runs
+    /// without), in order, each once.
     pub fn effects(&self) -> Vec<Effect> {
         let mut out = vec![];
         self.collect_effects(&mut out);
@@ -106,7 +107,6 @@ impl Condition {
     fn collect_effects(&self, out: &mut Vec<Effect>) {
         match self {
             Condition::Effect(e) if !out.contains(e) => out.push(*e),
-            Condition::Not(c) => c.collect_effects(out),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| c.collect_effects(out)),
             _ => {}
         }
@@ -151,5 +151,23 @@ impl Condition {
             }
             _ => Default::default(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::span::{Span, Spanned};
+
+    /// A pass runs without the effects under `Not`: only the others are asked for.
+    #[test]
+    fn effects_are_those_asked_for() {
+        let at = |c: Condition| Spanned::new(c, Span::default());
+        let c = Condition::All(vec![
+            at(Condition::Not(Box::new(at(Condition::Effect(Effect::Bloom))))),
+            at(Condition::Any(vec![at(Condition::Effect(Effect::Ssr)), at(Condition::Reflective)])),
+            at(Condition::Effect(Effect::Ssr)),
+        ]);
+        assert_eq!(c.effects(), vec![Effect::Ssr]);
     }
 }

@@ -60,7 +60,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     (diags.error_count() == before).then_some(plan)
 }
 
-/// Effects named in the conditions of culled passes that the scene does not call for.
+/// Effects that conditions of culled passes ask for and the scene does not call for.
 fn uncalled_effects(p: &crate::ir::Pipeline, cfg: &Config, schedule: &Schedule) -> Vec<Effect> {
     let mut out: Vec<Effect> = vec![];
     for &i in schedule.culled.keys() {

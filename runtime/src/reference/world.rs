@@ -251,7 +251,6 @@ impl World {
     }
 }
 
-/// The tangent-space normal map applied as `lib/material.wgsl` applies it.
 /// Möller–Trumbore, from either side, edges included: a ray through the edge two triangles
 /// share hits one of them whichever side it comes from (obvhs's `Triangle::intersect` tests
 /// signs by bits, so -0.0 on a shared edge seen from behind misses both).
@@ -278,6 +277,7 @@ fn hit_distance(tri: &Triangle, ray: &Ray) -> f32 {
     }
 }
 
+/// The tangent-space normal map applied as `lib/material.wgsl` applies it.
 fn normal_mapped(n: Vec3, tangent: Vec4, texel: Vec3, scale: f32) -> Vec3 {
     let t_len = tangent.truncate().length();
     if t_len <= 1e-6 {
