@@ -255,10 +255,15 @@ fn effect_adds_to_a_model_given_on_its_own_and_culled_effects_are_noted() {
     assert_eq!(code, 0, "{err}");
     assert!(stdout.lines().any(|l| l.starts_with("indirect_diffuse")), "{stdout}");
     assert!(!err.contains("IndirectDiffuse"), "no longer noted: {err}");
-    let (code, _, err) = run(&[&base[..], &["--effect", "IndirectDifuse"]].concat());
+    let bad = d.join("bad.png").display().to_string();
+    let mut args = base.to_vec();
+    let at = args.iter().position(|a| *a == out.as_str()).unwrap();
+    args[at] = &bad;
+    let (code, _, err) = run(&[&args[..], &["--effect", "IndirectDifuse"]].concat());
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("unknown effect `IndirectDifuse`") && err.contains("did you mean `IndirectDiffuse`?"),
         "{err}"
     );
+    assert!(!d.join("bad.png").exists(), "a usage error writes nothing");
 }

@@ -40,28 +40,37 @@ fn render(s: &Scene, resource: &str, world: bool) -> Image {
     ex.read_texture(&g, resource, 0, 0).unwrap()
 }
 
-/// RMSE between `resource` at scale 0.001 and at scale 1.
-fn across_scales(file: &str, resource: &str, world: bool) -> f64 {
+/// `resource` of `file` at scale 0.001 and at scale 1: within `tolerance` (RMSE) by default,
+/// and at least `world_differs` apart in world units (`what` says why).
+fn assert_scale_free(file: &str, resource: &str, (tolerance, world_differs): (f64, f64), what: &str) {
     let s = lightbench::scene::load(root().join(file).to_str().unwrap()).unwrap();
-    let (small, one) = (render(&scaled(s.clone(), 0.001), resource, world), render(&s, resource, world));
-    assert_eq!(small.non_finite() + one.non_finite(), 0, "{file}");
-    lightbench::io::rmse(&small, &one).unwrap()
+    let across = |world: bool| {
+        let (small, one) = (render(&scaled(s.clone(), 0.001), resource, world), render(&s, resource, world));
+        assert_eq!(small.non_finite() + one.non_finite(), 0, "{file}");
+        lightbench::io::rmse(&small, &one).unwrap()
+    };
+    let (e, world) = (across(false), across(true));
+    eprintln!("{resource} RMSE between scales 0.001 and 1: {e} (world units: {world})");
+    assert!(e < tolerance, "{resource}: {e}");
+    assert!(world > world_differs, "{what}: {world}");
 }
 
 #[test]
 fn ssao_is_the_same_at_any_scale() {
-    let e = across_scales("scenes/cornell_spot.ron", "ao.full", false);
-    let world = across_scales("scenes/cornell_spot.ron", "ao.full", true);
-    eprintln!("ao.full RMSE between scales 0.001 and 1: {e} (world units: {world})");
-    assert!(e < 0.01, "{e}");
-    assert!(world > 0.02, "in world units the millimetre box is all occluded: {world}");
+    assert_scale_free(
+        "scenes/cornell_spot.ron",
+        "ao.full",
+        (0.01, 0.02),
+        "in world units the millimetre box is all occluded",
+    );
 }
 
 #[test]
 fn ssr_is_the_same_at_any_scale() {
-    let e = across_scales("scenes/mirror.ron", "ssr.color", false);
-    let world = across_scales("scenes/mirror.ron", "ssr.color", true);
-    eprintln!("ssr.color RMSE between scales 0.001 and 1: {e} (world units: {world})");
-    assert!(e < 0.02, "{e}");
-    assert!(world > 0.05, "in world units the millimetre mirror reflects nothing: {world}");
+    assert_scale_free(
+        "scenes/mirror.ron",
+        "ssr.color",
+        (0.02, 0.05),
+        "in world units the millimetre mirror reflects nothing",
+    );
 }

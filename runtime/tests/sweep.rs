@@ -122,6 +122,19 @@ fn shadows_sweep_on_the_cornell_box_draws_its_pareto_front() {
     let (code, _, err) = sweep("sweeps/shadows.ron", &out, &[]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("0 point(s) measured, 12 already done"), "{err}");
+    // `--effect` changes what is measured: its rows are not mixed with these, and a misspelt
+    // effect is a usage error; neither touches the rows on file.
+    let before = std::fs::read(out.join("rows.jsonl")).unwrap();
+    let (code, _, err) = sweep("sweeps/shadows.ron", &out, &["--effect", "Bloom"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("holds rows of another sweep spec"), "{err}");
+    let (code, _, err) = sweep("sweeps/shadows.ron", &out, &["--effect", "Blom"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("unknown effect `Blom`") && err.contains("did you mean `Bloom`?"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(out.join("rows.jsonl")).unwrap(), before);
 }
 
 /// Every bundled spec runs, and measures against a reference of its own term.
