@@ -267,3 +267,43 @@ fn effect_adds_to_a_model_given_on_its_own_and_culled_effects_are_noted() {
     );
     assert!(!d.join("bad.png").exists(), "a usage error writes nothing");
 }
+
+/// The README's `--param tonemap.by_luminance=true` and `--param lengths.world=true`, as typed:
+/// the luminance pass records the rule it metered by (the fifth word of `lum`); a value of
+/// the wrong type is an error that writes nothing.
+#[test]
+fn the_readme_exposure_and_length_params_render() {
+    let d = temp("rule-params");
+    let s = |p: &str| d.join(p).display().to_string();
+    let gi = root().join("pipelines/deferred_gi.ron").display().to_string();
+    let scene = root().join("scenes/cornell_spot.ron").display().to_string();
+    for (rule, expected) in [("false", 0.0), ("true", 1.0)] {
+        let dump = s(&format!("dump-{rule}"));
+        let (code, _, err) = run(&[
+            "render",
+            "--pipeline",
+            &gi,
+            "--scene",
+            &scene,
+            "--size",
+            "32x32",
+            "--out",
+            &s("x.png"),
+            "--param",
+            &format!("tonemap.by_luminance={rule}"),
+            "--param",
+            "lengths.world=true",
+            "--dump",
+            "lum",
+            "--dump-dir",
+            &dump,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let lum: Vec<f32> = serde_json::from_slice(&std::fs::read(d.join(format!("dump-{rule}/lum.json"))).unwrap()).unwrap();
+        assert_eq!(lum[4], expected, "{lum:?}");
+    }
+    let (code, _, err) = run(&["render", "--pipeline", &gi, "--out", &s("bad.png"), "--param", "lengths.world=2"]);
+    assert_ne!(code, 0, "{err}");
+    assert!(err.contains("lengths.world"), "{err}");
+    assert!(!d.join("bad.png").exists());
+}
