@@ -9,6 +9,7 @@ use gpu_common::camera;
 use lightbench::io::Image;
 use lightbench::reference::{
     self,
+    emitters::Emitters,
     integrate::Context,
     sample::Rng,
     world::{Faces, World},
@@ -57,7 +58,8 @@ fn mean(img: &Image) -> f64 {
 }
 
 /// A closed box of albedo a emitting E everywhere, seen from inside: every bounce adds a
-/// times the last, so the radiance is E / (1 − a) in every pixel.
+/// times the last, so the radiance is E / (1 − a) in every pixel — with the walls sampled as
+/// lights (next-event estimation, MIS) and found by BRDF sampling alone.
 #[test]
 fn white_furnace_converges_to_e_over_one_minus_a() {
     for (a, e) in [(0.5f32, 1.0f32), (0.8, 0.25)] {
@@ -71,25 +73,30 @@ fn white_furnace_converges_to_e_over_one_minus_a() {
             camera(Vec3::new(0.1, -0.2, 0.3), 10.0),
             (16, 16),
         );
-        let settings = Settings {
-            brdf: Brdf::Lambert,
-            ..settings(&[Term::Full], 256)
-        };
-        let r = reference::render(&s, &settings, false);
-        let img = &r.term(Term::Full).unwrap().mean;
-        let expected = (e / (1.0 - a)) as f64;
-        let got = mean(img);
-        assert!((got / expected - 1.0).abs() < 0.01, "a {a}, E {e}: mean {got} vs {expected}");
-        for p in img.rgba.chunks_exact(4) {
-            assert!((p[0] as f64 / expected - 1.0).abs() < 0.15, "a {a}: pixel {} vs {expected}", p[0]);
+        for sample_emitters in [true, false] {
+            let settings = Settings {
+                brdf: Brdf::Lambert,
+                sample_emitters,
+                ..settings(&[Term::Full], 256)
+            };
+            let r = reference::render(&s, &settings, false);
+            let (img, variance) = (&r.term(Term::Full).unwrap().mean, &r.term(Term::Full).unwrap().variance);
+            let expected = (e / (1.0 - a)) as f64;
+            let got = mean(img);
+            let what = format!("a {a}, E {e}, sampling emitters {sample_emitters}");
+            assert!((got / expected - 1.0).abs() < 0.01, "{what}: mean {got} vs {expected}");
+            for (p, v) in img.rgba.chunks_exact(4).zip(variance.rgba.chunks_exact(4)) {
+                let z = (p[0] as f64 - expected) / (v[0] as f64).sqrt();
+                assert!(z.abs() < 5.0, "{what}: pixel {} vs {expected} ({z:.1} σ)", p[0]);
+            }
+            // The variance estimate is the noise of the mean: the pixels spread about as it says.
+            let var = mean(variance);
+            let spread = img.rgba.chunks_exact(4).map(|p| (p[0] as f64 - got).powi(2)).sum::<f64>() / 256.0;
+            assert!(
+                spread / var > 0.5 && spread / var < 2.0,
+                "{what}: spread {spread} vs variance estimate {var}"
+            );
         }
-        // The variance estimate is the noise of the mean: the pixels spread about as it says.
-        let var = mean(&r.term(Term::Full).unwrap().variance);
-        let spread = img.rgba.chunks_exact(4).map(|p| (p[0] as f64 - got).powi(2)).sum::<f64>() / 256.0;
-        assert!(
-            spread / var > 0.5 && spread / var < 2.0,
-            "spread {spread} vs variance estimate {var}"
-        );
     }
 }
 
@@ -117,10 +124,12 @@ fn ao_at(s: &Scene, x: f32, radius: f32, n: u32) -> f64 {
     let ctx = Context {
         world: &world,
         lights: vec![],
+        emitters: Emitters::new(&world),
         brdf: Brdf::BlinnPhong,
         eps: 1e-5,
         ao_radius: radius,
         ao_falloff: false,
+        sample_emitters: true,
     };
     (0..n).map(|i| ctx.ao(&hit, &mut Rng::new(3, 0, i as u64, 1)) as f64).sum::<f64>() / n as f64
 }
@@ -247,4 +256,43 @@ fn every_light_kind_and_textures_agree_with_the_raster_pipeline() {
     let (share, median) = direct_agreement(&s, &[("ambient.color", "(0, 0, 0)"), ("shadow.pcf", "false")], 0.03);
     assert!(share > 0.95, "{:.2}% of values within 3%", share * 100.0);
     assert!(median < 0.01, "median relative difference {median}");
+}
+
+/// A cached reference is used only while it is whole: an image with a NaN, one of another
+/// size, another term's image in its place, or a FIFO instead of a file is rendered again
+/// (and the manifest of a folder whose key does not match is a miss too).
+#[test]
+fn a_damaged_cache_entry_is_rendered_again() {
+    let mut s = builtin::cornell();
+    s.size = (16, 16);
+    let st = settings(&[Term::Direct, Term::Ao], 4);
+    let dir = std::env::temp_dir().join(format!("lightbench-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let (first, fresh) = reference::store::cached(&s, &st, &dir, false).unwrap();
+    assert!(fresh);
+    let (_, fresh) = reference::store::cached(&s, &st, &dir, false).unwrap();
+    assert!(!fresh, "a whole cache entry is reused");
+    let direct = dir.join("direct.exr");
+    let good = first.term(Term::Direct).unwrap().mean.clone();
+    let mut nan = good.clone();
+    nan.rgba[0] = f32::NAN;
+    let small = Image {
+        width: 8,
+        height: 8,
+        rgba: vec![0.5; 8 * 8 * 4],
+        srgb: false,
+    };
+    let ao = first.term(Term::Ao).unwrap().mean.clone();
+    for (what, img) in [("a NaN", nan), ("another size", small), ("another term's image", ao)] {
+        img.save(&direct).unwrap();
+        let (again, fresh) = reference::store::cached(&s, &st, &dir, false).unwrap();
+        assert!(fresh, "{what} in direct.exr was used");
+        assert_eq!(again.term(Term::Direct).unwrap().mean.rgba, good.rgba, "{what}: rendered again");
+    }
+    std::fs::remove_file(&direct).unwrap();
+    assert!(std::process::Command::new("mkfifo").arg(&direct).status().unwrap().success());
+    let (_, fresh) = reference::store::cached(&s, &st, &dir, false).unwrap();
+    assert!(fresh, "a FIFO in place of direct.exr was waited on or used");
+    assert!(std::fs::metadata(&direct).unwrap().is_file());
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -16,11 +16,25 @@ pub struct Args {
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
     /// Samples per pixel.
-    #[arg(long, conflicts_with = "seconds", value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    #[arg(long, conflicts_with_all = ["seconds", "target_error"], value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
     pub spp: Option<u32>,
     /// Render for about this long instead (whole passes of 4 samples per pixel).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "target_error")]
     pub seconds: Option<f64>,
+    /// Render until the pixels' relative standard error at `--percentile` reaches this (0.02:
+    /// 2%); a 64-spp pilot predicts the samples needed, checked when they are taken.
+    #[arg(long, value_name = "E")]
+    pub target_error: Option<f64>,
+    /// The percentile of pixels held to `--target-error` (100: the worst lit pixel).
+    #[arg(long, default_value_t = 100.0, requires = "target_error")]
+    pub percentile: f64,
+    /// The most samples per pixel `--target-error` may take.
+    #[arg(long, default_value_t = 65_536, requires = "target_error", value_parser = clap::value_parser!(u32).range(64..=1_000_000))]
+    pub max_spp: u32,
+    /// Find emitters by BRDF sampling only, not also by sampling them as lights: the slower
+    /// estimator of the same image, to check the fast one against.
+    #[arg(long)]
+    pub no_emitter_sampling: bool,
     /// Terms: direct, ao, indirect_diffuse, indirect_specular, full (comma-separated).
     #[arg(long, default_value = "direct,ao")]
     pub terms: String,
@@ -64,10 +78,24 @@ pub fn parse_terms(text: &str) -> Result<Vec<Term>> {
 }
 
 fn settings(a: &Args) -> Result<Settings> {
-    let budget = match (a.spp, a.seconds) {
-        (_, Some(t)) if !(t.is_finite() && t > 0.0) => return Err(Error::Usage(format!("--seconds {t}: expected a positive number"))),
-        (_, Some(t)) => Budget::Seconds(t),
-        (n, None) => Budget::Spp(n.unwrap_or(64)),
+    let budget = match (a.spp, a.seconds, a.target_error) {
+        (_, Some(t), _) if !(t.is_finite() && t > 0.0) => return Err(Error::Usage(format!("--seconds {t}: expected a positive number"))),
+        (_, Some(t), _) => Budget::Seconds(t),
+        (_, _, Some(e)) if !(e.is_finite() && e > 0.0) => {
+            return Err(Error::Usage(format!("--target-error {e}: expected a positive number")))
+        }
+        (_, _, Some(_)) if !(a.percentile > 0.0 && a.percentile <= 100.0) => {
+            return Err(Error::Usage(format!(
+                "--percentile {}: expected a number in (0, 100]",
+                a.percentile
+            )))
+        }
+        (_, _, Some(target)) => Budget::Error {
+            target,
+            percentile: a.percentile,
+            max_spp: a.max_spp,
+        },
+        (n, None, None) => Budget::Spp(n.unwrap_or(64)),
     };
     if !(a.ao_radius.is_finite() && a.ao_radius > 0.0) {
         return Err(Error::Usage(format!("--ao-radius {}: expected a positive number", a.ao_radius)));
@@ -79,6 +107,7 @@ fn settings(a: &Args) -> Result<Settings> {
         ao_falloff: a.ao_falloff,
         seed: a.seed,
         brdf: a.brdf,
+        sample_emitters: !a.no_emitter_sampling,
     })
 }
 
@@ -93,9 +122,20 @@ fn execute(a: &Args) -> Result<()> {
         "up to date (same scene and settings)"
     };
     eprintln!(
-        "reference {what}: {} at {}x{}, {} spp, {} triangles, {:.2} s",
-        scene.name, scene.size.0, scene.size.1, r.spp, r.triangles, r.seconds
+        "reference {what}: {} at {}x{}, {} spp, {} triangles ({} emitting), {:.2} s",
+        scene.name, scene.size.0, scene.size.1, r.spp, r.triangles, r.emitters, r.seconds
     );
+    if let Some(e) = r.reached {
+        let verdict = if e.error <= e.target {
+            "reached"
+        } else {
+            "NOT reached: --max-spp stopped it"
+        };
+        eprintln!(
+            "  relative standard error at the {}th percentile of lit pixels: {:.4} (target {}: {verdict})",
+            e.percentile, e.error, e.target
+        );
+    }
     for t in &r.terms {
         let n = (t.mean.width * t.mean.height) as f64;
         let mean: f64 = t.mean.rgba.chunks_exact(4).map(|p| (p[0] + p[1] + p[2]) as f64 / 3.0).sum::<f64>() / n;

@@ -2,6 +2,7 @@
 //! surface a camera ray found. Each term is the exact quantity a raster effect approximates
 //! (see `Term` for the definitions).
 
+use super::emitters::Emitters;
 use super::sample::{cosine_hemisphere, power_lobe, Rng};
 use super::shading::{shininess, Brdf, PunctualLight};
 use super::world::{Faces, Hit, World};
@@ -14,11 +15,26 @@ const MAX_BOUNCES: u32 = 256;
 pub struct Context<'a> {
     pub world: &'a World,
     pub lights: Vec<PunctualLight>,
+    /// The emissive triangles, sampled as lights at every vertex.
+    pub emitters: Emitters,
     pub brdf: Brdf,
     /// Distance rays start off a surface (a fraction of the scene's size): no self-hits.
     pub eps: f32,
     pub ao_radius: f32,
     pub ao_falloff: bool,
+    /// Next-event estimation of the emitters (with MIS); off, only BRDF sampling finds them
+    /// (what the reference did before: a check that both estimate the same).
+    pub sample_emitters: bool,
+}
+
+/// Power-heuristic weight of a strategy of density `p` against one of density `other`.
+fn power_heuristic(p: f32, other: f32) -> f32 {
+    let r = other / p;
+    if r.is_finite() {
+        1.0 / (1.0 + r * r)
+    } else {
+        0.0
+    }
 }
 
 impl Context<'_> {
@@ -26,9 +42,20 @@ impl Context<'_> {
         h.position + h.ng * self.eps
     }
 
+    /// Whether `term`'s estimate has no noise, so one sample per pixel is enough: `direct`
+    /// with point lights only (with emitters, it samples them).
+    pub fn exact(&self, term: super::Term) -> bool {
+        term == super::Term::Direct && !self.emits()
+    }
+
+    /// Whether the emitters are sampled as lights.
+    fn emits(&self) -> bool {
+        self.sample_emitters && !self.emitters.is_empty()
+    }
+
     /// Light from the scene's lights reflected at `h` towards `v`, with exact visibility
     /// (hard shadows): what the raster light passes compute with shadow maps.
-    pub fn direct_light(&self, h: &Hit, v: Vec3) -> Vec3 {
+    pub fn lights(&self, h: &Hit, v: Vec3) -> Vec3 {
         let origin = self.origin(h);
         let mut sum = Vec3::ZERO;
         for light in &self.lights {
@@ -49,9 +76,81 @@ impl Context<'_> {
         sum
     }
 
-    /// `direct`: emission plus the lights' light with hard shadows.
-    pub fn direct(&self, h: &Hit, v: Vec3) -> Vec3 {
-        h.emissive + self.direct_light(h, v)
+    /// Light from one point drawn on an emitter, reflected at `h` towards `v` (next-event
+    /// estimation), weighed against BRDF sampling by the power heuristic when `mis`. Draws
+    /// no random numbers when nothing emits (point-lit images stay as they were).
+    pub fn emitted_light(&self, h: &Hit, v: Vec3, rng: &mut Rng, mis: bool) -> Vec3 {
+        if !self.emits() {
+            return Vec3::ZERO;
+        }
+        let u = (rng.uniform(), rng.uniform(), rng.uniform());
+        let Some(s) = self.emitters.sample(self.world, h.position, u) else {
+            return Vec3::ZERO;
+        };
+        // Below the geometric surface BRDF sampling never goes: neither does this.
+        if h.ng.dot(s.l) <= 0.0 || s.radiance.max_element() <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let (f, brdf_pdf) = self.brdf.eval_pdf(h, s.l, v);
+        if f.max_element() <= 0.0 {
+            return Vec3::ZERO;
+        }
+        if !self.visible(h, h.position + s.l * s.dist) {
+            return Vec3::ZERO;
+        }
+        let w = if mis { power_heuristic(s.pdf, brdf_pdf) } else { 1.0 };
+        f * s.radiance * (w / s.pdf)
+    }
+
+    /// Whether nothing lies between `h` and the point `p` on a surface: the shadow ray runs
+    /// from the offset origin to `p` itself and stops short of it (towards `p` from the
+    /// offset origin, not along the direction from `h`, which would meet `p`'s plane early
+    /// where the two surfaces face each other).
+    fn visible(&self, h: &Hit, p: Vec3) -> bool {
+        let origin = self.origin(h);
+        let d = p - origin;
+        let dist = d.length();
+        let tmax = dist - self.eps;
+        tmax <= 0.0 || !self.world.occluded(origin, d / dist, 0.0, tmax)
+    }
+
+    /// What a surface `y` that a BRDF-sampled ray (direction `l`, density `pdf`) met emits
+    /// towards it, weighed against next-event estimation. Nothing where the ray passed the
+    /// back of a single-sided surface first: light is shadowed by every surface.
+    fn emission_found(&self, y: &Hit, l: Vec3, pdf: f32) -> Vec3 {
+        if y.emissive.max_element() <= 0.0 {
+            return Vec3::ZERO;
+        }
+        if !self.emits() {
+            return y.emissive;
+        }
+        if y.shadowed {
+            return Vec3::ZERO;
+        }
+        y.emissive * power_heuristic(pdf, self.emitters.pdf(self.world, y.triangle, l, y.t))
+    }
+
+    /// The light arriving directly from every light and emitter, reflected at `h` towards
+    /// `v` (emitters by next-event estimation alone).
+    pub fn direct_light(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
+        self.lights(h, v) + self.emitted_light(h, v, rng, false)
+    }
+
+    /// `direct`: emission plus the lights' light with hard shadows, plus the emitters' by
+    /// both strategies (a point drawn on one, and a direction drawn from the BRDF).
+    pub fn direct(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
+        let sum = h.emissive + self.lights(h, v);
+        if !self.emits() {
+            return sum;
+        }
+        let (u, choose) = (rng.pair(), rng.uniform());
+        let (l, w, pdf) = self.brdf.sample(h, v, u, choose);
+        let found = match w.max_element() > 0.0 {
+            true => self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen),
+            false => None,
+        };
+        let by_brdf = found.map_or(Vec3::ZERO, |y| w * self.emission_found(&y, l, pdf));
+        sum + self.emitted_light(h, v, rng, true) + by_brdf
     }
 
     /// `ao`: 1 minus the cosine-weighted share of directions that meet a surface within the
@@ -77,7 +176,7 @@ impl Context<'_> {
             return Vec3::ZERO;
         }
         match self.world.trace(self.origin(h), d, (0.0, f32::INFINITY), Faces::Seen) {
-            Some(y) => self.direct_light(&y, -d),
+            Some(y) => self.direct_light(&y, -d, rng),
             None => Vec3::ZERO,
         }
     }
@@ -93,20 +192,22 @@ impl Context<'_> {
             return Vec3::ZERO;
         }
         match self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen) {
-            Some(y) => self.direct(&y, -l),
+            Some(y) => y.emissive + self.direct_light(&y, -l, rng),
             None => Vec3::ZERO,
         }
     }
 
     /// `full`: all light leaving the surface towards `v`, every bounce (path tracing with
-    /// the lights sampled at every vertex, Russian roulette after a few bounces).
+    /// the lights and emitters sampled at every vertex, emitters also found by the BRDF's
+    /// directions and the two weighed by MIS; Russian roulette after a few bounces).
     pub fn full(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
         let (mut h, mut v) = (*h, v);
-        let mut sum = self.direct(&h, v);
+        let mut sum = h.emissive;
         let mut throughput = Vec3::ONE;
         for bounce in 1..=MAX_BOUNCES {
+            sum += throughput * (self.lights(&h, v) + self.emitted_light(&h, v, rng, true));
             let (u, choose) = (rng.pair(), rng.uniform());
-            let (l, w) = self.brdf.sample(&h, v, u, choose);
+            let (l, w, pdf) = self.brdf.sample(&h, v, u, choose);
             throughput *= w;
             if throughput.max_element() <= 0.0 {
                 break;
@@ -121,7 +222,7 @@ impl Context<'_> {
             let Some(y) = self.world.trace(self.origin(&h), l, (0.0, f32::INFINITY), Faces::Seen) else {
                 break;
             };
-            sum += throughput * self.direct(&y, -l);
+            sum += throughput * self.emission_found(&y, l, pdf);
             (h, v) = (y, -l);
         }
         sum

@@ -2,9 +2,10 @@
 //! draw (meshes, glTF materials and textures, every light kind with the shaders' attenuation
 //! and cone), computing exactly the quantities the real-time effects approximate. Sub-stages:
 //! `world` (triangles, BVH, surfaces), `shading` (the shaders' light and BRDF definitions),
-//! `sample` (deterministic random numbers, directions), `integrate` (one estimator per term),
+//! `emitters` (emissive triangles as lights), `sample` (deterministic random numbers, directions), `integrate` (one estimator per term),
 //! `store` (EXR files, manifest, cache); here: terms, settings and the pixel loop.
 
+pub mod emitters;
 pub mod integrate;
 pub mod sample;
 pub mod shading;
@@ -24,7 +25,8 @@ use std::time::Instant;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Term {
-    /// Emission plus the lights' light through the BRDF with exact visibility (hard shadows).
+    /// Emission plus the light of every light and emitter once through the BRDF, with exact
+    /// visibility (hard shadows).
     Direct,
     /// Ambient occlusion: 1 − the cosine-weighted share of directions blocked within the AO
     /// radius (each blocker weighed 1/(1 + d²) with the falloff); 1 where nothing was hit.
@@ -49,18 +51,31 @@ impl Term {
     pub fn from_name(s: &str) -> Option<Term> {
         Self::NAMES.iter().position(|n| *n == s).map(|i| Self::ALL[i])
     }
-    /// Noise-free with centre rays and point lights: evaluated once per pixel.
-    fn exact(self) -> bool {
-        self == Term::Direct
-    }
 }
 
-/// How many samples: a count, or as many as fit in a time budget (rounded to whole passes).
+/// How many samples: a count, as many as fit in a time budget (rounded to whole passes), or
+/// as many as bring a percentile of the pixels' relative standard error down to a target.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Budget {
     Spp(u32),
     Seconds(f64),
+    /// `target` relative standard error at the `percentile` (100: the worst pixel), found by
+    /// a pilot of 64 spp and predicted from it (error ∝ 1/√n), checked and predicted again
+    /// until reached or `max_spp`.
+    Error {
+        target: f64,
+        percentile: f64,
+        max_spp: u32,
+    },
+}
+
+/// What a noise-targeted render reached: the relative standard error at the percentile.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Reached {
+    pub target: f64,
+    pub percentile: f64,
+    pub error: f64,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -71,6 +86,14 @@ pub struct Settings {
     pub ao_falloff: bool,
     pub seed: u64,
     pub brdf: Brdf,
+    /// Emitters sampled as lights (next-event estimation with MIS); off, only BRDF sampling
+    /// finds them — slower to converge to the same image, kept to check that it is the same.
+    #[serde(default = "yes")]
+    pub sample_emitters: bool,
+}
+
+fn yes() -> bool {
+    true
 }
 
 impl Default for Settings {
@@ -82,6 +105,7 @@ impl Default for Settings {
             ao_falloff: false,
             seed: 0,
             brdf: Brdf::BlinnPhong,
+            sample_emitters: true,
         }
     }
 }
@@ -91,6 +115,8 @@ impl Default for Settings {
 #[derive(Clone, Debug)]
 pub struct TermImage {
     pub term: Term,
+    /// Samples per pixel behind it (1 for a noise-free term).
+    pub samples: u32,
     pub mean: Image,
     pub variance: Image,
 }
@@ -101,6 +127,10 @@ pub struct Reference {
     pub spp: u32,
     pub seconds: f64,
     pub triangles: usize,
+    /// Emissive triangles sampled as lights.
+    pub emitters: usize,
+    /// With an error budget: what the render reached.
+    pub reached: Option<Reached>,
 }
 
 impl Reference {
@@ -113,15 +143,17 @@ impl Reference {
 const PASS_SPP: u32 = 4;
 
 /// Camera rays through pixel centres, clipped to the near and far planes as rasterising is.
+/// The inverse is taken in f64: with near 1e-4 and far 1e5 an f32 inverse puts the far
+/// plane's points nowhere near the view ray.
 struct Camera {
-    inverse: glam::Mat4,
+    inverse: glam::DMat4,
     size: (u32, u32),
 }
 
 impl Camera {
     fn new(scene: &Scene) -> Camera {
         let (w, h) = scene.size;
-        let vp = scene.camera.proj(w as f32 / h.max(1) as f32) * scene.camera.view();
+        let vp = scene.camera.proj(w as f32 / h.max(1) as f32).as_dmat4() * scene.camera.view().as_dmat4();
         Camera {
             inverse: vp.inverse(),
             size: (w, h),
@@ -131,12 +163,12 @@ impl Camera {
     /// Origin (on the near plane), unit direction and length to the far plane.
     fn ray(&self, x: u32, y: u32) -> (Vec3, Vec3, f32) {
         let (w, h) = self.size;
-        let nx = (x as f32 + 0.5) / w as f32 * 2.0 - 1.0;
-        let ny = 1.0 - (y as f32 + 0.5) / h as f32 * 2.0;
-        let near = self.inverse.project_point3(Vec3::new(nx, ny, 0.0));
-        let far = self.inverse.project_point3(Vec3::new(nx, ny, 1.0));
+        let nx = (x as f64 + 0.5) / w as f64 * 2.0 - 1.0;
+        let ny = 1.0 - (y as f64 + 0.5) / h as f64 * 2.0;
+        let near = self.inverse.project_point3(glam::DVec3::new(nx, ny, 0.0));
+        let far = self.inverse.project_point3(glam::DVec3::new(nx, ny, 1.0));
         let d = far - near;
-        (near, d.normalize_or(Vec3::NEG_Z), d.length())
+        (near.as_vec3(), d.normalize_or(glam::DVec3::NEG_Z).as_vec3(), d.length() as f32)
     }
 }
 
@@ -150,19 +182,29 @@ pub fn memory_bytes((w, h): (u32, u32), terms: usize) -> u64 {
     w as u64 * h as u64 * terms as u64 * (SLOTS as u64 * 8 + 2 * 16)
 }
 
-/// Render every term of `s` for `scene` at its size. `progress` draws a bar with ETA.
-pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
-    let start = Instant::now();
-    let world = world::World::new(scene);
+/// Samples of a pilot for an error budget.
+const PILOT_SPP: u32 = 64;
+
+/// The estimators' context for `scene` as `s` asks.
+fn context<'a>(scene: &Scene, world: &'a world::World, s: &Settings) -> integrate::Context<'a> {
     let (lo, hi) = scene.bounds();
-    let ctx = integrate::Context {
-        world: &world,
+    integrate::Context {
+        world,
         lights: scene.active_lights().into_iter().map(shading::PunctualLight::new).collect(),
+        emitters: emitters::Emitters::new(world),
         brdf: s.brdf,
         eps: (hi - lo).length().max(1e-6) * 1e-5,
         ao_radius: s.ao_radius,
         ao_falloff: s.ao_falloff,
-    };
+        sample_emitters: s.sample_emitters,
+    }
+}
+
+/// Render every term of `s` for `scene` at its size. `progress` draws a bar with ETA.
+pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
+    let start = Instant::now();
+    let world = world::World::new(scene);
+    let ctx = context(scene, &world, s);
     let cam = Camera::new(scene);
     let (w, h) = scene.size;
     let mut terms = s.terms.clone();
@@ -171,20 +213,41 @@ pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
     let mut sums: Sums = vec![0.0; (w * h) as usize * terms.len() * SLOTS];
     let bar = progress_bar(s.budget, h, progress);
     let mut done = 0u32;
+    let mut goal = match s.budget {
+        Budget::Spp(n) => n,
+        Budget::Seconds(_) => u32::MAX,
+        Budget::Error { max_spp, .. } => PILOT_SPP.min(max_spp),
+    };
+    let mut reached = None;
     loop {
-        let n = match s.budget {
-            Budget::Spp(total) => PASS_SPP.min(total.saturating_sub(done)),
-            Budget::Seconds(t) if start.elapsed().as_secs_f64() >= t && done > 0 => 0,
-            Budget::Seconds(_) => PASS_SPP,
-        };
-        if n == 0 {
-            break;
+        if done >= goal {
+            let Budget::Error {
+                target,
+                percentile,
+                max_spp,
+            } = s.budget
+            else {
+                break;
+            };
+            let error = percentile_error(&sums, &terms, &ctx, done, percentile);
+            reached = Some(Reached { target, percentile, error });
+            if error <= target || done >= max_spp {
+                break;
+            }
+            goal = predict(done, error / target).min(max_spp);
+            bar.set_length((h * goal.div_ceil(PASS_SPP)) as u64);
         }
+        if let Budget::Seconds(t) = s.budget {
+            if start.elapsed().as_secs_f64() >= t && done > 0 {
+                break;
+            }
+        }
+        let n = PASS_SPP.min(goal - done);
         sums.par_chunks_mut(w as usize * terms.len() * SLOTS)
             .enumerate()
             .for_each(|(y, row)| {
                 pass_row(&ctx, &cam, (&terms, s.seed), (y as u32, done..done + n), row);
-                if let Budget::Spp(_) = s.budget {
+                if !matches!(s.budget, Budget::Seconds(_)) {
                     bar.inc(1);
                 }
             });
@@ -198,12 +261,48 @@ pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
         terms: terms
             .iter()
             .enumerate()
-            .map(|(k, &t)| finish(&sums, (k, terms.len()), t, (w, h), done))
+            .map(|(k, &t)| finish(&sums, (k, terms.len()), t, (w, h), if ctx.exact(t) { 1 } else { done }))
             .collect(),
         spp: done,
         seconds: start.elapsed().as_secs_f64(),
         triangles: world.triangles(),
+        emitters: ctx.emitters.len(),
+        reached,
     }
+}
+
+/// Samples per pixel that bring a relative error `ratio` times the target down to it
+/// (error ∝ 1/√n, 5% spare for the estimate's own noise), in whole passes, more than `done`.
+fn predict(done: u32, ratio: f64) -> u32 {
+    let need = (done as f64 * ratio * ratio * 1.05).ceil().min(u32::MAX as f64 / 2.0) as u32;
+    need.max(done + PASS_SPP).next_multiple_of(PASS_SPP)
+}
+
+/// A pixel's relative standard error: the channels' standard errors of the mean over their
+/// means (summed, so a dim channel does not dominate); `None` for a black pixel.
+pub fn relative_error(mean: [f64; 3], variance: [f64; 3]) -> Option<f64> {
+    let m: f64 = mean.iter().sum();
+    (m > 0.0).then(|| variance.iter().map(|v| v.max(0.0).sqrt()).sum::<f64>() / m)
+}
+
+/// The `percentile` (0..100) of the relative standard error over every pixel of every noisy
+/// term, after `n` samples (0 if no pixel is lit).
+fn percentile_error(sums: &[f64], terms: &[Term], ctx: &integrate::Context, n: u32, percentile: f64) -> f64 {
+    let n = n as f64;
+    let mut errors = vec![];
+    for (k, &t) in terms.iter().enumerate() {
+        if ctx.exact(t) {
+            continue;
+        }
+        for p in sums.chunks_exact(SLOTS).skip(k).step_by(terms.len()) {
+            let mean: [f64; 3] = std::array::from_fn(|c| p[c] / n);
+            let var = std::array::from_fn(|c| (p[3 + c] - n * mean[c] * mean[c]) / (n - 1.0).max(1.0) / n);
+            errors.extend(relative_error(mean, var));
+        }
+    }
+    errors.sort_by(f64::total_cmp);
+    let rank = ((percentile / 100.0 * errors.len() as f64).ceil() as usize).clamp(1, errors.len().max(1)) - 1;
+    errors.get(rank).copied().unwrap_or(0.0)
 }
 
 fn progress_bar(budget: Budget, rows: u32, visible: bool) -> indicatif::ProgressBar {
@@ -213,6 +312,7 @@ fn progress_bar(budget: Budget, rows: u32, visible: bool) -> indicatif::Progress
     let (len, what) = match budget {
         Budget::Spp(n) => ((rows * n.div_ceil(PASS_SPP)) as u64, "rows"),
         Budget::Seconds(_) => (1000, "‰ of the time"),
+        Budget::Error { max_spp, .. } => ((rows * PILOT_SPP.min(max_spp).div_ceil(PASS_SPP)) as u64, "rows (so far)"),
     };
     let bar = indicatif::ProgressBar::new(len);
     let style = format!("reference {{bar:40}} {{pos}}/{{len}} {what}, ETA {{eta}}");
@@ -238,11 +338,12 @@ fn pass_row(
         for (k, &term) in terms.iter().enumerate() {
             let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
             for i in range.clone() {
-                if term.exact() && i > 0 {
+                if ctx.exact(term) && i > 0 {
                     break;
                 }
                 let mut rng = sample::Rng::new(seed, pixel, i as u64, term as u64);
                 let v = estimate(ctx, term, hit.as_ref(), -dir, &mut rng);
+                debug_assert!(v.is_finite(), "{term:?} at ({x}, {y}) sample {i}: {v}");
                 for c in 0..3 {
                     slot[c] += v[c] as f64;
                     slot[3 + c] += (v[c] as f64) * (v[c] as f64);
@@ -258,7 +359,7 @@ fn estimate(ctx: &integrate::Context, term: Term, hit: Option<&world::Hit>, v: V
         return if term == Term::Ao { Vec3::ONE } else { Vec3::ZERO };
     };
     match term {
-        Term::Direct => ctx.direct(h, v),
+        Term::Direct => ctx.direct(h, v, rng),
         Term::Ao => Vec3::splat(ctx.ao(h, rng)),
         Term::IndirectDiffuse => ctx.indirect_diffuse(h, rng),
         Term::IndirectSpecular => ctx.indirect_specular(h, v, rng),
@@ -266,9 +367,9 @@ fn estimate(ctx: &integrate::Context, term: Term, hit: Option<&world::Hit>, v: V
     }
 }
 
-/// Term `k` of `count` as mean and variance-of-the-mean images.
+/// Term `k` of `count`, after `spp` samples, as mean and variance-of-the-mean images.
 fn finish(sums: &[f64], (k, count): (usize, usize), term: Term, (w, h): (u32, u32), spp: u32) -> TermImage {
-    let n = if term.exact() { 1.0 } else { spp.max(1) as f64 };
+    let n = spp.max(1) as f64;
     let (mut mean, mut var) = (Vec::with_capacity((w * h * 4) as usize), Vec::with_capacity((w * h * 4) as usize));
     for p in 0..(w * h) as usize {
         let s = &sums[(p * count + k) * SLOTS..][..SLOTS];
@@ -291,6 +392,7 @@ fn finish(sums: &[f64], (k, count): (usize, usize), term: Term, (w, h): (u32, u3
     };
     TermImage {
         term,
+        samples: spp,
         mean: image(mean),
         variance: image(var),
     }

@@ -60,18 +60,14 @@ pub fn cosine_hemisphere(n: Vec3, (u1, u2): (f32, f32)) -> Vec3 {
     (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
 }
 
-/// A half vector about `n` with density (e + 1) / 2π · cos^e θ (a Phong-power lobe).
+/// A half vector about `n` with density (e + 1) / 2π · cos^e θ (a Phong-power lobe;
+/// `Brdf::eval_pdf` states the density of the direction it reflects to).
 pub fn power_lobe(n: Vec3, e: f32, (u1, u2): (f32, f32)) -> Vec3 {
     let cos_t = u1.powf(1.0 / (e + 1.0));
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
     let phi = 2.0 * PI * u2;
     let (t, b) = frame(n);
     (t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + n * cos_t).normalize()
-}
-
-/// Density of `power_lobe` at half vector `h`.
-pub fn power_lobe_pdf(n: Vec3, e: f32, h: Vec3) -> f32 {
-    (e + 1.0) / (2.0 * PI) * n.dot(h).max(0.0).powf(e)
 }
 
 #[cfg(test)]

@@ -99,15 +99,7 @@ impl Brdf {
 
     /// BRDF × cos θ_l for light arriving from `l` seen from `v` (`blinn_phong()`).
     pub fn eval(self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
-        let ndl = h.n.dot(l).max(0.0);
-        if ndl <= 0.0 {
-            return Vec3::ZERO;
-        }
-        let (diffuse, spec_color) = self.lobes(h);
-        let s = shininess(h.roughness);
-        let half = (l + v).try_normalize().unwrap_or(h.n);
-        let spec = h.n.dot(half).max(0.0).powf(s.max(1.0)) * (s + 8.0) / 25.132741;
-        (diffuse / PI + spec_color * spec) * ndl
+        self.eval_pdf(h, l, v).0
     }
 
     /// Probability of sampling the specular lobe (its share of the reflectance).
@@ -123,19 +115,37 @@ impl Brdf {
 
     /// Density of `sample` drawing `l` (one-sample mixture of the cosine and specular lobes).
     pub fn pdf(self, h: &Hit, l: Vec3, v: Vec3) -> f32 {
+        self.eval_pdf(h, l, v).1
+    }
+
+    /// `eval` and `pdf` at once: the lobe's power of n · h is shared (the costliest part).
+    pub fn eval_pdf(self, h: &Hit, l: Vec3, v: Vec3) -> (Vec3, f32) {
+        let (diffuse, spec_color) = self.lobes(h);
         let ps = self.specular_share(h);
-        let cos = h.n.dot(l).max(0.0) / PI;
-        if ps == 0.0 {
-            return cos;
+        let ndl = h.n.dot(l).max(0.0);
+        let cos = ndl / PI;
+        if ps == 0.0 && ndl <= 0.0 {
+            return (Vec3::ZERO, cos);
         }
+        let s = shininess(h.roughness);
+        let e = s.max(1.0);
         let half = (l + v).try_normalize().unwrap_or(h.n);
-        let spec = super::sample::power_lobe_pdf(h.n, shininess(h.roughness).max(1.0), half) / (4.0 * v.dot(half).abs().max(1e-6));
-        (1.0 - ps) * cos + ps * spec
+        let lobe = h.n.dot(half).max(0.0).powf(e);
+        let f = if ndl <= 0.0 {
+            Vec3::ZERO
+        } else {
+            (diffuse / PI + spec_color * (lobe * (s + 8.0) / 25.132741)) * ndl
+        };
+        if ps == 0.0 {
+            return (f, cos);
+        }
+        let spec = (e + 1.0) / (2.0 * PI) * lobe / (4.0 * v.dot(half).abs().max(1e-6));
+        (f, (1.0 - ps) * cos + ps * spec)
     }
 
     /// A direction to continue a path in, from the lobes in proportion to their reflectance,
-    /// and its weight BRDF × cos / pdf (zero when it points below the surface).
-    pub fn sample(self, h: &Hit, v: Vec3, u: (f32, f32), choose: f32) -> (Vec3, Vec3) {
+    /// its weight BRDF × cos / pdf (zero when it points below the surface) and its density.
+    pub fn sample(self, h: &Hit, v: Vec3, u: (f32, f32), choose: f32) -> (Vec3, Vec3, f32) {
         let ps = self.specular_share(h);
         let l = if choose < ps {
             let half = super::sample::power_lobe(h.n, shininess(h.roughness).max(1.0), u);
@@ -143,11 +153,11 @@ impl Brdf {
         } else {
             super::sample::cosine_hemisphere(h.n, u)
         };
-        let pdf = self.pdf(h, l, v);
+        let (f, pdf) = self.eval_pdf(h, l, v);
         if h.ng.dot(l) <= 0.0 || pdf <= 0.0 {
-            return (l, Vec3::ZERO);
+            return (l, Vec3::ZERO, pdf);
         }
-        (l, self.eval(h, l, v) / pdf)
+        (l, f / pdf, pdf)
     }
 }
 

@@ -7,12 +7,14 @@ use super::{Reference, Settings, Term, TermImage};
 use crate::error::{Error, Result};
 use crate::io::Image;
 use crate::scene::Scene;
+use lightbench_compiler::vfs;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Bumped when the renderer's results change for the same inputs (old caches then miss).
 // 2: sidedness (single-sided backs are not seen; glTF doubleSided).
-const VERSION: u32 = 2;
+// 3: emitters sampled as lights (MIS), one-sided emission; camera rays in f64.
+const VERSION: u32 = 3;
 const MANIFEST: &str = "reference.json";
 /// Largest working set a reference may take (the machine this runs on has 24 GiB).
 const MAX_BYTES: u64 = 8 << 30;
@@ -30,6 +32,13 @@ struct Manifest {
     /// Camera-ray samples per second over all terms (exact terms count once per pixel).
     samples_per_second: f64,
     terms: Vec<Term>,
+    /// Samples per pixel behind each term (1 for a noise-free one).
+    term_samples: Vec<u32>,
+    /// A hash of each term's mean and variance values: an image swapped for another term's
+    /// or another reference's is found out.
+    term_hashes: Vec<String>,
+    emitters: usize,
+    reached: Option<super::Reached>,
 }
 
 /// Everything the images depend on, hashed: geometry, materials, textures, lights, camera,
@@ -66,7 +75,7 @@ pub fn write(r: &Reference, scene: &Scene, s: &Settings, dir: &Path) -> Result<(
         t.variance.save(&dir.join(format!("{}.variance.exr", t.term.name())))?;
         preview(t).save(&dir.join(format!("{}.png", t.term.name())))?;
     }
-    let samples = r.terms.iter().map(|t| if t.term.exact() { 1 } else { r.spp as u64 }).sum::<u64>() * (scene.size.0 * scene.size.1) as u64;
+    let samples = r.terms.iter().map(|t| t.samples as u64).sum::<u64>() * (scene.size.0 * scene.size.1) as u64;
     let m = Manifest {
         version: VERSION,
         key: key(scene, s),
@@ -78,6 +87,10 @@ pub fn write(r: &Reference, scene: &Scene, s: &Settings, dir: &Path) -> Result<(
         triangles: r.triangles,
         samples_per_second: samples as f64 / r.seconds.max(1e-9),
         terms: r.terms.iter().map(|t| t.term).collect(),
+        term_samples: r.terms.iter().map(|t| t.samples).collect(),
+        term_hashes: r.terms.iter().map(image_hash).collect(),
+        emitters: r.emitters,
+        reached: r.reached,
     };
     let text = serde_json::to_string_pretty(&m).map_err(|e| Error::io(dir, e))?;
     crate::io::write_atomic(&dir.join(MANIFEST), text.as_bytes())
@@ -92,31 +105,62 @@ fn preview(t: &TermImage) -> Image {
     }
 }
 
-/// The reference in `dir` if it was made from the same scene and settings.
+/// The reference in `dir` if it was made from the same scene and settings and every image
+/// is whole: each term the settings ask for, at the scene's size, finite. Anything else (an
+/// image cut short, replaced, or another term's) is a miss, rendered again.
 pub fn load(scene: &Scene, s: &Settings, dir: &Path) -> Result<Option<Reference>> {
-    let Ok(text) = std::fs::read_to_string(dir.join(MANIFEST)) else {
+    let read = vfs::read_bytes(&dir.join(MANIFEST), 1 << 20).and_then(vfs::utf8);
+    let Ok(text) = read else {
         return Ok(None);
     };
     let Ok(m) = serde_json::from_str::<Manifest>(&text) else {
         return Ok(None);
     };
-    if m.version != VERSION || m.key != key(scene, s) {
+    let mut wanted = s.terms.clone();
+    wanted.sort();
+    wanted.dedup();
+    let n = m.terms.len();
+    if m.version != VERSION || m.key != key(scene, s) || m.terms != wanted || m.term_samples.len() != n || m.term_hashes.len() != n {
         return Ok(None);
     }
     let mut terms = vec![];
-    for t in m.terms {
+    for ((&t, &samples), hash) in m.terms.iter().zip(&m.term_samples).zip(&m.term_hashes) {
         let read = |suffix: &str| load_exr(&dir.join(format!("{}{suffix}.exr", t.name())));
-        match (read(""), read(".variance")) {
-            (Ok(mean), Ok(variance)) => terms.push(TermImage { term: t, mean, variance }),
-            _ => return Ok(None),
+        let (Ok(mean), Ok(variance)) = (read(""), read(".variance")) else {
+            return Ok(None);
+        };
+        let image = TermImage {
+            term: t,
+            samples,
+            mean,
+            variance,
+        };
+        if !whole(&image.mean, scene.size) || !whole(&image.variance, scene.size) || image_hash(&image) != *hash {
+            return Ok(None);
         }
+        terms.push(image);
     }
     Ok(Some(Reference {
         terms,
         spp: m.spp,
         seconds: m.seconds,
         triangles: m.triangles,
+        emitters: m.emitters,
+        reached: m.reached,
     }))
+}
+
+/// FNV-1a of a term's mean and variance values.
+fn image_hash(t: &TermImage) -> String {
+    let mut h = crate::render::Fnv1a::default();
+    h.field(bytemuck::cast_slice(&t.mean.rgba));
+    h.field(bytemuck::cast_slice(&t.variance.rgba));
+    format!("{:016x}", h.0)
+}
+
+/// An image of `size` whose every value is finite.
+fn whole(img: &Image, size: (u32, u32)) -> bool {
+    (img.width, img.height) == size && img.rgba.len() == (size.0 * size.1 * 4) as usize && img.rgba.iter().all(|v| v.is_finite())
 }
 
 /// The reference for `scene` and `s` from `dir`, rendered (and written there) if it is not
@@ -141,8 +185,10 @@ pub fn cached(scene: &Scene, s: &Settings, dir: &Path, progress: bool) -> Result
     Ok((r, true))
 }
 
-/// A linear EXR as RGBA floats.
+/// A linear EXR as RGBA floats (a regular file of at most 4 GiB: a pipe or device put in
+/// its place is refused, not waited on).
 pub fn load_exr(path: &Path) -> Result<Image> {
+    vfs::regular_file(path, 4 << 30).map_err(|e| Error::io(path, e))?;
     let img = image::open(path).map_err(|e| Error::io(path, e))?.to_rgba32f();
     Ok(Image {
         width: img.width(),

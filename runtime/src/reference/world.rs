@@ -13,6 +13,7 @@ use obvhs::cwbvh::{builder::build_cwbvh_from_tris, CwBvh};
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
 use obvhs::BvhBuildParams;
+use std::cell::Cell;
 
 /// One triangle's vertex attributes, in world space.
 #[derive(Clone, Copy)]
@@ -36,6 +37,12 @@ pub struct Hit {
     pub metallic: f32,
     pub roughness: f32,
     pub emissive: Vec3,
+    /// The triangle hit (an index into the world's triangles).
+    pub triangle: u32,
+    /// The ray passed the back of a single-sided surface on its way here (camera and bounce
+    /// rays do): what this surface emits is shadowed from the ray's origin, as an occlusion
+    /// ray towards it would find.
+    pub shadowed: bool,
 }
 
 /// Which faces a ray meets. The one sidedness rule, as the raster pipelines draw it: what
@@ -50,12 +57,17 @@ pub enum Faces {
     Both,
 }
 
+const DOUBLE_SIDED: u8 = 1;
+const OPAQUE: u8 = 2;
+
 pub struct World {
     bvh: CwBvh,
     /// Triangles in BVH order (so a leaf's primitive id indexes them directly).
     tris: Vec<Triangle>,
     corners: Vec<[Corner; 3]>,
     material: Vec<u32>,
+    /// Per triangle: `DOUBLE_SIDED` and `OPAQUE` of its material (no lookup while traversing).
+    flags: Vec<u8>,
     materials: Vec<Material>,
     textures: Vec<ImageData>,
 }
@@ -103,18 +115,28 @@ impl World {
         let order: Vec<usize> = bvh.primitive_indices.iter().map(|&i| i as usize).collect();
         let mut bvh = bvh;
         bvh.primitive_indices = (0..order.len() as u32).collect();
+        // One past the scene's: white, for a mesh whose material index is out of range.
+        let materials: Vec<Material> = scene
+            .materials
+            .iter()
+            .cloned()
+            .chain([Material::color("default", [1.0; 3], 1.0)])
+            .collect();
+        let material: Vec<u32> = order.iter().map(|&i| material[i].min(scene.materials.len() as u32)).collect();
+        let flags = material
+            .iter()
+            .map(|&m| {
+                let m = &materials[m as usize];
+                (m.double_sided as u8 * DOUBLE_SIDED) | ((m.alpha == AlphaMode::Opaque) as u8 * OPAQUE)
+            })
+            .collect();
         World {
             bvh,
             tris: order.iter().map(|&i| tris[i]).collect(),
             corners: order.iter().map(|&i| corners[i]).collect(),
-            material: order.iter().map(|&i| material[i].min(scene.materials.len() as u32)).collect(),
-            // One past the scene's: white, for a mesh whose material index is out of range.
-            materials: scene
-                .materials
-                .iter()
-                .cloned()
-                .chain([Material::color("default", [1.0; 3], 1.0)])
-                .collect(),
+            material,
+            flags,
+            materials,
             textures: scene.textures.clone(),
         }
     }
@@ -125,31 +147,38 @@ impl World {
 
     /// Distance to triangle `i` along `ray`, or infinity; cut-out texels (alpha mask) and,
     /// with the probability of their transparency, blended ones let the ray through. With
-    /// `Faces::Seen` so does the back of a single-sided surface.
-    fn intersect(&self, ray: &Ray, i: usize, faces: Faces) -> f32 {
-        let t = hit_distance(&self.tris[i], ray);
+    /// `Faces::Seen` so does the back of a single-sided surface, whose distance goes to `back`
+    /// (the nearest such).
+    fn intersect(&self, ray: &Ray, i: usize, faces: Faces, back: &Cell<f32>) -> f32 {
+        let (t, det) = hit_distance(&self.tris[i], ray);
         if !t.is_finite() {
             return t;
         }
-        let mat = &self.materials[self.material[i] as usize];
-        let tri = &self.tris[i];
-        if faces == Faces::Seen && !mat.double_sided && (tri.v1 - tri.v0).cross(tri.v2 - tri.v0).dot(ray.direction) > 0.0 {
+        let flags = self.flags[i];
+        if flags & OPAQUE == 0 && self.cut_out(ray, i, t) {
             return f32::INFINITY;
         }
+        // det < 0: the ray meets the face from behind (det = −d · (e1 × e2)).
+        if faces == Faces::Seen && flags & DOUBLE_SIDED == 0 && det < 0.0 {
+            back.set(back.get().min(t));
+            return f32::INFINITY;
+        }
+        t
+    }
+
+    /// Whether the ray passes triangle `i` at `t`: a cut-out texel, or a blended one by the
+    /// probability of its transparency.
+    fn cut_out(&self, ray: &Ray, i: usize, t: f32) -> bool {
+        let mat = &self.materials[self.material[i] as usize];
         let cutoff = match mat.alpha {
-            AlphaMode::Opaque => return t,
+            AlphaMode::Opaque => return false,
             AlphaMode::Mask(c) => c,
             // Stochastic transparency, decided by a hash of the ray and triangle: the same
             // ray always meets the same surfaces (bit-identical reruns).
             AlphaMode::Blend => super::sample::unit_hash(&[ray.origin.x, ray.origin.y, ray.direction.z, i as f32, t]),
         };
         let (bary, _) = self.barycentrics(i, Vec3::from(ray.origin + ray.direction * t));
-        let alpha = self.base_color(mat, self.uv_at(i, bary, 0)).w;
-        if alpha < cutoff {
-            f32::INFINITY
-        } else {
-            t
-        }
+        self.base_color(mat, self.uv_at(i, bary, 0)).w < cutoff
     }
 
     /// The nearest surface along `dir` from `origin` between `tmin` and `tmax`, of the
@@ -157,16 +186,57 @@ impl World {
     pub fn trace(&self, origin: Vec3, dir: Vec3, (tmin, tmax): (f32, f32), faces: Faces) -> Option<Hit> {
         let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
         let mut hit = RayHit::none();
-        if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i, faces)) {
+        let back = Cell::new(f32::INFINITY);
+        if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i, faces, &back)) {
             return None;
         }
-        Some(self.surface(hit.primitive_id as usize, origin, dir, hit.t))
+        let mut h = self.surface(hit.primitive_id as usize, origin, dir, hit.t);
+        h.shadowed = back.get() < hit.t;
+        Some(h)
     }
 
     /// Whether anything lies along `dir` from `origin` between `tmin` and `tmax`.
     pub fn occluded(&self, origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> bool {
         let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
-        !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i, Faces::Both))
+        let back = Cell::new(f32::INFINITY);
+        !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i, Faces::Both, &back))
+    }
+
+    /// Triangle `i`'s corners.
+    pub fn corners(&self, i: usize) -> [Vec3; 3] {
+        let t = &self.tris[i];
+        [t.v0.into(), t.v1.into(), t.v2.into()]
+    }
+
+    pub fn double_sided(&self, i: usize) -> bool {
+        self.flags[i] & DOUBLE_SIDED != 0
+    }
+
+    /// What triangle `i` emits at barycentric weights `w` (the emissive factor, times the
+    /// emissive map there).
+    pub fn emission(&self, i: usize, w: Vec3) -> Vec3 {
+        let mat = &self.materials[self.material[i] as usize];
+        Vec3::from(mat.emissive) * self.emissive_map(mat, i, w).truncate()
+    }
+
+    /// The most triangle `i` can emit on average per channel, as a power estimate: the
+    /// emissive factor times the emissive map's mean (0 only where it emits nothing).
+    pub fn emission_bound(&self, i: usize, map_means: &[Vec3]) -> Vec3 {
+        let mat = &self.materials[self.material[i] as usize];
+        let mean = mat.emissive_texture.and_then(|t| map_means.get(t).copied()).unwrap_or(Vec3::ONE);
+        Vec3::from(mat.emissive) * mean
+    }
+
+    /// Mean linear colour of each texture (for `emission_bound`).
+    pub fn texture_means(&self) -> Vec<Vec3> {
+        self.textures.iter().map(texture_mean).collect()
+    }
+
+    fn emissive_map(&self, mat: &Material, i: usize, w: Vec3) -> Vec4 {
+        let uv = self.uv_at(i, w, (mat.uv_sets >> 3) & 1);
+        mat.emissive_texture
+            .and_then(|t| self.textures.get(t))
+            .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, uv)))
     }
 
     /// Barycentric weights of `p` on triangle `i` and its (unnormalised) face normal.
@@ -214,10 +284,7 @@ impl World {
             .metallic_roughness_texture
             .and_then(|t| self.textures.get(t))
             .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, map(1))));
-        let emissive = mat
-            .emissive_texture
-            .and_then(|t| self.textures.get(t))
-            .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, map(3))));
+        let emissive = self.emissive_map(mat, i, w);
         // Normals face the incoming ray: a back is hit only where it is seen (double-sided)
         // or by an occlusion ray.
         let (ng, n) = if ng.dot(dir) > 0.0 {
@@ -234,6 +301,8 @@ impl World {
             metallic: (mat.metallic * mr.z).clamp(0.0, 1.0),
             roughness: (mat.roughness * mr.y).clamp(0.03, 1.0),
             emissive: Vec3::from(mat.emissive) * emissive.truncate(),
+            triangle: i as u32,
+            shadowed: false,
         }
     }
 
@@ -253,13 +322,14 @@ impl World {
 
 /// Möller–Trumbore, from either side, edges included: a ray through the edge two triangles
 /// share hits one of them whichever side it comes from (obvhs's `Triangle::intersect` tests
-/// signs by bits, so -0.0 on a shared edge seen from behind misses both).
-fn hit_distance(tri: &Triangle, ray: &Ray) -> f32 {
+/// signs by bits, so -0.0 on a shared edge seen from behind misses both). The distance (or
+/// infinity) and the determinant, negative where the ray meets the back.
+fn hit_distance(tri: &Triangle, ray: &Ray) -> (f32, f32) {
     let (e1, e2) = (tri.v1 - tri.v0, tri.v2 - tri.v0);
     let p = ray.direction.cross(e2);
     let det = e1.dot(p);
     if det == 0.0 || !det.is_finite() {
-        return f32::INFINITY;
+        return (f32::INFINITY, det);
     }
     let inv = 1.0 / det;
     let s = ray.origin - tri.v0;
@@ -267,14 +337,31 @@ fn hit_distance(tri: &Triangle, ray: &Ray) -> f32 {
     let q = s.cross(e1);
     let v = ray.direction.dot(q) * inv;
     if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
-        return f32::INFINITY;
+        return (f32::INFINITY, det);
     }
     let t = e2.dot(q) * inv;
     if t >= ray.tmin && t <= ray.tmax {
-        t
+        (t, det)
     } else {
-        f32::INFINITY
+        (f32::INFINITY, det)
     }
+}
+
+/// Mean of a texture's texels, sRGB colour decoded to linear.
+fn texture_mean(img: &ImageData) -> Vec3 {
+    let n = (img.rgba.len() / 4).max(1) as f32;
+    let f = |v: u8| {
+        let v = v as f32 / 255.0;
+        if img.srgb {
+            crate::io::srgb_to_linear(v)
+        } else {
+            v
+        }
+    };
+    img.rgba
+        .chunks_exact(4)
+        .fold(Vec3::ZERO, |s, p| s + Vec3::new(f(p[0]), f(p[1]), f(p[2])))
+        / n
 }
 
 /// The tangent-space normal map applied as `lib/material.wgsl` applies it.

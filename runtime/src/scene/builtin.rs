@@ -18,6 +18,23 @@ pub fn cornell() -> Scene {
     Scene::from_desc(&desc::cornell())
 }
 
+/// The Cornell box lit by an emissive panel alone, as the classic box is: 0.47 × 0.38 under
+/// the ceiling, single-sided, facing down, no point light. Not a named scene (the raster
+/// pipelines cannot light with emitters yet); the reference's emitter tests and benchmark
+/// render it.
+pub fn cornell_lamp() -> Scene {
+    let mut s = cornell();
+    s.name = "cornell_lamp".into();
+    s.lights.clear();
+    let mut lamp = Material::color("lamp", [0.78; 3], 1.0);
+    lamp.emissive = [17.0, 12.0, 4.0];
+    let (mut vs, mut is) = (vec![], vec![]);
+    quad(Vec3::new(0.0, 1.99, 0.0), Vec3::X * 0.235, Vec3::Z * 0.19, &mut vs, &mut is);
+    s.meshes.push(mesh("lamp", (vs, is), s.materials.len(), Mat4::IDENTITY));
+    s.materials.push(lamp);
+    s
+}
+
 pub fn colonnade() -> Scene {
     Scene::from_desc(&desc::colonnade())
 }

@@ -11,15 +11,24 @@ use serde::{Deserialize, Serialize};
 pub struct ErrorMetrics {
     /// √max(0, MSE − mean reference variance): the error the estimate would have against a
     /// noise-free reference (the reference's noise adds its variance to the expected MSE).
+    /// NaN (`null` in rows) when no value of the estimate was finite.
+    #[serde(deserialize_with = "nan_if_null")]
     pub rmse: f64,
     /// √MSE against the reference as it is.
+    #[serde(deserialize_with = "nan_if_null")]
     pub rmse_raw: f64,
     /// Mean of (estimate − reference): negative where the effect darkens too much.
+    #[serde(deserialize_with = "nan_if_null")]
     pub bias: f64,
     /// Mean FLIP of both images mapped by L/(1+L) to 8-bit sRGB (colour terms only).
     pub flip: Option<f64>,
     /// Estimate values that are NaN or infinite (left out of the means above).
     pub non_finite: usize,
+}
+
+/// JSON has no NaN: serde_json writes it as `null`, read back here as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// Channels a term has: AO is one (red), the others are colour.
@@ -59,10 +68,12 @@ pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<
             count += 1;
         }
     }
-    let k = count.max(1) as f64;
+    // Over no finite value there is no error to state: NaN, never a perfect 0.
+    let k = if count == 0 { f64::NAN } else { count as f64 };
     let mse = se / k;
     Ok(ErrorMetrics {
-        rmse: (mse - var / k).max(0.0).sqrt(),
+        // (f64::max drops a NaN: keep it.)
+        rmse: if count == 0 { f64::NAN } else { (mse - var / k).max(0.0).sqrt() },
         rmse_raw: mse.sqrt(),
         bias: diff / k,
         flip: (n == 3).then(|| flip(est, r)),
@@ -101,6 +112,7 @@ mod tests {
         let (mean, variance) = flat(0.5, 0.01);
         let r = TermImage {
             term: Term::Ao,
+            samples: 64,
             mean,
             variance,
         };
@@ -113,5 +125,25 @@ mod tests {
         assert!((m.rmse - (0.09f64 - 0.01).sqrt()).abs() < 1e-5, "{m:?}");
         let small = Image { width: 4, ..est };
         assert!(error(&small, &r, "ao").unwrap_err().to_string().contains("size of the viewport"));
+    }
+
+    /// An estimate without one finite value has no error to state: NaN (not 0, which would
+    /// put it on the Pareto front), and it survives a round trip through a row's JSON.
+    #[test]
+    fn an_error_over_no_finite_value_is_nan() {
+        let (mean, variance) = flat(0.5, 0.01);
+        let r = TermImage {
+            term: Term::Ao,
+            samples: 64,
+            mean,
+            variance,
+        };
+        let (est, _) = flat(f32::NAN, 0.0);
+        let m = error(&est, &r, "ao").unwrap();
+        assert!(m.rmse.is_nan() && m.rmse_raw.is_nan() && m.bias.is_nan(), "{m:?}");
+        assert_eq!(m.non_finite, 64);
+        let json = serde_json::to_string(&m).unwrap();
+        let back: ErrorMetrics = serde_json::from_str(&json).unwrap();
+        assert!(back.rmse.is_nan() && back.non_finite == 64, "{json}");
     }
 }

@@ -141,6 +141,7 @@ fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> 
         ao_falloff: r.ao_falloff,
         seed: r.seed,
         brdf: reference::Brdf::BlinnPhong,
+        sample_emitters: true,
     };
     let cache_key = reference::store::key(&scene, &settings);
     let dir = opts
