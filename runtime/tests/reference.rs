@@ -296,3 +296,77 @@ fn a_damaged_cache_entry_is_rendered_again() {
     assert!(std::fs::metadata(&direct).unwrap().is_file());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Hard scenes the raster cannot match within the Cornell test's tolerances, with the share
+/// and median it must reach instead, and why (measured on lavapipe at 64²).
+const HARD_EXCEPTIONS: [(&str, f64, f64, &str); 4] = [
+    // 1e6 intensity: every value lies far above the agreement's 0.02 floor, so the median is
+    // the G-buffer's 8-bit albedo rounding itself (0.32%); 99.8% within 2%.
+    (
+        "bright",
+        0.98,
+        0.004,
+        "every value is above the 0.02 floor: the median is the 8-bit albedo's rounding",
+    ),
+    // Its 100 point lights are `shadows: false`: the raster leaves them unshadowed, the
+    // reference shadows every light (the truth an unshadowed light approximates). 77%.
+    (
+        "many_lights",
+        0.7,
+        0.005,
+        "unshadowed lights in the raster, shadowed in the reference",
+    ),
+    // The sun 3° above the floor (n · l ≈ 0.05) and the camera 0.02 above it: the normal
+    // offset and 8-bit normals move the grazing light (median 0.41%, 99.9% within 2%).
+    (
+        "mirror_floor",
+        0.98,
+        0.005,
+        "grazing sun: normal offset and 8-bit normals at n · l ≈ 0.05",
+    ),
+    // An outer cone of 89.9°: one 2D shadow map spans nearly 180°, its texels huge towards
+    // the rim, so shadow edges move (96.6% within 2%).
+    ("spot_wide", 0.95, 0.004, "a 180° spot cone's shadow map: coarse texels at the rim"),
+];
+
+/// Every hard scene (`scenes/hard/`): the reference's camera rays meet what the raster draws
+/// at any scale and range (near 1e-4 / far 1e5, 1e-3 and 1e4 units), and its `direct` term
+/// agrees with the raster `hdr` (ambient 0, shadow maps unfiltered) within the Cornell test's
+/// tolerances — or, for the scenes in `HARD_EXCEPTIONS`, within theirs, for the reason given.
+#[test]
+fn every_hard_scene_direct_light_agrees_with_the_raster_pipeline() {
+    let dir = gpu_common::root().join("scenes/hard");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 20, "{files:?}");
+    let mut failures = vec![];
+    for f in &files {
+        let s = lightbench::scene::load::load_sized(f.to_str().unwrap(), None, &[]).unwrap();
+        let (raster, reference) = gpu_common::raster_and_direct(
+            &s,
+            &gpu_common::deferred(),
+            &[],
+            &[("ambient.color", "(0, 0, 0)"), ("shadow.pcf", "false")],
+        );
+        let (share, median) = gpu_common::agreement(&raster, &reference, 0.02);
+        let lit = |img: &Image| img.rgba.chunks_exact(4).filter(|p| p[0] + p[1] + p[2] > 0.01).count();
+        // Lit where the raster is lit, give or take shadow-edge pixels (deep_range was black).
+        let (a, b) = (lit(&reference), lit(&raster));
+        let (min_share, max_median, why) = HARD_EXCEPTIONS
+            .iter()
+            .find(|e| e.0 == s.name)
+            .map_or((0.98, 0.003, "the Cornell test's tolerances"), |e| (e.1, e.2, e.3));
+        if share <= min_share || median >= max_median || a.abs_diff(b) > b / 25 + 8 {
+            failures.push(format!(
+                "{}: {:.2}% within 2%, median {median:.4}, {a} vs {b} lit pixels ({why})",
+                s.name,
+                share * 100.0
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}

@@ -70,9 +70,11 @@ fn sample_material(in: VsOut, facing: bool) -> MaterialSample {
     m.emissive = material.emissive.rgb * textureSample(emissive_map, material_sampler, uv[MAP_EMISSIVE]).rgb;
     let mapped = textureSample(normal_map, material_sampler, uv[MAP_NORMAL]).xyz;
     // Hazard (scenes/hard/zero_normals.ron): zero-length vertex normals. The face normal
-    // from the position's screen derivatives stands in.
-    let face = safe_normalize(cross(dpdx(in.world_pos), dpdy(in.world_pos)), vec3<f32>(0.0, 1.0, 0.0));
-    m.n = safe_normalize(in.normal, face);
+    // from the position's screen derivatives stands in: dpdy × dpdx faces the viewer
+    // (framebuffer y points down), so the front's normal is it, or its opposite on a back.
+    let front = seen_from_front(facing);
+    let towards_viewer = safe_normalize(cross(dpdy(in.world_pos), dpdx(in.world_pos)), vec3<f32>(0.0, 1.0, 0.0));
+    m.n = safe_normalize(in.normal, select(-towards_viewer, towards_viewer, front));
     if material.has_normal_map != 0u {
         // Tangent-space normal map; a degenerate tangent falls back to the vertex normal.
         let t_len = length(in.tangent.xyz);
@@ -88,7 +90,6 @@ fn sample_material(in: VsOut, facing: bool) -> MaterialSample {
     m.roughness = clamp(material.roughness * mr.g, 0.03, 1.0);
     m.metallic = clamp(material.metallic * mr.b, 0.0, 1.0);
     m.occlusion = mix(1.0, occlusion, material.occlusion_strength);
-    let front = seen_from_front(facing);
     m.hidden = !front && material.double_sided == 0u;
     // The back of a double-sided surface is lit as its own side: the normal flips.
     m.n = select(-m.n, m.n, front);

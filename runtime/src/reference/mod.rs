@@ -143,19 +143,27 @@ impl Reference {
 const PASS_SPP: u32 = 4;
 
 /// Camera rays through pixel centres, clipped to the near and far planes as rasterising is.
-/// The inverse is taken in f64: with near 1e-4 and far 1e5 an f32 inverse puts the far
-/// plane's points nowhere near the view ray.
+/// Made from the frustum itself (f64), not by inverting the projection: with near 1e-4 and
+/// far 1e5 the f32 projection matrix puts the far plane at infinity.
 struct Camera {
-    inverse: glam::DMat4,
+    to_world: glam::DMat4,
+    /// tan of half the field of view, horizontally and vertically.
+    tan: (f64, f64),
+    near: f64,
+    far: f64,
     size: (u32, u32),
 }
 
 impl Camera {
     fn new(scene: &Scene) -> Camera {
         let (w, h) = scene.size;
-        let vp = scene.camera.proj(w as f32 / h.max(1) as f32).as_dmat4() * scene.camera.view().as_dmat4();
+        let c = &scene.camera;
+        let tan_y = (c.fov.to_radians() as f64 / 2.0).tan();
         Camera {
-            inverse: vp.inverse(),
+            to_world: c.view().as_dmat4().inverse(),
+            tan: (tan_y * w as f64 / h.max(1) as f64, tan_y),
+            near: c.near as f64,
+            far: c.far as f64,
             size: (w, h),
         }
     }
@@ -165,8 +173,10 @@ impl Camera {
         let (w, h) = self.size;
         let nx = (x as f64 + 0.5) / w as f64 * 2.0 - 1.0;
         let ny = 1.0 - (y as f64 + 0.5) / h as f64 * 2.0;
-        let near = self.inverse.project_point3(glam::DVec3::new(nx, ny, 0.0));
-        let far = self.inverse.project_point3(glam::DVec3::new(nx, ny, 1.0));
+        // The view-space point at depth 1 through the pixel: scaled to the near and far planes.
+        let at_one = glam::DVec3::new(nx * self.tan.0, ny * self.tan.1, -1.0);
+        let near = self.to_world.transform_point3(at_one * self.near);
+        let far = self.to_world.transform_point3(at_one * self.far);
         let d = far - near;
         (near.as_vec3(), d.normalize_or(glam::DVec3::NEG_Z).as_vec3(), d.length() as f32)
     }
