@@ -4,7 +4,7 @@
 
 use super::emitters::Emitters;
 use super::sample::{cosine_hemisphere, power_lobe, Rng};
-use super::shading::{shininess, Brdf, PunctualLight};
+use super::shading::{shininess, Brdf, Lobes, PunctualLight};
 use super::world::{Faces, Hit, World};
 use glam::Vec3;
 
@@ -55,7 +55,7 @@ impl Context<'_> {
 
     /// Light from the scene's lights reflected at `h` towards `v`, with exact visibility
     /// (hard shadows): what the raster light passes compute with shadow maps.
-    pub fn lights(&self, h: &Hit, v: Vec3) -> Vec3 {
+    pub fn lights(&self, h: &Hit, b: &Lobes, v: Vec3) -> Vec3 {
         let origin = self.origin(h);
         let mut sum = Vec3::ZERO;
         for light in &self.lights {
@@ -63,7 +63,7 @@ impl Context<'_> {
             if radiance.max_element() <= 0.0 {
                 continue;
             }
-            let f = self.brdf.eval(h, l, v);
+            let f = b.eval(h, l, v);
             if f.max_element() <= 0.0 {
                 continue;
             }
@@ -79,7 +79,7 @@ impl Context<'_> {
     /// Light from one point drawn on an emitter, reflected at `h` towards `v` (next-event
     /// estimation), weighed against BRDF sampling by the power heuristic when `mis`. Draws
     /// no random numbers when nothing emits (point-lit images stay as they were).
-    pub fn emitted_light(&self, h: &Hit, v: Vec3, rng: &mut Rng, mis: bool) -> Vec3 {
+    pub fn emitted_light(&self, h: &Hit, b: &Lobes, v: Vec3, rng: &mut Rng, mis: bool) -> Vec3 {
         if !self.emits() {
             return Vec3::ZERO;
         }
@@ -91,7 +91,7 @@ impl Context<'_> {
         if h.ng.dot(s.l) <= 0.0 || s.radiance.max_element() <= 0.0 {
             return Vec3::ZERO;
         }
-        let (f, brdf_pdf) = self.brdf.eval_pdf(h, s.l, v);
+        let (f, brdf_pdf) = b.eval_pdf(h, s.l, v);
         if f.max_element() <= 0.0 {
             return Vec3::ZERO;
         }
@@ -133,24 +133,26 @@ impl Context<'_> {
     /// The light arriving directly from every light and emitter, reflected at `h` towards
     /// `v` (emitters by next-event estimation alone).
     pub fn direct_light(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
-        self.lights(h, v) + self.emitted_light(h, v, rng, false)
+        let b = self.brdf.at(h);
+        self.lights(h, &b, v) + self.emitted_light(h, &b, v, rng, false)
     }
 
     /// `direct`: emission plus the lights' light with hard shadows, plus the emitters' by
     /// both strategies (a point drawn on one, and a direction drawn from the BRDF).
     pub fn direct(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
-        let sum = h.emissive + self.lights(h, v);
+        let b = self.brdf.at(h);
+        let sum = h.emissive + self.lights(h, &b, v);
         if !self.emits() {
             return sum;
         }
         let (u, choose) = (rng.pair(), rng.uniform());
-        let (l, w, pdf) = self.brdf.sample(h, v, u, choose);
+        let (l, w, pdf) = b.sample(h, v, u, choose);
         let found = match w.max_element() > 0.0 {
             true => self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen),
             false => None,
         };
         let by_brdf = found.map_or(Vec3::ZERO, |y| w * self.emission_found(&y, l, pdf));
-        sum + self.emitted_light(h, v, rng, true) + by_brdf
+        sum + self.emitted_light(h, &b, v, rng, true) + by_brdf
     }
 
     /// `ao`: 1 minus the cosine-weighted share of directions that meet a surface within the
@@ -205,9 +207,10 @@ impl Context<'_> {
         let mut sum = h.emissive;
         let mut throughput = Vec3::ONE;
         for bounce in 1..=MAX_BOUNCES {
-            sum += throughput * (self.lights(&h, v) + self.emitted_light(&h, v, rng, true));
+            let b = self.brdf.at(&h);
+            sum += throughput * (self.lights(&h, &b, v) + self.emitted_light(&h, &b, v, rng, true));
             let (u, choose) = (rng.pair(), rng.uniform());
-            let (l, w, pdf) = self.brdf.sample(&h, v, u, choose);
+            let (l, w, pdf) = b.sample(&h, v, u, choose);
             throughput *= w;
             if throughput.max_element() <= 0.0 {
                 break;

@@ -89,7 +89,7 @@ pub fn shininess(roughness: f32) -> f32 {
 
 impl Brdf {
     /// Diffuse reflectance and specular colour of a surface.
-    pub fn lobes(self, h: &Hit) -> (Vec3, Vec3) {
+    pub fn colours(self, h: &Hit) -> (Vec3, Vec3) {
         let diffuse = h.albedo * (1.0 - h.metallic);
         match self {
             Brdf::BlinnPhong => (diffuse, Vec3::splat(0.04).lerp(h.albedo, h.metallic)),
@@ -97,58 +97,84 @@ impl Brdf {
         }
     }
 
-    /// BRDF × cos θ_l for light arriving from `l` seen from `v` (`blinn_phong()`).
-    pub fn eval(self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
-        self.eval_pdf(h, l, v).0
-    }
-
-    /// Probability of sampling the specular lobe (its share of the reflectance).
-    fn specular_share(self, h: &Hit) -> f32 {
-        let (d, s) = self.lobes(h);
-        let (d, s) = (d.max_element(), s.max_element());
-        if d + s <= 0.0 {
-            0.0
-        } else {
-            s / (d + s)
+    /// The BRDF at `h`, its constants worked out once for every evaluation at this vertex.
+    pub fn at(self, h: &Hit) -> Lobes {
+        let (diffuse, spec_color) = self.colours(h);
+        let (d, sp) = (diffuse.max_element(), spec_color.max_element());
+        let s = shininess(h.roughness);
+        let e = s.max(1.0);
+        Lobes {
+            diffuse: diffuse / PI,
+            specular: spec_color * ((s + 8.0) / 25.132741),
+            exponent: e,
+            density: (e + 1.0) / (2.0 * PI),
+            // The specular lobe is drawn in proportion to its share of the reflectance.
+            specular_share: if d + sp <= 0.0 { 0.0 } else { sp / (d + sp) },
         }
     }
 
-    /// Density of `sample` drawing `l` (one-sample mixture of the cosine and specular lobes).
-    pub fn pdf(self, h: &Hit, l: Vec3, v: Vec3) -> f32 {
-        self.eval_pdf(h, l, v).1
+    /// BRDF × cos θ_l for light arriving from `l` seen from `v` (`blinn_phong()`).
+    pub fn eval(self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
+        self.at(h).eval(h, l, v)
     }
 
-    /// `eval` and `pdf` at once: the lobe's power of n · h is shared (the costliest part).
-    pub fn eval_pdf(self, h: &Hit, l: Vec3, v: Vec3) -> (Vec3, f32) {
-        let (diffuse, spec_color) = self.lobes(h);
-        let ps = self.specular_share(h);
+    /// Density of `Lobes::sample` drawing `l`.
+    pub fn pdf(self, h: &Hit, l: Vec3, v: Vec3) -> f32 {
+        self.at(h).eval_pdf(h, l, v).1
+    }
+}
+
+/// A surface's BRDF at one vertex: diffuse/π, the specular colour × (s + 8)/8π, the lobe's
+/// exponent and density constant, and the probability of sampling the specular lobe.
+#[derive(Clone, Copy, Debug)]
+pub struct Lobes {
+    diffuse: Vec3,
+    specular: Vec3,
+    exponent: f32,
+    density: f32,
+    specular_share: f32,
+}
+
+impl Lobes {
+    /// BRDF × cos θ_l for light arriving from `l` seen from `v`.
+    pub fn eval(&self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
+        let ndl = h.n.dot(l);
+        if ndl <= 0.0 {
+            return Vec3::ZERO;
+        }
+        let half = (l + v).try_normalize().unwrap_or(h.n);
+        let lobe = h.n.dot(half).max(0.0).powf(self.exponent);
+        (self.diffuse + self.specular * lobe) * ndl
+    }
+
+    /// `eval` and the density of `sample` drawing `l` (the one-sample mixture of the cosine
+    /// and specular lobes), sharing the lobe's power of n · h.
+    pub fn eval_pdf(&self, h: &Hit, l: Vec3, v: Vec3) -> (Vec3, f32) {
         let ndl = h.n.dot(l).max(0.0);
         let cos = ndl / PI;
+        let ps = self.specular_share;
         if ps == 0.0 && ndl <= 0.0 {
             return (Vec3::ZERO, cos);
         }
-        let s = shininess(h.roughness);
-        let e = s.max(1.0);
         let half = (l + v).try_normalize().unwrap_or(h.n);
-        let lobe = h.n.dot(half).max(0.0).powf(e);
+        let lobe = h.n.dot(half).max(0.0).powf(self.exponent);
         let f = if ndl <= 0.0 {
             Vec3::ZERO
         } else {
-            (diffuse / PI + spec_color * (lobe * (s + 8.0) / 25.132741)) * ndl
+            (self.diffuse + self.specular * lobe) * ndl
         };
         if ps == 0.0 {
             return (f, cos);
         }
-        let spec = (e + 1.0) / (2.0 * PI) * lobe / (4.0 * v.dot(half).abs().max(1e-6));
+        let spec = self.density * lobe / (4.0 * v.dot(half).abs().max(1e-6));
         (f, (1.0 - ps) * cos + ps * spec)
     }
 
     /// A direction to continue a path in, from the lobes in proportion to their reflectance,
     /// its weight BRDF × cos / pdf (zero when it points below the surface) and its density.
-    pub fn sample(self, h: &Hit, v: Vec3, u: (f32, f32), choose: f32) -> (Vec3, Vec3, f32) {
-        let ps = self.specular_share(h);
-        let l = if choose < ps {
-            let half = super::sample::power_lobe(h.n, shininess(h.roughness).max(1.0), u);
+    pub fn sample(&self, h: &Hit, v: Vec3, u: (f32, f32), choose: f32) -> (Vec3, Vec3, f32) {
+        let l = if choose < self.specular_share {
+            let half = super::sample::power_lobe(h.n, self.exponent, u);
             (2.0 * v.dot(half) * half - v).normalize_or_zero()
         } else {
             super::sample::cosine_hemisphere(h.n, u)
