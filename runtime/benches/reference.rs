@@ -4,7 +4,13 @@
 //! baseline (the ratio is rayon's speed-up). Second, the goal: a converged 128² AO reference
 //! (per-pixel relative standard error ≤ 2%) in under a minute on 2 cores — a 64-spp pilot tells
 //! how many samples the worst pixel needs, the final run is timed and checked, and its time
-//! is printed as a ratio to the minute. Not a test.
+//! is printed as a ratio to the minute. Third, `full` at 128² and 256 spp in paths per second,
+//! against the figure the code before emitter sampling and the per-vertex BRDF constants
+//! measured on the machine the README names (a recorded baseline: that code is gone). Fourth,
+//! the emitter-lit Cornell box (`builtin::cornell_lamp`): a 64-spp pilot with emitters sampled
+//! and a 1024-spp one with BRDF sampling alone (the same run's baseline), each predicting from its worst,
+//! 99th-percentile and median pixel the time to a 2% relative standard error, and the 99th
+//! percentile rendered to 2% with `Budget::Error` to check the prediction. Not a test.
 
 use lightbench::reference::{self, Budget, Reference, Settings, Term};
 use lightbench::scene::builtin;
@@ -39,7 +45,98 @@ fn worst(r: &Reference) -> (f64, usize) {
     (worst, dark)
 }
 
+/// `full` paths per second on the Cornell box at 128², 256 spp, measured with the code of
+/// commit 9bcb4da (before emitters were sampled) on the README's machine (2 cores): its
+/// `reference --terms full --spp 256` binary run alternately with this code's, 4 runs each.
+const BASELINE_PATHS_PER_SECOND: f64 = 2.01e6;
+
+/// Relative standard errors of `full` at the percentiles asked for, over lit pixels.
+fn errors(r: &Reference, percentiles: &[f64]) -> Vec<f64> {
+    let t = r.term(Term::Full).expect("full");
+    let mut e: Vec<f64> = t
+        .mean
+        .rgba
+        .chunks_exact(4)
+        .zip(t.variance.rgba.chunks_exact(4))
+        .filter_map(|(m, v)| {
+            let f = |p: &[f32]| [p[0] as f64, p[1] as f64, p[2] as f64];
+            reference::relative_error(f(m), f(v))
+        })
+        .collect();
+    e.sort_by(f64::total_cmp);
+    percentiles
+        .iter()
+        .map(|p| e[((p / 100.0 * e.len() as f64).ceil() as usize).clamp(1, e.len()) - 1])
+        .collect()
+}
+
+fn full_speed() {
+    let mut scene = builtin::cornell();
+    scene.size = (128, 128);
+    // The best of three (the first run also starts rayon's threads).
+    let s = (0..3)
+        .map(|_| reference::render(&scene, &settings(&[Term::Full], 256), false).seconds)
+        .fold(f64::INFINITY, f64::min);
+    let rate = 128.0 * 128.0 * 256.0 / s;
+    println!(
+        "full, Cornell box 128x128, 256 spp: {s:.2} s (best of 3), {:.2} M paths/s",
+        rate / 1e6
+    );
+    println!(
+        "  recorded baseline {:.2} M paths/s: {:.2}x (goal 2.0x)",
+        BASELINE_PATHS_PER_SECOND / 1e6,
+        rate / BASELINE_PATHS_PER_SECOND
+    );
+}
+
+fn emitters() {
+    let mut scene = builtin::cornell_lamp();
+    scene.size = (128, 128);
+    println!("Emitter-lit Cornell box 128x128 (full): seconds to a 2% relative standard error, predicted from a pilot");
+    let percentiles = [100.0, 99.0, 50.0];
+    let mut predicted_p99 = 0.0;
+    // BRDF sampling alone needs a longer pilot: at 64 spp most pixels have met the lamp once
+    // or never, and every error reads ~1.
+    for (sample_emitters, pilot) in [(false, 1024), (true, 64)] {
+        let s = Settings {
+            sample_emitters,
+            ..settings(&[Term::Full], pilot)
+        };
+        let r = reference::render(&scene, &s, false);
+        let e = errors(&r, &percentiles);
+        let need: Vec<f64> = e.iter().map(|e| r.seconds * (e / TARGET).powi(2)).collect();
+        let what = if sample_emitters {
+            "emitters sampled (MIS)"
+        } else {
+            "BRDF sampling alone (baseline)"
+        };
+        println!(
+            "  {what:<32} pilot {pilot} spp {:.2} s; worst {:.0} s, 99th percentile {:.0} s, median {:.1} s",
+            r.seconds, need[0], need[1], need[2]
+        );
+        if sample_emitters {
+            predicted_p99 = need[1];
+        }
+    }
+    let s = Settings {
+        budget: Budget::Error {
+            target: TARGET,
+            percentile: 99.0,
+            max_spp: 1 << 20,
+        },
+        ..settings(&[Term::Full], 64)
+    };
+    let r = reference::render(&scene, &s, false);
+    let reached = r.reached.expect("an error budget");
+    println!(
+        "  rendered to 2% at the 99th percentile: {} spp in {:.1} s (predicted {predicted_p99:.1} s), reached {:.4}",
+        r.spp, r.seconds, reached.error
+    );
+}
+
 fn main() {
+    full_speed();
+    emitters();
     let mut scene = builtin::cornell();
     scene.size = (128, 128);
     let pixels = 128.0 * 128.0;

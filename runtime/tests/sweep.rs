@@ -417,6 +417,11 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
         (vec!["--seconds", "0"], "expected a positive number"),
         (vec!["--ao-radius=-1"], "expected a positive number"),
         (vec!["--spp", "0"], "0 is not in 1..=1000000"),
+        (vec!["--target-error", "0"], "--target-error 0: expected a positive number"),
+        (vec!["--target-error", "0.1", "--percentile", "0"], "expected a number in (0, 100]"),
+        (vec!["--target-error", "0.1", "--spp", "8"], "cannot be used with"),
+        (vec!["--percentile", "50"], "--target-error"),
+        (vec!["--target-error", "0.1", "--max-spp", "8"], "8 is not in 64..=1000000"),
         (vec!["--size", "16384x16384", "--terms", "direct,ao,full"], "GiB of sums and images"),
     ] {
         let fresh = out.join("fresh");
@@ -430,19 +435,27 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
 }
 
 /// The README's spec example is `sweeps/shadows.ron` without its leading comment, and its
-/// reference command runs as written.
+/// reference commands run as written: the plain one, and the noise-targeted one, which
+/// reports and records the error it reached.
 #[test]
 fn readme_examples_are_the_bundled_spec_and_run() {
     cli_common::assert_readme_block_is("Sweep(", "sweeps/shadows.ron");
     let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
-    let line = readme
-        .lines()
-        .find(|l| l.starts_with("lightbench reference --scene"))
-        .expect("a reference example");
+    let lines: Vec<&str> = readme.lines().filter(|l| l.starts_with("lightbench reference --scene")).collect();
+    assert_eq!(lines.len(), 2, "{lines:?}");
     let dir = scratch("readme");
-    let args: Vec<&str> = line.split_whitespace().skip(1).collect();
-    let (code, _, err) = cli_common::lightbench_in(&dir, &args);
-    assert_eq!(code, 0, "{line}: {err}");
+    for line in &lines {
+        let args: Vec<&str> = line.split_whitespace().skip(1).collect();
+        let (code, _, err) = cli_common::lightbench_in(&dir, &args);
+        assert_eq!(code, 0, "{line}: {err}");
+        if line.contains("--target-error") {
+            assert!(err.contains("90th percentile") && err.contains("reached"), "{err}");
+            let m: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(dir.join("ref-noise/reference.json")).unwrap()).unwrap();
+            assert!(m["reached"]["error"].as_f64().unwrap() <= 0.05, "{m}");
+            assert!(m["spp"].as_u64().unwrap() >= 64, "{m}");
+        }
+    }
     for t in ["direct", "ao", "full"] {
         assert!(dir.join("ref").join(format!("{t}.exr")).is_file(), "{t}");
     }
