@@ -45,10 +45,10 @@ impl Context<'_> {
     /// Whether `term`'s estimate has no noise, so one sample per pixel is enough: `direct`
     /// with point lights only (with emitters, it samples them).
     pub fn exact(&self, term: super::Term) -> bool {
-        term == super::Term::Direct && !self.emits()
+        term == super::Term::Direct && self.emitters.is_empty()
     }
 
-    /// Whether the emitters are sampled as lights.
+    /// Whether the emitters are sampled as lights (else BRDF sampling alone finds them).
     fn emits(&self) -> bool {
         self.sample_emitters && !self.emitters.is_empty()
     }
@@ -118,14 +118,11 @@ impl Context<'_> {
     /// towards it, weighed against next-event estimation. Nothing where the ray passed the
     /// back of a single-sided surface first: light is shadowed by every surface.
     fn emission_found(&self, y: &Hit, l: Vec3, pdf: f32) -> Vec3 {
-        if y.emissive.max_element() <= 0.0 {
+        if y.emissive.max_element() <= 0.0 || y.shadowed {
             return Vec3::ZERO;
         }
         if !self.emits() {
             return y.emissive;
-        }
-        if y.shadowed {
-            return Vec3::ZERO;
         }
         y.emissive * power_heuristic(pdf, self.emitters.pdf(self.world, y.triangle, l, y.t))
     }
@@ -138,11 +135,12 @@ impl Context<'_> {
     }
 
     /// `direct`: emission plus the lights' light with hard shadows, plus the emitters' by
-    /// both strategies (a point drawn on one, and a direction drawn from the BRDF).
+    /// both strategies (a point drawn on one, and a direction drawn from the BRDF; the
+    /// latter alone when emitters are not sampled).
     pub fn direct(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
         let b = self.brdf.at(h);
         let sum = h.emissive + self.lights(h, &b, v);
-        if !self.emits() {
+        if self.emitters.is_empty() {
             return sum;
         }
         let (u, choose) = (rng.pair(), rng.uniform());
