@@ -412,6 +412,22 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("up to date"), "{err}");
     assert_eq!(std::fs::read(out.join("ao.exr")).unwrap(), before);
+    // `--no-emitter-sampling` is a setting of its own: another reference, recorded as such.
+    let other = out.join("brdf-only");
+    let (code, _, err) = lightbench(&[
+        "reference",
+        "--size",
+        "8x8",
+        "--spp",
+        "4",
+        "--no-emitter-sampling",
+        "--out",
+        other.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let m: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(other.join("reference.json")).unwrap()).unwrap();
+    assert_eq!(m["settings"]["sample_emitters"], false, "{m}");
     for (bad, message) in [
         (vec!["--terms", "ao,glow"], "unknown reference term `glow`"),
         (vec!["--seconds", "0"], "expected a positive number"),
