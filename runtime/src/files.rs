@@ -43,6 +43,17 @@ pub fn same_file(a: &Path, b: &Path) -> bool {
     matches!((canon(a), canon(b)), (Some(x), Some(y)) if x == y)
 }
 
+/// Whether a file may be written at `path` (following links): a new name or a regular file.
+/// A device, FIFO or socket is not ours to replace (renaming over /dev/null would make it a
+/// regular file; writing into a FIFO would wait for a reader), nor is a directory.
+pub fn replaceable(path: &Path) -> std::result::Result<(), &'static str> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err("is a directory"),
+        Ok(m) if !m.is_file() => Err("is not a regular file (a device, pipe or socket): not replaced"),
+        _ => Ok(()),
+    }
+}
+
 /// Write `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write(path, bytes, None)
@@ -61,10 +72,8 @@ fn write(path: &Path, bytes: &[u8], before: Option<&Snapshot>) -> Result<()> {
         .file_name()
         .and_then(|n| n.to_str())
         .ok_or_else(|| Error::io(path, "not a file path"))?;
-    if target.is_dir() {
-        return Err(Error::io(path, "is a directory"));
-    }
-    clean_stale(dir, name);
+    replaceable(&target).map_err(|e| Error::io(path, e))?;
+    clean_stale(dir);
     let tmp = dir.join(format!(".{name}{TMP_TAG}{}.tmp", std::process::id()));
     let mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
     let result = (|| {
@@ -108,16 +117,17 @@ fn resolve_links(path: &Path) -> Result<PathBuf> {
     Err(Error::io(path, "too many levels of symbolic links"))
 }
 
-/// Remove temporaries for `name` left by runs that no longer exist (killed mid-write).
-fn clean_stale(dir: &Path, name: &str) {
-    let prefix = format!(".{name}{TMP_TAG}");
+/// Remove the temporaries in `dir` left by runs that no longer exist (killed mid-write),
+/// whatever file they were for.
+fn clean_stale(dir: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     for e in entries.flatten() {
         let file = e.file_name();
         let Some(pid) = file
             .to_str()
-            .and_then(|f| f.strip_prefix(&prefix))
-            .and_then(|r| r.strip_suffix(".tmp"))
+            .filter(|f| f.starts_with('.'))
+            .and_then(|f| f.rsplit_once(TMP_TAG))
+            .and_then(|(_, r)| r.strip_suffix(".tmp"))
         else {
             continue;
         };
@@ -184,17 +194,43 @@ mod tests {
         assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1, "no temporary left");
     }
 
+    /// A dead run's temporaries go at the next write in their folder, whatever file they
+    /// were for; other files (and our own run's) stay.
     #[test]
     fn stale_temporaries_of_dead_runs_are_removed() {
         let d = temp("stale");
         // PID 0 is never a user process: a run that no longer exists.
         let stale = d.join(format!(".out.png{TMP_TAG}0.tmp"));
+        let other_name = d.join(format!(".manifest.json{TMP_TAG}0.tmp"));
         let foreign = d.join(".out.png.other.tmp");
-        std::fs::write(&stale, "half").unwrap();
-        std::fs::write(&foreign, "not ours").unwrap();
+        let live = d.join(format!(".x.exr{TMP_TAG}{}.tmp", std::process::id()));
+        for f in [&stale, &other_name, &foreign, &live] {
+            std::fs::write(f, "half").unwrap();
+        }
         write_atomic(&d.join("out.png"), b"png").unwrap();
-        assert!(!stale.exists(), "a dead run's temporary is cleaned");
-        assert!(foreign.exists(), "files of other naming are left alone");
+        assert!(!stale.exists() && !other_name.exists(), "a dead run's temporaries are cleaned");
+        assert!(foreign.exists() && live.exists(), "files of other naming, and ours, are left alone");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// Devices and FIFOs are refused, never replaced by a regular file (nor written into),
+    /// whether named directly or through a symlink.
+    #[cfg(unix)]
+    #[test]
+    fn devices_and_fifos_are_not_replaced() {
+        let d = temp("device");
+        let link = d.join("null-link");
+        std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+        let fifo = d.join("f.png");
+        assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+        for p in [Path::new("/dev/null"), &link, &fifo] {
+            let err = write_atomic(p, b"x").unwrap_err().to_string();
+            assert!(err.contains("not a regular file"), "{}: {err}", p.display());
+        }
+        use std::os::unix::fs::FileTypeExt;
+        assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         let _ = std::fs::remove_dir_all(&d);
     }
 }

@@ -215,3 +215,34 @@ fn a_killed_runs_temporaries_are_cleaned_and_none_are_left() {
     assert!(frame.is_file() && manifest.is_file());
     assert!(temporaries(&d).is_empty(), "{:?}", temporaries(&d));
 }
+
+/// `render --out` a FIFO and `--manifest` a device (through a symlink, as in a reference
+/// cache): refused before any work (exit 2, nothing written), both left as they were.
+#[cfg(unix)]
+#[test]
+fn render_refuses_to_replace_devices_and_fifos() {
+    use std::os::unix::fs::FileTypeExt;
+    let d = temp("devices");
+    let fifo = d.join("f.png");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let null = d.join("n");
+    std::os::unix::fs::symlink("/dev/null", &null).unwrap();
+    let png = d.join("o.png");
+    for (args, flag) in [
+        (vec!["--out", fifo.to_str().unwrap()], "--out"),
+        (
+            vec!["--out", png.to_str().unwrap(), "--manifest", null.to_str().unwrap()],
+            "--manifest",
+        ),
+    ] {
+        let mut a = vec!["render", "--size", "8x8"];
+        a.extend(args);
+        let (code, _, err) = lightbench(&a);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(flag) && err.contains("not a regular file"), "{err}");
+    }
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    assert!(!png.exists(), "nothing rendered before the refusal");
+    assert!(temporaries(&d).is_empty());
+}

@@ -347,7 +347,8 @@ fn dump_names(exe: &Executable, list: &str) -> Result<Vec<String>> {
     Ok(names)
 }
 
-/// `--out`, `--manifest` and `--timings-json` must name different files.
+/// `--out`, `--manifest` and `--timings-json` must name different files, each one that may
+/// be written (not a device, FIFO or directory): refused before any work.
 fn distinct_outputs(a: &Args) -> std::result::Result<(), String> {
     let named = [
         ("--out", Some(&a.out)),
@@ -355,6 +356,9 @@ fn distinct_outputs(a: &Args) -> std::result::Result<(), String> {
         ("--timings-json", a.timings_json.as_ref()),
     ];
     let given: Vec<(&str, &PathBuf)> = named.iter().filter_map(|(f, p)| p.map(|p| (*f, p))).collect();
+    for (flag, p) in &given {
+        crate::files::replaceable(p).map_err(|e| format!("{flag} {}: {e}", p.display()))?;
+    }
     for (i, (fa, pa)) in given.iter().enumerate() {
         for (fb, pb) in &given[i + 1..] {
             if crate::files::same_file(pa, pb) {
