@@ -3,6 +3,13 @@
 use clap::Parser;
 
 fn main() {
+    // A closed pipe (`lightbench check . 2>&1 | head -1`) ends the process quietly, as it
+    // does other command-line tools, instead of panicking in the next print.
+    #[cfg(unix)]
+    // SAFETY: called first, before any thread starts; SIG_DFL is a valid disposition.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = lightbench::cli::Cli::parse();
     std::process::exit(lightbench::cli::run(cli));
 }

@@ -246,3 +246,70 @@ fn render_refuses_to_replace_devices_and_fifos() {
     assert!(!png.exists(), "nothing rendered before the refusal");
     assert!(temporaries(&d).is_empty());
 }
+
+/// `lightbench check . 2>&1 | head -1`: the reader goes away before the diagnostics are
+/// written. The run ends quietly (killed by SIGPIPE, as other tools are, or done first),
+/// never with a panic (exit 101).
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_the_run_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    let d = temp("pipe");
+    let (code, _, err) = cli_common::lightbench_in(&d, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    // A broken spec: check has diagnostics to write.
+    let spec = d.join("proj/sweeps/shadows.ron");
+    std::fs::write(
+        &spec,
+        std::fs::read_to_string(&spec)
+            .unwrap()
+            .replace("scenes: [\"cornell\"]", "scenes: []"),
+    )
+    .unwrap();
+    for _ in 0..3 {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+            .args(["check", "."])
+            .current_dir(d.join("proj"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        drop(child.stderr.take());
+        let status = child.wait().unwrap();
+        assert!(
+            status.signal() == Some(libc_sigpipe()) || status.code() == Some(1),
+            "{status:?}: a closed pipe must not panic"
+        );
+    }
+}
+
+/// SIGPIPE's number (13 on every Unix lightbench builds for).
+#[cfg(unix)]
+fn libc_sigpipe() -> i32 {
+    13
+}
+
+/// `init` then `check .`: the sweep specs `init` writes are recognised and checked as specs
+/// (they were `unknown-kind` pipelines), and a broken one is an error located in it.
+#[test]
+fn check_reads_sweep_specs_as_specs() {
+    let d = temp("check-sweeps");
+    let (code, _, err) = cli_common::lightbench_in(&d, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    let proj = d.join("proj");
+    let (code, _, err) = cli_common::lightbench_in(&proj, &["check", "."]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("sweep spec(s)") && err.contains(" 0 error(s)"), "{err}");
+    let spec = proj.join("sweeps/shadows.ron");
+    let text = std::fs::read_to_string(&spec).unwrap();
+    std::fs::write(&spec, text.replace("scenes: [\"cornell\"]", "scenes: []")).unwrap();
+    let line = text.lines().position(|l| l.contains("scenes: [")).unwrap() + 1;
+    let (code, _, err) = cli_common::lightbench_in(&proj, &["check", "."]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("error[sweep-spec]") && err.contains(&format!("sweeps/shadows.ron:{line}:")),
+        "{err}"
+    );
+}

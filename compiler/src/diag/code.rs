@@ -48,6 +48,7 @@ codes! {
     UnknownEffect = "unknown-effect": "an effect name that does not exist",
     ParamType = "param-type": "a parameter value that does not fit the parameter's type",
     ModelLoad = "model-load": "a scene's glTF model that cannot be loaded",
+    SweepSpec = "sweep-spec": "a sweep spec (`Sweep(...)`) that `sweep` would refuse (the message locates it)",
     SkippedPrimitive = "skipped-primitive": "warning: a glTF primitive of points or lines, which is not drawn",
     // Declarations.
     DuplicateName = "duplicate-name": "two declarations (or map keys) with the same name",

@@ -75,6 +75,12 @@ fn model_scene(spec: &str, sources: &mut SourceMap) -> SceneDesc {
 /// Whether RON text is a scene file (`Scene(...)` after any comments), so that `check DIR`
 /// checks scene files as scenes and pipeline files as pipelines.
 pub fn is_scene_text(text: &str) -> bool {
+    opens_with(text, "Scene")
+}
+
+/// Whether RON `text` is an item of `kind` (`Scene(`, `Sweep(`): its first token after
+/// comments.
+pub fn opens_with(text: &str, kind: &str) -> bool {
     let mut rest = text.trim_start_matches('\u{feff}');
     loop {
         rest = rest.trim_start();
@@ -86,7 +92,7 @@ pub fn is_scene_text(text: &str) -> bool {
             break;
         }
     }
-    rest.strip_prefix("Scene").is_some_and(|r| r.trim_start().starts_with('('))
+    rest.strip_prefix(kind).is_some_and(|r| r.trim_start().starts_with('('))
 }
 
 /// A scene file's text (`path` names it in diagnostics and anchors its model paths).

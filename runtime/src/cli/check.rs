@@ -1,6 +1,7 @@
 //! `lightbench check`: front end, shader validation and every check stage, no GPU.
 
 use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
+use lightbench_compiler::diag::{Code, Diagnostic, Severity};
 use lightbench_compiler::{pipeline_files, Session, Workspace};
 use std::path::{Path, PathBuf};
 
@@ -18,7 +19,7 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     }
     // Pipelines in one run share compiled shaders.
     let ws = Workspace::disk();
-    let (mut errors, mut warnings, mut scenes) = (0, 0, 0);
+    let (mut errors, mut warnings, mut scenes, mut sweeps) = (0, 0, 0, 0);
     // The scene is read as `render` reads it (models included), once for every pipeline.
     let scene_features = match scene {
         Some(spec) => {
@@ -35,10 +36,20 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     };
     for f in &files {
         let mut s = ws.session();
-        if is_scene_file(f) {
+        if ron_kind(f, "Scene") {
             scenes += 1;
             // A scene file among the pipelines: checked as `render --scene` would read it.
             crate::scene::load_in(&mut s, &f.display().to_string());
+        } else if ron_kind(f, "Sweep") {
+            sweeps += 1;
+            // A sweep spec (`init` writes them into `sweeps/`): checked as `sweep` reads it.
+            if let Err(e) = crate::sweep::spec::load(f) {
+                let msg = match e {
+                    crate::error::Error::Usage(m) => m,
+                    e => e.to_string(),
+                };
+                s.diags.push(Diagnostic::unlocated(Severity::Error, Code::SweepSpec, msg));
+            }
         } else {
             s.check_file(f, shaders, &profile, scene_features.as_ref());
         }
@@ -47,14 +58,16 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         warnings += s.diags.warning_count();
     }
     if format == Format::Human {
-        let scene_files = if scenes > 0 {
-            format!(" and {scenes} scene file(s)")
-        } else {
-            String::new()
-        };
-        let n = files.len() - scenes;
+        let mut others = String::new();
+        if scenes > 0 {
+            others += &format!(" and {scenes} scene file(s)");
+        }
+        if sweeps > 0 {
+            others += &format!(" and {sweeps} sweep spec(s)");
+        }
+        let n = files.len() - scenes - sweeps;
         eprintln!(
-            "checked {n} pipeline file(s){scene_files} against profile `{}`: {errors} error(s), {warnings} warning(s)",
+            "checked {n} pipeline file(s){others} against profile `{}`: {errors} error(s), {warnings} warning(s)",
             profile.name
         );
     }
@@ -90,7 +103,7 @@ fn check_params(files: &[PathBuf], params: &[String]) -> crate::error::Result<()
     }
     let declared: Vec<_> = files
         .iter()
-        .filter(|f| !is_scene_file(f))
+        .filter(|f| !ron_kind(f, "Scene") && !ron_kind(f, "Sweep"))
         .filter_map(|f| Session::new().load_pipeline(f))
         .flat_map(|p| p.params.iter().map(lightbench_compiler::plan::declared_param).collect::<Vec<_>>())
         .collect();
@@ -112,12 +125,13 @@ fn check_params(files: &[PathBuf], params: &[String]) -> crate::error::Result<()
     Ok(())
 }
 
-fn is_scene_file(path: &Path) -> bool {
+/// Whether `path` is a RON file holding an item of `kind` (`Scene`, `Sweep`), not a pipeline.
+fn ron_kind(path: &Path, kind: &str) -> bool {
     use lightbench_compiler::vfs::Vfs;
     path.extension().and_then(|e| e.to_str()) == Some("ron")
         && lightbench_compiler::vfs::DiskVfs
             .read(path)
-            .is_ok_and(|t| lightbench_compiler::scene::is_scene_text(&t))
+            .is_ok_and(|t| lightbench_compiler::scene::opens_with(&t, kind))
 }
 
 pub fn emit(s: &Session, format: Format) {

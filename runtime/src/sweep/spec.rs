@@ -5,6 +5,7 @@
 
 use crate::error::{Error, Result};
 use crate::reference::Term;
+use lightbench_compiler::vfs;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -227,7 +228,10 @@ impl Point {
 }
 
 pub fn load(path: &Path) -> Result<Loaded> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    // Through the guarded reader: a FIFO or /dev/zero named as a spec is refused, not read.
+    let text = vfs::read_bytes(path, vfs::MAX_FILE_BYTES)
+        .and_then(vfs::utf8)
+        .map_err(|e| Error::Usage(format!("{}: {e}", path.display())))?;
     let spec: Spec = ron::Options::default()
         .from_str(&text)
         .map_err(|e| Error::Usage(format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code)))?;
