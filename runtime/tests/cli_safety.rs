@@ -313,3 +313,54 @@ fn check_reads_sweep_specs_as_specs() {
         "{err}"
     );
 }
+
+/// Run `lightbench ARGS` in the repository root, killed after 30 s: (exit code or None when
+/// it had to be killed, stderr).
+fn lightbench_timed(args: &[&str]) -> (Option<i32>, String) {
+    use std::io::Read;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(args)
+        .current_dir(root())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    let code = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s.code();
+        }
+        if start.elapsed() > std::time::Duration::from_secs(30) {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let mut err = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut err).unwrap();
+    (code, err)
+}
+
+/// Inputs read through the guarded reader: a FIFO (which would hang a plain read) or
+/// /dev/zero (which would eat memory) named as a view script or a sweep spec is refused at
+/// once, naming the file.
+#[cfg(unix)]
+#[test]
+fn fifos_and_devices_as_inputs_are_refused_not_read() {
+    let d = temp("inputs");
+    let fifo = d.join("script.txt");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let f = fifo.to_str().unwrap();
+    for args in [
+        vec!["view", "--script", f],
+        vec!["view", "--script", "/dev/zero"],
+        vec!["sweep", f, "--out", d.join("out").to_str().unwrap()],
+        vec!["sweep", "/dev/zero", "--out", d.join("out").to_str().unwrap()],
+    ] {
+        let (code, err) = lightbench_timed(&args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains("not a regular file"), "{args:?}: {err}");
+    }
+    assert!(!d.join("out").exists());
+}

@@ -305,7 +305,7 @@ fn manifest(p: &Path, (a, pipeline): (&Args, &Path), gpu: &Gpu, ex: &Executor, e
         .iter()
         .map(|f| {
             let hash = crate::bundled::read(f)
-                .or_else(|| std::fs::read(f).ok())
+                .or_else(|| lightbench_compiler::vfs::read_bytes(f, lightbench_compiler::vfs::MAX_FILE_BYTES).ok())
                 .map(|b| format!("{:016x}", fnv1a(&b)))
                 .unwrap_or_else(|| "unreadable".into());
             serde_json::json!({"file": f.display().to_string(), "fnv1a64": hash})

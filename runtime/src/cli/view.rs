@@ -3,6 +3,7 @@
 use super::{usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::viewer::{Options, Step};
+use lightbench_compiler::vfs;
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -36,7 +37,10 @@ pub struct Args {
 fn script(a: &Args) -> Result<Vec<Step>> {
     let mut steps = vec![];
     if let Some(f) = &a.script {
-        let text = std::fs::read_to_string(f).map_err(|e| Error::io(f, e))?;
+        // The guarded reader: a FIFO or /dev/zero named as a script is refused, not read.
+        let text = vfs::read_bytes(f, vfs::MAX_FILE_BYTES)
+            .and_then(vfs::utf8)
+            .map_err(|e| Error::Usage(format!("--script {}: {e}", f.display())))?;
         for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
             match line.strip_prefix("frames ") {
                 Some(n) => steps.push(Step::Frames(
