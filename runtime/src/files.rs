@@ -117,6 +117,33 @@ fn resolve_links(path: &Path) -> Result<PathBuf> {
     Err(Error::io(path, "too many levels of symbolic links"))
 }
 
+/// An exclusive advisory lock on a folder (`DIR/.lightbench.lock`, flock on Unix), held
+/// until dropped: writers that read, change and rewrite a file there take it, so that two
+/// runs into one folder do not lose each other's work. Elsewhere than Unix: no lock.
+pub struct DirLock {
+    _file: std::fs::File,
+}
+
+pub fn lock_dir(dir: &Path) -> Result<DirLock> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let path = dir.join(".lightbench.lock");
+    let file = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(&path)
+        .map_err(|e| Error::io(&path, e))?;
+    #[cfg(unix)]
+    {
+        use std::os::fd::AsRawFd;
+        // SAFETY: flock on a descriptor this function owns; blocks until the lock is ours.
+        if unsafe { libc::flock(file.as_raw_fd(), libc::LOCK_EX) } != 0 {
+            return Err(Error::io(&path, std::io::Error::last_os_error()));
+        }
+    }
+    Ok(DirLock { _file: file })
+}
+
 /// Remove the temporaries in `dir` left by runs that no longer exist (killed mid-write),
 /// whatever file they were for.
 fn clean_stale(dir: &Path) {

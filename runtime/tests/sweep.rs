@@ -583,3 +583,45 @@ fn editing_the_grid_reuses_the_points_still_listed() {
     assert_eq!(code, 2);
     assert!(err.contains("rows of another sweep spec"), "{err}");
 }
+
+/// Two shards run at once into one `--out` (as a job array may): every point's row is kept
+/// (each run adds its rows under the folder's lock, re-reading what the other wrote), and the
+/// folder's results equal the whole sweep's points.
+#[test]
+fn shards_running_at_once_into_one_folder_keep_every_row() {
+    let dir = scratch("shards-together");
+    let out = dir.join("out");
+    let spawn = |shard: &str| {
+        Command::new(env!("CARGO_BIN_EXE_lightbench"))
+            .args([
+                "sweep",
+                "sweeps/shadows.ron",
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+                "--shard",
+                shard,
+            ])
+            .current_dir(root())
+            .output()
+    };
+    let (a, b) = std::thread::scope(|s| {
+        let a = s.spawn(|| spawn("0/2").unwrap());
+        let b = s.spawn(|| spawn("1/2").unwrap());
+        (a.join().unwrap(), b.join().unwrap())
+    });
+    for o in [&a, &b] {
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let rows = std::fs::read_to_string(out.join("rows.jsonl")).unwrap();
+    let ids: std::collections::BTreeSet<String> = rows
+        .lines()
+        .map(|l| {
+            serde_json::from_str::<serde_json::Value>(l).unwrap()["id"]
+                .as_str()
+                .unwrap()
+                .to_string()
+        })
+        .collect();
+    assert_eq!((rows.lines().count(), ids.len()), (12, 12), "{rows}");
+}

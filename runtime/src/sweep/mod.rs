@@ -90,8 +90,7 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
     for p in &todo {
         bar.set_message(id(p));
         let row = measure_point(gpu, &ws, l, (p, points.len()), opts, &mut inputs)?;
-        rows.push(row);
-        rows::save(&opts.out, &rows)?;
+        rows = rows::add(&opts.out, row)?;
         bar.inc(1);
     }
     bar.finish_and_clear();

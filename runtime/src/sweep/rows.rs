@@ -90,6 +90,18 @@ pub fn save(dir: &Path, rows: &[Row]) -> Result<()> {
     crate::io::write_atomic(&dir.join(FILE), text.as_bytes())
 }
 
+/// Add `row` to the rows in `dir` under the folder's lock, re-reading them first: runs that
+/// write into one folder at once (shards) keep every row. A row of the same point replaces
+/// the one on file. Returns the rows now on file.
+pub fn add(dir: &Path, row: Row) -> Result<Vec<Row>> {
+    let _lock = crate::files::lock_dir(dir)?;
+    let mut rows = load(dir)?;
+    rows.retain(|r| r.id != row.id);
+    rows.push(row);
+    save(dir, &rows)?;
+    Ok(rows)
+}
+
 /// The rows of several folders (shards) as one sweep: the same spec throughout, each point
 /// once. Returns the rows and how many points the spec has.
 pub fn merge(dirs: &[&Path]) -> Result<(Vec<Row>, usize)> {
