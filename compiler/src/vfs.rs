@@ -13,6 +13,37 @@ pub trait Vfs: Send + Sync {
     fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
         self.read(path).map(String::into_bytes)
     }
+    /// Whether `path`, once its symbolic links are resolved, still lies under `root`
+    /// (resolved too): an [`OutsideRoot`] error if not. Files in memory have no links.
+    fn within(&self, _root: &Path, _path: &Path) -> io::Result<()> {
+        Ok(())
+    }
+}
+
+/// A path that lies under its root as written but leaves it through a symbolic link.
+#[derive(Debug)]
+pub struct OutsideRoot(pub PathBuf);
+
+impl std::fmt::Display for OutsideRoot {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "leaves its root through a symbolic link (it resolves to {})", self.0.display())
+    }
+}
+
+impl std::error::Error for OutsideRoot {}
+
+/// `within` on the disk: both resolved; a path that does not exist yet, or is no regular
+/// file, is not refused here (reading it fails as not found, or not a file).
+pub fn within_on_disk(root: &Path, path: &Path) -> io::Result<()> {
+    let (Ok(root), Ok(real)) = (std::fs::canonicalize(root), std::fs::canonicalize(path)) else {
+        return Ok(());
+    };
+    // A device or FIFO is refused by the read itself (`not-a-file` says more).
+    if real.starts_with(&root) || !real.is_file() {
+        Ok(())
+    } else {
+        Err(io::Error::other(OutsideRoot(real)))
+    }
 }
 
 /// The largest pipeline, scene or shader file read (a guard against `/dev/zero` and the like).
@@ -32,6 +63,9 @@ impl Vfs for DiskVfs {
     }
     fn is_dir(&self, path: &Path) -> bool {
         path.is_dir()
+    }
+    fn within(&self, root: &Path, path: &Path) -> io::Result<()> {
+        within_on_disk(root, path)
     }
 }
 
@@ -87,6 +121,9 @@ pub fn utf8(bytes: Vec<u8>) -> io::Result<String> {
 /// The diagnostic code of a failed read.
 pub fn read_error_code(e: &io::Error) -> crate::diag::Code {
     use crate::diag::Code;
+    if e.get_ref().is_some_and(|inner| inner.is::<OutsideRoot>()) {
+        return Code::OutsideRoot;
+    }
     match e.kind() {
         io::ErrorKind::IsADirectory | io::ErrorKind::InvalidInput => Code::NotAFile,
         io::ErrorKind::FileTooLarge => Code::FileTooLarge,

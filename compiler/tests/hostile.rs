@@ -233,3 +233,53 @@ fn viewport_textures_are_checked_at_the_planned_size() {
         Some(("pipelines/p.ron", 4, 50)),
     );
 }
+
+/// Confinement after links: a symbolic link inside the shader root (or the pipeline's data
+/// folder) to a file outside it is not read — `outside-root`, located where the path is
+/// written, and nothing of the file shown — while a link that stays inside is followed.
+#[cfg(unix)]
+#[test]
+fn links_out_of_the_roots_are_not_followed() {
+    let dir = project("", "", &[]);
+    let secret = dir.join("secret.wgsl");
+    std::fs::write(&secret, format!("// SECRET-LINE\n{FILL}")).unwrap();
+    std::fs::create_dir_all(dir.join("shaders/lib")).unwrap();
+    std::os::unix::fs::symlink(&secret, dir.join("shaders/lib/evil.wgsl")).unwrap();
+    std::os::unix::fs::symlink("../fill.wgsl", dir.join("shaders/lib/inside.wgsl")).unwrap();
+    // An include through the link.
+    std::fs::write(dir.join("shaders/fill.wgsl"), format!("#include \"lib/evil.wgsl\"\n{FILL}")).unwrap();
+    let out = check(&dir);
+    expect(&out, "outside-root", "through a symbolic link", Some(("shaders/fill.wgsl", 1, 1)));
+    assert!(!out.dump().contains("SECRET-LINE"), "{}", out.dump());
+    // A pass's own shader through the link.
+    std::fs::write(dir.join("shaders/fill.wgsl"), FILL).unwrap();
+    let pipeline = std::fs::read_to_string(dir.join("pipelines/p.ron")).unwrap();
+    std::fs::write(dir.join("pipelines/p.ron"), pipeline.replace("\"fill.wgsl\"", "\"lib/evil.wgsl\"")).unwrap();
+    let out = check(&dir);
+    expect(&out, "outside-root", "through a symbolic link", Some(("pipelines/p.ron", 7, 39)));
+    assert!(!out.dump().contains("SECRET-LINE"), "{}", out.dump());
+    // A link that stays inside the root is followed.
+    std::fs::write(
+        dir.join("pipelines/p.ron"),
+        pipeline.replace("\"fill.wgsl\"", "\"lib/inside.wgsl\""),
+    )
+    .unwrap();
+    let out = check(&dir);
+    assert!(out.located().is_empty(), "{:#?}", out.located());
+}
+
+/// The same for resource data: a link in the pipeline's folder to a file outside it.
+#[cfg(unix)]
+#[test]
+fn data_links_out_of_the_pipeline_folder_are_not_followed() {
+    let dir = project("        \"values\": Buffer(size: 8, data: File(\"values.json\")),\n", "", &[]);
+    let secret = dir.join("secret.json");
+    std::fs::write(&secret, "[1.0, 2.0]").unwrap();
+    std::os::unix::fs::symlink(&secret, dir.join("pipelines/values.json")).unwrap();
+    let out = check(&dir);
+    expect(&out, "outside-root", "through a symbolic link", None);
+    // The same file inside the folder is read (and fits).
+    std::fs::remove_file(dir.join("pipelines/values.json")).unwrap();
+    std::fs::copy(&secret, dir.join("pipelines/values.json")).unwrap();
+    assert!(check(&dir).located().iter().all(|d| d.0 != "outside-root"));
+}

@@ -93,6 +93,7 @@ fn resolve(ctx: &DataCtx, f: &str) -> Result<PathBuf, Failure> {
 fn read(ctx: &mut DataCtx, path: &Path, f: &str) -> Result<Vec<u8>, Failure> {
     ctx.read.insert(path.to_path_buf());
     ctx.vfs
-        .read_bytes(path)
+        .within(&ctx.dir, path)
+        .and_then(|()| ctx.vfs.read_bytes(path))
         .map_err(|e| (crate::vfs::read_error_code(&e), format!("cannot read `{f}`: {e}")))
 }

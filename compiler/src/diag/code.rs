@@ -97,7 +97,7 @@ codes! {
     IncludeSyntax = "include-syntax": "a malformed `#include` line",
     IncludeNotFound = "include-not-found": "an included file that cannot be read",
     IncludeCycle = "include-cycle": "files that include each other",
-    OutsideRoot = "outside-root": "a shader or include path that is absolute or leaves the shader root",
+    OutsideRoot = "outside-root": "a shader, include or data path that is absolute, leaves its root, or links out of it",
     WgslParse = "wgsl-parse": "WGSL that naga cannot parse",
     GlslParse = "glsl-parse": "GLSL that naga cannot parse",
     ShaderValidation = "shader-validation": "a module naga's validator rejects",

@@ -45,7 +45,8 @@ pub const MAX_INCLUDE_DEPTH: usize = 32;
 
 /// Shader and include paths are relative to the shader root and may not leave it: no
 /// absolute paths, no `..` climbing above the root. (Checked on the text, so that nothing
-/// outside the root is even opened; a symlink placed inside the root by its owner is followed.)
+/// outside the root is even opened; links are resolved and confined again when reading:
+/// `Vfs::within`.)
 pub fn confined(path: &str) -> Result<(), String> {
     use std::path::Component;
     let p = std::path::Path::new(path);

@@ -143,6 +143,8 @@ impl ShaderFs for RootedFs<'_> {
         }
         let full = self.root.join(path);
         self.read.borrow_mut().insert(full.clone());
+        // Confined after links: a link inside the root to a file outside it is not read.
+        self.vfs.within(self.root, &full)?;
         self.vfs.read(&full)
     }
     fn display(&self, path: &str) -> String {
