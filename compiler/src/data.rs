@@ -31,6 +31,10 @@ pub fn buffer_from_file(path: &Path, raw: Vec<u8>) -> Result<Vec<u8>, String> {
         return Ok(raw);
     }
     let values: Vec<f64> = serde_json::from_slice(&raw).map_err(|e| format!("expected a JSON array of numbers: {e}"))?;
+    // 1e39 is finite text but +inf as an f32: refused, not uploaded as infinity.
+    if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| !(**v as f32).is_finite()) {
+        return Err(format!("element {i} ({v:e}) is not a finite 32-bit float (largest ±3.4e38)"));
+    }
     Ok(f32_bytes(&values))
 }
 
@@ -118,6 +122,15 @@ fn texels(img: &image::DynamicImage, format: TextureFormat) -> Result<Vec<u8>, S
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A JSON number beyond f32 (finite text, +inf as the f32 uploaded) is refused, named by
+    /// its index, in data files and `--input` alike (one decoder).
+    #[test]
+    fn json_numbers_beyond_f32_are_refused() {
+        let err = buffer_from_file(Path::new("v.json"), b"[1.0, 1e39]".to_vec()).unwrap_err();
+        assert!(err.contains("element 1 (1e39) is not a finite 32-bit float"), "{err}");
+        assert_eq!(buffer_from_file(Path::new("v.json"), b"[1.0, -3e38]".to_vec()).unwrap().len(), 8);
+    }
 
     #[test]
     fn buffers_from_json_raw_and_inline() {

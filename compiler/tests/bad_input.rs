@@ -1502,3 +1502,23 @@ fn light_volume_draws_need_per_light_passes() {
         bad.dump()
     );
 }
+
+/// 1e39 is finite text but +inf as the f32 it becomes on the GPU: `non-finite` at the
+/// number, for a parameter default as for any pipeline number.
+#[test]
+fn a_number_beyond_f32_is_non_finite() {
+    expect(
+        Case {
+            pipeline: &[(
+                "Float(default: 1.0, min: 0.0, max: 8.0)",
+                "Float(default: 1e39, min: 0.0, max: 8.0)",
+            )],
+            ..BASE
+        },
+        "non-finite",
+        "`1e39` is not a finite 32-bit float",
+        "pipelines/p.ron",
+        4,
+        41,
+    );
+}

@@ -257,6 +257,11 @@ fn params_on_plan_and_check_are_typed_and_range_checked() {
             "no checked pipeline has this parameter (did you mean `exposure.ev`?)",
         ),
         ("check", "shadow.pcf=maybe", "`maybe` is not `true` or `false`"),
+        // Every component counted and every number a finite f32.
+        ("check", "ambient.color=0.1,0.1,0.1,999", "alpha 999 is outside 0..1"),
+        ("check", "ambient.color=0.1,0.1", "has 2 numbers; Color takes 3 (or 4, with alpha)"),
+        ("check", "exposure.ev=1e39", "`1e39` is not a finite 32-bit number"),
+        ("check", "exposure.ev=inf", "`inf` is not a finite 32-bit number"),
     ] {
         let target = if cmd == "plan" { "pipelines/deferred.ron" } else { "pipelines/" };
         let (code, _, err) = lightbench(&[cmd, target, "--param", arg]);

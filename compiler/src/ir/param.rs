@@ -99,7 +99,12 @@ impl ParamValue {
     /// `(1, 0.5, 0)` or `1,0.5,0`. Range checks are `ParamValues::check`'s.
     pub fn parse(ty: &ParamType, text: &str) -> Result<ParamValue, String> {
         let t = text.trim();
-        let number = |s: &str| s.trim().parse::<f64>().map_err(|_| format!("`{s}` is not a number"));
+        // Every number becomes an f32 on the GPU: NaN, inf and 1e39 (+inf there) are refused.
+        let number = |s: &str| match s.trim().parse::<f64>() {
+            Ok(v) if (v as f32).is_finite() => Ok(v),
+            Ok(_) => Err(format!("`{}` is not a finite 32-bit number", s.trim())),
+            Err(_) => Err(format!("`{s}` is not a number")),
+        };
         Ok(match ty {
             ParamType::Float => ParamValue::Float(number(t)?),
             ParamType::Int => ParamValue::Int(t.parse().map_err(|_| format!("`{t}` is not a whole number"))?),
@@ -107,7 +112,23 @@ impl ParamValue {
             ParamType::Enum(_) => ParamValue::Enum(t.to_string()),
             ParamType::Vec2 | ParamType::Vec3 | ParamType::Vec4 | ParamType::Color => {
                 let inner = t.strip_prefix('(').and_then(|r| r.strip_suffix(')')).unwrap_or(t);
-                ParamValue::Vec(inner.split(',').map(number).collect::<Result<_, _>>()?)
+                let v: Vec<f64> = inner.split(',').map(number).collect::<Result<_, _>>()?;
+                if !ty.takes_components(v.len()) {
+                    let n = ty.components().unwrap_or(0);
+                    let alpha = if matches!(ty, ParamType::Color) {
+                        " (or 4, with alpha)"
+                    } else {
+                        ""
+                    };
+                    return Err(format!("`{t}` has {} numbers; {} takes {n}{alpha}", v.len(), ty.name()));
+                }
+                // A colour's alpha has no range of its own to be held to: it is a fraction.
+                if let (ParamType::Color, Some(a)) = (ty, v.get(3)) {
+                    if !(0.0..=1.0).contains(a) {
+                        return Err(format!("`{t}`: alpha {a} is outside 0..1"));
+                    }
+                }
+                ParamValue::Vec(v)
             }
         })
     }

@@ -40,7 +40,7 @@ fn script(a: &Args) -> Result<Vec<Step>> {
         // The guarded reader: a FIFO or /dev/zero named as a script is refused, not read.
         let text = vfs::read_bytes(f, vfs::MAX_FILE_BYTES)
             .and_then(vfs::utf8)
-            .map_err(|e| Error::Usage(format!("--script {}: {e}", f.display())))?;
+            .map_err(|e| Error::io(f, e))?;
         for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
             match line.strip_prefix("frames ") {
                 Some(n) => steps.push(Step::Frames(

@@ -231,7 +231,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
     // Through the guarded reader: a FIFO or /dev/zero named as a spec is refused, not read.
     let text = vfs::read_bytes(path, vfs::MAX_FILE_BYTES)
         .and_then(vfs::utf8)
-        .map_err(|e| Error::Usage(format!("{}: {e}", path.display())))?;
+        .map_err(|e| Error::io(path, e))?;
     let spec: Spec = ron::Options::default()
         .from_str(&text)
         .map_err(|e| Error::Usage(format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code)))?;

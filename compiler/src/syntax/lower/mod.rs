@@ -153,18 +153,19 @@ impl Lowerer<'_> {
     }
 
     /// A finite number. Pipelines have no use for `inf`/`NaN`, and LBP cannot spell them,
-    /// so rejecting them here keeps every RON <-> LBP conversion parseable.
+    /// so rejecting them here keeps every RON <-> LBP conversion parseable. Every pipeline
+    /// number becomes an f32 on the GPU: one beyond its range (1e39) is infinite there too.
     fn f64(&mut self, node: &Node) -> Res<f64> {
         let v = self.number(node)?;
-        if !v.is_finite() {
-            self.err(Diagnostic::error(
-                Code::NonFinite,
-                format!("`{v}` is not a finite number"),
-                node.span,
-            ));
-            return None;
-        }
-        Some(v)
+        let why = if !v.is_finite() {
+            format!("`{v}` is not a finite number")
+        } else if !(v as f32).is_finite() {
+            format!("`{v:e}` is not a finite 32-bit float (largest ±3.4e38): it would be infinite on the GPU")
+        } else {
+            return Some(v);
+        };
+        self.err(Diagnostic::error(Code::NonFinite, why, node.span));
+        None
     }
 
     /// An anonymous tuple of exactly `N` numbers.
