@@ -97,6 +97,20 @@ fn scalar(s: &str) -> Option<(String, usize)> {
     Some((name.to_string(), s.len() - r2.len() + end + 2))
 }
 
+/// The words naga puts before a handle that is not an expression's.
+const OTHER_HANDLES: [&str; 10] = [
+    "Function ",
+    "function ",
+    "Type ",
+    "type ",
+    "Constant ",
+    "Override ",
+    "Global variable ",
+    "global variable ",
+    "Local variable ",
+    "local variable ",
+];
+
 /// Expression handles (`[3]`, `Expression [3]`) as the source text of the expression in
 /// `f`, quoted; handles naga gives no span for stay as they are.
 pub fn expressions(msg: &str, f: &naga::Function, text: &str) -> String {
@@ -112,7 +126,12 @@ pub fn expressions(msg: &str, f: &naga::Function, text: &str) -> String {
     while let Some(open) = rest.find('[') {
         out.push_str(&rest[..open]);
         let after = &rest[open + 1..];
-        let close = after.find(']').filter(|&c| c > 0 && after[..c].bytes().all(|b| b.is_ascii_digit()));
+        // Handles into other arenas (functions, types, constants, globals...) are not
+        // expressions: their numbers index something else and stay as naga wrote them.
+        let other_arena = OTHER_HANDLES.iter().any(|k| out.ends_with(k));
+        let close = after
+            .find(']')
+            .filter(|&c| c > 0 && !other_arena && after[..c].bytes().all(|b| b.is_ascii_digit()));
         match close.and_then(|c| Some((c, snippet(after[..c].parse().ok()?)?))) {
             Some((c, s)) => {
                 out.push_str(&s);
@@ -173,6 +192,22 @@ pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<Span> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Only expression handles become source text: `Function [1]` and `Type [2]` index
+    /// other arenas, and rewriting them with expression 1's or 2's text named the wrong thing.
+    #[test]
+    fn only_expression_handles_become_source_text() {
+        let src = "fn f() -> f32 {\n    let v = 2u;\n    return 1.0;\n}\n";
+        let m = naga::front::wgsl::parse_str(src).unwrap();
+        let f = &m.functions.iter().next().unwrap().1;
+        let first = f.expressions.iter().next().map(|(h, _)| h.index()).unwrap();
+        let msg = format!("Function [{first}] 'helper' is invalid: Type [{first}] of Expression [{first}]");
+        let out = expressions(&msg, f, src);
+        assert!(
+            out.starts_with(&format!("Function [{first}] 'helper' is invalid: Type [{first}] of `")),
+            "{out}"
+        );
+    }
 
     #[test]
     fn debug_types_become_wgsl() {
