@@ -91,9 +91,50 @@ fn screenshot_after_and_bad_scripts() {
     std::fs::write(d.join("bad.txt"), "frames 1\nfrobnicate 3\nscreenshot never.png\n").unwrap();
     let (code, err) = view_in(&d, &["--script", "bad.txt"]);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("script line `frobnicate 3`"), "{err}");
+    assert!(
+        err.contains("bad.txt:2: script line `frobnicate 3`: no action `frobnicate`"),
+        "{err}"
+    );
     let (code, err) = view_in(&d, &["--script", "missing.txt"]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("missing.txt"), "{err}");
     assert!(!d.join("never.png").exists(), "nothing written after the bad line");
+}
+
+/// Script hardening: a script of comments only ends (it is a script, not an interactive
+/// session); a typo is refused before the window opens, at FILE:LINE with a suggestion; NaN
+/// and huge camera moves are refused; a bad parameter reads as a sentence at its line, not
+/// as Rust debug output.
+#[test]
+fn scripts_end_and_their_errors_are_located() {
+    let d = scratch("viewer-scripts");
+    std::fs::write(d.join("empty.txt"), "# nothing to do\n\n").unwrap();
+    let (code, err) = view_in(&d, &["--script", "empty.txt"]);
+    assert_eq!(code, Some(0), "{err}");
+    for (script, msg) in [
+        (
+            "frames 1\nnxt-view\n",
+            "s.txt:2: script line `nxt-view`: no action `nxt-view`; did you mean `next-view`?",
+        ),
+        (
+            "move nan 0 0\n",
+            "s.txt:1: script line `move nan 0 0`: `NaN` is not a number within ±1e6",
+        ),
+        ("look 3e38 0\n", "s.txt:1: script line `look 3e38 0`"),
+        ("effect Blom=true\n", "no effect `Blom`; did you mean `Bloom`?"),
+    ] {
+        std::fs::write(d.join("s.txt"), script).unwrap();
+        let (code, err) = view_in(&d, &["--script", "s.txt"]);
+        assert_eq!(code, Some(2), "{script}: {err}");
+        assert!(err.contains(msg), "{script}: {err}");
+        assert!(!err.contains("adapter:"), "refused before the window opened: {err}");
+    }
+    std::fs::write(d.join("s.txt"), "frames 1\nparam exposure.evv=1\n").unwrap();
+    let (code, err) = view_in(&d, &["--script", "s.txt"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("s.txt:2: script line `param exposure.evv=1`: no parameter `exposure.evv`; did you mean `exposure.ev`?"),
+        "{err}"
+    );
+    assert!(!err.contains("Unknown {"), "{err}");
 }

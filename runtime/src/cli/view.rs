@@ -34,6 +34,8 @@ pub struct Args {
     pub screenshot: PathBuf,
 }
 
+/// The steps of `--script` (and `--screenshot-after`), each line's syntax checked before any
+/// window opens; errors name `FILE:LINE`.
 fn script(a: &Args) -> Result<Vec<Step>> {
     let mut steps = vec![];
     if let Some(f) = &a.script {
@@ -41,20 +43,30 @@ fn script(a: &Args) -> Result<Vec<Step>> {
         let text = vfs::read_bytes(f, vfs::MAX_FILE_BYTES)
             .and_then(vfs::utf8)
             .map_err(|e| Error::io(f, e))?;
-        for line in text.lines().map(str::trim).filter(|l| !l.is_empty() && !l.starts_with('#')) {
+        for (n, line) in text.lines().enumerate().map(|(n, l)| (n + 1, l.trim())) {
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let at = format!("{}:{n}", f.display());
             match line.strip_prefix("frames ") {
-                Some(n) => steps.push(Step::Frames(
-                    n.trim()
-                        .parse()
-                        .map_err(|_| Error::Usage(format!("{}: `{line}`: frames N", f.display())))?,
-                )),
-                None => steps.push(Step::Line(line.to_string())),
+                Some(k) => {
+                    steps.push(Step::Frames(k.trim().parse().map_err(|_| {
+                        Error::Usage(format!("{at}: script line `{line}`: `frames` takes a whole number"))
+                    })?))
+                }
+                None => {
+                    crate::viewer::state::parse_action(line, None).map_err(|e| match e {
+                        Error::Usage(m) => Error::Usage(format!("{at}: {m}")),
+                        e => e,
+                    })?;
+                    steps.push(Step::Line(line.to_string(), at));
+                }
             }
         }
     }
     if let Some(n) = a.screenshot_after {
         steps.push(Step::Frames(n));
-        steps.push(Step::Line(format!("screenshot {}", a.screenshot.display())));
+        steps.push(Step::Line(format!("screenshot {}", a.screenshot.display()), "--screenshot".into()));
     }
     Ok(steps)
 }
@@ -71,7 +83,8 @@ fn execute(a: &Args) -> Result<()> {
         shaders: a.shaders.clone(),
         scene,
         variants,
-        scripted: !steps.is_empty(),
+        // A script, even one of comments only, ends the viewer when it is done.
+        scripted: a.script.is_some() || a.screenshot_after.is_some(),
     };
     crate::viewer::run(opts, steps)
 }

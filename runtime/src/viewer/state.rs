@@ -337,45 +337,98 @@ impl Viewer {
     }
 }
 
+/// The script actions (`frames N` is the window's: render N frames).
+pub const ACTIONS: [&str; 16] = [
+    "next-view",
+    "prev-view",
+    "next-slice",
+    "prev-slice",
+    "view",
+    "light",
+    "toggle-light",
+    "rotate-light",
+    "move",
+    "look",
+    "param",
+    "variant",
+    "screenshot",
+    "add-light",
+    "remove-light",
+    "effect",
+];
+
+/// Largest camera move or angle a script may give: beyond it a frame is all precision loss
+/// (NaN, inf and 1e38 are refused, as scene files refuse them).
+const MAX_SCRIPT_NUMBER: f32 = 1e6;
+
 /// One `--script` line as an action: `next-view`, `prev-view`, `next-slice`, `prev-slice`,
 /// `view NAME`, `light N` (1-based), `toggle-light`, `rotate-light YAW PITCH`,
 /// `move X Y Z`, `look YAW PITCH`, `param NAME=VALUE`, `variant NAME=OPTION`,
-/// `screenshot FILE`, `add-light Point|Spot|Directional`, `remove-light`, `effect NAME=true|false`. (`frames N` is the window's: render N frames.)
-pub fn parse_action(line: &str, plan: &lightbench_compiler::plan::Plan) -> Result<Action> {
-    let bad = || Error::Usage(format!("script line `{line}`: see `lightbench view --help` for the actions"));
+/// `screenshot FILE`, `add-light Point|Spot|Directional`, `remove-light`, `effect NAME=true|false`.
+/// Without a `plan`, parameter values are not type-checked (the script's syntax, checked
+/// before the window opens).
+pub fn parse_action(line: &str, plan: Option<&lightbench_compiler::plan::Plan>) -> Result<Action> {
+    let bad = |what: &str| Error::Usage(format!("script line `{line}`: {what}"));
     let mut words = line.split_whitespace();
-    let cmd = words.next().ok_or_else(bad)?;
+    let cmd = words.next().ok_or_else(|| bad("empty"))?;
     let rest: Vec<&str> = words.collect();
-    let num = |i: usize| rest.get(i).and_then(|w| w.parse::<f32>().ok()).ok_or_else(bad);
-    let pair = || rest.first().and_then(|w| w.split_once('=')).ok_or_else(bad);
+    let num = |i: usize| match rest.get(i).map(|w| w.parse::<f32>()) {
+        Some(Ok(v)) if v.is_finite() && v.abs() <= MAX_SCRIPT_NUMBER => Ok(v),
+        Some(Ok(v)) => Err(bad(&format!("`{v}` is not a number within ±{MAX_SCRIPT_NUMBER:e}"))),
+        _ => Err(bad(&format!("`{cmd}` takes a number as argument {}", i + 1))),
+    };
+    let word = |what: &str| rest.first().copied().ok_or_else(|| bad(&format!("`{cmd}` takes {what}")));
+    let pair = || {
+        word("NAME=VALUE")?
+            .split_once('=')
+            .ok_or_else(|| bad(&format!("`{cmd}` takes NAME=VALUE")))
+    };
     Ok(match cmd {
         "next-view" => Action::NextView,
         "prev-view" => Action::PrevView,
         "next-slice" => Action::NextSlice,
         "prev-slice" => Action::PrevSlice,
-        "view" => Action::View(rest.first().ok_or_else(bad)?.to_string()),
-        "light" => Action::SelectLight((num(0)? as usize).checked_sub(1).ok_or_else(bad)?),
+        "view" => Action::View(word("a resource name")?.to_string()),
+        "light" => Action::SelectLight((num(0)? as usize).checked_sub(1).ok_or_else(|| bad("lights count from 1"))?),
         "toggle-light" => Action::ToggleLight,
         "rotate-light" => Action::RotateLight(num(0)?, num(1)?),
         "move" => Action::Move(glam::vec3(num(0)?, num(1)?, num(2)?)),
         "look" => Action::Look(num(0)?, num(1)?),
         "param" => {
             let (k, v) = pair()?;
-            let value = ParamValues::parse_text(&plan.params, k, v).map_err(|e| Error::Usage(format!("script line `{line}`: {e:?}")))?;
+            let value = match plan {
+                Some(plan) => ParamValues::parse_text(&plan.params, k, v).map_err(|e| bad(&e.to_string()))?,
+                None => ParamValue::Enum(v.to_string()),
+            };
             Action::Param(k.to_string(), value)
         }
         "variant" => {
             let (k, v) = pair()?;
             Action::Variant(k.to_string(), v.to_string())
         }
-        "screenshot" => Action::Screenshot(PathBuf::from(rest.first().ok_or_else(bad)?)),
-        "add-light" => Action::AddLight(lightbench_compiler::ir::LightKind::from_name(rest.first().ok_or_else(bad)?).ok_or_else(bad)?),
+        "screenshot" => Action::Screenshot(PathBuf::from(word("a file name")?)),
+        "add-light" => {
+            let kind = word("Point, Spot or Directional")?;
+            Action::AddLight(lightbench_compiler::ir::LightKind::from_name(kind).ok_or_else(|| bad("expected Point, Spot or Directional"))?)
+        }
         "remove-light" => Action::RemoveLight,
         "effect" => {
             let (k, v) = pair()?;
-            let e = lightbench_compiler::ir::Effect::from_name(k).ok_or_else(bad)?;
-            Action::Effect(e, v.parse().map_err(|_| bad())?)
+            let e = lightbench_compiler::ir::Effect::from_name(k).ok_or_else(|| {
+                bad(&format!(
+                    "no effect `{k}`{}",
+                    lightbench_compiler::diag::did_you_mean(k, lightbench_compiler::ir::Effect::NAMES)
+                        .map(|m| format!("; did you mean `{m}`?"))
+                        .unwrap_or_default()
+                ))
+            })?;
+            Action::Effect(e, v.parse().map_err(|_| bad("`effect` takes NAME=true or NAME=false"))?)
         }
-        _ => return Err(bad()),
+        _ => {
+            let hint = lightbench_compiler::diag::did_you_mean(cmd, ACTIONS.iter().copied().chain(["frames"]))
+                .map(|m| format!("; did you mean `{m}`?"))
+                .unwrap_or_default();
+            return Err(bad(&format!("no action `{cmd}`{hint} (see `lightbench view --help`)")));
+        }
     })
 }

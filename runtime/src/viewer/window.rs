@@ -13,10 +13,10 @@ use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-/// A script step: an action line (see `state::parse_action`), or frames to render before
-/// the next one.
+/// A script step: an action line (see `state::parse_action`) and where it was written
+/// (`FILE:LINE`, which its errors name), or frames to render before the next one.
 pub enum Step {
-    Line(String),
+    Line(String, String),
     Frames(u32),
 }
 
@@ -102,7 +102,7 @@ impl App {
 
     /// The next scripted action, once the frames asked for have been rendered; `Some(None)`
     /// when the script is over (the window then closes).
-    fn next_step(&mut self) -> Option<Option<String>> {
+    fn next_step(&mut self) -> Option<Option<(String, String)>> {
         if self.wait_frames > 0 {
             self.wait_frames -= 1;
             return None;
@@ -112,7 +112,7 @@ impl App {
                 self.wait_frames = n;
                 None
             }
-            Some(Step::Line(l)) => Some(Some(l)),
+            Some(Step::Line(l, at)) => Some(Some((l, at))),
             None if self.opts.scripted => Some(None),
             None => None,
         }
@@ -172,11 +172,15 @@ impl Running {
         }
     }
 
-    fn redraw(&mut self, line: Option<String>) -> Result<()> {
-        if let Some(l) = line {
-            // A scripted action that fails stops the script: the error is the result.
-            let a = super::state::parse_action(&l, self.viewer.ex.plan())?;
-            self.viewer.apply(&self.gpu, a)?;
+    fn redraw(&mut self, line: Option<(String, String)>) -> Result<()> {
+        if let Some((l, at)) = line {
+            // A scripted action that fails stops the script: the error is the result, located.
+            let locate = |e: Error| match e {
+                Error::Usage(m) => Error::Usage(format!("{at}: {m}")),
+                e => e,
+            };
+            let a = super::state::parse_action(&l, Some(self.viewer.ex.plan())).map_err(locate)?;
+            self.viewer.apply(&self.gpu, a).map_err(locate)?;
         }
         self.camera_keys();
         self.viewer.poll_reload(&self.gpu);
