@@ -118,6 +118,13 @@ fn camera_values_out_of_range() {
     );
     expect("fov: 50.0", "fov: 0", "value-out-of-range", "`fov` of the camera", "fov");
     expect(
+        "fov: 50.0",
+        "fov: 50.0, yaw: 3e38",
+        "value-out-of-range",
+        "`yaw` of the camera must be within ±1e6 degrees",
+        "yaw",
+    );
+    expect(
         "near: 0.1",
         "near: 0.0",
         "value-out-of-range",
@@ -153,6 +160,14 @@ fn camera_animation_is_checked() {
         "far: 50.0, animation: Path(keys: []))",
         "value-out-of-range",
         "the camera's path has no keys",
+        "animation",
+    );
+    // A finite angle of 3e38° is all rounding (a black frame): refused, as the camera's own.
+    expect(
+        "far: 50.0)",
+        &path.replace("yaw: 10.0", "yaw: 3e38"),
+        "value-out-of-range",
+        "must be a path whose key angles are within ±1e6 degrees",
         "animation",
     );
     expect(

@@ -34,6 +34,9 @@ pub fn scene(file: &SceneFile, diags: &mut Diagnostics) {
     }
 }
 
+/// Largest camera angle (degrees) a scene may give.
+const MAX_ANGLE: f32 = 1e6;
+
 /// Reports against one item: `what` names it ("camera", "light 2 (spot)").
 struct Item<'a> {
     what: String,
@@ -90,6 +93,11 @@ fn camera(c: &CameraDesc, diags: &mut Diagnostics) {
         "at least 0.001 and below 180 degrees",
         c.fov,
     );
+    // An angle of 3e38° is finite but all rounding: its sine and cosine are noise (a black
+    // frame). Angles stay within ±1e6°.
+    for (k, v) in [("yaw", c.yaw), ("pitch", c.pitch)] {
+        it.require(v.abs() <= MAX_ANGLE, k, "within ±1e6 degrees", v);
+    }
     it.require(c.near > 0.0, "near", "greater than 0", c.near);
     if c.near > 0.0 {
         let rule = format!("greater than `near` ({})", c.near);
@@ -112,6 +120,10 @@ fn camera(c: &CameraDesc, diags: &mut Diagnostics) {
                 .collect();
             if it.finite("animation", &flat) {
                 path_order(keys, &mut it);
+                if let Some(k) = keys.iter().find(|k| k.yaw.abs() > MAX_ANGLE || k.pitch.abs() > MAX_ANGLE) {
+                    let v = if k.yaw.abs() > MAX_ANGLE { k.yaw } else { k.pitch };
+                    it.require(false, "animation", "a path whose key angles are within ±1e6 degrees", v);
+                }
             }
         }
         None => {}
