@@ -387,3 +387,16 @@ fn readme_and_bundled_scenes_load() {
         }
     }
 }
+
+/// The old light form `Point((...))` is told to drop a pair of parentheses, not that a
+/// directional light was expected.
+#[test]
+fn the_old_double_parenthesised_light_is_named() {
+    expect(
+        "Point(position: (0.0, 1.8, 0.0), intensity: 4.0, range: 6.0)",
+        "Point((position: (0.0, 1.8, 0.0), intensity: 4.0, range: 6.0))",
+        "type-mismatch",
+        "`Point((...))` has one pair of parentheses too many: write `Point(key: value, ...)`",
+        "Point",
+    );
+}

@@ -62,6 +62,17 @@ impl Lowerer<'_> {
             Value::Struct { name, fields } => (name.clone(), fields.clone()),
             Value::Tuple { name, items } if items.is_empty() => (name.clone(), vec![]),
             Value::Ident(i) if expected.contains(&i.as_str()) => (Some((i.clone(), node.span)), vec![]),
+            // The old form `Point((key: value))`: one pair of parentheses too many.
+            Value::Tuple { name: Some((n, _)), items }
+                if items.len() == 1 && expected.contains(&n.as_str()) && matches!(&*items[0].value, Value::Struct { name: None, .. }) =>
+            {
+                self.err(Diagnostic::error(
+                    Code::TypeMismatch,
+                    format!("`{n}((...))` has one pair of parentheses too many: write `{n}(key: value, ...)`"),
+                    node.span,
+                ));
+                return None;
+            }
             _ => return self.type_err(&format!("{what} `{}(...)`", expected.first().unwrap_or(&"")), node),
         };
         let (kind, head) = match name {
