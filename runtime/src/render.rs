@@ -39,8 +39,31 @@ pub fn compile_with(
     match exe {
         Some(e) => Ok((e, report)),
         None if report.is_empty() => Err(Error::Compile(format!("{}: could not be compiled", pipeline.display()))),
-        None => Err(Error::Compile(report)),
+        None => Err(request_error(&s).unwrap_or(Error::Compile(report))),
     }
+}
+
+/// A compilation that failed only because a `--variant` asked for a variant or option the
+/// pipeline does not have: a usage error (exit 2, as a `--param` typo is), one line each.
+pub fn request_error(s: &lightbench_compiler::Session) -> Option<Error> {
+    use lightbench_compiler::diag::{Code, Severity};
+    let errors: Vec<_> = s.diags.list.iter().filter(|d| d.severity == Severity::Error).collect();
+    let requested = |d: &&lightbench_compiler::diag::Diagnostic| {
+        d.labels.is_empty() && matches!(d.code, Code::UnknownVariant | Code::UnknownVariantOption)
+    };
+    if errors.is_empty() || !errors.iter().all(requested) {
+        return None;
+    }
+    let lines: Vec<String> = errors
+        .iter()
+        .map(|d| {
+            std::iter::once(format!("--variant: {}", d.message))
+                .chain(d.notes.iter().cloned())
+                .collect::<Vec<_>>()
+                .join("; ")
+        })
+        .collect();
+    Some(Error::Usage(lines.join("\n")))
 }
 
 /// `compile_in` a workspace of its own, reading the disk.
@@ -78,7 +101,8 @@ pub fn plan_configured(
         let mut s = ws.session();
         let exe = s.executable_with(pipeline, shader_root, (profile, &features), variants, params);
         let report = s.render();
-        exe.map(|e| (e, report.clone())).ok_or(Error::Compile(report))
+        exe.map(|e| (e, report.clone()))
+            .ok_or_else(|| request_error(&s).unwrap_or(Error::Compile(report)))
     };
     let (first, _) = compile(&[], &ParamValues::new())?;
     let (variants, params): (Vec<_>, Vec<_>) = settings

@@ -101,15 +101,33 @@ fn plan_explain_names_culling_reasons() {
     assert!(out.contains("block `params`: 12 bytes, align 4"), "{out}");
 }
 
+/// A `--variant` name or option the pipeline does not have is a usage error (exit 2, as a
+/// `--param` typo is), named on the command line's terms, with a suggestion — for `plan`
+/// and `render` alike, before anything is rendered.
 #[test]
 fn plan_unknown_variant_is_an_error_with_suggestion() {
     let (code, _, err) = lightbench(&["plan", "pipelines/deferred.ron", "--variant", "cube_shadows=classic"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("error[unknown-variant]: pipeline `deferred` has no variant `cube_shadows`"),
+        err.contains("error: --variant: pipeline `deferred` has no variant `cube_shadows`; did you mean `cube_shadow`?"),
         "{err}"
     );
-    assert!(err.contains("did you mean `cube_shadow`?"), "{err}");
+    let out = std::env::temp_dir().join(format!("lightbench-variant-typo-{}.png", std::process::id()));
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--size",
+        "8x8",
+        "--out",
+        out.to_str().unwrap(),
+        "--variant",
+        "cube_shadow=classik",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--variant: variant `cube_shadow` has no option `classik`; did you mean `classic`?"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }
 
 /// `--variant k=option!` as the README writes it: where the profile cannot run the option,

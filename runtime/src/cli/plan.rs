@@ -110,6 +110,12 @@ pub fn run(a: Args) -> i32 {
         Err(code) => return code,
     };
     let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
+    if plan.is_none() {
+        // A --variant typo is a usage error (exit 2), as a --param typo is.
+        if let Some(crate::error::Error::Usage(m)) = crate::render::request_error(&s) {
+            return usage_error(m);
+        }
+    }
     super::check::emit(&s, Format::Human);
     let Some(mut plan) = plan else { return EXIT_ERRORS };
     // Parameters may size resources (`size: Param(..)`): plan again with them.
