@@ -102,8 +102,9 @@ fn render_exr_output_and_bad_arguments() {
         "{err}"
     );
     assert!(!d.join("x.png").exists(), "nothing is written when --dump is wrong");
+    // A --variant typo is a usage error, as a --param typo is.
     let (code, _, err) = run(&["render", "--out", d.join("x.png").to_str().unwrap(), "--variant", "tonemap=filmic"]);
-    assert_eq!(code, 1);
+    assert_eq!(code, 2, "{err}");
     assert!(err.contains("variant `tonemap` has no option `filmic`"), "{err}");
 }
 

@@ -625,3 +625,37 @@ fn shards_running_at_once_into_one_folder_keep_every_row() {
         .collect();
     assert_eq!((rows.lines().count(), ids.len()), (12, 12), "{rows}");
 }
+
+/// The README's GNU parallel example, run as written in a project `init` wrote: four shards
+/// at once, then the merge, equal to the unsharded sweep.
+#[test]
+fn the_readme_gnu_parallel_sharding_runs_as_written() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let block = readme.split("# GNU parallel").nth(1).expect("the README's GNU parallel example");
+    let lines: Vec<&str> = block
+        .lines()
+        .skip(1)
+        .take_while(|l| !l.starts_with("```"))
+        .filter(|l| !l.trim().is_empty())
+        .collect();
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    let dir = scratch("parallel");
+    let (code, _, err) = cli_common::lightbench_in(&dir, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    let proj = dir.join("proj");
+    // `lightbench` as the README types it: this build first on PATH.
+    let bin = Path::new(env!("CARGO_BIN_EXE_lightbench")).parent().unwrap();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    for line in &lines {
+        let out = Command::new("bash")
+            .args(["-c", line])
+            .current_dir(&proj)
+            .env("PATH", &path)
+            .output()
+            .expect("bash (and GNU parallel: apt-get install parallel; .ci/run does)");
+        assert!(out.status.success(), "{line}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let (code, _, err) = cli_common::lightbench_in(&proj, &["sweep", "sweeps/shadows.ron", "--out", "whole", "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(outcome(&proj.join("sweep-shadows")), outcome(&proj.join("whole")));
+}
