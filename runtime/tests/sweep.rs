@@ -317,6 +317,10 @@ fn bad_specs_get_located_errors() {
         "\"../pipelines/deferred.lbp\"",
         &format!("{:?}", root().join("pipelines/deferred.lbp").display().to_string()),
     );
+    let huge = format!(
+        "\"cube.pcf\": [false, true], \"cube.normal_offset\": [{}]",
+        vec!["1.0"; 1_000_000].join(", ")
+    );
     for (i, (from, to, message)) in [
         (
             "\"cube.pcf\": [false, true]",
@@ -332,6 +336,10 @@ fn bad_specs_get_located_errors() {
         ),
         ("term: direct", "term: glow", ""),
         ("warmup: 1", "warmup: -1", ""),
+        // Written but empty, as `scenes: []` is: an error, not the scenes' sizes silently.
+        ("sizes: [(64, 64)]", "sizes: []", "`sizes` names no size"),
+        // A grid of 8 million points is counted and refused before anything is listed.
+        ("\"cube.pcf\": [false, true]", huge.as_str(), "points (at most 100000)"),
     ]
     .into_iter()
     .enumerate()

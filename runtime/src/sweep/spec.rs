@@ -276,6 +276,18 @@ fn check(l: &Loaded) -> Result<()> {
     if !(s.reference.ao_radius.is_finite() && s.reference.ao_radius > 0.0) {
         return Err(l.error_at("ao_radius", "`ao_radius` must be a positive number"));
     }
+    if s.sizes.is_empty() && l.text.contains("sizes:") {
+        return Err(l.error_at("sizes", "`sizes` names no size (leave the key out to use each scene's own size)"));
+    }
+    let count = point_count(s);
+    if count > MAX_POINTS as u128 {
+        let msg = format!("the spec has {count} points (at most {MAX_POINTS}): split it, or sweep fewer values");
+        // At the grid key with the most values, else at the listed points.
+        return Err(match s.grid.iter().max_by_key(|(_, v)| v.len()) {
+            Some((k, _)) => l.error_in("grid", &format!("\"{k}\""), msg),
+            None => l.error_at("points", msg),
+        });
+    }
     if let Some(&(w, h)) = s.sizes.iter().find(|(w, h)| *w == 0 || *h == 0 || *w > 16384 || *h > 16384) {
         return Err(l.error_at("sizes", format!("size {w}x{h} is out of range (1..16384 each way)")));
     }
@@ -299,6 +311,18 @@ fn check(l: &Loaded) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The most points a spec may have: a grid written by mistake (8 million points) is refused
+/// before anything is built, rather than exhausting memory listing them.
+pub const MAX_POINTS: usize = 100_000;
+
+/// How many points `points` would list, counted without listing them (saturating).
+fn point_count(s: &Spec) -> u128 {
+    let grid = s.grid.iter().fold(1u128, |n, (_, v)| n.saturating_mul(v.len() as u128));
+    [s.scenes.len().max(1), s.sizes.len().max(1), s.points.len().max(1)]
+        .iter()
+        .fold(grid, |n, &k| n.saturating_mul(k as u128))
 }
 
 /// The key of a listed point that names its compared resource (not a setting).
