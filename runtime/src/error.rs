@@ -30,6 +30,10 @@ pub enum Error {
     /// A command-line argument that cannot be understood (exit code 2).
     #[error("{0}")]
     Usage(String),
+    /// An input file whose content cannot be used as written (a sweep spec's value), the
+    /// message located in it: bad input, exit code 1.
+    #[error("{0}")]
+    Input(String),
     /// A parameter value that does not apply to the running Plan.
     #[error(transparent)]
     Param(#[from] ParamError),

@@ -287,3 +287,66 @@ fn params_on_plan_and_check_are_typed_and_range_checked() {
         assert!(err.contains(msg), "{cmd} {arg}: {err}");
     }
 }
+
+/// The README's exit-code rule, command by command: 2 for the command line itself, 1 for an
+/// input whose content cannot be used (and 0 for the controls).
+#[test]
+fn exit_codes_follow_one_rule() {
+    let d = std::env::temp_dir().join(format!("lightbench-exit-codes-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let bad_lbp = d.join("bad.lbp");
+    std::fs::write(
+        &bad_lbp,
+        "pipeline p\ntexture out:Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" { color out }\noutput oot\n",
+    )
+    .unwrap();
+    let bad_scene = d.join("bad_scene.ron");
+    std::fs::write(&bad_scene, "Scene(name: \"x\", builtin: \"cornell\", size: (0, 8))\n").unwrap();
+    let bad_spec = d.join("bad_spec.ron");
+    let spec = std::fs::read_to_string(root().join("sweeps/shadows.ron")).unwrap();
+    std::fs::write(
+        &bad_spec,
+        spec.replace("frames: 5", "frames: 0")
+            .replace("\"../", &format!("\"{}/", root().display())),
+    )
+    .unwrap();
+    let png = d.join("o.png");
+    let (o, l, sc, sp) = (
+        png.to_str().unwrap(),
+        bad_lbp.to_str().unwrap(),
+        bad_scene.to_str().unwrap(),
+        bad_spec.to_str().unwrap(),
+    );
+    let (refs, sweep_out) = (d.join("r"), d.join("s"));
+    let (r, so) = (refs.to_str().unwrap(), sweep_out.to_str().unwrap());
+    let cases: [(&[&str], i32); 18] = [
+        (&["--bogus"], 2),
+        (&["render", "--frames", "0", "--out", o], 2),
+        (&["render", "--out", "x.jpg"], 2),
+        (&["render", "--out", o, "--variant", "tonemap=filmic"], 2),
+        (&["render", "--out", o, "--param", "exposure.evv=1"], 2),
+        (&["render", "--out", o, "--dump", "gbuf.nrmal"], 2),
+        (&["plan", "pipelines/deferred.ron", "--variant", "cube_shadw=classic"], 2),
+        (&["check", "pipelines/", "--param", "nope=1"], 2),
+        (&["reference", "--spp", "0", "--out", o], 2),
+        (&["sweep", "sweeps/shadows.ron", "--shard", "3/2"], 2),
+        (&["convert", "pipelines/deferred.ron", "--to", "yaml"], 2),
+        (&["check", l], 1),
+        (&["plan", l], 1),
+        (&["render", "--scene", sc, "--out", o], 1),
+        (&["reference", "--scene", sc, "--out", r], 1),
+        (&["sweep", sp, "--out", so], 1),
+        (&["check", "pipelines/deferred.ron"], 0),
+        (&["plan", "pipelines/deferred.ron"], 0),
+    ];
+    for (args, want) in cases {
+        let (code, _, err) = lightbench(args);
+        assert_eq!(code, want, "{args:?}: {err}");
+        if want != 0 {
+            assert!(err.contains("error"), "{args:?}: an error is said: {err}");
+            assert!(!err.contains("panicked"), "{args:?}: {err}");
+        }
+    }
+    assert!(!png.exists(), "no refused command wrote its output");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -209,10 +209,16 @@ fn external_resources_come_from_inputs_or_the_render_stops() {
         err.contains("resource `noise` is external: supply its contents (render --input noise=FILE"),
         "{err}"
     );
+    // A file whose content does not fit is bad input (exit 1); a name on the command line
+    // that is not an external resource is bad usage (exit 2).
     std::fs::write(d.join("w.json"), "[0.25, 0.5]").unwrap();
     let (code, _, err) = with(&["--input", &w, "--input", &n]);
-    assert_eq!(code, 2, "{err}");
+    assert_eq!(code, 1, "{err}");
     assert!(err.contains("has 8 bytes, the buffer is declared with 16"), "{err}");
+    std::fs::write(d.join("w.json"), "[0.25, 0.5, 1e39, 1.0]").unwrap();
+    let (code, _, err) = with(&["--input", &w, "--input", &n]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("element 2 (1e39) is not a finite 32-bit float"), "{err}");
     let (code, _, err) = with(&["--input", "out=x.png"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--input `out`: the resource is not `external: true`"), "{err}");

@@ -349,7 +349,8 @@ fn bad_specs_get_located_errors() {
         let p = dir.join(format!("bad{i}.ron"));
         std::fs::write(&p, &text).unwrap();
         let (code, _, err) = sweep(p.to_str().unwrap(), &dir.join(format!("out{i}")), &[]);
-        assert_eq!(code, 2, "{to}: {err}");
+        // Bad input (the spec's content), not bad usage: exit 1.
+        assert_eq!(code, 1, "{to}: {err}");
         assert!(!dir.join(format!("out{i}/rows.jsonl")).exists(), "{to}: no rows written");
         assert!(err.contains(message), "{to}: {err}");
         let line = text.lines().position(|l| l.contains(to)).unwrap() + 1;
@@ -368,7 +369,7 @@ fn bad_specs_get_located_errors() {
     let p = dir.join("bad_own.ron");
     std::fs::write(&p, &own).unwrap();
     let (code, _, err) = sweep(p.to_str().unwrap(), &dir.join("out_own"), &[]);
-    assert_eq!(code, 2, "{err}");
+    assert_eq!(code, 1, "{err}");
     let line = own.lines().position(|l| l.contains("gi.indirekt")).unwrap() + 1;
     assert!(
         err.contains(&format!("bad_own.ron:{line}:")) && err.contains("no resource `gi.indirekt`"),

@@ -45,7 +45,7 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
             // A sweep spec (`init` writes them into `sweeps/`): checked as `sweep` reads it.
             if let Err(e) = crate::sweep::spec::load(f) {
                 let msg = match e {
-                    crate::error::Error::Usage(m) => m,
+                    crate::error::Error::Usage(m) | crate::error::Error::Input(m) => m,
                     e => e.to_string(),
                 };
                 s.diags.push(Diagnostic::unlocated(Severity::Error, Code::SweepSpec, msg));

@@ -25,7 +25,8 @@ impl Executor {
                 "--input `{name}`: per-light external resources cannot be supplied yet"
             )));
         }
-        let bad = |e: String| Error::Usage(format!("--input `{name}`: {} {e}", file.display()));
+        // The file's content (wrong size, format, a number beyond f32): bad input, exit 1.
+        let bad = |e: String| Error::Input(format!("--input `{name}`: {} {e}", file.display()));
         let raw = lightbench_compiler::vfs::read_bytes(file, lightbench_compiler::vfs::MAX_FILE_BYTES).map_err(|e| Error::io(file, e))?;
         let bytes = match res.shape {
             ResourceShape::Buffer { size, .. } => {

@@ -43,7 +43,7 @@ pub fn channels(term: Term) -> usize {
 pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<ErrorMetrics> {
     let r = &reference.mean;
     if (estimate.width, estimate.height) != (r.width, r.height) {
-        return Err(Error::Usage(format!(
+        return Err(Error::Input(format!(
             "`{resource}` is {}x{} but the reference is {}x{}: compare a resource the size of the viewport",
             estimate.width, estimate.height, r.width, r.height
         )));

@@ -189,9 +189,9 @@ impl Loaded {
             Some(i) => {
                 let line = self.text[..i].matches('\n').count() + 1;
                 let col = i - self.text[..i].rfind('\n').map_or(0, |n| n + 1) + 1;
-                Error::Usage(format!("{}:{line}:{col}: {msg}", self.path.display()))
+                Error::Input(format!("{}:{line}:{col}: {msg}", self.path.display()))
             }
-            None => Error::Usage(format!("{}: {msg}", self.path.display())),
+            None => Error::Input(format!("{}: {msg}", self.path.display())),
         }
     }
 }
@@ -234,7 +234,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
         .map_err(|e| Error::io(path, e))?;
     let spec: Spec = ron::Options::default()
         .from_str(&text)
-        .map_err(|e| Error::Usage(format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code)))?;
+        .map_err(|e| Error::Input(format!("{}:{}:{}: {}", path.display(), e.span.start.line, e.span.start.col, e.code)))?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("sweep").to_string();
     // What decides how a point is measured; the lists of scenes, sizes, points and grid
     // values may change between runs (rows of points still listed are kept).
