@@ -336,6 +336,12 @@ fn bad_specs_get_located_errors() {
         ),
         ("term: direct", "term: glow", ""),
         ("warmup: 1", "warmup: -1", ""),
+        // A variant option the pipeline lacks: the spec's error, at the option, not `--variant`'s.
+        (
+            "\"cube_shadow\": \"classic\"",
+            "\"cube_shadow\": \"classik\"",
+            "`cube_shadow`: variant `cube_shadow` has no option `classik`",
+        ),
         // Written but empty, as `scenes: []` is: an error, not the scenes' sizes silently.
         ("sizes: [(64, 64)]", "sizes: []", "`sizes` names no size"),
         // A grid of 8 million points is counted and refused before anything is listed.

@@ -189,11 +189,24 @@ fn check_compare(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) 
     })
 }
 
+/// A variant option the spec names that the pipeline lacks comes back from planning as a
+/// command-line (`--variant`) error: it is the spec's, so it is located at the option there
+/// and is bad input.
+fn spec_option_error(l: &Loaded, p: &Point, e: Error) -> Error {
+    let Error::Usage(m) = &e else { return e };
+    let Some(msg) = m.strip_prefix("--variant: ") else { return e };
+    match p.settings.iter().find(|(k, v)| msg.contains(&format!("`{k}` has no option `{v}`"))) {
+        Some((k, v)) => l.error_in(k, &format!("\"{v}\""), format!("`{k}`: {msg}")),
+        None => Error::Input(format!("{}: {msg}", l.path.display())),
+    }
+}
+
 fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usize), opts: &Options, inputs: &mut Inputs) -> Result<Row> {
     reference_for(inputs, l, p, opts)?;
     let scene = scene(inputs, l, p)?.clone();
     let pipeline = l.pipeline();
-    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)?;
+    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)
+        .map_err(|e| spec_option_error(l, p, e))?;
     check_compare(l, &configured.exe.plan, p)?;
     let mut ex = Executor::new(gpu, &configured.exe, &scene)?;
     ex.set_reuse(false);
