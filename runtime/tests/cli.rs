@@ -350,3 +350,33 @@ fn exit_codes_follow_one_rule() {
     assert!(!png.exists(), "no refused command wrote its output");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Every command that takes `--scene` says in its help that a glTF model is a scene too, as
+/// the README says and as it works (`plan` and `reference` on a bare model here).
+#[test]
+fn scene_help_names_gltf_models() {
+    for cmd in ["render", "view", "reference", "plan", "diff"] {
+        let (code, out, err) = lightbench(&[cmd, "--help"]);
+        assert_eq!(code, 0, "{cmd}: {err}");
+        // The option's line and, in long help, the line under it.
+        let at = out.lines().position(|l| l.trim_start().starts_with("--scene")).expect("--scene");
+        let text: Vec<&str> = out.lines().skip(at).take(2).collect();
+        assert!(text.join(" ").contains("glTF model"), "{cmd} --help: {text:?}");
+    }
+    let (code, _, err) = lightbench(&["plan", "pipelines/deferred.ron", "--scene", "scenes/chair.gltf"]);
+    assert_eq!(code, 0, "{err}");
+    let out = scratch("gltf-reference");
+    let args = [
+        "reference",
+        "--scene",
+        "scenes/chair.gltf",
+        "--size",
+        "8x8",
+        "--spp",
+        "1",
+        "--quiet",
+        "--out",
+    ];
+    let (code, _, err) = lightbench(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert_eq!(code, 0, "{err}");
+}

@@ -24,7 +24,7 @@ pub struct Args {
     pub a: String,
     /// Second side, as the first (often the same file with other settings).
     pub b: String,
-    /// Scene file or built-in scene both sides render.
+    /// Scene file (.ron), glTF model or built-in scene both sides render.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     #[command(flatten)]

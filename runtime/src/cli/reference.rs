@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Scene file or built-in scene.
+    /// Scene file (.ron), glTF model (.gltf, .glb) or built-in scene.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     /// Size to render at, overriding the scene's.

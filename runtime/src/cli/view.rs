@@ -11,7 +11,7 @@ pub struct Args {
     /// Pipeline file; default `pipelines/deferred.ron`, or the bundled one when none is here.
     #[arg(long)]
     pub pipeline: Option<PathBuf>,
-    /// Scene file or built-in scene.
+    /// Scene file (.ron), glTF model (.gltf, .glb) or built-in scene.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     #[command(flatten)]
