@@ -1522,3 +1522,64 @@ fn a_number_beyond_f32_is_non_finite() {
         41,
     );
 }
+
+/// An entry-point error naga gives no span for is located at what it names — here the
+/// argument whose builtin needs a capability no profile has — not at the file's first byte,
+/// and the note says that no `requires` feature provides it.
+#[test]
+fn entry_point_errors_are_located_at_the_argument() {
+    let case = Case {
+        post: &[
+            ("struct Params", "enable primitive_index;\n\nstruct Params"),
+            (
+                "fn fs_main(@location(0) uv: vec2<f32>)",
+                "fn fs_main(@location(0) uv: vec2<f32>, @builtin(primitive_index) p: u32)",
+            ),
+        ],
+        ..BASE
+    };
+    let out = run(&case);
+    let line = apply(POST_WGSL, case.post)
+        .lines()
+        .position(|l| l.starts_with("fn fs_main"))
+        .unwrap()
+        + 1;
+    expect(
+        case,
+        "shader-validation",
+        "Entry point fs_main at Fragment is invalid",
+        "shaders/post.wgsl",
+        line,
+        40,
+    );
+    assert!(
+        out.dump()
+            .contains("PRIMITIVE_INDEX: no feature a pipeline can `requires` provides it"),
+        "{}",
+        out.dump()
+    );
+}
+
+/// A capability a `requires` feature provides is named by that feature, as `requires` takes
+/// it (f16 on a profile without `ShaderF16`).
+#[test]
+fn a_missing_capability_names_the_feature_to_require() {
+    let case = Case {
+        post: &[
+            ("struct Params", "enable f16;\n\nstruct Params"),
+            (
+                "    return textureSample",
+                "    let h: f16 = 1.0h;\n    return f32(h) * textureSample",
+            ),
+        ],
+        profile: "gl",
+        ..BASE
+    };
+    let out = run(&case);
+    assert!(
+        out.dump()
+            .contains("FLOAT16 needs the wgpu feature `SHADER_F16`: add `ShaderF16` to the `requires`"),
+        "{}",
+        out.dump()
+    );
+}

@@ -366,7 +366,14 @@ fn validation_error(
         }
     }
     let mut spans = spans.into_iter().filter(|(s, _)| *s != map(naga::Span::UNDEFINED));
-    let (first, first_text) = spans.next().unwrap_or((map(naga::Span::UNDEFINED), String::new()));
+    // naga gives no span (entry-point interface errors, capabilities): the offending argument
+    // or result of the function's signature, else its `fn` line — never the file's first byte.
+    let fallback = || {
+        readable::signature_span(e.as_inner(), text)
+            .map(|(r, what)| (map(naga::Span::new(r.start as u32, r.end as u32)), what))
+            .unwrap_or((map(naga::Span::UNDEFINED), String::new()))
+    };
+    let (first, first_text) = spans.next().unwrap_or_else(fallback);
     let mut d = Diagnostic::error(Code::ShaderValidation, say(&e.as_inner().to_string()), first).with_label_text(first_text);
     for (s, t) in spans {
         d = d.with_secondary(s, t);
@@ -377,7 +384,34 @@ fn validation_error(
         source = s.source();
     }
     if e.as_inner().to_string().contains("apabilit") || d.notes.iter().any(|n| n.contains("apabilit")) {
-        d = d.with_note("declare the wgpu feature this needs in the `requires` of the variant option that enables this pass");
+        let note = feature_note(&d.notes);
+        d = d.with_note(note);
     }
     d
+}
+
+/// The wgpu feature a missing naga capability (named in `notes`, `Capabilities(NAME)`) needs,
+/// as `requires` would name it; or that no feature lightbench can require provides it.
+fn feature_note(notes: &[String]) -> String {
+    // naga writes `Capabilities(NAME)` or `naga::valid::Capabilities::NAME` (FLOAT16 for the
+    // flag named SHADER_FLOAT16).
+    let named = |n: &String| {
+        let after = n.split("Capabilities(").nth(1).or_else(|| n.split("Capabilities::").nth(1))?;
+        let name: String = after.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect();
+        let cap =
+            naga::valid::Capabilities::from_name(&name).or_else(|| naga::valid::Capabilities::from_name(&format!("SHADER_{name}")))?;
+        Some((name, cap))
+    };
+    let missing = notes.iter().find_map(named);
+    let Some((name, cap)) = missing else {
+        return "declare the wgpu feature this needs in the `requires` of the variant option that enables this pass".into();
+    };
+    match Feature::ALL.iter().find(|f| capabilities(&BTreeSet::from([**f])).contains(cap)) {
+        Some(f) => format!(
+            "{name} needs the wgpu feature `{}`: add `{}` to the `requires` of the variant option that enables this pass",
+            f.wgpu_name(),
+            f.name()
+        ),
+        None => format!("{name}: no feature a pipeline can `requires` provides it yet, so no profile can run this shader"),
+    }
 }

@@ -147,6 +147,80 @@ pub fn expressions(msg: &str, f: &naga::Function, text: &str) -> String {
     out
 }
 
+/// Where in the source a span-less error about a function or entry point belongs: the
+/// argument (`Argument N`) or result it names, else the `fn NAME` it is about; with a label.
+pub fn signature_span(e: &naga::valid::ValidationError, text: &str) -> Option<(std::ops::Range<usize>, String)> {
+    use naga::valid::{EntryPointError as EP, ValidationError as V};
+    let (name, detail) = match e {
+        V::EntryPoint { name, source, .. } => (name.as_str(), Some(source)),
+        V::Function { name, .. } => (name.as_str(), None),
+        _ => return None,
+    };
+    let fn_at = fn_keyword(text, name)?;
+    let open = fn_at.end + text[fn_at.end..].find('(')?;
+    let args = top_level_args(text, open)?;
+    match detail {
+        Some(EP::Argument(i, _)) => args.get(*i as usize).map(|r| (r.clone(), format!("argument {i}"))),
+        Some(EP::Result(_)) => {
+            let close = args.last().map_or(open + 1, |r| r.end);
+            let after = close + text[close..].find(')')? + 1;
+            let arrow = after + text[after..].find("->")?;
+            let end = arrow + text[arrow..].find('{')?;
+            Some((arrow..text[..end].trim_end().len(), "the result".into()))
+        }
+        _ => None,
+    }
+    .or(Some((fn_at, format!("`{name}`"))))
+}
+
+/// The span of `fn NAME` (WGSL) or `void NAME` (GLSL) in `text`.
+fn fn_keyword(text: &str, name: &str) -> Option<std::ops::Range<usize>> {
+    ["fn", "void"].iter().find_map(|kw| {
+        let mut from = 0;
+        while let Some(i) = text[from..].find(kw).map(|i| i + from) {
+            let rest = &text[i + kw.len()..];
+            let trimmed = rest.trim_start();
+            let boundary = i == 0 || !text[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_');
+            if boundary && rest.len() > trimmed.len() && trimmed.starts_with(name) {
+                let after = &trimmed[name.len()..];
+                if after.trim_start().starts_with('(') {
+                    let end = i + kw.len() + (rest.len() - trimmed.len()) + name.len();
+                    return Some(i..end);
+                }
+            }
+            from = i + kw.len();
+        }
+        None
+    })
+}
+
+/// The spans of the arguments between the parenthesis at `open` and its match (commas inside
+/// `<>`, `()` and `[]` do not split).
+fn top_level_args(text: &str, open: usize) -> Option<Vec<std::ops::Range<usize>>> {
+    let (mut depth, mut start, mut out) = (0i32, open + 1, vec![]);
+    for (i, c) in text[open + 1..].char_indices().map(|(i, c)| (i + open + 1, c)) {
+        match c {
+            '(' | '<' | '[' => depth += 1,
+            ')' if depth == 0 => {
+                let arg = text[start..i].trim();
+                if !arg.is_empty() {
+                    let s = start + (text[start..i].len() - text[start..i].trim_start().len());
+                    out.push(s..s + arg.len());
+                }
+                return Some(out);
+            }
+            ')' | '>' | ']' => depth -= 1,
+            ',' if depth == 0 => {
+                let s = start + (text[start..i].len() - text[start..i].trim_start().len());
+                out.push(s..s + text[start..i].trim().len());
+                start = i + 1;
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
 /// The function a validation error is about, if it names one.
 pub fn function_of<'m>(e: &naga::valid::ValidationError, m: &'m Module) -> Option<&'m naga::Function> {
     use naga::valid::ValidationError as V;
