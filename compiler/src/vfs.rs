@@ -110,13 +110,40 @@ fn too_large(limit: u64) -> io::Error {
     io::Error::new(io::ErrorKind::FileTooLarge, msg)
 }
 
-/// Text from bytes, or an error naming the byte offset of the first invalid sequence.
+/// Text from bytes, or an error naming the byte offset, line and column of the first invalid
+/// sequence (an [`InvalidUtf8`] inside, so that a reader can point at it).
 pub fn utf8(bytes: Vec<u8>) -> io::Result<String> {
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
-        io::Error::new(io::ErrorKind::InvalidData, format!("not valid UTF-8 (invalid byte at offset {at})"))
+        // The bytes before it are valid: count lines and characters in them.
+        let before = std::str::from_utf8(&e.as_bytes()[..at]).unwrap_or_default();
+        let line = before.matches('\n').count() + 1;
+        let column = before.rsplit('\n').next().unwrap_or_default().chars().count() + 1;
+        let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+        io::Error::new(io::ErrorKind::InvalidData, InvalidUtf8 { at, line, column, text })
     })
 }
+
+/// Where a file stops being UTF-8, and its text with the bad bytes replaced (to show it).
+#[derive(Debug)]
+pub struct InvalidUtf8 {
+    pub at: usize,
+    pub line: usize,
+    pub column: usize,
+    pub text: String,
+}
+
+impl std::fmt::Display for InvalidUtf8 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "not valid UTF-8 (invalid byte at offset {}, line {}, column {})",
+            self.at, self.line, self.column
+        )
+    }
+}
+
+impl std::error::Error for InvalidUtf8 {}
 
 /// The diagnostic code of a failed read.
 pub fn read_error_code(e: &io::Error) -> crate::diag::Code {

@@ -178,11 +178,20 @@ impl Session {
         let text = match self.vfs.read(path) {
             Ok(t) => t,
             Err(e) => {
-                self.diags.push(Diagnostic::unlocated(
-                    Severity::Error,
-                    crate::vfs::read_error_code(&e),
-                    format!("cannot read pipeline `{name}`: {e}"),
-                ));
+                let msg = format!("cannot read pipeline `{name}`: {e}");
+                let code = crate::vfs::read_error_code(&e);
+                // Invalid UTF-8 is located at its first bad byte (the text shown with it
+                // replaced), so `--format json` has its line and column too.
+                let d = match e.get_ref().and_then(|i| i.downcast_ref::<crate::vfs::InvalidUtf8>()) {
+                    Some(bad) => {
+                        let file = self.sources.add(name.clone(), bad.text.clone());
+                        // U+FFFD stands where the bad bytes began: three bytes.
+                        let end = (bad.at + 3).min(bad.text.len());
+                        Diagnostic::error(code, msg, crate::span::Span::new(file, bad.at, end))
+                    }
+                    None => Diagnostic::unlocated(Severity::Error, code, msg),
+                };
+                self.diags.push(d);
                 return None;
             }
         };

@@ -118,7 +118,13 @@ fn oversized_and_non_utf8_files_are_refused_with_the_reason() {
     bytes[11] = 0xFF; // inside `name: "h"`
     std::fs::write(dir.join("pipelines/p.ron"), bytes).unwrap();
     let out = check(&dir);
-    expect(&out, "invalid-utf8", "not valid UTF-8 (invalid byte at offset 11)", None);
+    // Located at the bad byte (line and column from the valid text before it), JSON too.
+    expect(
+        &out,
+        "invalid-utf8",
+        "not valid UTF-8 (invalid byte at offset 11, line 2, column 2)",
+        Some(("pipelines/p.ron", 2, 2)),
+    );
 }
 
 #[test]

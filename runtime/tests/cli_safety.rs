@@ -106,7 +106,11 @@ fn invalid_utf8_and_deep_nesting_are_located_errors_in_every_command() {
     let text = format!("pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {{\n    color out\n    when {}reflective\n}}\noutput out\n", "not ".repeat(9000));
     std::fs::write(&nested, text).unwrap();
     for (file, code, msg) in [
-        (&bad, "invalid-utf8", "not valid UTF-8 (invalid byte at offset 17)"),
+        (
+            &bad,
+            "invalid-utf8",
+            "not valid UTF-8 (invalid byte at offset 17, line 2, column 7)",
+        ),
         (&nested, "nesting-too-deep", "n.lbp:5:262"),
     ] {
         let f = file.to_str().unwrap();

@@ -30,7 +30,7 @@ codes! {
     FileNotFound = "file-not-found": "a pipeline or scene file cannot be read",
     NotAFile = "not-a-file": "a path that names a directory, device or pipe where a file is expected",
     FileTooLarge = "file-too-large": "a pipeline, scene or shader file over 16 MiB",
-    InvalidUtf8 = "invalid-utf8": "a file that is not UTF-8 text (the message gives the byte offset)",
+    InvalidUtf8 = "invalid-utf8": "a file that is not UTF-8 text (the message gives the byte offset, line and column)",
     NestingTooDeep = "nesting-too-deep": "values or conditions nested more than 64 deep, or includes more than 32",
     UnknownFormat = "unknown-format": "a pipeline file whose extension is neither `.ron` nor `.lbp`",
     RonSyntax = "ron-syntax": "RON text that does not parse",
