@@ -98,16 +98,7 @@ impl ShaderModule {
 
     /// The span of `fn name` (WGSL) or `void name` (GLSL) in the expanded source.
     fn declaration(&self, name: &str) -> Option<Span> {
-        let text = &self.expanded.text;
-        ["fn ", "void "].iter().find_map(|kw| {
-            let pat = format!("{kw}{name}");
-            text.match_indices(&pat)
-                .find(|(i, _)| {
-                    let after = text[i + pat.len()..].trim_start();
-                    after.starts_with('(') && (*i == 0 || !text.as_bytes()[i - 1].is_ascii_alphanumeric())
-                })
-                .and_then(|(i, _)| self.expanded.map(i..i + pat.len()))
-        })
+        readable::declaration(&self.expanded.text, name).and_then(|r| self.expanded.map(r))
     }
 }
 

@@ -156,7 +156,7 @@ pub fn signature_span(e: &naga::valid::ValidationError, text: &str) -> Option<(s
         V::Function { name, .. } => (name.as_str(), None),
         _ => return None,
     };
-    let fn_at = fn_keyword(text, name)?;
+    let fn_at = declaration(text, name)?;
     let open = fn_at.end + text[fn_at.end..].find('(')?;
     let args = top_level_args(text, open)?;
     match detail {
@@ -173,24 +173,16 @@ pub fn signature_span(e: &naga::valid::ValidationError, text: &str) -> Option<(s
     .or(Some((fn_at, format!("`{name}`"))))
 }
 
-/// The span of `fn NAME` (WGSL) or `void NAME` (GLSL) in `text`.
-fn fn_keyword(text: &str, name: &str) -> Option<std::ops::Range<usize>> {
-    ["fn", "void"].iter().find_map(|kw| {
-        let mut from = 0;
-        while let Some(i) = text[from..].find(kw).map(|i| i + from) {
-            let rest = &text[i + kw.len()..];
-            let trimmed = rest.trim_start();
-            let boundary = i == 0 || !text[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_');
-            if boundary && rest.len() > trimmed.len() && trimmed.starts_with(name) {
-                let after = &trimmed[name.len()..];
-                if after.trim_start().starts_with('(') {
-                    let end = i + kw.len() + (rest.len() - trimmed.len()) + name.len();
-                    return Some(i..end);
-                }
-            }
-            from = i + kw.len();
-        }
-        None
+/// The span of `fn NAME` (WGSL) or `void NAME` (GLSL) in `text` (the expanded source).
+pub fn declaration(text: &str, name: &str) -> Option<std::ops::Range<usize>> {
+    ["fn ", "void "].iter().find_map(|kw| {
+        let pat = format!("{kw}{name}");
+        text.match_indices(&pat)
+            .find(|(i, _)| {
+                let after = text[i + pat.len()..].trim_start();
+                after.starts_with('(') && (*i == 0 || !text.as_bytes()[i - 1].is_ascii_alphanumeric())
+            })
+            .map(|(i, _)| i..i + pat.len())
     })
 }
 
