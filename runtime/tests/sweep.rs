@@ -340,7 +340,7 @@ fn bad_specs_get_located_errors() {
         (
             "\"cube_shadow\": \"classic\"",
             "\"cube_shadow\": \"classik\"",
-            "`cube_shadow`: variant `cube_shadow` has no option `classik`",
+            "variant `cube_shadow` has no option `classik`; did you mean `classic`?",
         ),
         // Written but empty, as `scenes: []` is: an error, not the scenes' sizes silently.
         ("sizes: [(64, 64)]", "sizes: []", "`sizes` names no size"),

@@ -164,9 +164,29 @@ fn check_names(l: &Loaded, plan: &lightbench_compiler::plan::Plan, points: &[Poi
             ));
         }
     }
+    check_options(l, points)?;
     for pass in &l.spec.effect {
         if !plan.passes.iter().any(|q| q.name == *pass) && !plan.culled.iter().any(|c| c.name == *pass) {
             return Err(l.error_in("effect", &format!("\"{pass}\""), format!("the pipeline has no pass `{pass}`")));
+        }
+    }
+    Ok(())
+}
+
+/// Every variant option the spec names is one the pipeline declares (`multiview!` as
+/// `multiview`): located at the option, before any reference is rendered.
+fn check_options(l: &Loaded, points: &[Point]) -> Result<()> {
+    let Some(pipeline) = lightbench_compiler::Session::new().load_pipeline(&l.pipeline()) else {
+        return Ok(()); // planning it reported why already
+    };
+    for (k, v) in points.iter().flat_map(|p| &p.settings) {
+        let Some(var) = pipeline.variant(k) else { continue };
+        let option = v.strip_suffix('!').unwrap_or(v);
+        if var.option(option).is_none() {
+            let hint = lightbench_compiler::diag::did_you_mean(option, var.option_names())
+                .map(|m| format!("; did you mean `{m}`?"))
+                .unwrap_or_default();
+            return Err(l.error_at(&format!("\"{v}\""), format!("variant `{k}` has no option `{option}`{hint}")));
         }
     }
     Ok(())
@@ -189,24 +209,11 @@ fn check_compare(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) 
     })
 }
 
-/// A variant option the spec names that the pipeline lacks comes back from planning as a
-/// command-line (`--variant`) error: it is the spec's, so it is located at the option there
-/// and is bad input.
-fn spec_option_error(l: &Loaded, p: &Point, e: Error) -> Error {
-    let Error::Usage(m) = &e else { return e };
-    let Some(msg) = m.strip_prefix("--variant: ") else { return e };
-    match p.settings.iter().find(|(k, v)| msg.contains(&format!("`{k}` has no option `{v}`"))) {
-        Some((k, v)) => l.error_in(k, &format!("\"{v}\""), format!("`{k}`: {msg}")),
-        None => Error::Input(format!("{}: {msg}", l.path.display())),
-    }
-}
-
 fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usize), opts: &Options, inputs: &mut Inputs) -> Result<Row> {
     reference_for(inputs, l, p, opts)?;
     let scene = scene(inputs, l, p)?.clone();
     let pipeline = l.pipeline();
-    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)
-        .map_err(|e| spec_option_error(l, p, e))?;
+    let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)?;
     check_compare(l, &configured.exe.plan, p)?;
     let mut ex = Executor::new(gpu, &configured.exe, &scene)?;
     ex.set_reuse(false);
