@@ -52,22 +52,8 @@ const BASELINE_PATHS_PER_SECOND: f64 = 2.01e6;
 
 /// Relative standard errors of `full` at the percentiles asked for, over lit pixels.
 fn errors(r: &Reference, percentiles: &[f64]) -> Vec<f64> {
-    let t = r.term(Term::Full).expect("full");
-    let mut e: Vec<f64> = t
-        .mean
-        .rgba
-        .chunks_exact(4)
-        .zip(t.variance.rgba.chunks_exact(4))
-        .filter_map(|(m, v)| {
-            let f = |p: &[f32]| [p[0] as f64, p[1] as f64, p[2] as f64];
-            reference::relative_error(f(m), f(v))
-        })
-        .collect();
-    e.sort_by(f64::total_cmp);
-    percentiles
-        .iter()
-        .map(|p| e[((p / 100.0 * e.len() as f64).ceil() as usize).clamp(1, e.len()) - 1])
-        .collect()
+    let e = r.term(Term::Full).expect("full").relative_errors();
+    percentiles.iter().map(|&p| reference::percentile_of(&e, p)).collect()
 }
 
 fn full_speed() {

@@ -150,19 +150,7 @@ fn full(s: &Scene, spp: u32, sample_emitters: bool) -> reference::Reference {
 
 /// Median over lit pixels of the relative standard error of the mean.
 fn median_relative_error(r: &reference::Reference) -> f64 {
-    let t = r.term(Term::Full).unwrap();
-    let mut e: Vec<f64> = t
-        .mean
-        .rgba
-        .chunks_exact(4)
-        .zip(t.variance.rgba.chunks_exact(4))
-        .filter_map(|(m, v)| {
-            let m = [m[0] as f64, m[1] as f64, m[2] as f64];
-            let v = [v[0] as f64, v[1] as f64, v[2] as f64];
-            reference::relative_error(m, v)
-        })
-        .collect();
-    e.sort_by(f64::total_cmp);
+    let e = r.term(Term::Full).unwrap().relative_errors();
     e[e.len() / 2]
 }
 

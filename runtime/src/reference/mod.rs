@@ -121,6 +121,22 @@ pub struct TermImage {
     pub variance: Image,
 }
 
+impl TermImage {
+    /// The relative standard error of every lit pixel (`relative_error`), sorted.
+    pub fn relative_errors(&self) -> Vec<f64> {
+        let rgb = |p: &[f32]| [p[0] as f64, p[1] as f64, p[2] as f64];
+        let mut e: Vec<f64> = self
+            .mean
+            .rgba
+            .chunks_exact(4)
+            .zip(self.variance.rgba.chunks_exact(4))
+            .filter_map(|(m, v)| relative_error(rgb(m), rgb(v)))
+            .collect();
+        e.sort_by(f64::total_cmp);
+        e
+    }
+}
+
 #[derive(Clone, Debug)]
 pub struct Reference {
     pub terms: Vec<TermImage>,
@@ -311,8 +327,13 @@ fn percentile_error(sums: &[f64], terms: &[Term], ctx: &integrate::Context, n: u
         }
     }
     errors.sort_by(f64::total_cmp);
-    let rank = ((percentile / 100.0 * errors.len() as f64).ceil() as usize).clamp(1, errors.len().max(1)) - 1;
-    errors.get(rank).copied().unwrap_or(0.0)
+    percentile_of(&errors, percentile)
+}
+
+/// The `p`th percentile (0..100, nearest rank) of sorted values; 0 for none.
+pub fn percentile_of(sorted: &[f64], p: f64) -> f64 {
+    let rank = ((p / 100.0 * sorted.len() as f64).ceil() as usize).clamp(1, sorted.len().max(1)) - 1;
+    sorted.get(rank).copied().unwrap_or(0.0)
 }
 
 fn progress_bar(budget: Budget, rows: u32, visible: bool) -> indicatif::ProgressBar {
