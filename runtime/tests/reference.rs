@@ -5,7 +5,7 @@
 mod gpu_common;
 
 use glam::{Mat4, Vec3};
-use gpu_common::camera;
+use gpu_common::{camera, mesh};
 use lightbench::io::Image;
 use lightbench::reference::{
     self,
@@ -18,18 +18,6 @@ use lightbench::reference::{
 use lightbench::scene::geometry::{cuboid, quad};
 use lightbench::scene::{builtin, Camera, Material, Mesh, Scene};
 use std::collections::BTreeSet;
-
-fn mesh(name: &str, (vertices, indices): (Vec<lightbench::blocks::Vertex>, Vec<u32>), material: usize) -> Mesh {
-    Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material,
-        transform: Mat4::IDENTITY,
-        triangle_fraction: 1.0,
-        reflective: false,
-    }
-}
 
 fn scene(meshes: Vec<Mesh>, materials: Vec<Material>, camera: Camera, size: (u32, u32)) -> Scene {
     Scene {
@@ -68,7 +56,7 @@ fn white_furnace_converges_to_e_over_one_minus_a() {
         // Its faces point out: seen from inside, it must be double-sided.
         m.double_sided = true;
         let s = scene(
-            vec![mesh("box", cuboid(Vec3::splat(1.0)), 0)],
+            vec![mesh("box", cuboid(Vec3::splat(1.0)), Mat4::IDENTITY)],
             vec![m],
             camera(Vec3::new(0.1, -0.2, 0.3), 10.0),
             (16, 16),
@@ -108,7 +96,7 @@ fn floor_and_wall(wall: bool) -> Scene {
         quad(Vec3::new(0.0, 20.0, 0.0), Vec3::NEG_Z * 20.0, Vec3::Y * 20.0, &mut vs, &mut is);
     }
     scene(
-        vec![mesh("planes", (vs, is), 0)],
+        vec![mesh("planes", (vs, is), Mat4::IDENTITY)],
         vec![Material::color("grey", [0.5; 3], 1.0)],
         camera(Vec3::new(0.5, 1.0, 1.0), -60.0),
         (24, 24),
@@ -228,10 +216,16 @@ fn every_light_kind_and_textures_agree_with_the_raster_pipeline() {
         rgba: vec![0, 102, 0, 255],
         srgb: false,
     };
-    let mut box_mesh = mesh("box", cuboid(Vec3::new(0.3, 0.4, 0.3)), 1);
-    box_mesh.transform = Mat4::from_translation(Vec3::new(0.3, 0.4, -0.2));
+    let box_mesh = Mesh {
+        material: 1,
+        ..mesh(
+            "box",
+            cuboid(Vec3::new(0.3, 0.4, 0.3)),
+            Mat4::from_translation(Vec3::new(0.3, 0.4, -0.2)),
+        )
+    };
     let mut s = scene(
-        vec![mesh("floor", (vs, is), 0), box_mesh],
+        vec![mesh("floor", (vs, is), Mat4::IDENTITY), box_mesh],
         vec![floor, Material::color("box", [0.7, 0.3, 0.2], 0.5)],
         camera(Vec3::new(0.0, 1.6, 2.6), -30.0),
         (64, 64),

@@ -3,7 +3,10 @@
 //! same image as BRDF sampling alone (within noise) at a fraction of its noise for the time,
 //! and a noise-targeted render that reaches its target.
 
+mod gpu_common;
+
 use glam::{Mat4, Vec3};
+use gpu_common::mesh;
 use lightbench::reference::{
     self, emitters::Emitters, integrate::Context, sample::Rng, world::Faces, world::World, Brdf, Budget, Settings, Term,
 };
@@ -17,18 +20,6 @@ const ALBEDO: f32 = 0.5;
 const LAMP_C: Vec3 = Vec3::new(0.0, 1.0, 0.0);
 const LAMP_U: Vec3 = Vec3::new(0.2, 0.0, 0.0);
 const LAMP_W: Vec3 = Vec3::new(0.0, 0.0, 0.15);
-
-fn mesh(name: &str, (vertices, indices): (Vec<lightbench::blocks::Vertex>, Vec<u32>), material: usize) -> Mesh {
-    Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material,
-        transform: Mat4::IDENTITY,
-        triangle_fraction: 1.0,
-        reflective: false,
-    }
-}
 
 /// A large grey floor (y = 0) and a small emissive quad above it, facing down (`down`) or
 /// up, single- or double-sided.
@@ -53,7 +44,13 @@ fn lamp_over_floor(down: bool, double_sided: bool) -> Scene {
             far: 100.0,
             animation: None,
         },
-        meshes: vec![mesh("floor", (fv, fi), 0), mesh("lamp", (lv, li), 1)],
+        meshes: vec![
+            mesh("floor", (fv, fi), Mat4::IDENTITY),
+            Mesh {
+                material: 1,
+                ..mesh("lamp", (lv, li), Mat4::IDENTITY)
+            },
+        ],
         materials: vec![Material::color("grey", [ALBEDO; 3], 1.0), lamp],
         textures: vec![],
         lights: vec![],
@@ -224,7 +221,10 @@ fn an_emissive_texture_is_sampled_as_it_is_seen() {
     let mut s = lamp_over_floor(true, false);
     let (mut lv, mut li) = (vec![], vec![]);
     quad(LAMP_C, Vec3::X * 2.0, Vec3::Z * 2.0, &mut lv, &mut li);
-    s.meshes[1] = mesh("lamp", (lv, li), 1);
+    s.meshes[1] = Mesh {
+        material: 1,
+        ..mesh("lamp", (lv, li), Mat4::IDENTITY)
+    };
     s.materials[1].emissive = [2.0, 1.5, 1.0];
     s.materials[1].emissive_texture = Some(0);
     s.textures = vec![ImageData {
