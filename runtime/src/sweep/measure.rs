@@ -106,16 +106,21 @@ mod tests {
         (img(v), img(var))
     }
 
-    /// A reference whose noise (its variance) explains all of the difference measures 0.
-    #[test]
-    fn the_reference_noise_is_subtracted() {
-        let (mean, variance) = flat(0.5, 0.01);
-        let r = TermImage {
+    /// A flat AO reference of `v` with variance `var`.
+    fn ao_reference(v: f32, var: f32) -> TermImage {
+        let (mean, variance) = flat(v, var);
+        TermImage {
             term: Term::Ao,
             samples: 64,
             mean,
             variance,
-        };
+        }
+    }
+
+    /// A reference whose noise (its variance) explains all of the difference measures 0.
+    #[test]
+    fn the_reference_noise_is_subtracted() {
+        let r = ao_reference(0.5, 0.01);
         let (est, _) = flat(0.6, 0.0);
         let m = error(&est, &r, "ao").unwrap();
         assert!((m.rmse_raw - 0.1).abs() < 1e-6 && m.rmse.abs() < 1e-3, "{m:?}");
@@ -131,13 +136,7 @@ mod tests {
     /// put it on the Pareto front), and it survives a round trip through a row's JSON.
     #[test]
     fn an_error_over_no_finite_value_is_nan() {
-        let (mean, variance) = flat(0.5, 0.01);
-        let r = TermImage {
-            term: Term::Ao,
-            samples: 64,
-            mean,
-            variance,
-        };
+        let r = ao_reference(0.5, 0.01);
         let (est, _) = flat(f32::NAN, 0.0);
         let m = error(&est, &r, "ao").unwrap();
         assert!(m.rmse.is_nan() && m.rmse_raw.is_nan() && m.bias.is_nan(), "{m:?}");
