@@ -127,6 +127,8 @@ pub struct DirLock {
 pub fn lock_dir(dir: &Path) -> Result<DirLock> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     let path = dir.join(".lightbench.lock");
+    // A FIFO put there would block the open: regular files (or a new name) only.
+    replaceable(&path).map_err(|e| Error::io(&path, e))?;
     let file = std::fs::OpenOptions::new()
         .create(true)
         .truncate(false)
@@ -258,6 +260,16 @@ mod tests {
         assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
         assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        // A FIFO as a folder's lock file is refused, not opened (which would wait for a reader).
+        let locked = d.join("locked");
+        std::fs::create_dir_all(&locked).unwrap();
+        assert!(std::process::Command::new("mkfifo")
+            .arg(locked.join(".lightbench.lock"))
+            .status()
+            .unwrap()
+            .success());
+        let err = lock_dir(&locked).err().expect("refused").to_string();
+        assert!(err.contains("not a regular file"), "{err}");
         let _ = std::fs::remove_dir_all(&d);
     }
 }

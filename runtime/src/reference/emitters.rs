@@ -19,8 +19,10 @@ pub struct LightSample {
 }
 
 pub struct Emitters {
-    /// World triangle of each emitter, its area and its probability of being chosen.
+    /// World triangle of each emitter, its unit face normal, its area and its probability
+    /// of being chosen.
     triangle: Vec<u32>,
+    normal: Vec<Vec3>,
     area: Vec<f32>,
     prob: Vec<f32>,
     alias: AliasTable,
@@ -36,6 +38,7 @@ impl Emitters {
         let means = world.texture_means();
         let mut e = Emitters {
             triangle: vec![],
+            normal: vec![],
             area: vec![],
             prob: vec![],
             alias: AliasTable::new(&[]),
@@ -44,11 +47,13 @@ impl Emitters {
         let mut power = vec![];
         for i in 0..world.triangles() {
             let [a, b, c] = world.corners(i);
-            let area = 0.5 * (b - a).cross(c - a).length();
+            let cross = (b - a).cross(c - a);
+            let area = 0.5 * cross.length();
             let p = area * world.emission_bound(i, &means).max_element();
             if p > 0.0 && p.is_finite() {
                 e.slot[i] = e.triangle.len() as u32;
                 e.triangle.push(i as u32);
+                e.normal.push(cross.normalize_or_zero());
                 e.area.push(area);
                 power.push(p as f64);
             }
@@ -82,8 +87,7 @@ impl Emitters {
             return None;
         }
         let l = d / dist;
-        let n = (b - a).cross(c - a).normalize_or_zero();
-        let cos = self.facing(world, i, n.dot(-l))?;
+        let cos = self.facing(world, i, self.normal[k].dot(-l))?;
         Some(LightSample {
             l,
             dist,
@@ -98,9 +102,7 @@ impl Emitters {
         let Some(&k) = self.slot.get(i as usize).filter(|&&k| k != NONE) else {
             return 0.0;
         };
-        let [a, b, c] = world.corners(i as usize);
-        let n = (b - a).cross(c - a).normalize_or_zero();
-        match self.facing(world, i as usize, n.dot(-dir)) {
+        match self.facing(world, i as usize, self.normal[k as usize].dot(-dir)) {
             Some(cos) => self.prob[k as usize] / self.area[k as usize] * dist * dist / cos,
             None => 0.0,
         }
