@@ -332,7 +332,7 @@ impl Session {
 
     /// Load and check a pipeline file; `None` when it has errors (they are in `diags`). When
     /// some values do not lower, the shaders of the passes that did are still checked.
-    fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
+    pub fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
         let (name, text) = self.read_pipeline(path)?;
         let p = match self.parse_pipeline_partial(&name, text) {
             (Some(p), true) => p,

@@ -248,6 +248,22 @@ fn duplicate_pass_name() {
     );
 }
 
+/// A per-pass value is addressed as `PASS.KEY`: a parameter of that name is a clash.
+#[test]
+fn pass_value_named_like_a_parameter() {
+    expect(
+        Case {
+            pipeline: &[("params: [\"post.exposure\"]", "values: {\"exposure\": 2.0}")],
+            ..BASE
+        },
+        "duplicate-name",
+        "per-pass value `post.exposure` has the name of a parameter",
+        "pipelines/p.ron",
+        16,
+        98,
+    );
+}
+
 #[test]
 fn missing_shader_file() {
     expect(

@@ -327,3 +327,38 @@ fn the_readme_command_runs_as_typed() {
     );
     assert!(dir.join("lightbench-diff/report.md").is_file() && dir.join("lightbench-diff/ldr.side.png").is_file());
 }
+
+/// The README's side syntax beyond options: a vector's numbers continue its key, a per-pass
+/// value is set as `PASS.KEY`, and a path containing `@` ends with `@`.
+#[test]
+fn sides_set_vectors_pass_values_and_paths_with_at() {
+    let dir = scratch("side-syntax");
+    let b = "pipelines/deferred.ron@ambient.color=0.1,0.1,0.12,bloom_up.strength=0.5";
+    let out = dir.join("report");
+    let (code, text, err) = lightbench(&[
+        "diff",
+        "pipelines/deferred.ron",
+        b,
+        "--effect",
+        "Bloom",
+        "--no-render",
+        "--format",
+        "json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let r: Value = serde_json::from_str(&text).unwrap();
+    let params = &r["structure"]["params"];
+    let find = |name: &str| params.as_array().unwrap().iter().find(|p| p["name"] == name).cloned();
+    assert_eq!(find("ambient.color").unwrap()["b"], "(0.1, 0.1, 0.12)", "{params}");
+    assert_eq!(find("bloom_up.strength").unwrap()["b"], "0.5", "{params}");
+    // A project in a folder whose name has `@`.
+    let at = project_with(&dir.join("my@work"), "tonemap.wgsl", |t| format!("{t}\n"));
+    let at = at.to_str().unwrap();
+    let (code, _, err) = lightbench(&["diff", "pipelines/deferred.ron", &format!("{at}@"), "--no-render", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = lightbench(&["diff", "pipelines/deferred.ron", at, "--no-render"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(&format!("a path that contains `@` ends with `@`: `{at}@`")), "{err}");
+}

@@ -321,31 +321,42 @@ fn bad_specs_get_located_errors() {
         "\"cube.pcf\": [false, true], \"cube.normal_offset\": [{}]",
         vec!["1.0"; 1_000_000].join(", ")
     );
-    for (i, (from, to, message)) in [
+    // (from, to, message, where the error points in the `to` line: the text it starts at).
+    for (i, (from, to, message, at)) in [
         (
             "\"cube.pcf\": [false, true]",
             "\"cube.pfc\": [false, true]",
-            "`cube.pfc` is neither a parameter nor a variant",
+            "`cube.pfc` is neither a parameter, a per-pass value nor a variant",
+            "\"cube.pfc\"",
         ),
-        ("\"light_point\"]", "\"light_pint\"]", "the pipeline has no pass `light_pint`"),
-        ("compare: \"hdr\"", "compare: \"shadow.cube\"", "the size of the viewport"),
+        ("\"light_point\"]", "\"light_pint\"]", "the pipeline has no pass `light_pint`", "\"light_pint\""),
+        ("compare: \"hdr\"", "compare: \"shadow.cube\"", "the size of the viewport", ""),
         (
             "compare: \"hdr\"",
             "compare: \"nothing\"",
-            "this configuration has no resource `nothing`",
+            "the pipeline has no resource `nothing`",
+            "\"nothing\"",
         ),
-        ("term: direct", "term: glow", ""),
-        ("warmup: 1", "warmup: -1", ""),
+        ("term: direct", "term: glow", "", ""),
+        ("warmup: 1", "warmup: -1", "", ""),
         // A variant option the pipeline lacks: the spec's error, at the option, not `--variant`'s.
         (
             "\"cube_shadow\": \"classic\"",
             "\"cube_shadow\": \"classik\"",
             "variant `cube_shadow` has no option `classik`; did you mean `classic`?",
+            "classik",
         ),
         // Written but empty, as `scenes: []` is: an error, not the scenes' sizes silently.
-        ("sizes: [(64, 64)]", "sizes: []", "`sizes` names no size"),
+        ("sizes: [(64, 64)]", "sizes: []", "`sizes` names no size", "sizes"),
         // A grid of 8 million points is counted and refused before anything is listed.
-        ("\"cube.pcf\": [false, true]", huge.as_str(), "points (at most 100000)"),
+        ("\"cube.pcf\": [false, true]", huge.as_str(), "points (at most 100000)", ""),
+        // Values: every point's checked before any reference renders, at the value.
+        ("\"cube.bias\": [0.5, 2.0]", "\"cube.bias\": [0.5, NaN]", "`NaN` is not a finite 32-bit number", "NaN"),
+        ("\"cube.bias\": [0.5, 2.0]", "\"cube.bias\": [0.5, 1e39]", "`1e39` is not a finite 32-bit number", "1e39"),
+        ("\"cube.bias\": [0.5, 2.0]", "\"cube.bias\": [0.5, 20.0]", "20 is above its max 16", "20.0"),
+        ("\"cube.pcf\": [false, true]", "\"cube.pcf\": [false, 3]", "`3` is not `true` or `false`", "3]"),
+        ("\"ambient.color\": \"(0, 0, 0)\"", "\"ambient.color\": \"(0, 0)\"", "has 2 numbers", "(0, 0)"),
+        ("compare: \"hdr\"", "compare: \"lum\"", "`lum` is a buffer", "\"lum\""),
     ]
     .into_iter()
     .enumerate()
@@ -359,9 +370,16 @@ fn bad_specs_get_located_errors() {
         assert_eq!(code, 1, "{to}: {err}");
         assert!(!dir.join(format!("out{i}/rows.jsonl")).exists(), "{to}: no rows written");
         assert!(err.contains(message), "{to}: {err}");
+        let line_text = text.lines().find(|l| l.contains(to)).unwrap();
         let line = text.lines().position(|l| l.contains(to)).unwrap() + 1;
-        let at = format!("bad{i}.ron:{line}:");
-        assert!(err.contains(&at), "{to}: error not at line {line}: {err}");
+        let at = match line_text.find(at).filter(|_| !at.is_empty()) {
+            Some(c) => format!("bad{i}.ron:{line}:{}:", line_text[..c].chars().count() + 1),
+            None => format!("bad{i}.ron:{line}:"),
+        };
+        assert!(err.contains(&at), "{to}: error not at {at}: {err}");
+        if !message.is_empty() && message != "the size of the viewport" {
+            assert!(!dir.join(format!("out{i}/references")).exists(), "{to}: checked before any reference");
+        }
     }
     // A point's own compared resource is checked in its configuration, located on its line.
     let own = std::fs::read_to_string(root().join("sweeps/indirect_diffuse.ron"))

@@ -1,7 +1,7 @@
 //! Plan building as a chain of named stages, in the order a reader expects (like Granite's
 //! `RenderGraph::bake()`): select variants (`select`, done by the caller) -> evaluate
 //! conditions and cull -> order -> derive resources and usages -> lay out passes, bindings
-//! and parameter blocks -> estimate memory.
+//! and parameter blocks -> lift per-pass values to parameters -> estimate memory.
 
 use super::*;
 use crate::check::Checked;
@@ -27,7 +27,9 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     let samplers = resources::samplers(p, &kept);
     // Passes with targets, bindings and blocks addressed by index.
     let ids = passes::Ids::new(&resources, &samplers, &schedule.ordered.order);
-    let passes = passes::assemble(p, cfg, &schedule, &kept, &ids)?;
+    let mut passes = passes::assemble(p, cfg, &schedule, &kept, &ids)?;
+    let mut params = p.params.iter().map(|prm| params::plan_param(prm, p, cfg)).collect();
+    params::lift_pass_values(p, &mut passes, &mut params);
     let memory_bytes = resources::memory(&resources);
     let plan = Plan {
         pipeline: p.name.value.clone(),
@@ -36,7 +38,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         resolution: cfg.scene.size,
         lights: cfg.scene.lights.iter().map(|(k, n)| (*k, *n)).collect(),
         variants: cfg.selection.notes.clone(),
-        params: p.params.iter().map(|prm| params::plan_param(prm, p, cfg)).collect(),
+        params,
         samplers,
         passes,
         culled: schedule

@@ -16,7 +16,7 @@ pub use build::build_plan;
 pub use cull::{schedule, Schedule};
 pub use diff::{diff, Change, PassChange, PlanDiff};
 pub use explain::{mib_text, pass_facts, resource_fact, to_dot, to_text, work_word};
-pub use params::{declared_param, plan_param, ParamError, ParamValues};
+pub use params::{declared_param, pass_value_params, plan_param, ParamError, ParamValues};
 pub use select::{select, Selection};
 
 use crate::check::PassVersion;
@@ -365,6 +365,9 @@ pub struct PlanParam {
     /// them with. Another value needs another Plan.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sizes: Option<ParamValue>,
+    /// For a per-pass value made addressable (`PASS.KEY`): the pass whose `values` set it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pass: Option<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -4,8 +4,8 @@
 
 use super::PlanParam;
 use crate::diag::did_you_mean;
-use crate::ir::{out_of_range, Param, ParamType, ParamValue};
-use crate::layout::{FieldSource, FieldType, UniformBlock};
+use crate::ir::{out_of_range, Param, ParamType, ParamValue, Pipeline};
+use crate::layout::{FieldSource, FieldType, ParamId, UniformBlock};
 use std::collections::BTreeMap;
 
 /// A parameter as declared: its own default, sizing nothing yet.
@@ -19,6 +19,7 @@ pub fn declared_param(p: &Param) -> PlanParam {
         doc: p.doc.clone(),
         preset: None,
         sizes: None,
+        pass: None,
     }
 }
 
@@ -36,6 +37,80 @@ pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, cfg: &super::Config
         default,
         preset,
         ..declared_param(p)
+    }
+}
+
+/// Stage `pass-values`: each per-pass value becomes a parameter named `PASS.KEY`, typed by
+/// the block field it fills and defaulting to the pipeline's value, so `--param`, sweeps
+/// and diff sides set a post pass's strength like any parameter. A name a declared
+/// parameter already has stays a fixed value (`check` reports the clash).
+pub fn lift_pass_values(pipeline: &Pipeline, passes: &mut [super::PlanPass], params: &mut Vec<PlanParam>) {
+    for pp in passes {
+        let Some(pass) = pipeline.passes.iter().find(|p| p.name.value == pp.name) else {
+            continue;
+        };
+        for f in pp.uniform_blocks.iter_mut().flat_map(|b| b.fields.iter_mut()) {
+            let FieldSource::Fixed(_) = f.source else { continue };
+            let Some((_, v)) = pass.values.iter().find(|(k, _)| k.value == f.name) else {
+                continue;
+            };
+            let name = format!("{}.{}", pp.name, f.name);
+            let id = match params.iter().position(|p| p.name == name) {
+                Some(i) if params[i].pass.as_deref() == Some(pp.name.as_str()) => i,
+                Some(_) => continue,
+                None => {
+                    params.push(pass_value_param(&name, &pp.name, &v.value, f.ty));
+                    params.len() - 1
+                }
+            };
+            f.source = FieldSource::Param(ParamId(id as u32));
+        }
+    }
+}
+
+/// The per-pass values of a checked pipeline as parameters (every version's fields), for
+/// checking `--param PASS.KEY=VALUE` without a scene.
+pub fn pass_value_params(checked: &crate::check::Checked) -> Vec<PlanParam> {
+    let mut out: Vec<PlanParam> = vec![];
+    for (pass, versions) in checked.pipeline.passes.iter().zip(&checked.versions) {
+        let fields = versions.iter().flat_map(|v| v.resolved.uniform_blocks.iter()).flat_map(|b| b.fields.iter());
+        for f in fields {
+            let Some((_, v)) = pass.values.iter().find(|(k, _)| k.value == f.name) else {
+                continue;
+            };
+            let name = format!("{}.{}", pass.name.value, f.name);
+            if !out.iter().any(|p| p.name == name) {
+                out.push(pass_value_param(&name, &pass.name.value, &v.value, f.ty));
+            }
+        }
+    }
+    out
+}
+
+/// A per-pass value as a parameter of the type its field holds: whole numbers as Int
+/// within the field's range, a 0/1 `u32` written as a bool as Bool.
+fn pass_value_param(name: &str, pass: &str, v: &ParamValue, field: FieldType) -> PlanParam {
+    use FieldType as F;
+    let int = |x: f64, lo: i64, hi: i64| (ParamType::Int, ParamValue::Int(x as i64), Some(ParamValue::Int(lo)), Some(ParamValue::Int(hi)));
+    let (ty, default, min, max) = match (field, v) {
+        (F::U32, ParamValue::Bool(b)) => (ParamType::Bool, ParamValue::Bool(*b), None, None),
+        (F::I32, ParamValue::Float(x)) => int(*x, i32::MIN as i64, i32::MAX as i64),
+        (F::U32, ParamValue::Float(x)) => int(*x, 0, u32::MAX as i64),
+        (F::Vec2F32, _) => (ParamType::Vec2, v.clone(), None, None),
+        (F::Vec3F32, _) => (ParamType::Vec3, v.clone(), None, None),
+        (F::Vec4F32, _) => (ParamType::Vec4, v.clone(), None, None),
+        _ => (ParamType::Float, v.clone(), None, None),
+    };
+    PlanParam {
+        name: name.to_string(),
+        ty,
+        default,
+        min,
+        max,
+        doc: Some(format!("per-pass value of pass `{pass}`")),
+        preset: None,
+        sizes: None,
+        pass: Some(pass.to_string()),
     }
 }
 
@@ -199,7 +274,7 @@ fn words(ty: &ParamType, v: &ParamValue, field: FieldType) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::layout::{ParamId, UniformField};
+    use crate::layout::UniformField;
 
     fn param(name: &str, ty: ParamType, default: ParamValue) -> PlanParam {
         PlanParam {
@@ -211,6 +286,7 @@ mod tests {
             doc: None,
             sizes: None,
             preset: None,
+            pass: None,
         }
     }
 

@@ -14,11 +14,11 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         Ok(f) => f,
         Err(e) => return usage_error(e),
     };
-    if let Err(e) = check_params(&files, params) {
-        return usage_error(e);
-    }
     // Pipelines in one run share compiled shaders.
     let ws = Workspace::disk();
+    if let Err(e) = check_params(&ws, &files, (shaders, &profile), params) {
+        return usage_error(e);
+    }
     let (mut errors, mut warnings, mut scenes, mut sweeps) = (0, 0, 0, 0);
     // The scene is read as `render` reads it (models included), once for every pipeline.
     let scene_features = match scene {
@@ -94,18 +94,35 @@ fn files_of(paths: &[PathBuf]) -> std::result::Result<Vec<PathBuf>, String> {
     Ok(files)
 }
 
-/// `--param` values: each name declared by some pipeline, and its value valid for every
-/// pipeline that declares it.
-fn check_params(files: &[PathBuf], params: &[String]) -> crate::error::Result<()> {
+/// `--param` values: each name a parameter or per-pass value (`PASS.KEY`) of some pipeline,
+/// and its value valid for every pipeline that has it. A pipeline that does not check
+/// offers its declared parameters (its errors are reported with the others).
+fn check_params(
+    ws: &Workspace,
+    files: &[PathBuf],
+    (shaders, profile): (Option<&Path>, &lightbench_compiler::profile::Profile),
+    params: &[String],
+) -> crate::error::Result<()> {
+    use lightbench_compiler::plan::{declared_param, pass_value_params};
     let params = super::parse_assignments("--param", "NAME=VALUE", params)?;
     if params.is_empty() {
         return Ok(());
     }
+    let settable = |f: &PathBuf| match ws.session().load_checked(f, shaders, profile) {
+        Some(c) => {
+            let mut all: Vec<_> = c.pipeline.params.iter().map(declared_param).collect();
+            all.extend(pass_value_params(&c));
+            all
+        }
+        None => Session::new()
+            .load_pipeline(f)
+            .map(|p| p.params.iter().map(declared_param).collect())
+            .unwrap_or_default(),
+    };
     let declared: Vec<_> = files
         .iter()
         .filter(|f| !ron_kind(f, "Scene") && !ron_kind(f, "Sweep"))
-        .filter_map(|f| Session::new().load_pipeline(f))
-        .flat_map(|p| p.params.iter().map(lightbench_compiler::plan::declared_param).collect::<Vec<_>>())
+        .flat_map(settable)
         .collect();
     for (name, text) in &params {
         let decls: Vec<_> = declared.iter().filter(|p| &p.name == name).collect();

@@ -1,14 +1,16 @@
 //! `lightbench sweep`: what accuracy costs in time. For every point of a sweep spec (scenes,
 //! sizes, variant options and parameter values), render the pipeline, time the effect's
 //! passes and the frame on the GPU, and measure the compared resource against a reference
-//! term from the path tracer. Sub-stages: `spec` (the file and its points), `measure`
-//! (error metrics), `rows` (the resumable store, shards and merging), `pareto`, `report`
-//! (CSV, JSON, markdown, SVG); here: the run itself.
+//! term from the path tracer. Sub-stages: `spec` (the file and its points), `settings`
+//! (every point's settings checked up front), `measure` (error metrics), `rows` (the
+//! resumable store, shards and merging), `pareto`, `report` (CSV, JSON, markdown, SVG);
+//! here: the run itself.
 
 pub mod measure;
 pub mod pareto;
 pub mod report;
 pub mod rows;
+pub mod settings;
 pub mod spec;
 
 use crate::diff::timing::stats;
@@ -81,7 +83,9 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
         // The names the spec uses do not depend on the point: checked once, planned as it is.
         let scene = scene(&mut inputs, l, first)?.clone();
         let plan = crate::render::plan_configured(&ws, (&l.pipeline(), None), (&gpu.profile, &scene), &[])?;
-        check_names(l, &plan.exe.plan, &points)?;
+        let checked = ws.session().load_checked(&l.pipeline(), None, &gpu.profile);
+        let checked = checked.ok_or_else(|| Error::Input(format!("{}: the pipeline has errors", l.pipeline().display())))?;
+        settings::check(l, &plan.exe.plan, &checked, &points)?;
         if let Some(note) = crate::render::uncalled_effects_note(&plan.exe.plan) {
             eprintln!("{note}");
         }
@@ -150,45 +154,6 @@ fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> 
         .join(&cache_key);
     let (made, _) = reference::store::cached(&scene, &settings, &dir, false)?;
     inputs.references.insert(key, (made, cache_key));
-    Ok(())
-}
-
-/// Settings and effect passes the spec names that the pipeline does not have (checked
-/// against its default plan, whose culled passes count).
-fn check_names(l: &Loaded, plan: &lightbench_compiler::plan::Plan, points: &[Point]) -> Result<()> {
-    for (k, _) in points.iter().flat_map(|p| &p.settings) {
-        if !plan.params.iter().any(|q| q.name == *k) && !plan.variants.iter().any(|v| v.variant == *k) {
-            return Err(l.error_at(
-                &format!("\"{k}\""),
-                format!("`{k}` is neither a parameter nor a variant of the pipeline"),
-            ));
-        }
-    }
-    check_options(l, points)?;
-    for pass in &l.spec.effect {
-        if !plan.passes.iter().any(|q| q.name == *pass) && !plan.culled.iter().any(|c| c.name == *pass) {
-            return Err(l.error_in("effect", &format!("\"{pass}\""), format!("the pipeline has no pass `{pass}`")));
-        }
-    }
-    Ok(())
-}
-
-/// Every variant option the spec names is one the pipeline declares (`multiview!` as
-/// `multiview`): located at the option, before any reference is rendered.
-fn check_options(l: &Loaded, points: &[Point]) -> Result<()> {
-    let Some(pipeline) = lightbench_compiler::Session::new().load_pipeline(&l.pipeline()) else {
-        return Ok(()); // planning it reported why already
-    };
-    for (k, v) in points.iter().flat_map(|p| &p.settings) {
-        let Some(var) = pipeline.variant(k) else { continue };
-        let option = v.strip_suffix('!').unwrap_or(v);
-        if var.option(option).is_none() {
-            let hint = lightbench_compiler::diag::did_you_mean(option, var.option_names())
-                .map(|m| format!("; did you mean `{m}`?"))
-                .unwrap_or_default();
-            return Err(l.error_at(&format!("\"{v}\""), format!("variant `{k}` has no option `{option}`{hint}")));
-        }
-    }
     Ok(())
 }
 

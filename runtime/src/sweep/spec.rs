@@ -186,13 +186,17 @@ impl Loaded {
     pub fn error_in(&self, section: &str, needle: &str, msg: impl std::fmt::Display) -> Error {
         let from = self.text.find(&format!("{section}:")).filter(|_| !section.is_empty()).unwrap_or(0);
         match self.text[from..].find(needle).map(|i| i + from) {
-            Some(i) => {
-                let line = self.text[..i].matches('\n').count() + 1;
-                let col = i - self.text[..i].rfind('\n').map_or(0, |n| n + 1) + 1;
-                Error::Input(format!("{}:{line}:{col}: {msg}", self.path.display()))
-            }
+            Some(i) => self.error_at_offset(i, msg),
             None => Error::Input(format!("{}: {msg}", self.path.display())),
         }
+    }
+
+    /// `file:line:col: message` at byte `i` of the spec (columns in characters).
+    pub fn error_at_offset(&self, i: usize, msg: impl std::fmt::Display) -> Error {
+        let line = self.text[..i].matches('\n').count() + 1;
+        let line_start = self.text[..i].rfind('\n').map_or(0, |n| n + 1);
+        let col = self.text[line_start..i].chars().count() + 1;
+        Error::Input(format!("{}:{line}:{col}: {msg}", self.path.display()))
     }
 }
 

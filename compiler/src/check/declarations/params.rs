@@ -1,4 +1,5 @@
-//! Parameters: defaults within their ranges and finite, Enum values among the options.
+//! Parameters: defaults within their ranges and finite, Enum values among the options, and
+//! no name shared with a per-pass value (both are set as `NAME=VALUE`).
 
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::ir::*;
@@ -17,6 +18,28 @@ pub(super) fn params(p: &Pipeline, diags: &mut Diagnostics) {
                 format!("default of `{}` is not finite", prm.name.value),
                 prm.default.span,
             ));
+        }
+    }
+    pass_value_names(p, diags);
+}
+
+/// A per-pass value is addressed as `PASS.KEY`; a parameter of that name would make
+/// `--param PASS.KEY=...` mean two things.
+fn pass_value_names(p: &Pipeline, diags: &mut Diagnostics) {
+    for pass in &p.passes {
+        for (key, _) in &pass.values {
+            let name = format!("{}.{}", pass.name.value, key.value);
+            if let Some(prm) = p.params.iter().find(|q| q.name.value == name) {
+                diags.push(
+                    Diagnostic::error(
+                        Code::DuplicateName,
+                        format!("per-pass value `{name}` has the name of a parameter"),
+                        key.span,
+                    )
+                    .with_secondary(prm.name.span, "parameter declared here")
+                    .with_note("`--param`, sweeps and diff sides address this value as `PASS.KEY`: rename the parameter, or list it under the pass's `params` instead of setting a value"),
+                );
+            }
         }
     }
 }
