@@ -94,20 +94,58 @@ impl Default for Session {
     }
 }
 
-/// Where a pipeline's shader paths are resolved: an explicit root, else the first of
-/// `<pipeline dir>/shaders`, `<pipeline dir>/../shaders` that exists, else the pipeline's dir.
+/// Where a pipeline's shader paths are resolved: an explicit root, else the first existing
+/// folder of `shader_candidates`, else the pipeline's own folder.
 pub fn shader_root_for(vfs: &dyn Vfs, pipeline: &Path, explicit: Option<&Path>) -> PathBuf {
     if let Some(e) = explicit {
         return e.to_path_buf();
     }
+    shader_candidates(pipeline)
+        .into_iter()
+        .find(|c| vfs.is_dir(c))
+        .unwrap_or_else(|| pipeline_dir(pipeline))
+}
+
+fn pipeline_dir(pipeline: &Path) -> PathBuf {
     let dir = pipeline.parent().map(Path::to_path_buf).unwrap_or_default();
-    let dir = if dir.as_os_str().is_empty() { PathBuf::from(".") } else { dir };
-    for cand in [dir.join("shaders"), dir.join("..").join("shaders")] {
-        if vfs.is_dir(&cand) {
-            return normalize(&cand);
+    if dir.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        dir
+    }
+}
+
+/// The `shaders/` folders a pipeline looks for, nearest first: beside it, one folder up,
+/// and beside the nearest enclosing `pipelines/` folder — so `pipelines/sub/deeper/p.ron`
+/// finds its project's `shaders/`, while a pipeline outside any `pipelines/` folder never
+/// climbs into an unrelated project above it.
+pub fn shader_candidates(pipeline: &Path) -> Vec<PathBuf> {
+    let dir = pipeline_dir(pipeline);
+    let mut out = vec![normalize(&dir.join("shaders")), normalize(&dir.join("..").join("shaders"))];
+    let absolute = std::path::absolute(&dir).unwrap_or_else(|_| dir.clone());
+    let project = absolute.ancestors().find(|a| a.file_name().is_some_and(|n| n == "pipelines"));
+    if let Some(shaders) = project.and_then(Path::parent).map(|root| root.join("shaders")) {
+        if !out.iter().any(|c| std::path::absolute(c).is_ok_and(|a| normalize(&a) == shaders)) {
+            out.push(shaders);
         }
     }
-    dir
+    out
+}
+
+/// Said where a shader is not found: the folder paths resolve against, and when no
+/// `shaders/` folder was found, the ones looked for.
+fn shader_root_note(vfs: &dyn Vfs, pipeline: &Path, root: &Path) -> String {
+    let candidates = shader_candidates(pipeline);
+    if root == pipeline_dir(pipeline) && !candidates.iter().any(|c| vfs.is_dir(c)) {
+        let list: Vec<String> = candidates.iter().map(|c| format!("`{}`", c.display())).collect();
+        format!(
+            "no `shaders/` folder at {}: shader paths resolve against the pipeline's folder `{}` (or give `--shaders DIR`)",
+            list.join(", "),
+            root.display()
+        )
+    } else {
+        format!("shader paths resolve against `{}`", root.display())
+    }
 }
 
 /// Pipeline files under a path on disk: the file itself, or every `.ron`/`.lbp` file below a
@@ -233,10 +271,11 @@ impl Session {
 
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).
     pub fn check(&mut self, pipeline: Pipeline, shader_root: &Path, profile: &Profile) -> Checked {
+        let file = self.sources.get(pipeline.span.file).name.clone();
         let mut loader = ShaderLoader::new(shader_root.to_path_buf(), self.vfs.clone(), self.modules.clone());
+        loader.not_found_note = Some(shader_root_note(self.vfs.as_ref(), Path::new(&file), shader_root));
         let mut checked = check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags);
         self.dependencies.extend(loader.dependencies);
-        let file = self.sources.get(checked.pipeline.span.file).name.clone();
         let mut ctx = check::data::DataCtx {
             vfs: self.vfs.as_ref(),
             dir: Path::new(&file).parent().map(Path::to_path_buf).unwrap_or_default(),

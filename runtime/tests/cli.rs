@@ -380,3 +380,81 @@ fn scene_help_names_gltf_models() {
     let (code, _, err) = lightbench(&[&args[..], &[out.to_str().unwrap()]].concat());
     assert_eq!(code, 0, "{err}");
 }
+
+/// The README's shader-folder rule: a pipeline in `pipelines/sub/deeper/` of an `init`ed
+/// project finds the project's `shaders/`; one outside any `pipelines/` folder, with no
+/// `shaders/` beside or above it, gets a shader-not-found that names the folders looked for.
+#[test]
+fn shaders_are_found_beside_the_enclosing_pipelines_folder() {
+    let d = scratch("shader-search");
+    assert_eq!(lightbench(&["init", d.to_str().unwrap()]).0, 0);
+    let deeper = d.join("pipelines/sub/deeper");
+    std::fs::create_dir_all(&deeper).unwrap();
+    std::fs::copy(d.join("pipelines/deferred.ron"), deeper.join("deferred.ron")).unwrap();
+    let (code, _, err) = lightbench(&["check", deeper.join("deferred.ron").to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let loose = d.join("loose/inner");
+    std::fs::create_dir_all(&loose).unwrap();
+    std::fs::copy(d.join("pipelines/deferred.ron"), loose.join("deferred.ron")).unwrap();
+    let (code, _, err) = lightbench(&["check", loose.join("deferred.ron").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    let looked = format!("`{}`", loose.join("shaders").display());
+    assert!(
+        err.contains("shader-not-found") && err.contains("no `shaders/` folder at") && err.contains(&looked),
+        "{err}"
+    );
+    assert!(
+        !err.contains(&format!("`{}`", d.join("shaders").display())),
+        "no climb past loose/: {err}"
+    );
+    // `--shaders` names the folder outright.
+    let (code, _, err) = lightbench(&[
+        "check",
+        loose.join("deferred.ron").to_str().unwrap(),
+        "--shaders",
+        d.join("shaders").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
+/// Every flag a README synopsis shows is one the command's `--help` lists.
+#[test]
+fn readme_synopses_name_real_flags() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let mut checked = 0;
+    let mut lines = readme.lines().peekable();
+    while let Some(line) = lines.next() {
+        let Some(rest) = line.strip_prefix("lightbench ") else { continue };
+        let mut words: Vec<&str> = rest
+            .split_whitespace()
+            .take_while(|w| w.chars().all(|c| c.is_ascii_lowercase()))
+            .collect();
+        words.truncate(2);
+        let mut text = line.to_string();
+        while lines
+            .peek()
+            .is_some_and(|l| l.starts_with("    ") && l.trim_start().starts_with('['))
+        {
+            text.push_str(lines.next().unwrap());
+        }
+        let flags: Vec<&str> = text
+            .split(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+            .filter(|w| w.starts_with("--") && w.len() > 2)
+            .collect();
+        let mut args = words.clone();
+        args.push("--help");
+        let (code, help, err) = lightbench(&args);
+        if code != 0 {
+            continue; // `lightbench sweep SPEC.ron`-like lines: the command word is not a subcommand
+        }
+        for f in flags {
+            assert!(
+                help.contains(f),
+                "README: `{line}` shows {f}, which `lightbench {} --help` lacks:\n{help}{err}",
+                words.join(" ")
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 50, "only {checked} flags checked");
+}

@@ -348,15 +348,32 @@ fn per_pass_values_are_set_like_parameters() {
         let manifest = std::fs::read_to_string(d.join(format!("{out}.json"))).unwrap();
         let m: serde_json::Value = serde_json::from_str(&manifest).unwrap();
         let recorded = m["params"].as_array().unwrap().iter().find(|p| p["name"] == "bloom_up.strength");
-        assert_eq!(recorded.unwrap()["value"]["Float"].as_f64(), Some(strength.parse().unwrap()), "{manifest}");
+        assert_eq!(
+            recorded.unwrap()["value"]["Float"].as_f64(),
+            Some(strength.parse().unwrap()),
+            "{manifest}"
+        );
     }
-    assert!(sums[0] < sums[1] && sums[1] < sums[2], "more up-sample strength, more bloom: {sums:?}");
+    assert!(
+        sums[0] < sums[1] && sums[1] < sums[2],
+        "more up-sample strength, more bloom: {sums:?}"
+    );
     for (value, msg) in [
         ("bloom_up.strenght=1", "did you mean `bloom_up.strength`?"),
         ("bloom_up.strength=much", "bloom_up.strength"),
         ("bloom_up.strength=1e39", "`1e39` is not a finite 32-bit number"),
     ] {
-        let (code, _, err) = run(&["render", "--pipeline", &deferred, "--effect", "Bloom", "--param", value, "--out", &s("bad.png")]);
+        let (code, _, err) = run(&[
+            "render",
+            "--pipeline",
+            &deferred,
+            "--effect",
+            "Bloom",
+            "--param",
+            value,
+            "--out",
+            &s("bad.png"),
+        ]);
         assert_eq!(code, 2, "{value}: {err}");
         assert!(err.contains(msg), "{value}: {err}");
     }

@@ -356,7 +356,14 @@ fn sides_set_vectors_pass_values_and_paths_with_at() {
     // A project in a folder whose name has `@`.
     let at = project_with(&dir.join("my@work"), "tonemap.wgsl", |t| format!("{t}\n"));
     let at = at.to_str().unwrap();
-    let (code, _, err) = lightbench(&["diff", "pipelines/deferred.ron", &format!("{at}@"), "--no-render", "--out", out.to_str().unwrap()]);
+    let (code, _, err) = lightbench(&[
+        "diff",
+        "pipelines/deferred.ron",
+        &format!("{at}@"),
+        "--no-render",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(code, 0, "{err}");
     let (code, _, err) = lightbench(&["diff", "pipelines/deferred.ron", at, "--no-render"]);
     assert_eq!(code, 2, "{err}");

@@ -127,12 +127,15 @@ output out
     // Blurred both ways: the lattice's spikes (1 in 5 texels) spread to about their mean.
     let [r, ..] = a.pixel(16, 16);
     assert!((r - 0.2).abs() < 0.1, "{r}");
+    // The value is the parameter `blur_v.dir`: a vec2 defaulting to what the pass wrote.
     let block = &ex.plan().pass("blur_v").unwrap().uniform_blocks[0];
     let dir = block.fields.iter().find(|f| f.name == "dir").unwrap();
-    assert_eq!(
-        dir.source,
-        lightbench_compiler::layout::FieldSource::Fixed(vec![0f32.to_bits(), 1f32.to_bits()])
-    );
+    let lightbench_compiler::layout::FieldSource::Param(id) = dir.source else {
+        panic!("{:?}", dir.source)
+    };
+    let p = ex.plan().param(id);
+    assert_eq!((p.name.as_str(), p.pass.as_deref()), ("blur_v.dir", Some("blur_v")));
+    assert_eq!(p.default, lightbench_compiler::ir::ParamValue::Vec(vec![0.0, 1.0]));
 }
 
 /// Shows a 4×4 noise texture (left half) and the first texel of a JSON buffer and of an

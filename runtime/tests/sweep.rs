@@ -329,7 +329,12 @@ fn bad_specs_get_located_errors() {
             "`cube.pfc` is neither a parameter, a per-pass value nor a variant",
             "\"cube.pfc\"",
         ),
-        ("\"light_point\"]", "\"light_pint\"]", "the pipeline has no pass `light_pint`", "\"light_pint\""),
+        (
+            "\"light_point\"]",
+            "\"light_pint\"]",
+            "the pipeline has no pass `light_pint`",
+            "\"light_pint\"",
+        ),
         ("compare: \"hdr\"", "compare: \"shadow.cube\"", "the size of the viewport", ""),
         (
             "compare: \"hdr\"",
@@ -351,11 +356,36 @@ fn bad_specs_get_located_errors() {
         // A grid of 8 million points is counted and refused before anything is listed.
         ("\"cube.pcf\": [false, true]", huge.as_str(), "points (at most 100000)", ""),
         // Values: every point's checked before any reference renders, at the value.
-        ("\"cube.bias\": [0.5, 2.0]", "\"cube.bias\": [0.5, NaN]", "`NaN` is not a finite 32-bit number", "NaN"),
-        ("\"cube.bias\": [0.5, 2.0]", "\"cube.bias\": [0.5, 1e39]", "`1e39` is not a finite 32-bit number", "1e39"),
-        ("\"cube.bias\": [0.5, 2.0]", "\"cube.bias\": [0.5, 20.0]", "20 is above its max 16", "20.0"),
-        ("\"cube.pcf\": [false, true]", "\"cube.pcf\": [false, 3]", "`3` is not `true` or `false`", "3]"),
-        ("\"ambient.color\": \"(0, 0, 0)\"", "\"ambient.color\": \"(0, 0)\"", "has 2 numbers", "(0, 0)"),
+        (
+            "\"cube.bias\": [0.5, 2.0]",
+            "\"cube.bias\": [0.5, NaN]",
+            "`NaN` is not a finite 32-bit number",
+            "NaN",
+        ),
+        (
+            "\"cube.bias\": [0.5, 2.0]",
+            "\"cube.bias\": [0.5, 1e39]",
+            "`1e39` is not a finite 32-bit number",
+            "1e39",
+        ),
+        (
+            "\"cube.bias\": [0.5, 2.0]",
+            "\"cube.bias\": [0.5, 20.0]",
+            "20 is above its max 16",
+            "20.0",
+        ),
+        (
+            "\"cube.pcf\": [false, true]",
+            "\"cube.pcf\": [false, 3]",
+            "`3` is not `true` or `false`",
+            "3]",
+        ),
+        (
+            "\"ambient.color\": \"(0, 0, 0)\"",
+            "\"ambient.color\": \"(0, 0)\"",
+            "has 2 numbers",
+            "(0, 0)",
+        ),
         ("compare: \"hdr\"", "compare: \"lum\"", "`lum` is a buffer", "\"lum\""),
     ]
     .into_iter()
@@ -378,7 +408,10 @@ fn bad_specs_get_located_errors() {
         };
         assert!(err.contains(&at), "{to}: error not at {at}: {err}");
         if !message.is_empty() && message != "the size of the viewport" {
-            assert!(!dir.join(format!("out{i}/references")).exists(), "{to}: checked before any reference");
+            assert!(
+                !dir.join(format!("out{i}/references")).exists(),
+                "{to}: checked before any reference"
+            );
         }
     }
     // A point's own compared resource is checked in its configuration, located on its line.

@@ -337,11 +337,15 @@ fn pass_layouts(s: &mut String, plan: &Plan, p: &PlanPass) {
     }
 }
 
-/// A block field's parameter name, or its per-pass value as the field's type reads it.
+/// A block field's parameter name (a per-pass value's with the pass's value), or a fixed
+/// value as the field's type reads it.
 fn field_source(plan: &Plan, f: &crate::layout::UniformField) -> String {
     use crate::layout::{FieldSource, FieldType};
     match &f.source {
-        FieldSource::Param(id) => plan.param(*id).name.clone(),
+        FieldSource::Param(id) => match plan.param(*id) {
+            p @ crate::plan::PlanParam { pass: Some(_), .. } => format!("{} (per pass: {})", p.name, p.default.describe()),
+            p => p.name.clone(),
+        },
         FieldSource::Fixed(w) => {
             let show = |x: &u32| match f.ty {
                 FieldType::I32 => (*x as i32).to_string(),

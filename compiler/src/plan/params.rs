@@ -73,7 +73,10 @@ pub fn lift_pass_values(pipeline: &Pipeline, passes: &mut [super::PlanPass], par
 pub fn pass_value_params(checked: &crate::check::Checked) -> Vec<PlanParam> {
     let mut out: Vec<PlanParam> = vec![];
     for (pass, versions) in checked.pipeline.passes.iter().zip(&checked.versions) {
-        let fields = versions.iter().flat_map(|v| v.resolved.uniform_blocks.iter()).flat_map(|b| b.fields.iter());
+        let fields = versions
+            .iter()
+            .flat_map(|v| v.resolved.uniform_blocks.iter())
+            .flat_map(|b| b.fields.iter());
         for f in fields {
             let Some((_, v)) = pass.values.iter().find(|(k, _)| k.value == f.name) else {
                 continue;
@@ -91,7 +94,14 @@ pub fn pass_value_params(checked: &crate::check::Checked) -> Vec<PlanParam> {
 /// within the field's range, a 0/1 `u32` written as a bool as Bool.
 fn pass_value_param(name: &str, pass: &str, v: &ParamValue, field: FieldType) -> PlanParam {
     use FieldType as F;
-    let int = |x: f64, lo: i64, hi: i64| (ParamType::Int, ParamValue::Int(x as i64), Some(ParamValue::Int(lo)), Some(ParamValue::Int(hi)));
+    let int = |x: f64, lo: i64, hi: i64| {
+        (
+            ParamType::Int,
+            ParamValue::Int(x as i64),
+            Some(ParamValue::Int(lo)),
+            Some(ParamValue::Int(hi)),
+        )
+    };
     let (ty, default, min, max) = match (field, v) {
         (F::U32, ParamValue::Bool(b)) => (ParamType::Bool, ParamValue::Bool(*b), None, None),
         (F::I32, ParamValue::Float(x)) => int(*x, i32::MIN as i64, i32::MAX as i64),

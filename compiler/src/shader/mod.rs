@@ -155,6 +155,8 @@ pub struct ShaderLoader {
     compiled: Arc<ModuleCache>,
     /// Every shader and included file read (or tried).
     pub dependencies: BTreeSet<PathBuf>,
+    /// Added to a `shader-not-found` error: where paths resolve, which folders were tried.
+    pub not_found_note: Option<String>,
 }
 
 impl ShaderLoader {
@@ -165,6 +167,7 @@ impl ShaderLoader {
             cache: HashMap::new(),
             compiled,
             dependencies: BTreeSet::new(),
+            not_found_note: None,
         }
     }
 
@@ -185,7 +188,13 @@ impl ShaderLoader {
             root: &self.root,
             read: Default::default(),
         };
+        let before = diags.list.len();
         let result = load_module(&fs, sources, path, caps, &self.compiled, diags).map(Arc::new);
+        if let (Some(note), Some(d)) = (&self.not_found_note, diags.list.get_mut(before)) {
+            if d.code == Code::ShaderNotFound && d.primary_span() == Some(path.span) {
+                d.notes.push(note.clone());
+            }
+        }
         self.dependencies.extend(fs.read.into_inner());
         self.cache.insert(key, result.clone());
         result

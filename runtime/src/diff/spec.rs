@@ -81,11 +81,17 @@ mod tests {
         let s = parse("p.ron@ambient.color=0.1, 0.1,0.12,shadow.pcf=false").unwrap();
         assert_eq!(
             s.settings,
-            vec![("ambient.color".into(), "0.1,0.1,0.12".into()), ("shadow.pcf".into(), "false".into())]
+            vec![
+                ("ambient.color".into(), "0.1,0.1,0.12".into()),
+                ("shadow.pcf".into(), "false".into())
+            ]
         );
         let s = parse("my@dir/p.ron@").unwrap();
         assert_eq!((s.pipeline, s.settings), (PathBuf::from("my@dir/p.ron"), vec![]));
         let s = parse("my@dir/p.ron@x=1").unwrap();
-        assert_eq!((s.pipeline, s.settings), (PathBuf::from("my@dir/p.ron"), vec![("x".into(), "1".into())]));
+        assert_eq!(
+            (s.pipeline, s.settings),
+            (PathBuf::from("my@dir/p.ron"), vec![("x".into(), "1".into())])
+        );
     }
 }
