@@ -141,8 +141,9 @@ impl Image {
 }
 
 /// A file-name-safe stem for one slice of a resource: its name (other characters as `_`),
-/// then `.light{i}` for per-light resources and `.layer{l}` for layered ones (dumps, diffs).
-pub fn slice_stem(name: &str, r: &lightbench_compiler::plan::PlanResource, (inst, layer): (u32, u32)) -> String {
+/// then `.light{i}` for per-light resources, `.layer{l}` for layered ones and `.mip{k}` for
+/// mip levels past 0 (dumps, diffs).
+pub fn slice_stem(name: &str, r: &lightbench_compiler::plan::PlanResource, (inst, layer): (u32, u32), mip: u32) -> String {
     let mut s: String = name
         .chars()
         .map(|c| {
@@ -158,6 +159,9 @@ pub fn slice_stem(name: &str, r: &lightbench_compiler::plan::PlanResource, (inst
     }
     if r.layers() > 1 {
         s += &format!(".layer{layer}");
+    }
+    if mip > 0 {
+        s += &format!(".mip{mip}");
     }
     s
 }

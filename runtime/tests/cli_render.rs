@@ -28,20 +28,26 @@ fn render_writes_image_dumps_timings_and_manifest() {
     assert!(err.contains("adapter: "), "{err}");
     let img = image::open(d.join("frame.png")).unwrap();
     assert_eq!((img.width(), img.height()), (128, 128));
-    // The table lists every executed pass with a GPU time.
+    // The table lists every executed pass with a GPU time; the static scene's passes ran only
+    // in the cold first frame (then were reused), which the table marks and explains.
     for pass in ["gbuffer", "shadow_cube_classic", "ambient", "light_point", "luminance", "tonemap"] {
         let line = out
             .lines()
             .find(|l| l.starts_with(pass))
             .unwrap_or_else(|| panic!("{pass} missing:\n{out}"));
-        let gpu_ms: f64 = line
-            .split_whitespace()
-            .nth(2)
-            .unwrap()
+        let cell = line.split_whitespace().nth(2).unwrap();
+        let gpu_ms: f64 = cell
+            .strip_suffix('*')
+            .unwrap_or_else(|| panic!("not marked cold: {line}"))
             .parse()
             .unwrap_or_else(|_| panic!("no GPU time: {line}"));
         assert!(gpu_ms >= 0.0);
+        assert!(line.ends_with("1/2"), "{line}");
     }
+    assert!(
+        out.contains("* ran only in the first frame (cold: first use), then reused"),
+        "{out}"
+    );
     assert!(!out.contains("shadow_map"), "culled passes are absent:\n{out}");
     let timings: serde_json::Value = serde_json::from_slice(&std::fs::read(d.join("timings.json")).unwrap()).unwrap();
     let frames = timings.as_array().unwrap();
@@ -60,6 +66,12 @@ fn render_writes_image_dumps_timings_and_manifest() {
     }
     let lum: Vec<f32> = serde_json::from_slice(&std::fs::read(d.join("dump/lum.json")).unwrap()).unwrap();
     assert!(lum[0] > 0.0 && lum[1] >= lum[0], "{lum:?}");
+    // With --no-reuse every pass runs every frame: warm means, nothing marked.
+    let (code, out, err) = run(&["render", "--out", &s("warm.png"), "--frames", "2", "--timings", "--no-reuse"]);
+    assert_eq!(code, 0, "{err}");
+    let rows: Vec<&str> = out.lines().filter(|l| l.ends_with("/2")).collect();
+    assert_eq!(rows.len(), 6, "{out}");
+    assert!(rows.iter().all(|l| l.ends_with("2/2")) && !out.contains('*'), "{out}");
 }
 
 /// PNG dumps of one-channel textures are grey; buffer dumps are reported like textures.

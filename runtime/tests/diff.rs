@@ -240,6 +240,12 @@ fn the_html_report_embeds_every_image() {
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
     assert!(html.contains("exposure.ev"), "the parameter change is reported");
+    // Markdown becomes HTML, not literal marks: bold, code, escaped pipes.
+    assert!(html.contains("<strong>A</strong>") && html.contains("<code>"), "{html}");
+    let text: String = html.split("<img ").map(|p| p.split_once('>').map_or(p, |(_, rest)| rest)).collect();
+    for raw in ["**", "\\|", "`"] {
+        assert!(!text.contains(raw), "raw markdown `{raw}` in the HTML report");
+    }
     let mut images = 0;
     for part in html.split("<img ").skip(1) {
         let src = part
@@ -368,4 +374,63 @@ fn sides_set_vectors_pass_values_and_paths_with_at() {
     let (code, _, err) = lightbench(&["diff", "pipelines/deferred.ron", at, "--no-render"]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains(&format!("a path that contains `@` ends with `@`: `{at}@`")), "{err}");
+}
+
+/// A mip chain is compared level by level (and `render --dump` writes every level as
+/// `NAME.mipK`): a lower bloom threshold on B shows in each level of `bloom`.
+#[test]
+fn mip_chains_are_dumped_and_compared_per_level() {
+    let dir = scratch("mips");
+    let b = "pipelines/deferred.ron@bloom.threshold=0.05";
+    let (code, r, err) = diff_json(
+        &["pipelines/deferred.ron", b, "--effect", "Bloom", "--resources", "bloom"],
+        &dir.join("report"),
+    );
+    assert_eq!(code, 0, "{err}");
+    let levels: Vec<&Value> = r["images"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|i| i["resource"] == "bloom")
+        .collect();
+    let mips: Vec<u64> = levels.iter().map(|i| i["mip"].as_u64().unwrap()).collect();
+    assert_eq!(mips, [0, 1, 2, 3, 4], "{r}");
+    for (k, level) in levels.iter().enumerate() {
+        assert_eq!(level["size"][0].as_u64(), Some(32 >> k), "{level}");
+        assert!(level["metrics"]["rmse"].as_f64().unwrap() > 0.0, "mip {k}: {level}");
+        let side = level["side_by_side"].as_str().unwrap();
+        assert_eq!(
+            side,
+            if k == 0 {
+                "bloom.side.png".to_string()
+            } else {
+                format!("bloom.mip{k}.side.png")
+            }
+        );
+        assert!(dir.join("report").join(side).is_file());
+    }
+    let dump = dir.join("dump");
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--effect",
+        "Bloom",
+        "--size",
+        "64x64",
+        "--out",
+        dir.join("x.png").to_str().unwrap(),
+        "--dump",
+        "bloom",
+        "--dump-dir",
+        dump.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for k in 0..5u32 {
+        let name = if k == 0 {
+            "bloom.exr".to_string()
+        } else {
+            format!("bloom.mip{k}.exr")
+        };
+        let img = image::open(dump.join(&name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(img.width(), 32 >> k, "{name}");
+    }
 }

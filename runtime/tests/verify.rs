@@ -223,4 +223,14 @@ fn bad_verify_arguments_are_refused() {
     let (code, out, _) = lightbench(&["verify", p, "--scenes", "no_such_scene.ron"]);
     assert_eq!(code, 1, "{out}");
     assert!(out.contains("no_such_scene.ron") && out.contains("failed:"), "{out}");
+    // JSON lists failed configurations as lines too, then the summary counting them.
+    let (code, out, _) = lightbench(&["verify", p, "--scenes", "no_such_scene.ron", "--format", "json"]);
+    assert_eq!(code, 1, "{out}");
+    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    assert_eq!(lines.len(), 2, "{out}");
+    assert!(
+        lines[0]["problem"]["failed"].as_str().unwrap().contains("no_such_scene.ron"),
+        "{out}"
+    );
+    assert_eq!(lines[1]["summary"]["problems"], 1, "{out}");
 }

@@ -278,15 +278,35 @@ fn timings(a: &Args, ex: &Executor, scene_load: std::time::Duration) -> Result<(
         );
         let frames = ex.timing_log.len();
         println!("{:<26} {:>5} {:>10} {:>12} {:>8}", "pass", "reps", "GPU ms", "CPU enc µs", "ran");
+        let mut cold_only = false;
         for (i, t) in ex.last_timings.iter().enumerate() {
-            // Means over the frames the pass ran in (reused frames cost nothing).
-            let ran: Vec<&crate::gpu::PassTiming> = ex.timing_log.iter().filter_map(|f| f.get(i)).filter(|t| !t.reused).collect();
+            let ran: Vec<(usize, &crate::gpu::PassTiming)> = ex
+                .timing_log
+                .iter()
+                .enumerate()
+                .filter_map(|(f, frame)| frame.get(i).map(|t| (f, t)))
+                .filter(|(_, t)| !t.reused)
+                .collect();
+            // Means over the warm frames the pass ran in (reused frames cost nothing; the
+            // first frame pays for first use): the first frame only when it ran in no other.
+            let warm: Vec<&crate::gpu::PassTiming> = ran.iter().filter(|(f, _)| *f > 0).map(|(_, t)| *t).collect();
+            let cold = warm.is_empty() && frames > 1 && !ran.is_empty();
+            let counted: Vec<&crate::gpu::PassTiming> = if warm.is_empty() {
+                ran.iter().map(|(_, t)| *t).collect()
+            } else {
+                warm
+            };
             let mean = |v: Vec<f64>| (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64);
-            let gpu_ms = mean(ran.iter().filter_map(|t| t.gpu_ms).collect());
-            let cpu = mean(ran.iter().map(|t| t.cpu_encode_us).collect()).unwrap_or(0.0);
-            let gpu_ms = gpu_ms.map(|v| format!("{v:.3}")).unwrap_or_else(|| "n/a".into());
+            let gpu_ms = mean(counted.iter().filter_map(|t| t.gpu_ms).collect());
+            let cpu = mean(counted.iter().map(|t| t.cpu_encode_us).collect()).unwrap_or(0.0);
+            let mark = if cold { "*" } else { "" };
+            let gpu_ms = gpu_ms.map(|v| format!("{v:.3}{mark}")).unwrap_or_else(|| "n/a".into());
+            cold_only |= cold;
             let runs = format!("{}/{frames}", ran.len());
             println!("{:<26} {:>5} {:>10} {:>12.1} {:>8}", t.pass, t.repetitions, gpu_ms, cpu, runs);
+        }
+        if cold_only {
+            println!("* ran only in the first frame (cold: first use), then reused; --no-reuse times it every frame");
         }
     }
     if let Some(p) = &a.timings_json {
@@ -372,8 +392,8 @@ fn distinct_outputs(a: &Args) -> std::result::Result<(), String> {
     Ok(())
 }
 
-/// Write each named resource: every light instance and layer, as EXR (all channels, linear)
-/// or PNG (8-bit, clamped); buffers as JSON arrays of f32.
+/// Write each named resource: every light instance, layer and mip level, as EXR (all
+/// channels, linear) or PNG (8-bit, clamped); buffers as JSON arrays of f32.
 fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::DumpFormat) -> Result<()> {
     for name in names {
         let res = ex
@@ -381,7 +401,7 @@ fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::D
             .resource(name)
             .ok_or_else(|| Error::Resource(format!("--dump: `{name}` vanished from the plan")))?;
         for (inst, layer) in ex.slices(name)? {
-            let file = crate::io::slice_stem(name, res, (inst, layer));
+            let file = crate::io::slice_stem(name, res, (inst, layer), 0);
             if res.is_buffer() {
                 let words = ex.read_buffer(gpu, name, inst)?;
                 let path = dir.join(format!("{file}.json"));
@@ -401,15 +421,24 @@ fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::D
                 eprintln!("dumped {}", path.display());
                 continue;
             }
-            let mut img = ex.read_texture(gpu, name, inst, layer)?;
-            if let lightbench_compiler::plan::ResourceShape::Texture { format, .. } = &res.shape {
-                if format.components() == 1 {
-                    img.grey_from_red();
+            for mip in 0..ex.mips(name)? {
+                let part = crate::gpu::Part {
+                    instance: inst,
+                    layer,
+                    mip,
+                    previous: false,
+                };
+                let mut img = ex.read_part(gpu, name, part)?;
+                if let lightbench_compiler::plan::ResourceShape::Texture { format, .. } = &res.shape {
+                    if format.components() == 1 {
+                        img.grey_from_red();
+                    }
                 }
+                let stem = crate::io::slice_stem(name, res, (inst, layer), mip);
+                let path = dir.join(format!("{stem}.{}", if format == super::DumpFormat::Png { "png" } else { "exr" }));
+                img.save(&path)?;
+                eprintln!("dumped {}", path.display());
             }
-            let path = dir.join(format!("{file}.{}", if format == super::DumpFormat::Png { "png" } else { "exr" }));
-            img.save(&path)?;
-            eprintln!("dumped {}", path.display());
         }
     }
     Ok(())

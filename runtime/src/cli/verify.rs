@@ -109,6 +109,16 @@ fn execute(a: &Args, pipelines: &[PathBuf], scenes: &[String], opts: &Options) -
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     let mut reports = vec![];
+    // JSON lines as each configuration ends, failed ones included.
+    let add = |found: Vec<Report>, reports: &mut Vec<Report>| -> Result<()> {
+        if a.format == Format::Json {
+            for r in &found {
+                println!("{}", serde_json::to_string(r).map_err(|e| Error::Resource(e.to_string()))?);
+            }
+        }
+        reports.extend(found);
+        Ok(())
+    };
     for spec in scenes {
         let scene = match crate::scene::load(spec) {
             Ok(mut s) => {
@@ -117,19 +127,13 @@ fn execute(a: &Args, pipelines: &[PathBuf], scenes: &[String], opts: &Options) -
             }
             Err(e) => {
                 bar.inc(pipelines.len() as u64);
-                reports.extend(pipelines.iter().map(|p| failed(p, spec, e.to_string())));
+                add(pipelines.iter().map(|p| failed(p, spec, e.to_string())).collect(), &mut reports)?;
                 continue;
             }
         };
         for p in pipelines {
             bar.set_message(format!("{} × {spec}", p.display()));
-            let found = verify::pipeline_on_scene(&gpu, p, (spec, &scene), opts);
-            if a.format == Format::Json {
-                for r in &found {
-                    println!("{}", serde_json::to_string(r).map_err(|e| Error::Resource(e.to_string()))?);
-                }
-            }
-            reports.extend(found);
+            add(verify::pipeline_on_scene(&gpu, p, (spec, &scene), opts), &mut reports)?;
             bar.inc(1);
         }
     }

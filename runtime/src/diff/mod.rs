@@ -39,6 +39,8 @@ pub struct ImageDiff {
     pub resource: String,
     pub instance: u32,
     pub layer: u32,
+    /// The mip level (textures with a mip chain are compared level by level).
+    pub mip: u32,
     pub format: String,
     pub size: (u32, u32),
     pub metrics: metrics::Metrics,
@@ -258,6 +260,7 @@ fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<(
 struct Slice {
     name: String,
     slice: (u32, u32),
+    mip: u32,
     a: Values,
     b: Values,
     channels: usize,
@@ -282,17 +285,19 @@ impl Values {
     }
 }
 
-/// Read back every slice (light instance, layer) of a resource both sides have.
+/// Read back every slice (light instance, layer, mip level) of a resource both sides have.
 fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&str, &str)) -> Result<Vec<Slice>> {
     let r = ea.plan().resource(name).expect("paired resources exist");
     let slices_b = eb.slices(name_b)?;
+    let mips = ea.mips(name)?.min(eb.mips(name_b)?);
+    let parts = ea.slices(name)?.into_iter().filter(|s| slices_b.contains(s));
     let mut out = vec![];
-    for slice in ea.slices(name)?.into_iter().filter(|s| slices_b.contains(s)) {
+    for (slice, mip) in parts.flat_map(|s| (0..mips).map(move |m| (s, m))) {
         let (a, b, channels, colour, format) = match &r.shape {
             ResourceShape::Texture { format, .. } => {
                 let (a, b) = (
-                    Values::Texels(ea.read_texture_raw(gpu, name, slice.0, slice.1)?),
-                    Values::Texels(eb.read_texture_raw(gpu, name_b, slice.0, slice.1)?),
+                    Values::Texels(ea.read_texture_raw(gpu, name, slice, mip)?),
+                    Values::Texels(eb.read_texture_raw(gpu, name_b, slice, mip)?),
                 );
                 (a, b, format.components() as usize, format.is_srgb(), format.name().to_string())
             }
@@ -308,13 +313,14 @@ fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&
                 format!("{name} / {name_b}")
             },
             slice,
+            mip,
             a,
             b,
             channels,
             colour,
             format,
             buffer: r.is_buffer(),
-            stem: crate::io::slice_stem(name, r, slice),
+            stem: crate::io::slice_stem(name, r, slice, mip),
         });
     }
     Ok(out)
@@ -332,6 +338,7 @@ fn analyze(s: Slice, out: &Path) -> Result<ImageDiff> {
         resource: s.name,
         instance: s.slice.0,
         layer: s.slice.1,
+        mip: s.mip,
         format: s.format,
         size: (a.width, a.height),
         metrics: compared.metrics,

@@ -82,8 +82,12 @@ fn structure(r: &Report, s: &mut String) {
     changes(s, "Resources", &d.resources);
 }
 
+/// `resource [instance/layer]`, with `mip k` past level 0.
 fn slice_name(i: &ImageDiff) -> String {
-    format!("{} [{}/{}]", i.resource, i.instance, i.layer)
+    match i.mip {
+        0 => format!("{} [{}/{}]", i.resource, i.instance, i.layer),
+        k => format!("{} [{}/{}] mip {k}", i.resource, i.instance, i.layer),
+    }
 }
 
 fn pixels(r: &Report, s: &mut String) {
@@ -211,11 +215,11 @@ fn md_to_html(md: &str, images: &dyn Fn(&str) -> Option<String>) -> String {
             let cells: Vec<String> = line.trim_matches('|').split(" | ").map(|c| inline(c.trim(), images)).collect();
             out += &format!("<tr><td>{}</td></tr>\n", cells.join("</td><td>"));
         } else if let Some(h) = line.strip_prefix("### ") {
-            out += &format!("<h3>{}</h3>\n", escape(h));
+            out += &format!("<h3>{}</h3>\n", inline(h, images));
         } else if let Some(h) = line.strip_prefix("## ") {
-            out += &format!("<h2>{}</h2>\n", escape(h));
+            out += &format!("<h2>{}</h2>\n", inline(h, images));
         } else if let Some(h) = line.strip_prefix("# ") {
-            out += &format!("<h1>{}</h1>\n", escape(h));
+            out += &format!("<h1>{}</h1>\n", inline(h, images));
         } else if !line.trim().is_empty() {
             out += &format!("<p>{}</p>\n", inline(line.trim_start_matches("- "), images));
         }
@@ -235,7 +239,24 @@ fn inline(text: &str, images: &dyn Fn(&str) -> Option<String>) -> String {
             None => escape(file),
         };
     }
-    escape(text).replace("&lt;br&gt;", "<br>").replace('`', "")
+    let html = escape(text).replace("&lt;br&gt;", "<br>").replace("\\|", "|");
+    spans(&spans(&html, "**", "strong"), "`", "code")
+}
+
+/// Markdown's paired `mark`s (`**`, `` ` ``) as `<tag>` elements; an unpaired mark stays text.
+fn spans(text: &str, mark: &str, tag: &str) -> String {
+    let parts: Vec<&str> = text.split(mark).collect();
+    let pairs = (parts.len() - 1) / 2;
+    let mut out = String::from(parts[0]);
+    for (i, part) in parts.iter().enumerate().skip(1) {
+        match i {
+            _ if i > 2 * pairs => out.push_str(mark),
+            _ if i % 2 == 1 => out.push_str(&format!("<{tag}>")),
+            _ => out.push_str(&format!("</{tag}>")),
+        }
+        out.push_str(part);
+    }
+    out
 }
 
 /// One HTML file: the markdown report's content with every side-by-side image embedded.

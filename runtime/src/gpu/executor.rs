@@ -551,13 +551,21 @@ impl Executor {
         super::readback::read_texture(gpu, tex, layer)
     }
 
-    /// `read_texture` without decoding (see `readback::Raw`).
-    pub fn read_texture_raw(&self, gpu: &Gpu, name: &str, instance: u32, layer: u32) -> Result<super::readback::Raw> {
+    /// One mip level of a texture slice, not decoded (see `readback::Raw`).
+    pub fn read_texture_raw(&self, gpu: &Gpu, name: &str, (instance, layer): (u32, u32), mip: u32) -> Result<super::readback::Raw> {
         let tex = self
             .entry(name)?
             .texture(instance, false, self.last_parity())
             .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer")))?;
-        super::readback::read_texture_raw(gpu, tex, layer)
+        super::readback::read_texture_raw(gpu, tex, layer, mip)
+    }
+
+    /// How many mip levels a resource has (1 for buffers and single-level textures).
+    pub fn mips(&self, name: &str) -> Result<u32> {
+        Ok(match self.entry(name)?.key.shape {
+            lightbench_compiler::plan::ResourceShape::Texture { mips, .. } => mips.max(1),
+            _ => 1,
+        })
     }
 
     /// Every part of a resource that holds values: each light instance, layer, mip level

@@ -126,9 +126,9 @@ impl Raw {
     }
 }
 
-/// Mip 0 of one layer, copied to the CPU undecoded.
-pub fn read_texture_raw(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Raw> {
-    let (w, h, (bytes, row)) = with_texels(gpu, tex, (layer, 0), |data, row, _| (data.to_vec(), row))?;
+/// One layer of one mip level, copied to the CPU undecoded.
+pub fn read_texture_raw(gpu: &Gpu, tex: &wgpu::Texture, layer: u32, mip: u32) -> Result<Raw> {
+    let (w, h, (bytes, row)) = with_texels(gpu, tex, (layer, mip), |data, row, _| (data.to_vec(), row))?;
     Ok(Raw {
         format: tex.format(),
         bytes,
