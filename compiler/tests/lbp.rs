@@ -775,3 +775,16 @@ fn a_missing_brace_points_at_the_unclosed_one() {
     assert_eq!(brace.message, "this `{` is not closed");
     assert_eq!(s.sources.get(brace.span.file).line_col(brace.span.start as usize), (3, 26));
 }
+
+/// `Enum(..)` is accepted as `enum(..)` is (the RON spelling of a type, like `Float`).
+#[test]
+fn enum_types_take_either_spelling() {
+    let text = |kw: &str| format!("pipeline p\nparam m: {kw}(a, b) = b \"mode\"\ntexture out: Rgba8Unorm viewport\noutput out\n");
+    let lower = parse_ok("p.lbp", &text("enum"));
+    let upper = parse_ok("p.lbp", &text("Enum"));
+    assert!(lower.same_as(&upper));
+    assert_eq!(
+        lower.params[0].ty.value,
+        lightbench_compiler::ir::ParamType::Enum(vec!["a".into(), "b".into()])
+    );
+}

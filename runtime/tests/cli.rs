@@ -233,7 +233,14 @@ fn convert_and_fmt() {
         "pipeline   m   // name\ntexture out:Rgba8Unorm   viewport\n\n\n\noutput out",
     )
     .unwrap();
-    assert_eq!(lightbench(&["fmt", "--check", messy.to_str().unwrap()]).0, 1);
+    let (code, _, err) = lightbench(&["fmt", "--check", messy.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains(&format!("{}:1: not formatted", messy.display()))
+            && err.contains("written: `pipeline   m   // name`")
+            && err.contains("fmt:     `pipeline m`"),
+        "{err}"
+    );
     assert_eq!(lightbench(&["fmt", messy.to_str().unwrap()]).0, 0);
     assert_eq!(
         std::fs::read_to_string(&messy).unwrap(),
@@ -457,4 +464,31 @@ fn readme_synopses_name_real_flags() {
         }
     }
     assert!(checked > 50, "only {checked} flags checked");
+}
+
+/// Hints quote the syntax of the file they are about: an LBP pipeline reading `prev(acc)` of a
+/// plain texture is told to add `history`, its RON twin `history: true`; a "declared here"
+/// label over a declaration written on several lines ends at its first line.
+#[test]
+fn hints_speak_the_files_syntax_and_labels_end_at_their_line() {
+    let lbp = "pipeline p\n\ntexture acc: Rgba16Float viewport\ntexture out: Rgba8Unorm viewport\n\nfullscreen f \"fill.wgsl\" {\n    reads prev(acc)\n    color out\n}\n\noutput out\n";
+    let d = temp_project("hints", "");
+    std::fs::write(d.join("p.lbp"), lbp).unwrap();
+    let (code, _, err) = lightbench(&["check", d.join("p.lbp").to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("`prev(acc)` reads the previous frame") && err.contains("add `history` here"),
+        "{err}"
+    );
+    assert!(!err.contains("history: true") && !err.contains("Prev("), "RON syntax in an LBP hint: {err}");
+    let ron = "Pipeline(\n    name: \"p\",\n    resources: {\n        \"acc\": Texture(\n            format: Rgba16Float,\n        ),\n        \"out\": Texture(format: Rgba8Unorm),\n    },\n    passes: [\n        Fullscreen(name: \"f\", shader: \"fill.wgsl\", reads: [Prev(\"acc\")], color: [\"out\"]),\n    ],\n    output: \"out\",\n)\n";
+    std::fs::write(d.join("p.ron"), ron).unwrap();
+    let (code, out, err) = lightbench(&["check", d.join("p.ron").to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 1, "{err}");
+    let diag: serde_json::Value = out.lines().chain(err.lines()).find_map(|l| serde_json::from_str(l).ok()).unwrap();
+    assert!(diag["message"].as_str().unwrap().contains("`Prev(\"acc\")`"), "{diag}");
+    let label = diag["labels"].as_array().unwrap().iter().find(|l| l["primary"] == false).unwrap();
+    assert_eq!((label["line"].as_u64(), label["message"].as_str()), (Some(4), Some("add `history: true` here")));
+    let (_, _, human) = lightbench(&["check", d.join("p.ron").to_str().unwrap()]);
+    assert!(!human.contains("format: Rgba16Float,"), "the label stops at its first line:\n{human}");
 }

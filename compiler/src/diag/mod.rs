@@ -105,8 +105,35 @@ impl Diagnostic {
         Some((f.name.clone(), l, c))
     }
 
+    /// As shown to a user: about an `.lbp` file, the RON forms its hints quote spelled in
+    /// LBP; a secondary label ("declared here") ends at the end of its first line, so a
+    /// declaration spanning lines is pointed at, not printed whole.
+    pub fn presented(&self, sources: &SourceMap) -> Diagnostic {
+        let mut d = self.clone();
+        for l in d.labels.iter_mut().filter(|l| !l.primary) {
+            let text = &sources.get(l.span.file).text;
+            let (start, end) = (l.span.start as usize, (l.span.end as usize).min(text.len()));
+            if let Some(nl) = text.get(start..end).and_then(|t| t.find('\n')) {
+                l.span.end = (start + nl) as u32;
+            }
+        }
+        let lbp = self.primary_span().is_some_and(|s| sources.get(s.file).name.ends_with(".lbp"));
+        if lbp {
+            use crate::front::lbp::hints::spell;
+            d.message = spell(&d.message);
+            d.notes.iter_mut().for_each(|n| *n = spell(n));
+            d.labels.iter_mut().for_each(|l| l.message = spell(&l.message));
+        }
+        d
+    }
+
     /// rustc-style rendering with source snippets.
     pub fn render(&self, sources: &SourceMap) -> String {
+        let d = self.presented(sources);
+        d.render_as_is(sources)
+    }
+
+    fn render_as_is(&self, sources: &SourceMap) -> String {
         let d = match self.severity {
             Severity::Error => cs::Diagnostic::error(),
             Severity::Warning => cs::Diagnostic::warning(),
@@ -148,6 +175,10 @@ impl Diagnostic {
     /// One JSON object: severity, code, message, file, line, column, end, notes, and every
     /// label (primary and secondary, e.g. the shader-side location) with its own position.
     pub fn to_json(&self, sources: &SourceMap) -> serde_json::Value {
+        self.presented(sources).json_as_is(sources)
+    }
+
+    fn json_as_is(&self, sources: &SourceMap) -> serde_json::Value {
         let labels: Vec<serde_json::Value> = self
             .labels
             .iter()

@@ -70,6 +70,22 @@ pub fn convert(input: &Path, to: &str, out: Option<&Path>) -> i32 {
     }
 }
 
+/// Where `fmt --check` finds a file unformatted: the first line that differs, as written and
+/// as `fmt` would write it.
+fn unformatted(file: &Path, text: &str, printed: &str) -> String {
+    let (a, b): (Vec<&str>, Vec<&str>) = (text.lines().collect(), printed.lines().collect());
+    let i = (0..a.len().max(b.len())).find(|&i| a.get(i) != b.get(i)).unwrap_or(a.len());
+    let show = |l: Option<&&str>| l.map_or("(end of file)".to_string(), |l| format!("`{l}`"));
+    format!(
+        "{}:{}: not formatted\n  written: {}\n  fmt:     {}\n(run `lightbench fmt {}` to rewrite it)\n",
+        file.display(),
+        i + 1,
+        show(a.get(i)),
+        show(b.get(i)),
+        file.display()
+    )
+}
+
 /// Rewrite an `.lbp` file in canonical layout; with `check`, only report whether it already is.
 pub fn fmt(file: &Path, check: bool) -> i32 {
     if file.extension().and_then(|e| e.to_str()) != Some("lbp") {
@@ -84,7 +100,7 @@ pub fn fmt(file: &Path, check: bool) -> i32 {
         return EXIT_OK;
     }
     if check {
-        eprintln!("{} is not formatted", file.display());
+        eprint!("{}", unformatted(file, &text, &printed));
         return EXIT_ERRORS;
     }
     match files::replace(file, printed.as_bytes(), &snapshot) {
