@@ -788,3 +788,26 @@ fn enum_types_take_either_spelling() {
         lightbench_compiler::ir::ParamType::Enum(vec!["a".into(), "b".into()])
     );
 }
+
+/// The README's "every LBP form" file parses as written and converts to RON and back to
+/// the same pipeline.
+#[test]
+fn the_readme_shows_every_form_and_it_parses() {
+    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let after = readme.split("Every LBP form in one file").nth(1).expect("the section");
+    let block = after.split("```\n").nth(1).expect("its code block");
+    assert!(block.starts_with("pipeline every_form"), "{block}");
+    let p = parse_ok("every.lbp", block);
+    let as_ron = ron::print::print(&p, Some(block));
+    assert!(parse_ok("every.ron", &as_ron).same_as(&p), "{as_ron}");
+    // The grammar's keywords each appear in the block.
+    let grammar = std::fs::read_to_string(repo_root().join("compiler/src/front/lbp/lbp.pest")).unwrap();
+    let keywords: std::collections::BTreeSet<&str> = grammar
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .flat_map(|l| l.split('"').skip(1).step_by(2))
+        .filter(|w| w.len() > 1 && w.chars().all(|c| c.is_ascii_alphabetic() || c == '_'))
+        .collect();
+    let missing: Vec<&&str> = keywords.iter().filter(|k| !block.contains(**k)).collect();
+    assert!(missing.is_empty(), "the README's every-form file lacks {missing:?}");
+}

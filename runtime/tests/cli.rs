@@ -480,7 +480,10 @@ fn hints_speak_the_files_syntax_and_labels_end_at_their_line() {
         err.contains("`prev(acc)` reads the previous frame") && err.contains("add `history` here"),
         "{err}"
     );
-    assert!(!err.contains("history: true") && !err.contains("Prev("), "RON syntax in an LBP hint: {err}");
+    assert!(
+        !err.contains("history: true") && !err.contains("Prev("),
+        "RON syntax in an LBP hint: {err}"
+    );
     let ron = "Pipeline(\n    name: \"p\",\n    resources: {\n        \"acc\": Texture(\n            format: Rgba16Float,\n        ),\n        \"out\": Texture(format: Rgba8Unorm),\n    },\n    passes: [\n        Fullscreen(name: \"f\", shader: \"fill.wgsl\", reads: [Prev(\"acc\")], color: [\"out\"]),\n    ],\n    output: \"out\",\n)\n";
     std::fs::write(d.join("p.ron"), ron).unwrap();
     let (code, out, err) = lightbench(&["check", d.join("p.ron").to_str().unwrap(), "--format", "json"]);
@@ -488,7 +491,13 @@ fn hints_speak_the_files_syntax_and_labels_end_at_their_line() {
     let diag: serde_json::Value = out.lines().chain(err.lines()).find_map(|l| serde_json::from_str(l).ok()).unwrap();
     assert!(diag["message"].as_str().unwrap().contains("`Prev(\"acc\")`"), "{diag}");
     let label = diag["labels"].as_array().unwrap().iter().find(|l| l["primary"] == false).unwrap();
-    assert_eq!((label["line"].as_u64(), label["message"].as_str()), (Some(4), Some("add `history: true` here")));
+    assert_eq!(
+        (label["line"].as_u64(), label["message"].as_str()),
+        (Some(4), Some("add `history: true` here"))
+    );
     let (_, _, human) = lightbench(&["check", d.join("p.ron").to_str().unwrap()]);
-    assert!(!human.contains("format: Rgba16Float,"), "the label stops at its first line:\n{human}");
+    assert!(
+        !human.contains("format: Rgba16Float,"),
+        "the label stops at its first line:\n{human}"
+    );
 }

@@ -114,9 +114,15 @@ mod tests {
                 "or map it with `bind input = resource`",
             ),
             ("set it under `values`", "set it under `set`"),
-            ("`when: All([Effect(Ssr), Not(Reflective)])`", "`when all(effect(Ssr), not reflective)`"),
+            (
+                "`when: All([Effect(Ssr), Not(Reflective)])`",
+                "`when all(effect(Ssr), not reflective)`",
+            ),
             ("`Not(Variant(\"a\", \"b\"))`", "`not variant(a, b)`"),
-            ("`Variant(\"ao\", \"ssao\")` and `draw: Triangles(..)`", "`variant(ao, ssao)` and `draw triangles(..)`"),
+            (
+                "`Variant(\"ao\", \"ssao\")` and `draw: Triangles(..)`",
+                "`variant(ao, ssao)` and `draw triangles(..)`",
+            ),
             ("plain `gbuf.depth` text", "plain `gbuf.depth` text"),
         ] {
             assert_eq!(spell(ron), lbp);
