@@ -30,6 +30,28 @@ features! {
     DualSourceBlending => "DUAL_SOURCE_BLENDING",
     CubeArrayTextures => "CUBE_ARRAY_TEXTURES",
     Rg11b10UfloatRenderable => "RG11B10UFLOAT_RENDERABLE",
+    // Shader capabilities: each lets naga accept what its WGSL uses.
+    ShaderF64 => "SHADER_F64",
+    ShaderI16 => "SHADER_I16",
+    ShaderInt64 => "SHADER_INT64",
+    ShaderInt64AtomicMinMax => "SHADER_INT64_ATOMIC_MIN_MAX",
+    ShaderInt64AtomicAllOps => "SHADER_INT64_ATOMIC_ALL_OPS",
+    ShaderFloat32Atomic => "SHADER_FLOAT32_ATOMIC",
+    TextureAtomic => "TEXTURE_ATOMIC",
+    Immediates => "IMMEDIATES",
+    TextureBindingArray => "TEXTURE_BINDING_ARRAY",
+    BufferBindingArray => "BUFFER_BINDING_ARRAY",
+    StorageResourceBindingArray => "STORAGE_RESOURCE_BINDING_ARRAY",
+    SampledTextureAndStorageBufferArrayNonUniformIndexing => "SAMPLED_TEXTURE_AND_STORAGE_BUFFER_ARRAY_NON_UNIFORM_INDEXING",
+    StorageTextureArrayNonUniformIndexing => "STORAGE_TEXTURE_ARRAY_NON_UNIFORM_INDEXING",
+    UniformBufferBindingArrays => "UNIFORM_BUFFER_BINDING_ARRAYS",
+    ExperimentalRayQuery => "EXPERIMENTAL_RAY_QUERY",
+    Subgroup => "SUBGROUP",
+    SubgroupVertex => "SUBGROUP_VERTEX",
+    SubgroupBarrier => "SUBGROUP_BARRIER",
+    PrimitiveIndex => "PRIMITIVE_INDEX",
+    ShaderEarlyDepthTest => "SHADER_EARLY_DEPTH_TEST",
+    ShaderBarycentrics => "SHADER_BARYCENTRICS",
     Float32Renderable => "(format capability: R32Float, Rg32Float, Rgba32Float as render attachments; GL lacks it)",
     GeometryShader => "(none: WGSL, naga and wgpu have no geometry stage)",
 }
@@ -156,6 +178,24 @@ impl Profile {
             Feature::DualSourceBlending,
             Feature::CubeArrayTextures,
             Feature::Float32Renderable,
+            // Shader capabilities Mesa 25 lavapipe exposes through wgpu 30.
+            Feature::ShaderF64,
+            Feature::ShaderI16,
+            Feature::ShaderInt64,
+            Feature::ShaderInt64AtomicMinMax,
+            Feature::ShaderInt64AtomicAllOps,
+            Feature::ShaderFloat32Atomic,
+            Feature::TextureAtomic,
+            Feature::Immediates,
+            Feature::TextureBindingArray,
+            Feature::BufferBindingArray,
+            Feature::StorageResourceBindingArray,
+            Feature::SampledTextureAndStorageBufferArrayNonUniformIndexing,
+            Feature::StorageTextureArrayNonUniformIndexing,
+            Feature::Subgroup,
+            Feature::SubgroupBarrier,
+            Feature::PrimitiveIndex,
+            Feature::ShaderEarlyDepthTest,
         ]
         .into_iter()
         .collect();
@@ -171,9 +211,16 @@ impl Profile {
         let mut limits = Limits::webgpu();
         limits.max_texture_dimension_2d = 8192;
         limits.max_storage_textures_per_shader_stage = 8;
-        let features = [Feature::ClipDistances, Feature::Float32Filterable, Feature::CubeArrayTextures]
-            .into_iter()
-            .collect();
+        let features = [
+            Feature::ClipDistances,
+            Feature::Float32Filterable,
+            Feature::CubeArrayTextures,
+            Feature::Immediates,
+            Feature::PrimitiveIndex,
+            Feature::ShaderEarlyDepthTest,
+        ]
+        .into_iter()
+        .collect();
         Profile {
             name: "gl".into(),
             features,

@@ -107,16 +107,60 @@ pub fn capabilities(features: &BTreeSet<Feature>) -> naga::valid::Capabilities {
     use naga::valid::Capabilities as C;
     let mut caps = C::default();
     for f in features {
-        caps |= match f {
-            Feature::Multiview => C::MULTIVIEW,
-            Feature::ClipDistances => C::CLIP_DISTANCES,
-            Feature::ShaderF16 => C::SHADER_FLOAT16,
-            Feature::DualSourceBlending => C::DUAL_SOURCE_BLENDING,
-            Feature::CubeArrayTextures => C::CUBE_ARRAY_TEXTURES,
-            _ => C::empty(),
-        };
+        caps |= feature_capabilities(*f);
+    }
+    // Binding arrays of storage resources need both the array and the storage feature (as
+    // wgpu-core derives them).
+    if features.contains(&Feature::StorageResourceBindingArray) {
+        if features.contains(&Feature::TextureBindingArray) {
+            caps |= C::STORAGE_TEXTURE_BINDING_ARRAY;
+        }
+        if features.contains(&Feature::BufferBindingArray) {
+            caps |= C::STORAGE_BUFFER_BINDING_ARRAY;
+        }
     }
     caps
+}
+
+/// The naga capabilities one wgpu feature grants (wgpu-core's mapping).
+fn feature_capabilities(f: Feature) -> naga::valid::Capabilities {
+    use naga::valid::Capabilities as C;
+    match f {
+        Feature::Multiview => C::MULTIVIEW,
+        Feature::ClipDistances => C::CLIP_DISTANCES,
+        Feature::ShaderF16 => C::SHADER_FLOAT16,
+        Feature::DualSourceBlending => C::DUAL_SOURCE_BLENDING,
+        Feature::CubeArrayTextures => C::CUBE_ARRAY_TEXTURES,
+        Feature::ShaderF64 => C::FLOAT64,
+        Feature::ShaderI16 => C::SHADER_INT16,
+        Feature::ShaderInt64 => C::SHADER_INT64,
+        Feature::ShaderInt64AtomicMinMax => C::SHADER_INT64_ATOMIC_MIN_MAX,
+        Feature::ShaderInt64AtomicAllOps => C::SHADER_INT64_ATOMIC_MIN_MAX | C::SHADER_INT64_ATOMIC_ALL_OPS,
+        Feature::ShaderFloat32Atomic => C::SHADER_FLOAT32_ATOMIC,
+        Feature::TextureAtomic => C::TEXTURE_ATOMIC,
+        Feature::Immediates => C::IMMEDIATES,
+        Feature::TextureBindingArray => C::TEXTURE_AND_SAMPLER_BINDING_ARRAY,
+        Feature::BufferBindingArray => C::BUFFER_BINDING_ARRAY,
+        Feature::SampledTextureAndStorageBufferArrayNonUniformIndexing => {
+            C::TEXTURE_AND_SAMPLER_BINDING_ARRAY_NON_UNIFORM_INDEXING | C::STORAGE_BUFFER_BINDING_ARRAY_NON_UNIFORM_INDEXING
+        }
+        Feature::StorageTextureArrayNonUniformIndexing => C::STORAGE_TEXTURE_BINDING_ARRAY_NON_UNIFORM_INDEXING,
+        Feature::UniformBufferBindingArrays => C::BUFFER_BINDING_ARRAY_NON_UNIFORM_INDEXING,
+        Feature::ExperimentalRayQuery => C::RAY_QUERY,
+        Feature::Subgroup => C::SUBGROUP,
+        Feature::SubgroupVertex => C::SUBGROUP | C::SUBGROUP_VERTEX_STAGE,
+        Feature::SubgroupBarrier => C::SUBGROUP_BARRIER,
+        Feature::PrimitiveIndex => C::PRIMITIVE_INDEX,
+        Feature::ShaderEarlyDepthTest => C::EARLY_DEPTH_TEST,
+        Feature::ShaderBarycentrics => C::SHADER_BARYCENTRICS,
+        Feature::TimestampQuery
+        | Feature::Float32Filterable
+        | Feature::DepthClipControl
+        | Feature::Rg11b10UfloatRenderable
+        | Feature::Float32Renderable
+        | Feature::StorageResourceBindingArray
+        | Feature::GeometryShader => C::empty(),
+    }
 }
 
 /// Shader files under a root, read through the virtual file system. Every path read (or
@@ -349,7 +393,15 @@ fn validation_error(
             None => msg,
         }
     };
-    let mut spans: Vec<(Span, String)> = e.spans().map(|(s, t)| (map(*s), say(t))).collect();
+    // A label naga writes as a handle (`naga::ir::GlobalVariable [0]`) shows the source there.
+    let label = |s: &naga::Span, t: &String| {
+        let t = say(t);
+        match s.to_range().and_then(|r| text.get(r)) {
+            Some(src) if t.starts_with("naga::") => format!("`{}`", src.lines().next().unwrap_or(src).trim()),
+            _ => t,
+        }
+    };
+    let mut spans: Vec<(Span, String)> = e.spans().map(|(s, t)| (map(*s), label(s, t))).collect();
     if let naga::valid::ValidationError::EntryPoint {
         stage,
         name,
@@ -368,8 +420,15 @@ fn validation_error(
     let mut spans = spans.into_iter().filter(|(s, _)| *s != map(naga::Span::UNDEFINED));
     // naga gives no span (entry-point interface errors, capabilities): the offending argument
     // or result of the function's signature, else its `fn` line — never the file's first byte.
+    let mut chain = vec![e.as_inner().to_string()];
+    let mut source = std::error::Error::source(e.as_inner());
+    while let Some(s) = source {
+        chain.push(s.to_string());
+        source = s.source();
+    }
     let fallback = || {
-        readable::signature_span(e.as_inner(), text)
+        readable::capability_span(&chain, text)
+            .or_else(|| readable::signature_span(e.as_inner(), text))
             .map(|(r, what)| (map(naga::Span::new(r.start as u32, r.end as u32)), what))
             .unwrap_or((map(naga::Span::UNDEFINED), String::new()))
     };

@@ -147,6 +147,61 @@ pub fn expressions(msg: &str, f: &naga::Function, text: &str) -> String {
     out
 }
 
+/// What each naga capability lets a shader write: its `enable` extension (if any) and words
+/// only it allows, to find where a shader asks for a capability naga names without a span.
+const CAPABILITY_USES: &[(&str, &str, &[&str])] = &[
+    ("RAY_QUERY", "wgpu_ray_query", &["ray_query", "acceleration_structure"]),
+    ("FLOAT64", "", &["f64"]),
+    ("SHADER_INT64_ATOMIC", "", &["atomic<u64>", "atomic<i64>"]),
+    ("SHADER_INT64", "", &["i64", "u64"]),
+    ("SHADER_INT16", "", &["i16", "u16"]),
+    ("FLOAT16", "f16", &["f16"]),
+    ("SHADER_FLOAT32_ATOMIC", "", &["atomic<f32>"]),
+    ("TEXTURE_ATOMIC", "", &["textureAtomic"]),
+    ("PRIMITIVE_INDEX", "primitive_index", &["primitive_index"]),
+    ("IMMEDIATES", "", &["var<immediate>"]),
+    ("MULTIVIEW", "", &["view_index"]),
+    ("CLIP_DISTANCES", "clip_distances", &["clip_distances"]),
+    ("DUAL_SOURCE_BLENDING", "dual_source_blending", &["blend_src"]),
+    ("SUBGROUP", "", &["subgroup"]),
+    ("BINDING_ARRAY", "wgpu_binding_array", &["binding_array"]),
+    ("CUBE_ARRAY_TEXTURES", "", &["texture_cube_array", "texture_depth_cube_array"]),
+    ("EARLY_DEPTH_TEST", "", &["early_depth_test"]),
+    ("SHADER_BARYCENTRICS", "", &["barycentric"]),
+];
+
+/// Where a shader asks for a capability that `messages` (naga's error chain) say is missing:
+/// its `enable` directive, else the first use of a word only that capability allows. naga
+/// gives such errors no span (a ray-query type is "Type [0]").
+pub fn capability_span(messages: &[String], text: &str) -> Option<(std::ops::Range<usize>, String)> {
+    let (key, enable, words) = CAPABILITY_USES
+        .iter()
+        .find(|(cap, ..)| messages.iter().any(|m| m.contains("apabilit") && m.contains(cap)))?;
+    // The capability's full name as naga wrote it (`SHADER_INT64_ATOMIC_ALL_OPS` for the key
+    // `SHADER_INT64_ATOMIC`).
+    let named = messages.iter().find_map(|m| {
+        let at = m.find(key)?;
+        Some(m[at..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>())
+    });
+    let cap = named.as_deref().unwrap_or(key);
+    let code = |i: usize| !text[..i].rsplit('\n').next().unwrap_or("").contains("//");
+    if !enable.is_empty() {
+        let directive = format!("enable {enable}");
+        if let Some(i) = text.match_indices(&directive).map(|(i, _)| i).find(|&i| code(i)) {
+            return Some((i..i + directive.len(), format!("needs {cap}")));
+        }
+    }
+    let word_at = |w: &str| {
+        text.match_indices(w).map(|(i, _)| i).find(|&i| {
+            let before = text[..i].chars().next_back().is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
+            let after = text[i + w.len()..].chars().next().is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
+            (before && after || w.contains('<')) && code(i)
+        })
+    };
+    let (i, w) = words.iter().filter_map(|w| word_at(w).map(|i| (i, *w))).min()?;
+    Some((i..i + w.len(), format!("`{w}` needs {cap}")))
+}
+
 /// Where in the source a span-less error about a function or entry point belongs: the
 /// argument (`Argument N`) or result it names, else the `fn NAME` it is about; with a label.
 pub fn signature_span(e: &naga::valid::ValidationError, text: &str) -> Option<(std::ops::Range<usize>, String)> {

@@ -30,7 +30,9 @@ pub struct Gpu {
     pub notes: Vec<String>,
 }
 
-/// wgpu features lightbench asks for when the adapter has them.
+/// wgpu features lightbench asks for when the adapter has them. Not the experimental ones
+/// (ray queries): wgpu enables those only behind an `unsafe` acknowledgement, so a pipeline
+/// that `requires(ExperimentalRayQuery)` checks offline but finds no device that runs it.
 const WANTED: &[(wgpu::Features, Feature)] = &[
     (wgpu::Features::MULTIVIEW, Feature::Multiview),
     (wgpu::Features::CLIP_DISTANCES, Feature::ClipDistances),
@@ -40,6 +42,32 @@ const WANTED: &[(wgpu::Features, Feature)] = &[
     (wgpu::Features::DEPTH_CLIP_CONTROL, Feature::DepthClipControl),
     (wgpu::Features::DUAL_SOURCE_BLENDING, Feature::DualSourceBlending),
     (wgpu::Features::RG11B10UFLOAT_RENDERABLE, Feature::Rg11b10UfloatRenderable),
+    (wgpu::Features::SHADER_F64, Feature::ShaderF64),
+    (wgpu::Features::SHADER_I16, Feature::ShaderI16),
+    (wgpu::Features::SHADER_INT64, Feature::ShaderInt64),
+    (wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX, Feature::ShaderInt64AtomicMinMax),
+    (wgpu::Features::SHADER_INT64_ATOMIC_ALL_OPS, Feature::ShaderInt64AtomicAllOps),
+    (wgpu::Features::SHADER_FLOAT32_ATOMIC, Feature::ShaderFloat32Atomic),
+    (wgpu::Features::TEXTURE_ATOMIC, Feature::TextureAtomic),
+    (wgpu::Features::IMMEDIATES, Feature::Immediates),
+    (wgpu::Features::TEXTURE_BINDING_ARRAY, Feature::TextureBindingArray),
+    (wgpu::Features::BUFFER_BINDING_ARRAY, Feature::BufferBindingArray),
+    (wgpu::Features::STORAGE_RESOURCE_BINDING_ARRAY, Feature::StorageResourceBindingArray),
+    (
+        wgpu::Features::SAMPLED_TEXTURE_AND_STORAGE_BUFFER_ARRAY_NON_UNIFORM_INDEXING,
+        Feature::SampledTextureAndStorageBufferArrayNonUniformIndexing,
+    ),
+    (
+        wgpu::Features::STORAGE_TEXTURE_ARRAY_NON_UNIFORM_INDEXING,
+        Feature::StorageTextureArrayNonUniformIndexing,
+    ),
+    (wgpu::Features::UNIFORM_BUFFER_BINDING_ARRAYS, Feature::UniformBufferBindingArrays),
+    (wgpu::Features::SUBGROUP, Feature::Subgroup),
+    (wgpu::Features::SUBGROUP_VERTEX, Feature::SubgroupVertex),
+    (wgpu::Features::SUBGROUP_BARRIER, Feature::SubgroupBarrier),
+    (wgpu::Features::PRIMITIVE_INDEX, Feature::PrimitiveIndex),
+    (wgpu::Features::SHADER_EARLY_DEPTH_TEST, Feature::ShaderEarlyDepthTest),
+    (wgpu::Features::SHADER_BARYCENTRICS, Feature::ShaderBarycentrics),
 ];
 
 impl Gpu {

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 pub(super) fn used_globals<'a>(stages: &'a [StageShader], diags: &mut Diagnostics) -> BTreeMap<(u32, u32), Used<'a>> {
     let mut used: BTreeMap<(u32, u32), Used> = BTreeMap::new();
     for st in stages {
+        immediates(st, diags);
         for g in st.module.globals.iter().cloned() {
             if !reflect::used_by(&st.module, st.entry, g.handle) {
                 continue;
@@ -48,6 +49,25 @@ pub(super) fn used_globals<'a>(stages: &'a [StageShader], diags: &mut Diagnostic
         }
     }
     used
+}
+
+/// Immediate data (`var<immediate>`, wgpu's push constants) validates where the profile has
+/// `Immediates`, but no pass sets it: the draw would fail at the GPU. Said at the variable.
+fn immediates(st: &StageShader, diags: &mut Diagnostics) {
+    let m = &st.module.module;
+    for (h, g) in m.global_variables.iter() {
+        if g.space == naga::AddressSpace::Immediate && reflect::used_by(&st.module, st.entry, h) {
+            let name = g.name.clone().unwrap_or_default();
+            diags.push(
+                Diagnostic::error(
+                    Code::BindingType,
+                    format!("`{name}` is immediate data (`var<immediate>`), which no lightbench pass supplies"),
+                    st.module.global_span(h),
+                )
+                .with_note("put the value in the pass's parameter block (`var<uniform>`, filled from `params` or `values`)"),
+            );
+        }
+    }
 }
 
 fn both_uniform(a: &BindingTy, b: &BindingTy) -> bool {
