@@ -100,7 +100,11 @@ fn each_feature_is_accepted_where_present_and_located_where_missing() {
         }
         let with = check_project(&dir, "p.lbp", &with_it, None);
         let capability = with.errors().into_iter().any(|d| d.code.as_str() == "shader-validation");
-        assert!(!capability, "{feature:?}: still a validation error with the feature:\n{}", with.dump());
+        assert!(
+            !capability,
+            "{feature:?}: still a validation error with the feature:\n{}",
+            with.dump()
+        );
     }
 }
 
@@ -108,6 +112,34 @@ fn each_feature_is_accepted_where_present_and_located_where_missing() {
 #[test]
 fn the_readme_names_every_feature() {
     let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
-    let missing: Vec<&str> = Feature::NAMES.iter().copied().filter(|n| !readme.contains(&format!("`{n}`"))).collect();
+    let missing: Vec<&str> = Feature::NAMES
+        .iter()
+        .copied()
+        .filter(|n| !readme.contains(&format!("`{n}`")))
+        .collect();
     assert!(missing.is_empty(), "README lacks {missing:?}");
+}
+
+/// `blend: DualSource` needs a `@blend_src(1)` output: without one, an error at the blend; with
+/// the pair, one target and no error.
+#[test]
+fn dual_source_blend_needs_the_second_source() {
+    let pipeline =
+        "pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"t.wgsl\" {\n    color out blend DualSource\n}\noutput out\n";
+    let single = "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0);\n}\n";
+    let dir = write_project("dual-single", &[("p.lbp", pipeline), ("shaders/t.wgsl", single)]);
+    let out = check_project(&dir, "p.lbp", &Profile::vulkan(), None);
+    let located = out.located();
+    assert!(
+        located.iter().any(|(code, msg, file, line, col)| code == "fragment-outputs"
+            && msg.contains("blends `DualSource`, but entry point `fs_main` writes no `@blend_src(1)` output")
+            && file == "p.lbp"
+            && (*line, *col) == (4, 21)),
+        "{}",
+        out.dump()
+    );
+    let pair = "enable dual_source_blending;\nstruct Out {\n    @location(0) @blend_src(0) c: vec4<f32>,\n    @location(0) @blend_src(1) t: vec4<f32>,\n};\n@fragment\nfn fs_main() -> Out {\n    return Out(vec4<f32>(1.0), vec4<f32>(0.5));\n}\n";
+    let dir = write_project("dual-pair", &[("p.lbp", pipeline), ("shaders/t.wgsl", pair)]);
+    let out = check_project(&dir, "p.lbp", &Profile::vulkan(), None);
+    assert!(out.errors().is_empty(), "{}", out.dump());
 }

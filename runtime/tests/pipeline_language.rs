@@ -777,3 +777,28 @@ fn fs_main() -> @location(0) vec4<f32> {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("error[layer-select]: layer 3 is out of range: `stack` has 3"), "{err}");
 }
+
+/// `blend: DualSource` as the README gives it: the target becomes `src + dst × src1` per
+/// channel, the second source being the shader's `@blend_src(1)` output; the pair counts as one
+/// target.
+#[test]
+fn dual_source_blending_multiplies_by_the_second_source() {
+    let shader = "enable dual_source_blending;
+struct Out {
+    @location(0) @blend_src(0) color: vec4<f32>,
+    @location(0) @blend_src(1) transmit: vec4<f32>,
+};
+@fragment
+fn fs_main() -> Out {
+    return Out(vec4<f32>(0.2, 0.0, 0.0, 0.0), vec4<f32>(0.5, 1.0, 0.0, 1.0));
+}
+";
+    let pipeline = "pipeline p\ntexture out: Rgba8Unorm 8x8\nfullscreen f \"tint.wgsl\" {\n    color out clear(0.5, 0.5, 0.5, 1) blend DualSource\n}\noutput out\n";
+    let d = project("dual-source", &[("shaders/tint.wgsl", shader), ("pipelines/p.lbp", pipeline)]);
+    let (img, _) = render_out(&d.join("pipelines/p.lbp"), 1);
+    let [r, g, b, a] = img.pixel(4, 4);
+    let want = [0.2 + 0.5 * 0.5, 0.5 * 1.0, 0.0, 1.0];
+    for (got, want) in [r, g, b, a].into_iter().zip(want) {
+        assert!((got - want).abs() < 1.5 / 255.0, "{:?} vs {want:?}", img.pixel(4, 4));
+    }
+}

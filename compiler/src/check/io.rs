@@ -44,8 +44,12 @@ pub fn check(p: &Pipeline, pass: &Pass, stages: &[StageShader], diags: &mut Diag
 }
 
 fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Diagnostics) {
-    let outs = reflect::outputs(&fs.module, fs.entry);
+    let mut outs = reflect::outputs(&fs.module, fs.entry);
     let ep_span = fs.sref.entry.span;
+    // A dual-source pair (`@blend_src(0)`, `@blend_src(1)`) shares one location: one target.
+    let dual = outs.iter().any(|o| o.blend_src == Some(1));
+    outs.retain(|o| o.blend_src.unwrap_or(0) == 0);
+    dual_source(pass, fs, dual, diags);
     if outs.len() != pass.color().len() {
         let mut d = Diagnostic::error(
             Code::FragmentOutputs,
@@ -122,6 +126,29 @@ fn fragment_outputs(p: &Pipeline, pass: &Pass, fs: &StageShader, diags: &mut Dia
                     c.resource.span,
                 )
                 .with_secondary(ep_span, "fragment entry point"),
+            );
+        }
+    }
+}
+
+/// `blend: DualSource` takes its second source from the shader's `@blend_src(1)` output.
+fn dual_source(pass: &Pass, fs: &StageShader, dual: bool, diags: &mut Diagnostics) {
+    for c in pass.color() {
+        let Some(b) = c.blend.as_ref().filter(|b| b.value == crate::ir::Blend::DualSource) else {
+            continue;
+        };
+        if !dual {
+            diags.push(
+                Diagnostic::error(
+                    Code::FragmentOutputs,
+                    format!(
+                        "target `{}` blends `DualSource`, but entry point `{}` writes no `@blend_src(1)` output",
+                        c.resource.value, fs.sref.entry.value
+                    ),
+                    b.span,
+                )
+                .with_secondary(fs.module.entry_span(fs.entry), "the entry point, whose result declares its outputs")
+                .with_note("write `@location(0) @blend_src(0)` and `@location(0) @blend_src(1)` (`enable dual_source_blending;`), or choose another blend"),
             );
         }
     }

@@ -81,15 +81,19 @@ pub enum Blend {
     Alpha,
     /// dst * src (AO / shadow modulation).
     Multiply,
+    /// src + dst * src1, per channel: dual-source blending, the second source being the
+    /// shader's `@blend_src(1)` output (a coloured transmittance). Needs `DualSourceBlending`.
+    DualSource,
 }
 
 impl Blend {
-    pub const NAMES: [&'static str; 3] = ["Add", "Alpha", "Multiply"];
+    pub const NAMES: [&'static str; 4] = ["Add", "Alpha", "Multiply", "DualSource"];
     pub fn from_name(s: &str) -> Option<Self> {
         match s {
             "Add" => Some(Blend::Add),
             "Alpha" => Some(Blend::Alpha),
             "Multiply" => Some(Blend::Multiply),
+            "DualSource" => Some(Blend::DualSource),
             _ => None,
         }
     }
@@ -98,6 +102,7 @@ impl Blend {
             Blend::Add => "Add",
             Blend::Alpha => "Alpha",
             Blend::Multiply => "Multiply",
+            Blend::DualSource => "DualSource",
         }
     }
 }

@@ -181,7 +181,12 @@ pub fn capability_span(messages: &[String], text: &str) -> Option<(std::ops::Ran
     // `SHADER_INT64_ATOMIC`).
     let named = messages.iter().find_map(|m| {
         let at = m.find(key)?;
-        Some(m[at..].chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>())
+        Some(
+            m[at..]
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+                .collect::<String>(),
+        )
     });
     let cap = named.as_deref().unwrap_or(key);
     let code = |i: usize| !text[..i].rsplit('\n').next().unwrap_or("").contains("//");
@@ -194,7 +199,10 @@ pub fn capability_span(messages: &[String], text: &str) -> Option<(std::ops::Ran
     let word_at = |w: &str| {
         text.match_indices(w).map(|(i, _)| i).find(|&i| {
             let before = text[..i].chars().next_back().is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
-            let after = text[i + w.len()..].chars().next().is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
+            let after = text[i + w.len()..]
+                .chars()
+                .next()
+                .is_none_or(|c| !(c.is_alphanumeric() || c == '_'));
             (before && after || w.contains('<')) && code(i)
         })
     };

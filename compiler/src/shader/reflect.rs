@@ -144,6 +144,8 @@ pub fn sampling_pairs(sm: &ShaderModule, ep: usize) -> Vec<(Handle<naga::GlobalV
 #[derive(Clone, Debug, PartialEq)]
 pub struct IoVar {
     pub location: u32,
+    /// `@blend_src(i)` of a dual-source fragment output.
+    pub blend_src: Option<u32>,
     pub scalar: naga::ScalarKind,
     pub components: u32,
     pub name: String,
@@ -156,7 +158,7 @@ fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, na
                 io_of(m, mem.ty, mem.binding.as_ref(), mem.name.as_deref(), out);
             }
         }
-        (inner, Some(Binding::Location { location, .. })) => {
+        (inner, Some(Binding::Location { location, blend_src, .. })) => {
             let (scalar, components) = match inner {
                 TypeInner::Scalar(s) => (s.kind, 1),
                 TypeInner::Vector { size, scalar } => (scalar.kind, *size as u32),
@@ -164,6 +166,7 @@ fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, na
             };
             out.push(IoVar {
                 location: *location,
+                blend_src: *blend_src,
                 scalar,
                 components,
                 name: name.unwrap_or("").to_string(),

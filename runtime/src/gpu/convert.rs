@@ -80,6 +80,18 @@ pub fn blend(b: Blend) -> wgpu::BlendState {
             };
             wgpu::BlendState { color: m, alpha: m }
         }
+        Blend::DualSource => wgpu::BlendState {
+            color: C {
+                src_factor: F::One,
+                dst_factor: F::Src1,
+                operation: O::Add,
+            },
+            alpha: C {
+                src_factor: F::One,
+                dst_factor: F::Src1Alpha,
+                operation: O::Add,
+            },
+        },
     }
 }
 
