@@ -1540,11 +1540,12 @@ fn a_number_beyond_f32_is_non_finite() {
 }
 
 /// An entry-point error naga gives no span for is located at what it names — here the
-/// argument whose builtin needs a capability no profile has — not at the file's first byte,
-/// and the note says that no `requires` feature provides it.
+/// argument whose builtin needs a capability the `webgpu` profile lacks — not at the file's
+/// first byte, and the note names the feature to require.
 #[test]
 fn entry_point_errors_are_located_at_the_argument() {
     let case = Case {
+        profile: "webgpu",
         post: &[
             ("struct Params", "enable primitive_index;\n\nstruct Params"),
             (
@@ -1570,7 +1571,7 @@ fn entry_point_errors_are_located_at_the_argument() {
     );
     assert!(
         out.dump()
-            .contains("PRIMITIVE_INDEX: no feature a pipeline can `requires` provides it"),
+            .contains("PRIMITIVE_INDEX needs the wgpu feature `PRIMITIVE_INDEX`: add `PrimitiveIndex`"),
         "{}",
         out.dump()
     );

@@ -41,7 +41,7 @@ fn cases() -> Vec<(Feature, String, &'static str)> {
         (
             Feature::PrimitiveIndex,
             "enable primitive_index;\n@group(2) @binding(0) var<storage, read_write> b: array<u32>;\n@fragment\nfn fs_main(@builtin(primitive_index) p: u32) -> @location(0) vec4<f32> {\n    return vec4<f32>(f32(p));\n}\n@compute @workgroup_size(64)\nfn cs_main(@builtin(local_invocation_index) i: u32) {\n    b[i] = i;\n}\n".to_string(),
-            "enable primitive_index",
+            "@builtin(primitive_index)",
         ),
         (
             Feature::ExperimentalRayQuery,

@@ -48,6 +48,25 @@ impl Error {
             message: e.to_string(),
         }
     }
+    /// The same error said at `place` (`FILE:LINE`), keeping its kind (and so its exit code).
+    pub fn at(self, place: &str) -> Error {
+        let at = |m: String| format!("{place}: {m}");
+        match self {
+            Error::Compile(m) => Error::Compile(at(m)),
+            Error::Adapter(m) => Error::Adapter(at(m)),
+            Error::Gpu { what, message } => Error::Gpu { what: at(what), message },
+            Error::Plan(m) => Error::Plan(at(m)),
+            Error::Scene(m) => Error::Scene(at(m)),
+            Error::Resource(m) => Error::Resource(at(m)),
+            Error::Io { path, message } => Error::Io {
+                message: at(message),
+                path,
+            },
+            Error::Usage(m) => Error::Usage(at(m)),
+            Error::Input(m) => Error::Input(at(m)),
+            Error::Param(e) => Error::Usage(at(e.to_string())),
+        }
+    }
     pub fn gpu(what: impl Into<String>, e: impl std::fmt::Display) -> Error {
         Error::Gpu {
             what: what.into(),

@@ -1,6 +1,7 @@
 //! Diagnostics: a code, a message, labelled spans and notes; rendered rustc-style or as JSON.
 
 mod code;
+pub mod spelling;
 
 pub use code::Code;
 
@@ -119,7 +120,7 @@ impl Diagnostic {
         }
         let lbp = self.primary_span().is_some_and(|s| sources.get(s.file).name.ends_with(".lbp"));
         if lbp {
-            use crate::front::lbp::hints::spell;
+            use spelling::spell;
             d.message = spell(&d.message);
             d.notes.iter_mut().for_each(|n| *n = spell(n));
             d.labels.iter_mut().for_each(|l| l.message = spell(&l.message));

@@ -426,9 +426,16 @@ fn validation_error(
         chain.push(s.to_string());
         source = s.source();
     }
+    // The argument or result an entry-point error names, else where the shader asks for a
+    // missing capability, else the `fn` line.
     let fallback = || {
-        readable::capability_span(&chain, text)
-            .or_else(|| readable::signature_span(e.as_inner(), text))
+        let signature = readable::signature_span(e.as_inner(), text);
+        let specific = signature
+            .clone()
+            .filter(|(_, what)| what.starts_with("argument") || what == "the result");
+        specific
+            .or_else(|| readable::capability_span(&chain, text))
+            .or(signature)
             .map(|(r, what)| (map(naga::Span::new(r.start as u32, r.end as u32)), what))
             .unwrap_or((map(naga::Span::UNDEFINED), String::new()))
     };

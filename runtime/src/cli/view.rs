@@ -43,26 +43,7 @@ fn script(a: &Args) -> Result<Vec<Step>> {
         let text = vfs::read_bytes(f, vfs::MAX_FILE_BYTES)
             .and_then(vfs::utf8)
             .map_err(|e| Error::io(f, e))?;
-        for (n, line) in text.lines().enumerate().map(|(n, l)| (n + 1, l.trim())) {
-            if line.is_empty() || line.starts_with('#') {
-                continue;
-            }
-            let at = format!("{}:{n}", f.display());
-            match line.strip_prefix("frames ") {
-                Some(k) => {
-                    steps.push(Step::Frames(k.trim().parse().map_err(|_| {
-                        Error::Usage(format!("{at}: script line `{line}`: `frames` takes a whole number"))
-                    })?))
-                }
-                None => {
-                    crate::viewer::state::parse_action(line, None).map_err(|e| match e {
-                        Error::Usage(m) => Error::Usage(format!("{at}: {m}")),
-                        e => e,
-                    })?;
-                    steps.push(Step::Line(line.to_string(), at));
-                }
-            }
-        }
+        steps = crate::viewer::script::parse(&text, &f.display().to_string())?;
     }
     if let Some(n) = a.screenshot_after {
         steps.push(Step::Frames(n));

@@ -82,11 +82,8 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
     if let Some(first) = todo.first() {
         // The names the spec uses do not depend on the point: checked once, planned as it is.
         let scene = scene(&mut inputs, l, first)?.clone();
-        let plan = crate::render::plan_configured(&ws, (&l.pipeline(), None), (&gpu.profile, &scene), &[])?;
-        let checked = ws.session().load_checked(&l.pipeline(), None, &gpu.profile);
-        let checked = checked.ok_or_else(|| Error::Input(format!("{}: the pipeline has errors", l.pipeline().display())))?;
-        settings::check(l, &plan.exe.plan, &checked, &points)?;
-        if let Some(note) = crate::render::uncalled_effects_note(&plan.exe.plan) {
+        let plan = check_up_front(&ws, &gpu.profile, l, &scene, &points)?;
+        if let Some(note) = crate::render::uncalled_effects_note(&plan) {
             eprintln!("{note}");
         }
     }
@@ -110,6 +107,27 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
     })
 }
 
+/// What `run` checks before it renders anything (GPU-free): the pipeline plans on `scene`
+/// (the first point's) and every point's settings fit it. Returns the default Plan.
+pub fn check_up_front(
+    ws: &Workspace,
+    profile: &lightbench_compiler::profile::Profile,
+    l: &Loaded,
+    scene: &Scene,
+    points: &[Point],
+) -> Result<lightbench_compiler::plan::Plan> {
+    // A pipeline that cannot be read is said at the spec's `pipeline`; one that does not
+    // compile brings its own located diagnostics.
+    let plan = crate::render::plan_configured(ws, (&l.pipeline(), None), (profile, scene), &[]).map_err(|e| match e {
+        Error::Io { .. } | Error::Usage(_) => l.error_at("pipeline:", e),
+        e => e,
+    })?;
+    let checked = ws.session().load_checked(&l.pipeline(), None, profile);
+    let checked = checked.ok_or_else(|| Error::Input(format!("{}: the pipeline has errors", l.pipeline().display())))?;
+    settings::check(l, &plan.exe.plan, &checked, points)?;
+    Ok(plan.exe.plan)
+}
+
 fn progress(n: usize, visible: bool) -> indicatif::ProgressBar {
     if !visible {
         return indicatif::ProgressBar::hidden();
@@ -124,10 +142,18 @@ fn progress(n: usize, visible: bool) -> indicatif::ProgressBar {
 fn scene<'a>(inputs: &'a mut Inputs, l: &Loaded, p: &Point) -> Result<&'a Scene> {
     let key = (p.scene.clone(), p.size);
     if !inputs.scenes.contains_key(&key) {
-        let s = crate::scene::load::load_sized(&l.scene(&p.scene), p.size, &l.effects)?;
+        let s = load_scene(l, p)?;
         inputs.scenes.insert(key.clone(), s);
     }
     Ok(&inputs.scenes[&key])
+}
+
+/// A point's scene at its size; a scene that does not load is said at its name in `scenes`.
+pub fn load_scene(l: &Loaded, p: &Point) -> Result<Scene> {
+    crate::scene::load::load_sized(&l.scene(&p.scene), p.size, &l.effects).map_err(|e| match e {
+        Error::Scene(_) | Error::Io { .. } | Error::Usage(_) => l.error_in("scenes", &format!("\"{}\"", p.scene), e),
+        e => e,
+    })
 }
 
 fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> Result<()> {

@@ -184,11 +184,12 @@ impl Loaded {
 
     /// `error_at` for the first `needle` after the field `section` (e.g. a key of `grid`).
     pub fn error_in(&self, section: &str, needle: &str, msg: impl std::fmt::Display) -> Error {
-        let from = self.text.find(&format!("{section}:")).filter(|_| !section.is_empty()).unwrap_or(0);
-        match self.text[from..].find(needle).map(|i| i + from) {
-            Some(i) => self.error_at_offset(i, msg),
-            None => Error::Input(format!("{}: {msg}", self.path.display())),
-        }
+        let section_at = self.text.find(&format!("{section}:")).filter(|_| !section.is_empty());
+        let from = section_at.unwrap_or(0);
+        // Not written as searched for (a value spelled another way): at its section, else
+        // at the top of the file — never without a place.
+        let at = self.text[from..].find(needle).map(|i| i + from).or(section_at).unwrap_or(0);
+        self.error_at_offset(at, msg)
     }
 
     /// `file:line:col: message` at byte `i` of the spec (columns in characters).
@@ -267,6 +268,10 @@ fn check(l: &Loaded) -> Result<()> {
     }
     if s.scenes.is_empty() {
         return Err(l.error_at("scenes", "`scenes` names no scene"));
+    }
+    if !l.pipeline().is_file() {
+        let msg = format!("no pipeline file `{}` (paths are relative to the spec)", l.pipeline().display());
+        return Err(l.error_in("pipeline", &format!("{:?}", s.pipeline), msg));
     }
     if s.effect.is_empty() {
         return Err(l.error_at("effect", "`effect` names no pass: which passes are the effect's cost?"));

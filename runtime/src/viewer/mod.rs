@@ -1,11 +1,13 @@
 //! `lightbench view`: an interactive window onto a running pipeline (seed 000 ch. 6.1, 8):
 //! the output or any resource of the Plan, camera and light controls, parameter and variant
 //! widgets, per-pass costs, screenshots. Sub-stages: `state` (what is shown and the actions
-//! that change it: keys, widgets and `--script` alike), `display` (any format as an image),
-//! `panels` (egui), `window` (winit, the wgpu surface).
+//! that change it: keys, widgets and `--script` alike), `script` (a script file as steps, one
+//! step run), `display` (any format as an image), `panels` (egui), `window` (winit, the
+//! wgpu surface).
 
 pub mod display;
 mod panels;
+pub mod script;
 pub mod state;
 mod window;
 
@@ -14,7 +16,7 @@ use crate::scene::Scene;
 use lightbench_compiler::Workspace;
 use std::path::PathBuf;
 
-pub use window::Step;
+pub use script::Step;
 
 /// What to show.
 pub struct Options {

@@ -13,12 +13,7 @@ use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-/// A script step: an action line (see `state::parse_action`) and where it was written
-/// (`FILE:LINE`, which its errors name), or frames to render before the next one.
-pub enum Step {
-    Line(String, String),
-    Frames(u32),
-}
+use super::script::Step;
 
 struct Running {
     window: Arc<Window>,
@@ -175,12 +170,7 @@ impl Running {
     fn redraw(&mut self, line: Option<(String, String)>) -> Result<()> {
         if let Some((l, at)) = line {
             // A scripted action that fails stops the script: the error is the result, located.
-            let locate = |e: Error| match e {
-                Error::Usage(m) => Error::Usage(format!("{at}: {m}")),
-                e => e,
-            };
-            let a = super::state::parse_action(&l, Some(self.viewer.ex.plan())).map_err(locate)?;
-            self.viewer.apply(&self.gpu, a).map_err(locate)?;
+            super::script::run_line(&mut self.viewer, &self.gpu, &l, &at)?;
         }
         self.camera_keys();
         self.viewer.poll_reload(&self.gpu);

@@ -1,5 +1,5 @@
-//! The LBP spelling of the RON forms that diagnostics quote: checks exist once and write
-//! their hints in RON; a diagnostic about an `.lbp` file shows them as LBP would write them.
+//! Diagnostics' spelling: checks exist once and write their hints in RON; a diagnostic about
+//! an `.lbp` file shows the RON forms it quotes as LBP would write them.
 
 /// `text` with every backticked RON form the checks quote rewritten in LBP.
 pub fn spell(text: &str) -> String {
