@@ -1600,3 +1600,27 @@ fn a_missing_capability_names_the_feature_to_require() {
         out.dump()
     );
 }
+
+/// An operation only fragment shaders may use, in a function the vertex stage calls, is
+/// located at the statement (`discard`), not at the entry point.
+#[test]
+fn discard_outside_a_fragment_shader_is_located_at_the_statement() {
+    let scene = SCENE_WGSL
+        .replace(
+            "@vertex",
+            "fn clip(x: f32) -> f32 {\n    if x > 100.0 {\n        discard;\n    }\n    return x;\n}\n\n@vertex",
+        )
+        .replace("out.clip = vec4<f32>(position, 1.0);", "out.clip = vec4<f32>(position, clip(1.0));");
+    let line = scene.lines().position(|l| l.trim() == "discard;").unwrap() + 1;
+    expect(
+        Case {
+            files: &[("shaders/scene.wgsl", &scene)],
+            ..BASE
+        },
+        "shader-validation",
+        "Entry point vs_main at Vertex is invalid",
+        "shaders/scene.wgsl",
+        line,
+        9,
+    );
+}

@@ -409,11 +409,10 @@ fn validation_error(
     } = e.as_inner()
     {
         if let Some(ep) = module.entry_points.iter().find(|ep| ep.stage == *stage && ep.name == *name) {
-            let label = "needs implicit derivatives, which only fragment shaders have (use `textureSampleLevel`)";
             spans.extend(
                 readable::forbidden_operations(module, ep)
                     .into_iter()
-                    .map(|s| (map(s), label.to_string())),
+                    .map(|(s, label)| (map(s), label.to_string())),
             );
         }
     }

@@ -291,8 +291,9 @@ pub fn function_of<'m>(e: &naga::valid::ValidationError, m: &'m Module) -> Optio
 }
 
 /// Where an entry point (or a function it calls) uses an operation only fragment shaders
-/// may: implicit-derivative sampling and derivatives.
-pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<Span> {
+/// may: implicit-derivative sampling and derivatives, and `discard`; each with what it is.
+pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<(Span, &'static str)> {
+    const DERIVATIVES: &str = "needs implicit derivatives, which only fragment shaders have (use `textureSampleLevel`)";
     let mut spans = vec![];
     let mut todo = vec![&ep.function];
     let mut seen = std::collections::BTreeSet::<Handle<naga::Function>>::new();
@@ -304,9 +305,10 @@ pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<Span> {
                 _ => false,
             };
             if implicit {
-                spans.push(f.expressions.get_span(h));
+                spans.push((f.expressions.get_span(h), DERIVATIVES));
             }
         }
+        discards(&f.body, &mut spans);
         let mut called = vec![];
         crate::shader::reflect::called(&f.body, &mut called);
         for h in called {
@@ -316,6 +318,27 @@ pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<Span> {
         }
     }
     spans
+}
+
+/// `discard` statements of a block and the blocks inside it.
+fn discards(b: &naga::Block, out: &mut Vec<(Span, &'static str)>) {
+    use naga::Statement as S;
+    for (s, span) in b.span_iter() {
+        match s {
+            S::Kill => out.push((*span, "`discard` ends a fragment; other stages cannot use it")),
+            S::Block(inner) => discards(inner, out),
+            S::If { accept, reject, .. } => {
+                discards(accept, out);
+                discards(reject, out);
+            }
+            S::Switch { cases, .. } => cases.iter().for_each(|c| discards(&c.body, out)),
+            S::Loop { body, continuing, .. } => {
+                discards(body, out);
+                discards(continuing, out);
+            }
+            _ => {}
+        }
+    }
 }
 
 #[cfg(test)]
