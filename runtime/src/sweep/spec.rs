@@ -269,10 +269,6 @@ fn check(l: &Loaded) -> Result<()> {
     if s.scenes.is_empty() {
         return Err(l.error_at("scenes", "`scenes` names no scene"));
     }
-    if !l.pipeline().is_file() {
-        let msg = format!("no pipeline file `{}` (paths are relative to the spec)", l.pipeline().display());
-        return Err(l.error_in("pipeline", &format!("{:?}", s.pipeline), msg));
-    }
     if s.effect.is_empty() {
         return Err(l.error_at("effect", "`effect` names no pass: which passes are the effect's cost?"));
     }
@@ -318,6 +314,10 @@ fn check(l: &Loaded) -> Result<()> {
                 ));
             }
         }
+    }
+    if !l.pipeline().is_file() {
+        let msg = format!("no pipeline file `{}` (paths are relative to the spec)", l.pipeline().display());
+        return Err(l.error_in("pipeline", &format!("{:?}", s.pipeline), msg));
     }
     Ok(())
 }
@@ -412,6 +412,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join(format!("s{}.ron", crate::render::fnv1a(text.as_bytes())));
         std::fs::write(&p, text).unwrap();
+        std::fs::write(dir.join("p.lbp"), "").unwrap(); // the spec's pipeline exists
         load(&p)
     }
 
