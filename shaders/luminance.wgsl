@@ -63,6 +63,7 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
         lum.white = max_lum[0];
         lum.covered = f32(covered[0]);
         lum.by_luminance = select(0.0, 1.0, params.by_luminance != 0u);
+        lum.adapted = lum.log_average;
         lum.exposure = select(exp2(params.ev), params.key / max(lum.log_average, DELTA), params.automatic != 0u);
     }
 }

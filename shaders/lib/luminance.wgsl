@@ -13,6 +13,11 @@ struct Luminance {
     covered: f32,
     // 1: metered and tone mapped by luminance (seed 003); 0: by the largest channel
     by_luminance: f32,
+    // the log-average the exposure follows: `log_average`, or with eye adaptation
+    // (`luminance_adapt.wgsl`) its value moving towards it over time
+    adapted: f32,
+    // `frame.time` of the frame that last adapted (eye adaptation only)
+    adapted_at: f32,
 };
 
 fn luminance(c: vec3<f32>) -> f32 {
