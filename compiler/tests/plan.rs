@@ -170,14 +170,14 @@ fn layouts_come_from_formats_and_shader_use() {
         binding(&plan, "luminance", "lum").ty,
         BindingType::Storage {
             read_only: false,
-            min_binding_size: 20
+            min_binding_size: 28
         }
     );
     assert_eq!(
         binding(&plan, "tonemap", "lum").ty,
         BindingType::Storage {
             read_only: true,
-            min_binding_size: 20
+            min_binding_size: 28
         }
     );
     assert_eq!(binding(&plan, "shadow_map", "lights").source, BindSource::Lights);

@@ -30,10 +30,18 @@ fn render_writes_image_dumps_timings_and_manifest() {
     assert_eq!((img.width(), img.height()), (128, 128));
     // The table lists every executed pass with a GPU time; the static scene's passes ran only
     // in the cold first frame (then were reused), which the table marks and explains.
-    for pass in ["gbuffer", "shadow_cube_classic", "ambient", "light_point", "luminance", "tonemap"] {
+    for pass in [
+        "gbuffer",
+        "shadow_cube_classic",
+        "ambient",
+        "light_point",
+        "luminance_tiles",
+        "luminance",
+        "tonemap",
+    ] {
         let line = out
             .lines()
-            .find(|l| l.starts_with(pass))
+            .find(|l| l.split_whitespace().next() == Some(pass))
             .unwrap_or_else(|| panic!("{pass} missing:\n{out}"));
         let cell = line.split_whitespace().nth(2).unwrap();
         let gpu_ms: f64 = cell
@@ -52,7 +60,7 @@ fn render_writes_image_dumps_timings_and_manifest() {
     let timings: serde_json::Value = serde_json::from_slice(&std::fs::read(d.join("timings.json")).unwrap()).unwrap();
     let frames = timings.as_array().unwrap();
     assert_eq!(frames.len(), 2, "one array per frame");
-    assert!(frames.iter().all(|f| f.as_array().unwrap().len() == 6));
+    assert!(frames.iter().all(|f| f.as_array().unwrap().len() == 7));
     let manifest: serde_json::Value = serde_json::from_slice(&std::fs::read(d.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["scene"], "cornell");
     assert!(manifest["adapter"]["name"].as_str().unwrap().len() > 2);
@@ -70,7 +78,7 @@ fn render_writes_image_dumps_timings_and_manifest() {
     let (code, out, err) = run(&["render", "--out", &s("warm.png"), "--frames", "2", "--timings", "--no-reuse"]);
     assert_eq!(code, 0, "{err}");
     let rows: Vec<&str> = out.lines().filter(|l| l.ends_with("/2")).collect();
-    assert_eq!(rows.len(), 6, "{out}");
+    assert_eq!(rows.len(), 7, "{out}");
     assert!(rows.iter().all(|l| l.ends_with("2/2")) && !out.contains('*'), "{out}");
 }
 

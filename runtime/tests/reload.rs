@@ -169,15 +169,18 @@ fn overrides_that_no_longer_apply_are_dropped_and_bad_ones_refused() {
     assert!(ex.set_param("tonemap.key", ParamValue::Bool(true)).is_err(), "wrong type");
     ex.set_param("tonemap.key", ParamValue::Float(0.3)).unwrap();
 
-    // The parameter is renamed in the pipeline file (and its block field in the shader).
+    // The parameter is renamed in the pipeline file (and its block field in the shaders of the
+    // luminance options).
     let text = vfs
         .read(Path::new(PIPELINE))
         .unwrap()
         .replace("tonemap.key", "tonemap.exposure_key");
     vfs.write(PIPELINE, text);
-    let shader = "mem/shaders/luminance.wgsl";
-    let text = vfs.read(Path::new(shader)).unwrap().replace("key", "exposure_key");
-    vfs.write(shader, text);
+    for shader in ["luminance.wgsl", "luminance_reduce.wgsl", "luminance_adapt.wgsl"] {
+        let shader = format!("mem/shaders/{shader}");
+        let text = vfs.read(Path::new(&shader)).unwrap().replace("key", "exposure_key");
+        vfs.write(&shader, text);
+    }
     let report = ex.replace(&g, &compile(&g, &ws, &scene)).unwrap();
     assert_eq!(report.params_dropped.len(), 1, "{report:?}");
     assert_eq!(report.params_dropped[0].0, "tonemap.key");
