@@ -3,35 +3,39 @@
 //! (`luminance = single`) against the parallel one (`parallel`: tiles, then the tiles), on the
 //! Cornell box at three resolutions. Not a test; needs a GPU adapter (lavapipe is enough).
 //! Every pass runs every frame; figures are GPU-ms means over the frames after a warm-up, and
-//! the ratio is single / parallel of the reduction's cost.
+//! the ratio is single / parallel of the reduction's cost. Then what FXAA (`aa = fxaa`, seed
+//! 003 §3.3) costs per frame at the same resolutions, beside the tone mapping it follows.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::builtin;
 use std::path::Path;
 
-/// (reduction GPU ms, tone-mapping pass GPU ms) per frame.
-fn measure(gpu: &Gpu, size: (u32, u32), option: &str, frames: u32) -> (f64, f64) {
+/// (reduction GPU ms, tone-mapping pass GPU ms, FXAA GPU ms) per frame.
+fn measure(gpu: &Gpu, size: (u32, u32), variants: &[(&str, &str)], frames: u32) -> (f64, f64, f64) {
     let mut scene = builtin::cornell();
     scene.size = size;
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
-    let variants = [("luminance".to_string(), option.to_string())];
+    let variants: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let (exe, _) = lightbench::render::compile(gpu, &pipeline, None, &scene, &variants).unwrap_or_else(|e| panic!("{e}"));
     let mut ex = Executor::new(gpu, &exe, &scene).expect("executor");
     ex.set_reuse(false);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
-    let (mut reduce, mut tonemap) = (0.0, 0.0);
+    let (mut reduce, mut tonemap, mut fxaa) = (0.0, 0.0, 0.0);
     for f in 1..=frames {
         ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
         for t in &ex.last_timings {
             let ms = t.gpu_ms.unwrap_or(f64::NAN);
             if t.pass.starts_with("luminance") {
                 reduce += ms;
-            } else if t.pass == "tonemap" {
+            } else if t.pass.starts_with("tonemap") {
                 tonemap += ms;
+            } else if t.pass == "fxaa" {
+                fxaa += ms;
             }
         }
     }
-    (reduce / frames as f64, tonemap / frames as f64)
+    let f = frames as f64;
+    (reduce / f, tonemap / f, fxaa / f)
 }
 
 fn main() {
@@ -43,12 +47,22 @@ fn main() {
         "size", "single ms", "parallel ms", "tonemap ms", "single/parallel"
     );
     for size in [(256, 256), (1024, 1024), (2048, 2048)] {
-        let (single, tone) = measure(&gpu, size, "single", 5);
-        let (parallel, _) = measure(&gpu, size, "parallel", 5);
+        let (single, tone, _) = measure(&gpu, size, &[("luminance", "single")], 5);
+        let (parallel, _, _) = measure(&gpu, size, &[("luminance", "parallel")], 5);
         println!(
             "{:>11} {single:>14.3} {parallel:>14.3} {tone:>12.3} {:>15.2}×",
             format!("{}x{}", size.0, size.1),
             single / parallel
+        );
+    }
+    println!("FXAA (aa = fxaa), GPU ms per frame");
+    println!("{:>11} {:>12} {:>10} {:>16}", "size", "tonemap ms", "fxaa ms", "fxaa/tonemap");
+    for size in [(256, 256), (1024, 1024), (2048, 2048)] {
+        let (_, tone, fxaa) = measure(&gpu, size, &[("aa", "fxaa")], 5);
+        println!(
+            "{:>11} {tone:>12.3} {fxaa:>10.3} {:>15.2}×",
+            format!("{}x{}", size.0, size.1),
+            fxaa / tone
         );
     }
 }

@@ -67,7 +67,9 @@ fn fxaa_lowers_the_edge_error_and_leaves_flat_regions_alone() {
         }
     }
     let (rmse_plain, rmse_fxaa) = ((err_plain / edges as f64).sqrt(), (err_fxaa / edges as f64).sqrt());
-    eprintln!("{edges} edge pixels: RMSE vs 16× supersampling {rmse_plain:.4} without AA, {rmse_fxaa:.4} with FXAA; {flat} flat pixels unchanged");
+    eprintln!(
+        "{edges} edge pixels: RMSE vs 16× supersampling {rmse_plain:.4} without AA, {rmse_fxaa:.4} with FXAA; {flat} flat pixels unchanged"
+    );
     assert!(edges > 50 && flat > 1000, "{edges} edges, {flat} flat");
     assert!(rmse_fxaa < 0.85 * rmse_plain, "FXAA {rmse_fxaa} vs none {rmse_plain}");
 }
