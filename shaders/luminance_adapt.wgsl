@@ -1,4 +1,4 @@
-// Log-average luminance with eye adaptation (variant `adaptation = on`): step 2 of the
+// Log-average luminance with eye adaptation (variant `luminance = adapting`): step 2 of the
 // parallel reduction (`luminance_reduce.wgsl`), then the luminance the exposure follows moves
 // towards the measured one over time, exponentially with time constant `exposure.tau_brighter`
 // when the scene gets brighter and `exposure.tau_darker` when it gets darker (seconds; eyes
@@ -6,8 +6,7 @@
 // first frame (or a τ of 0) takes the measured value. Reads `frame.time`, so the pass runs
 // every frame.
 #include "lib/frame.wgsl"
-#include "lib/luminance.wgsl"
-#include "lib/luminance_tiles.wgsl"
+#include "lib/log_average.wgsl"
 
 struct Params {
     key: f32,
@@ -22,13 +21,11 @@ struct Params {
 @group(2) @binding(1) var<storage, read_write> lum: Luminance;
 @group(2) @binding(2) var<uniform> params: Params;
 
-const DELTA: f32 = 1e-4;
-
 @compute @workgroup_size(16, 16, 1)
 fn cs_main(@builtin(local_invocation_index) idx: u32) {
     let r = reduce_tiles(lum_tiles, idx);
     if idx == 0u {
-        let measured = log_average_of(r, DELTA);
+        let measured = log_average_of(r);
         let previous = lum.adapted;
         let tau = select(params.tau_darker, params.tau_brighter, measured > previous);
         let dt = max(frame.time - lum.adapted_at, 0.0);
@@ -41,6 +38,6 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
         lum.by_luminance = select(0.0, 1.0, params.by_luminance != 0u);
         lum.adapted = adapted;
         lum.adapted_at = frame.time;
-        lum.exposure = select(exp2(params.ev), params.key / max(adapted, DELTA), params.automatic != 0u);
+        lum.exposure = select(exp2(params.ev), params.key / max(adapted, LOG_DELTA), params.automatic != 0u);
     }
 }

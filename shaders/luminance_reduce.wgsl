@@ -1,8 +1,7 @@
 // Log-average luminance, step 2 of 2 (see `luminance_tiles.wgsl`): the tiles reduced in one
 // workgroup, and the exposure the tone mappers apply: key / log-average when automatic, 2^ev
 // when manual. `luminance_adapt.wgsl` is the same with eye adaptation over frames.
-#include "lib/luminance.wgsl"
-#include "lib/luminance_tiles.wgsl"
+#include "lib/log_average.wgsl"
 
 // The block of `luminance_adapt.wgsl`, which the `adapting` option substitutes for this
 // shader in the same pass: the time constants are unused here.
@@ -19,17 +18,15 @@ struct Params {
 @group(2) @binding(1) var<storage, read_write> lum: Luminance;
 @group(2) @binding(2) var<uniform> params: Params;
 
-const DELTA: f32 = 1e-4;
-
 @compute @workgroup_size(16, 16, 1)
 fn cs_main(@builtin(local_invocation_index) idx: u32) {
     let r = reduce_tiles(lum_tiles, idx);
     if idx == 0u {
-        lum.log_average = log_average_of(r, DELTA);
+        lum.log_average = log_average_of(r);
         lum.white = r.y;
         lum.covered = r.z;
         lum.by_luminance = select(0.0, 1.0, params.by_luminance != 0u);
         lum.adapted = lum.log_average;
-        lum.exposure = select(exp2(params.ev), params.key / max(lum.log_average, DELTA), params.automatic != 0u);
+        lum.exposure = select(exp2(params.ev), params.key / max(lum.log_average, LOG_DELTA), params.automatic != 0u);
     }
 }
