@@ -308,7 +308,11 @@ pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<(Span, &'s
                 spans.push((f.expressions.get_span(h), DERIVATIVES));
             }
         }
-        discards(&f.body, &mut spans);
+        crate::shader::reflect::statements(&f.body, &mut |s, span| {
+            if let naga::Statement::Kill = s {
+                spans.push((*span, "`discard` ends a fragment; other stages cannot use it"));
+            }
+        });
         let mut called = vec![];
         crate::shader::reflect::called(&f.body, &mut called);
         for h in called {
@@ -318,27 +322,6 @@ pub fn forbidden_operations(m: &Module, ep: &naga::EntryPoint) -> Vec<(Span, &'s
         }
     }
     spans
-}
-
-/// `discard` statements of a block and the blocks inside it.
-fn discards(b: &naga::Block, out: &mut Vec<(Span, &'static str)>) {
-    use naga::Statement as S;
-    for (s, span) in b.span_iter() {
-        match s {
-            S::Kill => out.push((*span, "`discard` ends a fragment; other stages cannot use it")),
-            S::Block(inner) => discards(inner, out),
-            S::If { accept, reject, .. } => {
-                discards(accept, out);
-                discards(reject, out);
-            }
-            S::Switch { cases, .. } => cases.iter().for_each(|c| discards(&c.body, out)),
-            S::Loop { body, continuing, .. } => {
-                discards(body, out);
-                discards(continuing, out);
-            }
-            _ => {}
-        }
-    }
 }
 
 #[cfg(test)]

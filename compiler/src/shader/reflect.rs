@@ -265,19 +265,28 @@ pub fn members_read(m: &naga::Module, entry: usize, global: Handle<naga::GlobalV
 
 /// Functions a block calls, directly or in nested blocks.
 pub(crate) fn called(b: &naga::Block, out: &mut Vec<Handle<naga::Function>>) {
+    statements(b, &mut |s, _| {
+        if let naga::Statement::Call { function, .. } = s {
+            out.push(*function);
+        }
+    });
+}
+
+/// Every statement of a block and of the blocks nested in it, with its span.
+pub(crate) fn statements(b: &naga::Block, visit: &mut impl FnMut(&naga::Statement, &naga::Span)) {
     use naga::Statement as S;
-    for s in b.iter() {
+    for (s, span) in b.span_iter() {
+        visit(s, span);
         match s {
-            S::Call { function, .. } => out.push(*function),
-            S::Block(inner) => called(inner, out),
+            S::Block(inner) => statements(inner, visit),
             S::If { accept, reject, .. } => {
-                called(accept, out);
-                called(reject, out);
+                statements(accept, visit);
+                statements(reject, visit);
             }
-            S::Switch { cases, .. } => cases.iter().for_each(|c| called(&c.body, out)),
+            S::Switch { cases, .. } => cases.iter().for_each(|c| statements(&c.body, visit)),
             S::Loop { body, continuing, .. } => {
-                called(body, out);
-                called(continuing, out);
+                statements(body, visit);
+                statements(continuing, visit);
             }
             _ => {}
         }
