@@ -91,3 +91,29 @@ fn mutated_sweep_specs_are_rejected_with_a_location_or_checked() {
     eprintln!("{} mutants checked, {} rejected", accepted.get(), rejected.get());
     assert!(accepted.get() > 50 && rejected.get() > 500, "both outcomes exercised");
 }
+
+/// The README's per-pass value in a sweep spec (`"bloom_up.strength"`): accepted as a setting
+/// of a spec whose scenes call for bloom; a value that is not a number is an error at it.
+#[test]
+fn sweep_specs_set_per_pass_values() {
+    let dir = scratch("spec-pass-values");
+    let spec = |values: &str| {
+        format!(
+            "Sweep(\n    pipeline: {:?},\n    scenes: [\"cornell\"],\n    sizes: [(32, 32)],\n    grid: {{\"bloom_up.strength\": [{values}]}},\n    effect: [\"bloom_up\"],\n    compare: \"hdr\",\n    reference: (term: direct, spp: 1),\n)\n",
+            root().join("pipelines/deferred.ron").display().to_string()
+        )
+    };
+    let ws = Workspace::disk();
+    let path = dir.join("pass_values.ron");
+    let run = |text: &str| {
+        std::fs::write(&path, text).unwrap();
+        let mut l = spec::load(&path).map_err(|e| e.to_string())?;
+        l.add_effects(&[lightbench_compiler::ir::Effect::Bloom]);
+        let points = spec::points(&l);
+        let scene = sweep::load_scene(&l, &points[0]).map_err(|e| e.to_string())?;
+        sweep::check_up_front(&ws, &Profile::vulkan(), &l, &scene, &points).map_err(|e| e.to_string())
+    };
+    run(&spec("0.5, 1.0")).unwrap_or_else(|e| panic!("{e}"));
+    let err = run(&spec("0.5, \"much\"")).unwrap_err();
+    assert!(err.contains("pass_values.ron:5:") && err.contains("bloom_up.strength"), "{err}");
+}

@@ -35,6 +35,7 @@ param ambient.color=0.1,0.1,0.12
 variant cube_shadow=instanced
 add-light Spot
 effect Bloom=true
+param bloom_up.strength=0.5
 frames 2
 remove-light
 screenshot shot.png
