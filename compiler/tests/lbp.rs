@@ -632,14 +632,16 @@ mod generated {
                 proptest::collection::vec((name(), file()).prop_map(|(a, b)| (sp(a), sp(b))), 0..2),
                 proptest::option::of(text()),
                 proptest::collection::vec((name(), literal()).prop_map(|(k, v)| (sp(k), sp(v))), 0..3),
+                any::<bool>(),
             )
-                .prop_map(move |(requires, limits, fallback, shaders, doc, params)| VariantOption {
+                .prop_map(move |(requires, limits, fallback, shaders, doc, params, jitter)| VariantOption {
                     name: sp(n.clone()),
                     requires,
                     limits,
                     fallback,
                     shaders,
                     params,
+                    jitter,
                     doc,
                     span: Span::default(),
                 })

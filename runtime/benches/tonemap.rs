@@ -4,13 +4,14 @@
 //! Cornell box at three resolutions. Not a test; needs a GPU adapter (lavapipe is enough).
 //! Every pass runs every frame; figures are GPU-ms means over the frames after a warm-up, and
 //! the ratio is single / parallel of the reduction's cost. Then what FXAA (`aa = fxaa`, seed
-//! 003 §3.3) costs per frame at the same resolutions, beside the tone mapping it follows.
+//! 003 §3.3) and TAA (`aa = taa`) cost per frame at the same resolutions, beside the tone
+//! mapping they follow.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::builtin;
 use std::path::Path;
 
-/// (reduction GPU ms, tone-mapping pass GPU ms, FXAA GPU ms) per frame.
+/// (reduction GPU ms, tone-mapping pass GPU ms, anti-aliasing pass GPU ms) per frame.
 fn measure(gpu: &Gpu, size: (u32, u32), variants: &[(&str, &str)], frames: u32) -> (f64, f64, f64) {
     let mut scene = builtin::cornell();
     scene.size = size;
@@ -20,7 +21,7 @@ fn measure(gpu: &Gpu, size: (u32, u32), variants: &[(&str, &str)], frames: u32) 
     let mut ex = Executor::new(gpu, &exe, &scene).expect("executor");
     ex.set_reuse(false);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
-    let (mut reduce, mut tonemap, mut fxaa) = (0.0, 0.0, 0.0);
+    let (mut reduce, mut tonemap, mut aa) = (0.0, 0.0, 0.0);
     for f in 1..=frames {
         ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
         for t in &ex.last_timings {
@@ -29,13 +30,13 @@ fn measure(gpu: &Gpu, size: (u32, u32), variants: &[(&str, &str)], frames: u32) 
                 reduce += ms;
             } else if t.pass.starts_with("tonemap") {
                 tonemap += ms;
-            } else if t.pass == "fxaa" {
-                fxaa += ms;
+            } else if t.pass == "fxaa" || t.pass == "taa" {
+                aa += ms;
             }
         }
     }
     let f = frames as f64;
-    (reduce / f, tonemap / f, fxaa / f)
+    (reduce / f, tonemap / f, aa / f)
 }
 
 fn main() {
@@ -55,14 +56,16 @@ fn main() {
             single / parallel
         );
     }
-    println!("FXAA (aa = fxaa), GPU ms per frame");
-    println!("{:>11} {:>12} {:>10} {:>16}", "size", "tonemap ms", "fxaa ms", "fxaa/tonemap");
-    for size in [(256, 256), (1024, 1024), (2048, 2048)] {
-        let (_, tone, fxaa) = measure(&gpu, size, &[("aa", "fxaa")], 5);
-        println!(
-            "{:>11} {tone:>12.3} {fxaa:>10.3} {:>15.2}×",
-            format!("{}x{}", size.0, size.1),
-            fxaa / tone
-        );
+    for aa in ["fxaa", "taa"] {
+        println!("{} (aa = {aa}), GPU ms per frame", aa.to_uppercase());
+        println!("{:>11} {:>12} {:>10} {:>16}", "size", "tonemap ms", "aa ms", "aa/tonemap");
+        for size in [(256, 256), (1024, 1024), (2048, 2048)] {
+            let (_, tone, ms) = measure(&gpu, size, &[("aa", aa)], 5);
+            println!(
+                "{:>11} {tone:>12.3} {ms:>10.3} {:>15.2}×",
+                format!("{}x{}", size.0, size.1),
+                ms / tone
+            );
+        }
     }
 }

@@ -293,6 +293,13 @@ fn fs_main() -> @location(0) vec4<f32> {
 }
 ";
 
+/// A variant option that jitters the camera while it is chosen.
+const JITTER_OPTION: &str = "variant aa = none {
+    option none
+    option taa jitter \"accumulates jittered frames\"
+}
+";
+
 const ORBIT: &str = "Scene(
     name: \"orbit\",
     size: (64, 64),
@@ -310,13 +317,20 @@ fn the_previous_view_projection_is_the_last_frames() {
             ("shaders/show_probe.wgsl", SHOW_PROBE),
             ("pipelines/probe.lbp", PROBE_PIPELINE),
             ("pipelines/jitter.lbp", &format!("{PROBE_PIPELINE}\njitter\n")),
+            ("pipelines/option.lbp", &format!("{PROBE_PIPELINE}\n{JITTER_OPTION}")),
             ("orbit.ron", ORBIT),
         ],
     );
     let g = gpu();
     let scene = lightbench::scene::load(d.join("orbit.ron").to_str().unwrap()).unwrap();
-    for (file, jitter) in [("probe.lbp", false), ("jitter.lbp", true)] {
-        let (exe, _) = lightbench::render::compile(&g, &d.join("pipelines").join(file), None, &scene, &[]).unwrap();
+    let taa = vec![("aa".to_string(), "taa".to_string())];
+    for (file, variants, jitter) in [
+        ("probe.lbp", vec![], false),
+        ("jitter.lbp", vec![], true),
+        ("option.lbp", vec![], false),
+        ("option.lbp", taa, true),
+    ] {
+        let (exe, _) = lightbench::render::compile(&g, &d.join("pipelines").join(file), None, &scene, &variants).unwrap();
         let mut ex = lightbench::gpu::Executor::new(&g, &exe, &scene).unwrap();
         let mut last: Option<Vec<f32>> = None;
         for f in 0..3 {

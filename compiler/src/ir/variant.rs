@@ -20,6 +20,10 @@ pub struct VariantOption {
     /// the parameters' defaults while it is chosen; a user's own override still wins.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub params: Vec<(Spanned<String>, Spanned<Literal>)>,
+    /// The option jitters the camera by a sub-pixel offset each frame (as the pipeline's
+    /// `jitter` does), for the passes it brings that accumulate over frames (TAA).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub jitter: bool,
     pub doc: Option<String>,
     pub span: Span,
 }

@@ -57,9 +57,18 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         },
         resources,
         memory_bytes,
-        jitter: p.jitter,
+        jitter: jitters(p, &cfg.selection.chosen),
     };
     (diags.error_count() == before).then_some(plan)
+}
+
+/// The camera jitters when the pipeline says so or a chosen option does (`aa = taa`).
+fn jitters(p: &crate::ir::Pipeline, chosen: &std::collections::BTreeMap<String, String>) -> bool {
+    p.jitter
+        || p.variants.iter().any(|v| {
+            let option = chosen.get(&v.name.value).and_then(|o| v.option(o));
+            option.is_some_and(|o| o.jitter)
+        })
 }
 
 /// Effects that conditions of culled passes ask for and the scene does not call for.

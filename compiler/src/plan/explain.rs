@@ -171,6 +171,9 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
     if let Some(h) = plan.hdr_output {
         let _ = writeln!(s, "hdr_output: {}", plan.res(h).name);
     }
+    if plan.jitter {
+        let _ = writeln!(s, "camera: jittered by a sub-pixel offset each frame (Halton 2, 3 over 16 frames)");
+    }
     s
 }
 

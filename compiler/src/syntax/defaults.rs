@@ -58,6 +58,7 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Depth", "layer", Def::Ident("Base")),
     ("Depth", "mip", Def::Level0),
     ("Option", "requires", Def::EmptyList),
+    ("Option", "jitter", Def::Bool(false)),
     ("Option", "limits", Def::EmptyMap),
     ("Option", "shaders", Def::EmptyMap),
     ("Option", "params", Def::EmptyMap),

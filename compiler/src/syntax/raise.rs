@@ -371,6 +371,7 @@ fn option(o: &VariantOption) -> Node {
         .iter()
         .map(|(k, v)| (Node::str(&k.value, k.span), literal(&v.value, v.span)));
     f.put("params", Node::map(params.collect(), o.span));
+    f.put("jitter", Node::bool(o.jitter, o.span));
     f.opt("doc", o.doc.as_ref().map(|d| Node::str(d, o.span)));
     // Options are written anonymously: `"classic": ()`.
     f.into_node(None, o.span, o.span)

@@ -72,9 +72,14 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::binding => "`shader_name = resource`",
         Rule::cond | Rule::not_cond | Rule::all_cond | Rule::any_cond | Rule::call_cond | Rule::reflective => "a condition",
         Rule::groups | Rule::size_of => "`groups(x, y, z)` or `size(NAME)`",
-        Rule::option_opt | Rule::requires | Rule::limit | Rule::limit_item | Rule::fallback | Rule::shaders | Rule::shader_sub => {
-            "an option property"
-        }
+        Rule::option_opt
+        | Rule::requires
+        | Rule::limit
+        | Rule::limit_item
+        | Rule::fallback
+        | Rule::shaders
+        | Rule::shader_sub
+        | Rule::opt_jitter => "an option property",
         _ => "something else",
     }
 }

@@ -655,6 +655,7 @@ impl Builder<'_> {
                     let pairs = kids(inner).map(|s| self.setting(s)).collect::<Option<Vec<_>>>()?;
                     f.put("params", at, Node::map(pairs, at));
                 }
+                Rule::opt_jitter => f.put("jitter", at, Node::bool(true, at)),
                 _ => {
                     let subs = kids(inner)
                         .map(|sub| {

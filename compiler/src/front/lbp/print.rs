@@ -379,6 +379,7 @@ fn option(f: &[Field]) -> String {
                     .collect();
                 line += &format!(" set({})", ss.join(", "));
             }
+            "jitter" if matches!(*v.value, Value::Bool(true)) => line += " jitter",
             _ => {}
         }
     }

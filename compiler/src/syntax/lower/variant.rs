@@ -60,9 +60,10 @@ impl Lowerer<'_> {
         };
         let shaders = o.get("shaders").and_then(|n| self.string_pairs(&n));
         let params = o.get("params").and_then(|n| self.presets(&n));
+        let jitter = o.get("jitter").and_then(|n| self.bool(&n));
         let doc = o.take("doc").and_then(|n| self.string(&n)).map(|s| s.value);
         let span = o.span;
-        self.finish(o, &["requires", "limits", "fallback", "shaders", "params", "doc"], &[]);
+        self.finish(o, &["requires", "limits", "fallback", "shaders", "params", "jitter", "doc"], &[]);
         Some(VariantOption {
             name,
             requires: requires?,
@@ -70,6 +71,7 @@ impl Lowerer<'_> {
             fallback,
             shaders: shaders?,
             params: params?,
+            jitter: jitter?,
             doc,
             span,
         })
