@@ -413,17 +413,24 @@ mod generated {
                     data,
                 })
             });
-        let buffer = (1u64..1 << 40, proptest::option::of(kinds()), any::<bool>(), any::<bool>(), data()).prop_map(
-            |(size, per, history, external, data)| {
+        let buffer = (
+            1u64..1 << 40,
+            proptest::option::of(kinds()),
+            any::<bool>(),
+            any::<bool>(),
+            data(),
+            any::<bool>(),
+        )
+            .prop_map(|(size, per, history, external, data, per_pixel)| {
                 ResourceKind::Buffer(BufferDesc {
                     size: sp(size),
+                    per_pixel,
                     per_light: per.map(sp),
                     history,
                     external,
                     data,
                 })
-            },
-        );
+            });
         let valid = proptest::option::of((float(), float()).prop_map(|(a, b)| sp((a.min(b), a.max(b)))));
         (prop_oneof![3 => texture, 1 => buffer], valid).prop_map(move |(kind, valid)| Resource {
             name: sp(n.clone()),

@@ -169,8 +169,10 @@ fn missing_producer(
     d
 }
 
-/// Writers that `load` build on the previous writer in file order; writers that start afresh
-/// must be ordered by some other dependency.
+/// Writers that `load` build on the previous writer in file order, and so do storage writes
+/// (`writes`: nothing clears a storage resource, so a later one appends to or updates what the
+/// earlier left, as fragment lists do after their clear); writers that start afresh must be
+/// ordered by some other dependency.
 fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags: &mut Diagnostics) {
     let span_of = |i: usize| {
         p.passes[i]
@@ -182,7 +184,8 @@ fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags:
     let mut fresh: Vec<usize> = vec![];
     for (k, &w) in ws.iter().enumerate() {
         let pass = &p.passes[w];
-        if !pass.accumulates(res) {
+        let stores = k > 0 && pass.writes.iter().any(|n| n.value == res);
+        if !pass.accumulates(res) && !stores {
             fresh.push(w);
         } else if k > 0 {
             edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span_of(w)));

@@ -115,8 +115,11 @@ pub struct TextureDesc {
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BufferDesc {
-    /// Size in bytes.
+    /// Size in bytes (per pixel of the viewport with `per_pixel`).
     pub size: Spanned<u64>,
+    /// `size` bytes for each pixel of the viewport (per-pixel lists, heads of linked lists).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub per_pixel: bool,
     pub per_light: Option<Spanned<Vec<LightKind>>>,
     pub history: bool,
     pub external: bool,

@@ -24,6 +24,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     // Resources the kept passes touch, with usages, extents and sizes; samplers they bind.
     let resources = resources::derive(p, cfg, &kept);
     resources::check_extents(p, cfg, &resources, diags);
+    resources::check_buffer_sizes(p, cfg, &resources, diags);
     let samplers = resources::samplers(p, &kept);
     // Passes with targets, bindings and blocks addressed by index.
     let ids = passes::Ids::new(&resources, &samplers, &schedule.ordered.order);

@@ -126,13 +126,11 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
             };
             (shape, per_layer * t.layers.value as u64)
         }
-        ResourceKind::Buffer(b) => (
-            ResourceShape::Buffer {
-                size: b.size.value,
-                words: Words::F32,
-            },
-            b.size.value,
-        ),
+        ResourceKind::Buffer(b) => {
+            let size = buffer_bytes(b, cfg);
+            let shape = ResourceShape::Buffer { size, words: Words::F32 };
+            (shape, size)
+        }
     };
     PlanResource {
         name: r.name.value.clone(),
@@ -146,6 +144,46 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
         valid: r.valid.as_ref().map(|v| v.value),
         usage,
         bytes: one * instances as u64 * copies,
+    }
+}
+
+/// A buffer's bytes at this viewport (`per_pixel`: its size for each pixel).
+fn buffer_bytes(b: &crate::ir::BufferDesc, cfg: &Config) -> u64 {
+    let (w, h) = cfg.scene.size;
+    match b.per_pixel {
+        true => b.size.value.saturating_mul(w as u64 * h as u64),
+        false => b.size.value,
+    }
+}
+
+/// `per_pixel` buffers are sized only now: each within the profile's buffer limits (bound as
+/// storage, as a whole: `max_storage_buffer_binding_size`), errors at the declaration.
+pub(super) fn check_buffer_sizes(p: &Pipeline, cfg: &Config, resources: &[PlanResource], diags: &mut Diagnostics) {
+    let limits = &cfg.profile.limits;
+    for r in resources {
+        let ResourceShape::Buffer { size, .. } = r.shape else { continue };
+        let Some(ResourceKind::Buffer(decl)) = p.resource(&r.name).map(|d| &d.kind) else {
+            continue;
+        };
+        if !decl.per_pixel {
+            continue;
+        }
+        let storage = r.usage.contains(&Usage::Storage);
+        let (limit, max) = match storage {
+            true => (
+                "max_storage_buffer_binding_size",
+                limits.max_storage_buffer_binding_size.min(limits.max_buffer_size),
+            ),
+            false => ("max_buffer_size", limits.max_buffer_size),
+        };
+        if size > max {
+            let (w, h) = cfg.scene.size;
+            let msg = format!(
+                "`{}` is {size} bytes at {w}×{h} ({} per pixel), over the {max}-byte limit of profile `{}`",
+                r.name, decl.size.value, cfg.profile.name
+            );
+            diags.push(Diagnostic::error(Code::LimitExceeded, msg, decl.size.span).with_note(format!("limit: {limit}")));
+        }
     }
 }
 

@@ -30,6 +30,7 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Texture", "history", Def::Bool(false)),
     ("Texture", "external", Def::Bool(false)),
     ("Buffer", "history", Def::Bool(false)),
+    ("Buffer", "per_pixel", Def::Bool(false)),
     ("Buffer", "external", Def::Bool(false)),
     ("Sampler", "filter", Def::Ident("Linear")),
     ("Sampler", "mipmap", Def::Ident("Nearest")),

@@ -133,6 +133,7 @@ fn resource(r: &Resource) -> Node {
         ResourceKind::Buffer(b) => {
             let mut f = Fields::new("Buffer");
             f.put("size", Node::int(b.size.value as i64, b.size.span));
+            f.put("per_pixel", Node::bool(b.per_pixel, b.size.span));
             ("Buffer", f)
         }
     };

@@ -50,6 +50,7 @@ pub fn geometry(name: &str) -> Option<(Vec<Mesh>, Vec<Material>)> {
         "cornell" => Some(cornell_geometry()),
         "colonnade" => Some(colonnade_geometry()),
         "many_lights" => Some(many_lights_geometry()),
+        "panes" => Some(panes_geometry()),
         _ => None,
     }
 }
@@ -98,6 +99,48 @@ fn cornell_geometry() -> (Vec<Mesh>, Vec<Material>) {
         Mat4::from_rotation_translation(Quat::from_rotation_y(-17f32.to_radians()), Vec3::new(0.35, 0.3, 0.3)),
     ));
     (meshes, materials)
+}
+
+/// The [`PANES`], a back wall and a floor.
+fn panes_geometry() -> (Vec<Mesh>, Vec<Material>) {
+    let mut materials = vec![Material::color("wall", [0.6, 0.6, 0.6], 0.8)];
+    let mut meshes = vec![];
+    let mut wall = |name: &str, c: Vec3, u: Vec3, w: Vec3| {
+        let (mut vs, mut is) = (vec![], vec![]);
+        quad(c, u, w, &mut vs, &mut is);
+        meshes.push(mesh(name, (vs, is), 0, Mat4::IDENTITY));
+    };
+    wall("back", Vec3::new(0.0, 1.75, -1.5), Vec3::X * 2.5, Vec3::Y * 1.75);
+    wall("floor", Vec3::new(0.0, 0.0, 0.0), Vec3::X * 2.5, Vec3::NEG_Z * 1.5);
+    for (name, rgb, rotation) in PANES {
+        let mut glass = Material::color(name, rgb, 0.3);
+        glass.base_color[3] = 0.5;
+        glass.emissive = rgb.map(|c| 0.25 * c);
+        glass.alpha = super::AlphaMode::Blend;
+        glass.double_sided = true;
+        let (mut vs, mut is) = (vec![], vec![]);
+        let (u, w) = panes_pane(rotation);
+        quad(PANES_CENTRE, u, w, &mut vs, &mut is);
+        meshes.push(mesh(name, (vs, is), materials.len(), Mat4::IDENTITY));
+        materials.push(glass);
+    }
+    (meshes, materials)
+}
+
+/// The centre all panes pass through.
+pub const PANES_CENTRE: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+
+/// The panes: name, colour (base and a quarter of it emitted; opacity 0.5) and orientation,
+/// a rotation of a square facing the camera (+Z).
+pub const PANES: [(&str, [f32; 3], Quat); 3] = [
+    ("red", [0.9, 0.1, 0.1], Quat::from_xyzw(0.0, 0.300_705_8, 0.0, 0.953_717)), // 35° about Y
+    ("green", [0.1, 0.9, 0.1], Quat::from_xyzw(0.0, -0.300_705_8, 0.0, 0.953_717)), // -35° about Y
+    ("blue", [0.1, 0.2, 0.9], Quat::from_xyzw(0.300_705_8, 0.0, 0.0, 0.953_717)), // 35° about X
+];
+
+/// Half-axes of a pane turned by `rotation`: a square 1.2 wide.
+pub fn panes_pane(rotation: Quat) -> (Vec3, Vec3) {
+    (rotation * Vec3::X * 0.6, rotation * Vec3::Y * 0.6)
 }
 
 /// A colonnade: two rows of columns under beams on a long floor (a Sponza stand-in: many

@@ -27,7 +27,15 @@ pub(super) fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics
                 );
                 diags.push(Diagnostic::error(Code::LimitExceeded, msg, b.size.span).with_note("limit: max_buffer_size"));
             }
-            ResourceKind::Buffer(_) => {}
+            ResourceKind::Buffer(b) => {
+                if let Some(d) = r.data().filter(|_| b.per_pixel) {
+                    let msg = format!(
+                        "`{}` is `per_pixel`: its size follows the viewport, so no `data` can fill it",
+                        r.name.value
+                    );
+                    diags.push(Diagnostic::error(Code::ConflictingKeys, msg, d.span).with_note("drop `data`, or give a fixed size"));
+                }
+            }
         }
         if let Some(k) = r.per_light() {
             empty_kinds(k, diags);

@@ -309,7 +309,7 @@ impl Builder<'_> {
                 f.put("data", at, node)
             }
             _ => match o.as_str() {
-                "history" | "external" => f.put(o.as_str(), at, Node::bool(true, at)),
+                "history" | "external" | "per_pixel" => f.put(o.as_str(), at, Node::bool(true, at)),
                 view => f.put("view", at, Node::ident(view, at)),
             },
         }

@@ -222,7 +222,7 @@ fn resource(k: &Node, v: &Node) -> String {
             "layers" | "mips" => line += &format!(" {key} {}", value(n)),
             "view" => line += &format!(" {}", text(n)),
             "per_light" => line += &format!(" {}", per_light(n)),
-            "history" | "external" => line += &format!(" {key}"),
+            "history" | "external" | "per_pixel" if matches!(*n.value, Value::Bool(true)) => line += &format!(" {key}"),
             "data" => line += &format!(" data {}", data(n)),
             "valid" => line += &format!(" valid {}", join(items(n), value).replace(", ", "..")),
             _ => {}

@@ -5,7 +5,7 @@
 use super::{CameraDesc, KeySpans, LightDesc, SceneDesc};
 use crate::ir::Effect;
 
-pub const NAMES: [&str; 3] = ["cornell", "colonnade", "many_lights"];
+pub const NAMES: [&str; 4] = ["cornell", "colonnade", "many_lights", "panes"];
 
 /// Lights of `many_lights` (the built-in); `many_lights(n)` makes other counts for tests.
 pub const MANY_LIGHTS: usize = 100;
@@ -17,6 +17,7 @@ pub fn by_name(name: &str) -> Option<SceneDesc> {
         "cornell" => Some(cornell()),
         "colonnade" => Some(colonnade()),
         "many_lights" => Some(many_lights(MANY_LIGHTS)),
+        "panes" => Some(panes()),
         _ => None,
     }
 }
@@ -61,6 +62,14 @@ pub fn colonnade() -> SceneDesc {
         LightDesc::spot([0.0, 6.0, 0.0], [0.0, -1.0, 0.0], (25.0, 35.0), [0.8, 0.85, 1.0], 30.0, 12.0),
     ];
     scene("colonnade", (256, 128), cam, lights, true)
+}
+
+/// Three coloured glass panes that pass through each other, before a wall, lit from the
+/// front: no order of whole objects blends them right (transparency options).
+pub fn panes() -> SceneDesc {
+    let cam = camera([0.0, 1.0, 3.0], 0.0, 0.0, 45.0, 0.05, 20.0);
+    let light = LightDesc::point([1.2, 2.2, 2.0], [1.0, 0.97, 0.92], 6.0, 8.0);
+    scene("panes", (128, 128), cam, vec![light], false)
 }
 
 /// A grid of spheres lit by `n` small point lights (at most [`MAX_MANY_LIGHTS`]) without shadows.

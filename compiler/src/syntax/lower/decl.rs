@@ -134,9 +134,11 @@ impl Lowerer<'_> {
         let span = o.span;
         let kind = if o.kind == "Buffer" {
             let size = self.required(&mut o, "size").and_then(|n| self.u64(&n));
-            self.finish(o, &["size", "per_light", "history", "external", "data", "valid"], &[]);
+            let per_pixel = o.get("per_pixel").and_then(|n| self.bool(&n));
+            self.finish(o, &["size", "per_pixel", "per_light", "history", "external", "data", "valid"], &[]);
             ResourceKind::Buffer(BufferDesc {
                 size: size?,
+                per_pixel: per_pixel?,
                 per_light,
                 history: history?,
                 external: external?,
