@@ -91,7 +91,10 @@ fn calls(ron: &str) -> String {
     if !changed {
         return ron.to_string();
     }
-    s.replace("])", ")").replace("Reflective", "reflective").replace('"', "")
+    s.replace("])", ")")
+        .replace("Reflective", "reflective")
+        .replace("Blended", "blended")
+        .replace('"', "")
 }
 
 fn unquote(s: &str) -> &str {

@@ -72,6 +72,9 @@ pub enum Condition {
     Effect(Effect),
     /// Some material in the scene is reflective (drives SSR and indirect specular).
     Reflective,
+    /// Some material in the scene is blended (glTF alphaMode BLEND): passes that composite
+    /// blended surfaces beyond the `draw: Transparent` one.
+    Blended,
     /// A bool parameter's value.
     Toggle(Spanned<String>),
     /// A variant has this option chosen.
@@ -88,6 +91,7 @@ impl Condition {
             Condition::Light(k) => format!("Light({})", k.name()),
             Condition::Effect(e) => format!("Effect({})", e.name()),
             Condition::Reflective => "Reflective".into(),
+            Condition::Blended => "Blended".into(),
             Condition::Toggle(p) => format!("Toggle({:?})", p.value),
             Condition::Variant(v, o) => format!("Variant({:?}, {:?})", v.value, o.value),
             Condition::Not(c) => format!("Not({})", c.describe()),
@@ -115,7 +119,7 @@ impl Condition {
     /// Does the value depend on the effects or materials a scene calls for?
     pub fn mentions_scene_effects(&self) -> bool {
         match self {
-            Condition::Effect(_) | Condition::Reflective => true,
+            Condition::Effect(_) | Condition::Reflective | Condition::Blended => true,
             Condition::Not(c) => c.mentions_scene_effects(),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().any(|c| c.mentions_scene_effects()),
             _ => false,

@@ -32,6 +32,13 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
                 Err(("the scene has no reflective material".into(), false))
             }
         }
+        Condition::Blended => {
+            if cfg.scene.transparent {
+                Ok(())
+            } else {
+                Err(("the scene has no blended material".into(), false))
+            }
+        }
         Condition::Toggle(name) => match p.param(name).map(|prm| cfg.default_of(p, prm).0) {
             Some(ParamValue::Bool(true)) => Ok(()),
             _ => Err((format!("toggle `{}` is off", name.value), false)),

@@ -326,6 +326,7 @@ pub fn condition(c: &Condition, span: Span) -> Node {
         Condition::Light(k) => Node::call("Light", vec![Node::ident(k.name(), span)], span),
         Condition::Effect(e) => Node::call("Effect", vec![Node::ident(e.name(), span)], span),
         Condition::Reflective => Node::ident("Reflective", span),
+        Condition::Blended => Node::ident("Blended", span),
         Condition::Toggle(p) => Node::call("Toggle", vec![Node::str(&p.value, p.span)], span),
         Condition::Variant(v, o) => Node::call("Variant", vec![Node::str(&v.value, v.span), Node::str(&o.value, o.span)], span),
         Condition::Not(c) => Node::call("Not", vec![condition(&c.value, c.span)], span),

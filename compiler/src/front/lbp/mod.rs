@@ -70,7 +70,7 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::target | Rule::target_opt | Rule::clear | Rule::load | Rule::blend | Rule::layer | Rule::nowrite => "a target option",
         Rule::read | Rule::prev => "a resource or `prev(NAME)`",
         Rule::binding => "`shader_name = resource`",
-        Rule::cond | Rule::not_cond | Rule::all_cond | Rule::any_cond | Rule::call_cond | Rule::reflective => "a condition",
+        Rule::cond | Rule::not_cond | Rule::all_cond | Rule::any_cond | Rule::call_cond | Rule::reflective | Rule::blended => "a condition",
         Rule::groups | Rule::size_of => "`groups(x, y, z)` or `size(NAME)`",
         Rule::option_opt
         | Rule::requires

@@ -565,6 +565,7 @@ impl Builder<'_> {
         let inner = kids(p).next()?;
         match inner.as_rule() {
             Rule::reflective => Some(Node::ident("Reflective", span)),
+            Rule::blended => Some(Node::ident("Blended", span)),
             Rule::not_cond => Some(Node::call("Not", vec![self.cond(kids(inner).next()?)?], span)),
             Rule::all_cond | Rule::any_cond => {
                 let name = if inner.as_rule() == Rule::all_cond { "All" } else { "Any" };

@@ -348,6 +348,7 @@ fn cond(n: &Node) -> String {
     let args = items(n);
     match n.name().unwrap_or("") {
         "Reflective" => "reflective".into(),
+        "Blended" => "blended".into(),
         "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),
         w @ ("All" | "Any") => format!("{}({})", w.to_lowercase(), join(args.first().map(items).unwrap_or(&[]), cond)),
         w @ ("Light" | "Effect") => format!("{}({})", w.to_lowercase(), join(args, |a| text(a).to_string())),

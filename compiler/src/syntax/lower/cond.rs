@@ -6,12 +6,13 @@ use crate::ir::{Condition, Effect, LightKind};
 use crate::span::Spanned;
 use crate::syntax::tree::{Node, Value};
 
-pub const KINDS: [&str; 8] = ["Light", "Effect", "Reflective", "Toggle", "Variant", "Not", "All", "Any"];
+pub const KINDS: [&str; 9] = ["Light", "Effect", "Reflective", "Blended", "Toggle", "Variant", "Not", "All", "Any"];
 
 impl Lowerer<'_> {
     pub(super) fn condition(&mut self, n: &Node) -> Res<Spanned<Condition>> {
         let c = match &*n.value {
             Value::Ident(i) if i == "Reflective" => Condition::Reflective,
+            Value::Ident(i) if i == "Blended" => Condition::Blended,
             Value::Tuple {
                 name: Some((nm, nspan)),
                 items,
@@ -32,7 +33,7 @@ impl Lowerer<'_> {
                 }
                 (k, _) if KINDS.contains(&k) => {
                     self.err(Diagnostic::error(Code::TypeMismatch, format!("wrong arguments for condition `{k}`"), n.span).with_note(
-                        "forms: Light(Point), Effect(Ssr), Reflective, Toggle(\"param\"), Variant(\"name\", \"option\"), Not(c), All([..]), Any([..])",
+                        "forms: Light(Point), Effect(Ssr), Reflective, Blended, Toggle(\"param\"), Variant(\"name\", \"option\"), Not(c), All([..]), Any([..])",
                     ));
                     return None;
                 }

@@ -1,0 +1,55 @@
+//! `cargo bench -p lightbench --bench transparency`: seed 003 Table 6.3 style — what
+//! compositing blended surfaces costs, drawn far to near by object (`transparency = sorted`)
+//! against per-pixel fragment lists (`fragment_lists`: clear, append, sort and blend), on the
+//! built-in panes scene at the seed's three resolutions. Not a test; needs a GPU adapter
+//! (lavapipe is enough). Every pass runs every frame; figures are GPU-ms means over 5 frames
+//! after a warm-up, of the passes that composite blended surfaces, and of the whole frame.
+
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::scene::builtin;
+use std::path::Path;
+
+const PASSES: [&str; 4] = ["transparent", "oit_clear", "oit_append", "oit_resolve"];
+
+/// (compositing GPU ms, frame GPU ms) per frame.
+fn measure(gpu: &Gpu, size: (u32, u32), transparency: &str, frames: u32) -> (f64, f64) {
+    let mut scene = builtin::by_name("panes").expect("the panes scene");
+    scene.size = size;
+    let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
+    let variants = [("transparency".to_string(), transparency.to_string())];
+    let (exe, _) = lightbench::render::compile(gpu, &pipeline, None, &scene, &variants).unwrap_or_else(|e| panic!("{e}"));
+    let mut ex = Executor::new(gpu, &exe, &scene).expect("executor");
+    ex.set_reuse(false);
+    ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
+    let (mut blend, mut frame) = (0.0, 0.0);
+    for f in 1..=frames {
+        ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
+        for t in &ex.last_timings {
+            let ms = t.gpu_ms.unwrap_or(f64::NAN);
+            frame += ms;
+            if PASSES.contains(&t.pass.as_str()) {
+                blend += ms;
+            }
+        }
+    }
+    (blend / frames as f64, frame / frames as f64)
+}
+
+fn main() {
+    let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter");
+    println!("{}", gpu.describe());
+    println!("blended surfaces on the panes scene, GPU ms per frame (mean of 5 after a warm-up)");
+    println!(
+        "{:>11} {:>10} {:>16} {:>13} {:>16} {:>14}",
+        "size", "sorted ms", "lists ms", "lists/sorted", "sorted frame ms", "lists frame ms"
+    );
+    for size in [(800, 600), (1280, 720), (1920, 1080)] {
+        let (sorted, sorted_frame) = measure(&gpu, size, "sorted", 5);
+        let (lists, lists_frame) = measure(&gpu, size, "fragment_lists", 5);
+        println!(
+            "{:>11} {sorted:>10.3} {lists:>16.3} {:>12.2}× {sorted_frame:>16.3} {lists_frame:>14.3}",
+            format!("{}x{}", size.0, size.1),
+            lists / sorted
+        );
+    }
+}
