@@ -1,9 +1,9 @@
 // Fragment lists: each pixel's list sorted by depth (insertion sort of at most MAX_LAYERS
 // fragments; past that the farthest are left out) and blended back to front over the opaque
-// image. Output, blended "over" the HDR image: the layers' colour and their combined opacity
-// 1 − Π(1 − αᵢ), so that src·α + dst·(1 − α) is the back-to-front composite.
+// image (lib/composite.wgsl).
 #include "lib/frame.wgsl"
 #include "lib/oit.wgsl"
+#include "lib/composite.wgsl"
 
 const MAX_LAYERS: u32 = 16u;
 
@@ -36,16 +36,13 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
         node = f.next;
     }
-    // Front to back: radiance reaching the eye and the transmittance left.
-    var radiance = vec3<f32>(0.0);
-    var through = 1.0;
+    var acc = composite_start();
     for (var i = 0u; i < n; i++) {
-        radiance += through * color[i].a * color[i].rgb;
-        through *= 1.0 - color[i].a;
+        acc = composite_behind(acc, color[i]);
     }
-    let alpha = 1.0 - through;
-    if alpha <= 0.0 {
+    let out = composite_output(acc);
+    if out.a <= 0.0 {
         discard;
     }
-    return vec4<f32>(radiance / alpha, alpha);
+    return out;
 }

@@ -82,7 +82,8 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> Out {
     }
     let history = textureSampleLevel(taa_history_prev, taa_linear, uv, 0.0).rgb;
     let kept = rgb(clip_to_box(ycocg(history), lo, hi));
-    let blended = mix(current, kept, clamp(params.history_weight, 0.0, 1.0));
+    // Clamped: the clip is to a box in YCoCg, whose corners lie a little outside [0, 1] in RGB.
+    let blended = clamp(mix(current, kept, clamp(params.history_weight, 0.0, 1.0)), vec3<f32>(0.0), vec3<f32>(1.0));
     out.color = vec4<f32>(blended, 1.0);
     out.history = out.color;
     return out;

@@ -462,7 +462,8 @@ mod generated {
             Just(LayerSel::Base),
             Just(LayerSel::Face),
             Just(LayerSel::All),
-            (0u32..10).prop_map(LayerSel::Index)
+            (0u32..10).prop_map(LayerSel::Index),
+            (-3i32..3).prop_map(LayerSel::Rep)
         ]
     }
 
@@ -578,11 +579,12 @@ mod generated {
     fn pass(n: String) -> impl Strategy<Value = Pass> {
         let common = (
             proptest::collection::vec(
-                (name(), 0u8..4, mip(), 0u32..8).prop_map(|(n, k, m, l)| match k {
+                (name(), 0u8..5, mip(), 0u32..8, -3i32..3).prop_map(|(n, k, m, l, d)| match k {
                     0 => Read::Current(sp(n)),
                     1 => Read::Prev(sp(n)),
                     2 => Read::Mip(sp(n), m),
-                    _ => Read::Layer(sp(n), sp(l)),
+                    3 => Read::Layer(sp(n), sp(LayerSel::Index(l))),
+                    _ => Read::Layer(sp(n), sp(LayerSel::Rep(d))),
                 }),
                 0..3,
             ),
@@ -604,8 +606,9 @@ mod generated {
             proptest::option::of((0u32..12, 0u32..12).prop_map(|(from, to)| sp(MipRange { from, to }))),
             any::<bool>(),
             any::<bool>(),
+            proptest::option::of(prop_oneof![(1u32..16).prop_map(Repeat::Times), name().prop_map(Repeat::Param)]),
         );
-        (kind(), common, extra).prop_map(move |(kind, c, (values, per_mip, always, shadow_casters))| {
+        (kind(), common, extra).prop_map(move |(kind, c, (values, per_mip, always, shadow_casters, repeat))| {
             let (reads, writes, params, block, bind, when, per_light, per_face) = c;
             Pass {
                 name: sp(n.clone()),
@@ -621,6 +624,7 @@ mod generated {
                 shadow_casters,
                 values,
                 per_mip,
+                repeat: repeat.map(sp),
                 always,
                 span: Span::default(),
             }

@@ -53,6 +53,9 @@ pub struct InstanceBlock {
     /// The pass's own target size in pixels (its first attachment, or the texture a compute
     /// dispatch is sized from; else the output size), then the reciprocals.
     pub target_size: [f32; 4],
+    /// Which run of a `repeat` pass this is, from 0 (else 0).
+    pub repetition: u32,
+    pub _pad: [u32; 3],
 }
 
 #[repr(C)]

@@ -215,7 +215,7 @@ fn every_bundled_sweep_spec_runs() {
         .filter_map(|e| e.unwrap().file_name().into_string().ok())
         .filter(|n| n.ends_with(".ron"))
         .collect();
-    assert_eq!(listed.len(), 5, "a new spec needs a line in this test: {listed:?}");
+    assert_eq!(listed.len(), 6, "a new spec needs a line in this test: {listed:?}");
 }
 
 /// A copy of the shadows spec that takes longer per point (so a kill lands mid-sweep).

@@ -139,6 +139,41 @@ fn fragment_lists_blend_interpenetrating_panes_where_sorting_fails() {
     assert_eq!(lists_wrong, 0, "fragment lists: worst relative error {lists_worst}");
 }
 
+/// `hdr` of the unlit panes with depth peeling of `layers` layers.
+fn peeled(scene: &Scene, layers: u32) -> Image {
+    let g = gpu();
+    let ws = lightbench_compiler::Workspace::disk();
+    let v = [("transparency".to_string(), "depth_peeling".to_string())];
+    let (exe, _) = lightbench::render::compile_in(&ws, &g, &deferred(), None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
+    let set = [("ambient.color".into(), "0,0,0".into()), ("peel.layers".into(), layers.to_string())];
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    // `peel.layers` repeats a pass: the Plan is made for its value, as `render --param` does.
+    let values = lightbench::render::param_values(&exe.plan, &params).unwrap();
+    let (exe, _) = lightbench::render::compile_with(&ws, &g, (&deferred(), None), scene, &v, &values).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(exe.plan.pass("peel").map(|p| p.repeat), Some(layers));
+    let ex = lightbench::render::render_with(&g, &exe, scene, 1, &params).unwrap();
+    ex.read_texture(&g, "hdr", 0, 0).unwrap()
+}
+
+#[test]
+fn depth_peeling_with_enough_layers_blends_the_panes_per_pixel() {
+    let scene = unlit_panes();
+    let behind = background(&scene);
+    // At most three panes overlap: three layers are enough, two leave the farthest out.
+    let (n, wrong4, worst4) = blend_errors(&peeled(&scene, 4), &scene, &behind, 0.01);
+    let (_, wrong3, worst3) = blend_errors(&peeled(&scene, 3), &scene, &behind, 0.01);
+    let (_, wrong2, _) = blend_errors(&peeled(&scene, 2), &scene, &behind, 0.01);
+    let three_deep = pane_orders(&scene).iter().flatten().filter(|o| o.len() == 3).count();
+    eprintln!(
+        "{n} pixels where panes overlap ({three_deep} where three do): depth peeling wrong by > 1% at {wrong4} with 4 layers (worst {worst4:.4}), {wrong3} with 3 (worst {worst3:.4}), {wrong2} with 2"
+    );
+    assert_eq!((wrong4, wrong3), (0, 0), "depth peeling: worst relative errors {worst4}, {worst3}");
+    assert!(
+        three_deep > 100 && wrong2 >= three_deep * 9 / 10,
+        "{wrong2} wrong with 2 layers, {three_deep} three deep"
+    );
+}
+
 #[test]
 fn fragment_list_overflow_is_counted_and_degrades_without_harm() {
     use lightbench_compiler::vfs::Vfs as _;

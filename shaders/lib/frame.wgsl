@@ -61,6 +61,8 @@ struct Instance {
     // x, y: this pass's target size in pixels (its first attachment, or the texture a compute
     // dispatch is sized from; else the output size); z, w: their reciprocals
     target_size: vec4<f32>,
+    // Which run of a `repeat` pass this is, from 0 (else 0).
+    repetition: u32,
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;

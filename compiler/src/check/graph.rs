@@ -94,9 +94,9 @@ fn read_edges(
             }
             continue;
         }
-        // Other mips of what it writes are inputs, not a cycle (checked by `declarations`).
-        let own_mips = ws.contains(&i) && reads_other_mips(pass, &name.value);
-        if ws.contains(&i) && !own_mips {
+        // Other mips or layers of what it writes are inputs, not a cycle (checked by `declarations`).
+        let own_parts = ws.contains(&i) && reads_other_parts(pass, &name.value);
+        if ws.contains(&i) && !own_parts {
             diags.push(
                 Diagnostic::error(
                     Code::Cycle,
@@ -114,7 +114,7 @@ fn read_edges(
         // Shadow maps whose writers were all culled for lack of casting lights stay cleared;
         // the lights read as unshadowed.
         let unshadowed = p.written_by_casters_only(res) && ws.is_empty();
-        if others.is_empty() && !own_mips && !res.supplied() && !unshadowed {
+        if others.is_empty() && !own_parts && !res.supplied() && !unshadowed {
             diags.push(missing_producer(p, pass, name, res, culled));
         }
         // A resource rewritten within the frame: a reader sees the writes before it in file
@@ -132,10 +132,14 @@ fn read_edges(
     }
 }
 
-/// Does a pass that writes `res` read only other mip levels of it (`Mip(..)` reads, written
-/// through attachments only)? Whether the levels really differ is `declarations`' check.
-fn reads_other_mips(pass: &Pass, res: &str) -> bool {
-    let reads_whole = pass.reads.iter().any(|r| r.name().value == res && r.mip().is_none());
+/// Does a pass that writes `res` read only other mip levels or array layers of it (`Mip(..)`,
+/// `Layer(..)` reads, written through attachments only)? Whether they really differ is
+/// `declarations`' check.
+fn reads_other_parts(pass: &Pass, res: &str) -> bool {
+    let reads_whole = pass
+        .reads
+        .iter()
+        .any(|r| r.name().value == res && r.mip().is_none() && r.layer().is_none());
     let storage = pass.writes.iter().any(|w| w.value == res);
     !reads_whole && !storage && pass.depth_tested().is_none_or(|d| d.value != res)
 }
@@ -298,7 +302,7 @@ fn parts(pass: &Pass, res: &str) -> Vec<Part> {
             LayerSel::Base => Some([0].into()),
             LayerSel::Index(n) => Some([n].into()),
             LayerSel::Face => Some((0..6).collect()),
-            LayerSel::All => None,
+            LayerSel::All | LayerSel::Rep(_) => None,
         },
         mips: Some(levels.iter().filter_map(|&l| mip.level(l)).collect()),
     };

@@ -131,6 +131,31 @@ pub enum LayerSel {
     Index(u32),
     /// All layers at once, as a 2D-array view (multiview).
     All,
+    /// The layer of the current repetition of a `repeat` pass, plus an offset (`Rep(-1)`:
+    /// the layer the repetition before wrote). Read, an offset before the first layer wraps
+    /// around to the last ones (the first repetition has no earlier layer to read).
+    Rep(i32),
+}
+
+impl LayerSel {
+    /// The layer at repetition `rep` of a texture with `layers` layers, for the kinds that
+    /// name one (`Base`, `Index`, `Rep`).
+    pub fn at(self, rep: u32, layers: u32) -> Option<u32> {
+        match self {
+            LayerSel::Base => Some(0),
+            LayerSel::Index(n) => Some(n),
+            LayerSel::Rep(d) => Some((rep as i64 + d as i64).rem_euclid(layers.max(1) as i64) as u32),
+            LayerSel::Face | LayerSel::All => None,
+        }
+    }
+}
+
+/// How many times a `repeat` pass runs in a row: a number, or an Int parameter's value (fixed
+/// when the Plan is made, like a size).
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Repeat {
+    Times(u32),
+    Param(String),
 }
 
 /// Which mip level of a resource a target or read means.
@@ -318,8 +343,9 @@ pub enum Read {
     Prev(Spanned<String>),
     /// One mip level of the current frame's value.
     Mip(Spanned<String>, Spanned<MipSel>),
-    /// One array layer of the current frame's value, bound as a 2D texture.
-    Layer(Spanned<String>, Spanned<u32>),
+    /// One array layer of the current frame's value, bound as a 2D texture: `Index(n)` or
+    /// the repetition's `Rep(offset)`.
+    Layer(Spanned<String>, Spanned<LayerSel>),
 }
 
 impl Read {
@@ -336,7 +362,7 @@ impl Read {
         }
     }
     /// The one array layer read, if the read names one.
-    pub fn layer(&self) -> Option<u32> {
+    pub fn layer(&self) -> Option<LayerSel> {
         match self {
             Read::Layer(_, l) => Some(l.value),
             _ => None,
@@ -374,6 +400,10 @@ pub struct Pass {
     pub shadow_casters: bool,
     /// Run once per mip level of this range (targets and reads select levels with `Rep`).
     pub per_mip: Option<Spanned<MipRange>>,
+    /// Run this many times in a row (targets and reads select array layers with `Rep`;
+    /// the shader reads the repetition as `instance.repetition`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub repeat: Option<Spanned<Repeat>>,
     /// Run every frame even when nothing it depends on changed (hidden inputs).
     pub always: bool,
     pub span: Span,

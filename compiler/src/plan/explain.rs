@@ -88,8 +88,12 @@ fn read_word(plan: &Plan, r: &PlanRead) -> String {
     match (r.prev, r.mip) {
         (true, _) => format!("Prev({name})"),
         (false, Some(m)) => format!("{name}{}", mip_word(m)),
-        (false, None) if r.layer.is_some() => format!("{name} layer {}", r.layer.unwrap_or(0)),
-        (false, None) => name.clone(),
+        (false, None) => match r.layer {
+            Some(crate::ir::LayerSel::Rep(0)) => format!("{name} layer rep"),
+            Some(crate::ir::LayerSel::Rep(d)) => format!("{name} layer rep{d:+}"),
+            Some(l) => format!("{name} layer {}", l.at(0, 1).unwrap_or(0)),
+            None => name.clone(),
+        },
     }
 }
 
@@ -179,7 +183,7 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
 
 /// ` ×6 (per Point light, per face)` for repeated passes.
 fn repetitions(p: &PlanPass) -> String {
-    if p.per_light.is_empty() && !p.per_face && p.per_mip.is_none() {
+    if p.per_light.is_empty() && !p.per_face && p.per_mip.is_none() && p.repeat == 1 {
         return String::new();
     }
     let kinds: Vec<&str> = p.per_light.iter().map(|k| k.name()).collect();
@@ -193,6 +197,9 @@ fn repetitions(p: &PlanPass) -> String {
     }
     if let Some(m) = p.per_mip {
         parts.push(format!("per mip {}..{}", m.from, m.to));
+    }
+    if p.repeat > 1 {
+        parts.push(format!("repeated {} times", p.repeat));
     }
     format!(" ×{} ({})", p.repetitions, parts.join(", "))
 }

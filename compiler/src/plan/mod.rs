@@ -59,6 +59,23 @@ impl Config<'_> {
         size.resolve(self.scene.size, &param)
     }
 
+    /// How many times a `repeat` pass runs in this configuration (1 without `repeat`; a
+    /// parameter's value as overridden, at least 1: the check holds it to its range).
+    pub fn repeat_count(&self, p: &crate::ir::Pipeline, r: Option<&crate::ir::Repeat>) -> u32 {
+        let value = match r {
+            None => return 1,
+            Some(crate::ir::Repeat::Times(n)) => *n as i64,
+            Some(crate::ir::Repeat::Param(name)) => match p.param(name) {
+                Some(prm) => match self.params.get(name).cloned().unwrap_or_else(|| self.default_of(p, prm).0) {
+                    ParamValue::Int(i) => i,
+                    _ => 1,
+                },
+                None => 1,
+            },
+        };
+        value.clamp(1, u32::MAX as i64) as u32
+    }
+
     /// A parameter's value before overrides: the preset of a chosen option that sets it (with
     /// the option, as `variant=option`), else its declared default.
     pub fn default_of(&self, p: &crate::ir::Pipeline, prm: &crate::ir::Param) -> (ParamValue, Option<String>) {
@@ -183,8 +200,9 @@ pub struct PlanRead {
     pub prev: bool,
     /// One mip level (else the whole chain).
     pub mip: Option<MipSel>,
-    /// One array layer, bound as a 2D texture (else every layer).
-    pub layer: Option<u32>,
+    /// One array layer, bound as a 2D texture (else every layer): a fixed one or the
+    /// repetition's (`Rep`).
+    pub layer: Option<LayerSel>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -199,7 +217,10 @@ pub struct PlanPass {
     pub per_face: bool,
     /// The mip levels it repeats over, in order.
     pub per_mip: Option<MipRange>,
-    /// How many times the pass runs for this scene (lights × faces × mip levels).
+    /// Times in a row a `repeat` pass runs (1 otherwise).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub repeat: u32,
+    /// How many times the pass runs for this scene (lights × faces × mip levels × repeat).
     pub repetitions: u32,
     pub reads: Vec<PlanRead>,
     /// Storage writes (attachments are in the work's targets).
@@ -429,4 +450,12 @@ impl Plan {
     pub fn output_resource(&self) -> &PlanResource {
         self.res(self.output)
     }
+}
+
+fn one() -> u32 {
+    1
+}
+
+fn is_one(n: &u32) -> bool {
+    *n == 1
 }

@@ -26,11 +26,16 @@ pub fn declared_param(p: &Param) -> PlanParam {
 /// A parameter as this configuration has it: `default` is the chosen preset's value where
 /// one sets it; `sizes` the value resources were sized with.
 pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, cfg: &super::Config) -> PlanParam {
+    let name = Some(p.name.value.as_str());
     let sizes = pipeline
         .resources
         .iter()
         .filter_map(|r| r.texture())
-        .any(|t| t.size.value.param() == Some(p.name.value.as_str()));
+        .any(|t| t.size.value.param() == name)
+        || pipeline.passes.iter().any(|pass| match pass.repeat.as_ref().map(|r| &r.value) {
+            Some(crate::ir::Repeat::Param(n)) => Some(n.as_str()) == name,
+            _ => false,
+        });
     let (default, preset) = cfg.default_of(pipeline, p);
     PlanParam {
         sizes: sizes.then(|| cfg.params.get(&p.name.value).unwrap_or(&default).clone()),

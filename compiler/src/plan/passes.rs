@@ -48,6 +48,7 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
         .as_ref()
         .map(|k| cfg.scene.repeats_for(k, pass.shadow_casters))
         .unwrap_or(1);
+    let repeat = cfg.repeat_count(p, pass.repeat.as_ref().map(|r| &r.value));
     let after = schedule.ordered.after.get(&i).map(Vec::as_slice).unwrap_or(&[]);
     Some(PlanPass {
         name: pass.name.value.clone(),
@@ -65,7 +66,8 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
         per_face: pass.per_face,
         shadow_casters: pass.shadow_casters,
         per_mip: pass.per_mip.as_ref().map(|m| m.value),
-        repetitions: lights * faces * levels,
+        repeat,
+        repetitions: lights * faces * levels * repeat,
         reads: pass
             .reads
             .iter()

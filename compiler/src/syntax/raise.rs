@@ -198,6 +198,13 @@ fn pass(p: &Pass) -> Node {
     f.put("per_face", Node::bool(p.per_face, p.span));
     f.put("shadow_casters", Node::bool(p.shadow_casters, p.span));
     f.opt("per_mip", p.per_mip.as_ref().map(|m| mip_range(m.value, m.span)));
+    f.opt(
+        "repeat",
+        p.repeat.as_ref().map(|r| match &r.value {
+            Repeat::Times(n) => Node::int(*n as i64, r.span),
+            Repeat::Param(name) => Node::call("Param", vec![Node::str(name, r.span)], r.span),
+        }),
+    );
     f.put("always", Node::bool(p.always, p.span));
     f.put("reads", Node::list(p.reads.iter().map(read).collect(), p.span));
     f.put("writes", strs(&p.writes, p.span));
@@ -250,11 +257,13 @@ fn read(r: &Read) -> Node {
         Read::Current(_) => Node::str(&n.value, n.span),
         Read::Prev(_) => Node::call("Prev", vec![Node::str(&n.value, n.span)], n.span),
         Read::Mip(_, m) => Node::call("Mip", vec![Node::str(&n.value, n.span), mip(m.value, m.span)], n.span),
-        Read::Layer(_, l) => Node::call(
-            "Layer",
-            vec![Node::str(&n.value, n.span), Node::int(l.value as i64, l.span)],
-            n.span,
-        ),
+        Read::Layer(_, l) => {
+            let at = match l.value {
+                LayerSel::Rep(d) => Node::call("Rep", vec![Node::int(d as i64, l.span)], l.span),
+                other => Node::int(other.at(0, 1).unwrap_or(0) as i64, l.span),
+            };
+            Node::call("Layer", vec![Node::str(&n.value, n.span), at], n.span)
+        }
     }
 }
 
@@ -275,6 +284,7 @@ fn layer(l: LayerSel, span: Span) -> Node {
         LayerSel::Face => Node::ident("Face", span),
         LayerSel::All => Node::ident("All", span),
         LayerSel::Index(i) => Node::call("Index", vec![Node::int(i as i64, span)], span),
+        LayerSel::Rep(d) => Node::call("Rep", vec![Node::int(d as i64, span)], span),
     }
 }
 

@@ -133,13 +133,15 @@ impl Binder<'_> {
         };
         let parities = if self.pool.has_history() { 2 } else { 1 };
         let mut reps = vec![];
-        let mut combos: Vec<(Option<u32>, u32, Option<u32>)> = vec![];
+        let mut combos: Vec<(Option<u32>, u32, Option<u32>, u32)> = vec![];
         for &l in &lights {
             for &f in &faces {
-                combos.extend(mips.iter().map(|&m| (l, f, m)));
+                for &m in &mips {
+                    combos.extend((0..pp.repeat.max(1)).map(|k| (l, f, m, k)));
+                }
             }
         }
-        for (light, face, mip) in combos {
+        for (light, face, mip, repetition) in combos {
             let (w, h) = self.target_size(pp, mip);
             let inst = InstanceBlock {
                 light: light.unwrap_or(0),
@@ -147,6 +149,8 @@ impl Binder<'_> {
                 view_count: pp.work.multiview().unwrap_or(1),
                 mip: mip.unwrap_or(0),
                 target_size: [w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32],
+                repetition,
+                _pad: [0; 3],
             };
             self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
             let mut rep = Rep {
@@ -158,7 +162,7 @@ impl Binder<'_> {
                 volume: light.map(|l| self.volumes.1.range_for(&self.lights[l as usize])).unwrap_or(0..0),
             };
             for parity in 0..parities {
-                self.fill(&mut rep, pp, layouts, params, (light, face, mip, *slot, parity))?;
+                self.fill(&mut rep, pp, layouts, params, (light, (face, repetition), mip, *slot, parity))?;
             }
             if parities == 1 {
                 rep.groups[1] = rep.groups[0].clone();
@@ -177,22 +181,22 @@ impl Binder<'_> {
         pp: &PlanPass,
         layouts: &[wgpu::BindGroupLayout],
         params: &[wgpu::Buffer],
-        (light, face, mip, slot, parity): (Option<u32>, u32, Option<u32>, u64, u32),
+        (light, (face, repetition), mip, slot, parity): (Option<u32>, (u32, u32), Option<u32>, u64, u32),
     ) -> Result<()> {
         let p = parity as usize;
         for g in pp.bind_groups.iter().filter(|g| !g.is_per_draw()) {
             let layout = layouts
                 .get(g.group as usize)
                 .ok_or_else(|| Error::Plan(format!("no layout for group {}", g.group)))?;
-            rep.groups[p].push((g.group, self.group(pp, g, layout, params, (light, mip), slot, parity)?));
+            rep.groups[p].push((g.group, self.group(pp, g, layout, params, (light, mip, repetition), slot, parity)?));
         }
         let level = |sel: MipSel| sel.level(mip.unwrap_or(0)).unwrap_or(0);
         if let Some(t) = pp.work.targets() {
             for c in &t.color {
-                rep.color[p].push(self.attachment(c.resource, (c.layer, level(c.mip)), light, face, parity)?);
+                rep.color[p].push(self.attachment(c.resource, (c.layer, level(c.mip)), light, (face, repetition), parity)?);
             }
             if let Some(d) = &t.depth {
-                rep.depth[p] = Some(self.attachment(d.resource, (d.layer, level(d.mip)), light, face, parity)?);
+                rep.depth[p] = Some(self.attachment(d.resource, (d.layer, level(d.mip)), light, (face, repetition), parity)?);
             }
         }
         Ok(())
@@ -205,7 +209,7 @@ impl Binder<'_> {
         g: &PlanBindGroup,
         layout: &wgpu::BindGroupLayout,
         params: &[wgpu::Buffer],
-        (light, mip): (Option<u32>, Option<u32>),
+        (light, mip, repetition): (Option<u32>, Option<u32>, u32),
         slot: u64,
         parity: u32,
     ) -> Result<wgpu::BindGroup> {
@@ -236,12 +240,13 @@ impl Binder<'_> {
                 BindSource::Resource(id) | BindSource::Prev(id) => {
                     let prev = matches!(e.source, BindSource::Prev(_));
                     // A `Mip(..)` read binds one level: the one it selects at this repetition.
-                    // A `Layer(..)` read binds one layer.
+                    // A `Layer(..)` read binds one layer: a fixed one, or this repetition's.
                     let read = pp.reads.iter().find(|r| r.resource == *id && !r.prev);
                     let level = read.and_then(|r| r.mip).map(|sel| sel.level(mip.unwrap_or(0)).unwrap_or(0));
+                    let layers = self.entry(*id)?.key.layers();
                     let sub = Sub {
                         level,
-                        layer: read.and_then(|r| r.layer),
+                        layer: read.and_then(|r| r.layer).and_then(|l| l.at(repetition, layers)),
                     };
                     self.resource(*id, &e.ty, (light, sub), prev, parity)?
                 }
@@ -302,15 +307,17 @@ impl Binder<'_> {
         res: ResourceId,
         (layer, level): (LayerSel, u32),
         light: Option<u32>,
-        face: u32,
+        (face, repetition): (u32, u32),
         parity: u32,
     ) -> Result<wgpu::TextureView> {
         let e = self.entry(res)?;
         let (dim, range) = match layer {
             LayerSel::All => (wgpu::TextureViewDimension::D2Array, (0, e.key.layers())),
             LayerSel::Face => (wgpu::TextureViewDimension::D2, (face, 1)),
-            LayerSel::Base => (wgpu::TextureViewDimension::D2, (0, 1)),
-            LayerSel::Index(n) => (wgpu::TextureViewDimension::D2, (n, 1)),
+            fixed => (
+                wgpu::TextureViewDimension::D2,
+                (fixed.at(repetition, e.key.layers()).unwrap_or(0), 1),
+            ),
         };
         let name = &self.plan.res(res).name;
         let tex = e

@@ -192,6 +192,7 @@ fn separable(plan: &Plan, p: &PlanPass) -> bool {
     let color = t.into_iter().flat_map(|t| &t.color).all(|c| own(c.resource, Some(c.layer)));
     let depth = t.and_then(|t| t.depth.as_ref()).is_none_or(|d| own(d.resource, Some(d.layer)));
     let storage = p.writes.iter().all(|&w| own(w, None));
-    // The levels of a per-mip pass build on each other: never alone.
-    p.repetitions > 1 && p.per_mip.is_none() && color && depth && storage
+    // The levels of a per-mip pass and the runs of a `repeat` pass build on each other:
+    // never alone.
+    p.repetitions > 1 && p.per_mip.is_none() && p.repeat <= 1 && color && depth && storage
 }

@@ -82,7 +82,10 @@ fn read_at(gpu: &Gpu, ex: &Executor, pass: &PlanPass, bad: &Bad) -> Result<Vec<(
         let instance = if r.per_light.is_empty() { 0 } else { bad.part.instance };
         let part = Part {
             instance,
-            layer: read.layer.unwrap_or(0),
+            layer: match (read.layer, &r.shape) {
+                (Some(l), ResourceShape::Texture { layers, .. }) => l.at(0, *layers).unwrap_or(0),
+                _ => 0,
+            },
             mip: 0,
             previous: read.prev,
         };

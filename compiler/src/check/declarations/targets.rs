@@ -215,6 +215,7 @@ fn layer_check(p: &Pipeline, pass: &Pass, res: &Spanned<String>, layer: LayerSel
         (LayerSel::Face, _) if !pass.per_face => "`layer: Face` needs a pass with `per_face: true`".to_string(),
         (LayerSel::Face, _) if layers < 6 => format!("`layer: Face` needs 6 layers, `{}` has {layers}", res.value),
         (LayerSel::Index(i), _) if i >= layers => format!("layer {i} is out of range: `{}` has {layers}", res.value),
+        (LayerSel::Rep(_), _) if pass.repeat.is_none() => "`layer: Rep(..)` needs a pass with `repeat`".to_string(),
         (LayerSel::All, Some(views)) if views > layers => {
             format!("multiview renders {views} views but `{}` has {layers} layers", res.value)
         }

@@ -168,6 +168,7 @@ fn keyword(r: &Rule) -> Option<&'static str> {
         Rule::per_face => "per_face",
         Rule::shadow_casters => "shadow_casters",
         Rule::per_mip => "per_mip",
+        Rule::repeat => "repeat",
         Rule::always => "always",
         Rule::set => "set",
         Rule::dispatch => "dispatch",

@@ -437,6 +437,13 @@ impl Builder<'_> {
                 let (to, from) = (self.uint(&parts.pop()?)?, self.uint(&parts.pop()?)?);
                 Some(Node::tuple(vec![from, to], at))
             }
+            Rule::repeat => {
+                let inner = parts.pop()?;
+                match inner.as_rule() {
+                    Rule::repeat_param => Some(Node::call("Param", vec![self.name(kids(inner).next()?)?], at)),
+                    _ => self.uint(&inner),
+                }
+            }
             Rule::set => {
                 let pairs = parts.into_iter().map(|s| self.setting(s)).collect::<Option<Vec<_>>>()?;
                 Some(Node::map(pairs, at))
@@ -466,7 +473,12 @@ impl Builder<'_> {
             Rule::layer_read => {
                 let mut k = kids(inner);
                 let name = self.name(k.next()?)?;
-                Some(Node::call("Layer", vec![name, self.uint(&k.next()?)?], span))
+                let at = k.next()?;
+                let layer = match at.as_rule() {
+                    Rule::rep_sel => self.rep(&at)?,
+                    _ => self.uint(&at)?,
+                };
+                Some(Node::call("Layer", vec![name, layer], span))
             }
             _ => self.name(inner),
         }
@@ -479,11 +491,23 @@ impl Builder<'_> {
         if inner.as_rule() == Rule::uint {
             return Some(Node::call("Level", vec![self.uint(&inner)?], span));
         }
-        let offset = inner.as_str().trim_start_matches("rep").trim_start_matches('+');
+        self.rep(&inner)
+    }
+
+    /// `rep`, `rep-1`, `rep+1`: `Rep(0)`, `Rep(-1)`, `Rep(1)`.
+    fn rep(&mut self, p: &P) -> Option<Node> {
+        let span = self.span(p);
+        let offset = p.as_str().trim_start_matches("rep").trim_start_matches('+');
         let d: i64 = match offset.parse() {
             _ if offset.is_empty() => 0,
             Ok(d) => d,
-            Err(_) => return self.err(Diagnostic::error(Code::BadNumber, format!("`{offset}` is not a mip offset"), span)),
+            Err(_) => {
+                return self.err(Diagnostic::error(
+                    Code::BadNumber,
+                    format!("`{offset}` is not a repetition offset"),
+                    span,
+                ))
+            }
         };
         Some(Node::call("Rep", vec![Node::int(d, span)], span))
     }
@@ -537,6 +561,7 @@ impl Builder<'_> {
                     let w = kids(o).next()?;
                     match w.as_rule() {
                         Rule::uint => Node::call("Index", vec![self.uint(&w)?], at),
+                        Rule::rep_sel => self.rep(&w)?,
                         _ => self.word(&w),
                     }
                 }

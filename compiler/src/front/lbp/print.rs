@@ -240,7 +240,7 @@ fn data(n: &Node) -> String {
     }
 }
 
-/// `2`, `rep`, `rep-1`, `rep+1`.
+/// `2`, `rep`, `rep-1`, `rep+1` (a mip level or an array layer).
 fn mip(n: &Node) -> String {
     let arg = items(n).first().map(value).unwrap_or_default();
     match n.name() {
@@ -277,6 +277,7 @@ fn pass_line(key: &str, v: &Node) -> String {
         "shadow_casters" => "shadow_casters".into(),
         "always" => "always".into(),
         "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
+        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
         "values" => format!(
             "set {}",
             entries(v)
@@ -311,7 +312,10 @@ fn read(n: &Node) -> String {
         Some("Layer") if matches!(&*n.value, Value::Tuple { .. }) => format!(
             "layer({}, {})",
             name(items(n).first().map(text).unwrap_or("")),
-            items(n).get(1).map(value).unwrap_or_default()
+            items(n)
+                .get(1)
+                .map(|l| if l.name() == Some("Rep") { mip(l) } else { value(l) })
+                .unwrap_or_default()
         ),
         Some("Mip") if matches!(&*n.value, Value::Tuple { .. }) => format!(
             "mip({}, {})",
@@ -336,6 +340,7 @@ fn target(n: &Node) -> String {
             "blend" | "compare" => t += &format!(" {key} {}", text(v)),
             "write" => t += " nowrite",
             "layer" if v.name() == Some("Index") => t += &format!(" layer {}", value(&items(v)[0])),
+            "layer" if v.name() == Some("Rep") => t += &format!(" layer {}", mip(v)),
             "layer" => t += &format!(" layer {}", text(v)),
             "mip" => t += &format!(" mip {}", mip(v)),
             _ => {}

@@ -7,7 +7,7 @@ use crate::ir::*;
 use crate::span::{Span, Spanned};
 use crate::syntax::tree::{Node, Value};
 
-const COMMON: [&str; 14] = [
+const COMMON: [&str; 15] = [
     "name",
     "shader",
     "reads",
@@ -21,6 +21,7 @@ const COMMON: [&str; 14] = [
     "per_face",
     "shadow_casters",
     "per_mip",
+    "repeat",
     "always",
 ];
 const RASTER: [&str; 8] = ["vertex", "fragment", "color", "depth", "draw", "cull", "instances", "multiview"];
@@ -85,6 +86,10 @@ impl Lowerer<'_> {
             Some(n) => Some(self.mip_range(&n)?),
             None => None,
         };
+        let repeat = match o.take("repeat") {
+            Some(n) => Some(self.repeat(&n)?),
+            None => None,
+        };
         let always = o.get("always").and_then(|n| self.bool(&n));
         Some(Pass {
             name: name?,
@@ -100,6 +105,7 @@ impl Lowerer<'_> {
             shadow_casters: shadow_casters?,
             values: values?,
             per_mip,
+            repeat,
             always: always?,
             span: o.span,
         })
@@ -122,6 +128,33 @@ impl Lowerer<'_> {
             out.push((k, Spanned::new(value, v.span)));
         }
         Some(out)
+    }
+
+    /// The layer a `Layer(name, ..)` read binds: `n` or `Rep(offset)`.
+    fn layer_read(&mut self, n: &Node) -> Res<Spanned<LayerSel>> {
+        let sel = match (&*n.value, n.name()) {
+            (Value::Int(_), _) => LayerSel::Index(self.u32(n)?.value),
+            (Value::Tuple { items, .. }, Some("Rep")) if items.len() == 1 => LayerSel::Rep(self.rep_offset(&items[0])?),
+            _ => return self.type_err("a layer `n` or `Rep(offset)`", n),
+        };
+        Some(Spanned::new(sel, n.span))
+    }
+
+    fn rep_offset(&mut self, n: &Node) -> Res<i32> {
+        match &*n.value {
+            Value::Int(i) if i32::try_from(*i).is_ok() => Some(*i as i32),
+            _ => self.type_err("a whole-number offset", n),
+        }
+    }
+
+    /// `repeat: N` or `repeat: Param("name")`.
+    fn repeat(&mut self, n: &Node) -> Res<Spanned<Repeat>> {
+        let r = match (&*n.value, n.name()) {
+            (Value::Int(_), _) => Repeat::Times(self.u32(n)?.value),
+            (Value::Tuple { items, .. }, Some("Param")) if items.len() == 1 => Repeat::Param(self.string(&items[0])?.value),
+            _ => return self.type_err("a number of times or `Param(\"name\")`", n),
+        };
+        Some(Spanned::new(r, n.span))
     }
 
     /// `per_mip: (from, to)`.
@@ -262,7 +295,7 @@ impl Lowerer<'_> {
                     out.push(Read::Mip(self.string(&items[0])?, self.mip_sel(&items[1])?))
                 }
                 (Value::Tuple { items, .. }, Some("Layer")) if items.len() == 2 => {
-                    out.push(Read::Layer(self.string(&items[0])?, self.u32(&items[1])?))
+                    out.push(Read::Layer(self.string(&items[0])?, self.layer_read(&items[1])?))
                 }
                 _ => {
                     return self.type_err(
@@ -375,7 +408,8 @@ impl Lowerer<'_> {
             (Value::Ident(_), Some("Face")) => Some(LayerSel::Face),
             (Value::Ident(_), Some("All")) => Some(LayerSel::All),
             (Value::Tuple { items, .. }, Some("Index")) if items.len() == 1 => Some(LayerSel::Index(self.u32(&items[0])?.value)),
-            _ => self.type_err("`Base`, `Face`, `All` or `Index(n)`", n),
+            (Value::Tuple { items, .. }, Some("Rep")) if items.len() == 1 => Some(LayerSel::Rep(self.rep_offset(&items[0])?)),
+            _ => self.type_err("`Base`, `Face`, `All`, `Index(n)` or `Rep(offset)`", n),
         }
     }
 }
