@@ -282,6 +282,7 @@ impl Hand {
                     view_count: 1,
                     mip: 0,
                     target_size: [CUBE as f32, CUBE as f32, 1.0 / CUBE as f32, 1.0 / CUBE as f32],
+                    ..Default::default()
                 };
                 uniform(gpu, bytemuck::bytes_of(&block))
             })
@@ -294,6 +295,7 @@ impl Hand {
                 view_count: 1,
                 mip: 0,
                 target_size: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+                ..Default::default()
             }),
         );
         // Parameter blocks at the pipeline's defaults.

@@ -43,7 +43,7 @@ pub struct LightBlock {
 }
 
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct InstanceBlock {
     pub light: u32,
     pub face: u32,
