@@ -1624,3 +1624,87 @@ fn discard_outside_a_fragment_shader_is_located_at_the_statement() {
         9,
     );
 }
+
+#[test]
+fn layer_rep_needs_a_repeat_pass() {
+    expect(
+        Case {
+            pipeline: &[("depth: \"depth\"", "depth: Depth(resource: \"depth\", layer: Rep(0))")],
+            ..BASE
+        },
+        "layer-select",
+        "`layer: Rep(..)` needs a pass with `repeat`",
+        "pipelines/p.ron",
+        15,
+        78,
+    );
+}
+
+#[test]
+fn repeat_beyond_the_layers_it_writes() {
+    expect(
+        Case {
+            pipeline: &[
+                (
+                    "\"depth\": Texture(format: Depth32Float)",
+                    "\"depth\": Texture(format: Depth32Float, layers: 2, view: D2Array)",
+                ),
+                ("depth: \"depth\"", "depth: Depth(resource: \"depth\", layer: Rep(0)), repeat: 3"),
+            ],
+            ..BASE
+        },
+        "layer-select",
+        "`repeat` runs 3 times, writing layers 0..=2 of `depth`, which has 2",
+        "pipelines/p.ron",
+        15,
+        127,
+    );
+}
+
+#[test]
+fn repeat_by_a_parameter_that_is_not_an_int() {
+    expect(
+        Case {
+            pipeline: &[
+                (
+                    "\"depth\": Texture(format: Depth32Float)",
+                    "\"depth\": Texture(format: Depth32Float, layers: 2, view: D2Array)",
+                ),
+                (
+                    "depth: \"depth\"",
+                    "depth: Depth(resource: \"depth\", layer: Rep(0)), repeat: Param(\"post.exposure\")",
+                ),
+            ],
+            ..BASE
+        },
+        "layer-select",
+        "`repeat` needs an Int parameter; `post.exposure` is not one",
+        "pipelines/p.ron",
+        15,
+        127,
+    );
+}
+
+#[test]
+fn a_repeat_pass_reading_the_layer_it_writes() {
+    expect(
+        Case {
+            pipeline: &[
+                (
+                    "\"color\": Texture(format: Rgba16Float)",
+                    "\"color\": Texture(format: Rgba16Float, layers: 2, view: D2Array)",
+                ),
+                (
+                    "color: [\"color\"], depth: \"depth\"",
+                    "reads: [Layer(\"color\", Rep(0))], color: [Target(resource: \"color\", layer: Rep(0))], depth: \"depth\", repeat: 2",
+                ),
+            ],
+            ..BASE
+        },
+        "layer-select",
+        "pass `scene` reads the layer of `color` it writes (`Rep(0)`)",
+        "pipelines/p.ron",
+        15,
+        76,
+    );
+}

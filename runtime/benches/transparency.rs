@@ -1,7 +1,8 @@
 //! `cargo bench -p lightbench --bench transparency`: seed 003 Table 6.3 style — what
-//! compositing blended surfaces costs, drawn far to near by object (`transparency = sorted`)
-//! against per-pixel fragment lists (`fragment_lists`: clear, append, sort and blend), on the
-//! built-in panes scene at the seed's three resolutions. Not a test; needs a GPU adapter
+//! compositing blended surfaces costs, drawn far to near by object (`transparency = sorted`),
+//! peeled in 4 and 8 layers (`depth_peeling`) and from per-pixel fragment lists
+//! (`fragment_lists`: clear, append, sort and blend), on the built-in panes scene at the
+//! seed's three resolutions. Not a test; needs a GPU adapter
 //! (lavapipe is enough). Every pass runs every frame; figures are GPU-ms means over 5 frames
 //! after a warm-up, of the passes that composite blended surfaces, and of the whole frame.
 
@@ -9,15 +10,21 @@ use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::builtin;
 use std::path::Path;
 
-const PASSES: [&str; 4] = ["transparent", "oit_clear", "oit_append", "oit_resolve"];
+const PASSES: [&str; 6] = ["transparent", "oit_clear", "oit_append", "oit_resolve", "peel", "peel_resolve"];
 
-/// (compositing GPU ms, frame GPU ms) per frame.
-fn measure(gpu: &Gpu, size: (u32, u32), transparency: &str, frames: u32) -> (f64, f64) {
+/// (compositing GPU ms, frame GPU ms) per frame; `layers` for depth peeling.
+fn measure(gpu: &Gpu, size: (u32, u32), transparency: &str, layers: u32, frames: u32) -> (f64, f64) {
     let mut scene = builtin::by_name("panes").expect("the panes scene");
     scene.size = size;
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
     let variants = [("transparency".to_string(), transparency.to_string())];
-    let (exe, _) = lightbench::render::compile(gpu, &pipeline, None, &scene, &variants).unwrap_or_else(|e| panic!("{e}"));
+    let ws = lightbench_compiler::Workspace::disk();
+    let (exe, _) = lightbench::render::compile_in(&ws, gpu, &pipeline, None, &scene, &variants).unwrap_or_else(|e| panic!("{e}"));
+    // `peel.layers` repeats a pass: plan for it.
+    let set = lightbench::render::parse_params(&exe.plan, &[("peel.layers".into(), layers.to_string())]).expect("peel.layers");
+    let values = lightbench::render::param_values(&exe.plan, &set).expect("values");
+    let (exe, _) =
+        lightbench::render::compile_with(&ws, gpu, (&pipeline, None), &scene, &variants, &values).unwrap_or_else(|e| panic!("{e}"));
     let mut ex = Executor::new(gpu, &exe, &scene).expect("executor");
     ex.set_reuse(false);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
@@ -40,16 +47,19 @@ fn main() {
     println!("{}", gpu.describe());
     println!("blended surfaces on the panes scene, GPU ms per frame (mean of 5 after a warm-up)");
     println!(
-        "{:>11} {:>10} {:>16} {:>13} {:>16} {:>14}",
-        "size", "sorted ms", "lists ms", "lists/sorted", "sorted frame ms", "lists frame ms"
+        "{:>11} {:>10} {:>10} {:>10} {:>10} {:>14} {:>15}",
+        "size", "sorted ms", "peel 4 ms", "peel 8 ms", "lists ms", "peel 4 / lists", "frame ms (l/p8)"
     );
     for size in [(800, 600), (1280, 720), (1920, 1080)] {
-        let (sorted, sorted_frame) = measure(&gpu, size, "sorted", 5);
-        let (lists, lists_frame) = measure(&gpu, size, "fragment_lists", 5);
+        let (sorted, _) = measure(&gpu, size, "sorted", 4, 5);
+        let (peel4, _) = measure(&gpu, size, "depth_peeling", 4, 5);
+        let (peel8, peel8_frame) = measure(&gpu, size, "depth_peeling", 8, 5);
+        let (lists, lists_frame) = measure(&gpu, size, "fragment_lists", 4, 5);
         println!(
-            "{:>11} {sorted:>10.3} {lists:>16.3} {:>12.2}× {sorted_frame:>16.3} {lists_frame:>14.3}",
+            "{:>11} {sorted:>10.3} {peel4:>10.3} {peel8:>10.3} {lists:>10.3} {:>13.2}× {:>7.1}/{peel8_frame:.1}",
             format!("{}x{}", size.0, size.1),
-            lists / sorted
+            peel4 / lists,
+            lists_frame
         );
     }
 }

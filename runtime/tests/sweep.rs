@@ -145,7 +145,7 @@ fn every_bundled_sweep_spec_runs() {
         ("indirect_diffuse", "indirect_diffuse", 5),
         ("ssr", "ssr.max_steps", 5),
         ("frame", "indirect_diffuse", 5),
-        ("transparency", "transparency", 2),
+        ("transparency", "transparency", 5),
     ] {
         let out = scratch(spec);
         let (code, _, err) = sweep(&format!("sweeps/{spec}.ron"), &out, &[]);
@@ -176,11 +176,25 @@ fn every_bundled_sweep_spec_runs() {
         }
         if spec == "transparency" {
             // A per-pixel order is nearer the reference than an order of whole objects where
-            // the panes pass through each other, and costs more.
-            let of = |option: &str| rows.iter().find(|r| r["transparency"] == option).unwrap();
-            let (sorted, lists) = (of("sorted"), of("fragment_lists"));
+            // the panes pass through each other, and costs more; peeling enough layers (three
+            // panes: 4 or 8) gives the fragment lists' image, fewer leave the farthest out.
+            let of = |option: &str, layers: &str| {
+                rows.iter()
+                    .find(|r| r["transparency"] == option && r["peel.layers"] == layers)
+                    .unwrap()
+            };
+            let (sorted, lists) = (of("sorted", ""), of("fragment_lists", ""));
             assert!(num(lists, "rmse") < num(sorted, "rmse"), "{} vs {}", lists["rmse"], sorted["rmse"]);
             assert!(num(lists, "effect_ms") > num(sorted, "effect_ms"));
+            let (peel2, peel4, peel8) = (of("depth_peeling", "2"), of("depth_peeling", "4"), of("depth_peeling", "8"));
+            assert!(
+                (num(peel4, "rmse") - num(lists, "rmse")).abs() < 1e-4,
+                "{} vs {}",
+                peel4["rmse"],
+                lists["rmse"]
+            );
+            assert_eq!(peel4["rmse"], peel8["rmse"]);
+            assert!(num(peel2, "rmse") > num(peel4, "rmse"));
         }
         if spec == "indirect_diffuse" {
             for scene in ["cornell_spot", "cornell_sun"] {
