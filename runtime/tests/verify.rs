@@ -69,6 +69,45 @@ fn bundled_pipelines_stay_finite_on_every_hard_case() {
     );
 }
 
+/// Blended surfaces: both bundled pipelines × every variant option (every transparency and
+/// anti-aliasing option among them) on `scenes/panes_inside.ron` — the camera among panes that
+/// pass through each other, several layers per pixel — for 2 frames: every value of every
+/// resource (fragment lists, peeled layers, TAA's history) finite and within its range.
+#[test]
+fn every_option_stays_finite_among_interpenetrating_panes() {
+    let pipelines = ["pipelines/deferred.ron", "pipelines/deferred_gi.ron"].map(|p| root().join(p).display().to_string());
+    let scene = root().join("scenes/panes_inside.ron");
+    let (code, out, err) = lightbench(&[
+        "verify",
+        &pipelines[0],
+        &pipelines[1],
+        "--scenes",
+        scene.to_str().unwrap(),
+        "--size",
+        "32x32",
+        "--frames",
+        "2",
+        "--format",
+        "json",
+    ]);
+    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let problems: Vec<&serde_json::Value> = lines
+        .iter()
+        .filter(|l| !l["problem"].is_null() && l.get("summary").is_none())
+        .collect();
+    assert!(problems.is_empty(), "{problems:#?}\n{err}");
+    assert_eq!(code, 0, "{err}");
+    let variants: Vec<String> = lines
+        .iter()
+        .filter_map(|l| l["variants"].as_array())
+        .flatten()
+        .filter_map(|v| v.as_str().map(String::from))
+        .collect();
+    for option in ["transparency=fragment_lists", "transparency=depth_peeling", "aa=taa", "aa=fxaa"] {
+        assert!(variants.iter().any(|v| v == option), "{option} not verified: {variants:?}");
+    }
+}
+
 const LIT: &str = "#include \"lib/frame.wgsl\"
 
 struct Params { poison: u32 };
