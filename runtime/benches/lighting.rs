@@ -10,6 +10,9 @@
 //! 2. Lighting models, seed 003 Fig. 6.1 style: the four `lighting` options on `many_lights`
 //!    with 1, 10, 100 and 1000 lights at three resolutions: frame GPU ms, and where deferred
 //!    overtakes forward.
+//! 3. Merged repetitions (`-- merge`): the deferred models with 100 and 1000 lights at 512×384,
+//!    a light pass's repetitions sharing one render pass (the default) against a render pass
+//!    each (`Executor::set_merge(false)`): frame GPU and wall ms, light-pass encode µs, ratios.
 //!
 //! Every pass runs every frame (no reuse); figures are means over the frames after a warm-up.
 
@@ -57,6 +60,17 @@ fn project(edit: impl Fn(String) -> String) -> Workspace {
 }
 
 fn measure(gpu: &Gpu, ws: &Workspace, scene: &Scene, variants: &[(&str, &str)], frames: u32, pick: impl Fn(&str) -> bool) -> Cost {
+    measure_with(gpu, ws, scene, (variants, true), frames, pick)
+}
+
+fn measure_with(
+    gpu: &Gpu,
+    ws: &Workspace,
+    scene: &Scene,
+    (variants, merge): (&[(&str, &str)], bool),
+    frames: u32,
+    pick: impl Fn(&str) -> bool,
+) -> Cost {
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let pipeline = Path::new("mem/pipelines/deferred.ron");
     let (exe, _) = lightbench::render::compile_in(ws, gpu, pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
@@ -67,6 +81,7 @@ fn measure(gpu: &Gpu, ws: &Workspace, scene: &Scene, variants: &[(&str, &str)], 
     }
     let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
     ex.set_reuse(false);
+    ex.set_merge(merge);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
     let mut sum = Cost::default();
     for f in 1..=frames {
@@ -183,6 +198,36 @@ fn lighting_models(gpu: &Gpu) {
     println!("  (seed 003 Fig. 6.1, GeForce 560 Ti: forward wins for a few lights, deferred from a few tens on)");
 }
 
+fn merged_repetitions(gpu: &Gpu) {
+    println!("Merged repetitions: light passes sharing one render pass vs one render pass per light (512×384, many_lights)");
+    println!(
+        "    {:<20} {:>6} {:>22} {:>22} {:>24}",
+        "model", "lights", "frame GPU ms (m / a)", "frame wall ms (m / a)", "light encode µs (m / a)"
+    );
+    let ws = project(|t| t);
+    for model in ["deferred_fullscreen", "deferred_volumes"] {
+        for n in [100usize, 1000] {
+            let mut scene = builtin::many_lights(n);
+            scene.size = (512, 384);
+            let lights = |p: &str| p.starts_with("light_") || p.starts_with("volume_");
+            let m = measure_with(gpu, &ws, &scene, (&[("lighting", model)], true), 3, lights);
+            let a = measure_with(gpu, &ws, &scene, (&[("lighting", model)], false), 3, lights);
+            println!(
+                "    {model:<20} {n:>6} {:>9.1} / {:>7.1} {:.2}× {:>8.1} / {:>7.1} {:.2}× {:>9.0} / {:>7.0} {:.2}×",
+                m.frame_gpu_ms,
+                a.frame_gpu_ms,
+                m.frame_gpu_ms / a.frame_gpu_ms,
+                m.frame_wall_ms,
+                a.frame_wall_ms,
+                m.frame_wall_ms / a.frame_wall_ms,
+                m.picked_encode_us,
+                a.picked_encode_us,
+                m.picked_encode_us / a.picked_encode_us
+            );
+        }
+    }
+}
+
 fn main() {
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     println!("{}", gpu.describe());
@@ -193,5 +238,8 @@ fn main() {
     }
     if want("models") {
         lighting_models(&gpu);
+    }
+    if want("merge") {
+        merged_repetitions(&gpu);
     }
 }

@@ -232,3 +232,33 @@ fn light_volumes_cover_their_lights_reach_once_and_tightly() {
     eprintln!("spot cone: {cone} pixels, its sphere {sphere}");
     assert!(cone > 0.0 && cone < sphere * 0.5, "cone {cone}, sphere {sphere}");
 }
+
+/// Repetitions that add into the same image (a light pass per light) share one render pass:
+/// the image is the one a render pass per repetition gives, and `--timings` still reports
+/// each pass once, with all its repetitions.
+#[test]
+fn merged_light_repetitions_render_the_same_image() {
+    let g = gpu();
+    for n in [10, 100] {
+        let scene = builtin::many_lights(n);
+        for model in ["deferred_fullscreen", "deferred_volumes"] {
+            let v = [("lighting".to_string(), model.to_string())];
+            let (exe, _) = lightbench::render::compile(&g, &deferred(), None, &scene, &v).unwrap_or_else(|e| panic!("{e}"));
+            let image = |merge: bool| {
+                let mut ex = Executor::new(&g, &exe, &scene).unwrap();
+                ex.set_merge(merge);
+                ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
+                let lights: Vec<_> = ex.last_timings.iter().filter(|t| t.repetitions as usize == n).cloned().collect();
+                (ex.read_texture(&g, "hdr", 0, 0).unwrap(), lights)
+            };
+            let ((merged, timed), (apart, _)) = (image(true), image(false));
+            let e = rmse(&apart, &merged).unwrap();
+            eprintln!("{model}, {n} lights: RMSE merged vs one render pass per repetition {e:e}");
+            assert!(e <= 1e-5, "{model}, {n} lights: RMSE {e}");
+            assert!(
+                !timed.is_empty() && timed.iter().all(|t| t.gpu_ms.is_some_and(|ms| ms >= 0.0)),
+                "{timed:?}"
+            );
+        }
+    }
+}

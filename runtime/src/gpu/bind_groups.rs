@@ -26,7 +26,13 @@ pub struct Rep {
     pub depth: [Option<wgpu::TextureView>; 2],
     /// The vertices of its light's volume (`draw: LightVolume` passes).
     pub volume: std::ops::Range<u32>,
+    /// What its attachments render into (resource, instance, first layer, layers, level):
+    /// repetitions with the same can share one render pass.
+    pub targets: Vec<TargetKey>,
 }
+
+/// One attachment's subresource: resource, instance, first layer, layer count, mip level.
+pub type TargetKey = (ResourceId, u32, u32, u32, u32);
 
 /// Light indices (into the active light array) a per-light list of kinds iterates, in order.
 pub fn lights_of(lights: &[Light], kinds: &[LightKind]) -> Vec<u32> {
@@ -160,6 +166,7 @@ impl Binder<'_> {
                 color: [vec![], vec![]],
                 depth: [None, None],
                 volume: light.map(|l| self.volumes.1.range_for(&self.lights[l as usize])).unwrap_or(0..0),
+                targets: vec![],
             };
             for parity in 0..parities {
                 self.fill(&mut rep, pp, layouts, params, (light, (face, repetition), mip, *slot, parity))?;
@@ -193,10 +200,18 @@ impl Binder<'_> {
         let level = |sel: MipSel| sel.level(mip.unwrap_or(0)).unwrap_or(0);
         if let Some(t) = pp.work.targets() {
             for c in &t.color {
-                rep.color[p].push(self.attachment(c.resource, (c.layer, level(c.mip)), light, (face, repetition), parity)?);
+                let (view, key) = self.attachment(c.resource, (c.layer, level(c.mip)), light, (face, repetition), parity)?;
+                rep.color[p].push(view);
+                if p == 0 {
+                    rep.targets.push(key);
+                }
             }
             if let Some(d) = &t.depth {
-                rep.depth[p] = Some(self.attachment(d.resource, (d.layer, level(d.mip)), light, (face, repetition), parity)?);
+                let (view, key) = self.attachment(d.resource, (d.layer, level(d.mip)), light, (face, repetition), parity)?;
+                rep.depth[p] = Some(view);
+                if p == 0 {
+                    rep.targets.push(key);
+                }
             }
         }
         Ok(())
@@ -309,7 +324,7 @@ impl Binder<'_> {
         light: Option<u32>,
         (face, repetition): (u32, u32),
         parity: u32,
-    ) -> Result<wgpu::TextureView> {
+    ) -> Result<(wgpu::TextureView, TargetKey)> {
         let e = self.entry(res)?;
         let (dim, range) = match layer {
             LayerSel::All => (wgpu::TextureViewDimension::D2Array, (0, e.key.layers())),
@@ -320,10 +335,12 @@ impl Binder<'_> {
             ),
         };
         let name = &self.plan.res(res).name;
+        let instance = self.instance_of(res, light);
         let tex = e
-            .texture(self.instance_of(res, light), false, parity)
+            .texture(instance, false, parity)
             .ok_or_else(|| Error::Plan(format!("`{name}` is not a texture")))?;
-        Ok(tex.create_view(&wgpu::TextureViewDescriptor {
+        let key = (res, instance, range.0, range.1, level);
+        let view = tex.create_view(&wgpu::TextureViewDescriptor {
             label: Some(name),
             dimension: Some(dim),
             usage: Some(wgpu::TextureUsages::RENDER_ATTACHMENT),
@@ -333,7 +350,8 @@ impl Binder<'_> {
             base_array_layer: range.0,
             array_layer_count: Some(range.1),
             ..Default::default()
-        }))
+        });
+        Ok((view, key))
     }
 
     /// One bind group per mesh for the pass's per-draw group, if it has one.

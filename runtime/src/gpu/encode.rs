@@ -1,5 +1,7 @@
 //! Encoding one pass of a frame: each repetition as a compute dispatch or a render pass
-//! with its attachments, bind groups and draws, as the Plan describes them.
+//! with its attachments, bind groups and draws, as the Plan describes them; consecutive
+//! repetitions that load and render into the same attachments share one render pass (a light
+//! pass over 1,000 lights is one render pass, its bind groups switched inside it).
 
 use super::bind_groups::Rep;
 use super::pipelines::{multiview_mask, Built, PipelineKind};
@@ -19,18 +21,50 @@ pub struct PassGpu {
 }
 
 /// Record the repetitions of pass number `index` that `run` selects into `enc` (the first
-/// and last of them write the pass's timestamps).
+/// and last of them write the pass's timestamps); `merge`: let repetitions share render
+/// passes where they can.
 pub fn encode(
     enc: &mut wgpu::CommandEncoder,
     (pass, index, run): (&PassGpu, usize, &[bool]),
-    parity: usize,
+    (parity, merge): (usize, bool),
     timer: Option<&Timer>,
     scene: (&SceneGpu, &DrawOrder),
 ) {
     let running: Vec<&Rep> = pass.reps.iter().zip(run).filter(|(_, r)| **r).map(|(rep, _)| rep).collect();
     let n = running.len();
-    for (ri, rep) in running.into_iter().enumerate() {
-        let ts = timer.and_then(|t| t.writes(index, ri, n).map(|w| (t, w)));
+    let mut first = 0;
+    while first < n {
+        let last = if merge && shares_render_passes(pass) {
+            first + running[first..].iter().take_while(|r| r.targets == running[first].targets).count()
+        } else {
+            first + 1
+        };
+        let ts = timer.and_then(|t| t.writes(index, (first, last), n).map(|w| (t, w)));
+        record(enc, (pass, &running[first..last]), parity, ts, scene);
+        first = last;
+    }
+}
+
+/// Can repetitions with the same attachments share a render pass? When every attachment
+/// loads (a clear per repetition would keep only the last) and the pass writes no storage
+/// (a later repetition could read what an earlier one wrote, with no barrier between).
+fn shares_render_passes(pass: &PassGpu) -> bool {
+    let Some(t) = pass.plan.work.targets() else { return false };
+    let loads = t.color.iter().all(|c| c.load == Load::Load) && t.depth.as_ref().is_none_or(|d| d.load == Load::Load);
+    loads && pass.plan.writes.is_empty() && !matches!(pass.built.pipeline, PipelineKind::Compute(_))
+}
+
+/// One GPU pass recording `reps` (one compute repetition, or render repetitions that share
+/// the first one's attachments).
+fn record(
+    enc: &mut wgpu::CommandEncoder,
+    (pass, reps): (&PassGpu, &[&Rep]),
+    parity: usize,
+    ts: Option<(&Timer, (Option<u32>, Option<u32>))>,
+    scene: (&SceneGpu, &DrawOrder),
+) {
+    let rep = reps[0];
+    {
         match (&pass.built.pipeline, &pass.plan.work) {
             (PipelineKind::Compute(p), Work::Compute { groups, .. }) => {
                 let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -64,10 +98,12 @@ pub fn encode(
                     multiview_mask: multiview_mask(work.multiview()),
                 });
                 rp.set_pipeline(p);
-                for (g, bg) in &rep.groups[parity] {
-                    rp.set_bind_group(*g, bg, &[]);
+                for rep in reps {
+                    for (g, bg) in &rep.groups[parity] {
+                        rp.set_bind_group(*g, bg, &[]);
+                    }
+                    draw(&mut rp, (pass, rep), work, scene);
                 }
-                draw(&mut rp, (pass, rep), work, scene);
             }
             // The cache builds compute pipelines for compute work only.
             (PipelineKind::Compute(_), _) => {}

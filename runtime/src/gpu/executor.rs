@@ -92,6 +92,9 @@ pub struct Executor {
     pub log_timings: bool,
     /// GPU timestamps per pass (`PassTiming::gpu_ms`); on by default where the adapter has them.
     timing: bool,
+    /// Repetitions that render into the same loaded attachments share a render pass (the
+    /// default); off, each has its own (the baseline `bench lighting -- merge` measures).
+    merge: bool,
     /// External resources whose contents were supplied (`load_input`) to their current storage.
     pub(super) supplied: std::collections::BTreeSet<String>,
     /// The last frame's view-projection and jitter (the frame block's `prev_*`).
@@ -179,6 +182,7 @@ impl Executor {
             timing_log: vec![],
             log_timings: false,
             timing: true,
+            merge: true,
             supplied: Default::default(),
             previous: None,
             reuse: Reuse::new(true),
@@ -309,6 +313,12 @@ impl Executor {
         self.timing = on;
     }
 
+    /// Let repetitions of a pass that render into the same loaded attachments share one
+    /// render pass (`true`, the default), or give each its own. Images are the same.
+    pub fn set_merge(&mut self, on: bool) {
+        self.merge = on;
+    }
+
     /// Run every pass every frame (`false`), or only those whose inputs changed (the default).
     pub fn set_reuse(&mut self, on: bool) {
         self.reuse = Reuse::new(on);
@@ -410,7 +420,13 @@ impl Executor {
             let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some(&pass.plan.name),
             });
-            encode(&mut enc, (pass, pi, run), parity, None, (&self.shared.scene_gpu, &order));
+            encode(
+                &mut enc,
+                (pass, pi, run),
+                (parity, self.merge),
+                None,
+                (&self.shared.scene_gpu, &order),
+            );
             gpu.queue.submit([enc.finish()]);
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));
@@ -434,7 +450,13 @@ impl Executor {
             let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some(&pass.plan.name),
             });
-            encode(&mut enc, (pass, pi, &run[pi]), parity, None, (&self.shared.scene_gpu, order));
+            encode(
+                &mut enc,
+                (pass, pi, &run[pi]),
+                (parity, self.merge),
+                None,
+                (&self.shared.scene_gpu, order),
+            );
             drop(enc.finish());
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Some(Error::gpu(format!("pass `{}`", pass.plan.name), e));
@@ -475,7 +497,7 @@ impl Executor {
         let mut cpu_us = vec![];
         for (pi, pass) in state.passes.iter().enumerate() {
             let start = Instant::now();
-            encode(&mut enc, (pass, pi, &run[pi]), parity, timer, (scene, &order));
+            encode(&mut enc, (pass, pi, &run[pi]), (parity, self.merge), timer, (scene, &order));
             cpu_us.push(start.elapsed().as_secs_f64() * 1e6);
         }
         let mut buffers = vec![enc.finish()];

@@ -53,10 +53,11 @@ impl Timer {
         })
     }
 
-    /// The (begin, end) query indices repetition `rep` of `reps` of pass `pass` writes.
-    pub fn writes(&self, pass: usize, rep: usize, reps: usize) -> Option<(Option<u32>, Option<u32>)> {
-        let begin = (rep == 0).then_some(2 * pass as u32);
-        let end = (rep + 1 == reps).then_some(2 * pass as u32 + 1);
+    /// The (begin, end) query indices the GPU pass recording repetitions `first..last`
+    /// (`last` exclusive) of `reps` of pass `pass` writes: the pass's first and last.
+    pub fn writes(&self, pass: usize, (first, last): (usize, usize), reps: usize) -> Option<(Option<u32>, Option<u32>)> {
+        let begin = (first == 0).then_some(2 * pass as u32);
+        let end = (last == reps).then_some(2 * pass as u32 + 1);
         (begin.is_some() || end.is_some()).then_some((begin, end))
     }
 
