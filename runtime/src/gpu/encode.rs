@@ -6,7 +6,7 @@
 use super::bind_groups::Rep;
 use super::pipelines::{multiview_mask, Built, PipelineKind};
 use super::scene_gpu::{DrawOrder, SceneGpu};
-use super::timing::Timer;
+use super::timing::{Timer, Writes};
 use lightbench_compiler::ir::{Draw, Load};
 use lightbench_compiler::plan::{PlanPass, Work};
 use std::sync::Arc;
@@ -60,7 +60,7 @@ fn record(
     enc: &mut wgpu::CommandEncoder,
     (pass, reps): (&PassGpu, &[&Rep]),
     parity: usize,
-    ts: Option<(&Timer, (Option<u32>, Option<u32>))>,
+    ts: Option<(&Timer, Writes)>,
     scene: (&SceneGpu, &DrawOrder),
 ) {
     let rep = reps[0];

@@ -17,6 +17,9 @@ pub struct PassTiming {
     pub cpu_encode_us: f64,
 }
 
+/// The (begin, end) timestamp query indices one GPU pass writes, either or both.
+pub type Writes = (Option<u32>, Option<u32>);
+
 pub struct Timer {
     pub set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
@@ -55,7 +58,7 @@ impl Timer {
 
     /// The (begin, end) query indices the GPU pass recording repetitions `first..last`
     /// (`last` exclusive) of `reps` of pass `pass` writes: the pass's first and last.
-    pub fn writes(&self, pass: usize, (first, last): (usize, usize), reps: usize) -> Option<(Option<u32>, Option<u32>)> {
+    pub fn writes(&self, pass: usize, (first, last): (usize, usize), reps: usize) -> Option<Writes> {
         let begin = (first == 0).then_some(2 * pass as u32);
         let end = (last == reps).then_some(2 * pass as u32 + 1);
         (begin.is_some() || end.is_some()).then_some((begin, end))
