@@ -1,6 +1,7 @@
 //! `cargo bench -p lightbench --bench ao`: seed 003 Tables 6.6 and 6.7 on the adapter at hand
 //! — GPU time of each SSAO preset (all AO passes, and the SSAO buffer alone) and each AOV
-//! preset at three resolutions, with ratios to SSAO1 — and multi-view AO's cost per light
+//! preset at three resolutions, with ratios to SSAO1, and GTAO (the modern baseline) at its
+//! defaults and at 2 slices × 8 steps beside them — and multi-view AO's cost per light
 //! (seed 000 §6.3.2): its passes with 0 to 3 directional or spot lights beyond the camera.
 //! `pipelines/deferred_gi.ron` on the Cornell box; GPU time from timestamp queries, the mean
 //! over the frames after a warm-up, every pass every frame. Needs a GPU adapter (lavapipe is
@@ -15,12 +16,21 @@ const RESOLUTIONS: [(u32, u32); 3] = [(128, 96), (256, 192), (512, 384)];
 
 /// Mean GPU ms per frame of the passes `pick` selects.
 fn gpu_ms(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], pick: impl Fn(&str) -> bool) -> f64 {
+    gpu_ms_with(gpu, scene, variants, &[], pick)
+}
+
+/// `gpu_ms` with parameter overrides.
+fn gpu_ms_with(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], params: &[(&str, &str)], pick: impl Fn(&str) -> bool) -> f64 {
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred_gi.ron");
     let scene = lightbench::scene::load(scene.to_str().expect("path")).expect("scene");
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let (exe, _) = compile(gpu, &pipeline, None, &scene, &v).expect("compile");
     let mut ex = Executor::new(gpu, &exe, &scene).expect("executor");
     ex.set_reuse(false);
+    let set: Vec<(String, String)> = params.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    for (name, value) in lightbench::render::parse_params(&exe.plan, &set).expect("params") {
+        ex.set_param(&name, value).expect("param");
+    }
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
     let mut total = 0.0;
     for f in 1..=FRAMES {
@@ -36,7 +46,7 @@ fn gpu_ms(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], pick: impl Fn(&str
 }
 
 fn is_ao_pass(name: &str) -> bool {
-    ["ssao", "ao_", "mvao_", "aov"].iter().any(|p| name.starts_with(p))
+    ["ssao", "ao_", "mvao_", "aov", "gtao"].iter().any(|p| name.starts_with(p))
 }
 
 /// A Cornell box scene file of this size calling for AO, with these lights.
@@ -74,6 +84,15 @@ fn presets(gpu: &Gpu, dir: &Path) {
         print!("  {p:<7}");
         for (s, b) in scenes.iter().zip(&base) {
             let all = gpu_ms(gpu, s, &[("ao", "aov"), ("aov_preset", p)], is_ao_pass);
+            print!(" {:>28}", format!("{all:.2} [{:.2}×]", all / b));
+        }
+        println!();
+    }
+    // GTAO: defaults (4 slices × 16 steps), then 2 × 8 (per-pass values of its pass).
+    for (label, extra) in [("gtao", vec![]), ("gtao2x8", vec![("ao.gtao.slices", "2"), ("ao.gtao.steps", "8")])] {
+        print!("  {label:<7}");
+        for (s, b) in scenes.iter().zip(&base) {
+            let all = gpu_ms_with(gpu, s, &[("ao", "gtao")], &extra, is_ao_pass);
             print!(" {:>28}", format!("{all:.2} [{:.2}×]", all / b));
         }
         println!();
