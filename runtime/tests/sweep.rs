@@ -158,7 +158,7 @@ fn every_bundled_sweep_spec_runs() {
         );
         assert!(rows.iter().any(|r| r["pareto"] == "true"), "{spec}");
         let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
-        let scenes = if spec == "indirect_diffuse" { 2 } else { 1 };
+        let scenes = if spec == "indirect_diffuse" || spec == "ao" { 2 } else { 1 };
         assert_eq!(refs.len(), scenes, "{spec}: one reference per scene and size");
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a
@@ -176,11 +176,20 @@ fn every_bundled_sweep_spec_runs() {
         }
         if spec == "ao" {
             // GTAO integrates the cosine-weighted visibility the reference measures: within
-            // ±0.05 of it on average at its defaults, where every seed method sits far above.
-            let gtao = rows.iter().find(|r| r["ao"] == "gtao" && r["ao.gtao.slices"].is_empty()).unwrap();
-            assert!(num(gtao, "bias").abs() < 0.05, "GTAO bias {}", gtao["bias"]);
-            for r in rows.iter().filter(|r| r["ao"] != "gtao") {
-                assert!(num(r, "bias") > 0.15 && num(gtao, "rmse") < num(r, "rmse"), "{r:?}");
+            // ±0.05 of it on average at its defaults in the Cornell box, and nearest it on the
+            // step too, where occluders off screen (walls beside and behind the camera) are
+            // more than any screen-space method can see; every seed method sits far above.
+            for (scene, bound) in [("cornell_spot", 0.05), ("step", 0.1)] {
+                let at = |r: &&BTreeMap<String, String>| r["scene"] == scene;
+                let gtao = rows
+                    .iter()
+                    .filter(at)
+                    .find(|r| r["ao"] == "gtao" && r["ao.gtao.slices"].is_empty())
+                    .unwrap();
+                assert!(num(gtao, "bias").abs() < bound, "{scene}: GTAO bias {}", gtao["bias"]);
+                for r in rows.iter().filter(at).filter(|r| r["ao"] != "gtao") {
+                    assert!(num(r, "bias") > 0.15 && num(gtao, "rmse") < num(r, "rmse"), "{scene}: {r:?}");
+                }
             }
         }
         if spec == "transparency" {
