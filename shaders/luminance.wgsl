@@ -34,11 +34,7 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
     }
     let r = reduce_group(idx, s, m, n);
     if idx == 0u {
-        lum.log_average = log_average_of(r);
-        lum.white = r.y;
-        lum.covered = r.z;
-        lum.by_luminance = select(0.0, 1.0, params.by_luminance != 0u);
-        lum.adapted = lum.log_average;
-        lum.exposure = select(exp2(params.ev), params.key / max(lum.log_average, LOG_DELTA), params.automatic != 0u);
+        let m = Metering(params.key, params.automatic, params.ev, params.by_luminance);
+        lum = luminance_record(r, log_average_of(r), lum.adapted_at, m);
     }
 }

@@ -32,12 +32,7 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
         let step = 1.0 - exp(-dt / max(tau, 1e-6));
         let fresh = !(previous > 0.0) || tau <= 0.0;
         let adapted = select(previous + (measured - previous) * step, measured, fresh);
-        lum.log_average = measured;
-        lum.white = r.y;
-        lum.covered = r.z;
-        lum.by_luminance = select(0.0, 1.0, params.by_luminance != 0u);
-        lum.adapted = adapted;
-        lum.adapted_at = frame.time;
-        lum.exposure = select(exp2(params.ev), params.key / max(adapted, LOG_DELTA), params.automatic != 0u);
+        let m = Metering(params.key, params.automatic, params.ev, params.by_luminance);
+        lum = luminance_record(r, adapted, frame.time, m);
     }
 }

@@ -64,3 +64,26 @@ fn reduce_tiles(tiles: texture_2d<f32>, idx: u32) -> vec3<f32> {
 fn log_average_of(r: vec3<f32>) -> f32 {
     return select(LOG_DELTA, exp(r.x / max(r.z, 1.0)), r.z > 0.0);
 }
+
+// The metering settings each reduction's parameter block starts with.
+struct Metering {
+    key: f32,
+    automatic: u32,
+    ev: f32,
+    by_luminance: u32,
+};
+
+// What a reduction `r` leaves for the tone mappers: the averages, and the exposure for
+// `adapted` (the log-average the exposure follows, set at `adapted_at`): key / adapted when
+// automatic, 2^ev when manual.
+fn luminance_record(r: vec3<f32>, adapted: f32, adapted_at: f32, m: Metering) -> Luminance {
+    var out: Luminance;
+    out.log_average = log_average_of(r);
+    out.white = r.y;
+    out.covered = r.z;
+    out.by_luminance = select(0.0, 1.0, m.by_luminance != 0u);
+    out.adapted = adapted;
+    out.adapted_at = adapted_at;
+    out.exposure = select(exp2(m.ev), m.key / max(adapted, LOG_DELTA), m.automatic != 0u);
+    return out;
+}
