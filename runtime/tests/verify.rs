@@ -5,6 +5,19 @@ mod cli_common;
 
 use cli_common::{lightbench, root, scratch};
 
+/// `verify --format json` output as its lines, after checking that no configuration had a
+/// problem and the run exited 0.
+fn clean_run((code, out, err): (i32, &str, &str)) -> Vec<serde_json::Value> {
+    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let problems: Vec<&serde_json::Value> = lines
+        .iter()
+        .filter(|l| !l["problem"].is_null() && l.get("summary").is_none())
+        .collect();
+    assert!(problems.is_empty(), "{problems:#?}\n{err}");
+    assert_eq!(code, 0, "{err}");
+    lines
+}
+
 /// Every bundled pipeline (`pipelines/`) × every variant option × every hard-case scene
 /// (`scenes/hard/`), 2 frames (history read back once) at 24×24 at most: no value of any resource is NaN or Inf.
 /// Pipelines and scenes added later are picked up by the directories.
@@ -54,13 +67,7 @@ fn bundled_pipelines_stay_finite_on_every_hard_case() {
         ]
         .concat(),
     );
-    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    let problems: Vec<&serde_json::Value> = lines
-        .iter()
-        .filter(|l| !l["problem"].is_null() && l.get("summary").is_none())
-        .collect();
-    assert!(problems.is_empty(), "{problems:#?}\n{err}");
-    assert_eq!(code, 0, "{err}");
+    let lines = clean_run((code, &out, &err));
     let summary = &lines.last().unwrap()["summary"];
     // Each pipeline with the defaults and the options that do not fall back to them.
     assert!(
@@ -90,13 +97,7 @@ fn every_option_stays_finite_among_interpenetrating_panes() {
         "--format",
         "json",
     ]);
-    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    let problems: Vec<&serde_json::Value> = lines
-        .iter()
-        .filter(|l| !l["problem"].is_null() && l.get("summary").is_none())
-        .collect();
-    assert!(problems.is_empty(), "{problems:#?}\n{err}");
-    assert_eq!(code, 0, "{err}");
+    let lines = clean_run((code, &out, &err));
     let variants: Vec<String> = lines
         .iter()
         .filter_map(|l| l["variants"].as_array())
