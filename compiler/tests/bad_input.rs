@@ -1708,3 +1708,21 @@ fn a_repeat_pass_reading_the_layer_it_writes() {
         76,
     );
 }
+
+#[test]
+fn a_per_pixel_buffer_takes_no_data() {
+    expect(
+        Case {
+            pipeline: &[(
+                "\"out\": Texture(format: Rgba8Unorm),",
+                "\"out\": Texture(format: Rgba8Unorm),\n        \"lists\": Buffer(size: 16, per_pixel: true, data: U32([0, 0, 0, 0])),",
+            )],
+            ..BASE
+        },
+        "conflicting-keys",
+        "`lists` is `per_pixel`: its size follows the viewport, so no `data` can fill it",
+        "pipelines/p.ron",
+        13,
+        58,
+    );
+}

@@ -104,6 +104,46 @@ fn plan_explain_names_culling_reasons() {
 /// A `--variant` name or option the pipeline does not have is a usage error (exit 2, as a
 /// `--param` typo is), named on the command line's terms, with a suggestion — for `plan`
 /// and `render` alike, before anything is rendered.
+/// A `per_pixel` buffer is sized when the Plan is made: past the storage binding limit at the
+/// size asked for, a located error at its declared size and exit 1 (fragment lists at 64
+/// bytes per pixel fit up to about 2 million pixels).
+#[test]
+fn a_per_pixel_buffer_too_large_for_the_size_is_located() {
+    let fits = [
+        "plan",
+        "pipelines/deferred.ron",
+        "--scene",
+        "panes",
+        "--variant",
+        "transparency=fragment_lists",
+    ];
+    let (code, _, err) = lightbench(&[&fits[..], &["--size", "1920x1080"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = lightbench(&[&fits[..], &["--size", "2048x1100"]].concat());
+    assert_eq!(code, 1, "{err}");
+    assert!(out.is_empty(), "{out}");
+    assert!(
+        err.contains("error[limit-exceeded]: `oit.nodes` is 144179200 bytes at 2048×1100 (64 per pixel), over the 134217728-byte limit of profile `vulkan`"),
+        "{err}"
+    );
+    assert!(
+        err.contains("pipelines/deferred.ron:65:35") && err.contains("limit: max_storage_buffer_binding_size"),
+        "{err}"
+    );
+}
+
+/// An option that jitters the camera (`aa = taa`, `jitter: true`) says so at the end of the
+/// plan, as the README tells; the default does not jitter.
+#[test]
+fn plan_says_when_the_camera_jitters() {
+    let line = "camera: jittered by a sub-pixel offset each frame (Halton 2, 3 over 16 frames)";
+    let (code, out, err) = lightbench(&["plan", "pipelines/deferred.ron", "--variant", "aa=taa"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.trim_end().ends_with(line), "{out}");
+    let (_, out, _) = lightbench(&["plan", "pipelines/deferred.ron"]);
+    assert!(!out.contains("jittered"), "{out}");
+}
+
 #[test]
 fn plan_unknown_variant_is_an_error_with_suggestion() {
     let (code, _, err) = lightbench(&["plan", "pipelines/deferred.ron", "--variant", "cube_shadows=classic"]);
