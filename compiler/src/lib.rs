@@ -23,6 +23,7 @@ pub mod scene;
 pub mod shader;
 pub mod span;
 pub mod syntax;
+pub mod tree;
 pub mod vfs;
 pub mod workspace;
 

@@ -428,7 +428,7 @@ impl Session {
         let chosen: BTreeMap<String, String> = plan.variants.iter().map(|v| (v.variant.clone(), v.option.clone())).collect();
         let mut modules = vec![];
         for pp in &plan.passes {
-            let i = checked.pipeline.passes.iter().position(|p| p.name.value == pp.name)?;
+            let (i, _) = checked.pipeline.pass_chosen(&pp.name, &chosen)?;
             let version = checked.version(i, &chosen)?;
             modules.push(version.stages.iter().map(|st| st.module.clone()).collect());
         }

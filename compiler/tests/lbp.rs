@@ -626,6 +626,8 @@ mod generated {
                 per_mip,
                 repeat: repeat.map(sp),
                 always,
+                // Choices are lowered to copies: the round trip of their forms is tested on files.
+                choice: None,
                 span: Span::default(),
             }
         })

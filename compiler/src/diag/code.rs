@@ -71,6 +71,8 @@ codes! {
     UnknownLimit = "unknown-limit": "a limit name wgpu does not have",
     UnknownVariant = "unknown-variant": "a variant name that does not exist",
     UnknownVariantOption = "unknown-variant-option": "a variant option that does not exist",
+    ChoiceIncomplete = "choice-incomplete": "a choice (`Match`) with no arm for some option of its variant (or, warned, a default arm that serves none)",
+    ChoiceOverlap = "choice-overlap": "one option served by two arms of a choice",
     ToggleNotBool = "toggle-not-bool": "a `Toggle` condition on a parameter that is not a Bool",
     FallbackCycle = "fallback-cycle": "variant fallbacks that lead back to themselves",
     PresetOverlap = "preset-overlap": "one parameter set by the presets of two variants",

@@ -1,6 +1,7 @@
 //! The pipeline IR: the one data model every front end produces and every check reads.
 //! Every node carries the span of the pipeline-file text it came from.
 
+mod choice;
 mod condition;
 mod param;
 mod pass;
@@ -9,6 +10,7 @@ pub mod scene;
 mod stage;
 mod variant;
 
+pub use choice::{Choice, Source};
 pub use condition::{Condition, Effect, LightKind};
 pub use param::{out_of_range, Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
@@ -44,6 +46,19 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
+    /// The passes as written: a pass with choices once (its first copy), the rest as they are.
+    pub fn written_passes(&self) -> impl Iterator<Item = &Pass> {
+        let first_copy = |i: usize, c: &Choice| {
+            !self.passes[..i]
+                .iter()
+                .any(|q| q.choice.as_ref().is_some_and(|d| d.group == c.group))
+        };
+        let passes = self.passes.iter().enumerate();
+        passes
+            .filter(move |(i, p)| p.choice.as_ref().is_none_or(|c| first_copy(*i, c)))
+            .map(|(_, p)| p)
+    }
+
     /// Equal as data: the same pipeline whatever file, front end or layout it came from.
     pub fn same_as(&self, other: &Pipeline) -> bool {
         fn strip(v: serde_json::Value) -> serde_json::Value {
@@ -70,6 +85,13 @@ impl Pipeline {
     pub fn sampler(&self, name: &str) -> Option<&SamplerDecl> {
         self.samplers.iter().find(|s| s.name.value == name)
     }
+    /// The pass of that name a configuration runs (`variant -> option`): of a pass written
+    /// with choices, the copy whose arms are chosen; with its index.
+    pub fn pass_chosen(&self, name: &str, chosen: &std::collections::BTreeMap<String, String>) -> Option<(usize, &Pass)> {
+        let serves = |p: &Pass| p.choice.as_ref().is_none_or(|c| c.serves(chosen));
+        self.passes.iter().enumerate().find(|(_, p)| p.name.value == name && serves(p))
+    }
+
     pub fn pass(&self, name: &str) -> Option<&Pass> {
         self.passes.iter().find(|p| p.name.value == name)
     }

@@ -1,7 +1,7 @@
 //! Passes: raster (draws the scene or procedural vertices), fullscreen (one triangle),
 //! compute (dispatch). Each kind carries only its own data.
 
-use super::{Condition, LightKind, ParamValue, Stage};
+use super::{Choice, Condition, LightKind, ParamValue, Stage};
 use crate::span::{Span, Spanned};
 use serde::{Deserialize, Serialize};
 
@@ -406,6 +406,9 @@ pub struct Pass {
     pub repeat: Option<Spanned<Repeat>>,
     /// Run every frame even when nothing it depends on changed (hidden inputs).
     pub always: bool,
+    /// For one copy of a pass written with choices: which arms it is.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub choice: Option<Choice>,
     pub span: Span,
 }
 

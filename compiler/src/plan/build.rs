@@ -30,7 +30,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     let ids = passes::Ids::new(&resources, &samplers, &schedule.ordered.order);
     let mut passes = passes::assemble(p, cfg, &schedule, &kept, &ids)?;
     let mut params = p.params.iter().map(|prm| params::plan_param(prm, p, cfg)).collect();
-    params::lift_pass_values(p, &mut passes, &mut params);
+    params::lift_pass_values(p, &cfg.selection.chosen, &mut passes, &mut params);
     let memory_bytes = resources::memory(&resources);
     let plan = Plan {
         pipeline: p.name.value.clone(),

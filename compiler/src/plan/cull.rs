@@ -146,7 +146,13 @@ fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String
     let mut culled: BTreeMap<usize, String> = BTreeMap::new();
     let mut candidates = vec![];
     for (i, pass) in p.passes.iter().enumerate() {
-        if let Some(w) = &pass.when {
+        // A copy of a pass written with choices whose arms are not chosen is not culled:
+        // another copy of the pass is the one that runs.
+        if pass.choice.as_ref().is_some_and(|c| !c.serves(&cfg.selection.chosen)) {
+            continue;
+        }
+        let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
+        if let Some(w) = when {
             if let Err((why, by_variant)) = eval(w, p, cfg) {
                 let reason = if by_variant {
                     why

@@ -146,6 +146,10 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
     let _ = writeln!(s, "\npasses ({} kept, in order):", plan.passes.len());
     for (i, p) in plan.passes.iter().enumerate() {
         pass_text(&mut s, plan, i, p);
+        if explain && !p.arms.is_empty() {
+            let arms: Vec<String> = p.arms.iter().map(|(v, o)| format!("{v} = {}", o.join(" | "))).collect();
+            let _ = writeln!(s, "      arms: {}", arms.join(", "));
+        }
         if explain {
             pass_layouts(&mut s, plan, p);
         }

@@ -231,6 +231,10 @@ pub struct PlanPass {
     pub after: Vec<PassId>,
     /// What its result depends on besides the resources it reads (reuse of unchanged work).
     pub depends: Depends,
+    /// For a pass written with choices: the arms this configuration takes, per variant the
+    /// options the arm serves (`plan --explain` shows them).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub arms: Vec<(String, Vec<String>)>,
 }
 
 /// What a pass's result depends on besides the resources it reads and its parameter block:

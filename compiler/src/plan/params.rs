@@ -49,9 +49,14 @@ pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, cfg: &super::Config
 /// the block field it fills and defaulting to the pipeline's value, so `--param`, sweeps
 /// and diff sides set a post pass's strength like any parameter. A name a declared
 /// parameter already has stays a fixed value (`check` reports the clash).
-pub fn lift_pass_values(pipeline: &Pipeline, passes: &mut [super::PlanPass], params: &mut Vec<PlanParam>) {
+pub fn lift_pass_values(
+    pipeline: &Pipeline,
+    chosen: &std::collections::BTreeMap<String, String>,
+    passes: &mut [super::PlanPass],
+    params: &mut Vec<PlanParam>,
+) {
     for pp in passes {
-        let Some(pass) = pipeline.passes.iter().find(|p| p.name.value == pp.name) else {
+        let Some((_, pass)) = pipeline.pass_chosen(&pp.name, chosen) else {
             continue;
         };
         for f in pp.uniform_blocks.iter_mut().flat_map(|b| b.fields.iter_mut()) {

@@ -2,8 +2,8 @@
 //! lowering fills absent keys from it and the raise leaves out values equal to it, so the
 //! two front ends, both printers and the IR agree by construction.
 
-use super::tree::{same, Node, Value};
 use crate::span::Span;
+use crate::tree::{same, Node, Value};
 
 /// A default value, as the syntax tree would spell it.
 #[derive(Clone, Copy, Debug)]

@@ -1,7 +1,6 @@
-//! The syntax layer shared by every front end: one spanned tree, one table of defaults,
-//! one lowering (tree -> IR) and one raise (IR -> tree) that both printers print.
+//! The syntax layer shared by every front end: one table of defaults, one lowering
+//! (`crate::tree` -> IR) and one raise (IR -> tree) that both printers print.
 
 pub mod defaults;
 pub mod lower;
 pub mod raise;
-pub mod tree;

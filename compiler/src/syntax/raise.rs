@@ -3,9 +3,9 @@
 //! on what is implied. Nodes keep the spans of the IR items (printers place comments by them).
 
 use super::defaults::is_default;
-use super::tree::{Field, Node, Value};
 use crate::ir::*;
 use crate::span::Span;
+use crate::tree::{Field, Node, Value};
 
 /// Fields of one item, dropping those at their default.
 struct Fields {
@@ -40,7 +40,7 @@ pub fn pipeline(p: &Pipeline) -> Node {
     f.opt("params", nonempty(named_map(&p.params, |x| &x.name, param, p.span)));
     f.opt("samplers", nonempty(named_map(&p.samplers, |x| &x.name, sampler, p.span)));
     f.opt("resources", nonempty(named_map(&p.resources, |x| &x.name, resource, p.span)));
-    f.put("passes", Node::list(p.passes.iter().map(pass).collect(), p.span));
+    f.put("passes", Node::list(p.written_passes().map(written_pass).collect(), p.span));
     f.opt("variants", nonempty(named_map(&p.variants, |x| &x.name, variant, p.span)));
     f.opt("hdr_output", p.hdr_output.as_ref().map(|h| Node::str(&h.value, h.span)));
     f.put("output", Node::str(&p.output.value, p.output.span));
@@ -177,6 +177,50 @@ fn stage_ref(r: &ShaderRef, pass_file: &str, stage: Stage, default_applies: bool
         r.entry.value.clone()
     };
     Some(Node::str(text, r.entry.span))
+}
+
+/// A pass as written: one with choices is its first copy, raised, with the chosen fields
+/// (and its own `when`) as the source has them.
+fn written_pass(p: &Pass) -> Node {
+    let Some((choice, Source(src))) = p.choice.as_ref().and_then(|c| Some((c, c.source.as_ref()?))) else {
+        return pass(p);
+    };
+    let raised = pass(p);
+    let (Value::Struct { name, fields }, Value::Struct { fields: written, .. }) = (&*raised.value, &*src.value) else {
+        return raised;
+    };
+    let chosen = |k: &str| written.iter().find(|f| f.0 == k && find_match(&f.2).is_some());
+    let mut out: Vec<Field> = vec![];
+    for (k, span, v) in fields {
+        match (chosen(k), k.as_str()) {
+            (Some(f), _) => out.push(f.clone()),
+            (None, "when") => {}
+            (None, _) => out.push((k.clone(), *span, v.clone())),
+        }
+    }
+    // Chosen fields the first copy leaves at their default: after the field written before them.
+    for (i, f) in written.iter().enumerate().filter(|(_, f)| chosen(&f.0).is_some()) {
+        if out.iter().any(|o| o.0 == f.0) {
+            continue;
+        }
+        let before = written[..i].iter().rev().find_map(|w| out.iter().position(|o| o.0 == w.0));
+        out.insert(before.map_or(out.len().min(1), |b| b + 1), f.clone());
+    }
+    if let Some(w) = &choice.when {
+        let at = out.iter().position(|o| o.0 == "dispatch").unwrap_or(out.len());
+        out.insert(at, ("when".into(), w.span, condition(&w.value, w.span)));
+    }
+    Node::new(
+        Value::Struct {
+            name: name.clone(),
+            fields: out,
+        },
+        raised.span,
+    )
+}
+
+fn find_match(n: &Node) -> Option<&Node> {
+    super::lower::find_match(n)
 }
 
 fn pass(p: &Pass) -> Node {

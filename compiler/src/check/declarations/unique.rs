@@ -23,7 +23,8 @@ pub(super) fn check(p: &Pipeline, diags: &mut Diagnostics) {
     duplicates("parameter", p.params.iter().map(|x| &x.name), diags);
     duplicates("sampler", p.samplers.iter().map(|x| &x.name), diags);
     duplicates("resource", p.resources.iter().map(|x| &x.name), diags);
-    duplicates("pass", p.passes.iter().map(|x| &x.name), diags);
+    // The copies of a pass written with choices share its name.
+    duplicates("pass", p.written_passes().map(|x| &x.name), diags);
     duplicates("variant", p.variants.iter().map(|x| &x.name), diags);
     for v in &p.variants {
         duplicates("variant option", v.options.iter().map(|o| &o.name), diags);

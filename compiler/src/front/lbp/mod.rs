@@ -36,7 +36,29 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::output => "`output`",
         Rule::hdr_output => "`hdr_output`",
         Rule::name | Rule::dotted | Rule::ident => "a name",
-        Rule::names => "names",
+        Rule::names | Rule::name_items => "names",
+        Rule::match_head => "`match(VARIANT) {`",
+        Rule::arm_key => "an option name (or `_`)",
+        Rule::shader_arm
+        | Rule::vertex_arm
+        | Rule::fragment_arm
+        | Rule::entry_arm
+        | Rule::draw_arm
+        | Rule::cull_arm
+        | Rule::count_arm
+        | Rule::color_arm
+        | Rule::depth_arm
+        | Rule::read_arm
+        | Rule::name_arm
+        | Rule::block_arm
+        | Rule::bind_arm
+        | Rule::per_light_arm
+        | Rule::repeat_arm
+        | Rule::set_arm
+        | Rule::dispatch_arm => "an arm `option: value`",
+        Rule::read_group | Rule::name_group | Rule::color_group => "`(a, b, ...)`",
+        Rule::read_match | Rule::name_match | Rule::color_match => "a choice `match(VARIANT) { ... }`",
+        Rule::light_kinds => "light kinds `(Point, Spot)`",
         Rule::string | Rule::doc => "a string",
         Rule::number => "a number",
         Rule::uint => "a whole number",
@@ -66,7 +88,9 @@ fn rule_word(r: &Rule) -> &'static str {
         | Rule::bind
         | Rule::when
         | Rule::per_face
-        | Rule::dispatch => "a pass property",
+        | Rule::dispatch
+        | Rule::shader
+        | Rule::pass_per_light => "a pass property",
         Rule::target | Rule::target_opt | Rule::clear | Rule::load | Rule::blend | Rule::layer | Rule::nowrite => "a target option",
         Rule::read | Rule::prev => "a resource or `prev(NAME)`",
         Rule::binding => "`shader_name = resource`",
@@ -164,7 +188,8 @@ fn keyword(r: &Rule) -> Option<&'static str> {
         Rule::param_block => "param_block",
         Rule::bind => "bind",
         Rule::when => "when",
-        Rule::per_light => "per_light",
+        Rule::per_light | Rule::pass_per_light => "per_light",
+        Rule::shader => "shader",
         Rule::per_face => "per_face",
         Rule::shadow_casters => "shadow_casters",
         Rule::per_mip => "per_mip",
@@ -177,7 +202,7 @@ fn keyword(r: &Rule) -> Option<&'static str> {
 }
 
 /// Parse LBP text into the syntax tree. Syntax problems go to `diags`.
-pub fn parse_tree(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<crate::syntax::tree::Node> {
+pub fn parse_tree(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<crate::tree::Node> {
     if let Some((start, end)) = nesting::too_deep(text) {
         let msg = format!("nested more than {} levels deep", crate::front::MAX_NESTING);
         diags.push(Diagnostic::error(Code::NestingTooDeep, msg, Span::new(file, start, end)));

@@ -5,7 +5,7 @@
 use super::Rule;
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::span::{FileId, Span};
-use crate::syntax::tree::{Field, Node, Value};
+use crate::tree::{Field, Node, Value};
 use pest::iterators::{Pair, Pairs};
 
 type P<'i> = Pair<'i, Rule>;
@@ -152,10 +152,75 @@ impl Builder<'_> {
         }
     }
 
+    /// A pass's list of names; an element may be a choice.
     fn names(&mut self, p: P) -> Option<Node> {
         let span = self.span(&p);
-        let items = kids(p).map(|n| self.name(n)).collect::<Option<Vec<_>>>()?;
+        let items = kids(p)
+            .map(|n| match n.as_rule() {
+                Rule::name_match => self.element_choice(n, Self::name),
+                _ => self.name(n),
+            })
+            .collect::<Option<Vec<_>>>()?;
         Some(Node::list(items, span))
+    }
+
+    /// `match(VARIANT) { a | b: VALUE, _: VALUE }`: the tree's `Match(variant: .., arms: {..})`,
+    /// each arm's value made by `value` from the arm's parts.
+    fn choice(&mut self, p: P, at: Span, mut value: impl FnMut(&mut Self, Vec<P>, Span) -> Option<Node>) -> Option<Node> {
+        self.choice_of(kids(p).collect(), at, &mut value)
+    }
+
+    /// A choice from its parts: `match_head` then the arms.
+    fn choice_of<F: FnMut(&mut Self, Vec<P>, Span) -> Option<Node>>(&mut self, parts: Vec<P>, at: Span, value: &mut F) -> Option<Node> {
+        let mut it = parts.into_iter();
+        let head = it.next()?;
+        let head_span = self.span(&head);
+        let variant = self.name(kids(head).next()?)?;
+        let mut arms = vec![];
+        for arm in it {
+            let arm_span = self.span(&arm);
+            let mut parts = kids(arm);
+            let key = parts.next()?;
+            let key_span = self.span(&key);
+            let options = kids(key).map(|n| self.name(n).map(|n| n.text().unwrap_or("").to_string()));
+            let options = options.collect::<Option<Vec<_>>>()?;
+            let parts: Vec<P> = parts.collect();
+            let v = match parts.first().map(|p| p.as_rule()) {
+                Some(Rule::match_head) => self.choice_of(parts, arm_span, value)?,
+                _ => value(self, parts, arm_span)?,
+            };
+            arms.push((Node::str(options.join(" | "), key_span), v));
+        }
+        let fields = vec![
+            ("variant".to_string(), variant.span, variant),
+            ("arms".to_string(), at, Node::map(arms, at)),
+        ];
+        // From `match` on: messages about the choice as a whole point there.
+        let span = Span::new(at.file, head_span.start as usize, at.end as usize);
+        Some(Node::structure("Match", head_span, fields, span))
+    }
+
+    /// A list element: `one`, or a choice of elements.
+    fn element(&mut self, p: P, one: fn(&mut Self, P) -> Option<Node>) -> Option<Node> {
+        match p.as_rule() {
+            Rule::name_match | Rule::color_match => self.element_choice(p, one),
+            _ => one(self, p),
+        }
+    }
+
+    /// A choice standing for list elements: an arm is one element or `(a, b, ...)`.
+    fn element_choice(&mut self, p: P, one: fn(&mut Self, P) -> Option<Node>) -> Option<Node> {
+        let at = self.span(&p);
+        self.choice(p, at, |s, mut parts, span| {
+            let v = parts.pop()?;
+            match v.as_rule() {
+                Rule::read_group | Rule::name_group | Rule::color_group => {
+                    let items = kids(v).map(|x| s.element(x, one)).collect::<Option<Vec<_>>>()?;
+                    Some(Node::list(items, span))
+                }
+                _ => s.element(v, one),
+            }
+        })
     }
 
     fn per_light(&mut self, p: P) -> Node {
@@ -393,11 +458,17 @@ impl Builder<'_> {
         if rule == Rule::per_face || rule == Rule::always || rule == Rule::shadow_casters {
             return Some(Node::bool(true, at));
         }
-        if rule == Rule::per_light {
-            return Some(self.per_light(item));
+        if kids(item.clone()).next().is_some_and(|k| k.as_rule() == Rule::match_head) {
+            return self.choice(item, at, |s, parts, span| s.pass_value(rule, parts, span));
         }
-        let mut parts: Vec<P> = kids(item).collect();
+        self.pass_value(rule, kids(item).collect(), at)
+    }
+
+    /// A pass field's value from its parts (the keyword's, or a choice's arm's).
+    fn pass_value(&mut self, rule: Rule, mut parts: Vec<P>, at: Span) -> Option<Node> {
         match rule {
+            Rule::pass_per_light => Some(self.per_light(parts.pop()?)),
+            Rule::shader => self.string(parts.pop()?),
             Rule::vertex | Rule::entry => self.stage_ref(parts.pop()?),
             Rule::fragment => {
                 let inner = parts.pop()?;
@@ -418,8 +489,11 @@ impl Builder<'_> {
             Rule::cull => Some(self.word(&parts.pop()?)),
             Rule::instances | Rule::multiview => self.uint(&parts.pop()?),
             Rule::color => {
-                let targets = parts.into_iter().map(|t| self.target(t, "Target")).collect::<Option<Vec<_>>>()?;
-                Some(Node::list(targets, at))
+                let targets = parts.into_iter().map(|t| match t.as_rule() {
+                    Rule::color_match => self.element_choice(t, |s, t| s.target(t, "Target")),
+                    _ => self.target(t, "Target"),
+                });
+                Some(Node::list(targets.collect::<Option<Vec<_>>>()?, at))
             }
             Rule::depth => self.target(parts.pop()?, "Depth"),
             Rule::reads => {
@@ -464,6 +538,7 @@ impl Builder<'_> {
         let inner = kids(r).next()?;
         let span = self.span(&inner);
         match inner.as_rule() {
+            Rule::read_match => self.element_choice(inner, Self::read),
             Rule::prev => Some(Node::call("Prev", vec![self.name(kids(inner).next()?)?], span)),
             Rule::mip_read => {
                 let mut k = kids(inner);

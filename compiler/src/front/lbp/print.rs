@@ -8,7 +8,7 @@ use crate::front::{item_start, quote};
 use crate::ir::Pipeline;
 use crate::span::Span;
 use crate::syntax::defaults;
-use crate::syntax::tree::{Field, Node, Value};
+use crate::tree::{Field, Node, Value};
 use std::fmt::Write;
 
 const RESERVED: [&str; 9] = ["none", "true", "false", "prev", "load", "nowrite", "in", "mip", "rep"];
@@ -133,12 +133,17 @@ impl Printer {
         self.out.comments_before(p.span, "");
         let f = fields(p);
         let kind = p.name().unwrap_or("").to_lowercase();
-        let shader = get(f, "shader").map(|s| format!(" {}", quote(text(s)))).unwrap_or_default();
+        // A chosen shader is a line of the body.
+        let chosen_shader = get(f, "shader").is_some_and(is_match);
+        let shader = get(f, "shader")
+            .filter(|_| !chosen_shader)
+            .map(|s| format!(" {}", quote(text(s))))
+            .unwrap_or_default();
         let _ = writeln!(self.out.text, "{kind} {}{shader} {{", name(get(f, "name").map(text).unwrap_or("")));
         // Comments inside the pass body come first in it.
         self.out
             .comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
-        for (k, _, v) in f.iter().filter(|(k, _, _)| k != "name" && k != "shader") {
+        for (k, _, v) in f.iter().filter(|(k, _, _)| k != "name" && (k != "shader" || chosen_shader)) {
             let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
         }
         self.out.text.push_str("}\n");
@@ -262,6 +267,10 @@ fn stage(n: &Node) -> String {
 }
 
 fn pass_line(key: &str, v: &Node) -> String {
+    if is_match(v) {
+        let keyword = if key == "values" { "set" } else { key };
+        return format!("{keyword} {}", choice(v, |a| arm_value(key, a)));
+    }
     match key {
         "fragment" if v.name() == Some("None") && matches!(&*v.value, Value::Ident(_)) => "fragment none".into(),
         "vertex" | "fragment" | "entry" => format!("{key} {}", stage(v)),
@@ -286,10 +295,10 @@ fn pass_line(key: &str, v: &Node) -> String {
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
-        "reads" => format!("reads {}", join(items(v), read)),
-        "writes" | "params" => format!("{key} {}", join(items(v), |n| name(text(n)))),
+        "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
+        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(text(n))))),
         "param_block" => format!("param_block {}", name(text(v))),
-        "color" => format!("color {}", join(items(v), target)),
+        "color" => format!("color {}", join(items(v), |n| element(n, target))),
         "depth" => format!("depth {}", target(v)),
         "bind" => format!(
             "bind {}",
@@ -304,6 +313,55 @@ fn pass_line(key: &str, v: &Node) -> String {
         "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
         _ => format!("{key} {}", value(v)),
     }
+}
+
+/// `match(VARIANT) { a | b: VALUE, _: VALUE }`.
+fn choice(n: &Node, value: impl Fn(&Node) -> String) -> String {
+    let f = fields(n);
+    let arms: Vec<String> = get(f, "arms")
+        .map(entries)
+        .unwrap_or(&[])
+        .iter()
+        .map(|(k, v)| {
+            let options: Vec<String> = text(k).split('|').map(|o| name(o.trim())).collect();
+            format!("{}: {}", options.join(" | "), value(v))
+        })
+        .collect();
+    format!(
+        "match({}) {{ {} }}",
+        name(get(f, "variant").map(text).unwrap_or("")),
+        arms.join(", ")
+    )
+}
+
+/// A list element, or a choice of elements (an arm of several in parentheses).
+fn element(n: &Node, one: impl Fn(&Node) -> String + Copy) -> String {
+    if !is_match(n) {
+        return one(n);
+    }
+    choice(n, |v| match &*v.value {
+        Value::List(items) => format!("({})", join(items, |i| element(i, one))),
+        _ => element(v, one),
+    })
+}
+
+/// A whole field's arm: the field's line without its keyword.
+fn arm_value(key: &str, v: &Node) -> String {
+    if is_match(v) {
+        return choice(v, |a| arm_value(key, a));
+    }
+    let line = pass_line(key, v);
+    let rest = line.split_once(' ').map(|(_, r)| r.to_string()).unwrap_or_default();
+    match key {
+        "per_light" => line.trim_start_matches("per_light").to_string(),
+        "values" | "bind" => format!("({rest})"),
+        "shader" => quote(text(v)),
+        _ => rest,
+    }
+}
+
+fn is_match(n: &Node) -> bool {
+    crate::syntax::lower::is_match(n)
 }
 
 fn read(n: &Node) -> String {

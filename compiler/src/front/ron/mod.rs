@@ -10,7 +10,7 @@ use crate::span::FileId;
 /// Parse a pipeline file already added to the source map and lower it. Problems go to
 /// `diags`; `None` means the file could not be turned into IR at all.
 /// Parse RON text into the syntax tree. Syntax problems go to `diags`.
-pub fn parse_tree(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<crate::syntax::tree::Node> {
+pub fn parse_tree(file: FileId, text: &str, diags: &mut Diagnostics) -> Option<crate::tree::Node> {
     parse::parse(file, text).map_err(|d| diags.push(d)).ok()
 }
 

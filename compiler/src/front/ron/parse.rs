@@ -8,7 +8,7 @@
 
 use crate::diag::{Code, Diagnostic};
 use crate::span::{FileId, Span};
-use crate::syntax::tree::{Node, Value};
+use crate::tree::{Node, Value};
 
 pub fn parse(file: FileId, src: &str) -> Result<Node, Diagnostic> {
     let mut p = Parser {

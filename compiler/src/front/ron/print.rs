@@ -5,7 +5,7 @@
 use crate::front::comments::Out;
 use crate::front::{item_start, quote};
 use crate::ir::Pipeline;
-use crate::syntax::tree::{Node, Value};
+use crate::tree::{Node, Value};
 use std::fmt::Write;
 
 pub fn print(p: &Pipeline, source: Option<&str>) -> String {

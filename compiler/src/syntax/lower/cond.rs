@@ -4,7 +4,7 @@ use super::{Lowerer, Res};
 use crate::diag::{suggestion_note, Code, Diagnostic};
 use crate::ir::{Condition, Effect, LightKind};
 use crate::span::Spanned;
-use crate::syntax::tree::{Node, Value};
+use crate::tree::{Node, Value};
 
 pub const KINDS: [&str; 9] = ["Light", "Effect", "Reflective", "Blended", "Toggle", "Variant", "Not", "All", "Any"];
 

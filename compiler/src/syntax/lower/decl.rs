@@ -5,7 +5,7 @@ use crate::diag::Diagnostic;
 use crate::format::TextureFormat;
 use crate::ir::*;
 use crate::span::Spanned;
-use crate::syntax::tree::{Node, Value};
+use crate::tree::{Node, Value};
 
 impl Lowerer<'_> {
     pub(super) fn params(&mut self, node: &Node) -> Res<Vec<Param>> {

@@ -3,6 +3,7 @@
 //! Range, duplicate and cross-reference checks are not here: the IR can hold such
 //! values and `check::declarations` reports them.
 
+mod choice;
 mod cond;
 mod decl;
 mod obj;
@@ -10,10 +11,11 @@ mod pass;
 mod scene;
 mod variant;
 
-use super::tree::{Node, Value};
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::ir::{LightKind, Pipeline};
 use crate::span::Spanned;
+use crate::tree::{Node, Value};
+pub(crate) use choice::{find_match, is_match};
 pub(crate) use obj::Obj;
 pub use scene::scene;
 
@@ -46,14 +48,16 @@ impl Lowerer<'_> {
     }
 
     fn type_err<T>(&mut self, expected: &str, node: &Node) -> Res<T> {
-        self.err(
-            Diagnostic::error(
-                Code::TypeMismatch,
-                format!("expected {expected}, found {}", node.value.kind_word()),
-                node.span,
-            )
-            .with_label_text(format!("expected {expected}")),
-        );
+        let mut d = Diagnostic::error(
+            Code::TypeMismatch,
+            format!("expected {expected}, found {}", node.value.kind_word()),
+            node.span,
+        )
+        .with_label_text(format!("expected {expected}"));
+        if choice::is_match(node) {
+            d = d.with_note("a choice (`Match`) stands only for a pass field or an element of a pass's list field");
+        }
+        self.err(d);
         None
     }
 
@@ -63,8 +67,12 @@ impl Lowerer<'_> {
         let params = o.take("params").and_then(|n| self.params(&n)).unwrap_or_default();
         let samplers = o.take("samplers").and_then(|n| self.samplers(&n)).unwrap_or_default();
         let resources = o.take("resources").and_then(|n| self.resources(&n)).unwrap_or_default();
-        let passes = self.required(&mut o, "passes").and_then(|n| self.passes(&n)).unwrap_or_default();
+        // Variants first: choices inside passes are checked against them.
         let variants = o.take("variants").and_then(|n| self.variants(&n)).unwrap_or_default();
+        let passes = self
+            .required(&mut o, "passes")
+            .and_then(|n| self.passes(&n, &variants))
+            .unwrap_or_default();
         let output = self.required(&mut o, "output").and_then(|n| self.string(&n));
         let hdr_output = match o.take("hdr_output") {
             Some(n) => Some(self.string(&n)?),

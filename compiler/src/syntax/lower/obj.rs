@@ -5,7 +5,7 @@ use super::{Lowerer, Res};
 use crate::diag::{geometry_shader, suggestion_note, Code, Diagnostic};
 use crate::span::Span;
 use crate::syntax::defaults;
-use crate::syntax::tree::{Field, Node, Value};
+use crate::tree::{Field, Node, Value};
 
 pub(crate) struct Obj {
     /// The item's kind as the tree names it (`Texture`, `Raster`...): the defaults' owner.

@@ -5,7 +5,7 @@ use super::{Lowerer, Obj, Res};
 use crate::diag::{Code, Diagnostic};
 use crate::ir::*;
 use crate::span::{Span, Spanned};
-use crate::syntax::tree::{Node, Value};
+use crate::tree::{Node, Value};
 
 const COMMON: [&str; 15] = [
     "name",
@@ -42,12 +42,13 @@ fn keys(kind: &str) -> (Vec<&'static str>, Vec<&'static str>) {
 }
 
 impl Lowerer<'_> {
-    pub(super) fn passes(&mut self, node: &Node) -> Res<Vec<Pass>> {
+    pub(super) fn passes(&mut self, node: &Node, variants: &[Variant]) -> Res<Vec<Pass>> {
         let items = self.list(node)?.to_vec();
-        Some(items.iter().filter_map(|it| self.pass(it)).collect())
+        let written = items.iter().enumerate();
+        Some(written.flat_map(|(i, it)| self.pass_with_choices(it, variants, i as u32)).collect())
     }
 
-    fn pass(&mut self, node: &Node) -> Res<Pass> {
+    pub(super) fn pass(&mut self, node: &Node) -> Res<Pass> {
         let mut o = self.obj(node, &["Raster", "Fullscreen", "Compute"], "pass")?;
         let name = self.required(&mut o, "name").and_then(|n| self.string(&n));
         if let Some(n) = &name {
@@ -107,6 +108,7 @@ impl Lowerer<'_> {
             per_mip,
             repeat,
             always: always?,
+            choice: None,
             span: o.span,
         })
     }

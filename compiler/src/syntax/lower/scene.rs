@@ -7,7 +7,7 @@ use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::ir::scene::{builtin, AnimationDesc, CameraAnimationDesc, CameraDesc, CameraKey, LightDesc, ModelDesc, SceneFile};
 use crate::ir::{Effect, LightKind};
 use crate::span::Spanned;
-use crate::syntax::tree::{Node, Value};
+use crate::tree::{Node, Value};
 use std::path::Path;
 
 /// Lower a scene tree; model paths resolve against `dir`. `None` when it cannot be lowered.

@@ -4,7 +4,7 @@ use super::{Lowerer, Res};
 use crate::ir::{Literal, Variant, VariantOption};
 use crate::profile::Feature;
 use crate::span::Spanned;
-use crate::syntax::tree::Node;
+use crate::tree::Node;
 
 impl Lowerer<'_> {
     pub(super) fn variants(&mut self, n: &Node) -> Res<Vec<Variant>> {

@@ -3,12 +3,13 @@
 //! this tree, so a new front end is just a parser.
 
 use crate::span::Span;
-use std::rc::Rc;
+use std::sync::Arc;
 
 #[derive(Clone, Debug)]
 pub struct Node {
-    /// Shared so that lowering can hand subtrees around without deep copies.
-    pub value: Rc<Value>,
+    /// Shared so that lowering can hand subtrees around without deep copies (and a pass
+    /// with choices can keep the tree it was written as: `ir::Choice`).
+    pub value: Arc<Value>,
     pub span: Span,
 }
 
@@ -41,7 +42,7 @@ pub enum Value {
 impl Node {
     pub fn new(value: Value, span: Span) -> Node {
         Node {
-            value: Rc::new(value),
+            value: Arc::new(value),
             span,
         }
     }
@@ -139,6 +140,12 @@ pub fn same(a: &Node, b: &Node) -> bool {
         (Value::Tuple { name: n1, items: i1 }, Value::Tuple { name: n2, items: i2 }) => {
             n1.as_ref().map(|n| &n.0) == n2.as_ref().map(|n| &n.0) && i1.len() == i2.len() && i1.iter().zip(i2).all(|(a, b)| same(a, b))
         }
+        (Value::Struct { name: n1, fields: f1 }, Value::Struct { name: n2, fields: f2 }) => {
+            n1.as_ref().map(|n| &n.0) == n2.as_ref().map(|n| &n.0)
+                && f1.len() == f2.len()
+                && f1.iter().zip(f2).all(|(a, b)| a.0 == b.0 && same(&a.2, &b.2))
+        }
+        (Value::Map(x), Value::Map(y)) => x.len() == y.len() && x.iter().zip(y).all(|(a, b)| same(&a.0, &b.0) && same(&a.1, &b.1)),
         _ => false,
     }
 }
