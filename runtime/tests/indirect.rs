@@ -110,7 +110,7 @@ fn indirect_light_takes_the_colour_of_nearby_walls() {
     assert!(ind.rgba.iter().all(|v| v.is_finite() && *v >= 0.0));
     drop((ex, g));
     let (off, _g) = render(&[("indirect_diffuse", "off")], 1);
-    for pass in ["rsm", "indirect_diffuse_filtered", "indirect_compose_filtered"] {
+    for pass in ["rsm", "indirect_diffuse", "indirect_compose"] {
         assert!(off.plan().pass(pass).is_none(), "{pass} is culled with indirect_diffuse=off");
     }
 }
