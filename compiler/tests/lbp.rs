@@ -608,7 +608,14 @@ mod generated {
             any::<bool>(),
             proptest::option::of(prop_oneof![(1u32..16).prop_map(Repeat::Times), name().prop_map(Repeat::Param)]),
         );
-        (kind(), common, extra).prop_map(move |(kind, c, (values, per_mip, always, shadow_casters, repeat))| {
+        let constant = prop_oneof![
+            float().prop_map(Constant::Number),
+            any::<bool>().prop_map(Constant::Bool),
+            name().prop_map(Constant::Param),
+            (name(), name()).prop_map(|(v, o)| Constant::Variant(v, o)),
+        ];
+        let constants = proptest::collection::vec((name(), constant).prop_map(|(k, c)| (sp(k), sp(c))), 0..3);
+        (kind(), common, extra, constants).prop_map(move |(kind, c, (values, per_mip, always, shadow_casters, repeat), constants)| {
             let (reads, writes, params, block, bind, when, per_light, per_face) = c;
             Pass {
                 name: sp(n.clone()),
@@ -623,6 +630,7 @@ mod generated {
                 per_face,
                 shadow_casters,
                 values,
+                constants,
                 per_mip,
                 repeat: repeat.map(sp),
                 always,

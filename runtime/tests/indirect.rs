@@ -477,7 +477,8 @@ fn the_rsm_size_is_a_parameter() {
         .set_param("rsm.size", lightbench_compiler::ir::ParamValue::Int(512))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("parameter `rsm.size` sizes resources (this Plan uses 256)"), "{e}");
+    assert!(e.contains("parameter `rsm.size` is fixed by the Plan (it sizes resources"), "{e}");
+    assert!(e.contains("this Plan uses 256"), "{e}");
     ex.set_param("rsm.size", lightbench_compiler::ir::ParamValue::Int(256)).unwrap();
 }
 

@@ -3,6 +3,7 @@
 //! configuration `variants` and `graph` while planning.
 
 pub mod bindings;
+mod constants;
 pub mod data;
 pub mod declarations;
 pub mod entry;
@@ -145,6 +146,7 @@ fn pass_versions(
             continue;
         };
         io::check(p, pass, &stages, diags);
+        constants::check(p, pass, &stages, diags);
         let Some(resolved) = bindings::resolve(p, pass, &stages, profile, diags) else {
             continue;
         };

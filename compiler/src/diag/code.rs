@@ -105,6 +105,10 @@ codes! {
     ShaderValidation = "shader-validation": "a module naga's validator rejects",
     MissingEntryPoint = "missing-entry-point": "an entry point name the module does not have",
     WrongStage = "wrong-stage": "an entry point of another stage than the pass needs",
+    ConstantUnknown = "constant-unknown": "a pass constant naming no `override` of the pass's shaders",
+    ConstantMissing = "constant-missing": "an `override` without a default that the pass gives no value",
+    ConstantType = "constant-type": "a constant whose value does not fit its `override`'s type (or a parameter that is not an Int, Float or Bool)",
+    ConstantInvalid = "constant-invalid": "constant values that make a shader invalid in some configuration (an array or workgroup size...)",
     // Bindings and parameter blocks.
     BindingUnsatisfied = "binding-unsatisfied": "a shader global that nothing declared binds to",
     BindingConflict = "binding-conflict": "one @group/@binding slot declared differently by two stages",

@@ -14,8 +14,8 @@ pub use choice::{Choice, Source};
 pub use condition::{Condition, Effect, LightKind};
 pub use param::{out_of_range, Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
-    default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel, Load,
-    MipRange, MipSel, Pass, PassKind, Raster, Read, Repeat, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,
+    default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, Constant, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel,
+    Load, MipRange, MipSel, Pass, PassKind, Raster, Read, Repeat, ShaderRef, Targets, FULLSCREEN_ENTRY, FULLSCREEN_FILE,
 };
 pub use resource::{
     AddressMode, BufferDesc, DataSource, FilterMode, Resource, ResourceKind, SamplerDecl, SamplerKind, SizeSpec, TextureDesc, ViewDim,

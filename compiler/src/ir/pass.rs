@@ -373,6 +373,17 @@ impl Read {
     }
 }
 
+/// A value for a shader `override` (a specialisation constant), fixed when the Plan is made.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Constant {
+    Number(f64),
+    Bool(bool),
+    /// A parameter's value (Int, Float or Bool): a new value means a new Plan.
+    Param(String),
+    /// `true` while the variant's option is chosen.
+    Variant(String, String),
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Pass {
     pub name: Spanned<String>,
@@ -390,6 +401,9 @@ pub struct Pass {
     pub param_block: Spanned<String>,
     /// Explicit shader global -> declared name map, overriding the naming rule.
     pub bind: Vec<(Spanned<String>, Spanned<String>)>,
+    /// Values of the shaders' `override` declarations, by name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constants: Vec<(Spanned<String>, Spanned<Constant>)>,
     pub when: Option<Spanned<Condition>>,
     /// Run once per light of these kinds.
     pub per_light: Option<Spanned<Vec<LightKind>>>,

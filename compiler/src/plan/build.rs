@@ -1,7 +1,8 @@
 //! Plan building as a chain of named stages, in the order a reader expects (like Granite's
 //! `RenderGraph::bake()`): select variants (`select`, done by the caller) -> evaluate
 //! conditions and cull -> order -> derive resources and usages -> lay out passes, bindings
-//! and parameter blocks -> lift per-pass values to parameters -> estimate memory.
+//! and parameter blocks -> lift per-pass values to parameters -> value shader constants ->
+//! estimate memory.
 
 use super::*;
 use crate::check::Checked;
@@ -31,6 +32,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     let mut passes = passes::assemble(p, cfg, &schedule, &kept, &ids)?;
     let mut params = p.params.iter().map(|prm| params::plan_param(prm, p, cfg)).collect();
     params::lift_pass_values(p, &cfg.selection.chosen, &mut passes, &mut params);
+    constants::apply(p, cfg, &kept, &mut passes, diags);
     let memory_bytes = resources::memory(&resources);
     let plan = Plan {
         pipeline: p.name.value.clone(),

@@ -150,6 +150,10 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
             let arms: Vec<String> = p.arms.iter().map(|(v, o)| format!("{v} = {}", o.join(" | "))).collect();
             let _ = writeln!(s, "      arms: {}", arms.join(", "));
         }
+        for st in p.stages.iter().filter(|st| explain && !st.constants.is_empty()) {
+            let values: Vec<String> = st.constants.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+            let _ = writeln!(s, "      constants ({}): {}", st.stage.word(), values.join(", "));
+        }
         if explain {
             pass_layouts(&mut s, plan, p);
         }

@@ -3,6 +3,7 @@
 //! are addressed by index, names are kept for display. Serializable and stable for snapshots.
 
 mod build;
+mod constants;
 mod cull;
 mod deps;
 mod diff;
@@ -114,11 +115,15 @@ pub type PlanBindGroup = BindGroupLayout<ResourceId, SamplerId>;
 pub type PlanBinding = Binding<ResourceId, SamplerId>;
 pub type PlanSource = BindSource<ResourceId, SamplerId>;
 
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlanStage {
     pub stage: Stage,
     pub file: String,
     pub entry: String,
+    /// Values of the module's `override`s the pass sets (key: the name, or an `@id` as
+    /// digits), as wgpu's pipeline constants take them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub constants: Vec<(String, f64)>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -386,8 +391,9 @@ pub struct PlanParam {
     /// The chosen variant option (`variant=option`) whose preset gave `default`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<String>,
-    /// For a parameter that sizes resources (`size: Param(..)`): the value this Plan sized
-    /// them with. Another value needs another Plan.
+    /// For a parameter the Plan fixes — it sizes resources (`size: Param(..)`), repeats a
+    /// pass (`repeat: Param(..)`) or sets a shader constant (`constants`) —: the value this
+    /// Plan was made with. Another value needs another Plan.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sizes: Option<ParamValue>,
     /// For a per-pass value made addressable (`PASS.KEY`): the pass whose `values` set it.

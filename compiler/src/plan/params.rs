@@ -35,6 +35,11 @@ pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, cfg: &super::Config
         || pipeline.passes.iter().any(|pass| match pass.repeat.as_ref().map(|r| &r.value) {
             Some(crate::ir::Repeat::Param(n)) => Some(n.as_str()) == name,
             _ => false,
+        })
+        // A shader constant is baked into the pipeline: its value is fixed by the Plan too.
+        || pipeline.passes.iter().flat_map(|pass| &pass.constants).any(|(_, c)| match &c.value {
+            crate::ir::Constant::Param(n) => Some(n.as_str()) == name,
+            _ => false,
         });
     let (default, preset) = cfg.default_of(pipeline, p);
     PlanParam {

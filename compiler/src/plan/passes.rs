@@ -60,6 +60,8 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
                 stage: s.stage,
                 file: s.sref.file.value.clone(),
                 entry: s.sref.entry.value.clone(),
+                // Valued by stage `constants`.
+                constants: vec![],
             })
             .collect(),
         per_light: pass.per_light.as_ref().map(|k| k.value.clone()).unwrap_or_default(),

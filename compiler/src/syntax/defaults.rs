@@ -43,6 +43,7 @@ pub const DEFAULTS: &[(&str, &str, Def)] = &[
     ("Pass", "per_face", Def::Bool(false)),
     ("Pass", "shadow_casters", Def::Bool(false)),
     ("Pass", "values", Def::EmptyMap),
+    ("Pass", "constants", Def::EmptyMap),
     ("Pass", "always", Def::Bool(false)),
     ("Pipeline", "always", Def::Bool(false)),
     ("Pipeline", "jitter", Def::Bool(false)),

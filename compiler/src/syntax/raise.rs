@@ -72,6 +72,15 @@ fn value(v: &ParamValue, span: Span) -> Node {
     }
 }
 
+fn constant(c: &Constant, span: Span) -> Node {
+    match c {
+        Constant::Number(x) => Node::float(*x, span),
+        Constant::Bool(b) => Node::bool(*b, span),
+        Constant::Param(p) => Node::call("Param", vec![Node::str(p, span)], span),
+        Constant::Variant(v, o) => Node::call("Variant", vec![Node::str(v, span), Node::str(o, span)], span),
+    }
+}
+
 fn literal(l: &Literal, span: Span) -> Node {
     match l {
         Literal::Int(i) => Node::int(*i, span),
@@ -259,6 +268,11 @@ fn pass(p: &Pass) -> Node {
     f.put("params", strs(&p.params, p.span));
     let values = p.values.iter().map(|(k, v)| (Node::str(&k.value, k.span), value(&v.value, v.span)));
     f.put("values", Node::map(values.collect(), p.span));
+    let constants = p
+        .constants
+        .iter()
+        .map(|(k, v)| (Node::str(&k.value, k.span), constant(&v.value, v.span)));
+    f.put("constants", Node::map(constants.collect(), p.span));
     f.put("param_block", Node::str(&p.param_block.value, p.param_block.span));
     let bind = p
         .bind

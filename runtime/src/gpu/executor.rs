@@ -269,7 +269,7 @@ impl Executor {
 
     /// Override a parameter for the following frames (checked against the running Plan).
     pub fn set_param(&mut self, name: &str, value: ParamValue) -> Result<()> {
-        // A parameter that sizes resources needs a Plan sized for the new value.
+        // A parameter the Plan fixes (a size, a repeat count, a shader constant) needs a new Plan.
         if let Some(sized) = self
             .state
             .plan
@@ -280,7 +280,7 @@ impl Executor {
         {
             if *sized != value {
                 return Err(Error::Usage(format!(
-                    "parameter `{name}` sizes resources (this Plan uses {}): plan again with the new value (render --param, or Executor::replace with an Executable compiled for it)",
+                    "parameter `{name}` is fixed by the Plan (it sizes resources, repeats a pass or sets a shader constant; this Plan uses {}): plan again with the new value (render --param, or Executor::replace with an Executable compiled for it)",
                     sized.describe()
                 )));
             }

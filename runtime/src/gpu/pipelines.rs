@@ -17,11 +17,13 @@ use std::sync::Arc;
 /// A bind group layout entry: binding, type, visibility.
 type LayoutEntry = (u32, BindingType, Vec<Stage>);
 
+/// (stage, module content hash, entry point, constants as (key, value bits)).
+type StageKey = (Stage, u64, String, Vec<(String, u64)>);
+
 /// Everything a pipeline's descriptor depends on.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub struct PipelineKey {
-    /// (stage, module content hash, entry point).
-    stages: Vec<(Stage, u64, String)>,
+    stages: Vec<StageKey>,
     /// Per bind group: (binding, type, visibility) of each entry.
     groups: Vec<(u32, Vec<LayoutEntry>)>,
     state: State,
@@ -45,7 +47,10 @@ impl PipelineKey {
             .stages
             .iter()
             .zip(modules)
-            .map(|(s, m)| (s.stage, m.hash, s.entry.clone()))
+            .map(|(s, m)| {
+                let constants = s.constants.iter().map(|(k, v)| (k.clone(), v.to_bits())).collect();
+                (s.stage, m.hash, s.entry.clone(), constants)
+            })
             .collect();
         let groups = pp
             .bind_groups
@@ -152,7 +157,7 @@ impl PipelineCache {
             bind_group_layouts: &refs,
             immediate_size: 0,
         });
-        let mut stage = |s: Stage| -> Result<(wgpu::ShaderModule, String)> {
+        let mut stage = |s: Stage| -> Result<StageModule> {
             let i = pp
                 .stages
                 .iter()
@@ -161,17 +166,18 @@ impl PipelineCache {
             let m = modules
                 .get(i)
                 .ok_or_else(|| Error::Plan(format!("pass `{}` has no {} module", pp.name, s.word())))?;
-            Ok((self.module(device, m), pp.stages[i].entry.clone()))
+            let constants = pp.stages[i].constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+            Ok((self.module(device, m), pp.stages[i].entry.clone(), constants))
         };
         let pipeline = match &pp.work {
             Work::Compute { .. } => {
-                let (m, entry) = stage(Stage::Compute)?;
+                let (m, entry, constants) = stage(Stage::Compute)?;
                 PipelineKind::Compute(device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                     label: Some(&pp.name),
                     layout: Some(&layout),
                     module: &m,
                     entry_point: Some(&entry),
-                    compilation_options: Default::default(),
+                    compilation_options: options(&constants),
                     cache: None,
                 }))
             }
@@ -182,6 +188,17 @@ impl PipelineCache {
             }
         };
         Ok(Built { pipeline, layouts })
+    }
+}
+
+/// A stage's module, entry point and pipeline constants (`override` values).
+type StageModule<'p> = (wgpu::ShaderModule, String, Vec<(&'p str, f64)>);
+
+/// Compilation options with the Plan's constants for a stage.
+fn options<'a>(constants: &'a [(&'a str, f64)]) -> wgpu::PipelineCompilationOptions<'a> {
+    wgpu::PipelineCompilationOptions {
+        constants,
+        ..Default::default()
     }
 }
 
@@ -218,8 +235,8 @@ fn render_pipeline(
     device: &wgpu::Device,
     pp: &PlanPass,
     layout: &wgpu::PipelineLayout,
-    (vm, ventry): (wgpu::ShaderModule, String),
-    fragment: Option<(wgpu::ShaderModule, String)>,
+    (vm, ventry, vconstants): StageModule,
+    fragment: Option<StageModule>,
 ) -> wgpu::RenderPipeline {
     let targets = pp.work.targets().cloned().unwrap_or_default();
     let color: Vec<Option<wgpu::ColorTargetState>> = targets
@@ -256,7 +273,7 @@ fn render_pipeline(
         vertex: wgpu::VertexState {
             module: &vm,
             entry_point: Some(&ventry),
-            compilation_options: Default::default(),
+            compilation_options: options(&vconstants),
             buffers,
         },
         primitive: wgpu::PrimitiveState {
@@ -267,10 +284,10 @@ fn render_pipeline(
         },
         depth_stencil: depth,
         multisample: Default::default(),
-        fragment: fragment.as_ref().map(|(m, e)| wgpu::FragmentState {
+        fragment: fragment.as_ref().map(|(m, e, c)| wgpu::FragmentState {
             module: m,
             entry_point: Some(e),
-            compilation_options: Default::default(),
+            compilation_options: options(c),
             targets: &color,
         }),
         multiview_mask: multiview_mask(pp.work.multiview()),

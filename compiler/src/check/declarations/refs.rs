@@ -75,6 +75,7 @@ pub(super) fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         }
     }
     binds(p, pass, diags);
+    constants(p, pass, diags);
     if let PassKind::Compute(Compute { dispatch, .. }) = &pass.kind {
         if let Dispatch::Size(r) = &dispatch.value {
             if p.resource(r).and_then(|r| r.texture()).is_none() {
@@ -83,6 +84,37 @@ pub(super) fn pass_refs(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
         }
     }
     per_light(p, pass, diags);
+}
+
+/// A constant's parameter is a declared Int, Float or Bool; its variant and option exist.
+fn constants(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {
+    for (_, c) in &pass.constants {
+        match &c.value {
+            Constant::Param(name) => match p.param(name) {
+                None => {
+                    let names: Vec<&str> = p.params.iter().map(|r| r.name.value.as_str()).collect();
+                    diags.push(
+                        Diagnostic::error(Code::UnknownParam, format!("no parameter named `{name}`"), c.span)
+                            .with_note(suggestion_note(name, &names)),
+                    );
+                }
+                Some(prm) if !matches!(prm.ty.value, ParamType::Int | ParamType::Float | ParamType::Bool) => diags.push(
+                    Diagnostic::error(
+                        Code::ConstantType,
+                        format!("`{name}` is a {} parameter; a constant takes an Int, Float or Bool", prm.ty.name()),
+                        c.span,
+                    )
+                    .with_secondary(prm.ty.span, "declared here"),
+                ),
+                _ => {}
+            },
+            Constant::Variant(v, o) => {
+                let at = |s: &String| Spanned::new(s.clone(), c.span);
+                condition_refs(p, &Spanned::new(Condition::Variant(at(v), at(o)), c.span), diags);
+            }
+            Constant::Number(_) | Constant::Bool(_) => {}
+        }
+    }
 }
 
 fn reads(p: &Pipeline, pass: &Pass, diags: &mut Diagnostics) {

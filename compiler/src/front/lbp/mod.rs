@@ -55,6 +55,7 @@ fn rule_word(r: &Rule) -> &'static str {
         | Rule::per_light_arm
         | Rule::repeat_arm
         | Rule::set_arm
+        | Rule::constants_arm
         | Rule::dispatch_arm => "an arm `option: value`",
         Rule::read_group | Rule::name_group | Rule::color_group => "`(a, b, ...)`",
         Rule::read_match | Rule::name_match | Rule::color_match => "a choice `match(VARIANT) { ... }`",
@@ -90,7 +91,9 @@ fn rule_word(r: &Rule) -> &'static str {
         | Rule::per_face
         | Rule::dispatch
         | Rule::shader
+        | Rule::constants
         | Rule::pass_per_light => "a pass property",
+        Rule::constant => "`NAME = VALUE`",
         Rule::target | Rule::target_opt | Rule::clear | Rule::load | Rule::blend | Rule::layer | Rule::nowrite => "a target option",
         Rule::read | Rule::prev => "a resource or `prev(NAME)`",
         Rule::binding => "`shader_name = resource`",
@@ -190,6 +193,7 @@ fn keyword(r: &Rule) -> Option<&'static str> {
         Rule::when => "when",
         Rule::per_light | Rule::pass_per_light => "per_light",
         Rule::shader => "shader",
+        Rule::constants => "constants",
         Rule::per_face => "per_face",
         Rule::shadow_casters => "shadow_casters",
         Rule::per_mip => "per_mip",

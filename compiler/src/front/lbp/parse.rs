@@ -522,6 +522,10 @@ impl Builder<'_> {
                 let pairs = parts.into_iter().map(|s| self.setting(s)).collect::<Option<Vec<_>>>()?;
                 Some(Node::map(pairs, at))
             }
+            Rule::constants => {
+                let pairs = parts.into_iter().map(|c| self.constant(c)).collect::<Option<Vec<_>>>()?;
+                Some(Node::map(pairs, at))
+            }
             _ => self.dispatch(parts.pop()?),
         }
     }
@@ -590,6 +594,24 @@ impl Builder<'_> {
     fn setting(&mut self, s: P) -> Option<(Node, Node)> {
         let mut kv = kids(s);
         Some((self.name(kv.next()?)?, self.value(kv.next()?)?))
+    }
+
+    /// `NAME = 4 | true | param(p) | variant(v, o)`.
+    fn constant(&mut self, c: P) -> Option<(Node, Node)> {
+        let mut k = kids(c);
+        let name = self.name(k.next()?)?;
+        let v = k.next()?;
+        let span = self.span(&v);
+        let value = match v.as_rule() {
+            Rule::const_param => Node::call("Param", vec![self.name(kids(v).next()?)?], span),
+            Rule::const_variant => {
+                let names = kids(v).map(|n| self.name(n)).collect::<Option<Vec<_>>>()?;
+                Node::call("Variant", names, span)
+            }
+            Rule::bool => Node::bool(v.as_str() == "true", span),
+            _ => self.number(&v)?,
+        };
+        Some((name, value))
     }
 
     fn binding(&mut self, b: P) -> Option<(Node, Node)> {

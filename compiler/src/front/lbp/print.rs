@@ -295,6 +295,14 @@ fn pass_line(key: &str, v: &Node) -> String {
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
+        "constants" => format!(
+            "constants {}",
+            entries(v)
+                .iter()
+                .map(|(a, b)| format!("{} = {}", name(text(a)), constant(b)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
         "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
         "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(text(n))))),
         "param_block" => format!("param_block {}", name(text(v))),
@@ -354,7 +362,7 @@ fn arm_value(key: &str, v: &Node) -> String {
     let rest = line.split_once(' ').map(|(_, r)| r.to_string()).unwrap_or_default();
     match key {
         "per_light" => line.trim_start_matches("per_light").to_string(),
-        "values" | "bind" => format!("({rest})"),
+        "values" | "bind" | "constants" => format!("({rest})"),
         "shader" => quote(text(v)),
         _ => rest,
     }
@@ -362,6 +370,16 @@ fn arm_value(key: &str, v: &Node) -> String {
 
 fn is_match(n: &Node) -> bool {
     crate::syntax::lower::is_match(n)
+}
+
+/// A constant's value: `4`, `true`, `param(p)`, `variant(v, o)`.
+fn constant(n: &Node) -> String {
+    match n.name() {
+        Some(w @ ("Param" | "Variant")) if matches!(&*n.value, Value::Tuple { .. }) => {
+            format!("{}({})", w.to_lowercase(), join(items(n), |a| name(text(a))))
+        }
+        _ => value(n),
+    }
 }
 
 fn read(n: &Node) -> String {

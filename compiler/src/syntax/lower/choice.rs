@@ -10,7 +10,7 @@ use crate::span::{Span, Spanned};
 use crate::tree::{Field, Node, Value};
 
 /// Fields a choice may stand for as a whole.
-pub const WHOLE: [&str; 15] = [
+pub const WHOLE: [&str; 16] = [
     "shader",
     "vertex",
     "fragment",
@@ -25,6 +25,7 @@ pub const WHOLE: [&str; 15] = [
     "dispatch",
     "repeat",
     "values",
+    "constants",
     "bind",
 ];
 /// List fields whose elements a choice may stand for (an arm's list is spliced in).

@@ -7,13 +7,14 @@ use crate::ir::*;
 use crate::span::{Span, Spanned};
 use crate::tree::{Node, Value};
 
-const COMMON: [&str; 15] = [
+const COMMON: [&str; 16] = [
     "name",
     "shader",
     "reads",
     "writes",
     "params",
     "values",
+    "constants",
     "param_block",
     "bind",
     "when",
@@ -83,6 +84,7 @@ impl Lowerer<'_> {
         let per_face = o.get("per_face").and_then(|n| self.bool(&n));
         let shadow_casters = o.get("shadow_casters").and_then(|n| self.bool(&n));
         let values = o.get("values").and_then(|n| self.values(&n));
+        let constants = o.get("constants").and_then(|n| self.constants(&n));
         let per_mip = match o.take("per_mip") {
             Some(n) => Some(self.mip_range(&n)?),
             None => None,
@@ -105,6 +107,7 @@ impl Lowerer<'_> {
             per_face: per_face?,
             shadow_casters: shadow_casters?,
             values: values?,
+            constants: constants?,
             per_mip,
             repeat,
             always: always?,
@@ -128,6 +131,31 @@ impl Lowerer<'_> {
                 _ => return self.type_err("a number, `true`/`false` or a tuple of 2 to 4 numbers", &v),
             };
             out.push((k, Spanned::new(value, v.span)));
+        }
+        Some(out)
+    }
+
+    /// `constants: {"NAME": value}`: a number, `true`/`false`, `Param("name")` or
+    /// `Variant("variant", "option")`.
+    fn constants(&mut self, n: &Node) -> Res<Vec<(Spanned<String>, Spanned<Constant>)>> {
+        let entries = self.string_map(n)?;
+        let mut out = vec![];
+        for (k, v) in entries {
+            let c = match (&*v.value, v.name()) {
+                (Value::Int(_) | Value::Float(_), _) => Constant::Number(self.f64(&v)?),
+                (Value::Bool(b), _) => Constant::Bool(*b),
+                (Value::Tuple { items, .. }, Some("Param")) if items.len() == 1 => Constant::Param(self.string(&items[0])?.value),
+                (Value::Tuple { items, .. }, Some("Variant")) if items.len() == 2 => {
+                    Constant::Variant(self.string(&items[0])?.value, self.string(&items[1])?.value)
+                }
+                _ => {
+                    return self.type_err(
+                        "a number, `true`/`false`, `Param(\"name\")` or `Variant(\"variant\", \"option\")`",
+                        &v,
+                    )
+                }
+            };
+            out.push((k, Spanned::new(c, v.span)));
         }
         Some(out)
     }

@@ -1,0 +1,115 @@
+//! Stage `constants`: each kept pass's constants valued for the configuration (parameters
+//! as planned, variants as chosen) and applied to its shaders as the GPU will apply them:
+//! naga replaces the `override`s and validates again, so values that break a shader (an
+//! array or workgroup size of 0, a value its type cannot hold) fail the Plan, located.
+
+use super::*;
+use crate::check::StageShader;
+use crate::diag::{Code, Diagnostic, Diagnostics};
+use crate::ir::{Constant, Pass, Pipeline};
+use naga::back::pipeline_constants::{process_overrides, PipelineConstantError};
+
+/// A constant's value in this configuration.
+pub fn value(p: &Pipeline, cfg: &Config, c: &Constant) -> f64 {
+    match c {
+        Constant::Number(x) => *x,
+        Constant::Bool(b) => f64::from(u8::from(*b)),
+        Constant::Param(name) => match p.param(name) {
+            Some(prm) => match cfg.params.get(name).cloned().unwrap_or_else(|| cfg.default_of(p, prm).0) {
+                ParamValue::Int(i) => i as f64,
+                ParamValue::Float(f) => f,
+                ParamValue::Bool(b) => f64::from(u8::from(b)),
+                _ => 0.0,
+            },
+            None => 0.0,
+        },
+        Constant::Variant(v, o) => f64::from(u8::from(cfg.selection.chosen.get(v) == Some(o))),
+    }
+}
+
+/// The pipeline-constant keys of a module's overrides: `@id(n)` as `"n"`, else the name.
+fn key_of(o: &naga::Override) -> Option<String> {
+    o.id.map(|id| id.to_string()).or_else(|| o.name.clone())
+}
+
+/// The constants a stage's module declares an `override` for, by pipeline-constant key.
+fn stage_constants(p: &Pipeline, cfg: &Config, pass: &Pass, st: &StageShader) -> Vec<(String, f64)> {
+    let overrides = &st.module.module.overrides;
+    let mut out = vec![];
+    for (name, c) in &pass.constants {
+        let declared = overrides
+            .iter()
+            .find(|(_, o)| o.name.as_deref() == Some(name.value.as_str()) || key_of(o).as_deref() == Some(name.value.as_str()));
+        if let Some(key) = declared.and_then(|(_, o)| key_of(o)) {
+            out.push((key, value(p, cfg, &c.value)));
+        }
+    }
+    out
+}
+
+/// Value every kept pass's constants per stage, and check the shaders with them.
+pub(super) fn apply(p: &Pipeline, cfg: &Config, kept: &Kept, passes: &mut [PlanPass], diags: &mut Diagnostics) {
+    for ((i, version), pp) in kept.iter().zip(passes.iter_mut()) {
+        let pass = &p.passes[*i];
+        for (st, ps) in version.stages.iter().zip(pp.stages.iter_mut()) {
+            ps.constants = stage_constants(p, cfg, pass, st);
+            if let Err(d) = check_stage(pass, st, &ps.constants, cfg) {
+                diags.push(d);
+            }
+        }
+    }
+}
+
+/// naga's override processing for the stage's entry point, as the GPU will do it.
+fn check_stage(pass: &Pass, st: &StageShader, constants: &[(String, f64)], cfg: &Config) -> Result<(), Diagnostic> {
+    let m = &st.module;
+    if m.module.overrides.is_empty() {
+        return Ok(());
+    }
+    let map: naga::back::PipelineConstants = constants.iter().cloned().collect();
+    let stage = st.stage.naga();
+    let Err(e) = process_overrides(&m.module, &m.info, Some((stage, &st.sref.entry.value)), &map) else {
+        return Ok(());
+    };
+    let at = pass.constants.first().map_or(pass.name.span, |(k, _)| k.span);
+    let shader = format!("`{}#{}`", st.sref.file.value, st.sref.entry.value);
+    let (code, what) = match &e {
+        PipelineConstantError::MissingValue(name) => (
+            Code::ConstantMissing,
+            format!(
+                "`override {name}` of {shader} has no default and pass `{}` gives it no value",
+                pass.name.value
+            ),
+        ),
+        PipelineConstantError::SrcNeedsToBeFinite | PipelineConstantError::DstRangeTooSmall => (
+            Code::ConstantType,
+            format!(
+                "a constant of pass `{}` does not fit its `override` in {shader}: {e}",
+                pass.name.value
+            ),
+        ),
+        _ => (
+            Code::ConstantInvalid,
+            format!("the constants of pass `{}` make {shader} invalid: {e}", pass.name.value),
+        ),
+    };
+    let mut d = Diagnostic::error(code, what, at).with_note(format!("configuration: {}", configuration(cfg)));
+    if let PipelineConstantError::ValidationError(v) = &e {
+        for (span, label) in v.spans() {
+            if let Some(s) = m.map_span(*span) {
+                d = d.with_secondary(s, label.clone());
+            }
+        }
+    }
+    Err(d)
+}
+
+/// `cube_shadow = classic, gbuffer = fat`: the options this Plan was made with.
+fn configuration(cfg: &Config) -> String {
+    let chosen: Vec<String> = cfg.selection.chosen.iter().map(|(v, o)| format!("{v} = {o}")).collect();
+    if chosen.is_empty() {
+        "no variants".into()
+    } else {
+        chosen.join(", ")
+    }
+}
