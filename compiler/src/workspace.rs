@@ -10,10 +10,21 @@ use crate::profile::Profile;
 use crate::scene::SceneFeatures;
 use crate::shader::{ModuleCache, ShaderLoader, ShaderModule};
 use crate::span::SourceMap;
+use crate::tree::Node;
 use crate::vfs::{normalize, DiskVfs, Vfs};
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+
+/// Pipelines using pipelines, at most this deep.
+pub const MAX_USE_DEPTH: usize = 8;
+
+/// `deferred.ron` for `pipelines/deferred.ron`: how a pass's origin reads.
+fn file_name(path: &str) -> String {
+    Path::new(path)
+        .file_name()
+        .map_or(path.to_string(), |f| f.to_string_lossy().into_owned())
+}
 
 /// A Plan together with the validated modules of its stages: what the runtime executes.
 pub struct Executable {
@@ -265,8 +276,77 @@ impl Session {
         };
         let Some(tree) = tree else { return (None, false) };
         let before = self.diags.error_count();
-        let p = crate::syntax::lower::pipeline_partial(&tree, &mut self.diags);
+        let merged = self.compose(name, &tree, &mut vec![]);
+        let mut p = merged.and_then(|m| crate::syntax::lower::pipeline_partial(&m, &mut self.diags));
+        if let Some(p) = p.as_mut().filter(|_| crate::syntax::compose::used(&tree).is_some()) {
+            p.written = Some(crate::ir::Source(tree));
+            for pass in p.passes.iter_mut().filter(|x| x.span.file != file) {
+                pass.from = Some(file_name(&self.sources.get(pass.span.file).name));
+            }
+        }
         (p, self.diags.error_count() == before)
+    }
+
+    /// The pipeline a tree means: itself, or the pipeline it uses (composed in turn) with its
+    /// items merged in. `chain`: the files being composed, for cycles and the depth limit.
+    fn compose(&mut self, name: &str, tree: &Node, chain: &mut Vec<PathBuf>) -> Option<Node> {
+        let Some((used, at)) = crate::syntax::compose::used(tree) else {
+            crate::syntax::compose::reject_composing(tree, &mut self.diags);
+            return Some(tree.clone());
+        };
+        let here = Path::new(name);
+        let path = normalize(&here.parent().unwrap_or(Path::new("")).join(&used));
+        let escapes = Path::new(&used).is_absolute() || Path::new(&used).components().any(|c| matches!(c, std::path::Component::ParentDir));
+        let problem = if escapes {
+            Some((
+                Code::OutsideRoot,
+                format!("`{used}`: a used pipeline is a file in this pipeline's directory (or below it)"),
+            ))
+        } else if chain.contains(&path) || path == normalize(here) {
+            let names: Vec<String> = chain.iter().chain([&path]).map(|p| p.display().to_string()).collect();
+            Some((
+                Code::IncludeCycle,
+                format!("pipelines use each other: {} -> {}", here.display(), names.join(" -> ")),
+            ))
+        } else if chain.len() >= MAX_USE_DEPTH {
+            Some((Code::NestingTooDeep, format!("pipelines use others more than {MAX_USE_DEPTH} deep")))
+        } else {
+            None
+        };
+        if let Some((code, msg)) = problem {
+            self.diags.push(Diagnostic::error(code, msg, at));
+            return None;
+        }
+        let base = self.read_used(&path, at)?;
+        chain.push(normalize(here));
+        let base = self.compose(&path.display().to_string(), &base, chain);
+        chain.pop();
+        Some(crate::syntax::compose::merge(&base?, tree, &mut self.diags))
+    }
+
+    /// A used pipeline file's tree; a file that cannot be read is an error at the `use`.
+    fn read_used(&mut self, path: &Path, at: crate::span::Span) -> Option<Node> {
+        let name = path.display().to_string();
+        self.dependencies.insert(path.to_path_buf());
+        let text = match self.vfs.read(path) {
+            Ok(t) => t,
+            Err(e) => {
+                let code = crate::vfs::read_error_code(&e);
+                self.diags
+                    .push(Diagnostic::error(code, format!("cannot read the used pipeline `{name}`: {e}"), at));
+                return None;
+            }
+        };
+        let file = self.sources.add(name.clone(), text.clone());
+        match path.extension().and_then(|e| e.to_str()) {
+            Some("ron") => crate::front::ron::parse_tree(file, &text, &mut self.diags),
+            Some("lbp") => crate::front::lbp::parse_tree(file, &text, &mut self.diags),
+            _ => {
+                let msg = format!("`{name}`: unknown pipeline format (expected `.ron` or `.lbp`)");
+                self.diags.push(Diagnostic::error(Code::UnknownFormat, msg, at));
+                None
+            }
+        }
     }
 
     /// Run every pipeline-wide check (declarations, shaders, bindings, IO, limits).

@@ -32,14 +32,16 @@ fn bundled_pipelines_ron_and_lbp_give_the_same_ir() {
         assert!(lbp_path.is_file(), "{} has no .lbp twin", f.display());
         let ron_text = std::fs::read_to_string(&f).unwrap();
         let lbp_text = std::fs::read_to_string(&lbp_path).unwrap();
-        let from_ron = parse_ok("p.ron", &ron_text);
-        let from_lbp = parse_ok("p.lbp", &lbp_text);
+        // By their paths: a pipeline that uses another finds it beside itself.
+        let (ron_name, lbp_name) = (f.display().to_string(), lbp_path.display().to_string());
+        let from_ron = parse_ok(&ron_name, &ron_text);
+        let from_lbp = parse_ok(&lbp_name, &lbp_text);
         assert!(from_ron.same_as(&from_lbp), "{}: RON and LBP differ", f.display());
         // RON -> LBP -> RON -> IR is the same IR.
         let as_lbp = lbp::print::print(&from_ron, Some(&ron_text));
-        let back = ron::print::print(&parse_ok("p.lbp", &as_lbp), Some(&as_lbp));
+        let back = ron::print::print(&parse_ok(&lbp_name, &as_lbp), Some(&as_lbp));
         assert!(
-            parse_ok("p.ron", &back).same_as(&from_ron),
+            parse_ok(&ron_name, &back).same_as(&from_ron),
             "RON -> LBP -> RON changed the IR:\n{back}"
         );
         // The shipped .lbp is in canonical form, and formatting is idempotent.
@@ -636,6 +638,7 @@ mod generated {
                 always,
                 // Choices are lowered to copies: the round trip of their forms is tested on files.
                 choice: None,
+                from: None,
                 span: Span::default(),
             }
         })
@@ -721,6 +724,7 @@ mod generated {
                     output: sp(out.clone()),
                     always: out.len() % 3 == 0,
                     jitter: pname.len() % 2 == 0,
+                    written: None,
                     span: Span::default(),
                 })
             },
@@ -831,6 +835,15 @@ fn the_readme_shows_every_form_and_it_parses() {
         .flat_map(|l| l.split('"').skip(1).step_by(2))
         .filter(|w| w.len() > 1 && w.chars().all(|c| c.is_ascii_alphabetic() || c == '_'))
         .collect();
-    let missing: Vec<&&str> = keywords.iter().filter(|k| !block.contains(**k)).collect();
-    assert!(missing.is_empty(), "the README's every-form file lacks {missing:?}");
+    // A pipeline that uses another is shown (and tested: tests/compose.rs) in its own section.
+    let uses = readme
+        .split("A pipeline that uses the bundled one")
+        .nth(1)
+        .and_then(|a| a.split("```\n").nth(1))
+        .expect("the `use` example");
+    let missing: Vec<&&str> = keywords.iter().filter(|k| !block.contains(**k) && !uses.contains(**k)).collect();
+    assert!(
+        missing.is_empty(),
+        "the README's every-form file and `use` example lack {missing:?}"
+    );
 }

@@ -1,5 +1,6 @@
-//! The bundled pipelines written with choices (`Match`) render what their copied passes
-//! rendered: the files as they were (`compiler/tests/fixtures/before/`) against today's, on
+//! The bundled pipelines written with choices (`Match`), and `deferred_gi` built on `deferred`
+//! (`use`), render what their copied passes rendered: the files as they were
+//! (`compiler/tests/fixtures/before/`) against today's, on
 //! the Cornell box at 64² lit by a spot and a point light, for 20 configurations.
 
 mod cli_common;

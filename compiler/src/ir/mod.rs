@@ -42,6 +42,9 @@ pub struct Pipeline {
     pub always: bool,
     /// Sub-pixel camera jitter (Halton 2, 3), for temporal accumulation.
     pub jitter: bool,
+    /// For a pipeline that uses another: the file as written (`fmt` and `convert` print it).
+    #[serde(skip)]
+    pub written: Option<Source>,
     pub span: Span,
 }
 
@@ -59,12 +62,15 @@ impl Pipeline {
             .map(|(_, p)| p)
     }
 
-    /// Equal as data: the same pipeline whatever file, front end or layout it came from.
+    /// Equal as data: the same pipeline whatever file, front end or layout it came from (or
+    /// which file it used).
     pub fn same_as(&self, other: &Pipeline) -> bool {
         fn strip(v: serde_json::Value) -> serde_json::Value {
             match v {
                 serde_json::Value::Object(m) => {
-                    serde_json::Value::Object(m.into_iter().filter(|(k, _)| k != "span").map(|(k, v)| (k, strip(v))).collect())
+                    // Where items were written (and which used file they came from) aside.
+                    let kept = m.into_iter().filter(|(k, _)| k != "span" && k != "from");
+                    serde_json::Value::Object(kept.map(|(k, v)| (k, strip(v))).collect())
                 }
                 serde_json::Value::Array(a) => serde_json::Value::Array(a.into_iter().map(strip).collect()),
                 v => v,

@@ -420,6 +420,9 @@ pub struct Pass {
     pub repeat: Option<Spanned<Repeat>>,
     /// Run every frame even when nothing it depends on changed (hidden inputs).
     pub always: bool,
+    /// For a pass of a used pipeline: that pipeline's file (`plan --explain` says so).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from: Option<String>,
     /// For one copy of a pass written with choices: which arms it is.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub choice: Option<Choice>,

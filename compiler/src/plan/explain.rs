@@ -146,6 +146,9 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
     let _ = writeln!(s, "\npasses ({} kept, in order):", plan.passes.len());
     for (i, p) in plan.passes.iter().enumerate() {
         pass_text(&mut s, plan, i, p);
+        if let Some(f) = p.from.as_ref().filter(|_| explain) {
+            let _ = writeln!(s, "      from: {f}");
+        }
         if explain && !p.arms.is_empty() {
             let arms: Vec<String> = p.arms.iter().map(|(v, o)| format!("{v} = {}", o.join(" | "))).collect();
             let _ = writeln!(s, "      arms: {}", arms.join(", "));

@@ -240,6 +240,9 @@ pub struct PlanPass {
     /// options the arm serves (`plan --explain` shows them).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub arms: Vec<(String, Vec<String>)>,
+    /// For a pass of a used pipeline: that pipeline's file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from: Option<String>,
 }
 
 /// What a pass's result depends on besides the resources it reads and its parameter block:

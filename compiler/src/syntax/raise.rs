@@ -34,6 +34,10 @@ impl Fields {
 }
 
 pub fn pipeline(p: &Pipeline) -> Node {
+    // A pipeline that uses another is printed as written: its own items, not the merge.
+    if let Some(Source(written)) = &p.written {
+        return written.clone();
+    }
     let mut f = Fields::new("Pipeline");
     f.put("name", Node::str(&p.name.value, p.name.span));
     let nonempty = |n: Node| matches!(&*n.value, Value::Map(m) if !m.is_empty()).then_some(n);

@@ -25,6 +25,11 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::open_paren => "`(`",
         Rule::close_paren => "`)`",
         Rule::pipeline_decl => "`pipeline NAME`",
+        Rule::use_decl => "`use \"file\"`",
+        Rule::fix => "`fix VARIANT = OPTION`",
+        Rule::remove => "`remove KIND NAME`",
+        Rule::remove_kind => "`pass`, `resource`, `param`, `sampler` or `variant`",
+        Rule::replace => "`replace`",
         Rule::param => "`param`",
         Rule::sampler => "`sampler`",
         Rule::texture => "`texture`",
@@ -92,6 +97,7 @@ fn rule_word(r: &Rule) -> &'static str {
         | Rule::dispatch
         | Rule::shader
         | Rule::constants
+        | Rule::after
         | Rule::pass_per_light => "a pass property",
         Rule::constant => "`NAME = VALUE`",
         Rule::target | Rule::target_opt | Rule::clear | Rule::load | Rule::blend | Rule::layer | Rule::nowrite => "a target option",
@@ -193,6 +199,7 @@ fn keyword(r: &Rule) -> Option<&'static str> {
         Rule::when => "when",
         Rule::per_light | Rule::pass_per_light => "per_light",
         Rule::shader => "shader",
+        Rule::after => "after",
         Rule::constants => "constants",
         Rule::per_face => "per_face",
         Rule::shadow_casters => "shadow_casters",

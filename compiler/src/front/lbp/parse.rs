@@ -244,8 +244,12 @@ impl Builder<'_> {
         ];
         let mut passes = vec![];
         let mut outputs = Fields::default();
+        let mut composing = Composing::default();
         for it in items {
             let at = self.span(&it);
+            if self.composing(&it, &mut composing, &mut maps, &mut passes) {
+                continue;
+            }
             let slot = match it.as_rule() {
                 Rule::param => 0,
                 Rule::sampler => 1,
@@ -277,6 +281,7 @@ impl Builder<'_> {
             maps[slot].1.extend(entry);
             maps[slot].2 = maps[slot].2.to(at);
         }
+        composing.put(&mut root);
         for (key, entries, mspan) in maps {
             if !entries.is_empty() {
                 root.put(key, mspan, Node::map(entries, mspan));
@@ -428,6 +433,55 @@ impl Builder<'_> {
         Some((name.clone(), Node::structure("Buffer", name.span, f.0, span)))
     }
 
+    /// `use`, `fix`, `remove` and `replace` items (false for any other item).
+    fn composing(&mut self, it: &P, c: &mut Composing, maps: &mut [MapField; 4], passes: &mut Vec<Node>) -> bool {
+        let at = self.span(it);
+        match it.as_rule() {
+            Rule::use_decl => c.used = kids(it.clone()).next().and_then(|s| self.string(s)).map(|s| (at, s)),
+            Rule::fix => {
+                let mut k = kids(it.clone());
+                let pair = (k.next().and_then(|n| self.name(n)), k.next().and_then(|n| self.name(n)));
+                if let (Some(v), Some(o)) = pair {
+                    c.fix.push((v, o));
+                    c.fix_span = Some(c.fix_span.map_or(at, |s| s.to(at)));
+                }
+            }
+            Rule::remove => {
+                let mut k = kids(it.clone());
+                let kind = k.next().map(|w| w.as_str().to_string()).unwrap_or_default();
+                let kind = kind[..1].to_uppercase() + &kind[1..];
+                if let Some(n) = k.next().and_then(|n| self.name(n)) {
+                    c.remove.push(Node::call(&kind, vec![n], at));
+                    c.remove_span = Some(c.remove_span.map_or(at, |s| s.to(at)));
+                }
+            }
+            Rule::replace => {
+                let Some(inner) = kids(it.clone()).next() else { return true };
+                let slot = match inner.as_rule() {
+                    Rule::pass => {
+                        passes.extend(self.pass(inner).map(|p| with_field(p, "replace", Node::bool(true, at))));
+                        return true;
+                    }
+                    Rule::param => 0,
+                    Rule::sampler => 1,
+                    Rule::texture | Rule::buffer => 2,
+                    _ => 3,
+                };
+                let entry = match inner.as_rule() {
+                    Rule::param => self.param(inner),
+                    Rule::sampler => self.sampler(inner),
+                    Rule::texture => self.texture(inner),
+                    Rule::buffer => self.buffer(inner),
+                    _ => self.variant(inner),
+                };
+                maps[slot].1.extend(entry.map(|(k, v)| (k, Node::call("Replace", vec![v], at))));
+                maps[slot].2 = maps[slot].2.to(at);
+            }
+            _ => return false,
+        }
+        true
+    }
+
     fn pass(&mut self, p: P) -> Option<Node> {
         let span = self.span(&p);
         let mut it = kids(p).peekable();
@@ -501,7 +555,7 @@ impl Builder<'_> {
                 Some(Node::list(reads, at))
             }
             Rule::writes | Rule::params => self.names(parts.pop()?),
-            Rule::param_block => self.name(parts.pop()?),
+            Rule::param_block | Rule::after => self.name(parts.pop()?),
             Rule::bind => {
                 let pairs = parts.into_iter().map(|b| self.binding(b)).collect::<Option<Vec<_>>>()?;
                 Some(Node::map(pairs, at))
@@ -792,6 +846,48 @@ impl Builder<'_> {
         }
         let node = Node::new(Value::Struct { name: None, fields: f.0 }, span);
         Some((name, node))
+    }
+}
+
+/// A pipeline's `use`, `fix` and `remove`, gathered from their lines.
+#[derive(Default)]
+struct Composing {
+    used: Option<(Span, Node)>,
+    fix: Vec<(Node, Node)>,
+    fix_span: Option<Span>,
+    remove: Vec<Node>,
+    remove_span: Option<Span>,
+}
+
+impl Composing {
+    fn put(self, root: &mut Fields) {
+        if let Some((at, u)) = self.used {
+            root.put("use", at, u);
+        }
+        if let Some(at) = self.fix_span {
+            root.put("fix", at, Node::map(self.fix, at));
+        }
+        if let Some(at) = self.remove_span {
+            root.put("remove", at, Node::list(self.remove, at));
+        }
+    }
+}
+
+/// A struct node with one more field.
+fn with_field(n: Node, key: &str, value: Node) -> Node {
+    match &*n.value {
+        Value::Struct { name, fields } => {
+            let mut fields = fields.clone();
+            fields.push((key.to_string(), value.span, value));
+            Node::new(
+                Value::Struct {
+                    name: name.clone(),
+                    fields,
+                },
+                n.span,
+            )
+        }
+        _ => n,
     }
 }
 

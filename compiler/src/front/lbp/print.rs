@@ -92,6 +92,7 @@ impl Printer {
             self.out.comments_before(n.span, "");
             let _ = writeln!(self.out.text, "pipeline {}", name(text(n)));
         }
+        self.composing(f);
         for (key, line) in [
             ("params", param as fn(&Node, &Node) -> String),
             ("samplers", sampler),
@@ -101,7 +102,10 @@ impl Printer {
             self.out.text.push('\n');
             for (k, v) in entries(map) {
                 self.out.comments_before(item_start(k, v), "");
-                let l = line(k, v);
+                let l = match replaced(v) {
+                    Some(r) => format!("replace {}", line(k, r)),
+                    None => line(k, v),
+                };
                 let _ = writeln!(self.out.text, "{l}");
             }
         }
@@ -133,29 +137,59 @@ impl Printer {
         self.out.comments_before(p.span, "");
         let f = fields(p);
         let kind = p.name().unwrap_or("").to_lowercase();
+        let replace = if get(f, "replace").is_some() { "replace " } else { "" };
         // A chosen shader is a line of the body.
         let chosen_shader = get(f, "shader").is_some_and(is_match);
         let shader = get(f, "shader")
             .filter(|_| !chosen_shader)
             .map(|s| format!(" {}", quote(text(s))))
             .unwrap_or_default();
-        let _ = writeln!(self.out.text, "{kind} {}{shader} {{", name(get(f, "name").map(text).unwrap_or("")));
+        let _ = writeln!(
+            self.out.text,
+            "{replace}{kind} {}{shader} {{",
+            name(get(f, "name").map(text).unwrap_or(""))
+        );
         // Comments inside the pass body come first in it.
         self.out
             .comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
-        for (k, _, v) in f.iter().filter(|(k, _, _)| k != "name" && (k != "shader" || chosen_shader)) {
+        let body = f
+            .iter()
+            .filter(|(k, _, _)| k != "name" && k != "replace" && (k != "shader" || chosen_shader));
+        for (k, _, v) in body {
             let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
         }
         self.out.text.push_str("}\n");
     }
 
+    /// `use "file"`, `fix v = o`, `remove kind name`.
+    fn composing(&mut self, f: &[Field]) {
+        if let Some(u) = get(f, "use") {
+            self.out.text.push('\n');
+            self.out.comments_before(u.span, "");
+            let _ = writeln!(self.out.text, "use {}", quote(text(u)));
+        }
+        for (k, v) in get(f, "fix").map(entries).unwrap_or(&[]) {
+            self.out.comments_before(item_start(k, v), "");
+            let _ = writeln!(self.out.text, "fix {} = {}", name(text(k)), name(text(v)));
+        }
+        for r in get(f, "remove").map(items).unwrap_or(&[]) {
+            self.out.comments_before(r.span, "");
+            let what = r.name().unwrap_or("").to_lowercase();
+            let _ = writeln!(self.out.text, "remove {what} {}", name(items(r).first().map(text).unwrap_or("")));
+        }
+    }
+
     fn variant(&mut self, k: &Node, v: &Node) {
         self.out.text.push('\n');
         self.out.comments_before(item_start(k, v), "");
+        let (v, replace) = match replaced(v) {
+            Some(r) => (r, "replace "),
+            None => (v, ""),
+        };
         let f = fields(v);
         let doc = get(f, "doc").map(|d| format!(" {}", quote(text(d)))).unwrap_or_default();
         let default = get(f, "default").map(text).unwrap_or("");
-        let _ = writeln!(self.out.text, "variant {} = {}{doc} {{", name(text(k)), name(default));
+        let _ = writeln!(self.out.text, "{replace}variant {} = {}{doc} {{", name(text(k)), name(default));
         for (ok, ov) in get(f, "options").map(entries).unwrap_or(&[]) {
             self.out.comments_before(item_start(ok, ov), "    ");
             let _ = writeln!(self.out.text, "    option {}{}", name(text(ok)), option(fields(ov)));
@@ -306,6 +340,7 @@ fn pass_line(key: &str, v: &Node) -> String {
         "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
         "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(text(n))))),
         "param_block" => format!("param_block {}", name(text(v))),
+        "after" => format!("after {}", name(text(v))),
         "color" => format!("color {}", join(items(v), |n| element(n, target))),
         "depth" => format!("depth {}", target(v)),
         "bind" => format!(
@@ -365,6 +400,14 @@ fn arm_value(key: &str, v: &Node) -> String {
         "values" | "bind" | "constants" => format!("({rest})"),
         "shader" => quote(text(v)),
         _ => rest,
+    }
+}
+
+/// `Replace(x)` (an item of a used pipeline replaced): `x`.
+fn replaced(n: &Node) -> Option<&Node> {
+    match &*n.value {
+        Value::Tuple { name: Some((k, _)), items } if k == "Replace" && items.len() == 1 => Some(&items[0]),
+        _ => None,
     }
 }
 

@@ -6,6 +6,7 @@
 mod choice;
 mod cond;
 mod decl;
+mod fix;
 mod obj;
 mod pass;
 mod scene;
@@ -78,6 +79,10 @@ impl Lowerer<'_> {
             Some(n) => Some(self.string(&n)?),
             None => None,
         };
+        let fixes = match o.take("fix") {
+            Some(n) => self.string_pairs(&n).unwrap_or_default(),
+            None => vec![],
+        };
         let always = o.get("always").and_then(|n| self.bool(&n));
         let jitter = o.get("jitter").and_then(|n| self.bool(&n));
         let span = o.span;
@@ -92,9 +97,10 @@ impl Lowerer<'_> {
             "hdr_output",
             "always",
             "jitter",
+            "fix",
         ];
         self.finish(o, &keys, &[]);
-        Some(Pipeline {
+        let mut p = Pipeline {
             name: name?,
             params,
             samplers,
@@ -105,8 +111,11 @@ impl Lowerer<'_> {
             hdr_output,
             always: always?,
             jitter: jitter?,
+            written: None,
             span,
-        })
+        };
+        self.fix(&mut p, fixes);
+        Some(p)
     }
 
     fn string(&mut self, node: &Node) -> Res<Spanned<String>> {

@@ -111,6 +111,7 @@ impl Lowerer<'_> {
             per_mip,
             repeat,
             always: always?,
+            from: None,
             choice: None,
             span: o.span,
         })
