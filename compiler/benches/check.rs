@@ -15,14 +15,22 @@ fn median(mut v: Vec<Duration>) -> Duration {
     v[v.len() / 2]
 }
 
-/// The shader files the given pipelines reference, once each.
+/// The shader files the given pipelines reference, once each (a pipeline that uses another
+/// references that one's too).
 fn shader_files(files: &[PathBuf]) -> Vec<String> {
     let mut names = std::collections::BTreeSet::new();
-    for f in files {
-        let text = std::fs::read_to_string(f).unwrap();
-        for cap in text.split('"').skip(1).step_by(2) {
+    let mut todo: Vec<PathBuf> = files.to_vec();
+    while let Some(f) = todo.pop() {
+        let text = std::fs::read_to_string(&f).unwrap();
+        let quoted: Vec<&str> = text.split('"').skip(1).step_by(2).collect();
+        for (i, cap) in quoted.iter().enumerate() {
             if cap.ends_with(".wgsl") || cap.ends_with(".frag") || cap.ends_with(".vert") || cap.ends_with(".comp") {
                 names.insert(cap.to_string());
+            }
+            // `use "x.lbp"` / `use: "x.ron"`: the string after the word `use`.
+            let before = text.split('"').nth(2 * i).unwrap_or("");
+            if before.trim_end().trim_end_matches(':').ends_with("use") {
+                todo.push(f.parent().unwrap().join(cap));
             }
         }
     }

@@ -11,6 +11,7 @@ mod explain;
 mod params;
 mod passes;
 mod resources;
+pub mod reuse;
 mod select;
 
 pub use build::build_plan;

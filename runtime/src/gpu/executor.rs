@@ -11,7 +11,7 @@ use super::bind_groups::{Binder, SLOT};
 use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
 use super::pool::Pool;
-use super::reuse::{hash_bytes, FrameKeys, PassInputs, Reuse};
+use super::reuse::{hash_bytes, FrameKeys, Graph, PassInputs, Reuse};
 use super::scene_gpu::{DrawOrder, SceneGpu};
 use super::timing::{PassTiming, Timer};
 use super::{convert, err_scope, Gpu};
@@ -62,6 +62,8 @@ pub struct ReloadReport {
 /// instance-block buffer live as long as the bind groups that hold them.)
 struct State {
     plan: Plan,
+    /// The Plan's reuse graph (who feeds whom), worked out once.
+    graph: Graph,
     pool: Pool,
     /// Per pass, one buffer per parameter block with the bytes last written to it.
     params: Vec<Vec<(wgpu::Buffer, Vec<u8>)>>,
@@ -478,7 +480,7 @@ impl Executor {
                 rep_lights: p.reps.iter().map(|r| r.light).collect(),
             })
             .collect();
-        self.reuse.decide(&state.plan, keys, &inputs)
+        self.reuse.decide(&state.graph, keys, &inputs)
     }
 
     /// Render one frame. GPU errors come back as values naming the pass.
@@ -767,6 +769,7 @@ fn build_state(
         });
     }
     let state = State {
+        graph: Graph::of(plan),
         plan: plan.clone(),
         pool,
         params: blocks,

@@ -12,7 +12,8 @@ mod pipelines;
 pub use pipelines::PipelineCache;
 pub mod pool;
 pub mod readback;
-pub mod reuse;
+/// The reuse rule lives with the Plan it depends on (GPU-free).
+pub use lightbench_compiler::plan::reuse;
 pub mod scene_gpu;
 mod timing;
 

@@ -1,12 +1,15 @@
-//! Reuse of unchanged work: which repetitions of which passes run in a frame. A pass runs
+//! The reuse rule of a Plan: which repetitions of which passes run in a frame. A pass runs
 //! when something it depends on (the Plan's `Depends`: camera, time, frame index, lights,
 //! scene; its parameter block; the light it repeats over) changed since it last ran, or a
 //! resource it reads is rewritten this frame. Then, so that every resource holds what a
 //! full frame would leave in it, the earlier writers its inputs need run too (a `load`
 //! chain is rebuilt from its start), and so do later writers of whatever it overwrites.
+//! It depends only on the Plan: an executor supplies what changed (`FrameKeys`, the
+//! parameter blocks' bytes) and gets back what to run. What never changes while a Plan runs
+//! (who feeds whom) is worked out once (`Graph::of`).
 
-use lightbench_compiler::ir::{LayerSel, Load};
-use lightbench_compiler::plan::{Plan, PlanPass, ResourceId};
+use super::{Plan, PlanPass, ResourceId};
+use crate::ir::{LayerSel, Load};
 use std::hash::{Hash, Hasher};
 
 /// What changed between frames, hashed per kind of dependency.
@@ -26,13 +29,6 @@ pub fn hash_bytes(b: &[u8]) -> u64 {
     h.finish()
 }
 
-/// The keys each repetition last ran with.
-pub struct Reuse {
-    /// Off: every pass runs every frame (for comparison, `render --no-reuse`).
-    pub enabled: bool,
-    last: Vec<Vec<Option<u64>>>,
-}
-
 /// What one pass of the frame needs for the decision.
 pub struct PassInputs<'a> {
     pub plan: &'a PlanPass,
@@ -40,6 +36,98 @@ pub struct PassInputs<'a> {
     pub params: u64,
     /// The light of each repetition (per-light passes).
     pub rep_lights: Vec<Option<u32>>,
+}
+
+/// The Plan's passes as the rule sees them, by index in execution order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Graph {
+    /// The earlier passes whose output each pass reads: if one runs, so does it.
+    fed_by: Vec<Vec<usize>>,
+    /// The earlier writers a running pass needs to run again: their result is not the last
+    /// one of its resource, so it is no longer in place.
+    needs: Vec<Vec<usize>>,
+    /// The later writers of what a pass writes: they run after it.
+    later: Vec<Vec<usize>>,
+    /// Whether a pass's repetitions may run alone (each writes its own part).
+    separable: Vec<bool>,
+    /// Whether a pass runs every frame whatever changed.
+    always: Vec<bool>,
+}
+
+impl Graph {
+    pub fn of(plan: &Plan) -> Graph {
+        let n = plan.passes.len();
+        let writes: Vec<Vec<ResourceId>> = plan.passes.iter().map(writes_of).collect();
+        let reads: Vec<Vec<ResourceId>> = plan.passes.iter().map(reads_of).collect();
+        let writer_before = |r: ResourceId, p: usize| (0..p).rev().find(|&w| writes[w].contains(&r));
+        let last_writer = |r: ResourceId| (0..n).rev().find(|&w| writes[w].contains(&r));
+        let mut g = Graph {
+            fed_by: vec![vec![]; n],
+            needs: vec![vec![]; n],
+            later: vec![vec![]; n],
+            separable: plan.passes.iter().map(|p| separable(plan, p)).collect(),
+            always: plan.passes.iter().map(|p| p.depends.always.is_some()).collect(),
+        };
+        for p in 0..n {
+            for &r in &reads[p] {
+                if let Some(w) = writer_before(r, p) {
+                    push_once(&mut g.fed_by[p], w);
+                    if Some(w) != last_writer(r) {
+                        push_once(&mut g.needs[p], w);
+                    }
+                }
+            }
+            for &r in &writes[p] {
+                for l in (p + 1..n).filter(|&l| writes[l].contains(&r)) {
+                    push_once(&mut g.later[p], l);
+                }
+            }
+        }
+        g
+    }
+
+    /// Passes that must run in full because of others: forward (a reader of what a running
+    /// pass writes), backward (`needs`) and later writers of what a running pass writes.
+    fn propagate(&self, dirty: &[bool]) -> Vec<bool> {
+        let n = dirty.len();
+        let mut run = dirty.to_vec();
+        let mut forced = vec![false; n];
+        let mut changed = true;
+        while changed {
+            changed = false;
+            let mut mark = |i: usize, run: &mut Vec<bool>| {
+                if !forced[i] {
+                    forced[i] = true;
+                    run[i] = true;
+                    changed = true;
+                }
+            };
+            for p in 0..n {
+                if self.fed_by[p].iter().any(|&w| run[w]) {
+                    mark(p, &mut run);
+                }
+                if run[p] {
+                    for &w in self.needs[p].iter().chain(&self.later[p]) {
+                        mark(w, &mut run);
+                    }
+                }
+            }
+        }
+        forced
+    }
+}
+
+fn push_once(v: &mut Vec<usize>, x: usize) {
+    if !v.contains(&x) {
+        v.push(x);
+    }
+}
+
+/// The keys each repetition last ran with.
+pub struct Reuse {
+    /// Off: every pass runs every frame (for comparison, `render --no-reuse`).
+    pub enabled: bool,
+    last: Vec<Vec<Option<u64>>>,
 }
 
 impl Reuse {
@@ -53,15 +141,15 @@ impl Reuse {
     }
 
     /// Which repetitions run this frame, per pass; remembers the keys of those that do.
-    pub fn decide(&mut self, plan: &Plan, keys: &FrameKeys, passes: &[PassInputs]) -> Vec<Vec<bool>> {
+    pub fn decide(&mut self, graph: &Graph, keys: &FrameKeys, passes: &[PassInputs]) -> Vec<Vec<bool>> {
         self.last.resize_with(passes.len(), Vec::new);
         let sigs: Vec<Vec<u64>> = passes.iter().map(|p| signatures(p, keys)).collect();
-        let own: Vec<Vec<bool>> = passes
+        let own: Vec<Vec<bool>> = sigs
             .iter()
-            .zip(&sigs)
             .zip(&self.last)
-            .map(|((p, s), last)| {
-                let always = !self.enabled || p.plan.depends.always.is_some();
+            .enumerate()
+            .map(|(i, (s, last))| {
+                let always = !self.enabled || graph.always[i];
                 s.iter()
                     .enumerate()
                     .map(|(r, sig)| always || last.get(r).copied().flatten() != Some(*sig))
@@ -69,13 +157,13 @@ impl Reuse {
             })
             .collect();
         let dirty: Vec<bool> = own.iter().map(|o| o.iter().any(|d| *d)).collect();
-        let forced = propagate(plan, &dirty);
-        let run: Vec<Vec<bool>> = passes
+        let forced = graph.propagate(&dirty);
+        let run: Vec<Vec<bool>> = own
             .iter()
             .enumerate()
-            .map(|(i, p)| {
-                let all = forced[i] || (dirty[i] && !separable(plan, p.plan));
-                own[i].iter().map(|o| all || *o).collect()
+            .map(|(i, o)| {
+                let all = forced[i] || (dirty[i] && !graph.separable[i]);
+                o.iter().map(|o| all || *o).collect()
             })
             .collect();
         for (i, s) in sigs.iter().enumerate() {
@@ -135,49 +223,6 @@ fn writes_of(p: &PlanPass) -> Vec<ResourceId> {
         .filter(|d| d.write || !matches!(d.load, Load::Load))
         .map(|d| d.resource);
     color.chain(depth).chain(p.writes.iter().copied()).collect()
-}
-
-/// Passes that must run in full because of others: forward (a reader of what a running pass
-/// writes), backward (the writer an input needs, unless its result is still in place: it
-/// is the last writer of that resource) and later writers of what a running pass writes.
-fn propagate(plan: &Plan, dirty: &[bool]) -> Vec<bool> {
-    let n = plan.passes.len();
-    let writes: Vec<Vec<ResourceId>> = plan.passes.iter().map(writes_of).collect();
-    let reads: Vec<Vec<ResourceId>> = plan.passes.iter().map(reads_of).collect();
-    let writer_before = |r: ResourceId, p: usize| (0..p).rev().find(|&w| writes[w].contains(&r));
-    let last_writer = |r: ResourceId| (0..n).rev().find(|&w| writes[w].contains(&r));
-    let mut run = dirty.to_vec();
-    let mut forced = vec![false; n];
-    let mut changed = true;
-    while changed {
-        changed = false;
-        let mut mark = |i: usize, run: &mut Vec<bool>| {
-            if !forced[i] {
-                forced[i] = true;
-                run[i] = true;
-                changed = true;
-            }
-        };
-        for p in 0..n {
-            if reads[p].iter().any(|&r| writer_before(r, p).is_some_and(|w| run[w])) {
-                mark(p, &mut run);
-            }
-            if !run[p] {
-                continue;
-            }
-            for &r in &reads[p] {
-                if let Some(w) = writer_before(r, p).filter(|&w| Some(w) != last_writer(r)) {
-                    mark(w, &mut run);
-                }
-            }
-            for &r in &writes[p] {
-                for later in (p + 1..n).filter(|&l| writes[l].contains(&r)) {
-                    mark(later, &mut run);
-                }
-            }
-        }
-    }
-    forced
 }
 
 /// Can the repetitions of a pass run alone? Only when each writes its own part: the
