@@ -23,7 +23,9 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    // Read when the script runs, not when it was compiled: a build script compiled for a
+    // checkout elsewhere (a moved or copied target directory) would list nothing.
+    let root = PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("CARGO_MANIFEST_DIR")).join("..");
     let mut files = vec![];
     for dir in ["pipelines", "shaders", "scenes", "sweeps"] {
         println!("cargo:rerun-if-changed={}", root.join(dir).display());

@@ -29,7 +29,11 @@ fn shader_files(files: &[PathBuf]) -> Vec<String> {
             }
             // `use "x.lbp"` / `use: "x.ron"`: the string after the word `use`.
             let before = text.split('"').nth(2 * i).unwrap_or("");
-            let word = before.trim_end().trim_end_matches(':').rsplit(|c: char| !c.is_alphanumeric() && c != '_').next();
+            let word = before
+                .trim_end()
+                .trim_end_matches(':')
+                .rsplit(|c: char| !c.is_alphanumeric() && c != '_')
+                .next();
             if word == Some("use") {
                 todo.push(f.parent().unwrap().join(cap));
             }

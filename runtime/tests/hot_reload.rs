@@ -234,3 +234,26 @@ fn an_edited_scene_file_reloads_the_scene() {
     r.until(&g, |o| matches!(o, Outcome::Failed { .. }));
     assert_eq!(r.hdr_mean(&g), after);
 }
+
+/// A pipeline that uses another reloads when the used file is edited: `deferred_gi.ron` uses
+/// `deferred.ron`, whose ambient light is made ten times brighter.
+#[test]
+fn an_edit_of_a_used_pipeline_reloads_the_pipeline_that_uses_it() {
+    let g = gpu();
+    let dir = project("used");
+    let mut scene: Scene = builtin::cornell();
+    scene.size = (32, 32);
+    let gi = dir.join("pipelines/deferred_gi.ron");
+    let (reloader, exe) = Reloader::new(&g, (&gi, None), (&scene, None), &[]).unwrap();
+    let ex = Executor::new(&g, &exe, &scene).unwrap();
+    let mut r = Running { reloader, ex };
+    let before = r.hdr_mean(&g);
+    let used = dir.join("pipelines/deferred.ron");
+    let text = std::fs::read_to_string(&used).unwrap();
+    let brighter = text.replace("Color(default: (0.03, 0.03, 0.035)", "Color(default: (0.3, 0.3, 0.35)");
+    assert_ne!(brighter, text);
+    std::fs::write(&used, brighter).unwrap();
+    r.until(&g, reloaded);
+    let after = r.hdr_mean(&g);
+    assert!(after > before * 1.5, "{before} -> {after}");
+}
