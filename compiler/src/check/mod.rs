@@ -83,6 +83,9 @@ pub fn check_pipeline(
     diags: &mut Diagnostics,
 ) -> Checked {
     declarations::check(&pipeline, profile, diags);
+    // Every module the passes will load, compiled ahead on all cores; the checks below then
+    // find them in the module cache, and report in file order what failed.
+    loader.prewarm(sources, &stage_requests(&pipeline, profile));
     let versions = pipeline
         .passes
         .iter()
@@ -118,6 +121,39 @@ fn wanted_versions(p: &Pipeline, pass: &Pass) -> Vec<(Option<VariantChoice>, Opt
     wanted
 }
 
+/// The features a pass's shaders are checked with: the profile's, and the requirements of
+/// the variant options its condition mentions.
+fn pass_features(p: &Pipeline, pass: &Pass, profile: &Profile) -> BTreeSet<Feature> {
+    let mut features: BTreeSet<Feature> = profile.features.clone();
+    let mut atoms = vec![];
+    if let Some(w) = &pass.when {
+        variant_atoms(w, &mut atoms);
+    }
+    for (v, o) in &atoms {
+        features.extend(option_features(p, v, o));
+    }
+    features
+}
+
+/// Every (shader file, features) `pass_versions` will load, for `ShaderLoader::prewarm`.
+fn stage_requests(p: &Pipeline, profile: &Profile) -> Vec<(Spanned<String>, BTreeSet<Feature>)> {
+    let mut out = vec![];
+    for pass in &p.passes {
+        let features = pass_features(p, pass, profile);
+        for (option, file) in wanted_versions(p, pass) {
+            let mut feats = features.clone();
+            if let Some((v, o)) = &option {
+                feats.extend(option_features(p, v, o));
+            }
+            for (_, sref) in pass.stages() {
+                let f = file.as_ref().filter(|_| sref.file.value != FULLSCREEN_FILE).unwrap_or(&sref.file);
+                out.push((f.clone(), feats.clone()));
+            }
+        }
+    }
+    out
+}
+
 /// Check every version of a pass; versions whose shaders fail are left out.
 fn pass_versions(
     p: &Pipeline,
@@ -127,15 +163,7 @@ fn pass_versions(
     sources: &mut SourceMap,
     diags: &mut Diagnostics,
 ) -> Vec<PassVersion> {
-    // The requirements of the variant options a pass's condition mentions apply to its shaders.
-    let mut features: BTreeSet<Feature> = profile.features.clone();
-    let mut atoms = vec![];
-    if let Some(w) = &pass.when {
-        variant_atoms(w, &mut atoms);
-    }
-    for (v, o) in &atoms {
-        features.extend(option_features(p, v, o));
-    }
+    let features = pass_features(p, pass, profile);
     let mut out = vec![];
     for (option, file) in wanted_versions(p, pass) {
         let mut feats = features.clone();

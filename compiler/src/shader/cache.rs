@@ -79,6 +79,11 @@ impl ModuleCache {
         }
     }
 
+    /// Is the module there? (Counts nothing: for compiling ahead.)
+    pub fn contains(&self, key: &Key, text: &str) -> bool {
+        self.inner.lock().is_ok_and(|g| g.map.get(key).is_some_and(|e| e.source == text))
+    }
+
     pub fn get(&self, key: &Key, text: &str) -> Option<Arc<Compiled>> {
         let mut g = self.inner.lock().ok()?;
         g.clock += 1;

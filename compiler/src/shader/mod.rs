@@ -245,14 +245,54 @@ impl ShaderLoader {
     }
 }
 
-pub fn load_module(
+impl ShaderLoader {
+    /// Compile ahead, on all cores, the modules these loads will need and the module cache
+    /// lacks; `load` then finds them there. Whatever fails here (an unreadable file, a parse
+    /// error) is left for `load` to report, in order.
+    pub fn prewarm(&mut self, sources: &mut SourceMap, requests: &[(Spanned<String>, BTreeSet<Feature>)]) {
+        use rayon::prelude::*;
+        let fs = RootedFs {
+            vfs: self.vfs.as_ref(),
+            root: &self.root,
+            read: Default::default(),
+        };
+        let mut jobs = vec![];
+        let mut seen = std::collections::HashSet::new();
+        for (path, features) in requests {
+            let caps = capabilities(features);
+            let key = (path.value.clone(), caps.bits());
+            if self.cache.contains_key(&key) || !seen.insert(key) {
+                continue;
+            }
+            let mut scratch = Diagnostics::default();
+            let Some((lang, expanded, root)) = read_expanded(&fs, sources, path, &mut scratch) else {
+                continue;
+            };
+            let key = cache::key(lang, caps.bits(), &expanded.text);
+            if !self.compiled.contains(&key, &expanded.text) {
+                jobs.push((lang, expanded, caps, key, Span::new(root, 0, 0)));
+            }
+        }
+        self.dependencies.extend(fs.read.into_inner());
+        // No more than the cache keeps: modules compiled ahead must still be there when read.
+        jobs.truncate(self.compiled.capacity);
+        let compiled = &self.compiled;
+        jobs.par_iter().for_each(|(lang, expanded, caps, key, fallback)| {
+            if let Some(c) = compile(*lang, expanded, *caps, *fallback, &mut Diagnostics::default()) {
+                compiled.put(*key, &expanded.text, c);
+            }
+        });
+    }
+}
+
+/// A shader file's language, and its text with includes spliced in (`None`: the error is
+/// in `diags`).
+fn read_expanded(
     fs: &dyn ShaderFs,
     sources: &mut SourceMap,
     path: &Spanned<String>,
-    caps: naga::valid::Capabilities,
-    cache: &ModuleCache,
     diags: &mut Diagnostics,
-) -> Option<ShaderModule> {
+) -> Option<(Lang, Expanded, FileId)> {
     let lang = match lang_of(&path.value) {
         Ok(l) => l,
         Err(e) if e == "geometry" => {
@@ -285,13 +325,24 @@ pub fn load_module(
             return None;
         }
     };
-    let expanded = match include::expand(fs, sources, root, &path.value) {
-        Ok(e) => e,
+    match include::expand(fs, sources, root, &path.value) {
+        Ok(e) => Some((lang, e, root)),
         Err(d) => {
             diags.push(d.with_secondary(path.span, "in the shader used here"));
-            return None;
+            None
         }
-    };
+    }
+}
+
+pub fn load_module(
+    fs: &dyn ShaderFs,
+    sources: &mut SourceMap,
+    path: &Spanned<String>,
+    caps: naga::valid::Capabilities,
+    cache: &ModuleCache,
+    diags: &mut Diagnostics,
+) -> Option<ShaderModule> {
+    let (lang, expanded, root) = read_expanded(fs, sources, path, diags)?;
     let fallback = Span::new(root, 0, 0);
     let key = cache::key(lang, caps.bits(), &expanded.text);
     let compiled = match cache.get(&key, &expanded.text) {
