@@ -431,3 +431,45 @@ fn formats_gl_cannot_render_to_fall_back_or_fail_where_kept() {
     plain.reflective = false;
     assert!(s.plan_file(&gi, None, &gl, &plain, &[]).is_some(), "{}", s.render());
 }
+
+/// `docs/plan.md` specifies `plan --json`: it names the format version the Plan carries and
+/// every key a Plan of the bundled pipelines has (in every configuration `check` plans).
+#[test]
+fn the_plan_format_document_names_every_key() {
+    let doc = std::fs::read_to_string(repo_root().join("docs/plan.md")).unwrap();
+    assert!(doc.starts_with(&format!("# The Plan format (`lightbench plan --json`), format {}", plan::FORMAT)));
+    assert!(doc.contains(&format!("`format` is `{}`", plan::FORMAT)));
+    fn keys(v: &serde_json::Value, out: &mut std::collections::BTreeSet<String>) {
+        match v {
+            serde_json::Value::Object(m) => m.iter().for_each(|(k, x)| {
+                out.insert(k.clone());
+                keys(x, out);
+            }),
+            serde_json::Value::Array(a) => a.iter().for_each(|x| keys(x, out)),
+            _ => {}
+        }
+    }
+    let mut all = std::collections::BTreeSet::new();
+    let profile = Profile::offline("vulkan").unwrap();
+    for file in ["pipelines/deferred.lbp", "pipelines/deferred_gi.lbp"] {
+        let mut s = Session::new();
+        let checked = s.load_checked(&repo_root().join(file), None, &profile).unwrap();
+        let mut configs: Vec<Vec<(String, String)>> = vec![vec![]];
+        for v in &checked.pipeline.variants {
+            configs.extend(v.options.iter().map(|o| vec![(v.name.value.clone(), o.name.value.clone())]));
+        }
+        for c in configs {
+            let Some(p) = s.plan(&checked, &profile, &SceneFeatures::everything(), &c) else {
+                continue;
+            };
+            assert_eq!(p.format, plan::FORMAT);
+            keys(&serde_json::to_value(&p).unwrap(), &mut all);
+        }
+    }
+    // Enum variant names are keys too (`{"Raster": ...}`): the document names those as well.
+    let missing: Vec<&String> = all
+        .iter()
+        .filter(|k| !doc.contains(&format!("`{k}`")) && !doc.contains(&format!("\"{k}\"")))
+        .collect();
+    assert!(missing.is_empty(), "docs/plan.md does not name {missing:?}");
+}

@@ -35,6 +35,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     constants::apply(p, cfg, &kept, &mut passes, diags);
     let memory_bytes = resources::memory(&resources);
     let plan = Plan {
+        format: FORMAT,
         pipeline: p.name.value.clone(),
         profile: cfg.profile.name.clone(),
         scene: cfg.scene.name.clone(),

@@ -415,8 +415,15 @@ pub struct PlanSampler {
     pub compare: Option<CompareFn>,
 }
 
+/// The version of the Plan's data format (`plan --json`, specified in `docs/plan.md`): raised
+/// when a field changes meaning or goes; new optional fields keep it.
+pub const FORMAT: u32 = 1;
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Plan {
+    /// `FORMAT` when the Plan was made (0: a Plan from before formats were numbered).
+    #[serde(default)]
+    pub format: u32,
     pub pipeline: String,
     pub profile: String,
     pub scene: String,

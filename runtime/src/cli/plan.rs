@@ -29,7 +29,7 @@ pub struct Args {
     /// Print a Graphviz graph instead.
     #[arg(long, conflicts_with_all = ["explain", "json"])]
     pub dot: bool,
-    /// Print the Plan as JSON (what the runtime consumes).
+    /// Print the Plan as JSON (format version in `format`; specified in docs/plan.md).
     #[arg(long)]
     pub json: bool,
     /// Resolution for sizes and the memory estimate (default: the scene's, else 1280x720).
