@@ -206,3 +206,31 @@ fn composing_without_a_used_pipeline_is_misplaced() {
         )
     );
 }
+
+/// Composition keys of the wrong shape are type errors where they stand, never ignored.
+#[test]
+fn composition_keys_of_the_wrong_shape_are_type_errors() {
+    for (keys, message) in [
+        ("use: 5,", "expected a pipeline file name, found an integer"),
+        ("use: \"deferred.lbp\", fix: [\"a\"],", "expected a map `{...}`, found a list"),
+        (
+            "use: \"deferred.lbp\", remove: \"x\",",
+            "expected a list `[Pass(\"name\"), ...]`, found a string",
+        ),
+        (
+            "use: \"deferred.lbp\", passes: [Fullscreen(name: \"x\", shader: \"ambient.wgsl\", after: 5, color: [\"hdr\"])],",
+            "expected a pass name, found an integer",
+        ),
+    ] {
+        let text = format!("Pipeline(name: \"t\", {keys} output: \"ldr\")\n");
+        let dir = beside_deferred("compose-shape", &[("t.ron", &text)]);
+        let o = check(&dir, "t.ron");
+        let first = o.located().into_iter().next().unwrap_or_else(|| panic!("no diagnostic for {keys}"));
+        assert_eq!(
+            (first.0.as_str(), first.1.as_str()),
+            ("type-mismatch", message),
+            "{keys}\n{}",
+            o.dump()
+        );
+    }
+}

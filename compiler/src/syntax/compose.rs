@@ -48,8 +48,19 @@ fn replacement(n: &Node) -> Option<&Node> {
     }
 }
 
-/// A file that uses none may not replace, remove or place passes: say so where it tries.
+/// A file that uses none may not replace, remove or place passes: say so where it tries
+/// (and a `use` that names no file is a type error).
 pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
+    if let Some(u) = get(fields(root), "use") {
+        diags.push(
+            Diagnostic::error(
+                Code::TypeMismatch,
+                format!("expected a pipeline file name, found {}", u.value.kind_word()),
+                u.span,
+            )
+            .with_label_text("`use: \"file.ron\"` (LBP `use \"file.lbp\"`)"),
+        );
+    }
     let why = "only a pipeline that uses another (`use: \"file\"`) can";
     for (k, span, _) in fields(root).iter().filter(|f| COMPOSING.contains(&f.0.as_str())) {
         diags.push(Diagnostic::error(Code::Misplaced, format!("`{k}`: {why} remove its items"), *span));
@@ -100,7 +111,12 @@ pub fn merge(base: &Node, own: &Node, diags: &mut Diagnostics) -> Node {
     for (key, span, value) in fields(own) {
         match key.as_str() {
             "use" | "remove" => {}
+            // Not a map: left as written, for the lowering to say what it should be.
+            "params" | "samplers" | "resources" | "variants" | "fix" if !matches!(&*value.value, Value::Map(_)) => {
+                set(&mut out, key, *span, value.clone())
+            }
             "params" | "samplers" | "resources" | "variants" | "fix" => merge_map(&mut out, key, *span, value, diags),
+            "passes" if !matches!(&*value.value, Value::List(_)) => set(&mut out, key, *span, value.clone()),
             "passes" => merge_passes(&mut out, *span, value, diags),
             _ => set(&mut out, key, *span, value.clone()),
         }
@@ -126,7 +142,15 @@ fn set(out: &mut Vec<Field>, key: &str, span: Span, value: Node) {
 
 /// Apply `remove: [Pass("x"), Resource("y"), ...]`.
 fn removals(own: &Node, out: &mut [Field], diags: &mut Diagnostics) {
-    for item in get(fields(own), "remove").map(list).unwrap_or(&[]) {
+    let Some(remove) = get(fields(own), "remove") else { return };
+    if !matches!(&*remove.value, Value::List(_)) {
+        diags.push(Diagnostic::error(
+            Code::TypeMismatch,
+            format!("expected a list `[Pass(\"name\"), ...]`, found {}", remove.value.kind_word()),
+            remove.span,
+        ));
+    }
+    for item in list(remove) {
         let (kind, name) = match &*item.value {
             Value::Tuple { name: Some((k, _)), items } if items.len() == 1 => (k.as_str(), items[0].text()),
             _ => ("", None),
@@ -272,7 +296,14 @@ fn merge_passes(out: &mut Vec<Field>, span: Span, own: &Node, diags: &mut Diagno
 
 /// The index after `anchor` (and after what was placed after it before).
 fn place_after(passes: &[Node], cursor: &mut Vec<(String, usize)>, anchor: &Node, diags: &mut Diagnostics) -> Option<usize> {
-    let a = anchor.text().unwrap_or("");
+    let Some(a) = anchor.text().filter(|_| matches!(&*anchor.value, Value::Str(_))) else {
+        diags.push(Diagnostic::error(
+            Code::TypeMismatch,
+            format!("expected a pass name, found {}", anchor.value.kind_word()),
+            anchor.span,
+        ));
+        return None;
+    };
     // (The caller moves every cursor at or past the index it inserts at on by one.)
     if let Some((_, c)) = cursor.iter().find(|(n, _)| n == a) {
         return Some(*c);
