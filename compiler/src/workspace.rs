@@ -295,9 +295,10 @@ impl Session {
             return Some(tree.clone());
         };
         let here = Path::new(name);
-        let path = normalize(&here.parent().unwrap_or(Path::new("")).join(&used));
-        let escapes = Path::new(&used).is_absolute() || Path::new(&used).components().any(|c| matches!(c, std::path::Component::ParentDir));
-        let problem = if escapes {
+        let dir = here.parent().unwrap_or(Path::new("")).to_path_buf();
+        let path = normalize(&dir.join(&used));
+        // The confinement data files have (links are resolved when reading, `read_used`).
+        let problem = if crate::shader::include::confined(&used).is_err() {
             Some((
                 Code::OutsideRoot,
                 format!("`{used}`: a used pipeline is a file in this pipeline's directory (or below it)"),
@@ -317,18 +318,19 @@ impl Session {
             self.diags.push(Diagnostic::error(code, msg, at));
             return None;
         }
-        let base = self.read_used(&path, at)?;
+        let base = self.read_used(&dir, &path, at)?;
         chain.push(normalize(here));
         let base = self.compose(&path.display().to_string(), &base, chain);
         chain.pop();
         Some(crate::syntax::compose::merge(&base?, tree, &mut self.diags))
     }
 
-    /// A used pipeline file's tree; a file that cannot be read is an error at the `use`.
-    fn read_used(&mut self, path: &Path, at: crate::span::Span) -> Option<Node> {
+    /// A used pipeline file's tree; a file that cannot be read, or that a link takes out of
+    /// `dir`, is an error at the `use`.
+    fn read_used(&mut self, dir: &Path, path: &Path, at: crate::span::Span) -> Option<Node> {
         let name = path.display().to_string();
         self.dependencies.insert(path.to_path_buf());
-        let text = match self.vfs.read(path) {
+        let text = match self.vfs.within(dir, path).and_then(|()| self.vfs.read(path)) {
             Ok(t) => t,
             Err(e) => {
                 let code = crate::vfs::read_error_code(&e);

@@ -176,6 +176,12 @@ fn used_files_that_cannot_be_used_are_errors_at_the_use() {
     assert_eq!((got.0.as_str(), got.3, got.4), ("file-not-found", 2, 5), "{got:?}");
     let got = first_error("use-outside", "pipeline t\nuse \"../deferred.lbp\"\n");
     assert_eq!((got.0.as_str(), got.3, got.4), ("outside-root", 2, 5), "{got:?}");
+    // A link in the directory that leads out of it.
+    let outside = beside_deferred("use-link-target", &[]);
+    let dir = beside_deferred("use-link", &[("t.lbp", "pipeline t\nuse \"linked.lbp\"\n")]);
+    std::os::unix::fs::symlink(outside.join("pipelines/deferred.lbp"), dir.join("pipelines/linked.lbp")).unwrap();
+    let d = check(&dir, "t.lbp").located().into_iter().next().expect("a diagnostic");
+    assert_eq!((d.0.as_str(), d.3, d.4), ("outside-root", 2, 5), "{d:?}");
     let dir = beside_deferred(
         "use-cycle",
         &[("a.lbp", "pipeline a\nuse \"b.lbp\"\n"), ("b.lbp", "pipeline b\nuse \"a.lbp\"\n")],
