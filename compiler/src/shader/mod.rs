@@ -246,9 +246,9 @@ impl ShaderLoader {
 }
 
 impl ShaderLoader {
-    /// Compile ahead, on all cores, the modules these loads will need and the module cache
-    /// lacks; `load` then finds them there. Whatever fails here (an unreadable file, a parse
-    /// error) is left for `load` to report, in order.
+    /// Compile ahead, on all cores, the modules these loads will need, and keep them for
+    /// `load` (each file is read and expanded once). Whatever fails here (an unreadable file,
+    /// a parse error) is left for `load` to report, in order.
     pub fn prewarm(&mut self, sources: &mut SourceMap, requests: &[(Spanned<String>, BTreeSet<Feature>)]) {
         use rayon::prelude::*;
         let fs = RootedFs {
@@ -256,33 +256,60 @@ impl ShaderLoader {
             root: &self.root,
             read: Default::default(),
         };
-        let mut jobs = vec![];
-        let mut seen = std::collections::HashSet::new();
+        let mut read: Vec<Ahead> = vec![];
         for (path, features) in requests {
             let caps = capabilities(features);
-            let key = (path.value.clone(), caps.bits());
-            if self.cache.contains_key(&key) || !seen.insert(key) {
+            let at = (path.value.clone(), caps.bits());
+            if self.cache.contains_key(&at) || read.iter().any(|r| r.at == at) {
                 continue;
             }
-            let mut scratch = Diagnostics::default();
-            let Some((lang, expanded, root)) = read_expanded(&fs, sources, path, &mut scratch) else {
+            let Some((lang, expanded, root)) = read_expanded(&fs, sources, path, &mut Diagnostics::default()) else {
                 continue;
             };
             let key = cache::key(lang, caps.bits(), &expanded.text);
-            if !self.compiled.contains(&key, &expanded.text) {
-                jobs.push((lang, expanded, caps, key, Span::new(root, 0, 0)));
-            }
+            let fallback = Span::new(root, 0, 0);
+            read.push(Ahead {
+                at,
+                lang,
+                expanded,
+                caps,
+                key,
+                fallback,
+            });
         }
         self.dependencies.extend(fs.read.into_inner());
-        // No more than the cache keeps: modules compiled ahead must still be there when read.
-        jobs.truncate(self.compiled.capacity);
         let compiled = &self.compiled;
-        jobs.par_iter().for_each(|(lang, expanded, caps, key, fallback)| {
-            if let Some(c) = compile(*lang, expanded, *caps, *fallback, &mut Diagnostics::default()) {
-                compiled.put(*key, &expanded.text, c);
+        let missing: Vec<&Ahead> = read.iter().filter(|r| !compiled.contains(&r.key, &r.expanded.text)).collect();
+        // No more than the cache keeps: modules compiled ahead must still be there when read.
+        missing.par_iter().take(compiled.capacity).for_each(|r| {
+            if let Some(c) = compile(r.lang, &r.expanded, r.caps, r.fallback, &mut Diagnostics::default()) {
+                compiled.put(r.key, &r.expanded.text, c);
             }
         });
+        for r in read {
+            if let Some(c) = self.compiled.get(&r.key, &r.expanded.text) {
+                let module = ShaderModule {
+                    path: r.at.0.clone(),
+                    lang: r.lang,
+                    hash: r.key.hash(),
+                    compiled: c,
+                    expanded: r.expanded,
+                };
+                self.cache.insert(r.at, Some(Arc::new(module)));
+            }
+        }
     }
+}
+
+/// A module `ShaderLoader::prewarm` read: the load it stands for (path, capabilities), its
+/// text with includes and its cache key.
+struct Ahead {
+    at: (String, u64),
+    lang: Lang,
+    expanded: Expanded,
+    caps: naga::valid::Capabilities,
+    key: cache::Key,
+    fallback: Span,
 }
 
 /// A shader file's language, and its text with includes spliced in (`None`: the error is
