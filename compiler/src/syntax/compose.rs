@@ -41,7 +41,7 @@ fn pass_name(p: &Node) -> Option<&str> {
 }
 
 /// `Replace(x)`: the replacement.
-fn replacement(n: &Node) -> Option<&Node> {
+pub fn replacement(n: &Node) -> Option<&Node> {
     match &*n.value {
         Value::Tuple { name: Some((k, _)), items } if k == "Replace" && items.len() == 1 => Some(&items[0]),
         _ => None,

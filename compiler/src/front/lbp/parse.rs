@@ -250,36 +250,21 @@ impl Builder<'_> {
             if self.composing(&it, &mut composing, &mut maps, &mut passes) {
                 continue;
             }
-            let slot = match it.as_rule() {
-                Rule::param => 0,
-                Rule::sampler => 1,
-                Rule::texture | Rule::buffer => 2,
-                Rule::variant => 3,
+            match it.as_rule() {
+                Rule::param | Rule::sampler | Rule::texture | Rule::buffer | Rule::variant => {
+                    self.map_item(it, &mut maps, |v| v);
+                }
                 Rule::pass => {
                     passes.extend(self.pass(it));
-                    continue;
                 }
-                Rule::top_flag => {
-                    outputs.0.push((it.as_str().to_string(), at, Node::bool(true, at)));
-                    continue;
-                }
+                Rule::top_flag => outputs.0.push((it.as_str().to_string(), at, Node::bool(true, at))),
                 Rule::output | Rule::hdr_output => {
                     let key = if it.as_rule() == Rule::output { "output" } else { "hdr_output" };
                     let n = kids(it).next().and_then(|n| self.name(n));
                     outputs.0.extend(n.map(|n| (key.to_string(), at, n)));
-                    continue;
                 }
-                _ => continue,
-            };
-            let entry = match it.as_rule() {
-                Rule::param => self.param(it),
-                Rule::sampler => self.sampler(it),
-                Rule::texture => self.texture(it),
-                Rule::buffer => self.buffer(it),
-                _ => self.variant(it),
-            };
-            maps[slot].1.extend(entry);
-            maps[slot].2 = maps[slot].2.to(at);
+                _ => {}
+            }
         }
         composing.put(&mut root);
         for (key, entries, mspan) in maps {
@@ -433,6 +418,20 @@ impl Builder<'_> {
         Some((name.clone(), Node::structure("Buffer", name.span, f.0, span)))
     }
 
+    /// A parameter, sampler, resource or variant line into its map, its value through `wrap`.
+    fn map_item(&mut self, it: P, maps: &mut [MapField; 4], wrap: impl FnOnce(Node) -> Node) {
+        let at = self.span(&it);
+        let (slot, entry) = match it.as_rule() {
+            Rule::param => (0, self.param(it)),
+            Rule::sampler => (1, self.sampler(it)),
+            Rule::texture => (2, self.texture(it)),
+            Rule::buffer => (2, self.buffer(it)),
+            _ => (3, self.variant(it)),
+        };
+        maps[slot].1.extend(entry.map(|(k, v)| (k, wrap(v))));
+        maps[slot].2 = maps[slot].2.to(at);
+    }
+
     /// `use`, `fix`, `remove` and `replace` items (false for any other item).
     fn composing(&mut self, it: &P, c: &mut Composing, maps: &mut [MapField; 4], passes: &mut Vec<Node>) -> bool {
         let at = self.span(it);
@@ -457,25 +456,11 @@ impl Builder<'_> {
             }
             Rule::replace => {
                 let Some(inner) = kids(it.clone()).next() else { return true };
-                let slot = match inner.as_rule() {
-                    Rule::pass => {
-                        passes.extend(self.pass(inner).map(|p| with_field(p, "replace", Node::bool(true, at))));
-                        return true;
-                    }
-                    Rule::param => 0,
-                    Rule::sampler => 1,
-                    Rule::texture | Rule::buffer => 2,
-                    _ => 3,
-                };
-                let entry = match inner.as_rule() {
-                    Rule::param => self.param(inner),
-                    Rule::sampler => self.sampler(inner),
-                    Rule::texture => self.texture(inner),
-                    Rule::buffer => self.buffer(inner),
-                    _ => self.variant(inner),
-                };
-                maps[slot].1.extend(entry.map(|(k, v)| (k, Node::call("Replace", vec![v], at))));
-                maps[slot].2 = maps[slot].2.to(at);
+                if inner.as_rule() == Rule::pass {
+                    passes.extend(self.pass(inner).map(|p| with_field(p, "replace", Node::bool(true, at))));
+                } else {
+                    self.map_item(inner, maps, |v| Node::call("Replace", vec![v], at));
+                }
             }
             _ => return false,
         }

@@ -321,36 +321,15 @@ fn pass_line(key: &str, v: &Node) -> String {
         "always" => "always".into(),
         "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
         "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
-        "values" => format!(
-            "set {}",
-            entries(v)
-                .iter()
-                .map(|(a, b)| format!("{} = {}", name(text(a)), value(b)))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
-        "constants" => format!(
-            "constants {}",
-            entries(v)
-                .iter()
-                .map(|(a, b)| format!("{} = {}", name(text(a)), constant(b)))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
+        "values" => format!("set {}", assignments(v, value)),
+        "constants" => format!("constants {}", assignments(v, constant)),
         "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
         "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(text(n))))),
         "param_block" => format!("param_block {}", name(text(v))),
         "after" => format!("after {}", name(text(v))),
         "color" => format!("color {}", join(items(v), |n| element(n, target))),
         "depth" => format!("depth {}", target(v)),
-        "bind" => format!(
-            "bind {}",
-            entries(v)
-                .iter()
-                .map(|(a, b)| format!("{} = {}", name(text(a)), name(text(b))))
-                .collect::<Vec<_>>()
-                .join(", ")
-        ),
+        "bind" => format!("bind {}", assignments(v, |b| name(text(b)))),
         "when" => format!("when {}", cond(v)),
         "dispatch" if v.name() == Some("Groups") => format!("dispatch groups({})", join(items(v), value)),
         "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
@@ -403,12 +382,18 @@ fn arm_value(key: &str, v: &Node) -> String {
     }
 }
 
+/// `NAME = VALUE, ...` of a map (`set`, `constants`, `bind`).
+fn assignments(v: &Node, value: impl Fn(&Node) -> String) -> String {
+    let each: Vec<String> = entries(v)
+        .iter()
+        .map(|(a, b)| format!("{} = {}", name(text(a)), value(b)))
+        .collect();
+    each.join(", ")
+}
+
 /// `Replace(x)` (an item of a used pipeline replaced): `x`.
 fn replaced(n: &Node) -> Option<&Node> {
-    match &*n.value {
-        Value::Tuple { name: Some((k, _)), items } if k == "Replace" && items.len() == 1 => Some(&items[0]),
-        _ => None,
-    }
+    crate::syntax::compose::replacement(n)
 }
 
 fn is_match(n: &Node) -> bool {
