@@ -112,7 +112,7 @@ fn text_essence(plan: &Plan, rename: bool) -> String {
         let mut renamed: Vec<&(&str, &str)> = RENAMED.iter().collect();
         renamed.sort_by_key(|(o, _)| std::cmp::Reverse(o.len()));
         for (o, n) in renamed {
-            text = regex_word(&text, o, n);
+            text = replace_word(&text, o, n);
         }
     }
     text
@@ -120,7 +120,7 @@ fn text_essence(plan: &Plan, rename: bool) -> String {
 
 /// `text` with the word `from` (a name: letters, digits, `_`; not part of a file or resource
 /// name, which have dots) replaced by `to`.
-fn regex_word(text: &str, from: &str, to: &str) -> String {
+fn replace_word(text: &str, from: &str, to: &str) -> String {
     let word = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '.';
     let mut out = String::new();
     let mut rest = text;

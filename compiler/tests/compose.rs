@@ -198,6 +198,21 @@ fn used_files_that_cannot_be_used_are_errors_at_the_use() {
 }
 
 #[test]
+fn fixing_without_a_used_pipeline_is_misplaced() {
+    let text = "pipeline t\nfix q = a\ntexture out: Rgba8Unorm viewport\noutput out\n";
+    let got = first_error("fix-alone", text);
+    assert_eq!(
+        (got.0.as_str(), got.1.as_str(), got.3, got.4),
+        (
+            "misplaced",
+            "`fix`: only a pipeline that uses another (`use: \"file\"`) can fix its variants",
+            2,
+            1
+        )
+    );
+}
+
+#[test]
 fn composing_without_a_used_pipeline_is_misplaced() {
     let text = "pipeline t\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {\n    after g\n    color out\n}\noutput out\n";
     let got = first_error("compose-alone", text);

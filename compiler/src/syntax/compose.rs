@@ -7,8 +7,8 @@ use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::span::Span;
 use crate::tree::{Field, Node, Value};
 
-/// Keys only a pipeline that uses another may have (besides `use`).
-const COMPOSING: [&str; 1] = ["remove"];
+/// Keys only a pipeline that uses another may have (besides `use`), with what they do.
+const COMPOSING: [(&str, &str); 2] = [("remove", "remove its items"), ("fix", "fix its variants")];
 
 /// Kinds `remove` takes, and the tree key holding each.
 const REMOVABLE: [(&str, &str); 5] = [
@@ -62,8 +62,10 @@ pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
         );
     }
     let why = "only a pipeline that uses another (`use: \"file\"`) can";
-    for (k, span, _) in fields(root).iter().filter(|f| COMPOSING.contains(&f.0.as_str())) {
-        diags.push(Diagnostic::error(Code::Misplaced, format!("`{k}`: {why} remove its items"), *span));
+    for (k, span, _) in fields(root) {
+        if let Some((_, does)) = COMPOSING.iter().find(|(c, _)| c == k) {
+            diags.push(Diagnostic::error(Code::Misplaced, format!("`{k}`: {why} {does}"), *span));
+        }
     }
     for p in get(fields(root), "passes").map(list).unwrap_or(&[]) {
         for (k, span, _) in fields(p).iter().filter(|f| f.0 == "after" || f.0 == "replace") {
@@ -197,6 +199,8 @@ fn unknown(kind: &str, name: &str, names: &[&str], span: Span) -> Diagnostic {
         "Pass" => Code::UnknownPass,
         "Resource" => Code::UnknownResource,
         "Param" => Code::UnknownParam,
+        // Samplers are named among resources (`bind` takes either).
+        "Sampler" => Code::UnknownResource,
         _ => Code::UnknownVariant,
     };
     Diagnostic::error(code, format!("the used pipeline has no {} `{name}`", kind.to_lowercase()), span)
