@@ -76,9 +76,7 @@ fn naga_alone(root: &Path, shaders: &[String]) {
 fn check_all(files: &[PathBuf], profile: &Profile) {
     // As `lightbench check` does: one workspace (compiled-shader cache) for the run.
     let ws = Workspace::disk();
-    for f in files {
-        let mut s = ws.session();
-        s.check_file(f, None, profile, None);
+    for s in ws.check_files(files, None, profile, None) {
         assert!(!s.diags.has_errors(), "{}", s.render());
     }
 }
@@ -94,6 +92,13 @@ fn main() {
     let distinct = shader_files(&files);
     let profile = Profile::vulkan();
     let rounds = 40;
+    // `LB_CHECK_ONLY=1`: only `check`, 100 times (for a profiler).
+    if std::env::var("LB_CHECK_ONLY").is_ok() {
+        for _ in 0..100 {
+            check_all(&files, &profile);
+        }
+        return;
+    }
     let naga_per_pipeline = |root: &Path| per_pipeline.iter().for_each(|list| naga_alone(root, list));
     for _ in 0..5 {
         naga_per_pipeline(&shader_root);

@@ -12,6 +12,7 @@ use crate::shader::{ModuleCache, ShaderLoader, ShaderModule};
 use crate::span::SourceMap;
 use crate::tree::Node;
 use crate::vfs::{normalize, DiskVfs, Vfs};
+use rayon::prelude::*;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -70,6 +71,11 @@ impl Workspace {
         self
     }
 
+    /// What the compiled-module cache did so far: compilations, hits, evictions, entries.
+    pub fn module_stats(&self) -> crate::shader::cache::CacheStats {
+        self.modules.stats()
+    }
+
     /// A new compilation sharing this workspace's files and compiled modules.
     pub fn session(&self) -> Session {
         Session {
@@ -79,6 +85,27 @@ impl Workspace {
             modules: self.modules.clone(),
             dependencies: BTreeSet::new(),
         }
+    }
+
+    /// `Session::check_file` over several files as one run (what `lightbench check` does):
+    /// the files checked in parallel, a shader they share compiled once (the module cache
+    /// lets the others wait for it). One session per file, in the order given, holding that
+    /// file's diagnostics.
+    pub fn check_files(
+        &self,
+        files: &[PathBuf],
+        shader_root: Option<&Path>,
+        profile: &Profile,
+        scene: Option<&SceneFeatures>,
+    ) -> Vec<Session> {
+        files
+            .par_iter()
+            .map(|f| {
+                let mut s = self.session();
+                s.check_file(f, shader_root, profile, scene);
+                s
+            })
+            .collect()
     }
 
     pub fn modules(&self) -> &ModuleCache {
@@ -425,6 +452,10 @@ impl Session {
                 configs.push(vec![(v.name.value.clone(), o.name.value.clone())]);
             }
         }
+        // Selection is cheap and reports in order; the plans are independent, so they are
+        // built in parallel, each into its own diagnostics, merged in configuration order
+        // (the same merge as a serial run: `push` folds repeats into "also here").
+        let mut jobs = vec![];
         for scene in &scenes {
             let mut seen: Vec<BTreeMap<String, String>> = vec![];
             for c in &configs {
@@ -437,7 +468,13 @@ impl Session {
                     continue;
                 }
                 seen.push(selection.chosen.clone());
-                let none = ParamValues::new();
+                jobs.push((scene, selection));
+            }
+        }
+        let none = ParamValues::new();
+        let found: Vec<Diagnostics> = jobs
+            .into_par_iter()
+            .map(|(scene, selection)| {
                 let cfg = Config {
                     profile,
                     scene,
@@ -445,31 +482,42 @@ impl Session {
                     params: &none,
                     scene_known: scene_given,
                 };
-                // The whole Plan, so that what only sizing reveals (extents, mips) fails here.
-                plan::build_plan(checked, &cfg, &mut self.diags);
-            }
+                let mut diags = Diagnostics::default();
+                // Every stage of planning that can fail, sizing included (extents, mips).
+                plan::check_configuration(checked, &cfg, &mut diags);
+                diags
+            })
+            .collect();
+        for d in found.into_iter().flat_map(|d| d.list) {
+            self.diags.push(d);
         }
     }
 
     /// Load and check a pipeline file; `None` when it has errors (they are in `diags`). When
     /// some values do not lower, the shaders of the passes that did are still checked.
     pub fn load_checked(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<Checked> {
+        let (p, root) = self.load_for_check(path, shader_root, profile)?;
+        let checked = self.check(p, &root, profile);
+        (!self.diags.has_errors()).then_some(checked)
+    }
+
+    /// The front half of `load_checked`: a pipeline that lowered whole, with the folder its
+    /// shader paths resolve in. One some of whose values did not lower has the shaders of
+    /// the passes that did checked here, and gives `None`.
+    fn load_for_check(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile) -> Option<(Pipeline, PathBuf)> {
         let (name, text) = self.read_pipeline(path)?;
-        let p = match self.parse_pipeline_partial(&name, text) {
-            (Some(p), true) => p,
+        let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
+        match self.parse_pipeline_partial(&name, text) {
+            (Some(p), true) => Some((p, root)),
             (partial, _) => {
                 if let Some(partial) = partial {
-                    let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
                     let mut loader = ShaderLoader::new(root, self.vfs.clone(), self.modules.clone());
                     check::check_shaders(&partial, profile, &mut loader, &mut self.sources, &mut self.diags);
                     self.dependencies.extend(loader.dependencies);
                 }
-                return None;
+                None
             }
-        };
-        let root = shader_root_for(self.vfs.as_ref(), path, shader_root);
-        let checked = self.check(p, &root, profile);
-        (!self.diags.has_errors()).then_some(checked)
+        }
     }
 
     /// Load, check and plan a pipeline file in one go.

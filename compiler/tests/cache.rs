@@ -64,3 +64,32 @@ fn broken_shader_is_reported_in_every_session() {
         assert!(f.ends_with("fill.wgsl") && l == 3, "{f}:{l}");
     }
 }
+
+/// `check` runs its files in parallel: each shader they share is still compiled once (the
+/// others wait for it or take other work), and each file's report stays its own, in order.
+#[test]
+fn files_checked_together_compile_a_shared_shader_once() {
+    let names = ["a", "b", "c", "d", "e", "f", "g", "h"];
+    let mut files: Vec<(String, String)> = names.iter().map(|n| (format!("pipelines/{n}.ron"), pipeline(n))).collect();
+    // One broken pipeline among them, in the middle.
+    files[3].1 = files[3].1.replace("\"out\")", "\"nowhere\")");
+    files.push(("shaders/fill.wgsl".into(), FILL.into()));
+    let refs: Vec<(&str, &str)> = files.iter().map(|(p, t)| (p.as_str(), t.as_str())).collect();
+    let dir = write_project("cache-parallel", &refs);
+    let ws = Workspace::disk();
+    let paths: Vec<_> = names.iter().map(|n| dir.join(format!("pipelines/{n}.ron"))).collect();
+    let sessions = ws.check_files(&paths, None, &Profile::vulkan(), None);
+    assert_eq!(sessions.len(), names.len());
+    for (i, s) in sessions.iter().enumerate() {
+        let errors: Vec<_> = s.diags.errors().collect();
+        if i == 3 {
+            let d = errors.first().expect("the broken pipeline's error is in its own session");
+            let (f, _, _) = d.location(&s.sources).unwrap();
+            assert!(f.ends_with("d.ron"), "{f}");
+        } else {
+            assert!(errors.is_empty(), "{}: {}", names[i], s.render());
+        }
+    }
+    // The fragment shader and the built-in full-screen vertex stage, once each.
+    assert_eq!(ws.module_stats().compiled, 2, "{:?}", ws.module_stats());
+}

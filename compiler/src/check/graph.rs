@@ -19,7 +19,7 @@ pub struct Ordered {
 }
 
 /// edge (from, to) -> (resource, span of the use in `to`)
-type Edges = BTreeMap<(usize, usize), (String, Span)>;
+type Edges<'p> = BTreeMap<(usize, usize), (&'p str, Span)>;
 
 /// `culled` maps a culled pass index to its reason, to explain missing producers.
 pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, diags: &mut Diagnostics) -> Option<Ordered> {
@@ -62,12 +62,12 @@ fn writers<'p>(p: &'p Pipeline, kept: &[usize]) -> BTreeMap<&'p str, Vec<usize>>
 }
 
 /// Edges from the writers of everything pass `i` reads; reads without a producer are errors.
-fn read_edges(
-    p: &Pipeline,
+fn read_edges<'p>(
+    p: &'p Pipeline,
     i: usize,
     writers: &BTreeMap<&str, Vec<usize>>,
     culled: &BTreeMap<usize, String>,
-    edges: &mut Edges,
+    edges: &mut Edges<'p>,
     diags: &mut Diagnostics,
 ) {
     let pass = &p.passes[i];
@@ -122,11 +122,11 @@ fn read_edges(
         let before: Vec<usize> = others.iter().copied().filter(|&w| w < i).collect();
         let sources = if before.is_empty() { &others } else { &before };
         for &w in sources {
-            edges.entry((w, i)).or_insert((name.value.clone(), name.span));
+            edges.entry((w, i)).or_insert((name.value.as_str(), name.span));
         }
         if !before.is_empty() {
             for &w in others.iter().filter(|&&w| w > i) {
-                edges.entry((i, w)).or_insert((name.value.clone(), name.span));
+                edges.entry((i, w)).or_insert((name.value.as_str(), name.span));
             }
         }
     }
@@ -177,7 +177,7 @@ fn missing_producer(
 /// (`writes`: nothing clears a storage resource, so a later one appends to or updates what the
 /// earlier left, as fragment lists do after their clear); writers that start afresh must be
 /// ordered by some other dependency.
-fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags: &mut Diagnostics) {
+fn writer_edges<'p>(p: &Pipeline, res: &'p str, ws: &[usize], edges: &mut Edges<'p>, diags: &mut Diagnostics) {
     let span_of = |i: usize| {
         p.passes[i]
             .written()
@@ -192,7 +192,7 @@ fn writer_edges(p: &Pipeline, res: &str, ws: &[usize], edges: &mut Edges, diags:
         if !pass.accumulates(res) && !stores {
             fresh.push(w);
         } else if k > 0 {
-            edges.entry((ws[k - 1], w)).or_insert((res.to_string(), span_of(w)));
+            edges.entry((ws[k - 1], w)).or_insert((res, span_of(w)));
         } else if !p.resource(res).is_some_and(|r| r.supplied() || r.history()) {
             diags.push(
                 Diagnostic::error(

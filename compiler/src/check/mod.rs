@@ -14,6 +14,7 @@ pub mod scene;
 
 use crate::diag::Diagnostics;
 use crate::ir::*;
+use crate::layout::BindSource;
 use crate::profile::{Feature, Profile};
 use crate::shader::{ShaderLoader, ShaderModule};
 use crate::span::{SourceMap, Spanned};
@@ -38,6 +39,9 @@ pub struct PassVersion {
     pub option: Option<(String, String)>,
     pub stages: Vec<StageShader>,
     pub resolved: bindings::Resolved,
+    /// Fields of the frame block its entry points read, through every function they call
+    /// (reflection, worked out once here rather than for every Plan).
+    pub frame_fields: BTreeSet<String>,
 }
 
 /// A pipeline whose passes have been checked; versions that failed are absent.
@@ -179,9 +183,34 @@ fn pass_versions(
             continue;
         };
         limits::check(p, pass, &stages, &resolved, profile, diags);
-        out.push(PassVersion { option, stages, resolved });
+        let frame_fields = frame_fields(&stages, &resolved);
+        out.push(PassVersion {
+            option,
+            stages,
+            resolved,
+            frame_fields,
+        });
     }
     out
+}
+
+/// The frame-block fields a pass version's entry points read (of every stage).
+fn frame_fields(stages: &[StageShader], resolved: &bindings::Resolved) -> BTreeSet<String> {
+    let frame = resolved
+        .groups
+        .iter()
+        .flat_map(|g| &g.entries)
+        .filter(|e| matches!(e.source, BindSource::Frame));
+    let mut fields = BTreeSet::new();
+    for e in frame {
+        for st in stages {
+            let m = &st.module.module;
+            if let Some((h, _)) = m.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(e.name.as_str())) {
+                fields.extend(crate::shader::reflect::members_read(m, st.entry, h));
+            }
+        }
+    }
+    fields
 }
 
 /// Load and resolve each stage's module and entry point, with `file` substituted for the

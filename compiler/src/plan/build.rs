@@ -11,26 +11,12 @@ use crate::diag::{Code, Diagnostic, Diagnostics};
 pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<Plan> {
     let p = &checked.pipeline;
     let before = diags.error_count();
-    // Conditions, culling and order.
-    let schedule = schedule(checked, cfg, diags)?;
-    let kept: Kept = schedule
-        .ordered
-        .order
-        .iter()
-        .map(|&i| checked.version(i, &cfg.selection.chosen).map(|v| (i, v)))
-        .collect::<Option<_>>()?;
-    if cfg.scene_known {
-        renderable(p, cfg, &kept, diags);
-    }
-    // Resources the kept passes touch, with usages, extents and sizes; samplers they bind.
-    let resources = resources::derive(p, cfg, &kept);
-    resources::check_extents(p, cfg, &resources, diags);
-    resources::check_buffer_sizes(p, cfg, &resources, diags);
+    let (schedule, kept, resources) = checked_stages(checked, cfg, diags)?;
     let samplers = resources::samplers(p, &kept);
     // Passes with targets, bindings and blocks addressed by index.
     let ids = passes::Ids::new(&resources, &samplers, &schedule.ordered.order);
     let mut passes = passes::assemble(p, cfg, &schedule, &kept, &ids)?;
-    let mut params = p.params.iter().map(|prm| params::plan_param(prm, p, cfg)).collect();
+    let mut params = params::plan_params(p, cfg);
     params::lift_pass_values(p, &cfg.selection.chosen, &mut passes, &mut params);
     constants::apply(p, cfg, &kept, &mut passes, diags);
     let memory_bytes = resources::memory(&resources);
@@ -64,6 +50,37 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         jitter: jitters(p, &cfg.selection.chosen),
     };
     (diags.error_count() == before).then_some(plan)
+}
+
+/// Every check a configuration's Plan makes, without assembling it (what `check` runs for
+/// each configuration): the stages that can fail, in `build_plan`'s order. `false` when one
+/// did (the errors are in `diags`).
+pub fn check_configuration(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> bool {
+    let before = diags.error_count();
+    if let Some((_, kept, _)) = checked_stages(checked, cfg, diags) {
+        constants::value_kept(&checked.pipeline, cfg, &kept, diags);
+    }
+    diags.error_count() == before
+}
+
+/// Conditions, culling and order; the kept passes' versions; what the scene cannot render;
+/// the resources the kept passes touch, with usages, extents and sizes, checked.
+fn checked_stages<'c>(checked: &'c Checked, cfg: &Config, diags: &mut Diagnostics) -> Option<(Schedule, Kept<'c>, Vec<PlanResource>)> {
+    let p = &checked.pipeline;
+    let schedule = schedule(checked, cfg, diags)?;
+    let kept: Kept = schedule
+        .ordered
+        .order
+        .iter()
+        .map(|&i| checked.version(i, &cfg.selection.chosen).map(|v| (i, v)))
+        .collect::<Option<_>>()?;
+    if cfg.scene_known {
+        renderable(p, cfg, &kept, diags);
+    }
+    let resources = resources::derive(p, cfg, &kept);
+    resources::check_extents(p, cfg, &resources, diags);
+    resources::check_buffer_sizes(p, cfg, &resources, diags);
+    Some((schedule, kept, resources))
 }
 
 /// The camera jitters when the pipeline says so or a chosen option does (`aa = taa`).

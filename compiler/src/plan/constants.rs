@@ -49,15 +49,30 @@ fn stage_constants(p: &Pipeline, cfg: &Config, pass: &Pass, st: &StageShader) ->
 
 /// Value every kept pass's constants per stage, and check the shaders with them.
 pub(super) fn apply(p: &Pipeline, cfg: &Config, kept: &Kept, passes: &mut [PlanPass], diags: &mut Diagnostics) {
-    for ((i, version), pp) in kept.iter().zip(passes.iter_mut()) {
-        let pass = &p.passes[*i];
-        for (st, ps) in version.stages.iter().zip(pp.stages.iter_mut()) {
-            ps.constants = stage_constants(p, cfg, pass, st);
-            if let Err(d) = check_stage(pass, st, &ps.constants, cfg) {
-                diags.push(d);
-            }
+    for (valued, pp) in value_kept(p, cfg, kept, diags).into_iter().zip(passes.iter_mut()) {
+        for (constants, ps) in valued.into_iter().zip(pp.stages.iter_mut()) {
+            ps.constants = constants;
         }
     }
+}
+
+/// Each kept pass's constants per stage, checked by naga's override processing (what
+/// fails is in `diags`).
+pub(super) fn value_kept(p: &Pipeline, cfg: &Config, kept: &Kept, diags: &mut Diagnostics) -> Vec<Vec<Vec<(String, f64)>>> {
+    let mut out = vec![];
+    for (i, version) in kept {
+        let pass = &p.passes[*i];
+        let mut stages = vec![];
+        for st in &version.stages {
+            let constants = stage_constants(p, cfg, pass, st);
+            if let Err(d) = check_stage(pass, st, &constants, cfg) {
+                diags.push(d);
+            }
+            stages.push(constants);
+        }
+        out.push(stages);
+    }
+    out
 }
 
 /// naga's override processing for the stage's entry point, as the GPU will do it.

@@ -1,13 +1,11 @@
 //! Stage `deps`: what each pass's result depends on besides what it reads — the frame-block
-//! fields its entry points actually read (naga reflection), the light array, the scene's
+//! fields its entry points actually read (the check's reflection), the light array, the scene's
 //! meshes — and which passes must run every frame. The runtime's reuse rule reads this.
 
 use super::Depends;
 use crate::check::PassVersion;
 use crate::ir::{Draw, Pass, PassKind, Pipeline, Read};
 use crate::layout::BindSource;
-use crate::shader::reflect::members_read;
-use std::collections::BTreeSet;
 
 /// Frame-block fields that move with the camera (`jitter` moves the projection).
 pub const CAMERA_FIELDS: [&str; 8] = [
@@ -23,15 +21,8 @@ pub const CAMERA_FIELDS: [&str; 8] = [
 
 pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depends {
     let entries = || version.resolved.groups.iter().flat_map(|g| &g.entries);
-    let mut fields = BTreeSet::new();
-    for e in entries().filter(|e| matches!(e.source, BindSource::Frame)) {
-        for st in &version.stages {
-            let m = &st.module.module;
-            if let Some((h, _)) = m.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(e.name.as_str())) {
-                fields.extend(members_read(m, st.entry, h));
-            }
-        }
-    }
+    // The frame-block fields its entry points read (the check's reflection).
+    let fields = &version.frame_fields;
     let has = |f: &str| fields.contains(f);
     let draw = match &pass.kind {
         PassKind::Raster(r) => Some(&r.draw),
@@ -44,7 +35,7 @@ pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depen
         lights: pass.per_light.is_none() && entries().any(|e| matches!(e.source, BindSource::Lights)),
         scene: draw.is_some_and(Draw::uses_scene) || entries().any(|e| matches!(e.source, BindSource::Triangles)),
         always: always(p, pass),
-        frame_fields: fields.into_iter().filter(|f| !f.starts_with('_')).collect(),
+        frame_fields: fields.iter().filter(|f| !f.starts_with('_')).cloned().collect(),
     }
 }
 

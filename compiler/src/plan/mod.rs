@@ -14,7 +14,7 @@ mod resources;
 pub mod reuse;
 mod select;
 
-pub use build::build_plan;
+pub use build::{build_plan, check_configuration};
 pub use cull::{schedule, Schedule};
 pub use diff::{diff, Change, PassChange, PlanDiff};
 pub use explain::{mib_text, pass_facts, resource_fact, to_dot, to_text, work_word};

@@ -26,22 +26,68 @@ pub fn declared_param(p: &Param) -> PlanParam {
 /// A parameter as this configuration has it: `default` is the chosen preset's value where
 /// one sets it; `sizes` the value resources were sized with.
 pub fn plan_param(p: &Param, pipeline: &crate::ir::Pipeline, cfg: &super::Config) -> PlanParam {
-    let name = Some(p.name.value.as_str());
+    let sizes = sizing(pipeline).contains(p.name.value.as_str());
+    plan_param_with(p, sizes, cfg.default_of(pipeline, p), cfg)
+}
+
+/// Every parameter of the pipeline as `plan_param` plans it, the facts they share (what
+/// sizes, what the chosen options preset) worked out once.
+pub(super) fn plan_params(pipeline: &crate::ir::Pipeline, cfg: &super::Config) -> Vec<PlanParam> {
+    let sizing = sizing(pipeline);
+    let mut presets: BTreeMap<&str, (ParamValue, Option<String>)> = Default::default();
+    // As `Config::default_of`: the first variant (in declaration order) whose chosen option
+    // sets the parameter to a valid value.
+    for v in &pipeline.variants {
+        let Some(o) = cfg.selection.chosen.get(&v.name.value).and_then(|o| v.option(o)) else {
+            continue;
+        };
+        for (k, lit) in &o.params {
+            if presets.contains_key(k.value.as_str()) {
+                continue;
+            }
+            if let Some(value) = crate::check::declarations::preset_value(pipeline, &k.value, &lit.value) {
+                presets.insert(&k.value, (value, Some(format!("{}={}", v.name.value, o.name.value))));
+            }
+        }
+    }
+    pipeline
+        .params
+        .iter()
+        .map(|prm| {
+            let name = prm.name.value.as_str();
+            let default = presets.get(name).cloned().unwrap_or_else(|| (prm.default.value.clone(), None));
+            plan_param_with(prm, sizing.contains(name), default, cfg)
+        })
+        .collect()
+}
+
+/// The parameters whose values the Plan fixes: those sizing a resource or repeating a
+/// pass, and those a shader constant is baked from.
+fn sizing(pipeline: &crate::ir::Pipeline) -> std::collections::BTreeSet<&str> {
     let sizes = pipeline
         .resources
         .iter()
         .filter_map(|r| r.texture())
-        .any(|t| t.size.value.param() == name)
-        || pipeline.passes.iter().any(|pass| match pass.repeat.as_ref().map(|r| &r.value) {
-            Some(crate::ir::Repeat::Param(n)) => Some(n.as_str()) == name,
-            _ => false,
-        })
-        // A shader constant is baked into the pipeline: its value is fixed by the Plan too.
-        || pipeline.passes.iter().flat_map(|pass| &pass.constants).any(|(_, c)| match &c.value {
-            crate::ir::Constant::Param(n) => Some(n.as_str()) == name,
-            _ => false,
+        .filter_map(|t| t.size.value.param());
+    let repeats = pipeline
+        .passes
+        .iter()
+        .filter_map(|pass| match pass.repeat.as_ref().map(|r| &r.value) {
+            Some(crate::ir::Repeat::Param(n)) => Some(n.as_str()),
+            _ => None,
         });
-    let (default, preset) = cfg.default_of(pipeline, p);
+    let constants = pipeline
+        .passes
+        .iter()
+        .flat_map(|pass| &pass.constants)
+        .filter_map(|(_, c)| match &c.value {
+            crate::ir::Constant::Param(n) => Some(n.as_str()),
+            _ => None,
+        });
+    sizes.chain(repeats).chain(constants).collect()
+}
+
+fn plan_param_with(p: &Param, sizes: bool, (default, preset): (ParamValue, Option<String>), cfg: &super::Config) -> PlanParam {
     PlanParam {
         sizes: sizes.then(|| cfg.params.get(&p.name.value).unwrap_or(&default).clone()),
         default,

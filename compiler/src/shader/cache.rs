@@ -4,9 +4,9 @@
 //! Failures are not kept, so every compilation reports its own located errors.
 
 use super::{Compiled, Lang};
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::hash::{Hash, Hasher};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Condvar, Mutex};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Key {
@@ -51,12 +51,16 @@ struct Entry {
 
 struct Inner {
     map: HashMap<Key, Entry>,
+    /// Modules some thread is compiling now.
+    compiling: HashSet<Key>,
     clock: u64,
     stats: CacheStats,
 }
 
 pub struct ModuleCache {
     inner: Mutex<Inner>,
+    /// Signalled when a compilation in `compiling` ends.
+    done: Condvar,
     /// Most modules kept; the least recently used beyond it are dropped.
     pub capacity: usize,
 }
@@ -72,9 +76,11 @@ impl ModuleCache {
         ModuleCache {
             inner: Mutex::new(Inner {
                 map: HashMap::new(),
+                compiling: HashSet::new(),
                 clock: 0,
                 stats: CacheStats::default(),
             }),
+            done: Condvar::new(),
             capacity: capacity.max(1),
         }
     }
@@ -82,6 +88,49 @@ impl ModuleCache {
     /// Is the module there? (Counts nothing: for compiling ahead.)
     pub fn contains(&self, key: &Key, text: &str) -> bool {
         self.inner.lock().is_ok_and(|g| g.map.get(key).is_some_and(|e| e.source == text))
+    }
+
+    /// Compile the module with `compile` and keep it, unless it is here already; `false`
+    /// (nothing done) when another thread is compiling it now: compilations running at once
+    /// (the pipelines of one `check`) compile a module they share once, each doing others'
+    /// work meanwhile, then `wait_for` what they skipped. A failure is not kept; whoever
+    /// asks next compiles it again and reports it.
+    pub fn try_compile(&self, key: Key, text: &str, compile: impl FnOnce() -> Option<Arc<Compiled>>) -> bool {
+        {
+            let Ok(mut g) = self.inner.lock() else { return true };
+            if g.map.get(&key).is_some_and(|e| e.source == text) {
+                return true;
+            }
+            if !g.compiling.insert(key) {
+                return false;
+            }
+        }
+        // Ends the compilation however `compile` returns, so no waiter is left waiting.
+        struct Ending<'a>(&'a ModuleCache, Key);
+        impl Drop for Ending<'_> {
+            fn drop(&mut self) {
+                if let Ok(mut g) = self.0.inner.lock() {
+                    g.compiling.remove(&self.1);
+                }
+                self.0.done.notify_all();
+            }
+        }
+        let _ending = Ending(self, key);
+        if let Some(c) = compile() {
+            self.put(key, text, c);
+        }
+        true
+    }
+
+    /// Wait until no thread is compiling the module.
+    pub fn wait_for(&self, key: &Key) {
+        let Ok(mut g) = self.inner.lock() else { return };
+        while g.compiling.contains(key) {
+            g = match self.done.wait(g) {
+                Ok(g) => g,
+                Err(_) => return,
+            };
+        }
     }
 
     pub fn get(&self, key: &Key, text: &str) -> Option<Arc<Compiled>> {

@@ -169,6 +169,20 @@ pub struct RootedFs<'a> {
     pub vfs: &'a dyn Vfs,
     pub root: &'a Path,
     pub read: std::cell::RefCell<BTreeSet<PathBuf>>,
+    /// What was read, by path: a library file that many shaders include is read (and its
+    /// links resolved) once per batch of loads, and each of them sees the same text.
+    texts: std::cell::RefCell<HashMap<String, String>>,
+}
+
+impl<'a> RootedFs<'a> {
+    pub fn new(vfs: &'a dyn Vfs, root: &'a Path) -> Self {
+        RootedFs {
+            vfs,
+            root,
+            read: Default::default(),
+            texts: Default::default(),
+        }
+    }
 }
 
 impl ShaderFs for RootedFs<'_> {
@@ -176,11 +190,16 @@ impl ShaderFs for RootedFs<'_> {
         if let Some(builtin) = builtin_source(path) {
             return Ok(builtin.to_string());
         }
+        if let Some(text) = self.texts.borrow().get(path) {
+            return Ok(text.clone());
+        }
         let full = self.root.join(path);
         self.read.borrow_mut().insert(full.clone());
         // Confined after links: a link inside the root to a file outside it is not read.
         self.vfs.within(self.root, &full)?;
-        self.vfs.read(&full)
+        let text = self.vfs.read(&full)?;
+        self.texts.borrow_mut().insert(path.to_string(), text.clone());
+        Ok(text)
     }
     fn display(&self, path: &str) -> String {
         if builtin_source(path).is_some() {
@@ -227,11 +246,7 @@ impl ShaderLoader {
         if let Some(hit) = self.cache.get(&key) {
             return hit.clone();
         }
-        let fs = RootedFs {
-            vfs: self.vfs.as_ref(),
-            root: &self.root,
-            read: Default::default(),
-        };
+        let fs = RootedFs::new(self.vfs.as_ref(), &self.root);
         let before = diags.list.len();
         let result = load_module(&fs, sources, path, caps, &self.compiled, diags).map(Arc::new);
         if let (Some(note), Some(d)) = (&self.not_found_note, diags.list.get_mut(before)) {
@@ -251,11 +266,7 @@ impl ShaderLoader {
     /// a parse error) is left for `load` to report, in order.
     pub fn prewarm(&mut self, sources: &mut SourceMap, requests: &[(Spanned<String>, BTreeSet<Feature>)]) {
         use rayon::prelude::*;
-        let fs = RootedFs {
-            vfs: self.vfs.as_ref(),
-            root: &self.root,
-            read: Default::default(),
-        };
+        let fs = RootedFs::new(self.vfs.as_ref(), &self.root);
         let mut read: Vec<Ahead> = vec![];
         for (path, features) in requests {
             let caps = capabilities(features);
@@ -281,11 +292,16 @@ impl ShaderLoader {
         let compiled = &self.compiled;
         let missing: Vec<&Ahead> = read.iter().filter(|r| !compiled.contains(&r.key, &r.expanded.text)).collect();
         // No more than the cache keeps: modules compiled ahead must still be there when read.
-        missing.par_iter().take(compiled.capacity).for_each(|r| {
-            if let Some(c) = compile(r.lang, &r.expanded, r.caps, r.fallback, &mut Diagnostics::default()) {
-                compiled.put(r.key, &r.expanded.text, c);
-            }
-        });
+        let elsewhere: Vec<&&Ahead> = missing
+            .par_iter()
+            .take(compiled.capacity)
+            .filter(|r| {
+                let compile = || compile(r.lang, &r.expanded, r.caps, r.fallback, &mut Diagnostics::default());
+                !compiled.try_compile(r.key, &r.expanded.text, compile)
+            })
+            .collect();
+        // Modules another compilation was compiling: theirs, once it is done.
+        elsewhere.iter().for_each(|r| compiled.wait_for(&r.key));
         for r in read {
             if let Some(c) = self.compiled.get(&r.key, &r.expanded.text) {
                 let module = ShaderModule {

@@ -34,25 +34,43 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         }
         None => None,
     };
-    for f in &files {
-        let mut s = ws.session();
-        if ron_kind(f, "Scene") {
-            scenes += 1;
-            // A scene file among the pipelines: checked as `render --scene` would read it.
-            crate::scene::load_in(&mut s, &f.display().to_string());
-        } else if ron_kind(f, "Sweep") {
-            sweeps += 1;
-            // A sweep spec (`init` writes them into `sweeps/`): checked as `sweep` reads it.
-            if let Err(e) = crate::sweep::spec::load(f) {
-                let msg = match e {
-                    crate::error::Error::Usage(m) | crate::error::Error::Input(m) => m,
-                    e => e.to_string(),
-                };
-                s.diags.push(Diagnostic::unlocated(Severity::Error, Code::SweepSpec, msg));
+    // The pipeline files checked as one run (in parallel, each shader compiled once); the
+    // report keeps the order of the files.
+    let kinds: Vec<FileKind> = files.iter().map(|f| FileKind::of(f)).collect();
+    let pipelines: Vec<PathBuf> = files
+        .iter()
+        .zip(&kinds)
+        .filter(|(_, k)| **k == FileKind::Pipeline)
+        .map(|(f, _)| f.clone())
+        .collect();
+    let mut checked = ws.check_files(&pipelines, shaders, &profile, scene_features.as_ref()).into_iter();
+    for (f, kind) in files.iter().zip(kinds) {
+        let s = match kind {
+            FileKind::Pipeline => match checked.next() {
+                Some(s) => s,
+                None => continue,
+            },
+            FileKind::Scene => {
+                scenes += 1;
+                // A scene file among the pipelines: checked as `render --scene` would read it.
+                let mut s = ws.session();
+                crate::scene::load_in(&mut s, &f.display().to_string());
+                s
             }
-        } else {
-            s.check_file(f, shaders, &profile, scene_features.as_ref());
-        }
+            FileKind::Sweep => {
+                sweeps += 1;
+                // A sweep spec (`init` writes them into `sweeps/`): checked as `sweep` reads it.
+                let mut s = ws.session();
+                if let Err(e) = crate::sweep::spec::load(f) {
+                    let msg = match e {
+                        crate::error::Error::Usage(m) | crate::error::Error::Input(m) => m,
+                        e => e.to_string(),
+                    };
+                    s.diags.push(Diagnostic::unlocated(Severity::Error, Code::SweepSpec, msg));
+                }
+                s
+            }
+        };
         emit(&s, format);
         errors += s.diags.error_count();
         warnings += s.diags.warning_count();
@@ -140,6 +158,26 @@ fn check_params(
         }
     }
     Ok(())
+}
+
+/// What a file given to `check` holds.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum FileKind {
+    Pipeline,
+    Scene,
+    Sweep,
+}
+
+impl FileKind {
+    fn of(f: &Path) -> FileKind {
+        if ron_kind(f, "Scene") {
+            FileKind::Scene
+        } else if ron_kind(f, "Sweep") {
+            FileKind::Sweep
+        } else {
+            FileKind::Pipeline
+        }
+    }
 }
 
 /// Whether `path` is a RON file holding an item of `kind` (`Scene`, `Sweep`), not a pipeline.
