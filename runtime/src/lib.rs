@@ -11,6 +11,7 @@ pub mod error;
 pub mod files;
 pub mod gpu;
 pub mod io;
+pub mod lsp;
 pub mod memory;
 pub mod reference;
 pub mod reload;

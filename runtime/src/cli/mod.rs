@@ -104,6 +104,9 @@ pub enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Language server for pipeline, scene and shader files (LSP over stdin/stdout; an
+    /// editor starts it).
+    Lsp,
 }
 
 #[derive(Subcommand, Debug)]
@@ -151,6 +154,7 @@ pub fn run(cli: Cli) -> i32 {
         },
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
+        Command::Lsp => crate::lsp::run(),
         Command::Scene(SceneCommand::Export { out, .. }) if out.extension().and_then(|e| e.to_str()) != Some("gltf") => {
             usage_error(format!(
                 "{}: scene export writes .gltf (JSON, with its .bin beside it); name the file `.gltf`",

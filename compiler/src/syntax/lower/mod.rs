@@ -18,6 +18,7 @@ use crate::span::Spanned;
 use crate::tree::{Node, Value};
 pub(crate) use choice::{find_match, is_match};
 pub(crate) use obj::Obj;
+pub use pass::pass_keys;
 pub use scene::scene;
 
 type Res<T> = Option<T>;

@@ -29,6 +29,12 @@ const RASTER: [&str; 8] = ["vertex", "fragment", "color", "depth", "draw", "cull
 const FULLSCREEN: [&str; 3] = ["fragment", "color", "depth"];
 const COMPUTE: [&str; 2] = ["entry", "dispatch"];
 
+/// The keys a pass of a kind (`Raster`, `Fullscreen`, `Compute`) may have, as the syntax
+/// tree names them (editors complete them).
+pub fn pass_keys(kind: &str) -> Vec<&'static str> {
+    keys(kind).0
+}
+
 /// The keys of a pass kind, and those that belong to the other kinds only.
 fn keys(kind: &str) -> (Vec<&'static str>, Vec<&'static str>) {
     let own: &[&str] = match kind {

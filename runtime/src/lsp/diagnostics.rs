@@ -1,0 +1,157 @@
+//! Language server, diagnostics: a check of each pipeline an edit touches (the pipeline
+//! itself, or every pipeline that uses the edited shader or pipeline file), its compiler
+//! diagnostics turned into the protocol's, per file, as `check --format json` locates them.
+
+use super::text::{range, uri_of};
+use super::Server;
+use lightbench_compiler::diag::{Diagnostic, Severity};
+use lightbench_compiler::span::SourceMap;
+use lsp_types::{DiagnosticRelatedInformation, DiagnosticSeverity, Location, NumberOrString, PublishDiagnosticsParams};
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// One pipeline's diagnostics, by the file each is located in.
+pub type ByFile = BTreeMap<PathBuf, Vec<lsp_types::Diagnostic>>;
+
+/// What a file in the workspace is, as `check` tells them apart.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum FileKind {
+    Pipeline,
+    Scene,
+    Sweep,
+    Other,
+}
+
+pub fn kind_of(path: &Path, text: Option<&str>) -> FileKind {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("lbp") => FileKind::Pipeline,
+        Some("ron") => match text {
+            Some(t) if lightbench_compiler::scene::opens_with(t, "Scene") => FileKind::Scene,
+            Some(t) if lightbench_compiler::scene::opens_with(t, "Sweep") => FileKind::Sweep,
+            _ => FileKind::Pipeline,
+        },
+        _ => FileKind::Other,
+    }
+}
+
+impl Server {
+    /// The files to check again after these changed: a changed pipeline, scene or sweep
+    /// file itself, and every pipeline whose last check read a changed file. A changed file
+    /// no check has read yet (a shader opened first) has the workspace's pipelines checked.
+    pub fn to_check(&mut self, changed: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
+        let mut out = BTreeSet::new();
+        for c in changed {
+            if kind_of(c, self.overlay.get(c).as_deref()) != FileKind::Other {
+                out.insert(c.clone());
+            }
+            let readers: Vec<&PathBuf> = self.deps.iter().filter(|(_, d)| d.contains(c)).map(|(p, _)| p).collect();
+            if readers.is_empty() && !out.contains(c) {
+                out.extend(self.known_pipelines().into_iter().filter(|p| !self.deps.contains_key(p)));
+            }
+            out.extend(readers.into_iter().cloned());
+        }
+        out
+    }
+
+    /// Check each file and publish the diagnostics of every file whose set changed.
+    pub fn publish(&mut self, files: &BTreeSet<PathBuf>) -> Vec<PublishDiagnosticsParams> {
+        let mut touched: BTreeSet<PathBuf> = BTreeSet::new();
+        for f in files {
+            let found = self.check(f);
+            // The checked file too: an empty list clears what the client showed.
+            touched.insert(f.clone());
+            touched.extend(found.keys().cloned());
+            if let Some(old) = self.published.insert(f.clone(), found) {
+                touched.extend(old.into_keys());
+            }
+        }
+        touched.into_iter().filter_map(|file| self.params_for(&file)).collect()
+    }
+
+    /// Every diagnostic located in `file`, from every pipeline checked (each once).
+    fn params_for(&self, file: &Path) -> Option<PublishDiagnosticsParams> {
+        let mut all: Vec<lsp_types::Diagnostic> = vec![];
+        for d in self.published.values().filter_map(|by| by.get(file)).flatten() {
+            if !all.contains(d) {
+                all.push(d.clone());
+            }
+        }
+        Some(PublishDiagnosticsParams {
+            uri: uri_of(file)?,
+            diagnostics: all,
+            version: None,
+        })
+    }
+
+    /// Check one file as `lightbench check` would, through the open documents.
+    fn check(&mut self, path: &Path) -> ByFile {
+        let mut s = self.workspace.session();
+        match kind_of(path, self.overlay.get(path).as_deref()) {
+            FileKind::Scene => {
+                crate::scene::load_in(&mut s, &path.display().to_string());
+            }
+            FileKind::Sweep => {
+                // Sweep specs report unlocated errors: shown at the top of the file.
+                if let Err(e) = crate::sweep::spec::load(path) {
+                    let code = lightbench_compiler::diag::Code::SweepSpec;
+                    s.diags.push(Diagnostic::unlocated(Severity::Error, code, e.to_string()));
+                }
+            }
+            _ => {
+                s.check_file(path, None, &self.profile, None);
+                self.deps.insert(path.to_path_buf(), s.dependencies().clone());
+            }
+        }
+        let mut out = ByFile::new();
+        for d in &s.diags.list {
+            let (file, d) = to_lsp(d, &s.sources, path);
+            out.entry(file).or_default().push(d);
+        }
+        out
+    }
+}
+
+/// A compiler diagnostic as the protocol's, with the file it is located in (an unlocated one
+/// at the top of the file checked). Secondary labels and notes become related information;
+/// one located in another file (a shader) names the pipeline whose check found it.
+fn to_lsp(d: &Diagnostic, sources: &SourceMap, checked: &Path) -> (PathBuf, lsp_types::Diagnostic) {
+    let d = d.presented(sources);
+    let at = |span: lightbench_compiler::span::Span| {
+        let f = sources.get(span.file);
+        let r = range(&f.text, span.start as usize, span.end as usize);
+        (PathBuf::from(&f.name), r)
+    };
+    let (file, primary) = d.primary_span().map(at).unwrap_or((checked.to_path_buf(), Default::default()));
+    let mut related: Vec<DiagnosticRelatedInformation> = vec![];
+    let mut relate = |file: &Path, range, message: String| {
+        if let Some(uri) = uri_of(file) {
+            related.push(DiagnosticRelatedInformation {
+                location: Location { uri, range },
+                message,
+            });
+        }
+    };
+    for l in d.labels.iter().filter(|l| !l.primary) {
+        let (f, r) = at(l.span);
+        relate(&f, r, l.message.clone());
+    }
+    for n in &d.notes {
+        relate(&file, primary, format!("note: {n}"));
+    }
+    if file != checked {
+        relate(checked, Default::default(), format!("found checking `{}`", checked.display()));
+    }
+    let diagnostic = lsp_types::Diagnostic {
+        range: primary,
+        severity: Some(match d.severity {
+            Severity::Error => DiagnosticSeverity::ERROR,
+            Severity::Warning => DiagnosticSeverity::WARNING,
+        }),
+        code: Some(NumberOrString::String(d.code.as_str().to_string())),
+        source: Some("lightbench".into()),
+        message: d.message.clone(),
+        related_information: (!related.is_empty()).then_some(related),
+        ..Default::default()
+    };
+    (file, diagnostic)
+}

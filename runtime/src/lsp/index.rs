@@ -1,0 +1,356 @@
+//! Language server, index: what a pipeline declares (parameters, samplers, resources,
+//! passes, variants and their options) and every place the pipeline names them, from the
+//! one IR the compiler lowers both front ends to, with the spans it carries. Hover,
+//! definition, references, rename, symbols and completion read it.
+
+use lightbench_compiler::ir::{Condition, Param, Pass, PassKind, Pipeline, Resource, ResourceKind, SamplerDecl, Variant};
+use lightbench_compiler::span::{SourceMap, Span, Spanned};
+use std::collections::BTreeSet;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Param,
+    Sampler,
+    Resource,
+    Pass,
+    Variant,
+    /// An option of the variant at this index of `symbols`.
+    Option(usize),
+}
+
+impl Kind {
+    pub fn word(self) -> &'static str {
+        match self {
+            Kind::Param => "parameter",
+            Kind::Sampler => "sampler",
+            Kind::Resource => "resource",
+            Kind::Pass => "pass",
+            Kind::Variant => "variant",
+            Kind::Option(_) => "option",
+        }
+    }
+}
+
+pub struct Symbol {
+    pub kind: Kind,
+    pub name: String,
+    /// Where it is declared (its name).
+    pub decl: Span,
+    /// The whole declaration (for document symbols).
+    pub extent: Span,
+    /// Markdown shown on hover.
+    pub hover: String,
+}
+
+/// A shader named by a pass: the file, and the entry point when the text names one.
+pub struct ShaderUse {
+    pub file: Spanned<String>,
+    pub entry: Option<Spanned<String>>,
+    /// The pass naming it.
+    pub pass: String,
+}
+
+pub struct Index {
+    pub symbols: Vec<Symbol>,
+    /// (span, symbol): every naming of a symbol, declarations included.
+    pub uses: Vec<(Span, usize)>,
+    pub shaders: Vec<ShaderUse>,
+    /// The source map the spans point into.
+    pub sources: SourceMap,
+}
+
+impl Index {
+    pub fn of(p: &Pipeline, sources: SourceMap) -> Index {
+        let mut ix = Index {
+            symbols: vec![],
+            uses: vec![],
+            shaders: vec![],
+            sources,
+        };
+        p.params
+            .iter()
+            .for_each(|x| ix.declare(Kind::Param, &x.name, x.span, param_hover(x)));
+        p.samplers
+            .iter()
+            .for_each(|x| ix.declare(Kind::Sampler, &x.name, x.span, sampler_hover(x)));
+        p.resources
+            .iter()
+            .for_each(|x| ix.declare(Kind::Resource, &x.name, x.span, resource_hover(p, x)));
+        for pass in p.written_passes() {
+            ix.declare(Kind::Pass, &pass.name, pass.span, pass_hover(p, pass));
+        }
+        for v in &p.variants {
+            ix.declare(Kind::Variant, &v.name, v.span, variant_hover(v));
+            let vi = ix.symbols.len() - 1;
+            for o in &v.options {
+                let hover = format!(
+                    "**option** `{}` of variant `{}`\n\n{}",
+                    o.name.value,
+                    v.name.value,
+                    o.doc.clone().unwrap_or_default()
+                );
+                ix.declare(Kind::Option(vi), &o.name, o.span, hover);
+            }
+        }
+        ix.name_uses(p);
+        ix.uses.sort_by_key(|(s, i)| (s.file, s.start, s.end, *i));
+        ix.uses.dedup();
+        ix
+    }
+
+    fn declare(&mut self, kind: Kind, name: &Spanned<String>, extent: Span, hover: String) {
+        // A pass written with choices has a copy per arm: declared once.
+        if self.symbols.iter().any(|s| s.kind == kind && s.name == name.value) {
+            return;
+        }
+        self.symbols.push(Symbol {
+            kind,
+            name: name.value.clone(),
+            decl: name.span,
+            extent,
+            hover,
+        });
+        self.uses.push((name.span, self.symbols.len() - 1));
+    }
+
+    /// The symbol of this kind and name.
+    pub fn find(&self, kind: Kind, name: &str) -> Option<usize> {
+        self.symbols.iter().position(|s| s.kind == kind && s.name == name)
+    }
+
+    fn name_use(&mut self, kind: Kind, name: &Spanned<String>) {
+        if let Some(i) = self.find(kind, &name.value) {
+            self.uses.push((name.span, i));
+        }
+    }
+
+    fn name_uses(&mut self, p: &Pipeline) {
+        for pass in &p.passes {
+            self.pass_uses(pass);
+        }
+        for v in &p.variants {
+            let vi = self.find(Kind::Variant, &v.name.value);
+            for o in &v.options {
+                o.shaders.iter().for_each(|(pass, _)| self.name_use(Kind::Pass, pass));
+                o.params.iter().for_each(|(prm, _)| self.name_use(Kind::Param, prm));
+                if let (Some(vi), Some(f)) = (vi, &o.fallback) {
+                    self.name_use(Kind::Option(vi), f);
+                }
+            }
+            if let Some(vi) = vi {
+                self.name_use(Kind::Option(vi), &v.default);
+            }
+        }
+        self.name_use(Kind::Resource, &p.output);
+        if let Some(h) = &p.hdr_output {
+            self.name_use(Kind::Resource, h);
+        }
+    }
+
+    fn pass_uses(&mut self, pass: &Pass) {
+        self.name_use(Kind::Pass, &pass.name);
+        let resources: Vec<&Spanned<String>> = pass
+            .reads
+            .iter()
+            .map(|r| r.name())
+            .chain(&pass.writes)
+            .chain(pass.color().iter().map(|c| &c.resource))
+            .chain(pass.depth().map(|d| &d.resource))
+            .collect();
+        resources.into_iter().for_each(|r| self.name_use(Kind::Resource, r));
+        pass.params.iter().for_each(|prm| self.name_use(Kind::Param, prm));
+        for (_, declared) in &pass.bind {
+            self.name_use(Kind::Resource, declared);
+            self.name_use(Kind::Sampler, declared);
+        }
+        let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
+        if let Some(w) = when {
+            self.condition_uses(&w.value);
+        }
+        for (_, sref) in pass.stages() {
+            // The built-in full-screen vertex stage is named by no text.
+            if sref.file.span != pass.span {
+                let entry = (sref.entry.span != sref.file.span && sref.entry.span != pass.span).then(|| sref.entry.clone());
+                if !self.shaders.iter().any(|s| s.file.span == sref.file.span) {
+                    self.shaders.push(ShaderUse {
+                        file: sref.file.clone(),
+                        entry,
+                        pass: pass.name.value.clone(),
+                    });
+                }
+            }
+        }
+    }
+
+    fn condition_uses(&mut self, c: &Condition) {
+        match c {
+            Condition::Toggle(p) => self.name_use(Kind::Param, p),
+            Condition::Variant(v, o) => {
+                self.name_use(Kind::Variant, v);
+                if let Some(vi) = self.find(Kind::Variant, &v.value) {
+                    self.name_use(Kind::Option(vi), o);
+                }
+            }
+            Condition::Not(inner) => self.condition_uses(&inner.value),
+            Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| self.condition_uses(&c.value)),
+            _ => {}
+        }
+    }
+
+    /// The symbol named at a byte offset of a file (the innermost naming).
+    pub fn at(&self, file: usize, offset: usize) -> Option<usize> {
+        self.uses
+            .iter()
+            .filter(|(s, _)| s.file == file && (s.start as usize) <= offset && offset <= s.end as usize)
+            .min_by_key(|(s, _)| s.end - s.start)
+            .map(|(_, i)| *i)
+    }
+
+    /// The shader file (or `file#entry`) named at a byte offset.
+    pub fn shader_at(&self, file: usize, offset: usize) -> Option<&ShaderUse> {
+        let inside = |s: &Span| s.file == file && (s.start as usize) <= offset && offset <= s.end as usize;
+        self.shaders
+            .iter()
+            .find(|u| inside(&u.file.span) || u.entry.as_ref().is_some_and(|e| inside(&e.span)))
+    }
+
+    /// Every span naming the symbol.
+    pub fn uses_of(&self, symbol: usize) -> impl Iterator<Item = Span> + '_ {
+        self.uses.iter().filter(move |(_, i)| *i == symbol).map(|(s, _)| *s)
+    }
+
+    /// Names of every symbol of a kind.
+    pub fn names(&self, kind: Kind) -> BTreeSet<&str> {
+        self.symbols.iter().filter(|s| s.kind == kind).map(|s| s.name.as_str()).collect()
+    }
+}
+
+fn param_hover(p: &Param) -> String {
+    let range = match (&p.min, &p.max) {
+        (Some(lo), Some(hi)) => format!(" in {}..{}", lo.value.describe(), hi.value.describe()),
+        _ => String::new(),
+    };
+    format!(
+        "**parameter** `{}`: {} = {}{range}\n\n{}",
+        p.name.value,
+        p.ty.value.name(),
+        p.default.value.describe(),
+        p.doc.clone().unwrap_or_default()
+    )
+}
+
+fn sampler_hover(s: &SamplerDecl) -> String {
+    let compare = s.compare.map(|c| format!(", compare {c:?}")).unwrap_or_default();
+    format!(
+        "**sampler** `{}`: filter {:?}, mipmap {:?}, address {:?}{compare}",
+        s.name.value, s.filter, s.mipmap, s.address
+    )
+}
+
+fn resource_hover(p: &Pipeline, r: &Resource) -> String {
+    let what = match &r.kind {
+        ResourceKind::Texture(t) => {
+            let mut w = format!("**texture** `{}`: {:?}, {}", r.name.value, t.format.value, t.size.value.describe());
+            if t.layers.value > 1 {
+                w += &format!(", {} layers ({:?})", t.layers.value, t.view.value);
+            }
+            if t.mips.value > 1 {
+                w += &format!(", {} mips", t.mips.value);
+            }
+            w
+        }
+        ResourceKind::Buffer(b) => {
+            let per = if b.per_pixel { " per pixel" } else { "" };
+            format!("**buffer** `{}`: {} bytes{per}", r.name.value, b.size.value)
+        }
+    };
+    let passes = |f: &dyn Fn(&Pass) -> bool| {
+        let names: Vec<String> = p.written_passes().filter(|x| f(x)).map(|x| format!("`{}`", x.name.value)).collect();
+        if names.is_empty() {
+            "none".to_string()
+        } else {
+            names.join(", ")
+        }
+    };
+    let name = r.name.value.as_str();
+    let writers = passes(&|x: &Pass| x.written().any(|w| w.value == name));
+    let readers = passes(&|x: &Pass| x.reads.iter().any(|rd| rd.name().value == name) || x.depth_tested().is_some_and(|d| d.value == name));
+    format!("{what}\n\nwritten by {writers}; read by {readers}")
+}
+
+fn pass_hover(p: &Pipeline, pass: &Pass) -> String {
+    let kind = match &pass.kind {
+        PassKind::Raster(_) => "raster",
+        PassKind::Fullscreen(_) => "fullscreen",
+        PassKind::Compute(_) => "compute",
+    };
+    let mut lines = vec![format!("**{kind} pass** `{}`", pass.name.value)];
+    let shaders: Vec<String> = p
+        .passes
+        .iter()
+        .filter(|q| q.name.value == pass.name.value)
+        .flat_map(|q| q.stages())
+        .filter(|(_, s)| s.file.span != pass.span)
+        .map(|(st, s)| format!("{:?}: `{}#{}`", st, s.file.value, s.entry.value))
+        .collect::<BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    lines.extend(shaders);
+    if let Some(k) = &pass.per_light {
+        let kinds: Vec<&str> = k.value.iter().map(|k| k.name()).collect();
+        lines.push(format!("runs per {} light", kinds.join(" or ")));
+    }
+    let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
+    if let Some(w) = when {
+        lines.push(format!("when `{}`", w.value.describe()));
+    }
+    if let Some(from) = &pass.from {
+        lines.push(format!("from `{from}`"));
+    }
+    lines.join("\n\n")
+}
+
+fn variant_hover(v: &Variant) -> String {
+    let mut lines = vec![format!("**variant** `{}` (default `{}`)", v.name.value, v.default.value)];
+    lines.extend(v.doc.clone());
+    for o in &v.options {
+        let mut line = format!("- `{}`", o.name.value);
+        if !o.requires.is_empty() {
+            let req: Vec<String> = o.requires.iter().map(|r| format!("{:?}", r.value)).collect();
+            line += &format!(" (requires {})", req.join(", "));
+        }
+        if let Some(doc) = &o.doc {
+            line += &format!(": {doc}");
+        }
+        lines.push(line);
+    }
+    lines.join("\n\n")
+}
+
+/// A shader file's entry points: name, stage and byte offset of the name. WGSL entry points
+/// are the functions after `@vertex`, `@fragment` or `@compute`; a GLSL file's is `main`.
+pub fn entry_points(text: &str, path: &std::path::Path) -> Vec<(String, &'static str, usize)> {
+    if path.extension().and_then(|e| e.to_str()) != Some("wgsl") {
+        let at = text.find("main").unwrap_or(0);
+        return vec![("main".into(), "glsl", at)];
+    }
+    let mut out = vec![];
+    for (stage, word) in [("vertex", "@vertex"), ("fragment", "@fragment"), ("compute", "@compute")] {
+        for (at, _) in text.match_indices(word) {
+            let rest = &text[at..];
+            let Some(fn_at) = rest.find("fn ") else { continue };
+            let name_at = at + fn_at + 3;
+            let name: String = text[name_at..]
+                .trim_start()
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            let name_at = name_at + (text[name_at..].len() - text[name_at..].trim_start().len());
+            if !name.is_empty() {
+                out.push((name, stage, name_at));
+            }
+        }
+    }
+    out.sort_by_key(|e| e.2);
+    out
+}

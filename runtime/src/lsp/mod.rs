@@ -1,0 +1,182 @@
+//! Language server (`lightbench lsp`): the compiler's knowledge of pipeline files, scene
+//! files and the shaders they use, over the Language Server Protocol on stdio. Open
+//! documents are an overlay on the disk, so unsaved text is what is checked.
+//!
+//! Protocol scaffolding is `lsp-server` (rust-analyzer's: synchronous, no async runtime).
+//! Edits are debounced: diagnostics are published once no message has come for
+//! [`DEBOUNCE`]; requests are answered at once, from the last text that lowered.
+
+mod complete;
+mod diagnostics;
+mod handlers;
+pub mod index;
+pub mod text;
+
+use crate::cli::{EXIT_ERRORS, EXIT_OK};
+use lightbench_compiler::profile::Profile;
+use lightbench_compiler::Workspace;
+use lsp_server::{Connection, Message, Notification};
+use lsp_types::notification::{self as note, Notification as _};
+use std::collections::{BTreeSet, HashMap};
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+use text::{path_of, Overlay};
+
+/// Quiet time after an edit before the files it touches are checked again.
+pub const DEBOUNCE: Duration = Duration::from_millis(150);
+
+/// `lightbench lsp`: serve on stdin/stdout until the client says `exit`.
+pub fn run() -> i32 {
+    let (connection, io_threads) = Connection::stdio();
+    let served = serve(&connection, DEBOUNCE);
+    drop(connection);
+    let joined = io_threads.join();
+    match (served, joined) {
+        (Ok(()), Ok(())) => EXIT_OK,
+        (Err(e), _) => {
+            eprintln!("error: lsp: {e}");
+            EXIT_ERRORS
+        }
+        (_, Err(e)) => {
+            eprintln!("error: lsp: {e}");
+            EXIT_ERRORS
+        }
+    }
+}
+
+/// The whole conversation on one connection: the handshake, then messages until shutdown
+/// (or until the client goes away). Diagnostics wait for `debounce` without a message.
+pub fn serve(connection: &Connection, debounce: Duration) -> Result<(), String> {
+    let capabilities = serde_json::to_value(handlers::capabilities()).map_err(|e| e.to_string())?;
+    let init = connection.initialize(capabilities).map_err(|e| e.to_string())?;
+    let mut server = Server::new(roots(&init));
+    loop {
+        let msg = if server.dirty.is_empty() {
+            match connection.receiver.recv() {
+                Ok(m) => m,
+                Err(_) => return Ok(()),
+            }
+        } else {
+            match connection.receiver.recv_timeout(debounce) {
+                Ok(m) => m,
+                Err(e) if e.is_timeout() => {
+                    server.flush(connection);
+                    continue;
+                }
+                Err(_) => return Ok(()),
+            }
+        };
+        match msg {
+            Message::Request(req) => {
+                if connection.handle_shutdown(&req).map_err(|e| e.to_string())? {
+                    return Ok(());
+                }
+                let response = handlers::answer(&mut server, req);
+                let _ = connection.sender.send(response.into());
+            }
+            Message::Notification(n) => server.notified(n),
+            Message::Response(_) => {}
+        }
+    }
+}
+
+/// The folders the client opened (pipelines below them are checked when a shader they use
+/// is edited before they were).
+fn roots(init: &serde_json::Value) -> Vec<PathBuf> {
+    let Ok(params) = serde_json::from_value::<lsp_types::InitializeParams>(init.clone()) else {
+        return vec![];
+    };
+    let folders = params.workspace_folders.unwrap_or_default();
+    folders.iter().filter_map(|f| path_of(&f.uri)).collect()
+}
+
+pub struct Server {
+    overlay: Arc<Overlay>,
+    workspace: Workspace,
+    roots: Vec<PathBuf>,
+    profile: Profile,
+    /// Documents edited since their last check.
+    dirty: BTreeSet<PathBuf>,
+    /// Per checked pipeline, every file its last check read.
+    deps: HashMap<PathBuf, BTreeSet<PathBuf>>,
+    /// Per checked file, its last diagnostics by the file they are located in.
+    published: HashMap<PathBuf, diagnostics::ByFile>,
+    /// Per pipeline document, the text it was last indexed from and the index.
+    indexes: HashMap<PathBuf, (String, index::Index)>,
+}
+
+impl Server {
+    fn new(roots: Vec<PathBuf>) -> Self {
+        let overlay = Arc::new(Overlay::default());
+        Server {
+            workspace: Workspace::new(overlay.clone()),
+            overlay,
+            roots,
+            profile: Profile::vulkan(),
+            dirty: BTreeSet::new(),
+            deps: HashMap::new(),
+            published: HashMap::new(),
+            indexes: HashMap::new(),
+        }
+    }
+
+    /// Document notifications update the overlay; anything malformed is ignored.
+    fn notified(&mut self, n: Notification) {
+        let changed = match n.method.as_str() {
+            note::DidOpenTextDocument::METHOD => serde_json::from_value::<lsp_types::DidOpenTextDocumentParams>(n.params)
+                .ok()
+                .and_then(|p| Some((path_of(&p.text_document.uri)?, Some(p.text_document.text)))),
+            // Full-document sync: the last change holds the whole text.
+            note::DidChangeTextDocument::METHOD => serde_json::from_value::<lsp_types::DidChangeTextDocumentParams>(n.params)
+                .ok()
+                .and_then(|p| Some((path_of(&p.text_document.uri)?, Some(p.content_changes.into_iter().last()?.text)))),
+            note::DidCloseTextDocument::METHOD => serde_json::from_value::<lsp_types::DidCloseTextDocumentParams>(n.params)
+                .ok()
+                .and_then(|p| Some((path_of(&p.text_document.uri)?, None))),
+            // Saved: the text is the open one; checked again (files it reads may differ now).
+            note::DidSaveTextDocument::METHOD => serde_json::from_value::<lsp_types::DidSaveTextDocumentParams>(n.params)
+                .ok()
+                .and_then(|p| path_of(&p.text_document.uri))
+                .map(|path| {
+                    let text = self.overlay.get(&path);
+                    (path, text)
+                }),
+            _ => None,
+        };
+        if let Some((path, text)) = changed {
+            match text {
+                Some(t) => self.overlay.set(&path, t),
+                None => self.overlay.close(&path),
+            }
+            self.dirty.insert(path);
+        }
+    }
+
+    /// Check what the pending edits touch and publish the diagnostics that changed.
+    fn flush(&mut self, connection: &Connection) {
+        let changed = std::mem::take(&mut self.dirty);
+        let files = self.to_check(&changed);
+        for params in self.publish(&files) {
+            let n = Notification::new(note::PublishDiagnostics::METHOD.to_string(), params);
+            let _ = connection.sender.send(n.into());
+        }
+    }
+
+    /// Pipelines the server knows of: open ones, and those below the workspace folders'
+    /// `pipelines/` directories.
+    fn known_pipelines(&self) -> BTreeSet<PathBuf> {
+        let open = self.overlay.open_paths().into_iter();
+        let below = self
+            .roots
+            .iter()
+            .flat_map(|r| lightbench_compiler::pipeline_files(&r.join("pipelines")).unwrap_or_default());
+        open.chain(below)
+            .filter(|p| {
+                // A RON file is a scene or sweep file when its first item says so.
+                let text = self.overlay.get(p).or_else(|| std::fs::read_to_string(p).ok());
+                diagnostics::kind_of(p, text.as_deref()) == diagnostics::FileKind::Pipeline
+            })
+            .collect()
+    }
+}

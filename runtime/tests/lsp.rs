@@ -1,0 +1,367 @@
+//! `lightbench lsp` driven over stdio as an editor drives it: JSON-RPC with Content-Length
+//! framing, on the bundled pipelines and on broken copies; its diagnostics against `check
+//! --format json`; malformed input.
+
+mod cli_common;
+
+use cli_common::{lightbench_in, root, scratch};
+use serde_json::{json, Value};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Child, ChildStdin, Command, Stdio};
+use std::sync::mpsc::{channel, Receiver};
+use std::time::{Duration, Instant};
+
+struct Client {
+    child: Child,
+    stdin: ChildStdin,
+    rx: Receiver<Value>,
+    /// Notifications (and stray messages) read while waiting for something else.
+    seen: Vec<Value>,
+    next_id: i64,
+}
+
+fn read_message(r: &mut impl BufRead) -> Option<Value> {
+    let mut len = None;
+    loop {
+        let mut line = String::new();
+        if r.read_line(&mut line).ok()? == 0 {
+            return None;
+        }
+        let line = line.trim_end();
+        if line.is_empty() {
+            break;
+        }
+        if let Some(v) = line.strip_prefix("Content-Length: ") {
+            len = v.parse::<usize>().ok();
+        }
+    }
+    let mut body = vec![0; len?];
+    r.read_exact(&mut body).ok()?;
+    serde_json::from_slice(&body).ok()
+}
+
+impl Client {
+    fn start(dir: &Path) -> Client {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+            .arg("lsp")
+            .current_dir(dir)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start lightbench lsp");
+        let stdin = child.stdin.take().unwrap();
+        let mut stdout = BufReader::new(child.stdout.take().unwrap());
+        let (tx, rx) = channel();
+        std::thread::spawn(move || {
+            while let Some(m) = read_message(&mut stdout) {
+                if tx.send(m).is_err() {
+                    break;
+                }
+            }
+        });
+        let mut c = Client {
+            child,
+            stdin,
+            rx,
+            seen: vec![],
+            next_id: 1,
+        };
+        let folders = json!([{"uri": uri(dir), "name": "project"}]);
+        let init = c.request("initialize", json!({"capabilities": {}, "workspaceFolders": folders}));
+        assert!(init["capabilities"]["hoverProvider"].as_bool().unwrap_or(false), "{init}");
+        c.notify("initialized", json!({}));
+        c
+    }
+
+    fn send_raw(&mut self, body: &[u8]) {
+        let _ = write!(self.stdin, "Content-Length: {}\r\n\r\n", body.len());
+        let _ = self.stdin.write_all(body);
+        let _ = self.stdin.flush();
+    }
+
+    fn send(&mut self, v: Value) {
+        self.send_raw(v.to_string().as_bytes());
+    }
+
+    fn notify(&mut self, method: &str, params: Value) {
+        self.send(json!({"jsonrpc": "2.0", "method": method, "params": params}));
+    }
+
+    /// The whole response (`result` or `error`) to a request.
+    fn call(&mut self, method: &str, params: Value) -> Value {
+        let id = self.next_id;
+        self.next_id += 1;
+        self.send(json!({"jsonrpc": "2.0", "id": id, "method": method, "params": params}));
+        let deadline = Instant::now() + Duration::from_secs(60);
+        loop {
+            let m = self
+                .rx
+                .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+                .expect("a response in time");
+            if m["id"] == json!(id) {
+                return m;
+            }
+            self.seen.push(m);
+        }
+    }
+
+    fn request(&mut self, method: &str, params: Value) -> Value {
+        let r = self.call(method, params);
+        assert!(r.get("error").is_none(), "{method}: {r}");
+        r["result"].clone()
+    }
+
+    /// The next diagnostics published for `path` (waiting for the debounce and the check).
+    fn diagnostics(&mut self, path: &Path) -> Vec<Value> {
+        let want = uri(path);
+        let found = |m: &Value| m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == want;
+        if let Some(i) = self.seen.iter().position(found) {
+            return self.seen.remove(i)["params"]["diagnostics"].as_array().unwrap().clone();
+        }
+        let deadline = Instant::now() + Duration::from_secs(120);
+        loop {
+            let m = self
+                .rx
+                .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+                .expect("diagnostics in time");
+            if found(&m) {
+                return m["params"]["diagnostics"].as_array().unwrap().clone();
+            }
+            self.seen.push(m);
+        }
+    }
+
+    fn open(&mut self, path: &Path, text: &str) {
+        let doc = json!({"uri": uri(path), "languageId": "lbp", "version": 1, "text": text});
+        self.notify("textDocument/didOpen", json!({"textDocument": doc}));
+    }
+
+    fn change(&mut self, path: &Path, version: i64, text: &str) {
+        let doc = json!({"uri": uri(path), "version": version});
+        self.notify(
+            "textDocument/didChange",
+            json!({"textDocument": doc, "contentChanges": [{"text": text}]}),
+        );
+    }
+
+    /// `shutdown`, `exit`, and the exit code.
+    fn finish(mut self) -> i32 {
+        self.request("shutdown", Value::Null);
+        self.notify("exit", Value::Null);
+        wait(&mut self.child)
+    }
+}
+
+fn wait(child: &mut Child) -> i32 {
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            let mut err = String::new();
+            let _ = child.stderr.take().unwrap().read_to_string(&mut err);
+            assert!(!err.contains("panicked"), "{err}");
+            return s.code().unwrap_or(-1);
+        }
+        assert!(Instant::now() < deadline, "the server did not exit");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn uri(p: &Path) -> String {
+    let mut s = String::from("file://");
+    for b in p.to_str().unwrap().bytes() {
+        match b {
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'/' | b'-' | b'_' | b'.' | b'~' => s.push(b as char),
+            _ => s.push_str(&format!("%{b:02X}")),
+        }
+    }
+    s
+}
+
+/// 0-based line and UTF-16 column of the first `needle` (plus `skip` characters) in `text`.
+fn pos(text: &str, needle: &str, skip: usize) -> Value {
+    let at = text.find(needle).unwrap_or_else(|| panic!("`{needle}` in the text")) + skip;
+    let line = text[..at].matches('\n').count();
+    let col = text[..at].rsplit('\n').next().unwrap().encode_utf16().count();
+    json!({"line": line, "character": col})
+}
+
+fn at(path: &Path, text: &str, needle: &str, skip: usize) -> Value {
+    json!({"textDocument": {"uri": uri(path)}, "position": pos(text, needle, skip)})
+}
+
+/// A project of its own: the bundled pipelines and shaders copied.
+fn project(tag: &str) -> PathBuf {
+    let dir = scratch(tag);
+    for sub in ["pipelines", "shaders"] {
+        let ok = Command::new("cp").arg("-r").arg(root().join(sub)).arg(&dir).status().unwrap();
+        assert!(ok.success());
+    }
+    dir
+}
+
+#[test]
+fn bundled_pipeline_checks_clean_and_answers_hover_definition_completion() {
+    let dir = project("bundled");
+    let path = dir.join("pipelines/deferred.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &text);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new(), "the bundled pipeline checks clean");
+
+    // Hover a resource where a pass reads it: its description, writers and readers.
+    let read_at = at(&path, &text, "gbuf.albedo, gbuf.emissive\n", 2);
+    let hover = c.request("textDocument/hover", read_at.clone());
+    let shown = hover["contents"]["value"].as_str().unwrap();
+    assert!(shown.contains("**texture** `gbuf.albedo`: Rgba8Unorm, viewport"), "{shown}");
+    assert!(shown.contains("written by `gbuffer`") && shown.contains("`ambient`"), "{shown}");
+
+    // Definition: the declaration line.
+    let def = c.request("textDocument/definition", read_at.clone());
+    assert_eq!(def["uri"], json!(uri(&path)));
+    assert_eq!(def["range"]["start"], pos(&text, "gbuf.albedo: Rgba8Unorm", 0));
+    let refs = c.request(
+        "textDocument/references",
+        json!({"textDocument": {"uri": uri(&path)}, "position": read_at["position"], "context": {"includeDeclaration": true}}),
+    );
+    assert!(refs.as_array().unwrap().len() >= 6, "{refs}");
+
+    // Hover a parameter and a variant option in a condition.
+    let p = c.request("textDocument/hover", at(&path, &text, "params ambient.color", 8));
+    assert!(
+        p["contents"]["value"]
+            .as_str()
+            .unwrap()
+            .contains("**parameter** `ambient.color`: Color"),
+        "{p}"
+    );
+    let o = c.request("textDocument/hover", at(&path, &text, "variant(lighting, forward_single)", 20));
+    assert!(
+        o["contents"]["value"]
+            .as_str()
+            .unwrap()
+            .contains("**option** `forward_single` of variant `lighting`"),
+        "{o}"
+    );
+
+    // A shader path: its entry points; definition: the file.
+    let sh = c.request("textDocument/hover", at(&path, &text, "\"ambient.wgsl\"", 2));
+    assert!(sh["contents"]["value"].as_str().unwrap().contains("`fs_main` (fragment)"), "{sh}");
+    let file = c.request("textDocument/definition", at(&path, &text, "\"ambient.wgsl\"", 2));
+    assert_eq!(file["uri"], json!(uri(&dir.join("shaders/ambient.wgsl"))));
+
+    // Completion: resources after `reads`, entry points after `fragment`, keys elsewhere.
+    let line_end = |needle: &str| {
+        let v = pos(&text, needle, needle.len());
+        json!({"textDocument": {"uri": uri(&path)}, "position": v})
+    };
+    let labels = |r: Value| -> Vec<String> {
+        r.as_array()
+            .unwrap()
+            .iter()
+            .map(|i| i["label"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let res = labels(c.request("textDocument/completion", line_end("    reads ")));
+    assert!(
+        res.contains(&"gbuf.albedo".to_string()) && res.contains(&"hdr".to_string()),
+        "{res:?}"
+    );
+    let entries = labels(c.request("textDocument/completion", line_end("    fragment fs_depth")));
+    assert!(
+        entries.contains(&"fs_single".to_string()) && entries.contains(&"fs_ambient".to_string()),
+        "{entries:?}"
+    );
+    let opts = labels(c.request("textDocument/completion", line_end("when variant(lighting, ")));
+    assert!(opts.contains(&"deferred_volumes".to_string()), "{opts:?}");
+
+    // Symbols and formatting (already formatted: no edit).
+    let syms = c.request("textDocument/documentSymbol", json!({"textDocument": {"uri": uri(&path)}}));
+    let names: Vec<&str> = syms.as_array().unwrap().iter().map(|s| s["name"].as_str().unwrap()).collect();
+    assert!(
+        names.contains(&"light_point") && names.contains(&"cube_shadow") && names.contains(&"gbuf.albedo"),
+        "{names:?}"
+    );
+    let edits = c.request(
+        "textDocument/formatting",
+        json!({"textDocument": {"uri": uri(&path)}, "options": {"tabSize": 4, "insertSpaces": true}}),
+    );
+    assert_eq!(edits, json!([]));
+    assert_eq!(c.finish(), 0);
+}
+
+#[test]
+fn broken_copy_reports_what_check_reports_and_an_edit_clears_it() {
+    let dir = project("broken");
+    let path = dir.join("pipelines/deferred.lbp");
+    let good = std::fs::read_to_string(&path).unwrap();
+    let broken = good.replacen("reads gbuf.albedo, gbuf.emissive", "reads gbuf.albdo, gbuf.emissive", 1);
+    std::fs::write(&path, &broken).unwrap();
+    let (_, out, _) = lightbench_in(&dir, &["check", "--format", "json", path.to_str().unwrap()]);
+    let all: Vec<Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let in_file = |f: &Path| -> Vec<Value> { all.iter().filter(|d| d["file"] == json!(f.to_str().unwrap())).cloned().collect() };
+    let shader = dir.join("shaders/ambient.wgsl");
+    assert_eq!(all.len(), in_file(&path).len() + in_file(&shader).len(), "{all:?}");
+
+    let mut c = Client::start(&dir);
+    c.open(&path, &broken);
+    // Each diagnostic in the file `check` locates it in, with its code, message and place.
+    for (file, expected) in [(&path, in_file(&path)), (&shader, in_file(&shader))] {
+        let got = c.diagnostics(file);
+        assert_eq!(got.len(), expected.len(), "{got:?}\n{expected:?}");
+        for (g, e) in got.iter().zip(&expected) {
+            assert_eq!(g["code"], e["code"]);
+            assert_eq!(g["message"], e["message"]);
+            // `check` counts from 1, the protocol from 0 (the lines are ASCII: columns agree).
+            assert_eq!(g["range"]["start"]["line"].as_i64().unwrap() + 1, e["line"].as_i64().unwrap());
+            assert_eq!(
+                g["range"]["start"]["character"].as_i64().unwrap() + 1,
+                e["column"].as_i64().unwrap()
+            );
+            assert_eq!(g["severity"], json!(1));
+        }
+    }
+    let got = in_file(&path);
+    assert!(got[0]["message"].as_str().unwrap().contains("gbuf.albdo"));
+
+    // The unsaved fix clears them (the file on disk is still broken).
+    c.change(&path, 2, &good);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    assert_eq!(c.diagnostics(&shader), Vec::<Value>::new());
+
+    // A shader broken in the editor: located in the shader, naming the pipeline checked.
+    let shader_text = std::fs::read_to_string(&shader).unwrap();
+    c.open(&shader, &shader_text.replacen("fn ", "fn fn ", 1));
+    let sd = c.diagnostics(&shader);
+    assert!(!sd.is_empty() && sd[0]["code"] == "wgsl-parse", "{sd:?}");
+    let related = sd[0]["relatedInformation"].to_string();
+    assert!(related.contains("deferred.lbp"), "{related}");
+    assert_eq!(c.finish(), 0);
+}
+
+#[test]
+fn malformed_requests_are_answered_and_bad_framing_ends_without_a_panic() {
+    let dir = project("malformed");
+    let path = dir.join("pipelines/deferred.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &text);
+    // Unknown method, wrong params, a position past the end, a document of another scheme.
+    assert_eq!(c.call("lightbench/unknown", json!({}))["error"]["code"], json!(-32601));
+    assert_eq!(c.call("textDocument/hover", json!({"nonsense": 1}))["error"]["code"], json!(-32602));
+    let far = json!({"textDocument": {"uri": uri(&path)}, "position": {"line": 99999, "character": 5}});
+    assert_eq!(c.request("textDocument/hover", far), Value::Null);
+    let other = json!({"textDocument": {"uri": "untitled:Untitled-1"}, "position": {"line": 0, "character": 0}});
+    assert_eq!(c.request("textDocument/definition", other), Value::Null);
+    // A document beyond the size a check reads: an error on it, not a crash.
+    let huge = dir.join("pipelines/huge.lbp");
+    c.open(&huge, &"// padding\n".repeat(17 << 20 >> 4 << 1));
+    let d = c.diagnostics(&huge);
+    assert!(d[0]["message"].as_str().unwrap().contains("larger than"), "{d:?}");
+    // Bytes that are not JSON: the server stops reading and exits, without a panic.
+    c.send_raw(b"{not json");
+    drop(c.stdin);
+    let code = wait(&mut c.child);
+    assert_ne!(code, 0);
+}
