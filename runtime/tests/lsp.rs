@@ -363,5 +363,134 @@ fn malformed_requests_are_answered_and_bad_framing_ends_without_a_panic() {
     c.send_raw(b"{not json");
     drop(c.stdin);
     let code = wait(&mut c.child);
-    assert_ne!(code, 0);
+    assert_eq!(code, 1);
+}
+
+/// Byte offset of a protocol position (UTF-16 columns).
+fn byte_at(text: &str, p: &Value) -> usize {
+    let (line, col) = (p["line"].as_u64().unwrap() as usize, p["character"].as_u64().unwrap() as usize);
+    let start: usize = text.split_inclusive('\n').take(line).map(str::len).sum();
+    let mut units = 0;
+    for (i, c) in text[start..].char_indices() {
+        if units >= col || c == '\n' {
+            return start + i;
+        }
+        units += c.len_utf16();
+    }
+    text.len()
+}
+
+/// The text with a rename's edits applied (last first, so earlier offsets hold).
+fn apply(text: &str, edits: &[Value]) -> String {
+    let mut spans: Vec<(usize, usize, &str)> = edits
+        .iter()
+        .map(|e| {
+            (
+                byte_at(text, &e["range"]["start"]),
+                byte_at(text, &e["range"]["end"]),
+                e["newText"].as_str().unwrap(),
+            )
+        })
+        .collect();
+    spans.sort_by_key(|s| std::cmp::Reverse(s.0));
+    let mut out = text.to_string();
+    for (a, b, t) in spans {
+        out.replace_range(a..b, t);
+    }
+    out
+}
+
+#[test]
+fn renaming_a_pass_renames_every_naming_of_it_in_either_front_end() {
+    let dir = project("rename");
+    let mut c = Client::start(&dir);
+    for (file, decl, skip) in [("deferred.lbp", "fullscreen tonemap", 12), ("deferred.ron", "name: \"tonemap\"", 8)] {
+        let path = dir.join("pipelines").join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        c.open(&path, &text);
+        let mut params = at(&path, &text, decl, skip);
+        params["newName"] = json!("tone_map");
+        let edit = c.request("textDocument/rename", params);
+        let edits = edit["changes"][uri(&path)].as_array().unwrap().clone();
+        assert_eq!(edits.len(), 2, "the pass and the variant option substituting its shader: {edits:?}");
+        let renamed = apply(&text, &edits);
+        // The variant of the same name stays; the file still checks.
+        assert!(renamed.contains("tone_map") && renamed.matches("tonemap").count() == text.matches("tonemap").count() - 2);
+        std::fs::write(&path, &renamed).unwrap();
+        let (code, _, err) = lightbench_in(&dir, &["check", path.to_str().unwrap()]);
+        assert_eq!(code, 0, "{file}: {err}");
+        // A bad name and a place with nothing to rename are refused.
+        let mut bad = at(&path, &renamed, "tone_map", 2);
+        bad["newName"] = json!("two words");
+        assert_eq!(c.call("textDocument/rename", bad)["error"]["code"], json!(-32602));
+    }
+    assert_eq!(c.finish(), 0);
+}
+
+/// The VS Code extension folder: its manifest names what exists, starts `lightbench lsp`,
+/// and its grammar colours every keyword of the LBP grammar.
+#[test]
+fn the_vscode_extension_is_complete_and_its_grammar_knows_every_keyword() {
+    let ext = root().join("editors/vscode");
+    let manifest: Value = serde_json::from_str(&std::fs::read_to_string(ext.join("package.json")).unwrap()).unwrap();
+    let lang = &manifest["contributes"]["languages"][0];
+    assert_eq!(lang["extensions"], json!([".lbp"]));
+    for key in [
+        &manifest["main"],
+        &lang["configuration"],
+        &manifest["contributes"]["grammars"][0]["path"],
+    ] {
+        assert!(ext.join(key.as_str().unwrap()).is_file(), "{key}");
+    }
+    let js = std::fs::read_to_string(ext.join("extension.js")).unwrap();
+    assert!(js.contains("args: ['lsp']") && js.contains("language: 'lbp'"), "{js}");
+    let grammar_path = ext.join(manifest["contributes"]["grammars"][0]["path"].as_str().unwrap());
+    let grammar: Value = serde_json::from_str(&std::fs::read_to_string(grammar_path).unwrap()).unwrap();
+    let words = grammar["repository"]["keyword"]["match"].as_str().unwrap().to_string();
+    let words: Vec<&str> = words.trim_start_matches("\\b(").trim_end_matches(")\\b").split('|').collect();
+    let pest = std::fs::read_to_string(root().join("compiler/src/front/lbp/lbp.pest")).unwrap();
+    let missing: Vec<&str> = pest
+        .lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .flat_map(|l| l.split('"').skip(1).step_by(2))
+        .filter(|w| w.len() > 1 && w.chars().all(|c| c.is_ascii_alphabetic() || c == '_'))
+        .filter(|w| !matches!(*w, "true" | "false") && !words.contains(w))
+        .collect();
+    assert!(missing.is_empty(), "keywords the grammar does not colour: {missing:?}");
+}
+
+/// The README's Neovim snippet is the file the end-to-end test starts Neovim with.
+#[test]
+fn the_readme_shows_the_neovim_snippet_as_tested() {
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let block = readme
+        .split("```lua\n")
+        .nth(1)
+        .and_then(|b| b.split("```").next())
+        .expect("a lua block");
+    assert_eq!(
+        block,
+        std::fs::read_to_string(root().join("editors/neovim/lightbench.lua")).unwrap()
+    );
+}
+
+/// A shader opened before any pipeline: the pipelines under the workspace's `pipelines/` are
+/// checked for it. A scene file is checked as `render --scene` reads it.
+#[test]
+fn a_shader_opened_first_and_a_scene_file_get_their_diagnostics() {
+    let dir = project("shader-first");
+    let mut c = Client::start(&dir);
+    let shader = dir.join("shaders/tonemap.wgsl");
+    let text = std::fs::read_to_string(&shader).unwrap();
+    c.open(&shader, &text.replacen("fn ", "fn fn ", 1));
+    let d = c.diagnostics(&shader);
+    assert!(!d.is_empty() && d[0]["code"] == "wgsl-parse", "{d:?}");
+    let scene = dir.join("scenes/bad.ron");
+    c.open(
+        &scene,
+        "Scene(\n    camera: Camera(position: (0, 1, 3)),\n    lights: [Point(position: (0, 1, 0), colour: (1, 1, 1))],\n)\n",
+    );
+    let d = c.diagnostics(&scene);
+    assert!(!d.is_empty() && d[0]["message"].as_str().unwrap().contains("colour"), "{d:?}");
+    assert_eq!(c.finish(), 0);
 }
