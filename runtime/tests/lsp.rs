@@ -494,3 +494,39 @@ fn a_shader_opened_first_and_a_scene_file_get_their_diagnostics() {
     assert!(!d.is_empty() && d[0]["message"].as_str().unwrap().contains("colour"), "{d:?}");
     assert_eq!(c.finish(), 0);
 }
+
+/// Inside a shader: a global the pipeline binds shows the declaration it binds to (and goes
+/// there), a parameter-block field its parameter, `frame.` fields their documentation.
+#[test]
+fn a_shader_global_leads_to_the_declaration_that_binds_it() {
+    let dir = project("shader-hover");
+    let path = dir.join("pipelines/deferred.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &text);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    let shader = dir.join("shaders/ambient.wgsl");
+    let src = std::fs::read_to_string(&shader).unwrap();
+    let h = c.request("textDocument/hover", at(&shader, &src, "var gbuf_albedo", 6));
+    let shown = h["contents"]["value"].as_str().unwrap();
+    assert!(
+        shown.contains("deferred.lbp") && shown.contains("**texture** `gbuf.albedo`"),
+        "{shown}"
+    );
+    let d = c.request("textDocument/definition", at(&shader, &src, "var gbuf_albedo", 6));
+    assert_eq!(d[0]["range"]["start"], pos(&text, "gbuf.albedo: Rgba8Unorm", 0), "{d}");
+    let p = c.request("textDocument/hover", at(&shader, &src, "params.color", 8));
+    assert!(
+        p["contents"]["value"].as_str().unwrap().contains("**parameter** `ambient.color`"),
+        "{p}"
+    );
+    let taa = dir.join("shaders/taa.wgsl");
+    let taa_src = std::fs::read_to_string(&taa).unwrap();
+    let f = c.request("textDocument/hover", at(&taa, &taa_src, "frame.resolution", 7));
+    let shown = f["contents"]["value"].as_str().unwrap();
+    assert!(
+        shown.starts_with("**frame** `resolution: vec4<f32>`") && shown.contains("output (viewport) size"),
+        "{shown}"
+    );
+    assert_eq!(c.finish(), 0);
+}

@@ -53,8 +53,22 @@ fn json<T: serde::Serialize>(v: T) -> Answer {
 
 fn dispatch(server: &mut Server, r: Request) -> Answer {
     match r.method.as_str() {
-        req::HoverRequest::METHOD => json(server.hover(params::<HoverParams>(r.params)?.text_document_position_params)),
-        req::GotoDefinition::METHOD => json(server.definition(params::<GotoDefinitionParams>(r.params)?.text_document_position_params)),
+        req::HoverRequest::METHOD => {
+            let at = params::<HoverParams>(r.params)?.text_document_position_params;
+            json(if in_shader(&at) {
+                server.shader_hover(at)
+            } else {
+                server.hover(at)
+            })
+        }
+        req::GotoDefinition::METHOD => {
+            let at = params::<GotoDefinitionParams>(r.params)?.text_document_position_params;
+            json(if in_shader(&at) {
+                server.shader_definition(at)
+            } else {
+                server.definition(at)
+            })
+        }
         req::References::METHOD => json(server.references(params::<ReferenceParams>(r.params)?.text_document_position)),
         req::Rename::METHOD => server.rename(params::<RenameParams>(r.params)?),
         req::Completion::METHOD => json(server.complete(params::<CompletionParams>(r.params)?.text_document_position)),
@@ -62,6 +76,10 @@ fn dispatch(server: &mut Server, r: Request) -> Answer {
         req::Formatting::METHOD => json(server.format(&params::<DocumentFormattingParams>(r.params)?.text_document)),
         m => Err((ErrorCode::MethodNotFound, format!("unknown method `{m}`"))),
     }
+}
+
+fn in_shader(at: &TextDocumentPositionParams) -> bool {
+    path_of(&at.text_document.uri).is_some_and(|p| super::shader::is_shader(&p))
 }
 
 /// A position in a pipeline document, resolved against its index.
@@ -250,7 +268,7 @@ impl Server {
     }
 }
 
-fn location(ix: &Index, s: Span) -> Option<Location> {
+pub(super) fn location(ix: &Index, s: Span) -> Option<Location> {
     let f = ix.sources.get(s.file);
     Some(Location {
         uri: uri_of(Path::new(&f.name))?,

@@ -10,6 +10,7 @@ mod complete;
 mod diagnostics;
 mod handlers;
 pub mod index;
+mod shader;
 pub mod text;
 
 use crate::cli::{EXIT_ERRORS, EXIT_OK};
