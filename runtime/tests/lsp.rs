@@ -216,6 +216,10 @@ fn bundled_pipeline_checks_clean_and_answers_hover_definition_completion() {
     let shown = hover["contents"]["value"].as_str().unwrap();
     assert!(shown.contains("**texture** `gbuf.albedo`: Rgba8Unorm, viewport"), "{shown}");
     assert!(shown.contains("written by `gbuffer`") && shown.contains("`ambient`"), "{shown}");
+    assert!(
+        shown.contains("default options): ") && shown.contains("; usage ") && shown.contains("RENDER_ATTACHMENT"),
+        "{shown}"
+    );
 
     // Definition: the declaration line.
     let def = c.request("textDocument/definition", read_at.clone());
@@ -243,6 +247,20 @@ fn bundled_pipeline_checks_clean_and_answers_hover_definition_completion() {
             .unwrap()
             .contains("**option** `forward_single` of variant `lighting`"),
         "{o}"
+    );
+
+    // A pass: what it does on the default scene.
+    let pass = c.request("textDocument/hover", at(&path, &text, "fullscreen ambient", 12));
+    let shown = pass["contents"]["value"].as_str().unwrap();
+    assert!(
+        shown.contains("**fullscreen pass** `ambient`")
+            && shown.contains("On the default scene (`cornell` at its size, default options): runs once"),
+        "{shown}"
+    );
+    let culled = c.request("textDocument/hover", at(&path, &text, "raster forward_single", 8));
+    assert!(
+        culled["contents"]["value"].as_str().unwrap().contains("culled: variant not chosen"),
+        "{culled}"
     );
 
     // A shader path: its entry points; definition: the file.
@@ -336,7 +354,10 @@ fn broken_copy_reports_what_check_reports_and_an_edit_clears_it() {
     let sd = c.diagnostics(&shader);
     assert!(!sd.is_empty() && sd[0]["code"] == "wgsl-parse", "{sd:?}");
     let related = sd[0]["relatedInformation"].to_string();
-    assert!(related.contains("deferred.lbp"), "{related}");
+    assert!(
+        related.contains("deferred.lbp") && related.contains("used by pass `ambient`"),
+        "{related}"
+    );
     assert_eq!(c.finish(), 0);
 }
 
@@ -486,12 +507,22 @@ fn a_shader_opened_first_and_a_scene_file_get_their_diagnostics() {
     let d = c.diagnostics(&shader);
     assert!(!d.is_empty() && d[0]["code"] == "wgsl-parse", "{d:?}");
     let scene = dir.join("scenes/bad.ron");
-    c.open(
-        &scene,
-        "Scene(\n    camera: Camera(position: (0, 1, 3)),\n    lights: [Point(position: (0, 1, 0), colour: (1, 1, 1))],\n)\n",
-    );
+    let scene_text = "Scene(\n    camera: Camera(position: (0, 1, 3)),\n    lights: [Point(position: (0, 1, 0), colour: (1, 1, 1))],\n    effects: [Bloom],\n)\n";
+    c.open(&scene, scene_text);
     let d = c.diagnostics(&scene);
     assert!(!d.is_empty() && d[0]["message"].as_str().unwrap().contains("colour"), "{d:?}");
+    // Completion in a scene file: effects in `effects`, light kinds in `lights`.
+    let labels = |r: Value| -> Vec<String> {
+        r.as_array()
+            .unwrap()
+            .iter()
+            .map(|i| i["label"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let effects = labels(c.request("textDocument/completion", at(&scene, scene_text, "effects: [", 10)));
+    assert!(effects.contains(&"AmbientOcclusion".to_string()), "{effects:?}");
+    let kinds = labels(c.request("textDocument/completion", at(&scene, scene_text, "lights: [", 9)));
+    assert_eq!(kinds, ["Directional", "Spot", "Point"]);
     assert_eq!(c.finish(), 0);
 }
 
@@ -528,5 +559,27 @@ fn a_shader_global_leads_to_the_declaration_that_binds_it() {
         shown.starts_with("**frame** `resolution: vec4<f32>`") && shown.contains("output (viewport) size"),
         "{shown}"
     );
+    assert_eq!(c.finish(), 0);
+}
+
+/// A pipeline that uses another: a variant's options with their presets, and a definition
+/// that leads into the used file.
+#[test]
+fn hover_shows_presets_and_definition_leads_into_the_used_pipeline() {
+    let dir = project("used");
+    let path = dir.join("pipelines/deferred_gi.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &text);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    let v = c.request("textDocument/hover", at(&path, &text, "variant ao_preset", 9));
+    let shown = v["contents"]["value"].as_str().unwrap();
+    assert!(shown.contains("- `ssao1` (presets ao.scale = 0.25, ao.samples = 8"), "{shown}");
+    // `reads hdr` in this file: `hdr` is declared by the used deferred.lbp.
+    let d = c.request("textDocument/definition", at(&path, &text, " hdr", 1));
+    let used = dir.join("pipelines/deferred.lbp");
+    assert_eq!(d["uri"], json!(uri(&used)), "{d}");
+    let used_text = std::fs::read_to_string(&used).unwrap();
+    assert_eq!(d["range"]["start"], pos(&used_text, "hdr: Rgba16Float", 0));
     assert_eq!(c.finish(), 0);
 }

@@ -154,7 +154,13 @@ pub fn run(cli: Cli) -> i32 {
         },
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
-        Command::Lsp => crate::lsp::run(),
+        Command::Lsp => match crate::lsp::run() {
+            Ok(()) => EXIT_OK,
+            Err(e) => {
+                eprintln!("error: lsp: {e}");
+                EXIT_ERRORS
+            }
+        },
         Command::Scene(SceneCommand::Export { out, .. }) if out.extension().and_then(|e| e.to_str()) != Some("gltf") => {
             usage_error(format!(
                 "{}: scene export writes .gltf (JSON, with its .bin beside it); name the file `.gltf`",

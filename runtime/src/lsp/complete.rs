@@ -2,7 +2,8 @@
 //! by the key its line is filling (both front ends name keys alike): resource names after
 //! `reads`/`color`/`depth`/`writes`, parameters after `params`, variants and their options
 //! in conditions and choices, the entry points of the pass's shader after `vertex`,
-//! `fragment` or `entry`, and the keys of a pass kind (the syntax tree's own list) elsewhere.
+//! `fragment` or `entry`, and the keys of a pass kind (the syntax tree's own list) elsewhere;
+//! in a scene file, effects and light kinds.
 
 use super::index::{Index, Kind};
 use super::text::{offset, path_of};
@@ -16,6 +17,9 @@ impl Server {
         let cursor = offset(&text, pos.position)?;
         let line = &text[text[..cursor].rfind('\n').map_or(0, |i| i + 1)..cursor];
         let key = key_of(line);
+        if super::diagnostics::kind_of(&path, Some(&text)) == super::diagnostics::FileKind::Scene {
+            return Some(CompletionResponse::Array(scene_items(key.as_deref())));
+        }
         self.index(&path)?;
         let ix = &self.indexes.get(&path)?.1;
         let names = |k: Kind, what: CompletionItemKind| ix.names(k).into_iter().map(move |n| item(n, what));
@@ -57,6 +61,15 @@ impl Server {
             })
             .collect()
     }
+}
+
+/// In a scene file: effects in `effects: [..]`, light kinds elsewhere.
+fn scene_items(key: Option<&str>) -> Vec<CompletionItem> {
+    use lightbench_compiler::ir::{Effect, LightKind};
+    if key == Some("effects") {
+        return Effect::NAMES.iter().map(|e| item(e, CompletionItemKind::ENUM_MEMBER)).collect();
+    }
+    LightKind::ALL.iter().map(|k| item(k.name(), CompletionItemKind::STRUCT)).collect()
 }
 
 fn item(label: &str, kind: CompletionItemKind) -> CompletionItem {

@@ -100,15 +100,91 @@ impl Server {
             _ => {
                 s.check_file(path, None, &self.profile, None);
                 self.deps.insert(path.to_path_buf(), s.dependencies().clone());
+                if !s.diags.has_errors() {
+                    self.plan_default(path);
+                }
             }
         }
         let mut out = ByFile::new();
         for d in &s.diags.list {
-            let (file, d) = to_lsp(d, &s.sources, path);
+            let (file, mut d) = to_lsp(d, &s.sources, path);
+            if file != path {
+                self.name_passes(path, &file, &mut d);
+            }
             out.entry(file).or_default().push(d);
         }
         out
     }
+
+    /// A diagnostic located in a shader: which passes of the pipeline use that shader.
+    fn name_passes(&mut self, pipeline: &Path, shader: &Path, d: &mut lsp_types::Diagnostic) {
+        let Some(ix) = self.index(pipeline) else { return };
+        let uses: Vec<(String, String, lightbench_compiler::span::Span)> = ix
+            .shaders
+            .iter()
+            .map(|u| (u.pass.clone(), u.file.value.clone(), u.file.span))
+            .collect();
+        for (pass, file, span) in uses {
+            if self.shader_path(pipeline, &file) != shader {
+                continue;
+            }
+            let Some(ix) = self.indexes.get(pipeline).map(|(_, ix)| ix) else {
+                return;
+            };
+            if let Some(location) = ix.location(span) {
+                let message = format!("used by pass `{pass}`");
+                d.related_information
+                    .get_or_insert_with(Vec::new)
+                    .push(DiagnosticRelatedInformation { location, message });
+            }
+        }
+    }
+
+    /// What the pipeline runs on the default scene (`render`'s `cornell`) with its default
+    /// options, pass by pass: repetitions, or why it is culled (pass hovers show it).
+    fn plan_default(&mut self, path: &Path) {
+        let Some(scene) = lightbench_compiler::ir::scene::builtin::by_name("cornell") else {
+            return;
+        };
+        let features = scene.features([]);
+        let mut s = self.workspace.session();
+        let Some(plan) = s.plan_file(path, None, &self.profile, &features, &[]) else {
+            return;
+        };
+        let mut runs = BTreeMap::new();
+        for p in &plan.passes {
+            let times = if p.repetitions == 1 {
+                "once".to_string()
+            } else {
+                format!("{} times", p.repetitions)
+            };
+            runs.insert(format!("pass:{}", p.name), format!("runs {times}"));
+        }
+        for c in &plan.culled {
+            runs.entry(format!("pass:{}", c.name)).or_insert(format!("culled: {}", c.reason));
+        }
+        for r in &plan.resources {
+            runs.insert(format!("resource:{}", r.name), resource_facts(r));
+        }
+        self.default_runs.insert(path.to_path_buf(), runs);
+    }
+}
+
+/// A resource in the default scene's Plan: its size there, instances, usages, memory.
+fn resource_facts(r: &lightbench_compiler::plan::PlanResource) -> String {
+    use lightbench_compiler::plan::ResourceShape;
+    let size = match &r.shape {
+        ResourceShape::Texture { extent, layers, .. } if *layers > 1 => format!("{}×{}×{layers}", extent.0, extent.1),
+        ResourceShape::Texture { extent, .. } => format!("{}×{}", extent.0, extent.1),
+        ResourceShape::Buffer { size, .. } => format!("{size} bytes"),
+    };
+    let usage: Vec<&str> = r.usage.iter().map(|u| u.name()).collect();
+    let instances = if r.instances == 1 {
+        String::new()
+    } else {
+        format!(", {} instances", r.instances)
+    };
+    format!("{size}{instances}; usage {}; {} KiB", usage.join(", "), r.bytes.div_ceil(1024))
 }
 
 /// A compiler diagnostic as the protocol's, with the file it is located in (an unlocated one

@@ -116,11 +116,13 @@ impl Server {
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
         let (text, span) = if let Some(sym) = ix.at(at.file, at.offset) {
             let s = &ix.symbols[sym];
-            (
-                s.hover.clone(),
-                ix.uses_of(sym)
-                    .find(|u| u.file == at.file && u.start as usize <= at.offset && at.offset <= u.end as usize),
-            )
+            let mut text = s.hover.clone();
+            let key = format!("{}:{}", s.kind.word(), s.name);
+            if let Some(facts) = self.default_runs.get(&path).and_then(|r| r.get(&key)) {
+                text += &format!("\n\nOn the default scene (`cornell` at its size, default options): {facts}");
+            }
+            let here = |u: &Span| u.file == at.file && u.start as usize <= at.offset && at.offset <= u.end as usize;
+            (text, ix.uses_of(sym).find(here))
         } else {
             let u = ix.shader_at(at.file, at.offset)?;
             let entries = self.shader_entries(&path, &u.file.value);
@@ -144,7 +146,7 @@ impl Server {
         let (path, at) = self.at(&pos)?;
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
         if let Some(sym) = ix.at(at.file, at.offset) {
-            return Some(GotoDefinitionResponse::Scalar(location(ix, ix.symbols[sym].decl)?));
+            return Some(GotoDefinitionResponse::Scalar(ix.location(ix.symbols[sym].decl)?));
         }
         let u = ix.shader_at(at.file, at.offset)?;
         let (file, entry) = (u.file.value.clone(), u.entry.as_ref().map(|e| e.value.clone()));
@@ -165,7 +167,7 @@ impl Server {
         let (path, at) = self.at(&pos)?;
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
         let sym = ix.at(at.file, at.offset)?;
-        Some(ix.uses_of(sym).filter_map(|s| location(ix, s)).collect())
+        Some(ix.uses_of(sym).filter_map(|s| ix.location(s)).collect())
     }
 
     /// Rename a resource, parameter, sampler or pass declared in this file, everywhere this
@@ -266,14 +268,6 @@ impl Server {
         let text = self.overlay.get(&shader).or_else(|| std::fs::read_to_string(&shader).ok());
         text.map(|t| super::index::entry_points(&t, &shader)).unwrap_or_default()
     }
-}
-
-pub(super) fn location(ix: &Index, s: Span) -> Option<Location> {
-    let f = ix.sources.get(s.file);
-    Some(Location {
-        uri: uri_of(Path::new(&f.name))?,
-        range: range(&f.text, s.start as usize, s.end as usize),
-    })
 }
 
 #[allow(deprecated)] // `deprecated` is a field the type still requires

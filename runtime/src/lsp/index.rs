@@ -219,6 +219,15 @@ impl Index {
         self.uses.iter().filter(move |(_, i)| *i == symbol).map(|(s, _)| *s)
     }
 
+    /// Where a span is, as the protocol says it.
+    pub fn location(&self, s: Span) -> Option<lsp_types::Location> {
+        let f = self.sources.get(s.file);
+        Some(lsp_types::Location {
+            uri: super::text::uri_of(std::path::Path::new(&f.name))?,
+            range: super::text::range(&f.text, s.start as usize, s.end as usize),
+        })
+    }
+
     /// Names of every symbol of a kind.
     pub fn names(&self, kind: Kind) -> BTreeSet<&str> {
         self.symbols.iter().filter(|s| s.kind == kind).map(|s| s.name.as_str()).collect()
@@ -319,12 +328,33 @@ fn variant_hover(v: &Variant) -> String {
             let req: Vec<String> = o.requires.iter().map(|r| format!("{:?}", r.value)).collect();
             line += &format!(" (requires {})", req.join(", "));
         }
+        if !o.params.is_empty() {
+            let sets: Vec<String> = o
+                .params
+                .iter()
+                .map(|(k, v)| format!("{} = {}", k.value, literal(&v.value)))
+                .collect();
+            line += &format!(" (presets {})", sets.join(", "));
+        }
         if let Some(doc) = &o.doc {
             line += &format!(": {doc}");
         }
         lines.push(line);
     }
     lines.join("\n\n")
+}
+
+/// A preset's value as written.
+fn literal(l: &lightbench_compiler::ir::Literal) -> String {
+    use lightbench_compiler::ir::Literal as L;
+    match l {
+        L::Int(i) => i.to_string(),
+        L::Float(f) => f.to_string(),
+        L::Bool(b) => b.to_string(),
+        L::Text(t) => t.clone(),
+        L::Tuple(v) => format!("({})", v.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")),
+        L::Other(o) => o.clone(),
+    }
 }
 
 /// A shader file's entry points: name, stage and byte offset of the name. WGSL entry points

@@ -13,7 +13,6 @@ pub mod index;
 mod shader;
 pub mod text;
 
-use crate::cli::{EXIT_ERRORS, EXIT_OK};
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::Workspace;
 use lsp_server::{Connection, Message, Notification};
@@ -28,22 +27,12 @@ use text::{path_of, Overlay};
 pub const DEBOUNCE: Duration = Duration::from_millis(150);
 
 /// `lightbench lsp`: serve on stdin/stdout until the client says `exit`.
-pub fn run() -> i32 {
+pub fn run() -> Result<(), String> {
     let (connection, io_threads) = Connection::stdio();
     let served = serve(&connection, DEBOUNCE);
     drop(connection);
-    let joined = io_threads.join();
-    match (served, joined) {
-        (Ok(()), Ok(())) => EXIT_OK,
-        (Err(e), _) => {
-            eprintln!("error: lsp: {e}");
-            EXIT_ERRORS
-        }
-        (_, Err(e)) => {
-            eprintln!("error: lsp: {e}");
-            EXIT_ERRORS
-        }
-    }
+    let joined = io_threads.join().map_err(|e| e.to_string());
+    served.and(joined)
 }
 
 /// The whole conversation on one connection: the handshake, then messages until shutdown
@@ -105,6 +94,8 @@ pub struct Server {
     published: HashMap<PathBuf, diagnostics::ByFile>,
     /// Per pipeline document, the text it was last indexed from and the index.
     indexes: HashMap<PathBuf, (String, index::Index)>,
+    /// Per checked pipeline, what each pass does on the default scene with default options.
+    default_runs: HashMap<PathBuf, std::collections::BTreeMap<String, String>>,
 }
 
 impl Server {
@@ -119,6 +110,7 @@ impl Server {
             deps: HashMap::new(),
             published: HashMap::new(),
             indexes: HashMap::new(),
+            default_runs: HashMap::new(),
         }
     }
 

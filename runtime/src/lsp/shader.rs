@@ -91,7 +91,7 @@ impl Server {
         for p in readers {
             let Some(ix) = self.index(&p) else { continue };
             if let Some(sym) = bound(ix, &word) {
-                found.extend(super::handlers::location(ix, ix.symbols[sym].decl));
+                found.extend(ix.location(ix.symbols[sym].decl));
             }
         }
         (!found.is_empty()).then_some(GotoDefinitionResponse::Array(found))
