@@ -338,6 +338,11 @@ fn broken_copy_reports_what_check_reports_and_an_edit_clears_it() {
                 e["column"].as_i64().unwrap()
             );
             assert_eq!(g["severity"], json!(1));
+            // The code links to the manual's table of codes.
+            assert_eq!(
+                g["codeDescription"]["href"],
+                json!(format!("{}#checks", uri(&root().join("README.md"))))
+            );
         }
     }
     let got = in_file(&path);

@@ -108,6 +108,7 @@ impl Server {
         let mut out = ByFile::new();
         for d in &s.diags.list {
             let (file, mut d) = to_lsp(d, &s.sources, path);
+            d.code_description = self.manual.clone().map(|href| lsp_types::CodeDescription { href });
             if file != path {
                 self.name_passes(path, &file, &mut d);
             }

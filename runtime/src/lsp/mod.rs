@@ -81,6 +81,13 @@ fn roots(init: &serde_json::Value) -> Vec<PathBuf> {
     folders.iter().filter_map(|f| path_of(&f.uri)).collect()
 }
 
+/// `README.md#checks` of the repository this binary was built from, if it is still there.
+fn manual() -> Option<lsp_types::Uri> {
+    let readme = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent()?.join("README.md");
+    let uri = text::uri_of(&readme).filter(|_| readme.is_file())?;
+    std::str::FromStr::from_str(&format!("{}#checks", uri.as_str())).ok()
+}
+
 pub struct Server {
     overlay: Arc<Overlay>,
     workspace: Workspace,
@@ -94,6 +101,9 @@ pub struct Server {
     published: HashMap<PathBuf, diagnostics::ByFile>,
     /// Per pipeline document, the text it was last indexed from and the index.
     indexes: HashMap<PathBuf, (String, index::Index)>,
+    /// The manual's table of diagnostic codes, when the manual is on this machine (a build
+    /// from the repository): each diagnostic's code links there.
+    manual: Option<lsp_types::Uri>,
     /// Per checked pipeline, what each pass does on the default scene with default options.
     default_runs: HashMap<PathBuf, std::collections::BTreeMap<String, String>>,
 }
@@ -111,6 +121,7 @@ impl Server {
             published: HashMap::new(),
             indexes: HashMap::new(),
             default_runs: HashMap::new(),
+            manual: manual(),
         }
     }
 
