@@ -541,3 +541,23 @@ fn hints_speak_the_files_syntax_and_labels_end_at_their_line() {
         "the label stops at its first line:\n{human}"
     );
 }
+
+/// `plan --memory` as the README quotes it: logical and physical memory of `deferred_gi` at
+/// 1920×1080, and who lives in whose memory.
+#[test]
+fn plan_memory_shows_logical_and_aliased_memory() {
+    let (code, out, err) = lightbench(&["plan", "pipelines/deferred_gi.lbp", "--memory", "--size", "1920x1080"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.starts_with("memory at 1920×1080: 190.01 MiB logical, 122.77 MiB physical with transient resources aliased (0.65×)"),
+        "{out}"
+    );
+    let line = out.lines().find(|l| l.trim_start().starts_with("gi.indirect ")).unwrap();
+    assert!(line.ends_with("shares `gbuf.emissive`"), "{line}");
+    assert_eq!(out.lines().filter(|l| l.contains(" shares `")).count(), 5, "{out}");
+    assert!(
+        out.lines()
+            .any(|l| l.trim_start().starts_with("ldr ") && l.ends_with("own (an output)")),
+        "{out}"
+    );
+}

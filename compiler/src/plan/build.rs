@@ -2,7 +2,7 @@
 //! `RenderGraph::bake()`): select variants (`select`, done by the caller) -> evaluate
 //! conditions and cull -> order -> derive resources and usages -> lay out passes, bindings
 //! and parameter blocks -> lift per-pass values to parameters -> value shader constants ->
-//! estimate memory.
+//! estimate memory -> alias transient memory.
 
 use super::*;
 use crate::check::Checked;
@@ -20,7 +20,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     params::lift_pass_values(p, &cfg.selection.chosen, &mut passes, &mut params);
     constants::apply(p, cfg, &kept, &mut passes, diags);
     let memory_bytes = resources::memory(&resources);
-    let plan = Plan {
+    let mut plan = Plan {
         format: FORMAT,
         pipeline: p.name.value.clone(),
         profile: cfg.profile.name.clone(),
@@ -47,8 +47,11 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         },
         resources,
         memory_bytes,
+        physical_bytes: memory_bytes,
         jitter: jitters(p, &cfg.selection.chosen),
     };
+    // Transient resources with disjoint lifetimes may share memory.
+    alias::assign(&mut plan);
     (diags.error_count() == before).then_some(plan)
 }
 

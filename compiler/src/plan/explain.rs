@@ -177,10 +177,11 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
     }
     let _ = writeln!(
         s,
-        "\nmemory: {} at {}×{}",
+        "\nmemory: {} at {}×{}; {} with transient resources aliased (`plan --memory`)",
         mib(plan.memory_bytes),
         plan.resolution.0,
-        plan.resolution.1
+        plan.resolution.1,
+        mib(plan.physical_bytes)
     );
     let _ = writeln!(s, "output: {}", plan.output_resource().name);
     if let Some(h) = plan.hdr_output {
@@ -297,6 +298,37 @@ pub fn pass_facts(plan: &Plan, p: &PlanPass) -> Vec<String> {
 /// A resource as `plan` lists it: shape, instances, memory, usage.
 pub fn resource_fact(r: &PlanResource) -> String {
     resource_line(r).split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// `plan --memory`: each resource's memory, the passes from its first to its last use, and
+/// whose memory it shares or why it keeps its own; logical and physical totals.
+pub fn memory_text(plan: &Plan) -> String {
+    let mut s = String::new();
+    let (logical, physical) = (plan.memory_bytes, plan.physical_bytes);
+    let ratio = if logical == 0 { 1.0 } else { physical as f64 / logical as f64 };
+    let _ = writeln!(
+        s,
+        "memory at {}×{}: {} logical, {} physical with transient resources aliased ({ratio:.2}×)\n",
+        plan.resolution.0,
+        plan.resolution.1,
+        mib(logical),
+        mib(physical)
+    );
+    let _ = writeln!(s, "  {:<22} {:>11}  {:<40} memory", "resource", "size", "used by passes");
+    for (r, (life, kept)) in plan.resources.iter().zip(super::alias::report(plan)) {
+        let used = match life {
+            Some((a, b)) if a == b => plan.passes[a].name.clone(),
+            Some((a, b)) => format!("{} .. {}", plan.passes[a].name, plan.passes[b].name),
+            None => "none".into(),
+        };
+        let memory = match (r.shares, kept) {
+            (Some(o), _) => format!("shares `{}`", plan.res(o).name),
+            (None, Some(why)) => format!("own ({why})"),
+            (None, None) => "own".into(),
+        };
+        let _ = writeln!(s, "  {:<22} {:>11}  {:<40} {memory}", r.name, mib(r.bytes), used);
+    }
+    s
 }
 
 pub fn mib_text(bytes: u64) -> String {

@@ -2,6 +2,7 @@
 //! nothing it would have to decide itself. Typed throughout: passes, resources and samplers
 //! are addressed by index, names are kept for display. Serializable and stable for snapshots.
 
+pub mod alias;
 mod build;
 mod constants;
 mod cull;
@@ -17,7 +18,7 @@ mod select;
 pub use build::{build_plan, check_configuration};
 pub use cull::{schedule, Schedule};
 pub use diff::{diff, Change, PassChange, PlanDiff};
-pub use explain::{mib_text, pass_facts, resource_fact, to_dot, to_text, work_word};
+pub use explain::{memory_text, mib_text, pass_facts, resource_fact, to_dot, to_text, work_word};
 pub use params::{declared_param, pass_value_params, plan_param, ParamError, ParamValues};
 pub use select::{select, Selection};
 
@@ -361,6 +362,10 @@ pub struct PlanResource {
     pub usage: BTreeSet<Usage>,
     /// Memory of every instance and history copy.
     pub bytes: u64,
+    /// A transient resource whose passes all run after the last pass using this earlier one
+    /// (stage `alias`): it may live in that one's memory, if the executor aliases.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shares: Option<ResourceId>,
 }
 
 impl PlanResource {
@@ -445,6 +450,9 @@ pub struct Plan {
     /// The linear image before tone mapping, when the pipeline names one (`hdr_output`).
     pub hdr_output: Option<ResourceId>,
     pub memory_bytes: u64,
+    /// Memory with transient resources aliased (`PlanResource::shares`).
+    #[serde(default)]
+    pub physical_bytes: u64,
     /// Sub-pixel camera jitter each frame (Halton 2, 3; `frame.jitter`).
     pub jitter: bool,
 }

@@ -144,6 +144,7 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
         valid: r.valid.as_ref().map(|v| v.value),
         usage,
         bytes: one * instances as u64 * copies,
+        shares: None,
     }
 }
 

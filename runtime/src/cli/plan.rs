@@ -32,6 +32,10 @@ pub struct Args {
     /// Print the Plan as JSON (format version in `format`; specified in docs/plan.md).
     #[arg(long)]
     pub json: bool,
+    /// Print each resource's memory, the passes using it, and which transient resources can
+    /// share memory (logical vs physical bytes).
+    #[arg(long, conflicts_with_all = ["explain", "json", "dot"])]
+    pub memory: bool,
     /// Resolution for sizes and the memory estimate (default: the scene's, else 1280x720).
     #[arg(long, value_name = "WxH")]
     pub size: Option<String>,
@@ -179,6 +183,8 @@ fn set_params(plan: &mut plan::Plan, params: &[(String, String)]) -> Result<()> 
 fn print_plan(a: &Args, plan: &plan::Plan) -> i32 {
     if a.dot {
         print!("{}", plan::to_dot(plan));
+    } else if a.memory {
+        print!("{}", plan::memory_text(plan));
     } else if a.json {
         match serde_json::to_string_pretty(plan) {
             Ok(j) => println!("{j}"),

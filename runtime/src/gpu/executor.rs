@@ -103,6 +103,10 @@ pub struct Executor {
     previous: Option<(glam::Mat4, [f32; 2])>,
     /// Which passes ran with what (reuse of unchanged work).
     pub(super) reuse: Reuse,
+    /// Whether reuse was asked for (`set_reuse`); aliasing turns it off while on.
+    reuse_on: bool,
+    /// Transient resources share memory where the Plan allows (`set_aliasing`).
+    alias: bool,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -172,7 +176,7 @@ impl Executor {
             camera,
             params: ParamValues::new(),
         };
-        let (state, fresh, _) = build_state(gpu, exe, &shared, &Pool::default(), &mut cache, &inputs.params)?;
+        let (state, fresh, _) = build_state(gpu, exe, &shared, (&Pool::default(), false), &mut cache, &inputs.params)?;
         cache.insert(fresh, state.passes.len());
         let ex = Executor {
             state,
@@ -188,6 +192,8 @@ impl Executor {
             supplied: Default::default(),
             previous: None,
             reuse: Reuse::new(true),
+            reuse_on: true,
+            alias: false,
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -205,7 +211,8 @@ impl Executor {
     pub fn replace(&mut self, gpu: &Gpu, exe: &Executable) -> Result<ReloadReport> {
         let mut params = self.inputs.params.clone();
         let dropped = params.retain_applicable(&exe.plan.params);
-        let (state, fresh, mut report) = build_state(gpu, exe, &self.shared, &self.state.pool, &mut self.cache, &params)?;
+        let old = (&self.state.pool, self.alias);
+        let (state, fresh, mut report) = build_state(gpu, exe, &self.shared, old, &mut self.cache, &params)?;
         report.params_dropped = dropped;
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
@@ -224,7 +231,8 @@ impl Executor {
         let shared = Shared::new(gpu, scene.clone())?;
         let mut params = self.inputs.params.clone();
         let dropped = params.retain_applicable(&exe.plan.params);
-        let (state, fresh, mut report) = build_state(gpu, exe, &shared, &self.state.pool, &mut self.cache, &params)?;
+        let old = (&self.state.pool, self.alias);
+        let (state, fresh, mut report) = build_state(gpu, exe, &shared, old, &mut self.cache, &params)?;
         report.params_dropped = dropped;
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
@@ -321,9 +329,44 @@ impl Executor {
         self.merge = on;
     }
 
-    /// Run every pass every frame (`false`), or only those whose inputs changed (the default).
+    /// Run every pass every frame (`false`), or only those whose inputs changed (the default;
+    /// not while aliasing).
     pub fn set_reuse(&mut self, on: bool) {
-        self.reuse = Reuse::new(on);
+        self.reuse_on = on;
+        self.reuse = Reuse::new(on && !self.alias);
+    }
+
+    /// Let transient resources share memory where the Plan allows (`PlanResource::shares`,
+    /// `plan --memory`), or give each its own (the default). The resources are made again, as
+    /// `replace` with `exe` (the executable running) does. While on, every pass runs every
+    /// frame (a skipped pass's result could be overwritten by another resource), and a
+    /// transient resource read after the frame holds whatever last lived in its memory: read
+    /// back only outputs, history and external resources.
+    pub fn set_aliasing(&mut self, gpu: &Gpu, exe: &Executable, on: bool) -> Result<ReloadReport> {
+        let was = self.alias;
+        self.alias = on;
+        match self.replace(gpu, exe) {
+            Ok(report) => {
+                self.reuse = Reuse::new(self.reuse_on && !on);
+                Ok(report)
+            }
+            Err(e) => {
+                self.alias = was;
+                Err(e)
+            }
+        }
+    }
+
+    /// Memory of the resources as created: each texture or buffer once (with aliasing, what
+    /// several resources share counts once).
+    pub fn resource_bytes(&self) -> u64 {
+        let plan = &self.state.plan;
+        plan.resources
+            .iter()
+            .zip(&self.state.pool.entries)
+            .filter(|(_, e)| e.alias_of.is_none())
+            .map(|(r, _)| r.bytes)
+            .sum()
     }
 
     /// Write the frame and light blocks; returns what changed-detection compares.
@@ -716,14 +759,15 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
     [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
 }
 
-/// The GPU state of an executable: resources (sharing `old`'s where unchanged), samplers,
+/// The GPU state of an executable: resources (sharing `old`'s where unchanged; transient ones
+/// sharing memory with `alias`), samplers,
 /// parameter blocks, pipelines (from `cache`, or built: returned as `Fresh` to be cached once
 /// the whole state is known to be good) and bind groups.
 fn build_state(
     gpu: &Gpu,
     exe: &Executable,
     shared: &Shared,
-    old: &Pool,
+    (old, alias): (&Pool, bool),
     cache: &mut PipelineCache,
     params: &ParamValues,
 ) -> Result<(State, Fresh, ReloadReport)> {
@@ -732,7 +776,7 @@ fn build_state(
     if exe.modules.len() != plan.passes.len() {
         return Err(Error::Plan("the executable has no shader modules for some passes".into()));
     }
-    let pool = err_scope(gpu, "creating resources", || Pool::build(device, plan, old))?;
+    let pool = err_scope(gpu, "creating resources", || Pool::build(device, plan, old, alias))?;
     let samplers: Vec<wgpu::Sampler> = plan.samplers.iter().map(|s| sampler(device, s)).collect();
     let reps_total: u64 = plan.passes.iter().map(|p| p.repetitions.max(1) as u64).sum();
     let instance_buf = uniform_buffer(device, "instances", SLOT * reps_total.max(1));

@@ -1,5 +1,6 @@
 //! GPU resources of a Plan: one texture (or buffer) per instance (per light for per-light
-//! resources), two for history resources (this frame and the previous one). When a new Plan
+//! resources), two for history resources (this frame and the previous one); with aliasing,
+//! transient resources the Plan lets share memory live in one resource's objects. When a new Plan
 //! replaces the running one, resources whose descriptors did not change are shared with the
 //! old pool (wgpu objects are reference-counted), so the old pool stays whole if the
 //! replacement fails.
@@ -45,6 +46,8 @@ pub struct Entry {
     pub name: String,
     pub key: Key,
     pub storage: Storage,
+    /// The resource whose memory this one lives in (transient aliasing), if another's.
+    pub alias_of: Option<String>,
 }
 
 impl Entry {
@@ -78,23 +81,67 @@ pub struct Pool {
 }
 
 impl Pool {
-    /// The resources of `plan`, sharing unchanged ones with `old`.
-    pub fn build(device: &wgpu::Device, plan: &Plan, old: &Pool) -> Pool {
-        let mut pool = Pool::default();
-        for r in &plan.resources {
-            let key = Key::of(r);
-            if let Some(e) = old.entries.iter().find(|e| e.name == r.name && e.key == key) {
-                pool.reused.push(r.name.clone());
-                pool.entries.push(e.clone());
-                continue;
+    /// The resources of `plan`, sharing unchanged ones with `old`. With `alias`, a transient
+    /// resource the Plan lets share another's memory (`PlanResource::shares`) gets that one's
+    /// textures or buffers, created with the usages of every resource living in them.
+    pub fn build(device: &wgpu::Device, plan: &Plan, old: &Pool, alias: bool) -> Pool {
+        let owner = |r: &PlanResource| r.shares.filter(|_| alias).map(|o| o.0 as usize);
+        let mut usage: Vec<BTreeSet<Usage>> = plan.resources.iter().map(|r| r.usage.clone()).collect();
+        for (i, r) in plan.resources.iter().enumerate() {
+            if let Some(o) = owner(r) {
+                let own = usage[i].clone();
+                usage[o].extend(own);
             }
-            pool.created.push(r.name.clone());
-            pool.entries.push(Entry {
-                name: r.name.clone(),
-                storage: create(device, r, &key),
-                key,
+        }
+        let mut pool = Pool::default();
+        let mut entries: Vec<Option<Entry>> = vec![None; plan.resources.len()];
+        for (i, r) in plan.resources.iter().enumerate().filter(|(_, r)| owner(r).is_none()) {
+            let key = Key {
+                usage: usage[i].clone(),
+                ..Key::of(r)
+            };
+            // An old entry that lived in another's memory is never taken over.
+            let found = old
+                .entries
+                .iter()
+                .find(|e| e.name == r.name && e.key == key && e.alias_of.is_none());
+            entries[i] = Some(match found {
+                Some(e) => {
+                    pool.reused.push(r.name.clone());
+                    e.clone()
+                }
+                None => {
+                    pool.created.push(r.name.clone());
+                    Entry {
+                        name: r.name.clone(),
+                        storage: create(device, r, &key),
+                        key,
+                        alias_of: None,
+                    }
+                }
             });
         }
+        for (i, r) in plan.resources.iter().enumerate() {
+            let Some(o) = owner(r) else { continue };
+            entries[i] = entries[o].clone().map(|home| Entry {
+                name: r.name.clone(),
+                alias_of: Some(home.name.clone()),
+                ..home
+            });
+        }
+        // Index-aligned with the Plan's resources (every owner was made above).
+        pool.entries = entries
+            .into_iter()
+            .zip(&plan.resources)
+            .map(|(e, r)| {
+                e.unwrap_or_else(|| Entry {
+                    name: r.name.clone(),
+                    storage: create(device, r, &Key::of(r)),
+                    key: Key::of(r),
+                    alias_of: None,
+                })
+            })
+            .collect();
         pool
     }
 
@@ -138,7 +185,7 @@ fn create(device: &wgpu::Device, r: &PlanResource, key: &Key) -> Storage {
             ..
         } => {
             // Everything can be read back (--dump); external resources are filled by copy.
-            let usage = convert::usage(&r.usage) | wgpu::TextureUsages::COPY_SRC;
+            let usage = convert::usage(&key.usage) | wgpu::TextureUsages::COPY_SRC;
             Storage::Textures(
                 (0..count)
                     .map(|i| {
