@@ -7,7 +7,6 @@ mod constants;
 pub mod data;
 pub mod declarations;
 pub mod entry;
-pub mod graph;
 pub mod io;
 pub mod limits;
 pub mod scene;

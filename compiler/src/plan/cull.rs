@@ -1,9 +1,10 @@
 //! Stages `conditions` and `cull`: evaluate each pass's `when` for the configuration,
 //! drop passes that repeat over lights the scene lacks or that the output does not need,
-//! then order the rest (stage `graph`).
+//! then order the rest (stage `graph`, in `order`).
 
+use super::order;
 use super::Config;
-use crate::check::{graph, Checked};
+use crate::check::Checked;
 use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
 use std::collections::BTreeMap;
@@ -97,7 +98,7 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
 /// Which passes a configuration keeps, in what order, and why the others are culled.
 pub struct Schedule {
     pub culled: BTreeMap<usize, String>,
-    pub ordered: graph::Ordered,
+    pub ordered: order::Ordered,
 }
 
 /// The checks of a configuration without assembling the Plan (what `check` needs).
@@ -133,7 +134,7 @@ pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Opt
             return None;
         }
     }
-    let ordered = graph::order(p, &kept, &culled, diags)?;
+    let ordered = order::order(p, &kept, &culled, diags)?;
     // A pass whose shaders failed to check has no version; its errors are already reported.
     if ordered.order.iter().any(|&i| checked.version(i, &cfg.selection.chosen).is_none()) {
         return None;

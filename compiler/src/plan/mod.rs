@@ -9,6 +9,7 @@ mod cull;
 mod deps;
 mod diff;
 mod explain;
+pub mod order;
 mod params;
 mod passes;
 mod resources;

@@ -1,4 +1,4 @@
-//! Stage `graph`: over the passes a configuration keeps, every read has a producer (or is
+//! Stage `graph` (ordering, a planning step): over the passes a configuration keeps, every read has a producer (or is
 //! external / a previous-frame read), there are no cycles except through history, and no
 //! two passes overwrite one resource in an undefined order. Yields the execution order.
 //!
