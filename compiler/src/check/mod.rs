@@ -9,6 +9,7 @@ pub mod declarations;
 pub mod entry;
 pub mod io;
 pub mod limits;
+mod reflect_facts;
 pub mod scene;
 
 use crate::diag::Diagnostics;
@@ -41,6 +42,11 @@ pub struct PassVersion {
     /// Fields of the frame block its entry points read, through every function they call
     /// (reflection, worked out once here rather than for every Plan).
     pub frame_fields: BTreeSet<String>,
+    /// Per declared resource bound as a buffer, the scalar kinds of the globals bound to it
+    /// (what its 32-bit words hold).
+    pub buffer_scalars: BTreeMap<String, BTreeSet<naga::ScalarKind>>,
+    /// The compute entry point's workgroup size (a compute pass).
+    pub workgroup_size: Option<[u32; 3]>,
 }
 
 /// A pipeline whose passes have been checked; versions that failed are absent.
@@ -183,11 +189,18 @@ fn pass_versions(
         };
         limits::check(p, pass, &stages, &resolved, profile, diags);
         let frame_fields = frame_fields(&stages, &resolved);
+        let buffer_scalars = reflect_facts::buffer_scalars(&stages, &resolved);
+        let workgroup_size = stages
+            .iter()
+            .find(|s| s.stage == Stage::Compute)
+            .map(|s| s.module.module.entry_points[s.entry].workgroup_size);
         out.push(PassVersion {
             option,
             stages,
             resolved,
             frame_fields,
+            buffer_scalars,
+            workgroup_size,
         });
     }
     out

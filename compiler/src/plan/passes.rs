@@ -105,12 +105,7 @@ fn work(p: &Pipeline, cfg: &Config, pass: &Pass, version: &PassVersion, ids: &Id
             targets: targets(p, &f.targets, ids)?,
         },
         PassKind::Compute(c) => {
-            let wg = version
-                .stages
-                .iter()
-                .find(|s| s.stage == Stage::Compute)
-                .map(|s| s.module.module.entry_points[s.entry].workgroup_size)
-                .unwrap_or([1, 1, 1]);
+            let wg = version.workgroup_size.unwrap_or([1, 1, 1]);
             let (groups, sized_from) = match &c.dispatch.value {
                 // One invocation per texel: workgroups to cover the resource at this resolution.
                 Dispatch::Size(r) => {

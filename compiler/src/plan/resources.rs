@@ -21,46 +21,19 @@ pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResourc
         .collect()
 }
 
-/// The scalar type of a buffer's words, from every shader global bound to it.
+/// The scalar type of a buffer's words, from every shader global bound to it (the check's
+/// reflection of each kept version).
 fn buffer_words(r: &Resource, kept: &Kept) -> Words {
-    let mut kinds = BTreeSet::new();
-    for (_, version) in kept {
-        let entries = version
-            .resolved
-            .groups
-            .iter()
-            .flat_map(|g| g.entries.iter().map(move |e| (g.group, e)));
-        for (group, e) in entries.filter(|(_, e)| matches!(&e.source, BindSource::Resource(n) if *n == r.name.value)) {
-            for st in &version.stages {
-                let m = &st.module.module;
-                let global = m
-                    .global_variables
-                    .iter()
-                    .find(|(_, g)| g.binding.as_ref().is_some_and(|b| b.group == group && b.binding == e.binding));
-                if let Some((_, g)) = global {
-                    leaf_kinds(m, g.ty, &mut kinds);
-                }
-            }
-        }
-    }
+    let kinds: BTreeSet<naga::ScalarKind> = kept
+        .iter()
+        .filter_map(|(_, v)| v.buffer_scalars.get(&r.name.value))
+        .flatten()
+        .copied()
+        .collect();
     match kinds.into_iter().collect::<Vec<_>>().as_slice() {
         [naga::ScalarKind::Uint] => Words::U32,
         [naga::ScalarKind::Sint] => Words::I32,
         _ => Words::F32,
-    }
-}
-
-fn leaf_kinds(m: &naga::Module, ty: naga::Handle<naga::Type>, out: &mut BTreeSet<naga::ScalarKind>) {
-    use naga::TypeInner as T;
-    match &m.types[ty].inner {
-        T::Scalar(s) | T::Vector { scalar: s, .. } | T::Matrix { scalar: s, .. } | T::Atomic(s) => {
-            out.insert(s.kind);
-        }
-        T::Array { base, .. } | T::BindingArray { base, .. } => leaf_kinds(m, *base, out),
-        T::Struct { members, .. } => members.iter().for_each(|mem| leaf_kinds(m, mem.ty, out)),
-        _ => {
-            out.insert(naga::ScalarKind::Float);
-        }
     }
 }
 
