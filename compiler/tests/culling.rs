@@ -55,6 +55,7 @@ fn scene(effects: &[Effect]) -> SceneFeatures {
         reflective: false,
         transparent: false,
         size: (64, 64),
+        order: vec![],
     }
 }
 

@@ -473,3 +473,34 @@ fn the_plan_format_document_names_every_key() {
         .collect();
     assert!(missing.is_empty(), "docs/plan.md does not name {missing:?}");
 }
+
+/// The Plan lists every run of a pass for the scene's lights in order: a per-light pass runs
+/// for the lights of its kinds (casting ones for `shadow_casters`), by their index in the
+/// light array; faces and runs nest inside.
+#[test]
+fn repetitions_name_the_scene_lights_by_index() {
+    use lightbench_compiler::ir::LightKind::*;
+    let scene = lightbench_compiler::scene::SceneFeatures::everything().with_order([
+        (Point, true),
+        (Spot, false),
+        (Point, false),
+        (Directional, true),
+    ]);
+    let mut s = lightbench_compiler::Session::new();
+    let path = repo_root().join("pipelines/deferred.lbp");
+    let plan = s
+        .plan_file(&path, None, &lightbench_compiler::profile::Profile::vulkan(), &scene, &[])
+        .unwrap_or_else(|| panic!("{}", s.render()));
+    let reps = |name: &str| plan.passes.iter().find(|p| p.name == name).unwrap().reps.clone();
+    let lights = |name: &str| reps(name).iter().map(|r| r.light).collect::<Vec<_>>();
+    assert_eq!(lights("light_point"), [Some(0), Some(2)]);
+    assert_eq!(lights("light_directional_spot"), [Some(1), Some(3)]);
+    // Shadow maps only for the casting lights: the spot casts none.
+    assert_eq!(lights("shadow_map"), [Some(3)]);
+    let cube = reps("shadow_cube_classic");
+    assert_eq!(cube.len(), 6, "one casting point light, six faces");
+    assert!(cube.iter().enumerate().all(|(f, r)| r.light == Some(0) && r.face == f as u32));
+    for p in &plan.passes {
+        assert_eq!(p.reps.len() as u32, p.repetitions, "{}", p.name);
+    }
+}

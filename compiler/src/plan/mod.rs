@@ -230,6 +230,8 @@ pub struct PlanPass {
     pub repeat: u32,
     /// How many times the pass runs for this scene (lights × faces × mip levels × repeat).
     pub repetitions: u32,
+    /// Each run, in order: lights outermost, then faces, mip levels, runs of a `repeat`.
+    pub reps: Vec<PlanRep>,
     pub reads: Vec<PlanRead>,
     /// Storage writes (attachments are in the work's targets).
     pub writes: Vec<ResourceId>,
@@ -246,6 +248,17 @@ pub struct PlanPass {
     /// For a pass of a used pipeline: that pipeline's file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub from: Option<String>,
+}
+
+/// One run of a pass: for which light (its index in the light array the frame binds, the
+/// scene's lights that are on, in order), cube face, mip level and run of a `repeat`; what
+/// the per-repetition block (`instance`) tells the shader.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PlanRep {
+    pub light: Option<u32>,
+    pub face: u32,
+    pub mip: Option<u32>,
+    pub run: u32,
 }
 
 /// What a pass's result depends on besides the resources it reads and its parameter block:

@@ -41,14 +41,8 @@ pub(super) fn assemble(p: &Pipeline, cfg: &Config, schedule: &Schedule, kept: &K
 
 fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version: &PassVersion, ids: &Ids) -> Option<PlanPass> {
     let pass = &p.passes[i];
-    let faces = if pass.per_face { 6 } else { 1 };
-    let levels = pass.per_mip.as_ref().map(|m| m.value.levels().len() as u32).unwrap_or(1);
-    let lights = pass
-        .per_light
-        .as_ref()
-        .map(|k| cfg.scene.repeats_for(k, pass.shadow_casters))
-        .unwrap_or(1);
     let repeat = cfg.repeat_count(p, pass.repeat.as_ref().map(|r| &r.value));
+    let reps = reps(cfg, pass, repeat);
     let after = schedule.ordered.after.get(&i).map(Vec::as_slice).unwrap_or(&[]);
     Some(PlanPass {
         name: pass.name.value.clone(),
@@ -71,7 +65,8 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
         shadow_casters: pass.shadow_casters,
         per_mip: pass.per_mip.as_ref().map(|m| m.value),
         repeat,
-        repetitions: lights * faces * levels * repeat,
+        repetitions: reps.len() as u32,
+        reps,
         reads: pass
             .reads
             .iter()
@@ -90,6 +85,38 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
         after: after.iter().map(|&j| ids.pass(j)).collect::<Option<_>>()?,
         depends: super::deps::depends(p, pass, version),
     })
+}
+
+/// Every run of a pass for this scene: per light of its kinds (casting lights only for
+/// `shadow_casters`), per cube face, per mip level, per run of a `repeat`.
+fn reps(cfg: &Config, pass: &Pass, repeat: u32) -> Vec<PlanRep> {
+    let lights: Vec<Option<u32>> = match &pass.per_light {
+        None => vec![None],
+        Some(kinds) => {
+            let order = cfg.scene.light_order();
+            let wanted = |(k, casts): &(crate::ir::LightKind, bool)| kinds.value.contains(k) && (*casts || !pass.shadow_casters);
+            order
+                .iter()
+                .enumerate()
+                .filter(|(_, l)| wanted(l))
+                .map(|(i, _)| Some(i as u32))
+                .collect()
+        }
+    };
+    let faces = if pass.per_face { 6 } else { 1 };
+    let mips: Vec<Option<u32>> = match &pass.per_mip {
+        Some(m) => m.value.levels().into_iter().map(Some).collect(),
+        None => vec![None],
+    };
+    let mut out = vec![];
+    for &light in &lights {
+        for face in 0..faces {
+            for &mip in &mips {
+                out.extend((0..repeat.max(1)).map(|run| PlanRep { light, face, mip, run }));
+            }
+        }
+    }
+    out
 }
 
 fn work(p: &Pipeline, cfg: &Config, pass: &Pass, version: &PassVersion, ids: &Ids) -> Option<Work> {

@@ -121,31 +121,21 @@ impl Binder<'_> {
     /// Every repetition of a pass (lights of its kinds × faces), writing each one's instance
     /// block at its slot; `slot` advances past the pass's slots.
     pub fn reps(&self, pp: &PlanPass, layouts: &[wgpu::BindGroupLayout], params: &[wgpu::Buffer], slot: &mut u64) -> Result<Vec<Rep>> {
-        let lights: Vec<Option<u32>> = if pp.per_light.is_empty() {
-            vec![None]
-        } else {
-            // Resources keep one instance per light of the kinds; a `shadow_casters` pass
-            // renders only the casters' instances.
-            lights_of(self.lights, &pp.per_light)
-                .into_iter()
-                .filter(|&i| !pp.shadow_casters || self.lights[i as usize].shadows)
-                .map(Some)
-                .collect()
-        };
-        let faces: Vec<u32> = if pp.per_face { (0..6).collect() } else { vec![0] };
-        let mips: Vec<Option<u32>> = match pp.per_mip {
-            Some(m) => m.levels().into_iter().map(Some).collect(),
-            None => vec![None],
-        };
         let parities = if self.pool.has_history() { 2 } else { 1 };
         let mut reps = vec![];
-        let mut combos: Vec<(Option<u32>, u32, Option<u32>, u32)> = vec![];
-        for &l in &lights {
-            for &f in &faces {
-                for &m in &mips {
-                    combos.extend((0..pp.repeat.max(1)).map(|k| (l, f, m, k)));
-                }
-            }
+        // The Plan's runs, made for this scene's lights (their order in the light array).
+        let combos: Vec<(Option<u32>, u32, Option<u32>, u32)> = pp.reps.iter().map(|r| (r.light, r.face, r.mip, r.run)).collect();
+        let fits = |l: u32| {
+            self.lights
+                .get(l as usize)
+                .is_some_and(|x| pp.per_light.contains(&x.kind) && (x.shadows || !pp.shadow_casters))
+        };
+        if let Some(l) = pp.reps.iter().filter_map(|r| r.light).find(|&l| !fits(l)) {
+            return Err(Error::Plan(format!(
+                "pass `{}` runs for light {l}, which is not one of its kinds among the scene's {} lights on: the Plan was made for another scene",
+                pp.name,
+                self.lights.len()
+            )));
         }
         for (light, face, mip, repetition) in combos {
             let (w, h) = self.target_size(pp, mip);

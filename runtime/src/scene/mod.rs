@@ -282,7 +282,7 @@ impl Scene {
             &self.effects,
             self.meshes.iter().any(|m| m.reflective),
         )
-        .with_casters(self.active_lights().iter().filter(|l| l.shadows).map(|l| l.kind));
+        .with_order(self.active_lights().iter().map(|l| (l.kind, l.shadows)));
         f.transparent = self
             .meshes
             .iter()

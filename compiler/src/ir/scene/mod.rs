@@ -200,8 +200,10 @@ impl SceneDesc {
         let casters = self.lights.iter().filter(|l| l.on && l.shadows).map(|l| l.kind);
         let reflective = self.models.iter().any(|m| m.reflective);
         // Models' KHR lights cast shadows (glTF cannot say otherwise).
+        let order = self.lights.iter().filter(|l| l.on).map(|l| (l.kind, l.shadows));
         let mut f = SceneFeatures::new(&self.name, self.size, on.chain(extra.iter().copied()), &self.effects, reflective)
-            .with_casters(casters.chain(extra.iter().copied()));
+            .with_casters(casters.chain(extra.iter().copied()))
+            .with_order(order.chain(extra.iter().map(|&k| (k, true))));
         // Only loading a model shows whether it has blended materials: assume it may.
         f.transparent = !self.models.is_empty();
         f
@@ -220,6 +222,10 @@ pub struct SceneFeatures {
     /// Some mesh blends (glTF alphaMode BLEND): `draw: Transparent` passes have work.
     pub transparent: bool,
     pub size: (u32, u32),
+    /// Every light that is on, in the order of the light array a frame binds, and whether it
+    /// casts shadows (`with_order`); empty when only counts are known.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub order: Vec<(LightKind, bool)>,
 }
 
 impl SceneFeatures {
@@ -243,6 +249,7 @@ impl SceneFeatures {
             reflective,
             transparent: false,
             size,
+            order: vec![],
         }
     }
 
@@ -257,6 +264,7 @@ impl SceneFeatures {
             reflective: true,
             transparent: true,
             size: (1280, 720),
+            order: vec![],
         }
     }
 
@@ -276,6 +284,39 @@ impl SceneFeatures {
         } else {
             self.light_count(kinds)
         }
+    }
+
+    /// The lights in the light array's order, each with whether it casts shadows; the counts
+    /// follow. A Plan's repetitions name lights by their index in it.
+    pub fn with_order(mut self, lights: impl IntoIterator<Item = (LightKind, bool)>) -> Self {
+        self.order = lights.into_iter().collect();
+        self.lights.clear();
+        self.casters.clear();
+        for &(k, casts) in &self.order {
+            *self.lights.entry(k).or_insert(0u32) += 1;
+            if casts {
+                *self.casters.entry(k).or_insert(0u32) += 1;
+            }
+        }
+        self
+    }
+
+    /// The lights in the light array's order with whether each casts shadows: as given
+    /// (`with_order`), else made from the counts (kinds in `LightKind::ALL` order, the first
+    /// lights of a kind the casting ones).
+    pub fn light_order(&self) -> Vec<(LightKind, bool)> {
+        if !self.order.is_empty() {
+            return self.order.clone();
+        }
+        let mut out = vec![];
+        for k in LightKind::ALL {
+            let (n, casting) = (
+                self.lights.get(&k).copied().unwrap_or(0),
+                self.casters.get(&k).copied().unwrap_or(0),
+            );
+            out.extend((0..n).map(|i| (k, i < casting)));
+        }
+        out
     }
 
     /// Set which of the lights cast shadows (kinds of the casting lights that are on).
