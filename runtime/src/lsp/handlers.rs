@@ -152,13 +152,12 @@ impl Server {
         let (file, entry) = (u.file.value.clone(), u.entry.as_ref().map(|e| e.value.clone()));
         let entry = entry.or_else(|| file.split_once('#').map(|(_, e)| e.to_string()));
         let shader = self.shader_path(&path, &file);
-        let text = self.overlay.get(&shader).or_else(|| std::fs::read_to_string(&shader).ok())?;
-        let entries = super::index::entry_points(&text, &shader);
-        let at = entry
-            .and_then(|e| entries.iter().find(|(n, _, _)| *n == e))
-            .map_or(0, |(_, _, o)| *o);
+        // The entry point where it is written (maybe an included file), else the file's top.
+        let found = entry.and_then(|e| self.entries_in(&shader).into_iter().find(|(n, _, _, _)| *n == e));
+        let (target, at) = found.map_or((shader, 0), |(_, _, f, at)| (f, at));
+        let text = self.overlay.get(&target).or_else(|| std::fs::read_to_string(&target).ok())?;
         Some(GotoDefinitionResponse::Scalar(Location {
-            uri: uri_of(&shader)?,
+            uri: uri_of(&target)?,
             range: range(&text, at, at),
         }))
     }
@@ -265,8 +264,7 @@ impl Server {
 
     pub(super) fn shader_entries(&self, pipeline: &Path, file: &str) -> Vec<(String, &'static str, usize)> {
         let shader = self.shader_path(pipeline, file);
-        let text = self.overlay.get(&shader).or_else(|| std::fs::read_to_string(&shader).ok());
-        text.map(|t| super::index::entry_points(&t, &shader)).unwrap_or_default()
+        self.entries_in(&shader).into_iter().map(|(n, st, _, at)| (n, st, at)).collect()
     }
 }
 

@@ -170,7 +170,8 @@ impl Index {
         for (_, sref) in pass.stages() {
             // The built-in full-screen vertex stage is named by no text.
             if sref.file.span != pass.span {
-                let entry = (sref.entry.span != sref.file.span && sref.entry.span != pass.span).then(|| sref.entry.clone());
+                // The entry point as written, or the default one the pass runs.
+                let entry = (sref.entry.span != pass.span).then(|| sref.entry.clone());
                 if !self.shaders.iter().any(|s| s.file.span == sref.file.span) {
                     self.shaders.push(ShaderUse {
                         file: sref.file.clone(),

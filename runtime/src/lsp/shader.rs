@@ -86,6 +86,9 @@ impl Server {
     }
 
     pub(super) fn shader_definition(&mut self, pos: TextDocumentPositionParams) -> Option<GotoDefinitionResponse> {
+        if let Some(included) = self.included_at(&pos) {
+            return Some(GotoDefinitionResponse::Scalar(included));
+        }
         let (_, _, _, word, readers) = self.shader_word(&pos)?;
         let mut found = vec![];
         for p in readers {
@@ -95,6 +98,60 @@ impl Server {
             }
         }
         (!found.is_empty()).then_some(GotoDefinitionResponse::Array(found))
+    }
+
+    /// A shader file's entry points with the files they are written in, its `#include`d files
+    /// searched too (as the compiler splices them; each file once).
+    pub(super) fn entries_in(&self, shader: &Path) -> Vec<(String, &'static str, PathBuf, usize)> {
+        let (mut out, mut todo, mut seen) = (vec![], vec![shader.to_path_buf()], vec![]);
+        while let Some(f) = todo.pop() {
+            if seen.contains(&f) || seen.len() > 64 {
+                continue;
+            }
+            seen.push(f.clone());
+            let Some(text) = self.overlay.get(&f).or_else(|| std::fs::read_to_string(&f).ok()) else {
+                continue;
+            };
+            out.extend(
+                super::index::entry_points(&text, &f)
+                    .into_iter()
+                    .map(|(n, st, at)| (n, st, f.clone(), at)),
+            );
+            for line in text.lines() {
+                let target = line.trim_start().strip_prefix("#include").map(str::trim);
+                let Some(target) = target.and_then(|t| t.strip_prefix('"')?.strip_suffix('"')) else {
+                    continue;
+                };
+                if let Some(inc) = self.include_target(&f, target) {
+                    todo.push(inc);
+                }
+            }
+        }
+        out
+    }
+
+    /// Where an `#include "target"` of `from` resolves: the nearest folder above it holding
+    /// the path (include paths are relative to the shader root).
+    fn include_target(&self, from: &Path, target: &str) -> Option<PathBuf> {
+        from.parent()?
+            .ancestors()
+            .map(|d| d.join(target))
+            .find(|f| f.is_file() || self.overlay.get(f).is_some())
+    }
+
+    /// On an `#include "path"` line: the included file (paths are relative to the shader root,
+    /// the nearest folder above the shader in which the path exists).
+    fn included_at(&self, pos: &TextDocumentPositionParams) -> Option<lsp_types::Location> {
+        let path = path_of(&pos.text_document.uri)?;
+        let text = self.overlay.get(&path).or_else(|| std::fs::read_to_string(&path).ok())?;
+        let line = text.lines().nth(pos.position.line as usize)?;
+        let rest = line.trim_start().strip_prefix("#include")?.trim();
+        let target = rest.strip_prefix('"')?.strip_suffix('"')?;
+        let file = self.include_target(&path, target)?;
+        Some(lsp_types::Location {
+            uri: super::text::uri_of(&file)?,
+            range: Default::default(),
+        })
     }
 
     /// `lib/frame.wgsl` under the shader root of the shader's folder (or above it).
