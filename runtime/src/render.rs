@@ -126,22 +126,26 @@ pub fn render(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32) -> Result
 
 /// `render` with parameter overrides (each checked against the Plan's parameters).
 pub fn render_with(gpu: &Gpu, exe: &Executable, scene: &Scene, frames: u32, params: &[(String, ParamValue)]) -> Result<Executor> {
-    render_scene(gpu, exe, scene.clone(), (frames, true), params, &[])
+    render_scene(gpu, exe, scene.clone(), (frames, true, false), params, &[])
 }
 
-/// `render_with` taking the scene, whose textures are dropped once on the GPU.
-/// and with external resources filled from files (`(name, file)`).
+/// `render_with` taking the scene, whose textures are dropped once on the GPU, with external
+/// resources filled from files (`(name, file)`), and with reuse and aliasing of transient
+/// memory as asked.
 pub fn render_scene(
     gpu: &Gpu,
     exe: &Executable,
     scene: Scene,
-    (frames, reuse): (u32, bool),
+    (frames, reuse, alias): (u32, bool, bool),
     params: &[(String, ParamValue)],
     inputs: &[(String, std::path::PathBuf)],
 ) -> Result<Executor> {
     let mut ex = Executor::with_scene(gpu, exe, scene)?;
     ex.log_timings = true;
     ex.set_reuse(reuse);
+    if alias {
+        ex.set_aliasing(gpu, exe, true)?;
+    }
     for (name, value) in params {
         ex.set_param(name, value.clone())?;
     }

@@ -406,3 +406,44 @@ fn per_pass_values_are_set_like_parameters() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("ao_blur_h.dir"), "{err}");
 }
+
+/// `render --alias`: the same image in less memory, and no dump of a resource that shares
+/// memory (exit 2, naming the other).
+#[test]
+fn render_alias_renders_the_same_image_and_refuses_shared_dumps() {
+    let dir = temp("alias");
+    let args = |out: &std::path::Path| -> Vec<String> {
+        [
+            "render",
+            "--pipeline",
+            "pipelines/deferred_gi.lbp",
+            "--scene",
+            "scenes/cornell_spot.ron",
+            "--out",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .chain([out.display().to_string()])
+        .collect()
+    };
+    let (own, aliased) = (dir.join("own.png"), dir.join("aliased.png"));
+    let a: Vec<String> = args(&own);
+    let (code, _, err) = run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    let mut b = args(&aliased);
+    b.push("--alias".into());
+    let (code, _, err) = run(&b.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("resources: 6.45 MiB with transient memory aliased (6.52 MiB each its own)"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read(&own).unwrap(), std::fs::read(&aliased).unwrap());
+    b.extend(["--dump".to_string(), "gbuf.emissive".to_string()]);
+    let (code, _, err) = run(&b.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("`gbuf.emissive` shares memory with `gi.indirect` under --alias"),
+        "{err}"
+    );
+}

@@ -57,6 +57,10 @@ pub struct Args {
     /// Run every pass every frame, even when nothing it depends on changed.
     #[arg(long)]
     pub no_reuse: bool,
+    /// Let transient resources share memory where the Plan allows (`plan --memory`); every
+    /// pass then runs every frame, and they cannot be dumped.
+    #[arg(long)]
+    pub alias: bool,
     /// Keep rendering, headless, and reload when the pipeline, a shader it reads or the scene
     /// file changes: each reload's outcome and latency is printed, `--out` rewritten after it.
     #[arg(long)]
@@ -180,10 +184,18 @@ fn execute(
         eprintln!("{note}");
     }
     // Checked before rendering, so a typo costs no frames.
-    let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l)).transpose()?;
+    let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l, a.alias)).transpose()?;
     let params = parsed;
     // The scene is handed over: its textures are dropped once uploaded.
-    let ex = render_scene(&gpu, &exe, scene, (a.frames, !a.no_reuse), &params, inputs)?;
+    let ex = render_scene(&gpu, &exe, scene, (a.frames, !a.no_reuse, a.alias), &params, inputs)?;
+    if a.alias {
+        let (logical, physical) = (exe.plan.memory_bytes, ex.resource_bytes());
+        eprintln!(
+            "resources: {} with transient memory aliased ({} each its own)",
+            lightbench_compiler::plan::mib_text(physical),
+            lightbench_compiler::plan::mib_text(logical)
+        );
+    }
     save_output(a, &gpu, &ex, &exe)?;
     if let Some(names) = &dumps {
         dump(&gpu, &ex, names, &a.dump_dir, a.dump_format)?;
@@ -347,7 +359,9 @@ fn manifest(p: &Path, (a, pipeline): (&Args, &Path), gpu: &Gpu, ex: &Executor, e
 }
 
 /// The `--dump` list, each name a resource of the Plan (with a suggestion when not).
-fn dump_names(exe: &Executable, list: &str) -> Result<Vec<String>> {
+/// With `alias`, a resource living in another's memory, or lending its own, is refused: after
+/// the frame it holds what last lived there.
+fn dump_names(exe: &Executable, list: &str, alias: bool) -> Result<Vec<String>> {
     let names: Vec<String> = list.split(',').map(str::trim).filter(|n| !n.is_empty()).map(String::from).collect();
     if names.is_empty() {
         return Err(Error::Usage("--dump: no resource names given".into()));
@@ -363,8 +377,26 @@ fn dump_names(exe: &Executable, list: &str) -> Result<Vec<String>> {
                 known.join(", ")
             )));
         }
+        if alias {
+            if let Some(other) = memory_partner(&exe.plan, n) {
+                return Err(Error::Usage(format!(
+                    "--dump: `{n}` shares memory with `{other}` under --alias (after the frame it holds what last lived there); drop --alias to read it back"
+                )));
+            }
+        }
     }
     Ok(names)
+}
+
+/// A resource whose memory `name` shares, or one living in `name`'s.
+fn memory_partner(plan: &lightbench_compiler::plan::Plan, name: &str) -> Option<String> {
+    let id = plan.resources.iter().position(|r| r.name == name)?;
+    let r = &plan.resources[id];
+    if let Some(o) = r.shares {
+        return Some(plan.res(o).name.clone());
+    }
+    let lodger = plan.resources.iter().find(|x| x.shares.is_some_and(|o| o.0 as usize == id));
+    lodger.map(|x| x.name.clone())
 }
 
 /// `--out`, `--manifest` and `--timings-json` must name different files, each one that may
