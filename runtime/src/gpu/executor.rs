@@ -105,6 +105,10 @@ pub struct Executor {
     pub(super) reuse: Reuse,
     /// Whether reuse was asked for (`set_reuse`); aliasing turns it off while on.
     reuse_on: bool,
+    /// Frames submitted and maybe still running on the GPU, oldest first.
+    in_flight: std::collections::VecDeque<wgpu::SubmissionIndex>,
+    /// How many frames may be in flight (`set_frames_in_flight`).
+    frames_in_flight: usize,
     /// Transient resources share memory where the Plan allows (`set_aliasing`).
     alias: bool,
 }
@@ -194,6 +198,8 @@ impl Executor {
             reuse: Reuse::new(true),
             reuse_on: true,
             alias: false,
+            in_flight: Default::default(),
+            frames_in_flight: 2,
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -526,6 +532,40 @@ impl Executor {
         self.reuse.decide(&state.graph, keys, &inputs)
     }
 
+    /// Let up to `n` frames be on the GPU at once (2 by default; at least 1): `render_frame`
+    /// returns once the frame is submitted and the one `n` frames back has finished, so the
+    /// CPU encodes the next frame while the GPU runs this one. A frame timed with timestamp
+    /// queries is waited for (its timings are read at once). Read-backs wait for every frame.
+    pub fn set_frames_in_flight(&mut self, n: u32) {
+        self.frames_in_flight = n.max(1) as usize;
+    }
+
+    /// Wait until the GPU has run every submitted frame.
+    pub fn wait_idle(&mut self, gpu: &Gpu) -> Result<()> {
+        self.in_flight.clear();
+        gpu.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| Error::gpu("waiting for the GPU", e))
+    }
+
+    /// After a submission: wait for it if it is timed, else for the frames beyond the bound.
+    fn bound_in_flight(&mut self, gpu: &Gpu, submitted: wgpu::SubmissionIndex, timed: bool) -> Result<()> {
+        if timed {
+            return self.wait_idle(gpu);
+        }
+        self.in_flight.push_back(submitted);
+        while self.in_flight.len() > self.frames_in_flight {
+            let oldest = self.in_flight.pop_front();
+            let wait = wgpu::PollType::Wait {
+                submission_index: oldest,
+                timeout: None,
+            };
+            gpu.device.poll(wait).map_err(|e| Error::gpu("waiting for the GPU", e))?;
+        }
+        Ok(())
+    }
+
     /// Render one frame. GPU errors come back as values naming the pass.
     pub fn render_frame(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> Result<()> {
         let run = self.begin_frame(gpu, inputs)?;
@@ -555,13 +595,14 @@ impl Executor {
         let timer = state.timer.as_ref().filter(|_| self.timing);
         buffers.extend(timer.map(|t| t.resolve(gpu)));
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        gpu.queue.submit(buffers);
+        let submitted = gpu.queue.submit(buffers);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::gpu("submitting the frame", e));
         }
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::gpu("waiting for the GPU", e))?;
+        let timed = timer.is_some();
+        self.bound_in_flight(gpu, submitted, timed)?;
+        let state = &self.state;
+        let timer = state.timer.as_ref().filter(|_| self.timing);
         let gpu_ms = timer.map(|t| t.read(gpu)).transpose()?;
         self.last_timings = state
             .passes

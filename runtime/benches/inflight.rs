@@ -1,0 +1,47 @@
+//! `cargo bench -p lightbench --bench inflight`: wall time of 200 frames of `deferred.lbp`
+//! on `many_lights` (100 point lights, every pass every frame, no timestamps) with two frames
+//! in flight (the default: the CPU encodes a frame while the GPU runs the one before) against
+//! waiting for each frame, interleaved in one run, as a ratio. Needs an adapter (lavapipe is
+//! enough; there "the GPU" is the same CPU cores, so overlap gains little, where a real GPU
+//! would hide the encoding). Not a test.
+
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::render::compile;
+use lightbench::scene::Scene;
+use std::path::Path;
+use std::time::Instant;
+
+const FRAMES: u32 = 200;
+
+fn run(gpu: &Gpu, ex: &mut Executor, in_flight: u32) -> f64 {
+    ex.set_frames_in_flight(in_flight);
+    let t = Instant::now();
+    for f in 0..FRAMES {
+        let inputs = ex.inputs(f as f32 / 60.0);
+        ex.render_frame(gpu, &inputs).expect("frame");
+    }
+    ex.wait_idle(gpu).expect("idle");
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn main() {
+    let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
+    println!("{}", gpu.describe());
+    let mut scene: Scene = lightbench::scene::load("many_lights").expect("scene");
+    scene.size = (256, 192);
+    let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.lbp");
+    let (exe, _) = compile(&gpu, &pipeline, None, &scene, &[]).expect("compile");
+    let mut ex = Executor::new(&gpu, &exe, &scene).expect("executor");
+    ex.set_reuse(false);
+    ex.set_timing(false);
+    run(&gpu, &mut ex, 2); // warm up
+    let (mut waiting, mut overlapped) = (0.0, 0.0);
+    for _ in 0..2 {
+        waiting += run(&gpu, &mut ex, 1);
+        overlapped += run(&gpu, &mut ex, 2);
+    }
+    println!("deferred.lbp, many_lights at 256×192, {FRAMES} frames (2 rounds, interleaved)");
+    println!("  waiting for each frame : {:9.1} ms", waiting / 2.0);
+    println!("  2 frames in flight     : {:9.1} ms", overlapped / 2.0);
+    println!("  ratio in flight / waiting: {:.3}", overlapped / waiting);
+}
