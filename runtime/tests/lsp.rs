@@ -385,6 +385,14 @@ fn malformed_requests_are_answered_and_bad_framing_ends_without_a_panic() {
     c.open(&huge, &"// padding\n".repeat(17 << 20 >> 4 << 1));
     let d = c.diagnostics(&huge);
     assert!(d[0]["message"].as_str().unwrap().contains("larger than"), "{d:?}");
+    // An include leaving the shader root, or found only outside the workspace, leads nowhere.
+    let evil = dir.join("shaders/evil.wgsl");
+    let evil_text = "#include \"../pipelines/deferred.lbp\"\n#include \"etc/hostname\"\n";
+    c.open(&evil, evil_text);
+    for line in [0, 1] {
+        let p = json!({"textDocument": {"uri": uri(&evil)}, "position": {"line": line, "character": 12}});
+        assert_eq!(c.request("textDocument/definition", p), Value::Null);
+    }
     // Bytes that are not JSON: the server stops reading and exits, without a panic.
     c.send_raw(b"{not json");
     drop(c.stdin);

@@ -40,6 +40,13 @@ impl Expanded {
     }
 }
 
+/// The path an `#include "path"` line names: `None` when the line is no `#include`,
+/// `Some(None)` when it is one without a quoted path.
+pub fn included(line: &str) -> Option<Option<&str>> {
+    let rest = line.trim_start().strip_prefix("#include")?.trim();
+    Some(rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')))
+}
+
 /// How many files deep includes may nest (each level is a recursion of the expander).
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 
@@ -100,14 +107,12 @@ fn expand_file(
     for line in text.split_inclusive('\n') {
         let this_start = line_start;
         line_start += line.len();
-        let trimmed = line.trim_start();
-        let Some(rest) = trimmed.strip_prefix("#include") else {
+        let Some(found) = included(line) else {
             continue;
         };
-        let indent = line.len() - trimmed.len();
+        let indent = line.len() - line.trim_start().len();
         let directive = Span::new(file, this_start + indent, this_start + line.trim_end().len());
-        let rest = rest.trim();
-        let Some(path) = rest.strip_prefix('"').and_then(|r| r.strip_suffix('"')) else {
+        let Some(path) = found else {
             return Err(Diagnostic::error(Code::IncludeSyntax, "expected `#include \"path\"`", directive));
         };
         // Text before the directive.

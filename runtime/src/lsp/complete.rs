@@ -13,7 +13,7 @@ use lsp_types::{CompletionItem, CompletionItemKind, CompletionResponse, TextDocu
 impl Server {
     pub(super) fn complete(&mut self, pos: TextDocumentPositionParams) -> Option<CompletionResponse> {
         let path = path_of(&pos.text_document.uri)?;
-        let text = self.overlay.get(&path).or_else(|| std::fs::read_to_string(&path).ok())?;
+        let text = self.text(&path)?;
         let cursor = offset(&text, pos.position)?;
         let line = &text[text[..cursor].rfind('\n').map_or(0, |i| i + 1)..cursor];
         let key = key_of(line);

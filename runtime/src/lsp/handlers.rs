@@ -92,7 +92,7 @@ impl Server {
     /// The index of a pipeline document: rebuilt when its text changed and still lowers,
     /// else the last one that did.
     pub(super) fn index(&mut self, path: &Path) -> Option<&Index> {
-        let text = self.overlay.get(path).or_else(|| std::fs::read_to_string(path).ok())?;
+        let text = self.text(path)?;
         let fresh = self.indexes.get(path).is_some_and(|(t, _)| *t == text);
         if !fresh && super::diagnostics::kind_of(path, Some(&text)) == super::diagnostics::FileKind::Pipeline {
             let mut s = self.workspace.session();
@@ -155,7 +155,7 @@ impl Server {
         // The entry point where it is written (maybe an included file), else the file's top.
         let found = entry.and_then(|e| self.entries_in(&shader).into_iter().find(|(n, _, _, _)| *n == e));
         let (target, at) = found.map_or((shader, 0), |(_, _, f, at)| (f, at));
-        let text = self.overlay.get(&target).or_else(|| std::fs::read_to_string(&target).ok())?;
+        let text = self.text(&target)?;
         Some(GotoDefinitionResponse::Scalar(Location {
             uri: uri_of(&target)?,
             range: range(&text, at, at),
@@ -245,7 +245,7 @@ impl Server {
         if path.extension().and_then(|e| e.to_str()) != Some("lbp") {
             return None;
         }
-        let text = self.overlay.get(&path).or_else(|| std::fs::read_to_string(&path).ok())?;
+        let text = self.text(&path)?;
         let mut s = self.workspace.session();
         let p = s.load_pipeline(&path).filter(|_| !s.diags.has_errors())?;
         let printed = lightbench_compiler::front::lbp::print::print(&p, Some(&text));

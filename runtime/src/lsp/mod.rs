@@ -14,11 +14,12 @@ mod shader;
 pub mod text;
 
 use lightbench_compiler::profile::Profile;
+use lightbench_compiler::vfs::Vfs;
 use lightbench_compiler::Workspace;
 use lsp_server::{Connection, Message, Notification};
 use lsp_types::notification::{self as note, Notification as _};
 use std::collections::{BTreeSet, HashMap};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Duration;
 use text::{path_of, Overlay};
@@ -167,6 +168,17 @@ impl Server {
         }
     }
 
+    /// A document's text: the editor's, else the file's, read as every user file is (regular
+    /// files only, at most 16 MiB, UTF-8).
+    fn text(&self, path: &Path) -> Option<String> {
+        self.overlay.read(path).ok()
+    }
+
+    /// Whether there is a document or a file at `path`.
+    fn exists(&self, path: &Path) -> bool {
+        self.overlay.get(path).is_some() || path.is_file()
+    }
+
     /// Pipelines the server knows of: open ones, and those below the workspace folders'
     /// `pipelines/` directories.
     fn known_pipelines(&self) -> BTreeSet<PathBuf> {
@@ -178,7 +190,7 @@ impl Server {
         open.chain(below)
             .filter(|p| {
                 // A RON file is a scene or sweep file when its first item says so.
-                let text = self.overlay.get(p).or_else(|| std::fs::read_to_string(p).ok());
+                let text = self.text(p);
                 diagnostics::kind_of(p, text.as_deref()) == diagnostics::FileKind::Pipeline
             })
             .collect()

@@ -5,6 +5,8 @@
 use super::index::{Index, Kind};
 use super::text::{offset, path_of, range};
 use super::Server;
+use lightbench_compiler::shader::include;
+use lightbench_compiler::vfs::Vfs;
 use lsp_types::{GotoDefinitionResponse, Hover, HoverContents, MarkupContent, MarkupKind, TextDocumentPositionParams};
 use std::path::{Path, PathBuf};
 
@@ -48,7 +50,7 @@ impl Server {
     /// the shader.
     fn shader_word(&mut self, pos: &TextDocumentPositionParams) -> Option<(PathBuf, String, usize, String, Vec<PathBuf>)> {
         let path = path_of(&pos.text_document.uri)?;
-        let text = self.overlay.get(&path).or_else(|| std::fs::read_to_string(&path).ok())?;
+        let text = self.text(&path)?;
         let at = offset(&text, pos.position)?;
         let (start, word) = word_at(&text, at)?;
         let word = word.to_string();
@@ -109,7 +111,7 @@ impl Server {
                 continue;
             }
             seen.push(f.clone());
-            let Some(text) = self.overlay.get(&f).or_else(|| std::fs::read_to_string(&f).ok()) else {
+            let Some(text) = self.text(&f) else {
                 continue;
             };
             out.extend(
@@ -117,36 +119,34 @@ impl Server {
                     .into_iter()
                     .map(|(n, st, at)| (n, st, f.clone(), at)),
             );
-            for line in text.lines() {
-                let target = line.trim_start().strip_prefix("#include").map(str::trim);
-                let Some(target) = target.and_then(|t| t.strip_prefix('"')?.strip_suffix('"')) else {
-                    continue;
-                };
-                if let Some(inc) = self.include_target(&f, target) {
-                    todo.push(inc);
-                }
-            }
+            let targets = text.lines().filter_map(|l| include::included(l).flatten());
+            todo.extend(targets.filter_map(|t| self.include_target(&f, t)));
         }
         out
     }
 
     /// Where an `#include "target"` of `from` resolves: the nearest folder above it holding
-    /// the path (include paths are relative to the shader root).
+    /// the path (include paths are relative to the shader root, which they may not leave, as
+    /// the compiler confines them; links resolved, as it does).
     fn include_target(&self, from: &Path, target: &str) -> Option<PathBuf> {
-        from.parent()?
-            .ancestors()
-            .map(|d| d.join(target))
-            .find(|f| f.is_file() || self.overlay.get(f).is_some())
+        include::confined(target).ok()?;
+        // Folders inside the workspace only (without one: the shader's folder and its parent).
+        let dir = from.parent()?;
+        let inside = |d: &Path| match self.roots.is_empty() {
+            true => d == dir || Some(d) == dir.parent(),
+            false => self.roots.iter().any(|r| d.starts_with(r)),
+        };
+        let root = dir.ancestors().take_while(|d| inside(d)).find(|d| self.exists(&d.join(target)))?;
+        let file = root.join(target);
+        self.overlay.within(root, &file).ok().map(|_| file)
     }
 
     /// On an `#include "path"` line: the included file (paths are relative to the shader root,
     /// the nearest folder above the shader in which the path exists).
     fn included_at(&self, pos: &TextDocumentPositionParams) -> Option<lsp_types::Location> {
         let path = path_of(&pos.text_document.uri)?;
-        let text = self.overlay.get(&path).or_else(|| std::fs::read_to_string(&path).ok())?;
-        let line = text.lines().nth(pos.position.line as usize)?;
-        let rest = line.trim_start().strip_prefix("#include")?.trim();
-        let target = rest.strip_prefix('"')?.strip_suffix('"')?;
+        let text = self.text(&path)?;
+        let target = include::included(text.lines().nth(pos.position.line as usize)?)??;
         let file = self.include_target(&path, target)?;
         Some(lsp_types::Location {
             uri: super::text::uri_of(&file)?,
@@ -156,11 +156,7 @@ impl Server {
 
     /// `lib/frame.wgsl` under the shader root of the shader's folder (or above it).
     fn frame_source(&self, shader: &Path) -> Option<String> {
-        let dir = shader
-            .ancestors()
-            .find(|d| d.join("lib/frame.wgsl").is_file() || self.overlay.get(&d.join("lib/frame.wgsl")).is_some())?;
-        let f = dir.join("lib/frame.wgsl");
-        self.overlay.get(&f).or_else(|| std::fs::read_to_string(f).ok())
+        self.text(&self.include_target(shader, "lib/frame.wgsl")?)
     }
 }
 
