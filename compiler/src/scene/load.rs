@@ -78,6 +78,30 @@ pub fn is_scene_text(text: &str) -> bool {
     opens_with(text, "Scene")
 }
 
+/// What a file among pipelines holds, as `check` and editors tell them apart.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileKind {
+    Pipeline,
+    Scene,
+    Sweep,
+    /// Neither `.ron` nor `.lbp`.
+    Other,
+}
+
+/// A `.ron` file is a scene file or a sweep spec when its first item says so (`text`, when it
+/// could be read), else a pipeline; a `.lbp` file is a pipeline.
+pub fn file_kind(path: &std::path::Path, text: Option<&str>) -> FileKind {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("lbp") => FileKind::Pipeline,
+        Some("ron") => match text {
+            Some(t) if opens_with(t, "Scene") => FileKind::Scene,
+            Some(t) if opens_with(t, "Sweep") => FileKind::Sweep,
+            _ => FileKind::Pipeline,
+        },
+        _ => FileKind::Other,
+    }
+}
+
 /// Whether RON `text` is an item of `kind` (`Scene(`, `Sweep(`): its first token after
 /// comments.
 pub fn opens_with(text: &str, kind: &str) -> bool {

@@ -8,4 +8,4 @@
 mod load;
 
 pub use crate::ir::scene::*;
-pub use load::{is_model, is_scene_text, load, load_text, opens_with};
+pub use load::{file_kind, is_model, is_scene_text, load, load_text, opens_with, FileKind};

@@ -2,6 +2,7 @@
 
 use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
 use lightbench_compiler::diag::{Code, Diagnostic, Severity};
+use lightbench_compiler::scene::{file_kind, FileKind};
 use lightbench_compiler::{pipeline_files, Session, Workspace};
 use std::path::{Path, PathBuf};
 
@@ -36,7 +37,7 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     };
     // The pipeline files checked as one run (in parallel, each shader compiled once); the
     // report keeps the order of the files.
-    let kinds: Vec<FileKind> = files.iter().map(|f| FileKind::of(f)).collect();
+    let kinds: Vec<FileKind> = files.iter().map(|f| kind(f)).collect();
     let pipelines: Vec<PathBuf> = files
         .iter()
         .zip(&kinds)
@@ -46,7 +47,8 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     let mut checked = ws.check_files(&pipelines, shaders, &profile, scene_features.as_ref()).into_iter();
     for (f, kind) in files.iter().zip(kinds) {
         let s = match kind {
-            FileKind::Pipeline => match checked.next() {
+            // `kind` never says `Other`: such a file is checked as a pipeline.
+            FileKind::Pipeline | FileKind::Other => match checked.next() {
                 Some(s) => s,
                 None => continue,
             },
@@ -137,11 +139,7 @@ fn check_params(
             .map(|p| p.params.iter().map(declared_param).collect())
             .unwrap_or_default(),
     };
-    let declared: Vec<_> = files
-        .iter()
-        .filter(|f| !ron_kind(f, "Scene") && !ron_kind(f, "Sweep"))
-        .flat_map(settable)
-        .collect();
+    let declared: Vec<_> = files.iter().filter(|f| kind(f) == FileKind::Pipeline).flat_map(settable).collect();
     for (name, text) in &params {
         let decls: Vec<_> = declared.iter().filter(|p| &p.name == name).collect();
         if decls.is_empty() {
@@ -160,33 +158,15 @@ fn check_params(
     Ok(())
 }
 
-/// What a file given to `check` holds.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum FileKind {
-    Pipeline,
-    Scene,
-    Sweep,
-}
-
-impl FileKind {
-    fn of(f: &Path) -> FileKind {
-        if ron_kind(f, "Scene") {
-            FileKind::Scene
-        } else if ron_kind(f, "Sweep") {
-            FileKind::Sweep
-        } else {
-            FileKind::Pipeline
-        }
-    }
-}
-
-/// Whether `path` is a RON file holding an item of `kind` (`Scene`, `Sweep`), not a pipeline.
-fn ron_kind(path: &Path, kind: &str) -> bool {
+/// What a file given to `check` holds, read from disk as every user file is; a file that is
+/// neither `.ron` nor `.lbp` is checked as a pipeline (and reported as of unknown format).
+fn kind(f: &Path) -> FileKind {
     use lightbench_compiler::vfs::Vfs;
-    path.extension().and_then(|e| e.to_str()) == Some("ron")
-        && lightbench_compiler::vfs::DiskVfs
-            .read(path)
-            .is_ok_and(|t| lightbench_compiler::scene::opens_with(&t, kind))
+    let text = (f.extension().and_then(|e| e.to_str()) == Some("ron")).then(|| lightbench_compiler::vfs::DiskVfs.read(f).ok());
+    match file_kind(f, text.flatten().as_deref()) {
+        FileKind::Other => FileKind::Pipeline,
+        k => k,
+    }
 }
 
 pub fn emit(s: &Session, format: Format) {

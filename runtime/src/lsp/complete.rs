@@ -8,6 +8,7 @@
 use super::index::{Index, Kind};
 use super::text::{offset, path_of};
 use super::Server;
+use lightbench_compiler::scene::{file_kind, FileKind};
 use lsp_types::{CompletionItem, CompletionItemKind, CompletionResponse, TextDocumentPositionParams};
 
 impl Server {
@@ -17,7 +18,7 @@ impl Server {
         let cursor = offset(&text, pos.position)?;
         let line = &text[text[..cursor].rfind('\n').map_or(0, |i| i + 1)..cursor];
         let key = key_of(line);
-        if super::diagnostics::kind_of(&path, Some(&text)) == super::diagnostics::FileKind::Scene {
+        if file_kind(&path, Some(&text)) == FileKind::Scene {
             return Some(CompletionResponse::Array(scene_items(key.as_deref())));
         }
         self.index(&path)?;

@@ -5,6 +5,7 @@
 use super::text::{range, uri_of};
 use super::Server;
 use lightbench_compiler::diag::{Diagnostic, Severity};
+use lightbench_compiler::scene::{file_kind, FileKind};
 use lightbench_compiler::span::SourceMap;
 use lsp_types::{DiagnosticRelatedInformation, DiagnosticSeverity, Location, NumberOrString, PublishDiagnosticsParams};
 use std::collections::{BTreeMap, BTreeSet};
@@ -13,27 +14,6 @@ use std::path::{Path, PathBuf};
 /// One pipeline's diagnostics, by the file each is located in.
 pub type ByFile = BTreeMap<PathBuf, Vec<lsp_types::Diagnostic>>;
 
-/// What a file in the workspace is, as `check` tells them apart.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum FileKind {
-    Pipeline,
-    Scene,
-    Sweep,
-    Other,
-}
-
-pub fn kind_of(path: &Path, text: Option<&str>) -> FileKind {
-    match path.extension().and_then(|e| e.to_str()) {
-        Some("lbp") => FileKind::Pipeline,
-        Some("ron") => match text {
-            Some(t) if lightbench_compiler::scene::opens_with(t, "Scene") => FileKind::Scene,
-            Some(t) if lightbench_compiler::scene::opens_with(t, "Sweep") => FileKind::Sweep,
-            _ => FileKind::Pipeline,
-        },
-        _ => FileKind::Other,
-    }
-}
-
 impl Server {
     /// The files to check again after these changed: a changed pipeline, scene or sweep
     /// file itself, and every pipeline whose last check read a changed file. A changed file
@@ -41,7 +21,7 @@ impl Server {
     pub fn to_check(&mut self, changed: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
         let mut out = BTreeSet::new();
         for c in changed {
-            if kind_of(c, self.overlay.get(c).as_deref()) != FileKind::Other {
+            if file_kind(c, self.overlay.get(c).as_deref()) != FileKind::Other {
                 out.insert(c.clone());
             }
             let readers: Vec<&PathBuf> = self.deps.iter().filter(|(_, d)| d.contains(c)).map(|(p, _)| p).collect();
@@ -86,7 +66,7 @@ impl Server {
     /// Check one file as `lightbench check` would, through the open documents.
     fn check(&mut self, path: &Path) -> ByFile {
         let mut s = self.workspace.session();
-        match kind_of(path, self.overlay.get(path).as_deref()) {
+        match file_kind(path, self.overlay.get(path).as_deref()) {
             FileKind::Scene => {
                 crate::scene::load_in(&mut s, &path.display().to_string());
             }

@@ -6,6 +6,7 @@
 use super::index::{Index, Kind};
 use super::text::{offset, path_of, range, uri_of};
 use super::Server;
+use lightbench_compiler::scene::{file_kind, FileKind};
 use lightbench_compiler::span::Span;
 use lsp_server::{ErrorCode, Request, Response};
 use lsp_types::request::{self as req, Request as _};
@@ -94,7 +95,7 @@ impl Server {
     pub(super) fn index(&mut self, path: &Path) -> Option<&Index> {
         let text = self.text(path)?;
         let fresh = self.indexes.get(path).is_some_and(|(t, _)| *t == text);
-        if !fresh && super::diagnostics::kind_of(path, Some(&text)) == super::diagnostics::FileKind::Pipeline {
+        if !fresh && file_kind(path, Some(&text)) == FileKind::Pipeline {
             let mut s = self.workspace.session();
             if let Some(p) = s.load_pipeline(path).filter(|_| !s.diags.has_errors()) {
                 self.indexes.insert(path.to_path_buf(), (text, Index::of(&p, s.sources)));

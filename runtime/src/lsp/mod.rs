@@ -14,6 +14,7 @@ mod shader;
 pub mod text;
 
 use lightbench_compiler::profile::Profile;
+use lightbench_compiler::scene::{file_kind, FileKind};
 use lightbench_compiler::vfs::Vfs;
 use lightbench_compiler::Workspace;
 use lsp_server::{Connection, Message, Notification};
@@ -191,7 +192,7 @@ impl Server {
             .filter(|p| {
                 // A RON file is a scene or sweep file when its first item says so.
                 let text = self.text(p);
-                diagnostics::kind_of(p, text.as_deref()) == diagnostics::FileKind::Pipeline
+                file_kind(p, text.as_deref()) == FileKind::Pipeline
             })
             .collect()
     }
