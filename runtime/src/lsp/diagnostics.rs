@@ -66,9 +66,10 @@ impl Server {
     /// Check one file as `lightbench check` would, through the open documents.
     fn check(&mut self, path: &Path) -> ByFile {
         let mut s = self.workspace.session();
-        match file_kind(path, self.overlay.get(path).as_deref()) {
+        let checked = match file_kind(path, self.overlay.get(path).as_deref()) {
             FileKind::Scene => {
                 crate::scene::load_in(&mut s, &path.display().to_string());
+                None
             }
             FileKind::Sweep => {
                 // Sweep specs report unlocated errors: shown at the top of the file.
@@ -76,15 +77,18 @@ impl Server {
                     let code = lightbench_compiler::diag::Code::SweepSpec;
                     s.diags.push(Diagnostic::unlocated(Severity::Error, code, e.to_string()));
                 }
+                None
             }
             _ => {
-                s.check_file(path, None, &self.profile, None);
-                self.deps.insert(path.to_path_buf(), s.dependencies().clone());
-                if !s.diags.has_errors() {
-                    self.plan_default(path);
+                // What `check_file` does, keeping the checked pipeline for the default Plan.
+                let checked = s.load_checked(path, None, &self.profile);
+                if let Some(c) = &checked {
+                    s.check_configurations(c, &self.profile, None);
                 }
+                self.deps.insert(path.to_path_buf(), s.dependencies().clone());
+                checked.filter(|_| !s.diags.has_errors())
             }
-        }
+        };
         let mut out = ByFile::new();
         for d in &s.diags.list {
             let (file, mut d) = to_lsp(d, &s.sources, path);
@@ -93,6 +97,9 @@ impl Server {
                 self.name_passes(path, &file, &mut d);
             }
             out.entry(file).or_default().push(d);
+        }
+        if let Some(c) = checked {
+            self.plan_default(path, &mut s, &c);
         }
         out
     }
@@ -123,13 +130,12 @@ impl Server {
 
     /// What the pipeline runs on the default scene (`render`'s `cornell`) with its default
     /// options, pass by pass: repetitions, or why it is culled (pass hovers show it).
-    fn plan_default(&mut self, path: &Path) {
+    /// Planned from the check's own result, in its session (its diagnostics already taken).
+    fn plan_default(&mut self, path: &Path, s: &mut lightbench_compiler::Session, checked: &lightbench_compiler::check::Checked) {
         let Some(scene) = lightbench_compiler::ir::scene::builtin::by_name("cornell") else {
             return;
         };
-        let features = scene.features([]);
-        let mut s = self.workspace.session();
-        let Some(plan) = s.plan_file(path, None, &self.profile, &features, &[]) else {
+        let Some(plan) = s.plan(checked, &self.profile, &scene.features([]), &[]) else {
             return;
         };
         let mut runs = BTreeMap::new();
