@@ -275,14 +275,9 @@ impl Scene {
 
     /// What the compiler needs to cull and size the plan.
     pub fn features(&self) -> SceneFeatures {
-        let mut f = SceneFeatures::new(
-            &self.name,
-            self.size,
-            self.active_lights().iter().map(|l| l.kind),
-            &self.effects,
-            self.meshes.iter().any(|m| m.reflective),
-        )
-        .with_order(self.active_lights().iter().map(|l| (l.kind, l.shadows)));
+        let reflective = self.meshes.iter().any(|m| m.reflective);
+        let mut f = SceneFeatures::new(&self.name, self.size, [], &self.effects, reflective)
+            .with_order(self.active_lights().iter().map(|l| (l.kind, l.shadows)));
         f.transparent = self
             .meshes
             .iter()

@@ -195,15 +195,11 @@ impl SceneDesc {
     /// What the compiler needs to cull and size a Plan, counting `extra` lights too (the
     /// KHR lights of glTF models, which only the runtime reads).
     pub fn features(&self, extra: impl IntoIterator<Item = LightKind>) -> SceneFeatures {
-        let extra: Vec<LightKind> = extra.into_iter().collect();
-        let on = self.lights.iter().filter(|l| l.on).map(|l| l.kind);
-        let casters = self.lights.iter().filter(|l| l.on && l.shadows).map(|l| l.kind);
         let reflective = self.models.iter().any(|m| m.reflective);
         // Models' KHR lights cast shadows (glTF cannot say otherwise).
         let order = self.lights.iter().filter(|l| l.on).map(|l| (l.kind, l.shadows));
-        let mut f = SceneFeatures::new(&self.name, self.size, on.chain(extra.iter().copied()), &self.effects, reflective)
-            .with_casters(casters.chain(extra.iter().copied()))
-            .with_order(order.chain(extra.iter().map(|&k| (k, true))));
+        let extra = extra.into_iter().map(|k| (k, true));
+        let mut f = SceneFeatures::new(&self.name, self.size, [], &self.effects, reflective).with_order(order.chain(extra));
         // Only loading a model shows whether it has blended materials: assume it may.
         f.transparent = !self.models.is_empty();
         f
