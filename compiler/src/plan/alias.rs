@@ -58,10 +58,6 @@ fn kept(plan: &Plan, id: usize, r: &PlanResource) -> Option<&'static str> {
     }
 }
 
-fn transient(plan: &Plan, id: usize, r: &PlanResource) -> bool {
-    kept(plan, id, r).is_none()
-}
-
 /// The first and last pass using a resource (indices in execution order; `None`: unused), and
 /// why it keeps its own memory if it does for a reason other than its lifetime.
 pub type Use = (Option<(usize, usize)>, Option<&'static str>);
@@ -88,7 +84,7 @@ fn same_shape(a: &PlanResource, b: &PlanResource) -> bool {
 pub(super) fn assign(plan: &mut Plan) {
     let life = lifetimes(plan);
     let mut order: Vec<usize> = (0..plan.resources.len())
-        .filter(|&i| life[i].is_some() && transient(plan, i, &plan.resources[i]))
+        .filter(|&i| life[i].is_some() && kept(plan, i, &plan.resources[i]).is_none())
         .collect();
     order.sort_by_key(|&i| life[i].map(|l| l.0));
     // Each slot: the resource that owns the memory, and the last pass using it so far.
