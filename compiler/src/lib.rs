@@ -10,6 +10,7 @@
 //! content-hashed cache of compiled shader modules, and per compilation the set of files the
 //! result depended on.
 
+pub mod abi;
 pub mod check;
 pub mod data;
 pub mod diag;

@@ -1,4 +1,4 @@
-//! No module cycles: sibling modules (at any depth) of the compiler and the runtime must
+//! Structure: no module cycles — sibling modules (at any depth) of every crate must
 //! depend on each other in one direction only, so that each stage can be read, tested and
 //! replaced on its own (`check` must not use `plan`, front ends must not use checks...).
 //! Dependencies are the `crate::` and `super::` paths each file names.
@@ -162,7 +162,9 @@ fn compiler_modules_form_no_cycle() {
 
 #[test]
 fn runtime_modules_form_no_cycle() {
-    assert_acyclic(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../runtime/src"));
+    for krate in ["scene", "executor", "reference", "runtime"] {
+        assert_acyclic(&Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(krate).join("src"));
+    }
 }
 
 #[test]
@@ -186,4 +188,40 @@ fn a_cycle_is_found() {
         references("use super::pool::Pool;", &vec!["gpu".into(), "executor".into()]),
         vec![vec!["gpu".to_string(), "pool".to_string(), "Pool".to_string()]]
     );
+}
+
+/// The normal (non-dev) dependencies of a workspace crate with its default features, as
+/// `cargo tree` lists them.
+fn dependency_names(krate: &str) -> BTreeSet<String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = std::process::Command::new(cargo)
+        .args(["tree", "--offline", "-e", "normal", "--prefix", "none", "-p", krate])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "cargo tree -p {krate}: {}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    text.lines().filter_map(|l| l.split_whitespace().next()).map(str::to_string).collect()
+}
+
+/// Crates by layer (README "Crates"): a host renderer embedding the executor, or a tool using
+/// the reference, gets neither the application's command line, window, plots and editor
+/// support, nor (for the executor) the path tracer and file watching unless it asks.
+#[test]
+fn library_crates_leave_out_the_applications_dependencies() {
+    let app = ["clap", "winit", "egui", "egui-wgpu", "plotters", "nv-flip", "lsp-server", "indicatif"];
+    let executor = dependency_names("lightbench-executor");
+    assert!(executor.contains("wgpu"), "{executor:?}");
+    for name in app.iter().chain(&["obvhs", "notify", "lightbench-reference"]) {
+        assert!(!executor.contains(*name), "lightbench-executor depends on {name}");
+    }
+    let reference = dependency_names("lightbench-reference");
+    assert!(reference.contains("obvhs"), "{reference:?}");
+    for name in app.iter().filter(|n| **n != "indicatif").chain(&["wgpu", "notify"]) {
+        assert!(!reference.contains(*name), "lightbench-reference depends on {name}");
+    }
+    let scene = dependency_names("lightbench-scene");
+    for name in ["wgpu", "obvhs", "clap", "winit", "egui"] {
+        assert!(!scene.contains(name), "lightbench-scene depends on {name}");
+    }
 }

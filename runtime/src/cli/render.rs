@@ -4,8 +4,9 @@
 use super::{usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Executor, Gpu};
+use crate::io::fnv1a;
 use crate::io::write_atomic;
-use crate::render::{compile_in, fnv1a, parse_params, render_scene};
+use crate::render::{compile_in, parse_params, render_scene};
 use crate::scene::Scene;
 use lightbench_compiler::Executable;
 use std::path::{Path, PathBuf};

@@ -158,7 +158,7 @@ impl Loaded {
         }
         self.effects.extend(new);
         let how = format!("{} effects {:?}", self.fingerprint, self.effects);
-        self.fingerprint = format!("{:016x}", crate::render::fnv1a(how.as_bytes()));
+        self.fingerprint = format!("{:016x}", crate::io::fnv1a(how.as_bytes()));
     }
 
     pub fn dir(&self) -> &Path {
@@ -247,7 +247,7 @@ pub fn load(path: &Path) -> Result<Loaded> {
         "{:?} {:?} {:?} {:?} {:?} {} {}",
         spec.pipeline, spec.set, spec.effect, spec.compare, spec.reference, spec.warmup, spec.frames
     );
-    let fingerprint = format!("{:016x}", crate::render::fnv1a(how.as_bytes()));
+    let fingerprint = format!("{:016x}", crate::io::fnv1a(how.as_bytes()));
     let loaded = Loaded {
         path: path.to_path_buf(),
         name,
@@ -410,7 +410,7 @@ mod tests {
     fn loaded(text: &str) -> Result<Loaded> {
         let dir = std::env::temp_dir().join(format!("lightbench-sweep-spec-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(format!("s{}.ron", crate::render::fnv1a(text.as_bytes())));
+        let p = dir.join(format!("s{}.ron", crate::io::fnv1a(text.as_bytes())));
         std::fs::write(&p, text).unwrap();
         std::fs::write(dir.join("p.lbp"), "").unwrap(); // the spec's pipeline exists
         load(&p)

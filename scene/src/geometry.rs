@@ -1,7 +1,7 @@
 //! Procedural geometry for the built-in scenes, and normal generation for meshes without.
 
-use crate::blocks::Vertex;
 use glam::{Vec2, Vec3};
+use lightbench_compiler::abi::Vertex;
 
 fn v(p: Vec3, n: Vec3, uv: Vec2, t: Vec3) -> Vertex {
     Vertex {

@@ -3,9 +3,9 @@
 
 use super::geometry::compute_normals;
 use super::{AlphaMode, ImageData, Light, Material, Mesh, SamplerDesc, Wrap, IDENTITY_UV};
-use crate::blocks::Vertex;
 use crate::error::{Error, Result};
 use glam::{Mat4, Vec3};
+use lightbench_compiler::abi::Vertex;
 use std::path::Path;
 
 /// Extensions we read; any other listed in `extensionsRequired` is an error.

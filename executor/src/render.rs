@@ -1,12 +1,12 @@
 //! Compile a pipeline for a scene on a live device and render it: the path every command
 //! and test that draws goes through.
 
-use crate::error::{Error, Result};
-use crate::gpu::{Executor, Gpu};
-use crate::scene::Scene;
+use crate::{Executor, Gpu};
 use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::{Executable, Workspace};
+use lightbench_scene::error::{Error, Result};
+use lightbench_scene::Scene;
 use std::path::Path;
 
 /// Compile `pipeline` for `scene` against the live adapter's capabilities, in `ws` (whose
@@ -203,35 +203,4 @@ pub fn uncalled_effects_note(plan: &lightbench_compiler::plan::Plan) -> Option<S
         if names.len() == 1 { "it" } else { "them" },
         flags.join(" ")
     ))
-}
-
-/// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).
-pub fn fnv1a(bytes: &[u8]) -> u64 {
-    let mut h = Fnv1a::default();
-    h.write(bytes);
-    h.0
-}
-
-/// FNV-1a fed in pieces (`fnv1a` in one go).
-pub struct Fnv1a(pub u64);
-
-impl Default for Fnv1a {
-    fn default() -> Self {
-        Fnv1a(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv1a {
-    pub fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.0 ^= b as u64;
-            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
-
-    /// `write`, then the length: moving bytes from one field to the next changes the hash.
-    pub fn field(&mut self, bytes: &[u8]) {
-        self.write(bytes);
-        self.write(&(bytes.len() as u64).to_le_bytes());
-    }
 }

@@ -9,11 +9,11 @@
 //! file and rename it over, or delete and create, replace the file's inode, which a watch on
 //! the file itself would lose.
 
-use crate::error::{Error, Result};
-use crate::gpu::{Executor, Gpu, ReloadReport};
-use crate::scene::Scene;
+use crate::{Executor, Gpu, ReloadReport};
 use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::{Executable, Workspace};
+use lightbench_scene::error::{Error, Result};
+use lightbench_scene::Scene;
 use notify_debouncer_full::notify::{RecommendedWatcher, RecursiveMode};
 use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, RecommendedCache};
 use std::collections::BTreeSet;
@@ -210,7 +210,7 @@ impl Reloader {
         let (changed, since) = self.watch.changed(timeout)?;
         let files: Vec<PathBuf> = changed.iter().cloned().collect();
         let scene = match self.scene_file.as_ref().filter(|f| changed.contains(*f)) {
-            Some(f) => match crate::scene::load(&f.display().to_string()) {
+            Some(f) => match lightbench_scene::load(&f.display().to_string()) {
                 Ok(mut s) => {
                     s.size = self.size;
                     s.effects.extend(self.added_effects.iter().copied());

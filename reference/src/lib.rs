@@ -12,9 +12,9 @@ pub mod shading;
 pub mod store;
 pub mod world;
 
-use crate::io::Image;
-use crate::scene::Scene;
 use glam::{Vec3, Vec4};
+use lightbench_scene::io::Image;
+use lightbench_scene::Scene;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 pub use shading::Brdf;

@@ -4,10 +4,10 @@
 //! a hash of the scene and the settings, so that a rerun, or a sweep asking again, reuses it.
 
 use super::{Reference, Settings, Term, TermImage};
-use crate::error::{Error, Result};
-use crate::io::Image;
-use crate::scene::Scene;
 use lightbench_compiler::vfs;
+use lightbench_scene::error::{Error, Result};
+use lightbench_scene::io::Image;
+use lightbench_scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -44,7 +44,7 @@ struct Manifest {
 /// Everything the images depend on, hashed: geometry, materials, textures, lights, camera,
 /// size, settings and the renderer's version.
 pub fn key(scene: &Scene, s: &Settings) -> String {
-    let mut h = crate::render::Fnv1a::default();
+    let mut h = lightbench_scene::io::Fnv1a::default();
     h.field(format!("v{VERSION} {:?} {:?} {:?}", scene.size, scene.camera, s).as_bytes());
     for m in &scene.meshes {
         h.field(bytemuck::cast_slice(&m.vertices));
@@ -93,7 +93,7 @@ pub fn write(r: &Reference, scene: &Scene, s: &Settings, dir: &Path) -> Result<(
         reached: r.reached,
     };
     let text = serde_json::to_string_pretty(&m).map_err(|e| Error::io(dir, e))?;
-    crate::io::write_atomic(&dir.join(MANIFEST), text.as_bytes())
+    lightbench_scene::io::write_atomic(&dir.join(MANIFEST), text.as_bytes())
 }
 
 /// A PNG to look at: radiance mapped by L/(1+L) (AO as it is).
@@ -152,7 +152,7 @@ pub fn load(scene: &Scene, s: &Settings, dir: &Path) -> Result<Option<Reference>
 
 /// FNV-1a of a term's mean and variance values.
 fn image_hash(t: &TermImage) -> String {
-    let mut h = crate::render::Fnv1a::default();
+    let mut h = lightbench_scene::io::Fnv1a::default();
     h.field(bytemuck::cast_slice(&t.mean.rgba));
     h.field(bytemuck::cast_slice(&t.variance.rgba));
     format!("{:016x}", h.0)

@@ -1,4 +1,4 @@
-//! The standard blocks the runtime writes for every pass, byte-for-byte as declared in
+//! ABI: the standard blocks an executor writes for every pass, byte-for-byte as declared in
 //! `shaders/lib/frame.wgsl` and `shaders/lib/mesh.wgsl` (a test checks them against naga's
 //! layout of those structs).
 
@@ -99,9 +99,6 @@ pub struct Vertex {
     /// The second texture coordinate set (glTF TEXCOORD_1; the first when absent).
     pub uv1: [f32; 2],
 }
-
-pub const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] =
-    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
 
 #[cfg(test)]
 mod tests {

@@ -1,5 +1,8 @@
-//! Executing Plans with wgpu: the device, the resource pool, pipelines cached across Plans,
-//! bind groups, frame encoding, timing and read-back.
+//! lightbench-executor, the execution stage: Plans run with wgpu — the device, the resource
+//! pool, pipelines cached across Plans, bind groups, frame encoding, timing and read-back —
+//! plus compiling a pipeline for a live device (`render`) and, behind the `reload` feature,
+//! watching its files (`reload`). No command line, window or path tracer: what a host
+//! renderer embeds.
 
 mod bind_groups;
 pub mod convert;
@@ -12,6 +15,9 @@ mod pipelines;
 pub use pipelines::PipelineCache;
 pub mod pool;
 pub mod readback;
+#[cfg(feature = "reload")]
+pub mod reload;
+pub mod render;
 /// The reuse rule lives with the Plan it depends on (GPU-free).
 pub use lightbench_compiler::plan::reuse;
 pub mod scene_gpu;
@@ -21,7 +27,7 @@ pub use device::{DeviceOptions, Gpu};
 pub use executor::{halton_jitter, Executor, FrameInputs, Part, ReloadReport};
 pub use timing::PassTiming;
 
-use crate::error::{Error, Result};
+pub use lightbench_scene::{self as scene, Error, Result};
 
 /// Run `f` inside error scopes for every error kind and report the first error with `what`.
 pub(crate) fn err_scope<T>(gpu: &Gpu, what: &str, f: impl FnOnce() -> T) -> Result<T> {

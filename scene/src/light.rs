@@ -1,8 +1,8 @@
 //! Lights and their shadow-map matrices. Built with a safe up vector, so a spot light
 //! pointing straight down (up parallel to the view direction) stays well defined.
 
-use crate::blocks::{LightBlock, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
 use glam::{Mat4, Vec3};
+use lightbench_compiler::abi::{LightBlock, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
 use lightbench_compiler::ir::LightKind;
 
 #[derive(Clone, Debug, PartialEq)]

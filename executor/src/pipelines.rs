@@ -3,16 +3,20 @@
 //! fixed-function state are all unchanged, so a hot reload rebuilds only what an edit touched.
 
 use super::convert;
-use crate::blocks::{Vertex, VERTEX_ATTRIBUTES};
-use crate::error::{Error, Result};
+use lightbench_compiler::abi::Vertex;
 use lightbench_compiler::format::TextureFormat;
 use lightbench_compiler::ir::{Blend, CompareFn, CullMode, Draw, Stage};
 use lightbench_compiler::layout::BindingType;
 use lightbench_compiler::plan::{PlanPass, Work};
 use lightbench_compiler::shader::ShaderModule;
+use lightbench_scene::error::{Error, Result};
 use std::collections::HashMap;
 use std::num::NonZeroU32;
 use std::sync::Arc;
+
+/// `abi::Vertex` as wgpu reads it: locations 0..4 of the standard vertex layout.
+const VERTEX_ATTRIBUTES: [wgpu::VertexAttribute; 5] =
+    wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
 
 /// A bind group layout entry: binding, type, visibility.
 type LayoutEntry = (u32, BindingType, Vec<Stage>);

@@ -7,8 +7,8 @@
 //! a ray crosses (a Vec per ray, no closest-hit early-out), which costs several times as much
 //! per ray on scenes of more than a few hundred triangles.
 
-use crate::scene::{AlphaMode, ImageData, Material, Scene, Wrap};
 use glam::{Vec2, Vec3, Vec3A, Vec4};
+use lightbench_scene::{AlphaMode, ImageData, Material, Scene, Wrap};
 use obvhs::cwbvh::{builder::build_cwbvh_from_tris, CwBvh};
 use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
@@ -353,7 +353,7 @@ fn texture_mean(img: &ImageData) -> Vec3 {
     let f = |v: u8| {
         let v = v as f32 / 255.0;
         if img.srgb {
-            crate::io::srgb_to_linear(v)
+            lightbench_scene::io::srgb_to_linear(v)
         } else {
             v
         }
@@ -390,7 +390,7 @@ fn sample(img: &ImageData, mat: &Material, uv: Vec2) -> Vec4 {
         let f = |v: u8, colour: bool| {
             let v = v as f32 / 255.0;
             if colour && img.srgb {
-                crate::io::srgb_to_linear(v)
+                lightbench_scene::io::srgb_to_linear(v)
             } else {
                 v
             }

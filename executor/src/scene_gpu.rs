@@ -1,10 +1,10 @@
 //! The scene on the GPU: vertex and index buffers, per-mesh and per-material blocks and
 //! textures, ready to be bound in `draw: Scene` passes.
 
-use crate::blocks::{MaterialBlock, MeshBlock};
-use crate::error::{Error, Result};
-use crate::io::{linear_to_srgb, srgb_to_linear};
-use crate::scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
+use lightbench_compiler::abi::{MaterialBlock, MeshBlock};
+use lightbench_scene::error::{Error, Result};
+use lightbench_scene::io::{linear_to_srgb, srgb_to_linear};
+use lightbench_scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
 use wgpu::util::DeviceExt;
 
 pub struct MeshGpu {
@@ -142,7 +142,7 @@ fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
 }
 
 /// Every texture with its mip chain, each dropped on the CPU once uploaded.
-fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<crate::scene::ImageData>) -> Result<Vec<wgpu::TextureView>> {
+fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<lightbench_scene::ImageData>) -> Result<Vec<wgpu::TextureView>> {
     let mut textures = vec![];
     for (i, t) in images.into_iter().enumerate() {
         if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
@@ -278,7 +278,7 @@ fn triangles(device: &wgpu::Device, scene: &Scene) -> (wgpu::Buffer, u32) {
 }
 
 /// World-space centre of a mesh's bounding box.
-fn mesh_centre(m: &crate::scene::Mesh) -> glam::Vec3 {
+fn mesh_centre(m: &lightbench_scene::Mesh) -> glam::Vec3 {
     let (lo, hi) = m
         .vertices
         .iter()

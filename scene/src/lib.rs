@@ -1,21 +1,27 @@
-//! Scenes: meshes with materials, lights, a camera, the output size and the effects the scene
-//! calls for, made from the compiler's scene description (built-in or a scene file) plus
-//! geometry (built-in meshes, glTF models).
+//! lightbench-scene, the scene stage shared by the executor and the reference (GPU-free):
+//! meshes with materials, lights, a camera, the output size and the effects the scene calls
+//! for, made from the compiler's scene description (built-in or a scene file) plus geometry
+//! (built-in meshes, glTF models); images and files as every lightbench crate reads and
+//! writes them; the error type they all return.
 
 pub mod builtin;
+pub mod error;
 pub mod export;
+pub mod files;
 pub mod framing;
 pub mod geometry;
 pub mod gltf_load;
+pub mod io;
 pub mod light;
 pub mod load;
 pub mod math;
 
+pub use error::{Error, Result};
 pub use light::{Animation, Light};
 pub use load::{instantiate, load, load_in};
 
-use crate::blocks::Vertex;
 use glam::{Mat4, Vec3};
+use lightbench_compiler::abi::Vertex;
 use lightbench_compiler::ir::{Effect, LightKind};
 use lightbench_compiler::scene::{CameraAnimationDesc, CameraKey, SceneFeatures};
 use std::collections::BTreeSet;

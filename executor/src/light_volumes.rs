@@ -13,7 +13,7 @@
 use lightbench_compiler::ir::LightKind;
 use std::ops::Range;
 
-use crate::scene::Light;
+use lightbench_scene::Light;
 
 const SPHERE: f32 = 0.0;
 const CONE: f32 = 1.0;

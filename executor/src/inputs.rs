@@ -4,10 +4,10 @@
 //! (`lightbench_compiler::data`), so `check` accepts exactly what is uploaded here.
 
 use super::Executor;
-use crate::error::{Error, Result};
-use crate::gpu::Gpu;
+use crate::Gpu;
 use lightbench_compiler::data::{self, TextureShape};
 use lightbench_compiler::plan::{PlanResource, ResourceShape};
+use lightbench_scene::error::{Error, Result};
 use std::path::Path;
 
 impl Executor {

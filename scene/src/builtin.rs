@@ -55,7 +55,7 @@ pub fn geometry(name: &str) -> Option<(Vec<Mesh>, Vec<Material>)> {
     }
 }
 
-fn mesh(name: &str, (vertices, indices): (Vec<crate::blocks::Vertex>, Vec<u32>), material: usize, transform: Mat4) -> Mesh {
+fn mesh(name: &str, (vertices, indices): (Vec<lightbench_compiler::abi::Vertex>, Vec<u32>), material: usize, transform: Mat4) -> Mesh {
     Mesh {
         name: name.into(),
         vertices,

@@ -15,13 +15,13 @@ use super::reuse::{hash_bytes, FrameKeys, Graph, PassInputs, Reuse};
 use super::scene_gpu::{DrawOrder, SceneGpu};
 use super::timing::{PassTiming, Timer};
 use super::{convert, err_scope, Gpu};
-use crate::blocks::{FrameBlock, LightBlock};
-use crate::error::{Error, Result};
-use crate::io::Image;
-use crate::scene::{Camera, Light, Scene};
+use lightbench_compiler::abi::{FrameBlock, LightBlock};
 use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::plan::{ParamValues, Plan, PlanSampler};
 use lightbench_compiler::Executable;
+use lightbench_scene::error::{Error, Result};
+use lightbench_scene::io::Image;
+use lightbench_scene::{Camera, Light, Scene};
 use std::sync::Arc;
 use std::time::Instant;
 

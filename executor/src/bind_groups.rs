@@ -5,12 +5,12 @@
 use super::pool::Pool;
 use super::scene_gpu::SceneGpu;
 use super::{convert, Gpu};
-use crate::blocks::InstanceBlock;
-use crate::error::{Error, Result};
-use crate::scene::Light;
+use lightbench_compiler::abi::InstanceBlock;
 use lightbench_compiler::ir::{LayerSel, LightKind, MipSel};
 use lightbench_compiler::layout::{BindSource, BindingType, DrawSlot};
 use lightbench_compiler::plan::{Plan, PlanBindGroup, PlanPass, ResourceId};
+use lightbench_scene::error::{Error, Result};
+use lightbench_scene::Light;
 
 /// Instance slots are 256 bytes apart (the uniform offset alignment).
 pub const SLOT: u64 = 256;

@@ -2,7 +2,7 @@
 //! start, the last its end. CPU encode time is measured around each pass's encoding.
 
 use super::Gpu;
-use crate::error::{Error, Result};
+use lightbench_scene::error::{Error, Result};
 
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PassTiming {

@@ -198,3 +198,34 @@ pub fn rmse(a: &Image, b: &Image) -> Option<f64> {
     }
     Some((sum / n.max(1) as f64).sqrt())
 }
+
+/// 64-bit FNV-1a: identifies file contents in manifests (not a security hash).
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h = Fnv1a::default();
+    h.write(bytes);
+    h.0
+}
+
+/// FNV-1a fed in pieces (`fnv1a` in one go).
+pub struct Fnv1a(pub u64);
+
+impl Default for Fnv1a {
+    fn default() -> Self {
+        Fnv1a(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv1a {
+    pub fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 ^= b as u64;
+            self.0 = self.0.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+
+    /// `write`, then the length: moving bytes from one field to the next changes the hash.
+    pub fn field(&mut self, bytes: &[u8]) {
+        self.write(bytes);
+        self.write(&(bytes.len() as u64).to_le_bytes());
+    }
+}

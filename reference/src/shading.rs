@@ -5,9 +5,9 @@
 //! `tests/reference.rs` renders the Cornell box both ways and compares.
 
 use super::world::Hit;
-use crate::scene::Light;
 use glam::Vec3;
 use lightbench_compiler::ir::LightKind;
+use lightbench_scene::Light;
 use std::f32::consts::PI;
 
 /// `ATTENUATION_SOFTNESS` of `lib/lighting.wgsl`.
@@ -73,7 +73,8 @@ impl PunctualLight {
 }
 
 /// Which reflectance model surfaces have.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
 pub enum Brdf {
     /// The shaders' normalised Blinn-Phong (`blinn_phong()`): what every comparison uses.
     BlinnPhong,
@@ -196,7 +197,7 @@ mod tests {
     /// comparison in `tests/reference.rs` checks the whole of it).
     #[test]
     fn the_shader_definitions_are_the_ones_restated_here() {
-        let wgsl = include_str!("../../../shaders/lib/lighting.wgsl");
+        let wgsl = include_str!("../../shaders/lib/lighting.wgsl");
         for line in [
             format!("const ATTENUATION_SOFTNESS: f32 = {ATTENUATION_SOFTNESS:?};"),
             "return (1.0 - x20) / (soft * soft + d * d);".into(),
