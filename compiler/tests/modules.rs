@@ -199,9 +199,16 @@ fn dependency_names(krate: &str) -> BTreeSet<String> {
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .unwrap();
-    assert!(out.status.success(), "cargo tree -p {krate}: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "cargo tree -p {krate}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let text = String::from_utf8(out.stdout).unwrap();
-    text.lines().filter_map(|l| l.split_whitespace().next()).map(str::to_string).collect()
+    text.lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .map(str::to_string)
+        .collect()
 }
 
 /// Crates by layer (README "Crates"): a host renderer embedding the executor, or a tool using
@@ -209,7 +216,16 @@ fn dependency_names(krate: &str) -> BTreeSet<String> {
 /// support, nor (for the executor) the path tracer and file watching unless it asks.
 #[test]
 fn library_crates_leave_out_the_applications_dependencies() {
-    let app = ["clap", "winit", "egui", "egui-wgpu", "plotters", "nv-flip", "lsp-server", "indicatif"];
+    let app = [
+        "clap",
+        "winit",
+        "egui",
+        "egui-wgpu",
+        "plotters",
+        "nv-flip",
+        "lsp-server",
+        "indicatif",
+    ];
     let executor = dependency_names("lightbench-executor");
     assert!(executor.contains("wgpu"), "{executor:?}");
     for name in app.iter().chain(&["obvhs", "notify", "lightbench-reference"]) {

@@ -2,7 +2,7 @@
 //! raster shaders define them in `shaders/lib/lighting.wgsl` (the one documented definition:
 //! windowed attenuation, spot cone, normalised Blinn-Phong), so that the only difference
 //! between a raster image and the reference is the algorithm. Change one, change both:
-//! `tests/reference.rs` renders the Cornell box both ways and compares.
+//! `tests/reference/reference.rs` renders the Cornell box both ways and compares.
 
 use super::world::Hit;
 use glam::Vec3;
@@ -194,7 +194,7 @@ mod tests {
 
     /// The shaders' definitions as this module restates them: a change to one of these lines
     /// of `shaders/lib/lighting.wgsl` must come with the same change here (and the Cornell
-    /// comparison in `tests/reference.rs` checks the whole of it).
+    /// comparison in `tests/reference/reference.rs` checks the whole of it).
     #[test]
     fn the_shader_definitions_are_the_ones_restated_here() {
         let wgsl = include_str!("../../shaders/lib/lighting.wgsl");

@@ -1,0 +1,11 @@
+//! The executor: aliased transient memory, frames in flight, reload of a running Plan and hot
+//! reload from files on disk.
+//! One test binary per area; each file below is a module of it.
+
+#[path = "../gpu_common/mod.rs"]
+mod gpu_common;
+
+mod aliasing;
+mod hot_reload;
+mod in_flight;
+mod reload;

@@ -1,0 +1,9 @@
+//! The reference path tracer: against the raster pipelines, analytic answers and the goldens
+//! of the renderer before emitters; emissive surfaces as lights.
+//! One test binary per area; each file below is a module of it.
+
+#[path = "../gpu_common/mod.rs"]
+mod gpu_common;
+
+mod reference;
+mod reference_emitters;
