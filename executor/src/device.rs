@@ -12,6 +12,14 @@ pub enum BackendChoice {
     Gl,
 }
 
+/// How [`Gpu::from_host`] treats a host renderer's device.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HostOptions {
+    /// Run the capability probes, which render a little on the host's queue (off: trust what
+    /// the driver exposes).
+    pub probe: bool,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct DeviceOptions {
     pub backend: Option<BackendChoice>,
@@ -80,59 +88,28 @@ impl Gpu {
         Gpu::from_parts(adapter, device, queue)
     }
 
-    /// Wrap a device someone else opened (a windowed viewer shares its device this way):
-    /// the capability profile comes from the device's features and limits, checked by probes.
+    /// Wrap a device someone else opened for lightbench's own use (the windowed viewer shares
+    /// its device this way): the capability profile comes from the device's features and
+    /// limits, checked by probes, and errors raised outside error scopes are collected here
+    /// (`take_uncaptured`) in place of wgpu's default handler, which panics.
     pub fn from_parts(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Result<Gpu> {
-        let info = adapter.get_info();
-        let enabled = device.features();
-        let mut features: std::collections::BTreeSet<Feature> =
-            WANTED.iter().filter(|(wf, _)| enabled.contains(*wf)).map(|(_, f)| *f).collect();
-        let mut limits = device.limits();
-        if limits.max_multiview_view_count < 6 {
-            // Multiview with fewer than 6 views cannot render a cube in one pass.
-            features.remove(&Feature::Multiview);
-        }
-        if adapter
-            .get_downlevel_capabilities()
-            .flags
-            .contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES)
-        {
-            features.insert(Feature::CubeArrayTextures);
-        }
-        // GL (through EGL on llvmpipe, or GLES) may not render to 32-bit float formats.
-        let renders = |f: wgpu::TextureFormat| {
-            adapter
-                .get_texture_format_features(f)
-                .allowed_usages
-                .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
-        };
-        if [
-            wgpu::TextureFormat::R32Float,
-            wgpu::TextureFormat::Rg32Float,
-            wgpu::TextureFormat::Rgba32Float,
-        ]
-        .into_iter()
-        .all(renders)
-        {
-            features.insert(Feature::Float32Renderable);
-        }
-        let mut notes = vec![];
-        if features.contains(&Feature::Multiview) && !multiview_works(&device, &queue) {
-            // Seen on Mesa 22 lavapipe: the feature is exposed but every view lands in layer 0.
-            features.remove(&Feature::Multiview);
-            limits.max_multiview_view_count = 0;
-            notes.push(
-                "MULTIVIEW is exposed but renders every view into layer 0 on this driver (probe failed); treated as unavailable"
-                    .to_string(),
-            );
-        }
-        let uncaptured = Arc::new(Mutex::new(vec![]));
-        let sink = uncaptured.clone();
-        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+        let gpu = Gpu::from_host(adapter, device, queue, HostOptions { probe: true })?;
+        let sink = gpu.uncaptured.clone();
+        gpu.device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
             if let Ok(mut v) = sink.lock() {
                 v.push(e.to_string());
             }
         }));
+        Ok(gpu)
+    }
+
+    /// Use a host renderer's device as it is: its uncaptured-error handler is left alone (the
+    /// executor reports its own errors as values, from error scopes), and the probes that
+    /// render on the device run only if `opts.probe` says so; without them a feature the
+    /// driver exposes is trusted. `adapter`, `device` and `queue` are clones of the host's.
+    pub fn from_host(adapter: wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue, opts: HostOptions) -> Result<Gpu> {
+        let info = adapter.get_info();
+        let (features, limits, notes) = capabilities(&adapter, &device, &queue, opts.probe);
         let profile = Profile {
             name: format!("{} ({:?})", info.name, info.backend),
             features,
@@ -144,7 +121,7 @@ impl Gpu {
             queue,
             info,
             profile,
-            uncaptured,
+            uncaptured: Arc::new(Mutex::new(vec![])),
             notes,
         })
     }
@@ -185,6 +162,58 @@ impl Gpu {
         let (device, queue) = open_device(&adapter)?;
         Gpu::from_parts(adapter, device, queue)
     }
+}
+
+/// What the device can do, as the compiler's features and wgpu's limits, with the probes'
+/// findings (`probe`: render on the device to test what drivers are known to expose broken).
+fn capabilities(
+    adapter: &wgpu::Adapter,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    probe: bool,
+) -> (std::collections::BTreeSet<Feature>, wgpu::Limits, Vec<String>) {
+    let enabled = device.features();
+    let mut features: std::collections::BTreeSet<Feature> =
+        WANTED.iter().filter(|(wf, _)| enabled.contains(*wf)).map(|(_, f)| *f).collect();
+    let mut limits = device.limits();
+    if limits.max_multiview_view_count < 6 {
+        // Multiview with fewer than 6 views cannot render a cube in one pass.
+        features.remove(&Feature::Multiview);
+    }
+    if adapter
+        .get_downlevel_capabilities()
+        .flags
+        .contains(wgpu::DownlevelFlags::CUBE_ARRAY_TEXTURES)
+    {
+        features.insert(Feature::CubeArrayTextures);
+    }
+    // GL (through EGL on llvmpipe, or GLES) may not render to 32-bit float formats.
+    let renders = |f: wgpu::TextureFormat| {
+        adapter
+            .get_texture_format_features(f)
+            .allowed_usages
+            .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+    };
+    if [
+        wgpu::TextureFormat::R32Float,
+        wgpu::TextureFormat::Rg32Float,
+        wgpu::TextureFormat::Rgba32Float,
+    ]
+    .into_iter()
+    .all(renders)
+    {
+        features.insert(Feature::Float32Renderable);
+    }
+    let mut notes = vec![];
+    if probe && features.contains(&Feature::Multiview) && !multiview_works(device, queue) {
+        // Seen on Mesa 22 lavapipe: the feature is exposed but every view lands in layer 0.
+        features.remove(&Feature::Multiview);
+        limits.max_multiview_view_count = 0;
+        notes.push(
+            "MULTIVIEW is exposed but renders every view into layer 0 on this driver (probe failed); treated as unavailable".to_string(),
+        );
+    }
+    (features, limits, notes)
 }
 
 fn choose_adapter(opts: &DeviceOptions) -> Result<wgpu::Adapter> {

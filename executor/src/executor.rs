@@ -7,6 +7,8 @@
 //! `bind_groups` (per repetition). A frame: inputs (camera, time, parameters) are written,
 //! each pass is recorded by `encode`, and `timing` reads back per-pass GPU time.
 
+mod embed;
+
 use super::bind_groups::{Binder, SLOT};
 use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
@@ -35,14 +37,49 @@ pub struct Part {
     pub previous: bool,
 }
 
-/// What changes from frame to frame, passed to every `render_frame`.
+/// What changes from frame to frame, passed to every `render_frame` (or `encode`).
+/// [`Executor::inputs`] gives the last frame's, to change what differs.
 #[derive(Clone, Debug)]
 pub struct FrameInputs {
     /// Seconds since the start (lights animate with it).
     pub time: f32,
+    /// The camera, unless `matrices` replaces it.
     pub camera: Camera,
     /// Parameter overrides; the rest keep their defaults.
     pub params: ParamValues,
+    /// A host renderer's own view and projection, in place of `camera`.
+    pub matrices: Option<CameraMatrices>,
+    /// This frame's lights in place of the scene's (animated) ones: as many, of the same kinds
+    /// and shadow casting, in the same order, since the Plan repeats passes per light; where
+    /// they are and how bright is free.
+    pub lights: Option<Vec<Light>>,
+}
+
+/// A camera as a host renderer keeps it: world → view and view → clip matrices, in wgpu's
+/// conventions (right-handed view looking down -Z, clip depth 0..1). The executor adds its
+/// sub-pixel jitter to `proj` where the Plan asks for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraMatrices {
+    pub view: glam::Mat4,
+    pub proj: glam::Mat4,
+}
+
+impl FrameInputs {
+    /// Where the camera is in the world (from `matrices` when given).
+    pub fn eye(&self) -> glam::Vec3 {
+        match &self.matrices {
+            Some(m) => m.view.inverse().transform_point3(glam::Vec3::ZERO),
+            None => self.camera.position,
+        }
+    }
+
+    /// View and projection for an output of aspect ratio `aspect`, before jitter.
+    fn view_proj(&self, aspect: f32) -> (glam::Mat4, glam::Mat4) {
+        match &self.matrices {
+            Some(m) => (m.view, m.proj),
+            None => (self.camera.view(), self.camera.proj(aspect)),
+        }
+    }
 }
 
 /// What `replace` did: pipelines and resources built anew or kept, overrides dropped.
@@ -111,6 +148,8 @@ pub struct Executor {
     frames_in_flight: usize,
     /// Transient resources share memory where the Plan allows (`set_aliasing`).
     alias: bool,
+    /// The frame `encode` recorded into a host's encoder, until `submit`.
+    recorded: Option<embed::Recorded>,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -179,6 +218,8 @@ impl Executor {
             time: 0.0,
             camera,
             params: ParamValues::new(),
+            matrices: None,
+            lights: None,
         };
         let (state, fresh, _) = build_state(gpu, exe, &shared, (&Pool::default(), false), &mut cache, &inputs.params)?;
         cache.insert(fresh, state.passes.len());
@@ -200,6 +241,7 @@ impl Executor {
             alias: false,
             in_flight: Default::default(),
             frames_in_flight: 2,
+            recorded: None,
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -246,6 +288,8 @@ impl Executor {
         self.supplied.retain(|n| !report.resources_created.contains(n));
         self.inputs.params = params;
         self.inputs.camera = scene.camera.clone();
+        // Frame lights were checked against the old scene's.
+        self.inputs.lights = None;
         self.upload_data(gpu, &exe.data)?;
         self.reuse.reset();
         Ok(report)
@@ -378,8 +422,8 @@ impl Executor {
     /// Write the frame and light blocks; returns what changed-detection compares.
     fn write_frame_blocks(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> FrameKeys {
         let (w, h) = self.state.plan.resolution;
-        let cam = &inputs.camera;
-        let view = cam.view();
+        let (view, proj) = inputs.view_proj(w as f32 / h.max(1) as f32);
+        let eye = inputs.eye();
         let jitter = if self.state.plan.jitter {
             halton_jitter(self.frame_index)
         } else {
@@ -387,7 +431,7 @@ impl Executor {
         };
         // A pixel offset in NDC: x right, y up (pixels count down).
         let shift = glam::Mat4::from_translation(glam::Vec3::new(2.0 * jitter[0] / w as f32, -2.0 * jitter[1] / h as f32, 0.0));
-        let proj = shift * cam.proj(w as f32 / h.max(1) as f32);
+        let proj = shift * proj;
         let vp = proj * view;
         let (prev_vp, prev_jitter) = self.previous.unwrap_or((vp, jitter));
         self.previous = Some((vp, jitter));
@@ -398,7 +442,7 @@ impl Executor {
             inv_view_proj: vp.inverse().to_cols_array_2d(),
             prev_view_proj: prev_vp.to_cols_array_2d(),
             prev_inv_view_proj: prev_vp.inverse().to_cols_array_2d(),
-            camera_pos: [cam.position.x, cam.position.y, cam.position.z, 1.0],
+            camera_pos: [eye.x, eye.y, eye.z, 1.0],
             resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
             jitter: [jitter[0], jitter[1], prev_jitter[0], prev_jitter[1]],
             time: inputs.time,
@@ -407,12 +451,8 @@ impl Executor {
             scene_radius: ((self.shared.bounds.1 - self.shared.bounds.0).length() * 0.5).max(1e-6),
         };
         gpu.queue.write_buffer(&self.shared.frame_buf, 0, bytemuck::bytes_of(&frame));
-        let blocks: Vec<LightBlock> = self
-            .shared
-            .lights
-            .iter()
-            .map(|l| l.at(inputs.time).block(self.shared.bounds))
-            .collect();
+        let lights = inputs.lights.as_deref().unwrap_or(&self.shared.lights);
+        let blocks: Vec<LightBlock> = lights.iter().map(|l| l.at(inputs.time).block(self.shared.bounds)).collect();
         if !blocks.is_empty() {
             gpu.queue.write_buffer(&self.shared.lights_buf, 0, bytemuck::cast_slice(&blocks));
         }
@@ -443,10 +483,38 @@ impl Executor {
                 "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input)"
             )));
         }
+        if let Some(lights) = &inputs.lights {
+            self.check_lights(lights)?;
+        }
         self.apply_params(gpu, &inputs.params)?;
         self.inputs = inputs.clone();
         let keys = self.write_frame_blocks(gpu, inputs);
         Ok(self.decide_runs(&keys))
+    }
+
+    /// Frame lights must be the scene's in number, kind and shadow casting (the Plan's
+    /// repetitions and shadow resources were made for those).
+    fn check_lights(&self, lights: &[Light]) -> Result<()> {
+        let scene = &self.shared.lights;
+        if lights.len() != scene.len() {
+            return Err(Error::Usage(format!(
+                "FrameInputs::lights has {} lights; the Plan was compiled for the scene's {}: compile for a scene with these lights (Executor::replace_scene)",
+                lights.len(),
+                scene.len()
+            )));
+        }
+        for (i, (l, s)) in lights.iter().zip(scene).enumerate() {
+            if l.kind != s.kind || l.shadows != s.shadows {
+                return Err(Error::Usage(format!(
+                    "FrameInputs::lights[{i}] is a {:?} light{} where the Plan was compiled for a {:?} light{}: compile for a scene with these lights (Executor::replace_scene)",
+                    l.kind,
+                    if l.shadows { " with shadows" } else { "" },
+                    s.kind,
+                    if s.shadows { " with shadows" } else { "" },
+                )));
+            }
+        }
+        Ok(())
     }
 
     /// Render one frame pass by pass, waiting for each and calling `after(self, pass index)`
@@ -463,7 +531,7 @@ impl Executor {
         let parity = (self.frame_index & 1) as usize;
         // Counted as rendered from the start, so that reads in `after` see this frame's copies.
         self.frame_index += 1;
-        let order = self.shared.scene_gpu.draw_order(inputs.camera.position);
+        let order = self.shared.scene_gpu.draw_order(inputs.eye());
         let mut stopped = false;
         for (pi, run) in run.iter().enumerate() {
             let pass = &self.state.passes[pi];
@@ -572,7 +640,7 @@ impl Executor {
         let parity = (self.frame_index & 1) as usize;
         let (state, scene) = (&self.state, &self.shared.scene_gpu);
         let timer = state.timer.as_ref().filter(|_| self.timing);
-        let order = scene.draw_order(inputs.camera.position);
+        let order = scene.draw_order(inputs.eye());
         // One error scope for the frame: a scope per pass costs more than encoding a pass.
         // Should it catch an error, the frame is encoded again pass by pass to name the pass.
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);

@@ -23,8 +23,8 @@ pub use lightbench_compiler::plan::reuse;
 pub mod scene_gpu;
 mod timing;
 
-pub use device::{DeviceOptions, Gpu};
-pub use executor::{halton_jitter, Executor, FrameInputs, Part, ReloadReport};
+pub use device::{DeviceOptions, Gpu, HostOptions};
+pub use executor::{halton_jitter, CameraMatrices, Executor, FrameInputs, Part, ReloadReport};
 pub use timing::PassTiming;
 
 pub use lightbench_scene::{self as scene, Error, Result};
