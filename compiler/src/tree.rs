@@ -111,7 +111,7 @@ impl Node {
 }
 
 impl Value {
-    /// Human word for "expected X, found <this>".
+    /// Human word for `"expected X, found <this>"`.
     pub fn kind_word(&self) -> String {
         match self {
             Value::Bool(_) => "a bool".into(),

@@ -241,3 +241,24 @@ fn library_crates_leave_out_the_applications_dependencies() {
         assert!(!scene.contains(name), "lightbench-scene depends on {name}");
     }
 }
+
+/// The library crates' documentation builds without a warning (broken links, bad HTML), as
+/// `RUSTDOCFLAGS="-D warnings" cargo doc --no-deps` for each; in a target folder of its own, so
+/// that it does not wait on the build running the tests.
+#[test]
+fn library_crates_document_without_warnings() {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut cmd = std::process::Command::new(cargo);
+    cmd.args(["doc", "--offline", "--no-deps", "--target-dir", "target/doc-check"]);
+    for krate in [
+        "lightbench-compiler",
+        "lightbench-scene",
+        "lightbench-executor",
+        "lightbench-reference",
+    ] {
+        cmd.args(["-p", krate]);
+    }
+    let out = cmd.env("RUSTDOCFLAGS", "-D warnings").current_dir(root).output().unwrap();
+    assert!(out.status.success(), "cargo doc: {}", String::from_utf8_lossy(&out.stderr));
+}

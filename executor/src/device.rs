@@ -259,6 +259,14 @@ fn choose_adapter(opts: &DeviceOptions) -> Result<wgpu::Adapter> {
 /// Open a device asking for every wanted feature the adapter has, and its limits where
 /// pipelines may need more than the defaults.
 fn open_device(adapter: &wgpu::Adapter) -> Result<(wgpu::Device, wgpu::Queue)> {
+    pollster::block_on(adapter.request_device(&device_descriptor(adapter)))
+        .map_err(|e| Error::Adapter(format!("cannot open device on {}: {e}", adapter.get_info().name)))
+}
+
+/// The device lightbench opens on `adapter`: every feature its pipelines can use that the
+/// adapter has, and the limits they need. A host renderer that opens its device with this
+/// (adding its own features and limits) gets the variants `lightbench render` chooses there.
+pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
     let available = adapter.features();
     let mut required = wgpu::Features::empty();
     for (wf, _) in WANTED {
@@ -284,15 +292,14 @@ fn open_device(adapter: &wgpu::Adapter) -> Result<(wgpu::Device, wgpu::Queue)> {
         required.remove(wgpu::Features::MULTIVIEW);
         limits.max_multiview_view_count = 0;
     }
-    pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+    wgpu::DeviceDescriptor {
         label: Some("lightbench"),
         required_features: required,
         required_limits: limits,
         experimental_features: wgpu::ExperimentalFeatures::disabled(),
         memory_hints: wgpu::MemoryHints::Performance,
         trace: wgpu::Trace::Off,
-    }))
-    .map_err(|e| Error::Adapter(format!("cannot open device on {}: {e}", adapter.get_info().name)))
+    }
 }
 
 fn desc_backends(opts: &DeviceOptions) -> wgpu::Backends {

@@ -3,6 +3,40 @@
 //! plus compiling a pipeline for a live device (`render`) and, behind the `reload` feature,
 //! watching its files (`reload`). No command line, window or path tracer: what a host
 //! renderer embeds.
+//!
+//! # Embedding
+//!
+//! A host renderer keeps its device, queue, error handler and frame loop. It opens its device
+//! with [`device::device_descriptor`] (the features lightbench's pipelines can use), wraps
+//! clones with [`Gpu::from_host`] (its uncaptured-error handler is left alone; errors come back
+//! as values), compiles a pipeline for a scene — its own meshes as a [`scene::Scene`], or one
+//! loaded with [`scene::load()`] — and records each frame into its own command encoder with
+//! [`Executor::encode`]. [`FrameInputs`] carries time, parameters, and optionally the host's
+//! view/projection ([`CameraMatrices`]) and lights; [`Executor::output_texture`] (and
+//! [`Executor::texture`] for any named resource) is the host's to copy or sample.
+//!
+//! ```no_run
+//! use lightbench_executor::{device, render, scene, Executor, Gpu, HostOptions};
+//! # fn main() -> lightbench_executor::Result<()> {
+//! # let instance = wgpu::Instance::default();
+//! # let adapter = pollster::block_on(instance.request_adapter(&Default::default())).unwrap();
+//! let (dev, queue) = pollster::block_on(adapter.request_device(&device::device_descriptor(&adapter))).unwrap();
+//! let gpu = Gpu::from_host(adapter, dev.clone(), queue, HostOptions::default())?;
+//! let scene = scene::load::load("cornell")?;
+//! let (exe, _warnings) = render::compile(&gpu, "pipelines/deferred.lbp".as_ref(), None, &scene, &[])?;
+//! let mut ex = Executor::new(&gpu, &exe, &scene)?;
+//!
+//! let mut encoder = dev.create_command_encoder(&Default::default());
+//! let inputs = ex.inputs(0.0);
+//! ex.encode(&gpu, &mut encoder, &inputs)?;
+//! let shown = ex.output_texture()?; // copy or sample it in the host's own passes
+//! # let _ = shown;
+//! ex.submit(&gpu, encoder)?; // finish + submit; an error names the pass
+//! # Ok(()) }
+//! ```
+//!
+//! `examples/headless.rs` renders into a texture and writes it to PNG; `examples/embed.rs` is
+//! a winit program presenting through its own blit pass, reloading the pipeline on save.
 
 mod bind_groups;
 pub mod convert;

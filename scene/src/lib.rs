@@ -21,7 +21,7 @@ pub use light::{Animation, Light};
 pub use load::{instantiate, load, load_in};
 
 use glam::{Mat4, Vec3};
-use lightbench_compiler::abi::Vertex;
+pub use lightbench_compiler::abi::Vertex;
 use lightbench_compiler::ir::{Effect, LightKind};
 use lightbench_compiler::scene::{CameraAnimationDesc, CameraKey, SceneFeatures};
 use std::collections::BTreeSet;
@@ -224,6 +224,19 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// A mesh drawn whole, placed by `transform`, of `materials[material]`.
+    pub fn new(name: &str, vertices: Vec<Vertex>, indices: Vec<u32>, material: usize, transform: Mat4) -> Mesh {
+        Mesh {
+            name: name.into(),
+            vertices,
+            indices,
+            material,
+            transform,
+            triangle_fraction: 1.0,
+            reflective: false,
+        }
+    }
+
     /// Index count actually drawn: the fraction, rounded down to whole triangles.
     pub fn drawn_indices(&self) -> u32 {
         let tris = self.indices.len() / 3;
@@ -245,6 +258,55 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// A scene from a host program's own geometry: `meshes` with `materials` (untextured) and
+    /// `lights` (none: the default key and fill rig), rendered at `size`, the camera framing
+    /// the meshes as a model shown on its own is framed (`framing`). Checked as a loaded model
+    /// is: indices within the vertices, material indices within `materials`, finite
+    /// positions, at least one triangle.
+    pub fn from_meshes(name: &str, size: (u32, u32), meshes: Vec<Mesh>, materials: Vec<Material>, lights: Vec<Light>) -> Result<Scene> {
+        for m in &meshes {
+            let bad = |what: String| Err(Error::Scene(format!("mesh `{}`: {what}", m.name)));
+            if m.indices.len() % 3 != 0 {
+                return bad(format!("{} indices is not whole triangles", m.indices.len()));
+            }
+            if let Some(i) = m.indices.iter().find(|i| **i as usize >= m.vertices.len()) {
+                return bad(format!("index {i} past its {} vertices", m.vertices.len()));
+            }
+            if m.material >= materials.len() {
+                return bad(format!("material {} of {}", m.material, materials.len()));
+            }
+            if m.vertices.iter().any(|v| !v.position.iter().all(|c| c.is_finite())) {
+                return bad("a vertex position is not finite".into());
+            }
+        }
+        if meshes.iter().all(|m| m.indices.is_empty()) {
+            return Err(Error::Scene(format!("scene `{name}`: no triangles")));
+        }
+        if size.0 == 0 || size.1 == 0 {
+            return Err(Error::Scene(format!("scene `{name}`: size {}×{}", size.0, size.1)));
+        }
+        let mut scene = Scene {
+            name: name.into(),
+            size,
+            camera: Camera {
+                position: Vec3::ZERO,
+                yaw: 0.0,
+                pitch: 0.0,
+                fov: framing::FOV,
+                near: 0.1,
+                far: 100.0,
+                animation: None,
+            },
+            meshes,
+            materials,
+            textures: vec![],
+            lights: if lights.is_empty() { framing::default_rig() } else { lights },
+            effects: BTreeSet::new(),
+        };
+        scene.camera = framing::frame(&scene);
+        Ok(scene)
+    }
+
     /// Axis-aligned bounds of every mesh in world space.
     pub fn bounds(&self) -> (Vec3, Vec3) {
         let mut lo = Vec3::splat(f32::INFINITY);

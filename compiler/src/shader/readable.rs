@@ -172,7 +172,7 @@ const CAPABILITY_USES: &[(&str, &str, &[&str])] = &[
 
 /// Where a shader asks for a capability that `messages` (naga's error chain) say is missing:
 /// its `enable` directive, else the first use of a word only that capability allows. naga
-/// gives such errors no span (a ray-query type is "Type [0]").
+/// gives such errors no span (a ray-query type is "Type \[0\]").
 pub fn capability_span(messages: &[String], text: &str) -> Option<(std::ops::Range<usize>, String)> {
     let (key, enable, words) = CAPABILITY_USES
         .iter()

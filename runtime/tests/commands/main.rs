@@ -11,6 +11,7 @@ mod mutate;
 
 mod cli_render;
 mod diff;
+mod examples;
 mod sweep;
 mod verify;
 mod view_script_mutants;

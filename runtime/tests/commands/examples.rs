@@ -1,0 +1,76 @@
+//! The executor's examples as the README runs them: `headless` renders what `lightbench
+//! render` renders; `embed` opens a window under Xvfb, renders through the library into its
+//! swap-chain image and exits after the frames asked for.
+
+use crate::cli_common;
+
+use cli_common::{lightbench, root, scratch};
+use std::path::PathBuf;
+use std::process::Command;
+
+/// An example's binary: `cargo test --workspace` builds the examples beside the tests.
+fn example(name: &str) -> PathBuf {
+    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
+    let exe = deps.parent().unwrap().join("examples").join(name);
+    assert!(
+        exe.is_file(),
+        "{} is missing: run the tests with `cargo test --workspace`, which builds the examples",
+        exe.display()
+    );
+    exe
+}
+
+#[test]
+fn headless_renders_what_lightbench_render_renders() {
+    let d = scratch("example-headless");
+    let (ours, theirs) = (d.join("headless.png"), d.join("render.png"));
+    let out = Command::new(example("headless"))
+        .arg(&ours)
+        .arg("64x64")
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--pipeline",
+        "pipelines/deferred.lbp",
+        "--size",
+        "64x64",
+        "--out",
+        theirs.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let load = |p: &PathBuf| lightbench::io::Image::load_png(p).unwrap();
+    let e = lightbench::io::rmse(&load(&ours), &load(&theirs)).unwrap();
+    assert!(e <= 1e-6, "RMSE {e}");
+    // A size that is not one: a usage error.
+    let out = Command::new(example("headless"))
+        .arg(&ours)
+        .arg("64by64")
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn embed_renders_into_its_window_under_xvfb() {
+    let d = scratch("example-embed");
+    let shot = d.join("swapchain.png");
+    let out = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1024x768x24"])
+        .arg(example("embed"))
+        .args(["--frames", "3", "--screenshot"])
+        .arg(&shot)
+        .current_dir(root())
+        .output()
+        .expect("xvfb-run must be installed (apt-get install xvfb xauth; .ci/run does)");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let img = image::open(&shot).unwrap_or_else(|e| panic!("{e}\n{err}")).to_rgb8();
+    assert!(
+        img.pixels().any(|p| p != img.get_pixel(0, 0)),
+        "the swap-chain image is not uniform"
+    );
+}
