@@ -561,3 +561,15 @@ fn plan_memory_shows_logical_and_aliased_memory() {
         "{out}"
     );
 }
+
+/// `view --help` names every action a `--script` may use (the README lists the same ones).
+#[test]
+fn view_help_names_every_script_action() {
+    let (code, out, err) = lightbench(&["view", "--help"]);
+    assert_eq!(code, 0, "{err}");
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    for action in lightbench::viewer::state::ACTIONS.iter().chain(&["frames"]) {
+        assert!(out.contains(action), "view --help omits `{action}`:\n{out}");
+        assert!(readme.contains(&format!("`{action}")), "the README omits `{action}`");
+    }
+}
