@@ -3,7 +3,7 @@
 // small lights. Samples follow the seed's polar pattern, s = p + radius · e1 · (sin 2πe2,
 // cos 2πe2), weighted by e1² (2·e1 with `gi.area_weights`, see `sample_weight`), and each adds
 //     flux · max(n_p · d, 0) · max(n_s · -d, 0) / |d|⁴        (d: receiver to sender).
-// Deviations (README): |d| is clamped below by `gi.min_distance` (the 1/|d|⁴ singularity of
+// Deviations (docs/effects.md): |d| is clamped below by `gi.min_distance` (the 1/|d|⁴ singularity of
 // a sender next to the receiver); and each sample's flux is the light its texel reflects in
 // all (`texel_power`) times the texels of the sampled disc it stands for, so the result does
 // not depend on the RSM's size or the scene's scale.

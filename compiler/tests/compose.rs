@@ -39,7 +39,7 @@ fn check(dir: &Path, file: &str) -> Outcome {
 }
 
 fn readme_example() -> String {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let readme = common::manual();
     let after = readme.split("A pipeline that uses the bundled one").nth(1).expect("the section");
     after.split("```\n").nth(1).expect("its code block").to_string()
 }

@@ -820,7 +820,7 @@ fn enum_types_take_either_spelling() {
 /// the same pipeline.
 #[test]
 fn the_readme_shows_every_form_and_it_parses() {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let readme = common::manual();
     let after = readme.split("Every LBP form in one file").nth(1).expect("the section");
     let block = after.split("```\n").nth(1).expect("its code block");
     assert!(block.starts_with("pipeline every_form"), "{block}");

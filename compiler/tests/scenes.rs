@@ -367,7 +367,7 @@ fn builtin_lights_false_keeps_only_the_files_lights() {
 /// render them.
 #[test]
 fn readme_and_bundled_scenes_load() {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let readme = common::manual();
     let examples: Vec<&str> = readme
         .split("```ron\n")
         .skip(1)

@@ -111,7 +111,7 @@ fn each_feature_is_accepted_where_present_and_located_where_missing() {
 /// The README lists every feature `requires` accepts.
 #[test]
 fn the_readme_names_every_feature() {
-    let readme = std::fs::read_to_string(repo_root().join("README.md")).unwrap();
+    let readme = common::manual();
     let missing: Vec<&str> = Feature::NAMES
         .iter()
         .copied()

@@ -1,7 +1,7 @@
 //! Check stage `scene`: the values of a scene file. Every number finite, and each in the
 //! range its meaning allows; a violation is an error at the key, naming the light or model
 //! and the field. Nothing is clamped here: what the runtime clamps deliberately is listed
-//! in the README ("Scene files").
+//! in the manual (docs/scenes.md, "Scene files").
 
 use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::scene::{AnimationDesc, CameraAnimationDesc, CameraDesc, KeySpans, LightDesc, ModelDesc, SceneFile, MAX_SIZE};

@@ -1,5 +1,5 @@
 //! Diagnostic codes: one documented enum, so that every code the compiler can report is
-//! listed in one place (the README's table is checked against it by a test).
+//! listed in one place (the manual's table in docs/diagnostics.md is checked against it by a test).
 
 use serde::{Serialize, Serializer};
 

@@ -26,7 +26,7 @@ pub struct Label {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     pub severity: Severity,
-    /// Stable, documented identifier (see [`Code`] and the README's table).
+    /// Stable, documented identifier (see [`Code`] and the manual's table, docs/diagnostics.md).
     pub code: Code,
     pub message: String,
     /// The first primary label is where the diagnostic "is" (file:line:col).

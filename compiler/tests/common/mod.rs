@@ -77,3 +77,19 @@ pub fn check_project(dir: &Path, pipeline: &str, profile: &Profile, scene: Optio
 pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }
+
+/// The README and every page of the manual (`docs/`), one text: what tests search for the
+/// examples and tables the documentation shows.
+pub fn manual() -> String {
+    let mut pages: Vec<PathBuf> = std::fs::read_dir(repo_root().join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    pages.sort();
+    std::iter::once(repo_root().join("README.md"))
+        .chain(pages)
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect::<Vec<_>>()
+        .join("\n")
+}

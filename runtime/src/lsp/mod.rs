@@ -83,11 +83,13 @@ fn roots(init: &serde_json::Value) -> Vec<PathBuf> {
     folders.iter().filter_map(|f| path_of(&f.uri)).collect()
 }
 
-/// `README.md#checks` of the repository this binary was built from, if it is still there.
+/// The manual's diagnostics page (`docs/diagnostics.md`, the table of codes) of the repository
+/// this binary was built from, if it is still there.
 fn manual() -> Option<lsp_types::Uri> {
-    let readme = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent()?.join("README.md");
-    let uri = text::uri_of(&readme).filter(|_| readme.is_file())?;
-    std::str::FromStr::from_str(&format!("{}#checks", uri.as_str())).ok()
+    let page = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()?
+        .join("docs/diagnostics.md");
+    text::uri_of(&page).filter(|_| page.is_file())
 }
 
 pub struct Server {

@@ -47,10 +47,26 @@ pub fn scratch(tag: &str) -> PathBuf {
     d
 }
 
-/// Assert that the README's first ```ron block starting with `opening` is the bundled file
+/// The README and every page of the manual (`docs/`), one text: what tests search for the
+/// examples the documentation shows.
+pub fn manual() -> String {
+    let mut pages: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    pages.sort();
+    std::iter::once(root().join("README.md"))
+        .chain(pages)
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Assert that the manual's first ```ron block starting with `opening` is the bundled file
 /// `rel` without its leading comment lines: the example as written is the file tests run.
 pub fn assert_readme_block_is(opening: &str, rel: &str) {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = manual();
     let block = readme
         .split("```ron\n")
         .skip(1)

@@ -13,6 +13,7 @@ mod cli_render;
 mod diff;
 mod examples;
 mod sweep;
+mod tutorial;
 mod verify;
 mod view_script_mutants;
 mod viewer;

@@ -557,13 +557,13 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
     }
 }
 
-/// The README's spec example is `sweeps/shadows.ron` without its leading comment, and its
-/// reference commands run as written: the plain one, and the noise-targeted one, which
+/// The manual's spec example is `sweeps/shadows.ron` without its leading comment, and the
+/// reference page's commands run as written: the plain one, and the noise-targeted one, which
 /// reports and records the error it reached.
 #[test]
 fn readme_examples_are_the_bundled_spec_and_run() {
     cli_common::assert_readme_block_is("Sweep(", "sweeps/shadows.ron");
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = std::fs::read_to_string(root().join("docs/reference.md")).unwrap();
     let lines: Vec<&str> = readme.lines().filter(|l| l.starts_with("lightbench reference --scene")).collect();
     assert_eq!(lines.len(), 2, "{lines:?}");
     let dir = scratch("readme");
@@ -737,7 +737,7 @@ fn shards_running_at_once_into_one_folder_keep_every_row() {
 /// at once, then the merge, equal to the unsharded sweep.
 #[test]
 fn the_readme_gnu_parallel_sharding_runs_as_written() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = cli_common::manual();
     let block = readme.split("# GNU parallel").nth(1).expect("the README's GNU parallel example");
     let lines: Vec<&str> = block
         .lines()

@@ -467,7 +467,7 @@ fn shaders_are_found_beside_the_enclosing_pipelines_folder() {
 /// Every flag a README synopsis shows is one the command's `--help` lists.
 #[test]
 fn readme_synopses_name_real_flags() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = cli_common::manual();
     let mut checked = 0;
     let mut lines = readme.lines().peekable();
     while let Some(line) = lines.next() {
@@ -567,7 +567,7 @@ fn plan_memory_shows_logical_and_aliased_memory() {
 fn view_help_names_every_script_action() {
     let (code, out, err) = lightbench(&["view", "--help"]);
     assert_eq!(code, 0, "{err}");
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = cli_common::manual();
     for action in lightbench::viewer::state::ACTIONS.iter().chain(&["frames"]) {
         assert!(out.contains(action), "view --help omits `{action}`:\n{out}");
         assert!(readme.contains(&format!("`{action}")), "the README omits `{action}`");

@@ -339,10 +339,7 @@ fn broken_copy_reports_what_check_reports_and_an_edit_clears_it() {
             );
             assert_eq!(g["severity"], json!(1));
             // The code links to the manual's table of codes.
-            assert_eq!(
-                g["codeDescription"]["href"],
-                json!(format!("{}#checks", uri(&root().join("README.md"))))
-            );
+            assert_eq!(g["codeDescription"]["href"], json!(uri(&root().join("docs/diagnostics.md"))));
         }
     }
     let got = in_file(&path);
@@ -496,7 +493,7 @@ fn the_vscode_extension_is_complete_and_its_grammar_knows_every_keyword() {
 /// The README's Neovim snippet is the file the end-to-end test starts Neovim with.
 #[test]
 fn the_readme_shows_the_neovim_snippet_as_tested() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = cli_common::manual();
     let block = readme
         .split("```lua\n")
         .nth(1)

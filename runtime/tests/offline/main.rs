@@ -13,4 +13,5 @@ mod cli_safety;
 mod lsp;
 mod lsp_mutants;
 mod lsp_neovim;
+mod manual;
 mod sweep_spec_mutants;

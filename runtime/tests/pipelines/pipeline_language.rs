@@ -674,7 +674,7 @@ output t
 /// `--input` into a blurred level of its mip chain.
 #[test]
 fn the_readme_lbp_example_checks_and_renders() {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = cli_common::manual();
     let start = readme.find("```\npipeline chain_and_blur").expect("the README shows the example") + 4;
     let text = &readme[start..][..readme[start..].find("```").unwrap()];
     let d = project("readme-lbp", &[("pipelines/example.lbp", text)]);

@@ -116,7 +116,7 @@ impl Ctx<'_> {
                 diags.push(Diagnostic::error(
                     Code::BindingType,
                     format!(
-                        "per-draw binding `{}` has type `{}`; see README \"Standard bindings\"",
+                        "per-draw binding `{}` has type `{}`; see docs/pipelines.md \"Standard bindings\"",
                         g.name, g.type_name
                     ),
                     gspan,
