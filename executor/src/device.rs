@@ -27,6 +27,10 @@ pub struct DeviceOptions {
     pub adapter: Option<String>,
 }
 
+/// A device the executor renders with, and what it can do: the compiler's capability
+/// profile (features probed, not just trusted) and notes on what the probes found. Made by
+/// `Gpu::new` (lightbench picks the adapter), `from_host` (a host renderer's device, its
+/// handlers untouched) or `from_parts` (a device opened for lightbench, e.g. the viewer's).
 pub struct Gpu {
     pub adapter: wgpu::Adapter,
     pub device: wgpu::Device,

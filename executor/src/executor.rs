@@ -118,6 +118,10 @@ struct Shared {
     bounds: (glam::Vec3, glam::Vec3),
 }
 
+/// A compiled Plan running on a device for one scene: its resources, pipelines and bind
+/// groups, rendering frames (`render_frame`, or `encode` into a host's encoder), taking a new
+/// Plan or scene at a frame boundary (`replace`, `replace_scene`) and reading back any
+/// resource.
 pub struct Executor {
     state: State,
     shared: Shared,

@@ -62,7 +62,8 @@ fn the_tutorial_runs_as_written() {
     for made in [
         "cornell.png",
         "warm.png",
-        "diff-warm/report.md", "diff-warm/ldr.side.png",
+        "diff-warm/report.md",
+        "diff-warm/ldr.side.png",
         "ref",
         "sweep-warm/report.md",
         "sweep-warm/results.csv",
