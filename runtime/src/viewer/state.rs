@@ -174,11 +174,23 @@ impl Viewer {
         }
     }
 
-    /// Render one frame from the viewer's camera.
+    /// Lights edited: a change the running Plan can take (the lights that are on keep their
+    /// kinds and shadow casting, in order) is a frame input — no new Plan, no scene upload,
+    /// and only the work that depends on the lights runs again; any other needs a new Plan.
+    fn lights_changed(&mut self, gpu: &Gpu) -> Result<()> {
+        let signature = |s: &Scene| s.active_lights().iter().map(|l| (l.kind, l.shadows)).collect::<Vec<_>>();
+        if signature(&self.scene) == signature(self.ex.scene()) {
+            return Ok(());
+        }
+        self.rebuild(gpu, true)
+    }
+
+    /// Render one frame from the viewer's camera, with its lights as they are now.
     pub fn frame(&mut self, gpu: &Gpu) -> Result<()> {
         let start = std::time::Instant::now();
         let mut inputs = self.ex.inputs(self.frames as f32 / 60.0);
         inputs.camera = self.camera.clone();
+        inputs.lights = Some(self.scene.active_lights().into_iter().cloned().collect());
         self.ex.render_frame(gpu, &inputs)?;
         let ms = start.elapsed().as_secs_f64() * 1e3;
         self.frame_ms = if self.frames == 0 { ms } else { 0.9 * self.frame_ms + 0.1 * ms };
@@ -263,7 +275,7 @@ impl Viewer {
                     .get_mut(self.light)
                     .ok_or_else(|| Error::Usage("the scene has no lights".into()))?;
                 l.on = !l.on;
-                self.rebuild(gpu, true)?;
+                self.lights_changed(gpu)?;
             }
             Action::RotateLight(yaw, pitch) => {
                 let l = self
@@ -273,7 +285,7 @@ impl Viewer {
                     .ok_or_else(|| Error::Usage("the scene has no lights".into()))?;
                 let q = glam::Quat::from_rotation_y(yaw.to_radians()) * glam::Quat::from_rotation_x(pitch.to_radians());
                 l.direction = q * l.direction;
-                self.rebuild(gpu, true)?;
+                self.lights_changed(gpu)?;
             }
             Action::Move(d) => {
                 let f = self.camera.forward();
@@ -302,7 +314,7 @@ impl Viewer {
                     .get_mut(i)
                     .ok_or_else(|| Error::Usage(format!("there is no light {}", i + 1)))?;
                 *slot = *l;
-                self.rebuild(gpu, true)?;
+                self.lights_changed(gpu)?;
             }
             Action::AddLight(kind) => {
                 let at = self.camera.position + self.camera.forward();

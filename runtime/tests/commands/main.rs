@@ -17,3 +17,4 @@ mod tutorial;
 mod verify;
 mod view_script_mutants;
 mod viewer;
+mod viewer_lights;
