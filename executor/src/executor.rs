@@ -154,6 +154,11 @@ pub struct Executor {
     alias: bool,
     /// The frame `encode` recorded into a host's encoder, until `submit`.
     recorded: Option<embed::Recorded>,
+    /// GPU timestamps read late (`set_late_timestamps`): the frames whose read is on its way
+    /// with which passes ran in them, and the latest figure per pass.
+    late_timestamps: bool,
+    late_runs: std::collections::VecDeque<(u64, Vec<bool>)>,
+    late_ms: Vec<Option<f64>>,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -246,6 +251,9 @@ impl Executor {
             in_flight: Default::default(),
             frames_in_flight: 2,
             recorded: None,
+            late_timestamps: false,
+            late_runs: Default::default(),
+            late_ms: vec![],
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -268,6 +276,8 @@ impl Executor {
         report.params_dropped = dropped;
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
+        // Late timestamps on their way belong to the old Plan's passes.
+        (self.late_runs, self.late_ms) = Default::default();
         self.inputs.params = params;
         // A recreated external resource lost what was supplied: it must be supplied again.
         self.supplied.retain(|n| !report.resources_created.contains(n));
@@ -288,6 +298,8 @@ impl Executor {
         report.params_dropped = dropped;
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
+        // Late timestamps on their way belong to the old Plan's passes.
+        (self.late_runs, self.late_ms) = Default::default();
         self.shared = shared;
         self.supplied.retain(|n| !report.resources_created.contains(n));
         self.inputs.params = params;
@@ -612,13 +624,14 @@ impl Executor {
         self.frames_in_flight = n.max(1) as usize;
     }
 
-    /// Wait until the GPU has run every submitted frame.
+    /// Wait until the GPU has run every submitted frame (late timestamps included: the
+    /// timing log is complete after it).
     pub fn wait_idle(&mut self, gpu: &Gpu) -> Result<()> {
         self.in_flight.clear();
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
-            .map_err(|e| Error::gpu("waiting for the GPU", e))
+            .map_err(|e| Error::gpu("waiting for the GPU", e))?;
+        self.collect_late()
     }
 
     /// After a submission: wait for it if it is timed, else for the frames beyond the bound.
@@ -663,20 +676,23 @@ impl Executor {
                 .blame(gpu, (&run, parity), &order)
                 .unwrap_or_else(|| Error::gpu("encoding the frame", e)));
         }
-        let state = &self.state;
-        let timer = state.timer.as_ref().filter(|_| self.timing);
-        buffers.extend(timer.map(|t| t.resolve(gpu)));
+        let timer = self.state.timer.as_ref().filter(|_| self.timing);
+        let waited = timer.is_some() && !self.late_timestamps;
+        let late = timer.filter(|_| self.late_timestamps).and_then(|t| t.resolve_late(gpu));
+        buffers.extend(timer.filter(|_| waited).map(|t| t.resolve(gpu)));
+        let late_slot = late.map(|(commands, slot)| {
+            buffers.push(commands);
+            slot
+        });
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let submitted = gpu.queue.submit(buffers);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(Error::gpu("submitting the frame", e));
         }
-        let timed = timer.is_some();
-        self.bound_in_flight(gpu, submitted, timed)?;
-        let state = &self.state;
-        let timer = state.timer.as_ref().filter(|_| self.timing);
-        let gpu_ms = timer.map(|t| t.read(gpu)).transpose()?;
-        self.last_timings = state
+        self.bound_in_flight(gpu, submitted, waited)?;
+        let gpu_ms = self.frame_gpu_ms(gpu, waited, late_slot, &run)?;
+        self.last_timings = self
+            .state
             .passes
             .iter()
             .enumerate()
@@ -687,7 +703,7 @@ impl Executor {
                     repetitions: p.reps.len() as u32,
                     repetitions_run: ran,
                     reused: ran == 0,
-                    gpu_ms: gpu_ms.as_ref().filter(|_| ran > 0).map(|v| v[i]),
+                    gpu_ms: gpu_ms[i].filter(|_| ran > 0),
                     cpu_encode_us: cpu_us[i],
                 }
             })
@@ -701,6 +717,65 @@ impl Executor {
         }
         self.frame_index += 1;
         Ok(())
+    }
+
+    /// GPU ms per pass for the frame just submitted: read at once when `waited`; else, with
+    /// late timestamps, the latest that have arrived (a frame or two back) after arming this
+    /// frame's read; else none.
+    fn frame_gpu_ms(&mut self, gpu: &Gpu, waited: bool, late_slot: Option<usize>, run: &[Vec<bool>]) -> Result<Vec<Option<f64>>> {
+        let Some(timer) = self.state.timer.as_ref() else {
+            return Ok(vec![None; run.len()]);
+        };
+        if waited {
+            return Ok(timer.read(gpu)?.into_iter().map(Some).collect());
+        }
+        if let Some(slot) = late_slot {
+            timer.arm(slot, self.frame_index);
+            let ran = run.iter().map(|r| r.iter().any(|x| *x)).collect();
+            self.late_runs.push_back((self.frame_index, ran));
+        }
+        if self.late_timestamps {
+            let _ = gpu.device.poll(wgpu::PollType::Poll);
+            self.collect_late()?;
+        }
+        Ok((0..run.len()).map(|i| self.late_ms.get(i).copied().flatten()).collect())
+    }
+
+    /// Take the late timestamps that have arrived: the latest per pass, and the timing log's
+    /// entries of their frames filled in.
+    fn collect_late(&mut self) -> Result<()> {
+        let Some(timer) = self.state.timer.as_ref() else { return Ok(()) };
+        for (frame, ms) in timer.collect()? {
+            let Some(at) = self.late_runs.iter().position(|(f, _)| *f == frame) else {
+                continue;
+            };
+            let (_, ran) = self.late_runs.remove(at).unwrap_or_default();
+            self.late_ms.resize(ms.len(), None);
+            // The log's last entry is frame `frame_index - 1`.
+            let back = (self.frame_index - frame) as usize;
+            let logged = self.timing_log.len().checked_sub(back).and_then(|i| self.timing_log.get_mut(i));
+            let mut entries: Vec<&mut Vec<PassTiming>> = logged.into_iter().collect();
+            if back == 1 {
+                entries.push(&mut self.last_timings);
+            }
+            for (i, v) in ms.iter().enumerate().filter(|(i, _)| ran.get(*i) == Some(&true)) {
+                self.late_ms[i] = Some(*v);
+                for e in entries.iter_mut() {
+                    if let Some(t) = e.get_mut(i) {
+                        t.gpu_ms = Some(*v);
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Read GPU timestamps a frame or two late instead of waiting for each timed frame
+    /// (off by default: measurements want each frame's own figures at once). Late, a frame's
+    /// `PassTiming::gpu_ms` are the latest that have arrived; the timing log's entries are
+    /// filled in as they arrive, and all of them by `wait_idle`.
+    pub fn set_late_timestamps(&mut self, on: bool) {
+        self.late_timestamps = on;
     }
 
     fn entry(&self, name: &str) -> Result<&super::pool::Entry> {

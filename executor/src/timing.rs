@@ -1,8 +1,23 @@
 //! Per-pass GPU time from timestamp queries: the first repetition of a pass writes its
-//! start, the last its end. CPU encode time is measured around each pass's encoding.
+//! start, the last its end. CPU encode time is measured around each pass's encoding. Read
+//! either at once (the frame is waited for: exact figures per frame, what measurements use)
+//! or late (`LATE_SLOTS` read-back buffers mapped as the GPU gets to them: no wait, the
+//! figures arrive a frame or two later — for interactive use).
 
 use super::Gpu;
 use lightbench_scene::error::{Error, Result};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Read-back buffers for late reads: frames whose timestamps may be on their way at once.
+const LATE_SLOTS: usize = 4;
+
+/// One late read-back buffer: the frame it holds and whether its mapping has completed.
+struct LateSlot {
+    buffer: wgpu::Buffer,
+    ready: Arc<AtomicBool>,
+    frame: Option<u64>,
+}
 
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct PassTiming {
@@ -24,6 +39,7 @@ pub struct Timer {
     pub set: wgpu::QuerySet,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
+    late: Mutex<Vec<LateSlot>>,
     period_ns: f32,
     passes: u32,
 }
@@ -51,6 +67,18 @@ impl Timer {
             }),
             resolve: buffer("timestamps", wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
             readback: buffer("timestamps readback", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST),
+            late: Mutex::new(
+                (0..LATE_SLOTS)
+                    .map(|_| LateSlot {
+                        buffer: buffer(
+                            "timestamps late readback",
+                            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                        ),
+                        ready: Arc::new(AtomicBool::new(false)),
+                        frame: None,
+                    })
+                    .collect(),
+            ),
             period_ns: gpu.queue.get_timestamp_period(),
             passes: passes as u32,
         })
@@ -81,14 +109,60 @@ impl Timer {
         gpu.device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("reading timestamps", e))?;
-        let ms = {
-            let data = slice.get_mapped_range().map_err(|e| Error::gpu("reading timestamps", e))?;
-            let ticks: &[u64] = bytemuck::cast_slice(&data);
-            (0..self.passes as usize)
-                .map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6)
-                .collect()
-        };
+        let ms = self.ms(&self.readback)?;
         self.readback.unmap();
         Ok(ms)
+    }
+
+    /// Milliseconds per pass in a mapped read-back buffer.
+    fn ms(&self, buffer: &wgpu::Buffer) -> Result<Vec<f64>> {
+        let data = buffer
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| Error::gpu("reading timestamps", e))?;
+        let ticks: &[u64] = bytemuck::cast_slice(&data);
+        Ok((0..self.passes as usize)
+            .map(|i| ticks[2 * i + 1].saturating_sub(ticks[2 * i]) as f64 * self.period_ns as f64 / 1e6)
+            .collect())
+    }
+
+    /// Commands that copy this frame's timestamps into a free late slot, and the slot; `None`
+    /// when every slot still waits for the GPU (the frame then goes untimed).
+    pub fn resolve_late(&self, gpu: &Gpu) -> Option<(wgpu::CommandBuffer, usize)> {
+        let slots = self.late.lock().ok()?;
+        let slot = slots.iter().position(|s| s.frame.is_none())?;
+        let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("timestamps, late"),
+        });
+        enc.resolve_query_set(&self.set, 0..self.passes * 2, &self.resolve, 0);
+        enc.copy_buffer_to_buffer(&self.resolve, 0, &slots[slot].buffer, 0, self.resolve.size());
+        Some((enc.finish(), slot))
+    }
+
+    /// After the submission holding `resolve_late`'s commands: map the slot when the GPU is
+    /// done with it (no wait), for frame `frame`.
+    pub fn arm(&self, slot: usize, frame: u64) {
+        let Ok(mut slots) = self.late.lock() else { return };
+        let s = &mut slots[slot];
+        s.frame = Some(frame);
+        s.ready.store(false, Ordering::SeqCst);
+        let ready = s.ready.clone();
+        s.buffer
+            .slice(..)
+            .map_async(wgpu::MapMode::Read, move |r| ready.store(r.is_ok(), Ordering::SeqCst));
+    }
+
+    /// The frames whose timestamps have arrived (after a `device.poll`), each with its
+    /// milliseconds per pass, oldest first; their slots are free again.
+    pub fn collect(&self) -> Result<Vec<(u64, Vec<f64>)>> {
+        let Ok(mut slots) = self.late.lock() else { return Ok(vec![]) };
+        let mut out = vec![];
+        for s in slots.iter_mut().filter(|s| s.frame.is_some() && s.ready.load(Ordering::SeqCst)) {
+            out.push((s.frame.take().unwrap_or_default(), self.ms(&s.buffer)?));
+            s.buffer.unmap();
+            s.ready.store(false, Ordering::SeqCst);
+        }
+        out.sort_by_key(|(f, _)| *f);
+        Ok(out)
     }
 }

@@ -3,7 +3,8 @@
 //! in flight (the default: the CPU encodes a frame while the GPU runs the one before) against
 //! waiting for each frame, interleaved in one run, as a ratio. Needs an adapter (lavapipe is
 //! enough; there "the GPU" is the same CPU cores, so overlap gains little, where a real GPU
-//! would hide the encoding). Not a test.
+//! would hide the encoding). Then the same with GPU timestamps on: each timed frame waited
+//! for (what measurements do) against timestamps read late (what the viewer does). Not a test.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
@@ -44,4 +45,20 @@ fn main() {
     println!("  waiting for each frame : {:9.1} ms", waiting / 2.0);
     println!("  2 frames in flight     : {:9.1} ms", overlapped / 2.0);
     println!("  ratio in flight / waiting: {:.3}", overlapped / waiting);
+    if !gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+        println!("no timestamp queries on this adapter: timed frames not compared");
+        return;
+    }
+    ex.set_timing(true);
+    let (mut waited, mut late) = (0.0, 0.0);
+    for _ in 0..2 {
+        ex.set_late_timestamps(false);
+        waited += run(&gpu, &mut ex, 2);
+        ex.set_late_timestamps(true);
+        late += run(&gpu, &mut ex, 2);
+    }
+    println!("timed frames (timestamps on), 2 frames in flight:");
+    println!("  each timed frame waited: {:9.1} ms", waited / 2.0);
+    println!("  timestamps read late   : {:9.1} ms", late / 2.0);
+    println!("  ratio late / waited: {:.3}", late / waited);
 }

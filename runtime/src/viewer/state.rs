@@ -86,7 +86,9 @@ impl Viewer {
         variants: &[(String, String)],
     ) -> Result<Viewer> {
         let exe = compile(&ws, (pipeline, shaders), gpu, &scene, variants)?;
-        let ex = Executor::new(gpu, &exe, &scene)?;
+        let mut ex = Executor::new(gpu, &exe, &scene)?;
+        // The panel's per-pass times may be a frame old; the frame is not waited for.
+        ex.set_late_timestamps(true);
         let options = ws
             .session()
             .load_pipeline(pipeline)

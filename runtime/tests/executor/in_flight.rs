@@ -40,3 +40,51 @@ fn frames_in_flight_render_what_waiting_renders() {
     // The frames differ from each other (the lights move), so a stale read would show.
     assert!(rmse(&waiting[0], &waiting[2]).unwrap() > 1e-4);
 }
+
+/// Late timestamps (`set_late_timestamps`, what the viewer uses): timed frames are not waited
+/// for, the figures arrive later, and by `wait_idle` every frame's are in the timing log —
+/// for each pass that ran, none for those reused; the images are those of waiting.
+#[test]
+fn late_timestamps_fill_every_frame_by_the_end() {
+    let g = gpu();
+    assert!(
+        g.profile.has(lightbench_compiler::profile::Feature::TimestampQuery),
+        "lavapipe has timestamps"
+    );
+    let mut s = lightbench::scene::load("cornell").unwrap();
+    s.size = (48, 48);
+    let (exe, _) = lightbench::render::compile(&g, &root().join("pipelines/deferred.lbp"), None, &s, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let run = |late: bool| {
+        let mut ex = Executor::new(&g, &exe, &s).unwrap();
+        ex.log_timings = true;
+        ex.set_late_timestamps(late);
+        for f in 0..8 {
+            let inputs = ex.inputs(f as f32 / 60.0);
+            ex.render_frame(&g, &inputs).unwrap_or_else(|e| panic!("{e}"));
+        }
+        ex.wait_idle(&g).unwrap();
+        (output(&g, &ex), ex.timing_log.clone(), ex.last_timings.clone())
+    };
+    let (waited, waited_log, _) = run(false);
+    let (late, log, last) = run(true);
+    assert!(rmse(&waited, &late).unwrap() <= 1e-6);
+    assert_eq!(log.len(), 8);
+    for (f, (frame, same)) in log.iter().zip(&waited_log).enumerate() {
+        for (t, w) in frame.iter().zip(same) {
+            assert_eq!(t.reused, w.reused, "frame {f}, {}: the same work ran", t.pass);
+            match t.reused {
+                false => assert!(
+                    t.gpu_ms.is_some_and(|ms| ms.is_finite() && ms >= 0.0),
+                    "frame {f}, {}: {:?}",
+                    t.pass,
+                    t.gpu_ms
+                ),
+                true => assert_eq!(t.gpu_ms, None, "frame {f}, {}: reused, untimed", t.pass),
+            }
+        }
+    }
+    // The last frame's own figures, after the wait.
+    for (t, logged) in last.iter().zip(&log[7]) {
+        assert_eq!(t.gpu_ms, logged.gpu_ms, "{}", t.pass);
+    }
+}
