@@ -159,6 +159,8 @@ pub struct Executor {
     late_timestamps: bool,
     late_runs: std::collections::VecDeque<(u64, Vec<bool>)>,
     late_ms: Vec<Option<f64>>,
+    /// Where parameter blocks are packed each frame before being compared with the last.
+    pack_scratch: Vec<u8>,
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
@@ -254,6 +256,7 @@ impl Executor {
             late_timestamps: false,
             late_runs: Default::default(),
             late_ms: vec![],
+            pack_scratch: vec![],
         };
         ex.upload_data(gpu, &exe.data)?;
         Ok(ex)
@@ -371,12 +374,15 @@ impl Executor {
         for (name, value) in params.iter() {
             ParamValues::check(&plan.params, name, value)?;
         }
+        // Packed into a scratch buffer and swapped with the last bytes when they differ: no
+        // allocation per block per frame.
+        let scratch = &mut self.pack_scratch;
         for (pp, bufs) in plan.passes.iter().zip(&mut self.state.params) {
             for (block, (buf, last)) in pp.uniform_blocks.iter().zip(bufs.iter_mut()) {
-                let bytes = block.pack(&plan.params, params);
-                if bytes != *last {
-                    gpu.queue.write_buffer(buf, 0, &bytes);
-                    *last = bytes;
+                block.pack_into(&plan.params, params, scratch);
+                if scratch != last {
+                    gpu.queue.write_buffer(buf, 0, scratch);
+                    std::mem::swap(scratch, last);
                 }
             }
         }
@@ -609,7 +615,11 @@ impl Executor {
             .zip(&state.params)
             .map(|(p, blocks)| PassInputs {
                 plan: &p.plan,
-                params: hash_bytes(&blocks.iter().flat_map(|(_, b)| b.iter().copied()).collect::<Vec<u8>>()),
+                params: {
+                    let mut h = std::collections::hash_map::DefaultHasher::new();
+                    blocks.iter().for_each(|(_, b)| std::hash::Hash::hash(b, &mut h));
+                    std::hash::Hasher::finish(&h)
+                },
                 rep_lights: p.reps.iter().map(|r| r.light).collect(),
             })
             .collect();
@@ -691,23 +701,7 @@ impl Executor {
         }
         self.bound_in_flight(gpu, submitted, waited)?;
         let gpu_ms = self.frame_gpu_ms(gpu, waited, late_slot, &run)?;
-        self.last_timings = self
-            .state
-            .passes
-            .iter()
-            .enumerate()
-            .map(|(i, p)| {
-                let ran = run[i].iter().filter(|r| **r).count() as u32;
-                PassTiming {
-                    pass: p.plan.name.clone(),
-                    repetitions: p.reps.len() as u32,
-                    repetitions_run: ran,
-                    reused: ran == 0,
-                    gpu_ms: gpu_ms[i].filter(|_| ran > 0),
-                    cpu_encode_us: cpu_us[i],
-                }
-            })
-            .collect();
+        self.record_timings(&run, &gpu_ms, &cpu_us);
         if self.log_timings {
             self.timing_log.push(self.last_timings.clone());
         }
@@ -717,6 +711,34 @@ impl Executor {
         }
         self.frame_index += 1;
         Ok(())
+    }
+
+    /// This frame's `last_timings`, written over last frame's (no allocation while the
+    /// passes stay the same).
+    fn record_timings(&mut self, run: &[Vec<bool>], gpu_ms: &[Option<f64>], cpu_us: &[f64]) {
+        let passes = &self.state.passes;
+        let same = self.last_timings.len() == passes.len() && self.last_timings.iter().zip(passes).all(|(t, p)| t.pass == p.plan.name);
+        if !same {
+            self.last_timings = passes
+                .iter()
+                .map(|p| PassTiming {
+                    pass: p.plan.name.clone(),
+                    repetitions: 0,
+                    repetitions_run: 0,
+                    reused: false,
+                    gpu_ms: None,
+                    cpu_encode_us: 0.0,
+                })
+                .collect();
+        }
+        for (i, (t, p)) in self.last_timings.iter_mut().zip(passes).enumerate() {
+            let ran = run[i].iter().filter(|r| **r).count() as u32;
+            t.repetitions = p.reps.len() as u32;
+            t.repetitions_run = ran;
+            t.reused = ran == 0;
+            t.gpu_ms = gpu_ms[i].filter(|_| ran > 0);
+            t.cpu_encode_us = cpu_us[i];
+        }
     }
 
     /// GPU ms per pass for the frame just submitted: read at once when `waited`; else, with

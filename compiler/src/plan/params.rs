@@ -302,42 +302,53 @@ impl UniformBlock {
     /// The block's bytes: each field's parameter (override or default) at its offset, as
     /// the field's type (bools and enum indices as `u32`; a colour without alpha gets 1).
     pub fn pack(&self, params: &[PlanParam], values: &ParamValues) -> Vec<u8> {
-        let mut bytes = vec![0u8; self.size as usize];
+        let mut bytes = vec![];
+        self.pack_into(params, values, &mut bytes);
+        bytes
+    }
+
+    /// `pack` into `bytes` (cleared first), allocating nothing once `bytes` has the block's
+    /// size: an executor packs every block every frame.
+    pub fn pack_into(&self, params: &[PlanParam], values: &ParamValues, bytes: &mut Vec<u8>) {
+        bytes.clear();
+        bytes.resize(self.size as usize, 0);
         for f in &self.fields {
-            let words = match &f.source {
-                FieldSource::Fixed(w) => w.clone(),
-                FieldSource::Param(id) => match params.get(id.0 as usize) {
-                    Some(p) => words(&p.ty, values.value_of(p), f.ty),
-                    None => continue,
-                },
-            };
-            for (i, w) in words.iter().enumerate() {
+            let mut put = |i: usize, w: u32| {
                 let at = f.offset as usize + 4 * i;
                 if let Some(dst) = bytes.get_mut(at..at + 4) {
                     dst.copy_from_slice(&w.to_le_bytes());
                 }
+            };
+            match &f.source {
+                FieldSource::Fixed(w) => w.iter().enumerate().for_each(|(i, w)| put(i, *w)),
+                FieldSource::Param(id) => {
+                    if let Some(p) = params.get(id.0 as usize) {
+                        words(&p.ty, values.value_of(p), f.ty, put);
+                    }
+                }
             }
         }
-        bytes
     }
 }
 
-/// A value as the 32-bit words of a field.
-fn words(ty: &ParamType, v: &ParamValue, field: FieldType) -> Vec<u32> {
+/// A value as the 32-bit words of a field, each given to `put(index, word)`.
+fn words(ty: &ParamType, v: &ParamValue, field: FieldType, mut put: impl FnMut(usize, u32)) {
     match v {
-        ParamValue::Float(x) => vec![(*x as f32).to_bits()],
-        ParamValue::Int(x) if field == FieldType::U32 => vec![*x as u32],
-        ParamValue::Int(x) => vec![(*x as i32) as u32],
-        ParamValue::Bool(b) => vec![*b as u32],
-        ParamValue::Vec(c) => (0..field.components())
-            .map(|i| (*c.get(i).unwrap_or(&1.0) as f32).to_bits())
-            .collect(),
+        ParamValue::Float(x) => put(0, (*x as f32).to_bits()),
+        ParamValue::Int(x) if field == FieldType::U32 => put(0, *x as u32),
+        ParamValue::Int(x) => put(0, (*x as i32) as u32),
+        ParamValue::Bool(b) => put(0, *b as u32),
+        ParamValue::Vec(c) => {
+            for i in 0..field.components() {
+                put(i, (*c.get(i).unwrap_or(&1.0) as f32).to_bits());
+            }
+        }
         ParamValue::Enum(s) => {
             let idx = match ty {
                 ParamType::Enum(opts) => opts.iter().position(|o| o == s).unwrap_or(0),
                 _ => 0,
             };
-            vec![idx as u32]
+            put(0, idx as u32)
         }
     }
 }

@@ -128,11 +128,17 @@ pub struct Reuse {
     /// Off: every pass runs every frame (for comparison, `render --no-reuse`).
     pub enabled: bool,
     last: Vec<Vec<Option<u64>>>,
+    /// This frame's keys per repetition (kept to reuse the buffers).
+    sigs: Vec<Vec<u64>>,
 }
 
 impl Reuse {
     pub fn new(enabled: bool) -> Reuse {
-        Reuse { enabled, last: vec![] }
+        Reuse {
+            enabled,
+            last: vec![],
+            sigs: vec![],
+        }
     }
 
     /// Forget what ran: the next frame runs everything (new resources, new inputs).
@@ -143,8 +149,15 @@ impl Reuse {
     /// Which repetitions run this frame, per pass; remembers the keys of those that do.
     pub fn decide(&mut self, graph: &Graph, keys: &FrameKeys, passes: &[PassInputs]) -> Vec<Vec<bool>> {
         self.last.resize_with(passes.len(), Vec::new);
-        let sigs: Vec<Vec<u64>> = passes.iter().map(|p| signatures(p, keys)).collect();
-        let own: Vec<Vec<bool>> = sigs
+        // This frame's keys, in buffers kept from frame to frame (an executor decides every
+        // frame; nothing here needs to allocate once they have their sizes).
+        self.sigs.resize_with(passes.len(), Vec::new);
+        for (p, sig) in passes.iter().zip(&mut self.sigs) {
+            signatures(p, keys, sig);
+        }
+        // Each repetition's own verdict: its key changed (or it always runs).
+        let mut run: Vec<Vec<bool>> = self
+            .sigs
             .iter()
             .zip(&self.last)
             .enumerate()
@@ -156,17 +169,14 @@ impl Reuse {
                     .collect()
             })
             .collect();
-        let dirty: Vec<bool> = own.iter().map(|o| o.iter().any(|d| *d)).collect();
+        let dirty: Vec<bool> = run.iter().map(|o| o.iter().any(|d| *d)).collect();
         let forced = graph.propagate(&dirty);
-        let run: Vec<Vec<bool>> = own
-            .iter()
-            .enumerate()
-            .map(|(i, o)| {
-                let all = forced[i] || (dirty[i] && !graph.separable[i]);
-                o.iter().map(|o| all || *o).collect()
-            })
-            .collect();
-        for (i, s) in sigs.iter().enumerate() {
+        for (i, reps) in run.iter_mut().enumerate() {
+            if forced[i] || (dirty[i] && !graph.separable[i]) {
+                reps.iter_mut().for_each(|r| *r = true);
+            }
+        }
+        for (i, s) in self.sigs.iter().enumerate() {
             self.last[i].resize(s.len(), None);
             for (r, sig) in s.iter().enumerate() {
                 if run[i][r] {
@@ -179,21 +189,19 @@ impl Reuse {
 }
 
 /// Each repetition's key: everything its result depends on besides what it reads.
-fn signatures(p: &PassInputs, keys: &FrameKeys) -> Vec<u64> {
+fn signatures(p: &PassInputs, keys: &FrameKeys, out: &mut Vec<u64>) {
     let d = &p.plan.depends;
-    p.rep_lights
-        .iter()
-        .map(|light| {
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            p.params.hash(&mut h);
-            (d.camera.then_some(keys.camera)).hash(&mut h);
-            (d.time.then_some(keys.time)).hash(&mut h);
-            (d.frame_index.then_some(keys.frame_index)).hash(&mut h);
-            (d.lights.then_some(keys.lights)).hash(&mut h);
-            light.and_then(|l| keys.light.get(l as usize)).hash(&mut h);
-            h.finish()
-        })
-        .collect()
+    out.clear();
+    out.extend(p.rep_lights.iter().map(|light| {
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        p.params.hash(&mut h);
+        (d.camera.then_some(keys.camera)).hash(&mut h);
+        (d.time.then_some(keys.time)).hash(&mut h);
+        (d.frame_index.then_some(keys.frame_index)).hash(&mut h);
+        (d.lights.then_some(keys.lights)).hash(&mut h);
+        light.and_then(|l| keys.light.get(l as usize)).hash(&mut h);
+        h.finish()
+    }));
 }
 
 /// Resources a pass reads this frame: declared reads and attachments it loads.
