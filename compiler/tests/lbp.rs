@@ -844,6 +844,6 @@ fn the_readme_shows_every_form_and_it_parses() {
     let missing: Vec<&&str> = keywords.iter().filter(|k| !block.contains(**k) && !uses.contains(**k)).collect();
     assert!(
         missing.is_empty(),
-        "the README's every-form file and `use` example lack {missing:?}"
+        "the manual's every-form file and `use` example lack {missing:?}"
     );
 }

@@ -374,10 +374,10 @@ fn readme_and_bundled_scenes_load() {
         .filter_map(|b| b.split("```").next())
         .filter(|b| b.trim_start().starts_with("Scene("))
         .collect();
-    assert!(!examples.is_empty(), "the README shows a scene file");
+    assert!(!examples.is_empty(), "the manual shows a scene file");
     for ex in examples {
         let (d, diags, _) = load(ex);
-        assert!(d.is_some(), "README example: {:?}", diags.list);
+        assert!(d.is_some(), "the manual's example: {:?}", diags.list);
     }
     for entry in std::fs::read_dir(repo_root().join("scenes")).unwrap() {
         let p = entry.unwrap().path();

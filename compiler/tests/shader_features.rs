@@ -117,7 +117,7 @@ fn the_readme_names_every_feature() {
         .copied()
         .filter(|n| !readme.contains(&format!("`{n}`")))
         .collect();
-    assert!(missing.is_empty(), "README lacks {missing:?}");
+    assert!(missing.is_empty(), "the manual lacks {missing:?}");
 }
 
 /// `blend: DualSource` needs a `@blend_src(1)` output: without one, an error at the blend; with

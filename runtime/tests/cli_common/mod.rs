@@ -72,8 +72,8 @@ pub fn assert_readme_block_is(opening: &str, rel: &str) {
         .skip(1)
         .filter_map(|b| b.split("```").next())
         .find(|b| b.starts_with(opening))
-        .unwrap_or_else(|| panic!("a `{opening}` example in the README"));
+        .unwrap_or_else(|| panic!("a `{opening}` example in the manual (README or docs/)"));
     let file = std::fs::read_to_string(root().join(rel)).unwrap();
     let body: String = file.lines().filter(|l| !l.starts_with("//")).map(|l| format!("{l}\n")).collect();
-    assert_eq!(block, body, "README example and {rel} differ");
+    assert_eq!(block, body, "the manual's example and {rel} differ");
 }

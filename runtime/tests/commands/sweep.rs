@@ -738,7 +738,7 @@ fn shards_running_at_once_into_one_folder_keep_every_row() {
 #[test]
 fn the_readme_gnu_parallel_sharding_runs_as_written() {
     let readme = cli_common::manual();
-    let block = readme.split("# GNU parallel").nth(1).expect("the README's GNU parallel example");
+    let block = readme.split("# GNU parallel").nth(1).expect("the manual's GNU parallel example");
     let lines: Vec<&str> = block
         .lines()
         .skip(1)

@@ -497,7 +497,7 @@ fn readme_synopses_name_real_flags() {
         for f in flags {
             assert!(
                 help.contains(f),
-                "README: `{line}` shows {f}, which `lightbench {} --help` lacks:\n{help}{err}",
+                "the manual: `{line}` shows {f}, which `lightbench {} --help` lacks:\n{help}{err}",
                 words.join(" ")
             );
             checked += 1;
@@ -570,6 +570,6 @@ fn view_help_names_every_script_action() {
     let readme = cli_common::manual();
     for action in lightbench::viewer::state::ACTIONS.iter().chain(&["frames"]) {
         assert!(out.contains(action), "view --help omits `{action}`:\n{out}");
-        assert!(readme.contains(&format!("`{action}")), "the README omits `{action}`");
+        assert!(readme.contains(&format!("`{action}")), "the manual omits `{action}`");
     }
 }

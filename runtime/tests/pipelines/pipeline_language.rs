@@ -675,7 +675,7 @@ output t
 #[test]
 fn the_readme_lbp_example_checks_and_renders() {
     let readme = cli_common::manual();
-    let start = readme.find("```\npipeline chain_and_blur").expect("the README shows the example") + 4;
+    let start = readme.find("```\npipeline chain_and_blur").expect("the manual shows the example") + 4;
     let text = &readme[start..][..readme[start..].find("```").unwrap()];
     let d = project("readme-lbp", &[("pipelines/example.lbp", text)]);
     for f in ["blur.wgsl", "mip_down.wgsl"] {
