@@ -56,15 +56,7 @@ pub fn geometry(name: &str) -> Option<(Vec<Mesh>, Vec<Material>)> {
 }
 
 fn mesh(name: &str, (vertices, indices): (Vec<lightbench_compiler::abi::Vertex>, Vec<u32>), material: usize, transform: Mat4) -> Mesh {
-    Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material,
-        transform,
-        triangle_fraction: 1.0,
-        reflective: false,
-    }
+    Mesh::new(name, vertices, indices, material, transform)
 }
 
 /// A Cornell box 2 units wide, deep and tall (floor at y = 0, open towards +Z) with a tall

@@ -125,6 +125,14 @@ pub fn compute_normals(vertices: &mut [Vertex], indices: &[u32]) {
     }
 }
 
+/// Every index within `vertices` (a loaded model's and a host's meshes are checked alike).
+pub fn check_indices(indices: &[u32], vertices: usize) -> Result<(), String> {
+    match indices.iter().find(|&&i| i as usize >= vertices) {
+        Some(bad) => Err(format!("index {bad} is out of range ({vertices} vertices)")),
+        None => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -168,15 +168,9 @@ fn walk_nodes(doc: &gltf::Document, buffers: &[gltf::buffer::Data], out: &mut Lo
                     ));
                     continue;
                 };
-                out.meshes.push(Mesh {
-                    name: format!("{}#{pi}", mesh.name().unwrap_or("mesh")),
-                    vertices,
-                    indices,
-                    material: prim.material().index().unwrap_or(default_material),
-                    transform: world,
-                    triangle_fraction: 1.0,
-                    reflective: false,
-                });
+                let material = prim.material().index().unwrap_or(default_material);
+                let name = format!("{}#{pi}", mesh.name().unwrap_or("mesh"));
+                out.meshes.push(Mesh::new(&name, vertices, indices, material, world));
             }
         }
         if let Some(l) = node.light() {
@@ -213,9 +207,7 @@ fn primitive(
         None => (0..positions.len() as u32).collect(),
     };
     let indices = triangle_list(prim.mode(), indices);
-    if let Some(bad) = indices.iter().find(|&&i| i as usize >= positions.len()) {
-        return Err(format!("{at}: index {bad} is out of range ({} vertices)", positions.len()));
-    }
+    super::geometry::check_indices(&indices, positions.len()).map_err(|e| format!("{at}: {e}"))?;
     for (what, n) in [
         ("NORMAL", normals.as_ref().map(|v| v.len())),
         ("TEXCOORD_0", uvs.as_ref().map(|v| v.len())),

@@ -269,8 +269,8 @@ impl Scene {
             if m.indices.len() % 3 != 0 {
                 return bad(format!("{} indices is not whole triangles", m.indices.len()));
             }
-            if let Some(i) = m.indices.iter().find(|i| **i as usize >= m.vertices.len()) {
-                return bad(format!("index {i} past its {} vertices", m.vertices.len()));
+            if let Err(e) = geometry::check_indices(&m.indices, m.vertices.len()) {
+                return bad(e);
             }
             if m.material >= materials.len() {
                 return bad(format!("material {} of {}", m.material, materials.len()));
