@@ -44,14 +44,24 @@ fn headless_renders_what_lightbench_render_renders() {
     let load = |p: &PathBuf| lightbench::io::Image::load_png(p).unwrap();
     let e = lightbench::io::rmse(&load(&ours), &load(&theirs)).unwrap();
     assert!(e <= 1e-6, "RMSE {e}");
-    // A size that is not one: a usage error.
-    let out = Command::new(example("headless"))
-        .arg(&ours)
-        .arg("64by64")
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    // A size that is not one, or no output named: usage errors, nothing written.
+    std::fs::remove_file(&ours).unwrap();
+    for args in [vec![ours.to_str().unwrap(), "64by64"], vec![]] {
+        let out = Command::new(example("headless")).args(&args).current_dir(root()).output().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(!ours.exists(), "{args:?}: nothing written");
+    }
+}
+
+/// `embed`'s options are checked before any window opens: exit 2, named.
+#[test]
+fn embed_refuses_bad_options() {
+    for (args, says) in [(["--frames", "many"], "--frames many"), (["--fast", "1"], "unknown option --fast")] {
+        let out = Command::new(example("embed")).args(args).current_dir(root()).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
 }
 
 #[test]
