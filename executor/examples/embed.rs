@@ -355,8 +355,15 @@ fn save_png(dev: &wgpu::Device, buffer: &wgpu::Buffer, tex: &wgpu::Texture, path
     for y in 0..h as usize {
         for px in mapped[y * row..y * row + w as usize * 4].chunks(4) {
             let [r, g, b] = if bgra { [px[2], px[1], px[0]] } else { [px[0], px[1], px[2]] };
-            rgba.extend_from_slice(&[r, g, b, 255]);
+            rgba.extend([r, g, b, 255].map(|c| c as f32 / 255.0));
         }
     }
-    image::save_buffer(path, &rgba, w, h, image::ColorType::Rgba8).map_err(|e| Error::io(path, e))
+    // Written as lightbench writes every file: atomically, through the guarded path.
+    let image = lightbench_executor::scene::io::Image {
+        width: w,
+        height: h,
+        rgba,
+        srgb: true,
+    };
+    image.save(path)
 }
