@@ -47,17 +47,21 @@ pub fn scratch(tag: &str) -> PathBuf {
     d
 }
 
-/// The README and every page of the manual (`docs/`), one text: what tests search for the
-/// examples the documentation shows.
-pub fn manual() -> String {
+/// The README and every page of the manual (`docs/*.md`), README first, pages by name.
+pub fn manual_files() -> Vec<PathBuf> {
     let mut pages: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
         .unwrap()
         .map(|e| e.unwrap().path())
         .filter(|p| p.extension().is_some_and(|e| e == "md"))
         .collect();
     pages.sort();
-    std::iter::once(root().join("README.md"))
-        .chain(pages)
+    std::iter::once(root().join("README.md")).chain(pages).collect()
+}
+
+/// `manual_files` as one text: what tests search for the examples the documentation shows.
+pub fn manual() -> String {
+    manual_files()
+        .into_iter()
         .map(|p| std::fs::read_to_string(p).unwrap())
         .collect::<Vec<_>>()
         .join("\n")
