@@ -5,6 +5,7 @@
 use crate::error::{Error, Result};
 use crate::gpu::{Executor, Gpu};
 use crate::scene::{Camera, Scene};
+use lightbench_compiler::format::TextureFormat;
 use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::plan::{ParamValues, ResourceShape};
 use lightbench_compiler::{Executable, Workspace};
@@ -219,16 +220,14 @@ impl Viewer {
         Ok((name, slices))
     }
 
-    /// The shown image mapped for display (8-bit RGB) and a caption naming it.
-    pub fn view_image(&self, gpu: &Gpu) -> Result<(u32, u32, Vec<u8>, String)> {
+    /// The shown slice: its resource, (instance, layer), format and a caption naming it.
+    fn shown_slice(&self) -> Result<(String, (u32, u32), TextureFormat, String)> {
         let (name, slices) = self.shown()?;
         let (inst, layer) = slices[self.slice % slices.len().max(1)];
-        let img = self.ex.read_texture(gpu, &name, inst, layer)?;
         let format = match &self.ex.plan().resource(&name).map(|r| r.shape.clone()) {
             Some(ResourceShape::Texture { format, .. }) => *format,
             _ => return Err(Error::Resource(format!("`{name}` is not a texture"))),
         };
-        let rgb = super::display::rgb8(&img, format, (self.camera.near, self.camera.far));
         let mut caption = format!("{name} ({})", format.name());
         if slices.len() > 1 {
             caption += &format!(
@@ -237,6 +236,25 @@ impl Viewer {
                 slices.len()
             );
         }
+        Ok((name, (inst, layer), format, caption))
+    }
+
+    /// The shown slice when the window can draw it from the GPU as it is — 8-bit sRGB colour,
+    /// as the output is —: its texture (copied, never read back), layer and caption. `None`
+    /// for what needs the display mapping first (HDR, depth, data: `view_image`).
+    pub fn shown_texture(&self) -> Result<Option<(wgpu::Texture, u32, String)>> {
+        let (name, (inst, layer), format, caption) = self.shown_slice()?;
+        if format != TextureFormat::Rgba8UnormSrgb || inst != 0 {
+            return Ok(None);
+        }
+        Ok(Some((self.ex.texture(&name)?.clone(), layer, caption)))
+    }
+
+    /// The shown image mapped for display (8-bit RGB) and a caption naming it.
+    pub fn view_image(&self, gpu: &Gpu) -> Result<(u32, u32, Vec<u8>, String)> {
+        let (name, (inst, layer), format, caption) = self.shown_slice()?;
+        let img = self.ex.read_texture(gpu, &name, inst, layer)?;
+        let rgb = super::display::rgb8(&img, format, (self.camera.near, self.camera.far));
         Ok((img.width, img.height, rgb, caption))
     }
 

@@ -24,7 +24,11 @@ struct Running {
     egui: egui::Context,
     egui_state: egui_winit::State,
     renderer: egui_wgpu::Renderer,
+    /// The shown image when it needs the display mapping (read back, mapped on the CPU).
     texture: Option<egui::TextureHandle>,
+    /// The shown image when the GPU shows it as it is: the window's copy of it, registered
+    /// with egui (the executor's texture is not sampleable, and is re-created on reload).
+    native: Option<(wgpu::Texture, egui::TextureId)>,
     looking: bool,
     last_cursor: Option<(f64, f64)>,
 }
@@ -90,6 +94,7 @@ impl App {
             egui_state,
             renderer,
             texture: None,
+            native: None,
             looking: false,
             last_cursor: None,
         })
@@ -175,22 +180,14 @@ impl Running {
         self.camera_keys();
         self.viewer.poll_reload(&self.gpu);
         self.viewer.frame(&self.gpu)?;
-        let (w, h, rgb, caption) = self.viewer.view_image(&self.gpu)?;
-        let image = egui::ColorImage::from_rgb([w as usize, h as usize], &rgb);
-        match &mut self.texture {
-            Some(t) => t.set(image, egui::TextureOptions::NEAREST),
-            None => self.texture = Some(self.egui.load_texture("view", image, egui::TextureOptions::NEAREST)),
-        }
+        let (id, (w, h), caption) = self.shown_image()?;
         let input = self.egui_state.take_egui_input(&self.window);
         let mut actions = vec![];
-        let texture = self.texture.clone();
         let output = self.egui.run_ui(input, |ui| {
             super::panels::panels(ui, &self.viewer, &mut actions);
             egui::CentralPanel::default_margins().show(ui, |ui| {
                 ui.label(&caption);
-                if let Some(t) = &texture {
-                    ui.image((t.id(), egui::vec2(w as f32, h as f32)));
-                }
+                ui.image((id, egui::vec2(w as f32, h as f32)));
             });
         });
         for a in actions {
@@ -198,6 +195,77 @@ impl Running {
         }
         self.egui_state.handle_platform_output(&self.window, output.platform_output);
         self.paint(output.shapes, output.textures_delta, output.pixels_per_point)
+    }
+
+    /// The shown image as an egui texture: copied on the GPU when it can be shown as it is
+    /// (the output), else read back and mapped for display.
+    fn shown_image(&mut self) -> Result<(egui::TextureId, (u32, u32), String)> {
+        if let Some((src, layer, caption)) = self.viewer.shown_texture()? {
+            let size = src.size();
+            let id = self.native_copy(&src, layer);
+            return Ok((id, (size.width, size.height), caption));
+        }
+        let (w, h, rgb, caption) = self.viewer.view_image(&self.gpu)?;
+        let image = egui::ColorImage::from_rgb([w as usize, h as usize], &rgb);
+        let t = match &mut self.texture {
+            Some(t) => {
+                t.set(image, egui::TextureOptions::NEAREST);
+                t
+            }
+            None => self
+                .texture
+                .insert(self.egui.load_texture("view", image, egui::TextureOptions::NEAREST)),
+        };
+        Ok((t.id(), (w, h), caption))
+    }
+
+    /// Copy layer `layer` of `src` into the window's sampleable texture (made, or re-made at a
+    /// new size or format, and registered with egui) and return its egui id.
+    fn native_copy(&mut self, src: &wgpu::Texture, layer: u32) -> egui::TextureId {
+        let (device, size) = (&self.gpu.device, src.size());
+        let fits = |t: &wgpu::Texture| t.width() == size.width && t.height() == size.height && t.format() == src.format();
+        if !self.native.as_ref().is_some_and(|(t, _)| fits(t)) {
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("shown image"),
+                size: wgpu::Extent3d {
+                    depth_or_array_layers: 1,
+                    ..size
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: src.format(),
+                usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&Default::default());
+            let id = match self.native.take() {
+                Some((_, id)) => {
+                    self.renderer
+                        .update_egui_texture_from_wgpu_texture(device, &view, wgpu::FilterMode::Nearest, id);
+                    id
+                }
+                None => self.renderer.register_native_texture(device, &view, wgpu::FilterMode::Nearest),
+            };
+            self.native = Some((texture, id));
+        }
+        let (dst, id) = self.native.as_ref().expect("made above");
+        let mut enc = device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: src,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: 0, y: 0, z: layer },
+                aspect: wgpu::TextureAspect::All,
+            },
+            dst.as_image_copy(),
+            wgpu::Extent3d {
+                depth_or_array_layers: 1,
+                ..size
+            },
+        );
+        self.gpu.queue.submit([enc.finish()]);
+        *id
     }
 
     fn paint(&mut self, shapes: Vec<egui::epaint::ClippedShape>, mut delta: egui::TexturesDelta, ppp: f32) -> Result<()> {

@@ -17,4 +17,5 @@ mod tutorial;
 mod verify;
 mod view_script_mutants;
 mod viewer;
+mod viewer_display;
 mod viewer_lights;
