@@ -504,3 +504,26 @@ fn repetitions_name_the_scene_lights_by_index() {
         assert_eq!(p.reps.len() as u32, p.repetitions, "{}", p.name);
     }
 }
+
+/// The Plan carries the text of every shader file its stages name, once each, as the compiler
+/// read it: `#include`s spliced in (an executor needs no shader files), the built-in
+/// full-screen vertex shader too.
+#[test]
+fn the_plan_carries_each_stage_s_shader_text_once() {
+    let plan = plan_with("vulkan", None, &[]);
+    let files: std::collections::BTreeSet<&str> = plan.passes.iter().flat_map(|p| &p.stages).map(|s| s.file.as_str()).collect();
+    let carried: Vec<&str> = plan.shaders.iter().map(|s| s.file.as_str()).collect();
+    assert_eq!(carried.len(), files.len(), "each file once: {carried:?}");
+    assert!(files.iter().all(|f| carried.contains(f)), "{files:?} vs {carried:?}");
+    let light = plan.shader("light_point.wgsl").expect("light_point.wgsl");
+    assert_eq!(light.language, plan::ShaderLanguage::Wgsl);
+    assert!(!light.text.contains("#include"), "includes are spliced in");
+    let on_disk = std::fs::read_to_string(repo_root().join("shaders/lib/light_entries.wgsl")).unwrap();
+    let first = on_disk.lines().find(|l| l.starts_with("fn ") || l.starts_with("@")).unwrap();
+    assert!(light.text.contains(first), "the included library is in the text: {first}");
+    let fullscreen = plan.shader("<builtin>/fullscreen.wgsl").expect("the built-in vertex shader");
+    assert!(fullscreen.text.contains("fullscreen_vs"));
+    // And it survives `plan --json`: what a second executor reads.
+    let back: Plan = serde_json::from_str(&serde_json::to_string(&plan).unwrap()).unwrap();
+    assert_eq!(back.shaders, plan.shaders);
+}

@@ -49,6 +49,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         memory_bytes,
         physical_bytes: memory_bytes,
         jitter: jitters(p, &cfg.selection.chosen),
+        shaders: shaders(&kept),
     };
     // Transient resources with disjoint lifetimes may share memory.
     alias::assign(&mut plan);
@@ -84,6 +85,24 @@ fn checked_stages<'c>(checked: &'c Checked, cfg: &Config, diags: &mut Diagnostic
     resources::check_extents(p, cfg, &resources, diags);
     resources::check_buffer_sizes(p, cfg, &resources, diags);
     Some((schedule, kept, resources))
+}
+
+/// Each shader file the kept passes' stages name, once, as the compiler read it.
+fn shaders(kept: &Kept) -> Vec<PlanShader> {
+    let mut out: Vec<PlanShader> = vec![];
+    for s in kept.iter().flat_map(|(_, v)| &v.stages) {
+        if out.iter().all(|x| x.file != s.sref.file.value) {
+            out.push(PlanShader {
+                file: s.sref.file.value.clone(),
+                language: match s.module.lang {
+                    crate::shader::Lang::Wgsl => ShaderLanguage::Wgsl,
+                    crate::shader::Lang::Glsl(_) => ShaderLanguage::Glsl,
+                },
+                text: s.module.expanded.text.clone(),
+            });
+        }
+    }
+    out
 }
 
 /// The camera jitters when the pipeline says so or a chosen option does (`aa = taa`).

@@ -469,6 +469,26 @@ pub struct Plan {
     pub physical_bytes: u64,
     /// Sub-pixel camera jitter each frame (Halton 2, 3; `frame.jitter`).
     pub jitter: bool,
+    /// The text of every shader file a kept pass's stage names (`PlanStage::file`), once per
+    /// file, as its compiler read it: what an executor of its own compiles.
+    #[serde(default)]
+    pub shaders: Vec<PlanShader>,
+}
+
+/// A shader file as the compiler read it, `#include`s spliced in.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlanShader {
+    /// The path stages name it by (`PlanStage::file`).
+    pub file: String,
+    pub language: ShaderLanguage,
+    pub text: String,
+}
+
+/// The language of a shader's text: WGSL, or GLSL 450 (its stage is the stage naming it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ShaderLanguage {
+    Wgsl,
+    Glsl,
 }
 
 impl Plan {
@@ -492,6 +512,10 @@ impl Plan {
     }
     pub fn output_resource(&self) -> &PlanResource {
         self.res(self.output)
+    }
+    /// The text of the shader file a stage names.
+    pub fn shader(&self, file: &str) -> Option<&PlanShader> {
+        self.shaders.iter().find(|s| s.file == file)
     }
 }
 

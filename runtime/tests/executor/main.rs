@@ -1,5 +1,5 @@
-//! The executor: aliased transient memory, frames in flight, reload of a running Plan and hot
-//! reload from files on disk.
+//! The executor: aliased transient memory, frames in flight, reload of a running Plan, hot
+//! reload from files on disk, and a second, small executor that runs a Plan alone.
 //! One test binary per area; each file below is a module of it.
 
 #[path = "../gpu_common/mod.rs"]
@@ -9,4 +9,5 @@ mod aliasing;
 mod embedding;
 mod hot_reload;
 mod in_flight;
+mod plan_only;
 mod reload;

@@ -1,0 +1,727 @@
+//! A second executor, deliberately small: it runs `lightbench plan --json` output with the
+//! scene's data and nothing else (no pipeline file, no shader file), and must render what the
+//! real executor renders. It proves the Plan is enough to run (`docs/plan.md`). It covers
+//! what the default pipeline uses on the Cornell box and `many_lights` — scene and full-screen
+//! draws, compute, per-light and per-face repetitions, parameter blocks — and refuses the
+//! rest by name. From the executor crate it borrows only what reads no Plan: the mapping of
+//! the Plan's enums to wgpu's (`convert`) and texture read-back.
+
+use crate::gpu_common::{gpu, render_with, root};
+use lightbench::gpu::{convert, readback, Gpu};
+use lightbench::io::Image;
+use lightbench::scene::{AlphaMode, Scene};
+use lightbench_compiler::abi::{FrameBlock, InstanceBlock, MaterialBlock, MeshBlock, Vertex};
+use lightbench_compiler::ir::{Draw, LayerSel, Load, MipSel, ParamType, ParamValue};
+use lightbench_compiler::layout::{BindSource, DrawSlot, FieldSource, FieldType, UniformBlock};
+use lightbench_compiler::plan::{Plan, PlanPass, PlanRep, ResourceId, ResourceShape, ShaderLanguage, Work};
+use wgpu::util::DeviceExt;
+
+type Res<T> = Result<T, String>;
+
+/// Refuse what this executor does not carry out.
+fn unsupported<T>(what: impl std::fmt::Display) -> Res<T> {
+    Err(format!("the small executor does not support {what}"))
+}
+
+/// A resource's GPU objects, one per instance.
+enum Held {
+    Textures(Vec<wgpu::Texture>),
+    Buffers(Vec<wgpu::Buffer>),
+}
+
+/// A scene mesh ready to draw with its per-draw bind-group contents.
+struct MeshGpu {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    count: u32,
+    mesh: wgpu::Buffer,
+    material: wgpu::Buffer,
+}
+
+struct Small<'a> {
+    gpu: &'a Gpu,
+    plan: &'a Plan,
+    /// The lights that are on, in scene order: the light array the Plan's reps index.
+    lights: Vec<lightbench::scene::Light>,
+    held: Vec<Held>,
+    samplers: Vec<wgpu::Sampler>,
+    frame: wgpu::Buffer,
+    lights_buf: wgpu::Buffer,
+    meshes: Vec<MeshGpu>,
+    /// The per-draw textures of an untextured material (white, flat normal) and its sampler.
+    white: [wgpu::TextureView; 3],
+    material_sampler: wgpu::Sampler,
+}
+
+impl<'a> Small<'a> {
+    fn new(gpu: &'a Gpu, plan: &'a Plan, scene: &Scene) -> Res<Small<'a>> {
+        if plan.jitter || !scene.textures.is_empty() {
+            return unsupported("jitter or textured scenes");
+        }
+        let d = &gpu.device;
+        let held = plan.resources.iter().map(|r| resource(d, r)).collect::<Res<_>>()?;
+        let samplers = plan.samplers.iter().map(|s| {
+            let address = convert::address(s.address);
+            d.create_sampler(&wgpu::SamplerDescriptor {
+                address_mode_u: address,
+                address_mode_v: address,
+                address_mode_w: address,
+                mag_filter: convert::filter(s.filter),
+                min_filter: convert::filter(s.filter),
+                mipmap_filter: convert::mipmap_filter(s.mipmap),
+                compare: s.compare.map(convert::compare),
+                ..Default::default()
+            })
+        });
+        let lights: Vec<_> = scene.active_lights().into_iter().map(|l| l.at(0.0)).collect();
+        let bounds = scene.bounds();
+        let mut blocks: Vec<_> = lights.iter().map(|l| l.block(bounds)).collect();
+        if blocks.is_empty() {
+            blocks.push(bytemuck::Zeroable::zeroed());
+        }
+        let (w, h) = plan.resolution;
+        let (view, proj) = (scene.camera.view(), scene.camera.proj(w as f32 / h as f32));
+        let vp = proj * view;
+        let frame = FrameBlock {
+            view: view.to_cols_array_2d(),
+            proj: proj.to_cols_array_2d(),
+            view_proj: vp.to_cols_array_2d(),
+            inv_view_proj: vp.inverse().to_cols_array_2d(),
+            prev_view_proj: vp.to_cols_array_2d(),
+            prev_inv_view_proj: vp.inverse().to_cols_array_2d(),
+            camera_pos: scene.camera.position.extend(1.0).to_array(),
+            resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            jitter: [0.0; 4],
+            time: 0.0,
+            frame_index: 0,
+            light_count: lights.len() as u32,
+            scene_radius: ((bounds.1 - bounds.0).length() * 0.5).max(1e-6),
+        };
+        let texel = |rgba: [u8; 4], format| {
+            let desc = texture_desc((1, 1, 1, 1), format, wgpu::TextureUsages::TEXTURE_BINDING);
+            let t = d.create_texture_with_data(&gpu.queue, &desc, wgpu::util::TextureDataOrder::LayerMajor, &rgba);
+            t.create_view(&Default::default())
+        };
+        Ok(Small {
+            gpu,
+            plan,
+            held,
+            samplers: samplers.collect(),
+            frame: init(d, bytemuck::bytes_of(&frame), wgpu::BufferUsages::UNIFORM),
+            lights_buf: init(d, bytemuck::cast_slice(&blocks), wgpu::BufferUsages::STORAGE),
+            lights,
+            meshes: meshes(d, scene),
+            white: [
+                texel([255; 4], wgpu::TextureFormat::Rgba8UnormSrgb),
+                texel([255; 4], wgpu::TextureFormat::Rgba8Unorm),
+                texel([128, 128, 255, 255], wgpu::TextureFormat::Rgba8Unorm),
+            ],
+            material_sampler: d.create_sampler(&Default::default()),
+        })
+    }
+
+    /// One frame: every pass, every repetition, each its own GPU pass.
+    fn frame(&self) -> Res<()> {
+        let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+        for pass in &self.plan.passes {
+            if pass.per_mip.is_some() || pass.work.multiview().is_some() {
+                return unsupported(format!("pass `{}` (per_mip or multiview)", pass.name));
+            }
+            let pipeline = self.pipeline(pass)?;
+            let params: Vec<wgpu::Buffer> = pass.uniform_blocks.iter().map(|b| self.block(b)).collect();
+            for rep in &pass.reps {
+                self.record(&mut enc, pass, &pipeline, &params, rep)?;
+            }
+        }
+        self.gpu.queue.submit([enc.finish()]);
+        Ok(())
+    }
+
+    fn record(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        pass: &PlanPass,
+        pipeline: &Pipeline,
+        params: &[wgpu::Buffer],
+        rep: &PlanRep,
+    ) -> Res<()> {
+        let instance = init(
+            &self.gpu.device,
+            bytemuck::bytes_of(&self.instance(pass, rep)),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let groups = self.groups(pass, pipeline, (params, &instance), rep)?;
+        match (&pass.work, &pipeline.kind) {
+            (Work::Compute { groups: n, .. }, Kind::Compute(p)) => {
+                let mut cp = enc.begin_compute_pass(&Default::default());
+                cp.set_pipeline(p);
+                groups.iter().for_each(|(i, g)| cp.set_bind_group(*i, g, &[]));
+                cp.dispatch_workgroups(n[0], n[1], n[2]);
+            }
+            (work, Kind::Render(p)) => {
+                let targets = work.targets().ok_or("targets")?;
+                let colors = targets
+                    .color
+                    .iter()
+                    .map(|c| self.attachment(c.resource, (c.layer, c.mip), rep))
+                    .collect::<Res<Vec<_>>>()?;
+                let depth = targets
+                    .depth
+                    .as_ref()
+                    .map(|d| self.attachment(d.resource, (d.layer, d.mip), rep))
+                    .transpose()?;
+                let color_attachments: Vec<_> = targets
+                    .color
+                    .iter()
+                    .zip(&colors)
+                    .map(|(c, view)| {
+                        let load = match c.load {
+                            Load::Clear([r, g, b, a]) => wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a }),
+                            Load::Load => wgpu::LoadOp::Load,
+                        };
+                        let ops = wgpu::Operations {
+                            load,
+                            store: wgpu::StoreOp::Store,
+                        };
+                        Some(wgpu::RenderPassColorAttachment {
+                            view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops,
+                        })
+                    })
+                    .collect();
+                let depth_stencil_attachment = targets.depth.as_ref().zip(depth.as_ref()).map(|(d, view)| {
+                    let load = match d.load {
+                        Load::Clear(v) => wgpu::LoadOp::Clear(v as f32),
+                        Load::Load => wgpu::LoadOp::Load,
+                    };
+                    let depth_ops = Some(wgpu::Operations {
+                        load,
+                        store: wgpu::StoreOp::Store,
+                    });
+                    wgpu::RenderPassDepthStencilAttachment {
+                        view,
+                        depth_ops,
+                        stencil_ops: None,
+                    }
+                });
+                let desc = wgpu::RenderPassDescriptor {
+                    color_attachments: &color_attachments,
+                    depth_stencil_attachment,
+                    ..Default::default()
+                };
+                let mut rp = enc.begin_render_pass(&desc);
+                rp.set_pipeline(p);
+                groups.iter().for_each(|(i, g)| rp.set_bind_group(*i, g, &[]));
+                self.draw(&mut rp, pass, work, pipeline)?;
+            }
+            _ => return unsupported(format!("the work of pass `{}`", pass.name)),
+        }
+        Ok(())
+    }
+
+    /// The repetition's bind groups, except the per-draw one.
+    fn groups(
+        &self,
+        pass: &PlanPass,
+        pipeline: &Pipeline,
+        (params, instance): (&[wgpu::Buffer], &wgpu::Buffer),
+        rep: &PlanRep,
+    ) -> Res<Vec<(u32, wgpu::BindGroup)>> {
+        let mut out = vec![];
+        for g in pass.bind_groups.iter().filter(|g| !g.is_per_draw()) {
+            let views: Vec<Option<wgpu::TextureView>> = g.entries.iter().map(|e| self.read_view(pass, e, rep)).collect();
+            let mut entries = vec![];
+            for (e, view) in g.entries.iter().zip(&views) {
+                let resource = match (&e.source, view) {
+                    (BindSource::Frame, _) => self.frame.as_entire_binding(),
+                    (BindSource::Lights, _) => self.lights_buf.as_entire_binding(),
+                    (BindSource::Instance, _) => instance.as_entire_binding(),
+                    (BindSource::Params, _) => match pass.uniform_blocks.iter().position(|b| b.global == e.name) {
+                        Some(i) => params[i].as_entire_binding(),
+                        None => return Err(format!("pass `{}`: no parameter block `{}`", pass.name, e.name)),
+                    },
+                    (BindSource::Sampler(s), _) => wgpu::BindingResource::Sampler(&self.samplers[s.0 as usize]),
+                    (BindSource::Resource(_), Some(v)) => wgpu::BindingResource::TextureView(v),
+                    (BindSource::Resource(id), None) => match &self.held[id.0 as usize] {
+                        Held::Buffers(b) => b[self.instance_of(*id, rep.light)].as_entire_binding(),
+                        Held::Textures(_) => return Err(format!("`{}` bound as a buffer", e.name)),
+                    },
+                    (other, _) => return unsupported(format!("binding {other:?} in pass `{}`", pass.name)),
+                };
+                entries.push(wgpu::BindGroupEntry {
+                    binding: e.binding,
+                    resource,
+                });
+            }
+            let desc = wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &pipeline.layouts[g.group as usize],
+                entries: &entries,
+            };
+            out.push((g.group, self.gpu.device.create_bind_group(&desc)));
+        }
+        Ok(out)
+    }
+
+    /// The view a texture binding reads: the repetition's instance, the level and layer the
+    /// pass's read selects (else all).
+    fn read_view(&self, pass: &PlanPass, e: &lightbench_compiler::plan::PlanBinding, rep: &PlanRep) -> Option<wgpu::TextureView> {
+        use lightbench_compiler::layout::BindingType as T;
+        let BindSource::Resource(id) = e.source else { return None };
+        let (Held::Textures(t), T::Texture { view_dimension: dim, .. } | T::StorageTexture { view_dimension: dim, .. }) =
+            (&self.held[id.0 as usize], &e.ty)
+        else {
+            return None;
+        };
+        let read = pass.reads.iter().find(|r| r.resource == id && !r.prev);
+        let level = read.and_then(|r| r.mip).and_then(|m| m.level(0));
+        let layer = read.and_then(|r| r.layer).and_then(|l| l.at(rep.run, self.plan.res(id).layers()));
+        Some(view(&t[self.instance_of(id, rep.light)], convert::view_dim(*dim), level, layer))
+    }
+
+    /// The layer and level of a texture a repetition renders into.
+    fn attachment(&self, r: ResourceId, (layer, mip): (LayerSel, MipSel), rep: &PlanRep) -> Res<wgpu::TextureView> {
+        let Held::Textures(t) = &self.held[r.0 as usize] else {
+            return unsupported("a buffer attachment");
+        };
+        let layer = match layer {
+            LayerSel::Face => rep.face,
+            LayerSel::All => return unsupported("multiview attachments"),
+            other => other.at(rep.run, self.plan.res(r).layers()).unwrap_or(0),
+        };
+        Ok(view(
+            &t[self.instance_of(r, rep.light)],
+            wgpu::TextureViewDimension::D2,
+            mip.level(0),
+            Some(layer),
+        ))
+    }
+
+    fn draw(&self, rp: &mut wgpu::RenderPass, pass: &PlanPass, work: &Work, pipeline: &Pipeline) -> Res<()> {
+        match work {
+            Work::Fullscreen { .. } => rp.draw(0..3, 0..1),
+            Work::Raster {
+                draw: Draw::Scene,
+                instances,
+                ..
+            } => {
+                let per_draw = pass.bind_groups.iter().find(|g| g.is_per_draw());
+                for m in &self.meshes {
+                    if let Some(g) = per_draw {
+                        let entries = g.entries.iter().map(|e| {
+                            let resource = match e.source {
+                                BindSource::Draw(DrawSlot::Mesh) => m.mesh.as_entire_binding(),
+                                BindSource::Draw(DrawSlot::Material) => m.material.as_entire_binding(),
+                                BindSource::Draw(DrawSlot::MaterialSampler) => wgpu::BindingResource::Sampler(&self.material_sampler),
+                                BindSource::Draw(DrawSlot::NormalMap) => wgpu::BindingResource::TextureView(&self.white[2]),
+                                BindSource::Draw(DrawSlot::BaseColorMap | DrawSlot::EmissiveMap) => {
+                                    wgpu::BindingResource::TextureView(&self.white[0])
+                                }
+                                _ => wgpu::BindingResource::TextureView(&self.white[1]),
+                            };
+                            wgpu::BindGroupEntry {
+                                binding: e.binding,
+                                resource,
+                            }
+                        });
+                        let entries: Vec<_> = entries.collect();
+                        let layout = &pipeline.layouts[g.group as usize];
+                        let group = self.gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: None,
+                            layout,
+                            entries: &entries,
+                        });
+                        rp.set_bind_group(g.group, &group, &[]);
+                    }
+                    rp.set_vertex_buffer(0, m.vertices.slice(..));
+                    rp.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
+                    rp.draw_indexed(0..m.count, 0, 0..(*instances).max(1));
+                }
+            }
+            _ => return unsupported(format!("the draw of pass `{}`", pass.name)),
+        }
+        Ok(())
+    }
+
+    /// A per-light resource's instance for a light: its rank among the lights the resource
+    /// has instances for (casting ones for `casters_only`).
+    fn instance_of(&self, id: ResourceId, light: Option<u32>) -> usize {
+        let r = self.plan.res(id);
+        let has = |l: &lightbench::scene::Light| r.per_light.contains(&l.kind) && (!r.casters_only || l.shadows);
+        let Some(light) = light.filter(|_| !r.per_light.is_empty()) else {
+            return 0;
+        };
+        self.lights
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| has(l))
+            .position(|(i, _)| i as u32 == light)
+            .unwrap_or(0)
+    }
+
+    /// The per-repetition block: its light, face, run, and the size the pass renders at.
+    fn instance(&self, pass: &PlanPass, rep: &PlanRep) -> InstanceBlock {
+        let sized = match &pass.work {
+            Work::Compute { sized_from, .. } => *sized_from,
+            w => w
+                .targets()
+                .and_then(|t| t.color.first().map(|c| c.resource).or(t.depth.as_ref().map(|d| d.resource))),
+        };
+        let (w, h) = match sized.map(|r| &self.plan.res(r).shape) {
+            Some(ResourceShape::Texture { extent, .. }) => *extent,
+            _ => self.plan.resolution,
+        };
+        InstanceBlock {
+            light: rep.light.unwrap_or(0),
+            face: rep.face,
+            view_count: 1,
+            mip: 0,
+            target_size: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
+            repetition: rep.run,
+            _pad: [0; 3],
+        }
+    }
+
+    /// A parameter block at its defaults: each field's value as 32-bit words at its offset.
+    fn block(&self, b: &UniformBlock) -> wgpu::Buffer {
+        let mut bytes = vec![0u8; (b.size as usize).max(16)];
+        for f in &b.fields {
+            let words: Vec<u32> = match &f.source {
+                FieldSource::Fixed(w) => w.clone(),
+                FieldSource::Param(id) => {
+                    let p = &self.plan.params[id.0 as usize];
+                    match (&p.default, &p.ty) {
+                        (ParamValue::Float(x), _) => vec![(*x as f32).to_bits()],
+                        (ParamValue::Int(x), _) if f.ty == FieldType::U32 => vec![*x as u32],
+                        (ParamValue::Int(x), _) => vec![(*x as i32) as u32],
+                        (ParamValue::Bool(x), _) => vec![*x as u32],
+                        (ParamValue::Vec(c), _) => (0..f.size as usize / 4)
+                            .map(|i| (*c.get(i).unwrap_or(&1.0) as f32).to_bits())
+                            .collect(),
+                        (ParamValue::Enum(s), ParamType::Enum(opts)) => vec![opts.iter().position(|o| o == s).unwrap_or(0) as u32],
+                        (ParamValue::Enum(_), _) => vec![0],
+                    }
+                }
+            };
+            for (i, w) in words.iter().enumerate() {
+                let at = f.offset as usize + 4 * i;
+                bytes[at..at + 4].copy_from_slice(&w.to_le_bytes());
+            }
+        }
+        init(&self.gpu.device, &bytes, wgpu::BufferUsages::UNIFORM)
+    }
+
+    fn pipeline(&self, pass: &PlanPass) -> Res<Pipeline> {
+        let d = &self.gpu.device;
+        let groups = pass.bind_groups.iter().map(|g| g.group + 1).max().unwrap_or(0);
+        let layouts: Vec<wgpu::BindGroupLayout> = (0..groups)
+            .map(|i| {
+                let entries =
+                    pass.bind_groups
+                        .iter()
+                        .filter(|g| g.group == i)
+                        .flat_map(|g| &g.entries)
+                        .map(|e| wgpu::BindGroupLayoutEntry {
+                            binding: e.binding,
+                            visibility: convert::stages(&e.visibility),
+                            ty: convert::binding_type(&e.ty),
+                            count: None,
+                        });
+                d.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: None,
+                    entries: &entries.collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let refs: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(Some).collect();
+        let layout = d.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &refs,
+            immediate_size: 0,
+        });
+        // Each stage's module from the Plan's own text of its file.
+        let mut stages = vec![];
+        for s in &pass.stages {
+            let shader = self
+                .plan
+                .shader(&s.file)
+                .ok_or_else(|| format!("the Plan has no text for `{}`", s.file))?;
+            if shader.language != ShaderLanguage::Wgsl {
+                return unsupported("GLSL stages");
+            }
+            let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(&s.file),
+                source: wgpu::ShaderSource::Wgsl(shader.text.as_str().into()),
+            });
+            let constants: Vec<(&str, f64)> = s.constants.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+            stages.push((module, s.entry.as_str(), constants));
+        }
+        let kind = match &pass.work {
+            Work::Compute { .. } => {
+                let (m, entry, c) = &stages[0];
+                Kind::Compute(d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: None,
+                    layout: Some(&layout),
+                    module: m,
+                    entry_point: Some(entry),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: c,
+                        ..Default::default()
+                    },
+                    cache: None,
+                }))
+            }
+            work => Kind::Render(render_pipeline(d, work, &layout, &stages)),
+        };
+        Ok(Pipeline { kind, layouts })
+    }
+
+    /// Read a texture resource's first instance, layer 0.
+    fn read(&self, name: &str) -> Image {
+        let id = self.plan.resource_id(name).unwrap();
+        let Held::Textures(t) = &self.held[id.0 as usize] else {
+            panic!("`{name}` is a buffer")
+        };
+        readback::read_texture(self.gpu, &t[0], 0).unwrap()
+    }
+}
+
+enum Kind {
+    Render(wgpu::RenderPipeline),
+    Compute(wgpu::ComputePipeline),
+}
+
+struct Pipeline {
+    kind: Kind,
+    layouts: Vec<wgpu::BindGroupLayout>,
+}
+
+type Stage<'s> = (wgpu::ShaderModule, &'s str, Vec<(&'s str, f64)>);
+
+fn render_pipeline(d: &wgpu::Device, work: &Work, layout: &wgpu::PipelineLayout, stages: &[Stage]) -> wgpu::RenderPipeline {
+    let targets = work.targets().cloned().unwrap_or_default();
+    let color: Vec<_> = targets
+        .color
+        .iter()
+        .map(|c| {
+            Some(wgpu::ColorTargetState {
+                format: convert::format(c.format),
+                blend: c.blend.map(convert::blend),
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        })
+        .collect();
+    let (cull, scene) = match work {
+        Work::Raster { cull, draw, .. } => (convert::cull(*cull), draw.uses_scene()),
+        _ => (None, false),
+    };
+    // The standard vertex layout (`shaders/lib/mesh.wgsl`): locations 0..4 of `abi::Vertex`.
+    let attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4, 4 => Float32x2];
+    let vertex = [Some(wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &attributes,
+    })];
+    let (vm, ventry, vc) = &stages[0];
+    let fragment = stages.get(1).map(|(m, e, c)| wgpu::FragmentState {
+        module: m,
+        entry_point: Some(e),
+        compilation_options: wgpu::PipelineCompilationOptions {
+            constants: c,
+            ..Default::default()
+        },
+        targets: &color,
+    });
+    d.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: None,
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module: vm,
+            entry_point: Some(ventry),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: vc,
+                ..Default::default()
+            },
+            buffers: if scene { &vertex } else { &[] },
+        },
+        primitive: wgpu::PrimitiveState {
+            cull_mode: cull,
+            ..Default::default()
+        },
+        depth_stencil: targets.depth.as_ref().map(|t| wgpu::DepthStencilState {
+            format: convert::format(t.format),
+            depth_write_enabled: Some(t.write),
+            depth_compare: Some(convert::compare(t.compare)),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment,
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+fn texture_desc(
+    (w, h, layers, mips): (u32, u32, u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::TextureDescriptor<'static> {
+    wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: mips,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    }
+}
+
+/// A resource's instances as the Plan describes them.
+fn resource(d: &wgpu::Device, r: &lightbench_compiler::plan::PlanResource) -> Res<Held> {
+    if r.history || r.external || r.data {
+        return unsupported(format!("resource `{}` (history, external or data)", r.name));
+    }
+    let n = r.instances.max(1) as usize;
+    Ok(match &r.shape {
+        ResourceShape::Texture {
+            format,
+            extent,
+            layers,
+            mips,
+            ..
+        } => {
+            let usage = convert::usage(&r.usage) | wgpu::TextureUsages::COPY_SRC;
+            let desc = texture_desc((extent.0, extent.1, *layers, *mips), convert::format(*format), usage);
+            Held::Textures((0..n).map(|_| d.create_texture(&desc)).collect())
+        }
+        ResourceShape::Buffer { size, .. } => Held::Buffers(
+            (0..n)
+                .map(|_| {
+                    let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+                    d.create_buffer(&wgpu::BufferDescriptor {
+                        label: None,
+                        size: size.max(&4).div_ceil(4) * 4,
+                        usage,
+                        mapped_at_creation: false,
+                    })
+                })
+                .collect(),
+        ),
+    })
+}
+
+fn view(t: &wgpu::Texture, dimension: wgpu::TextureViewDimension, level: Option<u32>, layer: Option<u32>) -> wgpu::TextureView {
+    let depth = t.format().is_depth_stencil_format();
+    t.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(dimension),
+        aspect: if depth {
+            wgpu::TextureAspect::DepthOnly
+        } else {
+            wgpu::TextureAspect::All
+        },
+        base_mip_level: level.unwrap_or(0),
+        mip_level_count: level.map(|_| 1),
+        base_array_layer: layer.unwrap_or(0),
+        array_layer_count: layer.map(|_| 1),
+        ..Default::default()
+    })
+}
+
+fn init(d: &wgpu::Device, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    d.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents,
+        usage,
+    })
+}
+
+/// The meshes `draw: Scene` draws (opaque and masked, in scene order) with their blocks.
+fn meshes(d: &wgpu::Device, scene: &Scene) -> Vec<MeshGpu> {
+    let drawn = scene
+        .meshes
+        .iter()
+        .filter(|m| !m.indices.is_empty() && scene.materials[m.material].alpha != AlphaMode::Blend);
+    drawn
+        .map(|m| {
+            let mat = &scene.materials[m.material];
+            let [r0, r1] = mat.uv_transform;
+            let material = MaterialBlock {
+                base_color: mat.base_color,
+                emissive: [mat.emissive[0], mat.emissive[1], mat.emissive[2], 0.0],
+                uv_row0: [r0[0], r0[1], r0[2], 0.0],
+                uv_row1: [r1[0], r1[1], r1[2], 0.0],
+                metallic: mat.metallic,
+                roughness: mat.roughness,
+                normal_scale: mat.normal_scale,
+                has_normal_map: 0,
+                alpha_cutoff: if let AlphaMode::Mask(c) = mat.alpha { c } else { 0.0 },
+                occlusion_strength: 0.0,
+                uv_sets: mat.uv_sets,
+                double_sided: mat.double_sided as u32,
+            };
+            let mesh = MeshBlock {
+                model: m.transform.to_cols_array_2d(),
+                normal_matrix: m.transform.inverse().transpose().to_cols_array_2d(),
+            };
+            MeshGpu {
+                vertices: init(d, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX),
+                indices: init(d, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX),
+                count: m.drawn_indices(),
+                mesh: init(d, bytemuck::bytes_of(&mesh), wgpu::BufferUsages::UNIFORM),
+                material: init(d, bytemuck::bytes_of(&material), wgpu::BufferUsages::UNIFORM),
+            }
+        })
+        .collect()
+}
+
+fn rmse(a: &Image, b: &Image) -> f64 {
+    assert_eq!((a.width, a.height), (b.width, b.height));
+    let sum: f64 = a.rgba.iter().zip(&b.rgba).map(|(x, y)| ((x - y) as f64).powi(2)).sum();
+    (sum / a.rgba.len() as f64).sqrt()
+}
+
+/// The default pipeline's Plan for a built-in scene at 64², from `plan --json` only, rendered
+/// by the small executor: its linear image and its output equal the real executor's.
+fn renders_as_the_executor_does(scene_name: &str) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["plan", "pipelines/deferred.ron", "--scene", scene_name, "--size", "64x64", "--json"])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let plan: Plan = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(plan.format, lightbench_compiler::plan::FORMAT);
+    let scene = lightbench::scene::load::load_sized(scene_name, Some((64, 64)), &[]).unwrap();
+    let gpu = gpu();
+    let small = Small::new(&gpu, &plan, &scene).unwrap_or_else(|e| panic!("{e}"));
+    small.frame().unwrap_or_else(|e| panic!("{e}"));
+    let real = render_with(&gpu, &root().join("pipelines/deferred.ron"), &scene, &[], 1);
+    let hdr = rmse(&small.read("hdr"), &real.read_texture(&gpu, "hdr", 0, 0).unwrap());
+    let output = rmse(&small.read(&plan.output_resource().name), &crate::gpu_common::output(&gpu, &real));
+    eprintln!("{scene_name}: {} passes, RMSE hdr {hdr:e}, output {output:e}", plan.passes.len());
+    assert!(hdr <= 1e-6 && output <= 1e-6, "{scene_name}: hdr {hdr}, output {output}");
+    let lit = small.read("hdr").rgba.iter().filter(|v| **v > 0.01).count();
+    assert!(
+        lit > 1000,
+        "{scene_name}: the image is lit ({lit} values), not two blank images agreeing"
+    );
+}
+
+#[test]
+fn a_plan_alone_renders_the_cornell_box_as_the_executor_does() {
+    renders_as_the_executor_does("cornell");
+}
+
+#[test]
+fn a_plan_alone_renders_many_lights_as_the_executor_does() {
+    renders_as_the_executor_does("many_lights");
+}
