@@ -1,7 +1,8 @@
 //! Encoding one pass of a frame: each repetition as a compute dispatch or a render pass
 //! with its attachments, bind groups and draws, as the Plan describes them; consecutive
 //! repetitions that load and render into the same attachments share one render pass (a light
-//! pass over 1,000 lights is one render pass, its bind groups switched inside it).
+//! pass over 1,000 lights is one render pass, its bind groups switched inside it), and so do
+//! consecutive passes the Plan lets continue one another (ambient, then the lights).
 
 use super::bind_groups::Rep;
 use super::pipelines::{multiview_mask, Built, PipelineKind};
@@ -20,18 +21,30 @@ pub struct PassGpu {
     pub draw_groups: Option<(u32, Vec<wgpu::BindGroup>)>,
 }
 
+/// A render pass left open after a pass, for the next one to continue when the Plan says it
+/// may (`PlanPass::continues`) and its first repetition renders into the same subresources.
+pub struct Open {
+    rp: wgpu::RenderPass<'static>,
+    targets: Vec<super::bind_groups::TargetKey>,
+}
+
 /// Record the repetitions of pass number `index` that `run` selects into `enc` (the first
 /// and last of them write the pass's timestamps); `merge`: let repetitions share render
-/// passes where they can.
+/// passes where they can. `open`: where a render pass may be left open for the next pass
+/// and found open from the one before (`None`: every render pass ends in this call). An open
+/// pass must be dropped before `enc` is used otherwise.
 pub fn encode(
     enc: &mut wgpu::CommandEncoder,
     (pass, index, run): (&PassGpu, usize, &[bool]),
     (parity, merge): (usize, bool),
     timer: Option<&Timer>,
     scene: (&SceneGpu, &DrawOrder),
+    mut open: Option<&mut Option<Open>>,
 ) {
     let running: Vec<&Rep> = pass.reps.iter().zip(run).filter(|(_, r)| **r).map(|(rep, _)| rep).collect();
     let n = running.len();
+    // Passes are merged only untimed: a timed pass keeps its own timestamps.
+    let mergeable = merge && timer.is_none();
     let mut first = 0;
     while first < n {
         let last = if merge && shares_render_passes(pass) {
@@ -39,9 +52,39 @@ pub fn encode(
         } else {
             first + 1
         };
-        let ts = timer.and_then(|t| t.writes(index, (first, last), n).map(|w| (t, w)));
-        record(enc, (pass, &running[first..last]), parity, ts, scene);
+        let reps = &running[first..last];
+        let continued = first == 0
+            && mergeable
+            && pass.plan.continues
+            && open
+                .as_deref()
+                .and_then(Option::as_ref)
+                .is_some_and(|o| o.targets == reps[0].targets);
+        match open.as_deref_mut().and_then(Option::as_mut).filter(|_| continued) {
+            Some(o) => record_into(&mut o.rp, (pass, reps), parity, scene),
+            None => {
+                // Whatever was open ends before anything else is recorded.
+                if let Some(s) = open.as_deref_mut() {
+                    *s = None;
+                }
+                let ts = timer.and_then(|t| t.writes(index, (first, last), n).map(|w| (t, w)));
+                let left = record(enc, (pass, reps), parity, ts, scene);
+                // Left open for the next pass, or ended here (dropped).
+                if let (Some(s), Some(rp), true) = (open.as_deref_mut(), left, mergeable) {
+                    *s = Some(Open {
+                        rp,
+                        targets: reps[0].targets.clone(),
+                    });
+                }
+            }
+        }
         first = last;
+    }
+    // A compute pass, or a pass that ran nothing: the next pass cannot continue across it.
+    if n == 0 || matches!(pass.built.pipeline, PipelineKind::Compute(_)) {
+        if let Some(s) = open {
+            *s = None;
+        }
     }
 }
 
@@ -55,37 +98,38 @@ fn shares_render_passes(pass: &PassGpu) -> bool {
 }
 
 /// One GPU pass recording `reps` (one compute repetition, or render repetitions that share
-/// the first one's attachments).
+/// the first one's attachments); a render pass is handed back unended.
 fn record(
     enc: &mut wgpu::CommandEncoder,
     (pass, reps): (&PassGpu, &[&Rep]),
     parity: usize,
     ts: Option<(&Timer, Writes)>,
     scene: (&SceneGpu, &DrawOrder),
-) {
+) -> Option<wgpu::RenderPass<'static>> {
     let rep = reps[0];
-    {
-        match (&pass.built.pipeline, &pass.plan.work) {
-            (PipelineKind::Compute(p), Work::Compute { groups, .. }) => {
-                let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(&pass.plan.name),
-                    timestamp_writes: ts.map(|(t, (b, e))| wgpu::ComputePassTimestampWrites {
-                        query_set: &t.set,
-                        beginning_of_pass_write_index: b,
-                        end_of_pass_write_index: e,
-                    }),
-                });
-                cp.set_pipeline(p);
-                for (g, bg) in &rep.groups[parity] {
-                    cp.set_bind_group(*g, bg, &[]);
-                }
-                let g = rep.dispatch.unwrap_or(*groups);
-                cp.dispatch_workgroups(g[0], g[1], g[2]);
+    match (&pass.built.pipeline, &pass.plan.work) {
+        (PipelineKind::Compute(p), Work::Compute { groups, .. }) => {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(&pass.plan.name),
+                timestamp_writes: ts.map(|(t, (b, e))| wgpu::ComputePassTimestampWrites {
+                    query_set: &t.set,
+                    beginning_of_pass_write_index: b,
+                    end_of_pass_write_index: e,
+                }),
+            });
+            cp.set_pipeline(p);
+            for (g, bg) in &rep.groups[parity] {
+                cp.set_bind_group(*g, bg, &[]);
             }
-            (PipelineKind::Render(p), work) => {
-                let colors = color_attachments(pass, rep, parity);
-                let depth = depth_attachment(pass, rep, parity);
-                let mut rp = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let g = rep.dispatch.unwrap_or(*groups);
+            cp.dispatch_workgroups(g[0], g[1], g[2]);
+            None
+        }
+        (PipelineKind::Render(_), work) => {
+            let colors = color_attachments(pass, rep, parity);
+            let depth = depth_attachment(pass, rep, parity);
+            let mut rp = enc
+                .begin_render_pass(&wgpu::RenderPassDescriptor {
                     label: Some(&pass.plan.name),
                     color_attachments: &colors,
                     depth_stencil_attachment: depth,
@@ -96,18 +140,26 @@ fn record(
                     }),
                     occlusion_query_set: None,
                     multiview_mask: multiview_mask(work.multiview()),
-                });
-                rp.set_pipeline(p);
-                for rep in reps {
-                    for (g, bg) in &rep.groups[parity] {
-                        rp.set_bind_group(*g, bg, &[]);
-                    }
-                    draw(&mut rp, (pass, rep), work, scene);
-                }
-            }
-            // The cache builds compute pipelines for compute work only.
-            (PipelineKind::Compute(_), _) => {}
+                })
+                .forget_lifetime();
+            record_into(&mut rp, (pass, reps), parity, scene);
+            Some(rp)
         }
+        // The cache builds compute pipelines for compute work only.
+        (PipelineKind::Compute(_), _) => None,
+    }
+}
+
+/// Render repetitions into an open render pass: the pass's pipeline, then per repetition its
+/// bind groups and draws.
+fn record_into(rp: &mut wgpu::RenderPass, (pass, reps): (&PassGpu, &[&Rep]), parity: usize, scene: (&SceneGpu, &DrawOrder)) {
+    let PipelineKind::Render(p) = &pass.built.pipeline else { return };
+    rp.set_pipeline(p);
+    for rep in reps {
+        for (g, bg) in &rep.groups[parity] {
+            rp.set_bind_group(*g, bg, &[]);
+        }
+        draw(rp, (pass, rep), &pass.plan.work, scene);
     }
 }
 

@@ -396,7 +396,10 @@ impl Executor {
     }
 
     /// Let repetitions of a pass that render into the same loaded attachments share one
-    /// render pass (`true`, the default), or give each its own. Images are the same.
+    /// render pass (`true`, the default), or give each its own. Images are the same. Untimed
+    /// (`set_timing(false)`, and `encode`), a pass the Plan lets continue the one before
+    /// (`PlanPass::continues`: ambient, then the lights) is recorded inside its render pass
+    /// too; timed, each pass keeps its own for its timestamps.
     pub fn set_merge(&mut self, on: bool) {
         self.merge = on;
     }
@@ -567,6 +570,7 @@ impl Executor {
                 (parity, self.merge),
                 None,
                 (&self.shared.scene_gpu, &order),
+                None,
             );
             gpu.queue.submit([enc.finish()]);
             if let Some(e) = pollster::block_on(scope.pop()) {
@@ -597,6 +601,7 @@ impl Executor {
                 (parity, self.merge),
                 None,
                 (&self.shared.scene_gpu, order),
+                None,
             );
             drop(enc.finish());
             if let Some(e) = pollster::block_on(scope.pop()) {
@@ -675,11 +680,15 @@ impl Executor {
             .device
             .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         let mut cpu_us = vec![];
+        // A render pass the next pass may continue (consecutive passes into the same targets).
+        let mut open = None;
         for (pi, pass) in state.passes.iter().enumerate() {
             let start = Instant::now();
-            encode(&mut enc, (pass, pi, &run[pi]), (parity, self.merge), timer, (scene, &order));
+            let next = (scene, &order);
+            encode(&mut enc, (pass, pi, &run[pi]), (parity, self.merge), timer, next, Some(&mut open));
             cpu_us.push(start.elapsed().as_secs_f64() * 1e6);
         }
+        drop(open);
         let mut buffers = vec![enc.finish()];
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(self

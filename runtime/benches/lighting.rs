@@ -12,7 +12,9 @@
 //!    overtakes forward.
 //! 3. Merged repetitions (`-- merge`): the deferred models with 100 and 1000 lights at 512×384,
 //!    a light pass's repetitions sharing one render pass (the default) against a render pass
-//!    each (`Executor::set_merge(false)`): frame GPU and wall ms, light-pass encode µs, ratios.
+//!    each (`Executor::set_merge(false)`): frame GPU and wall ms, light-pass encode µs, ratios;
+//!    and untimed, where the light pass also continues ambient's render pass (`continues`):
+//!    frame wall ms merged vs apart.
 //!
 //! Every pass runs every frame (no reuse); figures are means over the frames after a warm-up.
 
@@ -60,14 +62,14 @@ fn project(edit: impl Fn(String) -> String) -> Workspace {
 }
 
 fn measure(gpu: &Gpu, ws: &Workspace, scene: &Scene, variants: &[(&str, &str)], frames: u32, pick: impl Fn(&str) -> bool) -> Cost {
-    measure_with(gpu, ws, scene, (variants, true), frames, pick)
+    measure_with(gpu, ws, scene, (variants, true, true), frames, pick)
 }
 
 fn measure_with(
     gpu: &Gpu,
     ws: &Workspace,
     scene: &Scene,
-    (variants, merge): (&[(&str, &str)], bool),
+    (variants, merge, timed): (&[(&str, &str)], bool, bool),
     frames: u32,
     pick: impl Fn(&str) -> bool,
 ) -> Cost {
@@ -82,6 +84,7 @@ fn measure_with(
     let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
     ex.set_reuse(false);
     ex.set_merge(merge);
+    ex.set_timing(timed);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
     let mut sum = Cost::default();
     for f in 1..=frames {
@@ -201,8 +204,8 @@ fn lighting_models(gpu: &Gpu) {
 fn merged_repetitions(gpu: &Gpu) {
     println!("Merged repetitions: light passes sharing one render pass vs one render pass per light (512×384, many_lights)");
     println!(
-        "    {:<20} {:>6} {:>22} {:>22} {:>24}",
-        "model", "lights", "frame GPU ms (m / a)", "frame wall ms (m / a)", "light encode µs (m / a)"
+        "    {:<20} {:>6} {:>22} {:>22} {:>24} {:>28}",
+        "model", "lights", "frame GPU ms (m / a)", "frame wall ms (m / a)", "light encode µs (m / a)", "untimed wall ms (m+c / a)"
     );
     let ws = project(|t| t);
     for model in ["deferred_fullscreen", "deferred_volumes"] {
@@ -210,10 +213,13 @@ fn merged_repetitions(gpu: &Gpu) {
             let mut scene = builtin::many_lights(n);
             scene.size = (512, 384);
             let lights = |p: &str| p.starts_with("light_") || p.starts_with("volume_");
-            let m = measure_with(gpu, &ws, &scene, (&[("lighting", model)], true), 3, lights);
-            let a = measure_with(gpu, &ws, &scene, (&[("lighting", model)], false), 3, lights);
+            let m = measure_with(gpu, &ws, &scene, (&[("lighting", model)], true, true), 3, lights);
+            let a = measure_with(gpu, &ws, &scene, (&[("lighting", model)], false, true), 3, lights);
+            // Untimed, merging also lets the light pass continue ambient's render pass.
+            let mc = measure_with(gpu, &ws, &scene, (&[("lighting", model)], true, false), 3, lights);
+            let au = measure_with(gpu, &ws, &scene, (&[("lighting", model)], false, false), 3, lights);
             println!(
-                "    {model:<20} {n:>6} {:>9.1} / {:>7.1} {:.2}× {:>8.1} / {:>7.1} {:.2}× {:>9.0} / {:>7.0} {:.2}×",
+                "    {model:<20} {n:>6} {:>9.1} / {:>7.1} {:.2}× {:>8.1} / {:>7.1} {:.2}× {:>9.0} / {:>7.0} {:.2}× {:>11.1} / {:>7.1} {:.2}×",
                 m.frame_gpu_ms,
                 a.frame_gpu_ms,
                 m.frame_gpu_ms / a.frame_gpu_ms,
@@ -222,7 +228,10 @@ fn merged_repetitions(gpu: &Gpu) {
                 m.frame_wall_ms / a.frame_wall_ms,
                 m.picked_encode_us,
                 a.picked_encode_us,
-                m.picked_encode_us / a.picked_encode_us
+                m.picked_encode_us / a.picked_encode_us,
+                mc.frame_wall_ms,
+                au.frame_wall_ms,
+                mc.frame_wall_ms / au.frame_wall_ms
             );
         }
     }

@@ -2,7 +2,7 @@
 //! `RenderGraph::bake()`): select variants (`select`, done by the caller) -> evaluate
 //! conditions and cull -> order -> derive resources and usages -> lay out passes, bindings
 //! and parameter blocks -> lift per-pass values to parameters -> value shader constants ->
-//! estimate memory -> alias transient memory.
+//! estimate memory -> alias transient memory -> merge render passes.
 
 use super::*;
 use crate::check::Checked;
@@ -53,6 +53,8 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
     };
     // Transient resources with disjoint lifetimes may share memory.
     alias::assign(&mut plan);
+    // Consecutive passes into the same attachments may share a render pass.
+    merge::mark(&mut plan);
     (diags.error_count() == before).then_some(plan)
 }
 

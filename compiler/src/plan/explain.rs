@@ -149,6 +149,9 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         if let Some(f) = p.from.as_ref().filter(|_| explain) {
             let _ = writeln!(s, "      from: {f}");
         }
+        if explain && p.continues && i > 0 {
+            let _ = writeln!(s, "      continues the render pass of `{}`", plan.passes[i - 1].name);
+        }
         if explain && !p.arms.is_empty() {
             let arms: Vec<String> = p.arms.iter().map(|(v, o)| format!("{v} = {}", o.join(" | "))).collect();
             let _ = writeln!(s, "      arms: {}", arms.join(", "));

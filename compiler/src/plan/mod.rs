@@ -9,6 +9,7 @@ mod cull;
 mod deps;
 mod diff;
 mod explain;
+mod merge;
 pub mod order;
 mod params;
 mod passes;
@@ -248,6 +249,10 @@ pub struct PlanPass {
     /// For a pass of a used pipeline: that pipeline's file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub from: Option<String>,
+    /// It may be recorded inside the previous pass's render pass (stage `merge`): it renders
+    /// into the same attachments and loads them, and neither writes storage.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub continues: bool,
 }
 
 /// One run of a pass: for which light (its index in the light array the frame binds, the

@@ -24,9 +24,18 @@ impl Executor {
         let eye = inputs.eye();
         let scene = &self.shared.scene_gpu;
         let order = scene.draw_order(eye);
+        let mut open = None;
         for (pi, pass) in self.state.passes.iter().enumerate() {
-            encode(encoder, (pass, pi, &run[pi]), (parity, self.merge), None, (scene, &order));
+            encode(
+                encoder,
+                (pass, pi, &run[pi]),
+                (parity, self.merge),
+                None,
+                (scene, &order),
+                Some(&mut open),
+            );
         }
+        drop(open);
         self.recorded = Some(Recorded { run, parity, eye });
         self.frame_index += 1;
         Ok(())
