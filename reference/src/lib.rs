@@ -7,6 +7,7 @@
 
 pub mod emitters;
 pub mod integrate;
+pub mod ltc;
 pub mod sample;
 pub mod shading;
 pub mod store;
