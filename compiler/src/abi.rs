@@ -88,6 +88,16 @@ pub struct MaterialBlock {
     pub double_sided: u32,
 }
 
+/// One area light of the standard `area_lights` binding (`shaders/lib/area_light.wgsl`): an
+/// emissive triangle's corners in world space, counter-clockwise seen from the emitting side,
+/// and its radiance (w: 1 when both sides emit).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct AreaLightBlock {
+    pub corners: [[f32; 4]; 3],
+    pub radiance: [f32; 4],
+}
+
 /// Interleaved scene vertex: locations 0..4 of the standard vertex layout.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
@@ -108,7 +118,11 @@ mod tests {
     #[test]
     fn blocks_match_the_wgsl_declarations() {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders/lib");
-        let src = std::fs::read_to_string(root.join("frame.wgsl")).unwrap() + &std::fs::read_to_string(root.join("mesh.wgsl")).unwrap();
+        let read = |f: &str| std::fs::read_to_string(root.join(f)).unwrap();
+        // area_light.wgsl's bindings read tables its includer binds: the structs alone.
+        let area = read("area_light.wgsl");
+        let area_struct = &area[area.find("struct AreaLight").unwrap()..area.find("@group").unwrap()];
+        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct;
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
@@ -121,6 +135,7 @@ mod tests {
         assert_eq!(size_of("Instance"), std::mem::size_of::<InstanceBlock>());
         assert_eq!(size_of("Mesh"), std::mem::size_of::<MeshBlock>());
         assert_eq!(size_of("Material"), std::mem::size_of::<MaterialBlock>());
+        assert_eq!(size_of("AreaLight"), std::mem::size_of::<AreaLightBlock>());
         // Member offsets of the light block, the most intricate one.
         let (_, light) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Light")).unwrap();
         let naga::TypeInner::Struct { members, .. } = &light.inner else {

@@ -73,6 +73,7 @@ pub const INSTANCE: &str = "instance";
 pub const LIGHTS: &str = "lights";
 pub const TRIANGLES: &str = "triangles";
 pub const LIGHT_VOLUMES: &str = "light_volumes";
+pub const AREA_LIGHTS: &str = "area_lights";
 
 macro_rules! draw_slots {
     ($( $variant:ident = $name:literal ),* $(,)?) => {
@@ -122,6 +123,9 @@ pub enum BindSource<R, S> {
     /// The runtime's light-volume meshes, non-indexed triangle lists of `vec4` corners (w: the
     /// shape, see `shaders/lib/light_volume.wgsl`), drawn by `draw: LightVolume` passes.
     LightVolumes,
+    /// The scene's emissive triangles as area lights, `AreaLight` structs of 4 `vec4` each
+    /// (storage, read-only; see `shaders/lib/area_light.wgsl`).
+    AreaLights,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
 }

@@ -61,6 +61,8 @@ pub struct Binder<'a> {
     pub lights_buf: &'a wgpu::Buffer,
     /// The scene's triangles (standard binding `triangles`).
     pub triangles: &'a wgpu::Buffer,
+    /// The scene's emissive triangles (standard binding `area_lights`).
+    pub area_lights: &'a wgpu::Buffer,
     /// The light-volume meshes (standard binding `light_volumes`) and their ranges.
     pub volumes: (&'a wgpu::Buffer, &'a super::light_volumes::LightVolumes),
     pub instance: &'a wgpu::Buffer,
@@ -225,6 +227,7 @@ impl Binder<'_> {
                 BindSource::Lights => Held::Buf(self.lights_buf.as_entire_buffer_binding()),
                 BindSource::Triangles => Held::Buf(self.triangles.as_entire_buffer_binding()),
                 BindSource::LightVolumes => Held::Buf(self.volumes.0.as_entire_buffer_binding()),
+                BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

@@ -1013,6 +1013,7 @@ fn build_state(
         frame: &shared.frame_buf,
         lights_buf: &shared.lights_buf,
         triangles: &shared.scene_gpu.triangles,
+        area_lights: &shared.scene_gpu.area_lights,
         volumes: (&shared.scene_gpu.light_volumes, &shared.scene_gpu.volumes),
         instance: &instance_buf,
         lights: &shared.lights,

@@ -1,7 +1,7 @@
 //! The scene on the GPU: vertex and index buffers, per-mesh and per-material blocks and
 //! textures, ready to be bound in `draw: Scene` passes.
 
-use lightbench_compiler::abi::{MaterialBlock, MeshBlock};
+use lightbench_compiler::abi::{AreaLightBlock, MaterialBlock, MeshBlock};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::io::{linear_to_srgb, srgb_to_linear};
 use lightbench_scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
@@ -45,6 +45,11 @@ pub struct SceneGpu {
     /// binding cannot be empty).
     pub triangles: wgpu::Buffer,
     pub triangle_count: u32,
+    /// The standard `area_lights` binding: the emissive triangles (one zero-radiance entry when
+    /// there are none: a binding cannot be empty), at most `MAX_AREA_LIGHTS`.
+    pub area_lights: wgpu::Buffer,
+    /// Emissive triangles left out over the limit (the dimmest), for a note to the user.
+    pub area_lights_dropped: usize,
     /// The standard `light_volumes` binding and the range each light's volume takes in it.
     pub light_volumes: wgpu::Buffer,
     pub volumes: super::light_volumes::LightVolumes,
@@ -277,6 +282,46 @@ fn triangles(device: &wgpu::Device, scene: &Scene) -> (wgpu::Buffer, u32) {
     (buffer, count)
 }
 
+/// Area lights past this many emissive triangles are left out (the least powerful): each
+/// costs every pixel of an area-light pass its closed-form integral.
+pub const MAX_AREA_LIGHTS: usize = 1024;
+
+/// The scene's emissive triangles as area lights (emissive factor × strength; an emissive
+/// texture is not sampled), most powerful first, at most `MAX_AREA_LIGHTS`; and how many were
+/// left out.
+pub fn area_lights(scene: &Scene) -> (Vec<AreaLightBlock>, usize) {
+    let mut out: Vec<(f32, AreaLightBlock)> = vec![];
+    for m in &scene.meshes {
+        let Some(mat) = scene.materials.get(m.material).filter(|mat| mat.emissive.iter().any(|c| *c > 0.0)) else {
+            continue;
+        };
+        let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
+        for t in drawn.chunks_exact(3) {
+            let corner = |i: u32| {
+                m.vertices
+                    .get(i as usize)
+                    .map(|v| m.transform.transform_point3(glam::Vec3::from(v.position)))
+            };
+            let (Some(a), Some(b), Some(c)) = (corner(t[0]), corner(t[1]), corner(t[2])) else {
+                continue;
+            };
+            let area = 0.5 * (b - a).cross(c - a).length();
+            let power = area * (mat.emissive[0] + mat.emissive[1] + mat.emissive[2]);
+            let block = AreaLightBlock {
+                corners: [a.extend(1.0).to_array(), b.extend(1.0).to_array(), c.extend(1.0).to_array()],
+                radiance: [mat.emissive[0], mat.emissive[1], mat.emissive[2], mat.double_sided as u32 as f32],
+            };
+            if power > 0.0 && power.is_finite() {
+                out.push((power, block));
+            }
+        }
+    }
+    out.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let dropped = out.len().saturating_sub(MAX_AREA_LIGHTS);
+    out.truncate(MAX_AREA_LIGHTS);
+    (out.into_iter().map(|(_, b)| b).collect(), dropped)
+}
+
 /// World-space centre of a mesh's bounding box.
 fn mesh_centre(m: &lightbench_scene::Mesh) -> glam::Vec3 {
     let (lo, hi) = m
@@ -332,6 +377,15 @@ impl SceneGpu {
         if samplers.is_empty() {
             samplers.push(sampler(device, &SamplerDesc::default()));
         }
+        let (mut areas, area_lights_dropped) = area_lights(scene);
+        if areas.is_empty() {
+            areas.push(AreaLightBlock::default());
+        }
+        let area_lights = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("area lights"),
+            contents: bytemuck::cast_slice(&areas),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let volumes = super::light_volumes::LightVolumes::new();
         let light_volumes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("light volumes"),
@@ -344,6 +398,8 @@ impl SceneGpu {
             samplers,
             triangles,
             triangle_count,
+            area_lights,
+            area_lights_dropped,
             light_volumes,
             volumes,
         })
@@ -353,6 +409,40 @@ impl SceneGpu {
 #[cfg(test)]
 mod tests {
     use super::mip_chain;
+
+    /// Emissive triangles become area lights in world space, most powerful first, capped.
+    #[test]
+    fn emissive_triangles_become_area_lights_up_to_the_limit() {
+        use lightbench_scene::{geometry::quad, Material, Mesh, Scene};
+        let mut meshes = vec![];
+        let mut materials = vec![Material::color("grey", [0.5; 3], 1.0)];
+        // 520 emissive quads (1,040 triangles), the later ones brighter, and a plain floor.
+        for k in 0..520 {
+            let (mut v, mut i) = (vec![], vec![]);
+            quad(
+                glam::Vec3::new(k as f32, 1.0, 0.0),
+                glam::Vec3::X * 0.4,
+                glam::Vec3::Z * 0.3,
+                &mut v,
+                &mut i,
+            );
+            let mut m = Material::color("lamp", [0.0; 3], 1.0);
+            m.emissive = [1.0 + k as f32, 1.0, 1.0];
+            materials.push(m);
+            meshes.push(Mesh::new("lamp", v, i, k + 1, glam::Mat4::from_translation(glam::Vec3::Y)));
+        }
+        let (mut v, mut i) = (vec![], vec![]);
+        quad(glam::Vec3::ZERO, glam::Vec3::X * 9.0, glam::Vec3::Z * 9.0, &mut v, &mut i);
+        meshes.push(Mesh::new("floor", v, i, 0, glam::Mat4::IDENTITY));
+        let scene = Scene::from_meshes("lamps", (8, 8), meshes, materials, vec![]).unwrap();
+        let (lights, dropped) = super::area_lights(&scene);
+        assert_eq!((lights.len(), dropped), (super::MAX_AREA_LIGHTS, 1040 - super::MAX_AREA_LIGHTS));
+        assert_eq!(lights[0].radiance, [520.0, 1.0, 1.0, 0.0], "the brightest first, single-sided");
+        assert!(
+            lights.iter().all(|l| l.corners.iter().all(|c| (c[1] - 2.0).abs() < 1e-6)),
+            "placed by the mesh's transform"
+        );
+    }
 
     #[test]
     fn mips_average_in_linear_light_down_to_one_texel() {

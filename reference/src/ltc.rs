@@ -210,7 +210,12 @@ pub struct Fit {
 /// The transform of parameters `(a, b, c)` in the frame of `mean`: M = [X Y Z]·[a 0 b; 0 c 0; 0 0 1].
 fn transform(mean: Vec3, p: [f32; 3]) -> Mat3 {
     let frame = Mat3::from_cols(Vec3::Y.cross(mean).normalize(), Vec3::Y, mean);
-    frame * Mat3::from_cols(Vec3::new(p[0].abs().max(1e-4), 0.0, 0.0), Vec3::new(0.0, p[2].abs().max(1e-4), 0.0), Vec3::new(p[1], 0.0, 1.0))
+    frame
+        * Mat3::from_cols(
+            Vec3::new(p[0].abs().max(1e-4), 0.0, 0.0),
+            Vec3::new(0.0, p[2].abs().max(1e-4), 0.0),
+            Vec3::new(p[1], 0.0, 1.0),
+        )
 }
 
 /// Fit the cell of roughness `roughness` and view `v`, starting the search from `start`
@@ -230,7 +235,11 @@ pub fn fit_cell_with(roughness: f32, v: Vec3, start: [f32; 3], iterations: usize
     };
     let mean = target.mean_direction();
     let cost = |p: &[f32; 3]| target.error(&Ltc::new(transform(mean, *p))).0;
-    let p = if iterations == 0 { start } else { nelder_mead(cost, start, iterations) };
+    let p = if iterations == 0 {
+        start
+    } else {
+        nelder_mead(cost, start, iterations)
+    };
     let ltc = Ltc::new(transform(mean, p));
     let magnitude = target.albedo / ltc.upper_share(STRATA, 5).max(1e-6);
     let error = target.error(&ltc).1;

@@ -47,7 +47,10 @@ fn the_fitted_lobe_is_the_renderers_blinn_phong() {
         ] {
             let want = Brdf::BlinnPhong.eval(&hit, l, v).x;
             let got = ltc::lobe(v, l, ltc::shininess(roughness));
-            assert!((want - got).abs() <= 1e-4 * want.max(1.0), "roughness {roughness}, l {l}: {got} vs {want}");
+            assert!(
+                (want - got).abs() <= 1e-4 * want.max(1.0),
+                "roughness {roughness}, l {l}: {got} vs {want}"
+            );
         }
     }
 }

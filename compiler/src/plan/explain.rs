@@ -79,6 +79,7 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
         BindSource::Lights => "<lights>".into(),
         BindSource::Triangles => "<triangles>".into(),
         BindSource::LightVolumes => "<light_volumes>".into(),
+        BindSource::AreaLights => "<area_lights>".into(),
         BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
 }

@@ -203,6 +203,7 @@ fn bind_group(g: &NamedGroup, ids: &Ids) -> Option<PlanBindGroup> {
                 BindSource::Lights => BindSource::Lights,
                 BindSource::Triangles => BindSource::Triangles,
                 BindSource::LightVolumes => BindSource::LightVolumes,
+                BindSource::AreaLights => BindSource::AreaLights,
                 BindSource::Draw(d) => BindSource::Draw(*d),
             };
             Some(Binding {

@@ -184,6 +184,9 @@ fn execute(
     if let Some(note) = crate::render::uncalled_effects_note(&exe.plan) {
         eprintln!("{note}");
     }
+    if let Some(note) = area_lights_note(&exe.plan, &scene) {
+        eprintln!("{note}");
+    }
     // Checked before rendering, so a typo costs no frames.
     let dumps = a.dump.as_deref().map(|l| dump_names(&exe, l, a.alias)).transpose()?;
     let params = parsed;
@@ -206,6 +209,22 @@ fn execute(
         manifest(p, (a, pipeline), &gpu, &ex, &exe)?;
     }
     Ok(())
+}
+
+/// Said when a pass shades the scene's area lights and some emissive triangles are over the
+/// limit (the dimmest are left out).
+fn area_lights_note(plan: &lightbench_compiler::plan::Plan, scene: &Scene) -> Option<String> {
+    use lightbench_compiler::layout::BindSource;
+    let binds = plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
+    let used = binds.into_iter().any(|e| e.source == BindSource::AreaLights);
+    let (_, dropped) = crate::gpu::scene_gpu::area_lights(scene);
+    (used && dropped > 0).then(|| {
+        let max = crate::gpu::scene_gpu::MAX_AREA_LIGHTS;
+        format!(
+            "note: the scene has {} emissive triangles; the {max} most powerful light it, {dropped} are left out",
+            max + dropped
+        )
+    })
 }
 
 /// `--watch`: render continuously, reloading on changes (see `crate::reload`).

@@ -7,6 +7,7 @@ mod gpu_common;
 
 mod ambient_occlusion;
 mod antialiasing;
+mod area_lights;
 mod exposure;
 mod gbuffer_layouts;
 mod gpu_render;

@@ -4,7 +4,9 @@
 use super::{Ctx, Used};
 use crate::diag::{did_you_mean, Code, Diagnostic, Diagnostics};
 use crate::ir::{history_ident, shader_ident, PassKind, SamplerKind};
-use crate::layout::{BindSource, BindingType, DrawSlot, SampleType, ShaderDim, FRAME, INSTANCE, LIGHTS, LIGHT_VOLUMES, TRIANGLES};
+use crate::layout::{
+    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, INSTANCE, LIGHTS, LIGHT_VOLUMES, TRIANGLES,
+};
 use crate::shader::reflect::{BindingTy, TexKind};
 
 impl Ctx<'_> {
@@ -13,7 +15,7 @@ impl Ctx<'_> {
         if target == Some("params") || (target.is_none() && u.g.name == self.pass.param_block.value) {
             return self.bind_params(u, diags);
         }
-        if target.is_none() && [FRAME, INSTANCE, LIGHTS, TRIANGLES, LIGHT_VOLUMES].contains(&u.g.name.as_str()) {
+        if target.is_none() && [FRAME, INSTANCE, LIGHTS, TRIANGLES, LIGHT_VOLUMES, AREA_LIGHTS].contains(&u.g.name.as_str()) {
             return self.bind_standard(u, diags);
         }
         if let (None, Some(slot)) = (target, DrawSlot::from_name(&u.g.name)) {
@@ -48,10 +50,11 @@ impl Ctx<'_> {
         let (source, ty) = match (&g.ty, g.name.as_str()) {
             (BindingTy::Uniform { size, .. }, FRAME) => (BindSource::Frame, BindingType::Uniform { min_binding_size: *size }),
             (BindingTy::Uniform { size, .. }, INSTANCE) => (BindSource::Instance, BindingType::Uniform { min_binding_size: *size }),
-            (BindingTy::Storage { read_only: true, size }, name @ (LIGHTS | TRIANGLES | LIGHT_VOLUMES)) => (
+            (BindingTy::Storage { read_only: true, size }, name @ (LIGHTS | TRIANGLES | LIGHT_VOLUMES | AREA_LIGHTS)) => (
                 match name {
                     LIGHTS => BindSource::Lights,
                     TRIANGLES => BindSource::Triangles,
+                    AREA_LIGHTS => BindSource::AreaLights,
                     _ => BindSource::LightVolumes,
                 },
                 BindingType::Storage {
@@ -60,12 +63,13 @@ impl Ctx<'_> {
                 },
             ),
             (_, name) => {
-                let storage = [LIGHTS, TRIANGLES, LIGHT_VOLUMES].contains(&name);
+                let storage = [LIGHTS, TRIANGLES, LIGHT_VOLUMES, AREA_LIGHTS].contains(&name);
                 let want = if storage { "`var<storage, read>`" } else { "`var<uniform>`" };
                 let what = match name {
                     LIGHTS => "the light array",
                     TRIANGLES => "the scene's triangle array",
                     LIGHT_VOLUMES => "the light-volume meshes",
+                    AREA_LIGHTS => "the area-light array",
                     _ => "standard block",
                 };
                 diags.push(Diagnostic::error(

@@ -1,0 +1,118 @@
+// Area lights from emissive surfaces, shaded with linearly transformed cosines (Heitz et al.
+// 2016): the scene's emissive triangles (standard binding `area_lights`, filled by the
+// runtime) and the integral of a clamped cosine over a polygon, in closed form. The diffuse
+// lobe is that cosine; the specular lobe of lib/lighting.wgsl's Blinn-Phong is a cosine carried
+// by the inverse transform of pipelines/ltc_blinn_phong.json (fitted by
+// `cargo run --release -p lightbench-reference --example ltc_fit`; docs/reference.md).
+
+struct AreaLight {
+    // Corners in world space (w unused), counter-clockwise seen from the emitting side.
+    p0: vec4<f32>,
+    p1: vec4<f32>,
+    p2: vec4<f32>,
+    // Emitted radiance (rgb); w: 1 when both sides emit, 0 the front only.
+    radiance: vec4<f32>,
+};
+
+@group(0) @binding(3) var<storage, read> area_lights: array<AreaLight>;
+// The LTC table (a `data` buffer of the pipeline).
+@group(2) @binding(3) var<storage, read> ltc: array<vec4<f32>>;
+
+// The table's size and layout (reference/src/ltc.rs): SIZE × SIZE cells of two vec4 —
+// M⁻¹'s entries (a, b, c, d) of [a 0 b; 0 c 0; d 0 1], then (magnitude, fit error, 0, 0).
+const LTC_SIZE: f32 = 32.0;
+const LTC_MIN_ROUGHNESS: f32 = 0.1;
+
+// One edge's share of the integral of cos/π over a polygon on the unit sphere: the arc's
+// angle along the edge plane's normal (exact, with atan2 for a well-conditioned angle).
+fn ltc_edge(a: vec3<f32>, b: vec3<f32>) -> f32 {
+    let c = cross(a, b);
+    let s = length(c);
+    let theta = atan2(s, dot(a, b));
+    return c.z * theta / max(s, 1e-9);
+}
+
+// The integral over triangle (a, b, c) — points relative to the shading point, in a frame
+// whose cosine lobe points +z — of the clamped cosine / π, clipped to the upper hemisphere.
+// Signed: positive when the triangle is seen clockwise (its front, emitting side, faces the
+// point for counter-clockwise corners).
+fn ltc_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
+    // Clip against z = 0 (Sutherland-Hodgman): a triangle keeps at most four corners.
+    var p: array<vec3<f32>, 3> = array<vec3<f32>, 3>(a, b, c);
+    var out: array<vec3<f32>, 4>;
+    var n = 0u;
+    for (var i = 0u; i < 3u; i = i + 1u) {
+        let cur = p[i];
+        let next = p[(i + 1u) % 3u];
+        if cur.z > 0.0 {
+            out[n] = cur;
+            n = n + 1u;
+        }
+        if (cur.z > 0.0) != (next.z > 0.0) {
+            let t = cur.z / (cur.z - next.z);
+            out[n] = mix(cur, next, t);
+            n = n + 1u;
+        }
+    }
+    if n < 3u {
+        return 0.0;
+    }
+    var sum = 0.0;
+    for (var i = 0u; i < n; i = i + 1u) {
+        sum = sum + ltc_edge(normalize(out[i]), normalize(out[(i + 1u) % n]));
+    }
+    return -sum / 6.2831853;
+}
+
+fn ltc_cell(part: u32, i: u32, j: u32) -> vec4<f32> {
+    return ltc[(i * u32(LTC_SIZE) + j) * 2u + part];
+}
+
+// The table's `part` (0: M⁻¹'s entries, 1: magnitude) at (roughness, cos θ_v), interpolated
+// bilinearly.
+fn ltc_lookup(part: u32, roughness: f32, cos_v: f32) -> vec4<f32> {
+    let last = LTC_SIZE - 1.0;
+    let x = clamp((roughness - LTC_MIN_ROUGHNESS) / (1.0 - LTC_MIN_ROUGHNESS), 0.0, 1.0) * last;
+    let y = sqrt(clamp(1.0 - cos_v, 0.0, 1.0)) * last;
+    let i0 = u32(floor(x));
+    let j0 = u32(floor(y));
+    let i1 = min(i0 + 1u, u32(last));
+    let j1 = min(j0 + 1u, u32(last));
+    let f = vec2<f32>(x - f32(i0), y - f32(j0));
+    let top = mix(ltc_cell(part, i0, j0), ltc_cell(part, i0, j1), f.y);
+    let bottom = mix(ltc_cell(part, i1, j0), ltc_cell(part, i1, j1), f.y);
+    return mix(top, bottom, f.x);
+}
+
+// What the scene's area lights add at surface `s`: per triangle, the clamped cosine's integral
+// in the surface's frame (the diffuse lobe) and in the frame M⁻¹ carries the specular lobe to,
+// times its radiance. Unshadowed.
+fn area_lighting(s: Surface) -> vec3<f32> {
+    let n = s.n;
+    let cos_v = clamp(dot(n, s.v), 0.02, 1.0);
+    // The surface's frame: x towards the view in the tangent plane, z the normal.
+    let helper = select(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), abs(n.x) > 0.9);
+    let t1 = safe_normalize(s.v - n * dot(s.v, n), normalize(cross(n, helper)));
+    let t2 = cross(n, t1);
+    let to_local = transpose(mat3x3<f32>(t1, t2, n));
+    let m = ltc_lookup(0u, s.roughness, cos_v);
+    let inv = mat3x3<f32>(vec3<f32>(m.x, 0.0, m.w), vec3<f32>(0.0, m.z, 0.0), vec3<f32>(m.y, 0.0, 1.0));
+    let magnitude = ltc_lookup(1u, s.roughness, cos_v).x;
+    let spec_color = mix(vec3<f32>(0.04), s.albedo, s.metallic);
+    let diffuse = s.albedo * (1.0 - s.metallic);
+    var sum = vec3<f32>(0.0);
+    for (var k = 0u; k < arrayLength(&area_lights); k = k + 1u) {
+        let l = area_lights[k];
+        let a = to_local * (l.p0.xyz - s.world);
+        let b = to_local * (l.p1.xyz - s.world);
+        let c = to_local * (l.p2.xyz - s.world);
+        var d = ltc_triangle(a, b, c);
+        var sp = ltc_triangle(inv * a, inv * b, inv * c);
+        if l.radiance.w > 0.5 {
+            d = abs(d);
+            sp = abs(sp);
+        }
+        sum = sum + l.radiance.rgb * (diffuse * max(d, 0.0) + spec_color * magnitude * max(sp, 0.0));
+    }
+    return sum;
+}
