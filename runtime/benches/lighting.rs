@@ -15,6 +15,9 @@
 //!    each (`Executor::set_merge(false)`): frame GPU and wall ms, light-pass encode µs, ratios;
 //!    and untimed, where the light pass also continues ambient's render pass (`continues`):
 //!    frame wall ms merged vs apart.
+//! 4. Area lights (`-- area`): the `area_light` pass (`area_lights = ltc`) on the Cornell box
+//!    with 2, 32 and 512 emissive triangles (a grid of small lamps under the ceiling) at
+//!    128×128, 256×256 and 512×512: pass GPU ms and µs per triangle.
 //!
 //! Every pass runs every frame (no reuse); figures are means over the frames after a warm-up.
 
@@ -237,6 +240,43 @@ fn merged_repetitions(gpu: &Gpu) {
     }
 }
 
+/// The Cornell box with `quads` small emissive quads (two triangles each) under its ceiling.
+fn lamps(quads: usize, size: u32) -> Scene {
+    let mut s = builtin::cornell();
+    s.size = (size, size);
+    let mut lamp = lightbench::scene::Material::color("lamp", [0.8; 3], 1.0);
+    lamp.emissive = [4.0, 3.5, 3.0];
+    let side = (quads as f32).sqrt().ceil() as usize;
+    for k in 0..quads {
+        let (mut v, mut i) = (vec![], vec![]);
+        let at = |n: usize| -0.6 + 1.2 * (n as f32 + 0.5) / side as f32;
+        let c = glam::Vec3::new(at(k % side), 1.98, at(k / side));
+        let half = 0.5 / side as f32;
+        lightbench::scene::geometry::quad(c, glam::Vec3::X * half, glam::Vec3::Z * half, &mut v, &mut i);
+        s.meshes
+            .push(lightbench::scene::Mesh::new("lamp", v, i, s.materials.len(), glam::Mat4::IDENTITY));
+    }
+    s.materials.push(lamp);
+    s
+}
+
+fn area_lights(gpu: &Gpu) {
+    println!("Area lights (area_lights = ltc): the area_light pass on the Cornell box with emissive triangles under the ceiling");
+    println!(
+        "    {:<10} {:>10} {:>14} {:>18}",
+        "size", "triangles", "pass GPU ms", "µs per triangle"
+    );
+    let ws = project(|t| t);
+    for size in [128u32, 256, 512] {
+        for quads in [1usize, 16, 256] {
+            let scene = lamps(quads, size);
+            let c = measure(gpu, &ws, &scene, &[("area_lights", "ltc")], 3, |p| p == "area_light");
+            let per = c.picked_ms * 1e3 / (2 * quads) as f64;
+            println!("    {:<10} {:>10} {:>14.2} {per:>18.1}", format!("{size}²"), 2 * quads, c.picked_ms);
+        }
+    }
+}
+
 fn main() {
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     println!("{}", gpu.describe());
@@ -250,5 +290,8 @@ fn main() {
     }
     if want("merge") {
         merged_repetitions(&gpu);
+    }
+    if want("area") {
+        area_lights(&gpu);
     }
 }

@@ -205,13 +205,13 @@ mod tests {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
         let each = requests(&p, VariantMode::Each, &[]);
         // Defaults, then cube_shadow (4), gbuffer (2), lighting (4), tonemap (2),
-        // transparency (3), aa (3), luminance (3).
-        assert_eq!(each.len(), 1 + 4 + 2 + 4 + 2 + 3 + 3 + 3, "{each:?}");
+        // transparency (3), aa (3), luminance (3), area_lights (2).
+        assert_eq!(each.len(), 1 + 4 + 2 + 4 + 2 + 3 + 3 + 3 + 2, "{each:?}");
         assert!(each[0].is_empty());
         assert!(each.contains(&vec![("cube_shadow".to_string(), "instanced".to_string())]));
         let all = requests(&p, VariantMode::All, &[]);
-        assert_eq!(all.len(), 4 * 2 * 4 * 2 * 3 * 3 * 3, "{all:?}");
-        assert!(all.iter().all(|r| r.len() == 7));
+        assert_eq!(all.len(), 4 * 2 * 4 * 2 * 3 * 3 * 3 * 2, "{all:?}");
+        assert!(all.iter().all(|r| r.len() == 8));
         assert!(all.contains(&vec![
             ("cube_shadow".to_string(), "multiview".to_string()),
             ("gbuffer".to_string(), "fat".to_string()),
@@ -219,7 +219,8 @@ mod tests {
             ("tonemap".to_string(), "simple".to_string()),
             ("transparency".to_string(), "fragment_lists".to_string()),
             ("aa".to_string(), "fxaa".to_string()),
-            ("luminance".to_string(), "single".to_string())
+            ("luminance".to_string(), "single".to_string()),
+            ("area_lights".to_string(), "ltc".to_string())
         ]));
         // `--vary tonemap`: its options alone, cube shadows at their default.
         let varied = requests(&p, VariantMode::All, &["tonemap".to_string()]);

@@ -127,7 +127,7 @@ fn a_per_pixel_buffer_too_large_for_the_size_is_located() {
         "{err}"
     );
     assert!(
-        err.contains("pipelines/deferred.ron:65:35") && err.contains("limit: max_storage_buffer_binding_size"),
+        err.contains("pipelines/deferred.ron:67:35") && err.contains("limit: max_storage_buffer_binding_size"),
         "{err}"
     );
 }
@@ -437,12 +437,16 @@ fn shaders_are_found_beside_the_enclosing_pipelines_folder() {
     assert_eq!(lightbench(&["init", d.to_str().unwrap()]).0, 0);
     let deeper = d.join("pipelines/sub/deeper");
     std::fs::create_dir_all(&deeper).unwrap();
+    // The pipeline with its data file (the LTC table), which is read beside it.
+    let table = "ltc_blinn_phong.json";
     std::fs::copy(d.join("pipelines/deferred.ron"), deeper.join("deferred.ron")).unwrap();
+    std::fs::copy(d.join("pipelines").join(table), deeper.join(table)).unwrap();
     let (code, _, err) = lightbench(&["check", deeper.join("deferred.ron").to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     let loose = d.join("loose/inner");
     std::fs::create_dir_all(&loose).unwrap();
     std::fs::copy(d.join("pipelines/deferred.ron"), loose.join("deferred.ron")).unwrap();
+    std::fs::copy(d.join("pipelines").join(table), loose.join(table)).unwrap();
     let (code, _, err) = lightbench(&["check", loose.join("deferred.ron").to_str().unwrap()]);
     assert_eq!(code, 1, "{err}");
     let looked = format!("`{}`", loose.join("shaders").display());

@@ -128,6 +128,7 @@ fn check_walks_symlink_loops_once() {
     let d = temp("loops");
     std::fs::create_dir_all(d.join("a/b")).unwrap();
     std::fs::copy(root().join("pipelines/deferred.lbp"), d.join("a/b/p.lbp")).unwrap();
+    std::fs::copy(root().join("pipelines/ltc_blinn_phong.json"), d.join("a/b/ltc_blinn_phong.json")).unwrap();
     std::fs::create_dir_all(d.join("shaders")).unwrap();
     std::os::unix::fs::symlink(root().join("shaders"), d.join("a/shaders")).unwrap();
     // Two loops: a link to an ancestor, and two links pointing at each other's directory.

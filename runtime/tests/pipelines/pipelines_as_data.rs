@@ -25,6 +25,9 @@ fn project(tag: &str) -> PathBuf {
     let d = cli_common::scratch(tag);
     copy_dir(&root().join("shaders"), &d.join("shaders"));
     std::fs::create_dir_all(d.join("pipelines")).unwrap();
+    // The bundled pipelines' data file (the area lights' LTC table), read beside them.
+    let table = "pipelines/ltc_blinn_phong.json";
+    std::fs::copy(root().join(table), d.join(table)).unwrap();
     d
 }
 
