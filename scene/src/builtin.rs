@@ -19,20 +19,20 @@ pub fn cornell() -> Scene {
 }
 
 /// The Cornell box lit by an emissive panel alone, as the classic box is: 0.47 × 0.38 under
-/// the ceiling, single-sided, facing down, no point light. Not a named scene (the raster
-/// pipelines cannot light with emitters yet); the reference's emitter tests and benchmark
-/// render it.
+/// the ceiling, single-sided, facing down, no point light (the built-in `cornell_lamp`).
 pub fn cornell_lamp() -> Scene {
-    let mut s = cornell();
-    s.name = "cornell_lamp".into();
-    s.lights.clear();
+    Scene::from_desc(&desc::cornell_lamp())
+}
+
+fn cornell_lamp_geometry() -> (Vec<Mesh>, Vec<Material>) {
+    let (mut meshes, mut materials) = cornell_geometry();
     let mut lamp = Material::color("lamp", [0.78; 3], 1.0);
     lamp.emissive = [17.0, 12.0, 4.0];
     let (mut vs, mut is) = (vec![], vec![]);
     quad(Vec3::new(0.0, 1.99, 0.0), Vec3::X * 0.235, Vec3::Z * 0.19, &mut vs, &mut is);
-    s.meshes.push(mesh("lamp", (vs, is), s.materials.len(), Mat4::IDENTITY));
-    s.materials.push(lamp);
-    s
+    meshes.push(mesh("lamp", (vs, is), materials.len(), Mat4::IDENTITY));
+    materials.push(lamp);
+    (meshes, materials)
 }
 
 pub fn colonnade() -> Scene {
@@ -48,6 +48,7 @@ pub fn many_lights(n: usize) -> Scene {
 pub fn geometry(name: &str) -> Option<(Vec<Mesh>, Vec<Material>)> {
     match name {
         "cornell" => Some(cornell_geometry()),
+        "cornell_lamp" => Some(cornell_lamp_geometry()),
         "colonnade" => Some(colonnade_geometry()),
         "many_lights" => Some(many_lights_geometry()),
         "panes" => Some(panes_geometry()),

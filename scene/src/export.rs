@@ -92,7 +92,17 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
     let materials: Vec<Value> = scene
         .materials
         .iter()
-        .map(|m| json!({"name": m.name, "pbrMetallicRoughness": {"baseColorFactor": m.base_color, "metallicFactor": m.metallic, "roughnessFactor": m.roughness}, "emissiveFactor": m.emissive, "doubleSided": m.double_sided}))
+        .map(|m| {
+            // glTF holds emissive factors within 0..1: brighter emission is a strength
+            // (KHR_materials_emissive_strength) times the factor.
+            let strength = m.emissive.iter().copied().fold(1.0f32, f32::max);
+            let factor = m.emissive.map(|c| c / strength);
+            let mut v = json!({"name": m.name, "pbrMetallicRoughness": {"baseColorFactor": m.base_color, "metallicFactor": m.metallic, "roughnessFactor": m.roughness}, "emissiveFactor": factor, "doubleSided": m.double_sided});
+            if strength > 1.0 {
+                v["extensions"] = json!({"KHR_materials_emissive_strength": {"emissiveStrength": strength}});
+            }
+            v
+        })
         .collect();
     let mut lights = vec![];
     for l in scene.lights.iter().filter(|l| l.on) {
@@ -118,7 +128,7 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
     }
     let doc = json!({
         "asset": {"version": "2.0", "generator": "lightbench"},
-        "extensionsUsed": if lights.is_empty() { json!([]) } else { json!(["KHR_lights_punctual"]) },
+        "extensionsUsed": extensions_used(!lights.is_empty(), materials.iter().any(|m| m.get("extensions").is_some())),
         "extensions": {"KHR_lights_punctual": {"lights": lights}},
         "scene": 0,
         "scenes": [{"name": scene.name, "nodes": (0..nodes.len()).collect::<Vec<_>>()}],
@@ -133,4 +143,14 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
     write_atomic(&dir.join(&bin_name), &b.bin)?;
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Error::io(out, e))?;
     write_atomic(out, text.as_bytes())
+}
+
+/// The extensions a written file uses: punctual lights, emissive strength.
+fn extensions_used(lights: bool, strength: bool) -> Value {
+    let used: Vec<&str> = [(lights, "KHR_lights_punctual"), (strength, "KHR_materials_emissive_strength")]
+        .iter()
+        .filter(|(on, _)| *on)
+        .map(|(_, e)| *e)
+        .collect();
+    json!(used)
 }

@@ -14,7 +14,7 @@ pub struct Args {
     /// Choose a variant option, e.g. --variant cube_shadow=multiview (repeatable).
     #[arg(long = "variant", value_name = "K=V")]
     pub variants: Vec<String>,
-    /// Scene file (.ron), glTF model or built-in scene (cornell, colonnade, many_lights, panes).
+    /// Scene file (.ron), glTF model or built-in scene (cornell, cornell_lamp, colonnade, many_lights, panes).
     #[arg(long)]
     pub scene: Option<String>,
     /// Set a parameter's value in the Plan, e.g. --param exposure.ev=2 (repeatable; typed and

@@ -18,7 +18,7 @@ pub struct Args {
     /// in the binary when there is none on disk.
     #[arg(long)]
     pub pipeline: Option<PathBuf>,
-    /// Scene file (.ron), glTF model (.gltf, .glb) or built-in scene: cornell, colonnade, many_lights, panes.
+    /// Scene file (.ron), glTF model (.gltf, .glb) or built-in scene: cornell, cornell_lamp, colonnade, many_lights, panes.
     #[arg(long, default_value = "cornell")]
     pub scene: String,
     #[command(flatten)]

@@ -138,6 +138,23 @@ fn scene_export_writes_gltf_and_bin() {
         assert!(out.is_file() && d.join(format!("{name}.bin")).is_file());
     }
     assert_eq!(run(&["scene", "export", "sponza", d.join("s.gltf").to_str().unwrap()]).0, 2);
+    // Emission past glTF's 0..1 factors goes out as a strength and comes back as it was.
+    let lamp = d.join("cornell_lamp.gltf");
+    assert_eq!(run(&["scene", "export", "cornell_lamp", lamp.to_str().unwrap()]).0, 0);
+    let text = std::fs::read_to_string(&lamp).unwrap();
+    assert!(text.contains("KHR_materials_emissive_strength"), "{text}");
+    let back = lightbench::scene::load::load_sized(lamp.to_str().unwrap(), None, &[]).unwrap();
+    let emissive: Vec<[f32; 3]> = back
+        .materials
+        .iter()
+        .map(|m| m.emissive)
+        .filter(|e| e.iter().any(|c| *c > 0.0))
+        .collect();
+    assert_eq!(emissive.len(), 1, "{emissive:?}");
+    assert!(
+        emissive[0].iter().zip([17.0, 12.0, 4.0]).all(|(a, b)| (a - b).abs() < 1e-4),
+        "{emissive:?}"
+    );
 }
 
 /// README command 1 from a folder with no checkout: the bundled default pipeline renders.

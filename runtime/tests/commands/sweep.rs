@@ -146,6 +146,7 @@ fn every_bundled_sweep_spec_runs() {
         ("ssr", "ssr.max_steps", 5),
         ("frame", "indirect_diffuse", 5),
         ("transparency", "transparency", 5),
+        ("area_lights", "area_lights", 2),
     ] {
         let out = scratch(spec);
         let (code, _, err) = sweep(&format!("sweeps/{spec}.ron"), &out, &[]);
@@ -160,6 +161,14 @@ fn every_bundled_sweep_spec_runs() {
         let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
         let scenes = if spec == "indirect_diffuse" || spec == "ao" { 2 } else { 1 };
         assert_eq!(refs.len(), scenes, "{spec}: one reference per scene and size");
+        if spec == "area_lights" {
+            // The emitter-lit box: light from the panel brings the image to within a quarter
+            // of the error of none (the rest is the boxes' shadows, which area lights lack).
+            let at = |o: &str| rows.iter().find(|r| r["area_lights"] == o).unwrap();
+            let (off, ltc) = (num(at("off"), "rmse"), num(at("ltc"), "rmse"));
+            assert!(ltc < 0.4 * off, "ltc {ltc} vs off {off}");
+            assert!(num(at("ltc"), "bias").abs() < 0.01, "{:?}", at("ltc"));
+        }
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a
             // cost; a configuration whose effect passes are all culled costs 0.
@@ -247,7 +256,7 @@ fn every_bundled_sweep_spec_runs() {
         .filter_map(|e| e.unwrap().file_name().into_string().ok())
         .filter(|n| n.ends_with(".ron"))
         .collect();
-    assert_eq!(listed.len(), 6, "a new spec needs a line in this test: {listed:?}");
+    assert_eq!(listed.len(), 7, "a new spec needs a line in this test: {listed:?}");
 }
 
 /// A copy of the shadows spec that takes longer per point (so a kill lands mid-sweep).

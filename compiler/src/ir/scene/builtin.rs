@@ -5,7 +5,7 @@
 use super::{CameraDesc, KeySpans, LightDesc, SceneDesc};
 use crate::ir::Effect;
 
-pub const NAMES: [&str; 4] = ["cornell", "colonnade", "many_lights", "panes"];
+pub const NAMES: [&str; 5] = ["cornell", "cornell_lamp", "colonnade", "many_lights", "panes"];
 
 /// Lights of `many_lights` (the built-in); `many_lights(n)` makes other counts for tests.
 pub const MANY_LIGHTS: usize = 100;
@@ -15,6 +15,7 @@ pub const MAX_MANY_LIGHTS: usize = 1000;
 pub fn by_name(name: &str) -> Option<SceneDesc> {
     match name {
         "cornell" => Some(cornell()),
+        "cornell_lamp" => Some(cornell_lamp()),
         "colonnade" => Some(colonnade()),
         "many_lights" => Some(many_lights(MANY_LIGHTS)),
         "panes" => Some(panes()),
@@ -52,6 +53,14 @@ pub fn cornell() -> SceneDesc {
     let cam = camera([0.0, 1.0, 3.6], 0.0, 0.0, 40.0, 0.05, 20.0);
     let light = LightDesc::point([0.0, 1.8, 0.1], [1.0, 0.95, 0.85], 4.0, 6.0);
     scene("cornell", (128, 128), cam, vec![light], true)
+}
+
+/// The Cornell box lit as the classic one is, by an emissive panel alone (0.47 × 0.38 under
+/// the ceiling, single-sided, facing down): no light of the light array. The raster pipelines
+/// light it with `area_lights = ltc`; the reference samples the panel.
+pub fn cornell_lamp() -> SceneDesc {
+    let cam = camera([0.0, 1.0, 3.6], 0.0, 0.0, 40.0, 0.05, 20.0);
+    scene("cornell_lamp", (128, 128), cam, vec![], false)
 }
 
 /// A colonnade lit by a low sun and a spot light.
