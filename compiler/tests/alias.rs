@@ -5,9 +5,6 @@ mod common;
 
 use common::*;
 use lightbench_compiler::plan::Plan;
-use lightbench_compiler::profile::Profile;
-use lightbench_compiler::scene::SceneFeatures;
-use lightbench_compiler::Session;
 
 const FILL: &str = "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(0.25);\n}\n";
 const COPY: &str = "@group(2) @binding(0) var input: texture_2d<f32>;\n@fragment\nfn fs_main(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {\n    return textureLoad(input, vec2<i32>(p.xy), 0);\n}\n";
@@ -30,24 +27,13 @@ fullscreen second \"copy.wgsl\" {{\n    reads b\n    bind input = b\n    color c
 }
 
 fn plan_of(text: &str) -> Plan {
-    let dir = write_project(
-        "alias",
-        &[
-            ("pipelines/m.lbp", text),
-            ("shaders/fill.wgsl", FILL),
-            ("shaders/copy.wgsl", COPY),
-            ("shaders/add.wgsl", ADD),
-        ],
-    );
-    let mut s = Session::new();
-    let plan = s.plan_file(
-        &dir.join("pipelines/m.lbp"),
-        None,
-        &Profile::vulkan(),
-        &SceneFeatures::everything(),
-        &[],
-    );
-    plan.unwrap_or_else(|| panic!("{}", s.render()))
+    let files = [
+        ("pipelines/m.lbp", text),
+        ("shaders/fill.wgsl", FILL),
+        ("shaders/copy.wgsl", COPY),
+        ("shaders/add.wgsl", ADD),
+    ];
+    plan_project("alias", &files)
 }
 
 fn shares(plan: &Plan, name: &str) -> Option<String> {

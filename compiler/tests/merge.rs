@@ -14,19 +14,10 @@ const COPY: &str = "@group(2) @binding(0) var input: texture_2d<f32>;\n@fragment
 
 fn plan_of(passes: &str) -> Plan {
     let text = format!("pipeline m\n\ntexture a: Rgba16Float 8x8\ntexture out: Rgba16Float 8x8\n\n{passes}\noutput out\n");
-    let dir = write_project(
+    plan_project(
         "merge",
         &[("pipelines/m.lbp", &text), ("shaders/fill.wgsl", FILL), ("shaders/copy.wgsl", COPY)],
-    );
-    let mut s = Session::new();
-    let plan = s.plan_file(
-        &dir.join("pipelines/m.lbp"),
-        None,
-        &Profile::vulkan(),
-        &SceneFeatures::everything(),
-        &[],
-    );
-    plan.unwrap_or_else(|| panic!("{}", s.render()))
+    )
 }
 
 fn continues(plan: &Plan) -> Vec<(&str, bool)> {

@@ -3,7 +3,7 @@
 use lightbench_compiler::format::TextureFormat;
 use lightbench_compiler::ir::{AddressMode, Blend, CompareFn, CullMode, FilterMode, SamplerKind, Stage};
 use lightbench_compiler::layout::{BindingType, SampleType, ShaderDim, StorageAccess};
-use lightbench_compiler::plan::Usage;
+use lightbench_compiler::plan::{PlanSampler, Usage};
 
 pub fn format(f: TextureFormat) -> wgpu::TextureFormat {
     use wgpu::TextureFormat as F;
@@ -106,6 +106,22 @@ pub fn mipmap_filter(f: FilterMode) -> wgpu::MipmapFilterMode {
     match f {
         FilterMode::Nearest => wgpu::MipmapFilterMode::Nearest,
         FilterMode::Linear => wgpu::MipmapFilterMode::Linear,
+    }
+}
+
+/// A Plan's sampler: one filter both ways, one address mode on every axis.
+pub fn sampler(s: &PlanSampler) -> wgpu::SamplerDescriptor<'_> {
+    let address = address(s.address);
+    wgpu::SamplerDescriptor {
+        label: Some(&s.name),
+        address_mode_u: address,
+        address_mode_v: address,
+        address_mode_w: address,
+        mag_filter: filter(s.filter),
+        min_filter: filter(s.filter),
+        mipmap_filter: mipmap_filter(s.mipmap),
+        compare: s.compare.map(compare),
+        ..Default::default()
     }
 }
 

@@ -164,18 +164,7 @@ pub struct Executor {
 }
 
 fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
-    let address = convert::address(s.address);
-    device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some(&s.name),
-        address_mode_u: address,
-        address_mode_v: address,
-        address_mode_w: address,
-        mag_filter: convert::filter(s.filter),
-        min_filter: convert::filter(s.filter),
-        mipmap_filter: convert::mipmap_filter(s.mipmap),
-        compare: s.compare.map(convert::compare),
-        ..Default::default()
-    })
+    device.create_sampler(&convert::sampler(s))
 }
 
 fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {

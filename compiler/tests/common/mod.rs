@@ -74,6 +74,22 @@ pub fn check_project(dir: &Path, pipeline: &str, profile: &Profile, scene: Optio
 }
 
 /// The repository root (for the bundled pipelines and shaders).
+/// Write `files` as a project and plan its `pipelines/m.lbp` for every scene feature on the
+/// Vulkan profile (a panic with the diagnostics if it does not plan).
+#[allow(dead_code)]
+pub fn plan_project(tag: &str, files: &[(&str, &str)]) -> lightbench_compiler::plan::Plan {
+    let dir = write_project(tag, files);
+    let mut s = lightbench_compiler::Session::new();
+    let plan = s.plan_file(
+        &dir.join("pipelines/m.lbp"),
+        None,
+        &Profile::vulkan(),
+        &SceneFeatures::everything(),
+        &[],
+    );
+    plan.unwrap_or_else(|| panic!("{}", s.render()))
+}
+
 pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }

@@ -3,47 +3,28 @@
 //! light their front only; without the option emissive surfaces light nothing.
 
 use crate::gpu_common::*;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 use lightbench::reference::{self, Budget, Settings, Term};
-use lightbench::scene::geometry::quad;
-use lightbench::scene::{Camera, Material, Mesh, Scene};
-use std::collections::BTreeSet;
+use lightbench::scene::{Camera, Material, Scene};
 
 /// A large floor (y = 0) of the given roughness and a 0.8 × 0.6 lamp 1 above it, facing down
 /// (or up), single-sided unless `double_sided`; the camera looks down at the floor.
 fn lamp_over_floor(roughness: f32, down: bool, double_sided: bool) -> Scene {
-    let (mut fv, mut fi) = (vec![], vec![]);
-    quad(Vec3::ZERO, Vec3::X * 20.0, Vec3::NEG_Z * 20.0, &mut fv, &mut fi);
-    let (mut lv, mut li) = (vec![], vec![]);
     let w = Vec3::Z * if down { 0.3 } else { -0.3 };
-    quad(Vec3::new(0.0, 1.0, 0.0), Vec3::X * 0.4, w, &mut lv, &mut li);
     let mut lamp = Material::color("lamp", [0.0; 3], 1.0);
     lamp.emissive = [8.0, 6.0, 4.0];
     lamp.double_sided = double_sided;
-    Scene {
-        name: "lamp".into(),
-        size: (24, 24),
-        camera: Camera {
-            position: Vec3::new(0.0, 2.2, 1.6),
-            yaw: 0.0,
-            pitch: -60.0,
-            fov: 60.0,
-            near: 0.05,
-            far: 50.0,
-            animation: None,
-        },
-        meshes: vec![
-            mesh("floor", (fv, fi), Mat4::IDENTITY),
-            Mesh {
-                material: 1,
-                ..mesh("lamp", (lv, li), Mat4::IDENTITY)
-            },
-        ],
-        materials: vec![Material::color("floor", [0.6, 0.5, 0.4], roughness), lamp],
-        textures: vec![],
-        lights: vec![],
-        effects: BTreeSet::new(),
-    }
+    let camera = Camera {
+        position: Vec3::new(0.0, 2.2, 1.6),
+        yaw: 0.0,
+        pitch: -60.0,
+        fov: 60.0,
+        near: 0.05,
+        far: 50.0,
+        animation: None,
+    };
+    let floor = Material::color("floor", [0.6, 0.5, 0.4], roughness);
+    crate::gpu_common::lamp_over_floor((floor, lamp), (Vec3::new(0.0, 1.0, 0.0), Vec3::X * 0.4, w), camera, (24, 24))
 }
 
 /// The raster `hdr` with area lights (no ambient), and the reference's `direct` term.

@@ -60,19 +60,7 @@ impl<'a> Small<'a> {
         }
         let d = &gpu.device;
         let held = plan.resources.iter().map(|r| resource(d, r)).collect::<Res<_>>()?;
-        let samplers = plan.samplers.iter().map(|s| {
-            let address = convert::address(s.address);
-            d.create_sampler(&wgpu::SamplerDescriptor {
-                address_mode_u: address,
-                address_mode_v: address,
-                address_mode_w: address,
-                mag_filter: convert::filter(s.filter),
-                min_filter: convert::filter(s.filter),
-                mipmap_filter: convert::mipmap_filter(s.mipmap),
-                compare: s.compare.map(convert::compare),
-                ..Default::default()
-            })
-        });
+        let samplers = plan.samplers.iter().map(|s| d.create_sampler(&convert::sampler(s)));
         let lights: Vec<_> = scene.active_lights().into_iter().map(|l| l.at(0.0)).collect();
         let bounds = scene.bounds();
         let mut blocks: Vec<_> = lights.iter().map(|l| l.block(bounds)).collect();

@@ -146,3 +146,35 @@ pub fn colonnade_with_point_light() -> Scene {
     ));
     colonnade
 }
+
+/// A large floor (y = 0, 40 units across) of material `floor` and a quad lamp of material
+/// `lamp` (centre `c`, half extents `u` and `w`; its front faces along u × w), `size` pixels
+/// seen by `camera`, no other light.
+pub fn lamp_over_floor(
+    (floor, lamp): (lightbench::scene::Material, lightbench::scene::Material),
+    (c, u, w): (glam::Vec3, glam::Vec3, glam::Vec3),
+    camera: lightbench::scene::Camera,
+    size: (u32, u32),
+) -> Scene {
+    use lightbench::scene::geometry::quad;
+    let (mut fv, mut fi) = (vec![], vec![]);
+    quad(glam::Vec3::ZERO, glam::Vec3::X * 20.0, glam::Vec3::NEG_Z * 20.0, &mut fv, &mut fi);
+    let (mut lv, mut li) = (vec![], vec![]);
+    quad(c, u, w, &mut lv, &mut li);
+    Scene {
+        name: "lamp".into(),
+        size,
+        camera,
+        meshes: vec![
+            mesh("floor", (fv, fi), glam::Mat4::IDENTITY),
+            lightbench::scene::Mesh {
+                material: 1,
+                ..mesh("lamp", (lv, li), glam::Mat4::IDENTITY)
+            },
+        ],
+        materials: vec![floor, lamp],
+        textures: vec![],
+        lights: vec![],
+        effects: Default::default(),
+    }
+}

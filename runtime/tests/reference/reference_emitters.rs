@@ -12,7 +12,6 @@ use lightbench::reference::{
 };
 use lightbench::scene::geometry::quad;
 use lightbench::scene::{builtin, Camera, Material, Mesh, Scene};
-use std::collections::BTreeSet;
 
 const LE: f32 = 10.0;
 const ALBEDO: f32 = 0.5;
@@ -24,38 +23,25 @@ const LAMP_W: Vec3 = Vec3::new(0.0, 0.0, 0.15);
 /// A large grey floor (y = 0) and a small emissive quad above it, facing down (`down`) or
 /// up, single- or double-sided.
 fn lamp_over_floor(down: bool, double_sided: bool) -> Scene {
-    let (mut fv, mut fi) = (vec![], vec![]);
-    quad(Vec3::ZERO, Vec3::X * 20.0, Vec3::NEG_Z * 20.0, &mut fv, &mut fi);
-    let (mut lv, mut li) = (vec![], vec![]);
     let w = if down { LAMP_W } else { -LAMP_W };
-    quad(LAMP_C, LAMP_U, w, &mut lv, &mut li);
     let mut lamp = Material::color("lamp", [0.0; 3], 1.0);
     lamp.emissive = [LE; 3];
     lamp.double_sided = double_sided;
-    Scene {
-        name: "lamp".into(),
-        size: (8, 8),
-        camera: Camera {
-            position: Vec3::new(0.0, 3.0, 3.0),
-            yaw: 0.0,
-            pitch: -45.0,
-            fov: 60.0,
-            near: 0.01,
-            far: 100.0,
-            animation: None,
-        },
-        meshes: vec![
-            mesh("floor", (fv, fi), Mat4::IDENTITY),
-            Mesh {
-                material: 1,
-                ..mesh("lamp", (lv, li), Mat4::IDENTITY)
-            },
-        ],
-        materials: vec![Material::color("grey", [ALBEDO; 3], 1.0), lamp],
-        textures: vec![],
-        lights: vec![],
-        effects: BTreeSet::new(),
-    }
+    let camera = Camera {
+        position: Vec3::new(0.0, 3.0, 3.0),
+        yaw: 0.0,
+        pitch: -45.0,
+        fov: 60.0,
+        near: 0.01,
+        far: 100.0,
+        animation: None,
+    };
+    gpu_common::lamp_over_floor(
+        (Material::color("grey", [ALBEDO; 3], 1.0), lamp),
+        (LAMP_C, LAMP_U, w),
+        camera,
+        (8, 8),
+    )
 }
 
 /// Irradiance at `x` (normal `n`) from a polygon of uniform radiance `le` (Lambert 1760:

@@ -128,7 +128,7 @@ fn scene_file_errors_name_the_file_and_position() {
     let (code, err) = render_cli(&p, &dir);
     assert_eq!(code, 1, "{err}");
     let missing = scene::load("no_such_scene").unwrap_err().to_string();
-    assert!(missing.contains("cornell, colonnade, many_lights"), "{missing}");
+    assert!(missing.contains("cornell, cornell_lamp, colonnade, many_lights"), "{missing}");
 }
 
 /// Standard base64 (RFC 4648) for data URIs in the test file.
