@@ -89,8 +89,20 @@ fn arc(h: f32, n: f32) -> f32 {
     return 0.25 * (-cos(2.0 * h - n) + cos(n) + 2.0 * h * sin(n));
 }
 
+// The slices' offsets stay put (the blur averages the pattern's neighbours).
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return occlusion(frag, noise(frag.xy));
+}
+
+// `ao = gtao_temporal`: the offsets turn by the golden ratio each frame, so that
+// ao_accumulate.wgsl's average over frames covers the slice angles and step positions evenly.
+@fragment
+fn fs_temporal(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    return occlusion(frag, fract(noise(frag.xy) + 0.618034 * f32(frame.frame_index % 4096u)));
+}
+
+fn occlusion(frag: vec4<f32>, offset: f32) -> vec4<f32> {
     let px = target_gbuffer_pixel(frag.xy);
     let s = load_surface(px);
     if !s.covered {
@@ -106,7 +118,6 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let up = vec3<f32>(frame.view[0].y, frame.view[1].y, frame.view[2].y);
     let o = Origin(s.world, at, v, radius, reach);
     let slices = max(params.slices, 1u);
-    let offset = noise(frag.xy);
     var visibility = 0.0;
     for (var i = 0u; i < slices; i++) {
         let phi = (f32(i) + offset) * PI / f32(slices);

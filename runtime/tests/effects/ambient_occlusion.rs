@@ -409,3 +409,65 @@ fn ao_volume_presets_and_the_gl_backend() {
     let e = lightbench::io::rmse(&on_gl, full.as_ref().unwrap()).unwrap();
     assert!(e < 0.01, "GL vs Vulkan RMSE of the AOV occlusion: {e}");
 }
+
+/// GTAO over frames (`ao = gtao_temporal`): each frame's slices turn, and the history averages
+/// them: after 16 frames the occlusion is much nearer a 64-frame average than one frame's is,
+/// and has the mean of GTAO's fixed slices; moving the camera keeps the average only where the
+/// reprojected surface is the same one (no ghost: it matches an average made at the new
+/// position).
+#[test]
+fn temporal_gtao_averages_turned_slices_without_ghosts() {
+    let g = gpu();
+    let scene = cornell_ao();
+    let p = root().join("pipelines/deferred_gi.ron");
+    let compile = |ao: &str| {
+        let v = [("ao".to_string(), ao.to_string()), ("ao_blur".to_string(), "box".to_string())];
+        lightbench::render::compile(&g, &p, None, &scene, &v)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .0
+    };
+    let (temporal, fixed) = (compile("gtao_temporal"), compile("gtao"));
+    let run = |frames: u32, keep: i64, shift: glam::Vec3| {
+        let mut ex = lightbench::gpu::Executor::new(&g, &temporal, &scene).unwrap();
+        ex.set_param("ao.temporal.frames", ParamValue::Int(keep)).unwrap();
+        for f in 0..frames {
+            let mut inputs = ex.inputs(f as f32 / 60.0);
+            inputs.camera.position = scene.camera.position + shift;
+            ex.render_frame(&g, &inputs).unwrap();
+        }
+        ex
+    };
+    let channel = |ex: &lightbench::gpu::Executor, name: &str| -> Vec<f32> {
+        ex.read_texture(&g, name, 0, 0).unwrap().rgba.chunks(4).map(|t| t[0]).collect()
+    };
+    let rms = |a: &[f32], b: &[f32]| (a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum::<f32>() / a.len() as f32).sqrt();
+    let (ex, truth) = (run(16, 16, glam::Vec3::ZERO), channel(&run(64, 64, glam::Vec3::ZERO), "ao.history"));
+    let (raw, history) = (channel(&ex, "ao.raw"), channel(&ex, "ao.history"));
+    let fixed_raw = channel(&lightbench::render::render_with(&g, &fixed, &scene, 1, &[]).unwrap(), "ao.raw");
+    let (e_raw, e_hist) = (rms(&raw, &truth), rms(&history, &truth));
+    let (m_fixed, m_hist) = (mean(&fixed_raw), mean(&history));
+    eprintln!("RMS from a 64-frame average: one frame {e_raw:.4}, 16 frames {e_hist:.4}; mean fixed {m_fixed:.4}, accumulated {m_hist:.4}");
+    assert!(e_hist < 0.5 * e_raw, "{e_hist} vs {e_raw}");
+    assert!((m_hist - m_fixed).abs() < 0.02, "{m_hist} vs {m_fixed}");
+    assert!(history.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)));
+    // Move the camera a little and render one more frame; compare with 16 frames made there.
+    let shift = glam::Vec3::new(0.25, 0.1, 0.0);
+    let mut moved = run(16, 16, glam::Vec3::ZERO);
+    let before = channel(&moved, "ao.history");
+    let mut inputs = moved.inputs(16.0 / 60.0);
+    inputs.camera.position = scene.camera.position + shift;
+    moved.render_frame(&g, &inputs).unwrap();
+    let after = moved.read_texture(&g, "ao.history", 0, 0).unwrap();
+    let settled = channel(&run(16, 16, shift), "ao.history");
+    let kept = after.rgba.chunks(4).filter(|t| t[1] > 1.5).count();
+    let after: Vec<f32> = after.rgba.chunks(4).map(|t| t[0]).collect();
+    let (e_moved, e_ghost) = (rms(&after, &settled), rms(&before, &settled));
+    eprintln!(
+        "after the move: {kept} texels kept their history; RMS from an average made there {e_moved:.4}, of the old view's {e_ghost:.4}"
+    );
+    assert!(kept > after.len() / 2, "most of the view is the same surfaces: {kept}");
+    assert!(
+        e_moved < 0.5 * e_ghost,
+        "{e_moved} vs {e_ghost}: the history follows the surfaces, no ghost of the old view"
+    );
+}
