@@ -286,9 +286,9 @@ fn triangles(device: &wgpu::Device, scene: &Scene) -> (wgpu::Buffer, u32) {
 /// costs every pixel of an area-light pass its closed-form integral.
 pub const MAX_AREA_LIGHTS: usize = 1024;
 
-/// The scene's emissive triangles as area lights (emissive factor × strength; an emissive
-/// texture is not sampled), most powerful first, at most `MAX_AREA_LIGHTS`; and how many were
-/// left out.
+/// The scene's emissive triangles as area lights (emissive factor × strength × the emissive
+/// map's mean over the triangle: an area light's radiance is uniform), most powerful first, at
+/// most `MAX_AREA_LIGHTS`; and how many were left out.
 pub fn area_lights(scene: &Scene) -> (Vec<AreaLightBlock>, usize) {
     let mut out: Vec<(f32, AreaLightBlock)> = vec![];
     for m in &scene.meshes {
@@ -306,10 +306,12 @@ pub fn area_lights(scene: &Scene) -> (Vec<AreaLightBlock>, usize) {
                 continue;
             };
             let area = 0.5 * (b - a).cross(c - a).length();
-            let power = area * (mat.emissive[0] + mat.emissive[1] + mat.emissive[2]);
+            let map = emissive_mean(scene, m, mat, t);
+            let e: [f32; 3] = std::array::from_fn(|k| mat.emissive[k] * map[k]);
+            let power = area * (e[0] + e[1] + e[2]);
             let block = AreaLightBlock {
                 corners: [a.extend(1.0).to_array(), b.extend(1.0).to_array(), c.extend(1.0).to_array()],
-                radiance: [mat.emissive[0], mat.emissive[1], mat.emissive[2], mat.double_sided as u32 as f32],
+                radiance: [e[0], e[1], e[2], mat.double_sided as u32 as f32],
             };
             if power > 0.0 && power.is_finite() {
                 out.push((power, block));
@@ -320,6 +322,43 @@ pub fn area_lights(scene: &Scene) -> (Vec<AreaLightBlock>, usize) {
     let dropped = out.len().saturating_sub(MAX_AREA_LIGHTS);
     out.truncate(MAX_AREA_LIGHTS);
     (out.into_iter().map(|(_, b)| b).collect(), dropped)
+}
+
+/// The emissive map's mean over triangle `t` in linear RGB (1 without a map): the texels
+/// nearest ten points spread evenly over it (UV set, transform and repeat as the material
+/// says; sRGB decoded).
+fn emissive_mean(scene: &Scene, m: &lightbench_scene::Mesh, mat: &Material, t: &[u32]) -> [f32; 3] {
+    let Some(img) = mat.emissive_texture.and_then(|i| scene.textures.get(i)) else {
+        return [1.0; 3];
+    };
+    let second = (mat.uv_sets >> 3) & 1 == 1;
+    let uv = |i: u32| {
+        m.vertices
+            .get(i as usize)
+            .map(|v| glam::Vec2::from(if second { v.uv1 } else { v.uv }))
+    };
+    let (Some(u0), Some(u1), Some(u2)) = (uv(t[0]), uv(t[1]), uv(t[2])) else {
+        return [1.0; 3];
+    };
+    let [r0, r1] = mat.uv_transform;
+    let (w, h) = (img.width.max(1) as f32, img.height.max(1) as f32);
+    let mut sum = [0.0f32; 3];
+    let mut n = 0.0;
+    for i in 0..4 {
+        for j in 0..4 - i {
+            let (a, b) = ((i as f32 + 1.0 / 3.0) / 4.0, (j as f32 + 1.0 / 3.0) / 4.0);
+            let p = u0 * (1.0 - a - b) + u1 * a + u2 * b;
+            let q = glam::Vec2::new(r0[0] * p.x + r0[1] * p.y + r0[2], r1[0] * p.x + r1[1] * p.y + r1[2]);
+            let (x, y) = ((q.x.rem_euclid(1.0) * w) as usize, (q.y.rem_euclid(1.0) * h) as usize);
+            let at = (y.min(h as usize - 1) * w as usize + x.min(w as usize - 1)) * 4;
+            for (k, s) in sum.iter_mut().enumerate() {
+                let v = img.rgba.get(at + k).copied().unwrap_or(255) as f32 / 255.0;
+                *s += if img.srgb { srgb_to_linear(v) } else { v };
+            }
+            n += 1.0;
+        }
+    }
+    sum.map(|s| s / n)
 }
 
 /// World-space centre of a mesh's bounding box.
@@ -369,6 +408,8 @@ impl SceneGpu {
     /// Upload the scene. Its textures are moved out and dropped one by one as they reach the
     /// GPU, so the upload never holds a second CPU copy of them.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &mut Scene) -> Result<SceneGpu> {
+        // Before the textures are handed to the GPU: emissive maps set the area lights' radiance.
+        let (mut areas, area_lights_dropped) = area_lights(scene);
         let textures = upload_textures(device, queue, std::mem::take(&mut scene.textures))?;
         let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
         let meshes = meshes(device, scene)?;
@@ -377,7 +418,6 @@ impl SceneGpu {
         if samplers.is_empty() {
             samplers.push(sampler(device, &SamplerDesc::default()));
         }
-        let (mut areas, area_lights_dropped) = area_lights(scene);
         if areas.is_empty() {
             areas.push(AreaLightBlock::default());
         }
@@ -409,6 +449,44 @@ impl SceneGpu {
 #[cfg(test)]
 mod tests {
     use super::mip_chain;
+
+    /// An emissive map scales an area light's radiance by its mean over the triangle, sRGB
+    /// decoded: a uniform 188/255 sRGB map halves it; a map black on the half of the UV square
+    /// one triangle covers leaves that one dark.
+    #[test]
+    fn emissive_maps_set_the_radiance_by_their_mean() {
+        use lightbench_scene::{geometry::quad, ImageData, Material, Mesh, Scene};
+        let lamp = |texels: Vec<u8>, width: u32| {
+            let (mut v, mut i) = (vec![], vec![]);
+            quad(glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Z, &mut v, &mut i);
+            let mut m = Material::color("lamp", [0.0; 3], 1.0);
+            (m.emissive, m.emissive_texture) = ([4.0, 4.0, 4.0], Some(0));
+            let mut s = Scene::from_meshes(
+                "lamp",
+                (8, 8),
+                vec![Mesh::new("lamp", v, i, 0, glam::Mat4::IDENTITY)],
+                vec![m],
+                vec![],
+            )
+            .unwrap();
+            s.textures = vec![ImageData {
+                width,
+                height: 1,
+                rgba: texels,
+                srgb: true,
+            }];
+            super::area_lights(&s).0
+        };
+        let grey = lamp([188, 188, 188, 255].repeat(4), 4);
+        assert!(grey.iter().all(|l| (l.radiance[0] - 2.0).abs() < 0.02), "{grey:?}");
+        // Left half white, right half black: the quad's two triangles cover the halves unevenly.
+        let split = lamp(
+            [[255u8, 255, 255, 255], [255, 255, 255, 255], [0, 0, 0, 255], [0, 0, 0, 255]].concat(),
+            4,
+        );
+        let r: Vec<f32> = split.iter().map(|l| l.radiance[0]).collect();
+        assert!(r.iter().all(|v| (0.0..4.0).contains(v)) && (r[0] - r[1]).abs() > 0.5, "{r:?}");
+    }
 
     /// Emissive triangles become area lights in world space, most powerful first, capped.
     #[test]
