@@ -2,10 +2,11 @@
 // frame's occlusion, its slices turned (gtao.wgsl#fs_temporal), averaged with the history
 // reprojected through the previous frame's view-projection over at most `frames` frames. Where
 // the reprojected surface is not the same one — it was hidden, or outside the previous view —
-// the history is dropped (as in indirect_accumulate.wgsl: the previous frame's depth at the
+// the history is dropped (lib/reproject.wgsl: the previous frame's depth at the
 // reprojected texel must reconstruct to this surface, within `reject` of its distance).
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/reproject.wgsl"
 
 struct Params {
     frames: u32,
@@ -24,36 +25,21 @@ struct Out {
     @location(1) depth: vec4<f32>,
 };
 
-// World position of G-buffer pixel `p` of the previous frame at depth `d`.
-fn prev_world(p: vec2<i32>, d: f32) -> vec3<f32> {
-    let uv = (vec2<f32>(p) + 0.5) * frame.resolution.zw;
-    let w = frame.prev_inv_view_proj * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
-    return w.xyz / w.w;
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> Out {
     let texel = vec2<i32>(pos.xy);
-    let size = instance.target_size.xy;
     let px = target_gbuffer_pixel(pos.xy);
     let current = textureLoad(ao_raw, texel, 0).r;
     let depth = textureLoad(gbuf_depth, px, 0).x;
     var out: Out;
     out.history = vec4<f32>(current, 1.0, 0.0, 0.0);
     out.depth = vec4<f32>(depth, 0.0, 0.0, 0.0);
-    if depth >= 1.0 || frame.frame_index == 0u {
+    if depth >= 1.0 {
         return out;
     }
-    let world = world_from_depth(px, depth);
-    let on = on_texture(frame.prev_view_proj, world);
-    if !on.inside {
-        return out; // off the previous view, or behind the previous camera: no history
-    }
-    let q = clamp(vec2<i32>(on.uv * size), vec2<i32>(0), vec2<i32>(size) - 1);
-    let prev_d = textureLoad(ao_depth_prev, q, 0).x;
-    let seen = length(world - frame.camera_pos.xyz);
-    if prev_d >= 1.0 || length(prev_world(gbuffer_pixel(q, size), prev_d) - world) > params.reject * seen {
-        return out; // disoccluded: a different surface was there
+    let q = reproject(world_from_depth(px, depth), instance.target_size.xy, ao_depth_prev, params.reject);
+    if q.x < 0 {
+        return out; // no history for this surface
     }
     let prev = textureLoad(ao_history_prev, q, 0);
     let n = min(prev.g + 1.0, f32(max(params.frames, 1u)));

@@ -7,6 +7,7 @@
 // to the camera).
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/reproject.wgsl"
 
 struct Params {
     frames: u32,
@@ -25,13 +26,6 @@ struct Out {
     @location(1) depth: vec4<f32>,
 };
 
-// World position of pixel `p` of the previous frame at depth `d`.
-fn prev_world(p: vec2<i32>, d: f32) -> vec3<f32> {
-    let uv = (vec2<f32>(p) + 0.5) * frame.resolution.zw;
-    let w = frame.prev_inv_view_proj * vec4<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0, d, 1.0);
-    return w.xyz / w.w;
-}
-
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> Out {
     let px = vec2<i32>(pos.xy);
@@ -40,19 +34,12 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> Out {
     var out: Out;
     out.history = vec4<f32>(current, 1.0);
     out.depth = vec4<f32>(depth, 0.0, 0.0, 0.0);
-    if depth >= 1.0 || frame.frame_index == 0u {
+    if depth >= 1.0 {
         return out;
     }
-    let world = world_from_depth(px, depth);
-    let on = on_texture(frame.prev_view_proj, world);
-    if !on.inside {
-        return out; // off the previous view, or behind the previous camera: no history
-    }
-    let q = vec2<i32>(on.uv * frame.resolution.xy);
-    let prev_d = textureLoad(gi_depth_prev, q, 0).x;
-    let seen = length(world - frame.camera_pos.xyz);
-    if prev_d >= 1.0 || length(prev_world(q, prev_d) - world) > params.reject * seen {
-        return out; // disoccluded: a different surface was there
+    let q = reproject(world_from_depth(px, depth), frame.resolution.xy, gi_depth_prev, params.reject);
+    if q.x < 0 {
+        return out; // no history for this surface
     }
     let prev = textureLoad(gi_history_prev, q, 0);
     let n = min(prev.a + 1.0, f32(max(params.frames, 1u)));
