@@ -11,10 +11,20 @@ use std::path::PathBuf;
 
 fn main() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-    let out = std::env::args()
-        .nth(1)
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("pipelines/ltc_blinn_phong.json"));
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let out = match args.as_slice() {
+        [] => root.join("pipelines/ltc_blinn_phong.json"),
+        [path] if !path.starts_with('-') => PathBuf::from(path),
+        _ => {
+            eprintln!("usage: ltc_fit [OUT.json]");
+            std::process::exit(2);
+        }
+    };
+    // Refused before the fit's half minute: a device, pipe, socket or directory.
+    if let Err(why) = lightbench_scene::files::replaceable(&out) {
+        eprintln!("error: {}: {why}", out.display());
+        std::process::exit(1);
+    }
     let start = std::time::Instant::now();
     let fits = ltc::fit_table();
     println!("fitted {0}×{0} cells in {1:.1} s", ltc::SIZE, start.elapsed().as_secs_f64());
@@ -32,7 +42,12 @@ fn main() {
         println!("{:>10.3} {mean:>12.4} {worst:>12.4} {lo:>6.3}..{hi:<6.3}", ltc::roughness_at(i));
     }
     let floats = ltc::table_floats(&fits);
-    let text = serde_json::to_string(&floats.iter().map(|v| (*v as f64 * 1e6).round() / 1e6).collect::<Vec<f64>>()).unwrap();
-    lightbench_scene::files::write_atomic(&out, text.as_bytes()).unwrap_or_else(|e| panic!("{e}"));
+    let rounded: Vec<f64> = floats.iter().map(|v| (*v as f64 * 1e6).round() / 1e6).collect();
+    let text = serde_json::to_string(&rounded).expect("numbers serialise");
+    // Written atomically through lightbench's guarded writer (no device, no half-written file).
+    if let Err(e) = lightbench_scene::files::write_atomic(&out, text.as_bytes()) {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
     println!("wrote {} ({} floats)", out.display(), floats.len());
 }

@@ -216,9 +216,11 @@ fn execute(
 fn area_lights_note(plan: &lightbench_compiler::plan::Plan, scene: &Scene) -> Option<String> {
     use lightbench_compiler::layout::BindSource;
     let binds = plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
-    let used = binds.into_iter().any(|e| e.source == BindSource::AreaLights);
+    if !binds.into_iter().any(|e| e.source == BindSource::AreaLights) {
+        return None;
+    }
     let (_, dropped) = crate::gpu::scene_gpu::area_lights(scene);
-    (used && dropped > 0).then(|| {
+    (dropped > 0).then(|| {
         let max = crate::gpu::scene_gpu::MAX_AREA_LIGHTS;
         format!(
             "note: the scene has {} emissive triangles; the {max} most powerful light it, {dropped} are left out",

@@ -1,6 +1,7 @@
 //! The executor's examples as the README runs them: `headless` renders what `lightbench
 //! render` renders; `embed` opens a window under Xvfb, renders through the library into its
-//! swap-chain image and exits after the frames asked for.
+//! swap-chain image and exits after the frames asked for. The reference's `ltc_fit` refuses bad
+//! output paths before fitting.
 
 use crate::cli_common;
 
@@ -83,4 +84,23 @@ fn embed_renders_into_its_window_under_xvfb() {
         img.pixels().any(|p| p != img.get_pixel(0, 0)),
         "the swap-chain image is not uniform"
     );
+}
+
+/// `ltc_fit`'s bad inputs, refused before the fit: extra arguments or an option (exit 2), an
+/// output that is a device or a directory (exit 1, nothing replaced).
+#[test]
+fn ltc_fit_refuses_bad_outputs_before_fitting() {
+    let run = |args: &[&str]| Command::new(example("ltc_fit")).args(args).current_dir(root()).output().unwrap();
+    for args in [&["a.json", "b.json"][..], &["--size"]] {
+        let out = run(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("usage: ltc_fit [OUT.json]"));
+    }
+    let d = scratch("ltc-fit");
+    for (path, why) in [("/dev/null", "is not a regular file"), (d.to_str().unwrap(), "is a directory")] {
+        let out = run(&[path]);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(1), "{path}: {err}");
+        assert!(err.contains(why) && out.stdout.is_empty(), "{path}: {err}");
+    }
 }
