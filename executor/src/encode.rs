@@ -23,9 +23,10 @@ pub struct PassGpu {
 
 /// A render pass left open after a pass, for the next one to continue when the Plan says it
 /// may (`PlanPass::continues`) and its first repetition renders into the same subresources.
-pub struct Open {
+pub struct Open<'p> {
     rp: wgpu::RenderPass<'static>,
-    targets: Vec<super::bind_groups::TargetKey>,
+    /// The first repetition's subresources (borrowed from the pass: no copy per frame).
+    targets: &'p [super::bind_groups::TargetKey],
 }
 
 /// Record the repetitions of pass number `index` that `run` selects into `enc` (the first
@@ -33,13 +34,13 @@ pub struct Open {
 /// passes where they can. `open`: where a render pass may be left open for the next pass
 /// and found open from the one before (`None`: every render pass ends in this call). An open
 /// pass must be dropped before `enc` is used otherwise.
-pub fn encode(
+pub fn encode<'p>(
     enc: &mut wgpu::CommandEncoder,
-    (pass, index, run): (&PassGpu, usize, &[bool]),
+    (pass, index, run): (&'p PassGpu, usize, &[bool]),
     (parity, merge): (usize, bool),
     timer: Option<&Timer>,
     scene: (&SceneGpu, &DrawOrder),
-    mut open: Option<&mut Option<Open>>,
+    mut open: Option<&mut Option<Open<'p>>>,
 ) {
     let running: Vec<&Rep> = pass.reps.iter().zip(run).filter(|(_, r)| **r).map(|(rep, _)| rep).collect();
     let n = running.len();
@@ -59,7 +60,7 @@ pub fn encode(
             && open
                 .as_deref()
                 .and_then(Option::as_ref)
-                .is_some_and(|o| o.targets == reps[0].targets);
+                .is_some_and(|o| o.targets == reps[0].targets.as_slice());
         match open.as_deref_mut().and_then(Option::as_mut).filter(|_| continued) {
             Some(o) => record_into(&mut o.rp, (pass, reps), parity, scene),
             None => {
@@ -73,7 +74,7 @@ pub fn encode(
                 if let (Some(s), Some(rp), true) = (open.as_deref_mut(), left, mergeable) {
                     *s = Some(Open {
                         rp,
-                        targets: reps[0].targets.clone(),
+                        targets: &reps[0].targets,
                     });
                 }
             }
