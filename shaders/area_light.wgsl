@@ -1,14 +1,25 @@
 // The scene's emissive triangles as area lights (lib/area_light.wgsl: linearly transformed
-// cosines over the G-buffer's surfaces), added to HDR. Unshadowed.
+// cosines over the G-buffer's surfaces), added to HDR; unshadowed, or (SHADOWS) shadowed by
+// what the depth buffer holds.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
 #include "lib/area_light.wgsl"
+
+// Screen-space shadows (`area_lights = ltc_shadowed`).
+override SHADOWS: bool = false;
+
+struct Params {
+    shadow_steps: u32,
+};
+
+@group(2) @binding(4) var<uniform> params: Params;
 
 fn lit(s: Surface) -> vec4<f32> {
     if !s.covered {
         return vec4<f32>(0.0);
     }
-    return vec4<f32>(area_lighting(s), 0.0);
+    let shadows = ScreenShadows(SHADOWS, params.shadow_steps);
+    return vec4<f32>(area_lighting(s, shadows), 0.0);
 }
 
 @fragment

@@ -30,32 +30,6 @@ fn thickness() -> f32 {
 @group(2) @binding(3) var hdr: texture_2d<f32>;
 @group(2) @binding(4) var<uniform> params: Params;
 
-// How far `pos` is behind the surface the camera sees in its direction (negative: in
-// front); `miss` when it projects off screen, behind the camera or onto the background.
-struct Probe {
-    behind: f32,
-    pixel: vec2<i32>,
-    miss: bool,
-};
-
-fn probe(pos: vec3<f32>) -> Probe {
-    var r: Probe;
-    r.miss = true;
-    let on = on_texture(frame.view_proj, pos);
-    if !on.inside {
-        return r; // off screen or behind the camera
-    }
-    r.pixel = vec2<i32>(on.uv * frame.resolution.xy);
-    let d = textureLoad(gbuf_depth, r.pixel, 0).x;
-    if d >= 1.0 {
-        return r;
-    }
-    let seen = world_from_depth(r.pixel, d);
-    r.behind = length(pos - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz);
-    r.miss = false;
-    return r;
-}
-
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let s = load_surface(vec2<i32>(frag.xy));

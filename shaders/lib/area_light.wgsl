@@ -84,10 +84,67 @@ fn ltc_lookup(part: u32, roughness: f32, cos_v: f32) -> vec4<f32> {
     return mix(top, bottom, f.x);
 }
 
+// Screen-space shadows for area lights: how many of the segments from the surface to points
+// on a triangle pass through a surface the camera sees. `on` false: unshadowed (1 for every
+// triangle).
+struct ScreenShadows {
+    on: bool,
+    // Steps along each segment.
+    steps: u32,
+};
+
+// Whether the segment from `a` to `b`, marched in `steps` steps, passes through a surface in
+// the depth buffer: from one step on a side of what the camera sees to the next on the other,
+// by no more than twice the step (and the tolerance's width) — a larger jump is the segment
+// passing behind a silhouette, not through a surface. A step within 1.5 pixels' width of the
+// surface seen there is on neither side: the depth buffer holds one depth per pixel, and a
+// grazing surface's changes fast across one. What the camera does not see (off screen,
+// hidden) blocks nothing.
+fn crosses_depth_buffer(a: vec3<f32>, b: vec3<f32>, steps: u32) -> bool {
+    let reach = 2.0 * distance(a, b) / f32(steps);
+    // The side (−1 in front, +1 behind, 0 not known) and depth of the last step off the surface.
+    var side = 0.0;
+    var behind = 0.0;
+    for (var i = 0u; i <= steps; i = i + 1u) {
+        let x = mix(a, b, f32(i) / f32(steps));
+        let p = probe(x);
+        let pixel = distance(x, frame.camera_pos.xyz) * 2.0 / (frame.proj[1][1] * frame.resolution.y);
+        if p.miss {
+            side = 0.0;
+        } else if abs(p.behind) > 1.5 * pixel {
+            if sign(p.behind) * side < 0.0 && abs(p.behind - behind) <= reach + 5.0 * pixel {
+                return true;
+            }
+            side = sign(p.behind);
+            behind = p.behind;
+        }
+    }
+    return false;
+}
+
+// The share of triangle `l` that `s` sees: segments to its centre and to three points halfway
+// from it to the corners, from just off the surface to just short of the triangle.
+fn area_visibility(s: Surface, l: AreaLight, shadows: ScreenShadows) -> f32 {
+    if !shadows.on {
+        return 1.0;
+    }
+    let centre = (l.p0.xyz + l.p1.xyz + l.p2.xyz) / 3.0;
+    let points = array<vec3<f32>, 4>(centre, mix(centre, l.p0.xyz, 0.5), mix(centre, l.p1.xyz, 0.5), mix(centre, l.p2.xyz, 0.5));
+    let steps = max(shadows.steps, 1u);
+    var seen = 0.0;
+    for (var k = 0u; k < 4u; k = k + 1u) {
+        // 1% of the way off both ends: neither the surface nor the light blocks the segment.
+        let a = s.world + s.n * 0.01 * distance(s.world, points[k]);
+        let b = mix(a, points[k], 0.99);
+        seen = seen + select(1.0, 0.0, crosses_depth_buffer(a, b, steps));
+    }
+    return seen / 4.0;
+}
+
 // What the scene's area lights add at surface `s`: per triangle, the clamped cosine's integral
 // in the surface's frame (the diffuse lobe) and in the frame M⁻¹ carries the specular lobe to,
-// times its radiance. Unshadowed.
-fn area_lighting(s: Surface) -> vec3<f32> {
+// times its radiance and, with `shadows.on`, the share of it `s` sees in screen space.
+fn area_lighting(s: Surface, shadows: ScreenShadows) -> vec3<f32> {
     let n = s.n;
     let cos_v = clamp(dot(n, s.v), 0.02, 1.0);
     // The surface's frame: x towards the view in the tangent plane, z the normal.
@@ -112,7 +169,10 @@ fn area_lighting(s: Surface) -> vec3<f32> {
             d = abs(d);
             sp = abs(sp);
         }
-        sum = sum + l.radiance.rgb * (diffuse * max(d, 0.0) + spec_color * magnitude * max(sp, 0.0));
+        let light = l.radiance.rgb * (diffuse * max(d, 0.0) + spec_color * magnitude * max(sp, 0.0));
+        if any(light > vec3<f32>(0.0)) {
+            sum = sum + light * area_visibility(s, l, shadows);
+        }
     }
     return sum;
 }

@@ -66,3 +66,29 @@ fn gbuffer_pixel(q: vec2<i32>, dims: vec2<f32>) -> vec2<i32> {
 fn target_gbuffer_pixel(frag: vec2<f32>) -> vec2<i32> {
     return gbuffer_pixel(vec2<i32>(frag), instance.target_size.xy);
 }
+
+// How far `pos` is behind the surface the camera sees in its direction (negative: in
+// front); `miss` when it projects off screen, behind the camera or onto the background.
+struct Probe {
+    behind: f32,
+    pixel: vec2<i32>,
+    miss: bool,
+};
+
+fn probe(pos: vec3<f32>) -> Probe {
+    var r: Probe;
+    r.miss = true;
+    let on = on_texture(frame.view_proj, pos);
+    if !on.inside {
+        return r; // off screen or behind the camera
+    }
+    r.pixel = vec2<i32>(on.uv * frame.resolution.xy);
+    let d = textureLoad(gbuf_depth, r.pixel, 0).x;
+    if d >= 1.0 {
+        return r;
+    }
+    let seen = world_from_depth(r.pixel, d);
+    r.behind = length(pos - frame.camera_pos.xyz) - length(seen - frame.camera_pos.xyz);
+    r.miss = false;
+    return r;
+}
