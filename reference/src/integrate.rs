@@ -37,7 +37,26 @@ fn power_heuristic(p: f32, other: f32) -> f32 {
     }
 }
 
+/// What every sample of a pixel shares at the surface its camera ray found: the surface, its
+/// BRDF and the light arriving there from the scene's lights — deterministic, so worked out
+/// once per pixel instead of once per sample (the same numbers either way).
+pub struct Primary {
+    pub hit: Hit,
+    lobes: Lobes,
+    lights: Vec3,
+}
+
 impl Context<'_> {
+    /// The shared part of the pixel whose camera ray found `h` (seen from `v`).
+    pub fn primary(&self, h: &Hit, v: Vec3) -> Primary {
+        let lobes = self.brdf.at(h);
+        Primary {
+            hit: *h,
+            lobes,
+            lights: self.lights(h, &lobes, v),
+        }
+    }
+
     fn origin(&self, h: &Hit) -> Vec3 {
         h.position + h.ng * self.eps
     }
@@ -137,9 +156,9 @@ impl Context<'_> {
     /// `direct`: emission plus the lights' light with hard shadows, plus the emitters' by
     /// both strategies (a point drawn on one, and a direction drawn from the BRDF; the
     /// latter alone when emitters are not sampled).
-    pub fn direct(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
-        let b = self.brdf.at(h);
-        let sum = h.emissive + self.lights(h, &b, v);
+    pub fn direct(&self, p: &Primary, v: Vec3, rng: &mut Rng) -> Vec3 {
+        let (h, b) = (&p.hit, p.lobes);
+        let sum = h.emissive + p.lights;
         if self.emitters.is_empty() {
             return sum;
         }
@@ -200,13 +219,12 @@ impl Context<'_> {
     /// `full`: all light leaving the surface towards `v`, every bounce (path tracing with
     /// the lights and emitters sampled at every vertex, emitters also found by the BRDF's
     /// directions and the two weighed by MIS; Russian roulette after a few bounces).
-    pub fn full(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
-        let (mut h, mut v) = (*h, v);
+    pub fn full(&self, p: &Primary, v: Vec3, rng: &mut Rng) -> Vec3 {
+        let (mut h, mut v, mut b, mut lit) = (p.hit, v, p.lobes, p.lights);
         let mut sum = h.emissive;
         let mut throughput = Vec3::ONE;
         for bounce in 1..=MAX_BOUNCES {
-            let b = self.brdf.at(&h);
-            sum += throughput * (self.lights(&h, &b, v) + self.emitted_light(&h, &b, v, rng, true));
+            sum += throughput * (lit + self.emitted_light(&h, &b, v, rng, true));
             let (u, choose) = (rng.pair(), rng.uniform());
             let (l, w, pdf) = b.sample(&h, v, u, choose);
             throughput *= w;
@@ -225,6 +243,8 @@ impl Context<'_> {
             };
             sum += throughput * self.emission_found(&y, l, pdf);
             (h, v) = (y, -l);
+            b = self.brdf.at(&h);
+            lit = self.lights(&h, &b, v);
         }
         sum
     }

@@ -366,6 +366,7 @@ fn pass_row(
     for x in 0..w {
         let (origin, dir, len) = cam.ray(x, y);
         let hit = ctx.world.trace(origin, dir, (0.0, len), world::Faces::Seen);
+        let primary = hit.map(|h| ctx.primary(&h, -dir));
         let pixel = (y * w + x) as u64;
         for (k, &term) in terms.iter().enumerate() {
             let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
@@ -374,7 +375,7 @@ fn pass_row(
                     break;
                 }
                 let mut rng = sample::Rng::new(seed, pixel, i as u64, term as u64);
-                let v = estimate(ctx, term, hit.as_ref(), -dir, &mut rng);
+                let v = estimate(ctx, term, primary.as_ref(), -dir, &mut rng);
                 debug_assert!(v.is_finite(), "{term:?} at ({x}, {y}) sample {i}: {v}");
                 for c in 0..3 {
                     slot[c] += v[c] as f64;
@@ -385,17 +386,18 @@ fn pass_row(
     }
 }
 
-fn estimate(ctx: &integrate::Context, term: Term, hit: Option<&world::Hit>, v: Vec3, rng: &mut sample::Rng) -> Vec3 {
-    let Some(h) = hit else {
+fn estimate(ctx: &integrate::Context, term: Term, primary: Option<&integrate::Primary>, v: Vec3, rng: &mut sample::Rng) -> Vec3 {
+    let Some(p) = primary else {
         // The background: nothing drawn, nothing occluded.
         return if term == Term::Ao { Vec3::ONE } else { Vec3::ZERO };
     };
+    let h = &p.hit;
     match term {
-        Term::Direct => ctx.direct(h, v, rng),
+        Term::Direct => ctx.direct(p, v, rng),
         Term::Ao => Vec3::splat(ctx.ao(h, rng)),
         Term::IndirectDiffuse => ctx.indirect_diffuse(h, rng),
         Term::IndirectSpecular => ctx.indirect_specular(h, v, rng),
-        Term::Full => ctx.full(h, v, rng),
+        Term::Full => ctx.full(p, v, rng),
     }
 }
 
