@@ -10,7 +10,8 @@
 //! the emitter-lit Cornell box (`builtin::cornell_lamp`): a 64-spp pilot with emitters sampled
 //! and a 1024-spp one with BRDF sampling alone (the same run's baseline), each predicting from its worst,
 //! 99th-percentile and median pixel the time to a 2% relative standard error, and the 99th
-//! percentile rendered to 2% with `Budget::Error` to check the prediction. Not a test.
+//! percentile rendered to 2% with `Budget::Error` to check the prediction. `-- speed` runs the
+//! third alone. Not a test.
 
 use lightbench::reference::{self, Budget, Reference, Settings, Term};
 use lightbench::scene::builtin;
@@ -122,6 +123,10 @@ fn emitters() {
 
 fn main() {
     full_speed();
+    // `-- speed`: the paths per second alone (a minute, not ten).
+    if std::env::args().skip(1).any(|a| a == "speed") {
+        return;
+    }
     emitters();
     let mut scene = builtin::cornell();
     scene.size = (128, 128);
