@@ -416,3 +416,91 @@ fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
         assert_eq!(p.default, lightbench_compiler::ir::ParamValue::Float(gain), "{option}");
     }
 }
+
+/// A project whose `post` pass runs `when` the line says, and `plain` writes the output
+/// otherwise (`variant(quality, low)`).
+fn conditioned(when: &str) -> Outcome {
+    let text = format!(
+        "pipeline t\n\nsampler linear: Linear\ntexture color: Rgba16Float viewport\ntexture out: Rgba8Unorm viewport\n\n\
+         fullscreen fill \"fill.wgsl\" {{\n    color color\n}}\n\n\
+         fullscreen post \"post.wgsl\" {{\n    reads color\n    color out\n    {when}\n}}\n\n\
+         fullscreen plain \"fill.wgsl\" {{\n    color out\n    when variant(quality, low)\n}}\n\n\
+         variant quality = high {{\n    option high\n    option low\n    option fancy\n}}\n\noutput out\n"
+    );
+    let dir = write_project(
+        "condition",
+        &[
+            ("pipelines/t.lbp", &text),
+            ("shaders/post.wgsl", POST_WGSL),
+            ("shaders/fill.wgsl", FILL_WGSL),
+        ],
+    );
+    check_project(&dir, "pipelines/t.lbp", &Profile::offline("vulkan").unwrap(), None)
+}
+
+/// Whether the `post` pass runs with `quality = option`.
+fn post_runs(o: &Outcome, quality: &str) -> bool {
+    let mut s = Session::new();
+    let v = [("quality".to_string(), quality.to_string())];
+    let plan = s.plan_file(
+        &o.dir.join("pipelines/t.lbp"),
+        None,
+        &Profile::offline("vulkan").unwrap(),
+        &SceneFeatures::everything(),
+        &v,
+    );
+    assert!(!s.diags.has_errors(), "{}", s.render());
+    plan.unwrap().pass("post").is_some()
+}
+
+/// `variant(v, a | b)`: true while any of the options is chosen, as a choice's arm names them.
+#[test]
+fn a_condition_may_name_several_options_of_a_variant() {
+    let o = conditioned("when variant(quality, high | fancy)");
+    assert!(o.session.diags.list.is_empty(), "{}", o.dump());
+    assert!(post_runs(&o, "high") && post_runs(&o, "fancy"));
+    assert!(!post_runs(&o, "low"));
+}
+
+#[test]
+fn an_unknown_option_among_several_is_located_with_a_suggestion() {
+    let o = conditioned("when variant(quality, high | fnacy)");
+    let (d, notes) = first(&o);
+    assert_eq!(
+        d,
+        (
+            "unknown-variant-option".into(),
+            "variant `quality` has no option `fnacy`".into(),
+            14,
+            27
+        ),
+        "{}",
+        o.dump()
+    );
+    assert!(notes.iter().any(|n| n.contains("`fancy`")), "{notes:?}");
+    // Only a variant's option may be several.
+    let o = conditioned("when toggle(a | b)");
+    let (d, _) = first(&o);
+    assert_eq!((d.1.as_str(), d.2, d.3), ("expected `)`, found `|`", 14, 19), "{}", o.dump());
+}
+
+/// `|` separates options where several are named, so no option's name may hold one.
+#[test]
+fn an_option_named_with_a_bar_is_refused_where_it_is_declared() {
+    let text = "pipeline t\n\ntexture out: Rgba8Unorm viewport\n\nfullscreen fill \"fill.wgsl\" {\n    color out\n}\n\n\
+                variant quality = high {\n    option high\n    option \"low|fast\"\n}\n\noutput out\n";
+    let dir = write_project("bar", &[("pipelines/t.lbp", text), ("shaders/fill.wgsl", FILL_WGSL)]);
+    let o = check_project(&dir, "pipelines/t.lbp", &Profile::offline("vulkan").unwrap(), None);
+    let (d, _) = first(&o);
+    assert_eq!(
+        d,
+        (
+            "type-mismatch".into(),
+            "option `low|fast`: a name may not contain `|`, which separates options (`a | b`)".into(),
+            11,
+            12
+        ),
+        "{}",
+        o.dump()
+    );
+}

@@ -307,6 +307,11 @@ mod generated {
         prop_oneof![4 => ident(), 1 => "[ -~]{1,8}".prop_filter("no hash", |s| !s.contains('#'))]
     }
 
+    /// Names of variant options: never `|`, which separates several (`a | b`).
+    fn option_name() -> impl Strategy<Value = String> {
+        name().prop_filter("no bar", |s| !s.contains('|'))
+    }
+
     fn text() -> impl Strategy<Value = String> {
         "[ -~äé\\n\\t]{0,16}"
     }
@@ -448,7 +453,7 @@ mod generated {
             proptest::sample::select(Effect::ALL.to_vec()).prop_map(Condition::Effect),
             Just(Condition::Reflective),
             name().prop_map(|n| Condition::Toggle(sp(n))),
-            (name(), name()).prop_map(|(a, b)| Condition::Variant(sp(a), sp(b))),
+            (name(), option_name()).prop_map(|(a, b)| Condition::Variant(sp(a), sp(b))),
         ];
         leaf.prop_recursive(3, 12, 3, |inner| {
             prop_oneof![
@@ -670,17 +675,22 @@ mod generated {
                     span: Span::default(),
                 })
         };
-        (proptest::collection::btree_set(name(), 0..4), name(), proptest::option::of(text())).prop_flat_map(move |(opts, default, doc)| {
-            let n = n.clone();
-            let opts: Vec<BoxedStrategy<VariantOption>> = opts.into_iter().map(|o| option(o).boxed()).collect();
-            opts.prop_map(move |options| Variant {
-                name: sp(n.clone()),
-                options,
-                default: sp(default.clone()),
-                doc: doc.clone(),
-                span: Span::default(),
+        (
+            proptest::collection::btree_set(option_name(), 0..4),
+            option_name(),
+            proptest::option::of(text()),
+        )
+            .prop_flat_map(move |(opts, default, doc)| {
+                let n = n.clone();
+                let opts: Vec<BoxedStrategy<VariantOption>> = opts.into_iter().map(|o| option(o).boxed()).collect();
+                opts.prop_map(move |options| Variant {
+                    name: sp(n.clone()),
+                    options,
+                    default: sp(default.clone()),
+                    doc: doc.clone(),
+                    span: Span::default(),
+                })
             })
-        })
     }
 
     fn pipeline() -> impl Strategy<Value = Pipeline> {

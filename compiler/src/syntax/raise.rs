@@ -4,7 +4,7 @@
 
 use super::defaults::is_default;
 use crate::ir::*;
-use crate::span::Span;
+use crate::span::{Span, Spanned};
 use crate::tree::{Field, Node, Value};
 
 /// Fields of one item, dropping those at their default.
@@ -393,6 +393,24 @@ fn dispatch(d: &Dispatch, span: Span) -> Node {
     }
 }
 
+/// `Variant("v", "a | b")` as lowered (several options of one variant sharing the written
+/// string's span): the variant, the options as written, and where.
+fn compact_options(cs: &[Spanned<Condition>]) -> Option<(Spanned<String>, String, Span)> {
+    let mut options = vec![];
+    let mut first: Option<(&Spanned<String>, Span)> = None;
+    for c in cs {
+        let Condition::Variant(v, o) = &c.value else { return None };
+        match first {
+            None => first = Some((v, o.span)),
+            Some((fv, at)) if fv.value == v.value && at == o.span => {}
+            _ => return None,
+        }
+        options.push(o.value.as_str());
+    }
+    let (v, at) = first.filter(|_| options.len() > 1)?;
+    Some((v.clone(), options.join(" | "), at))
+}
+
 pub fn condition(c: &Condition, span: Span) -> Node {
     match c {
         Condition::Light(k) => Node::call("Light", vec![Node::ident(k.name(), span)], span),
@@ -407,11 +425,14 @@ pub fn condition(c: &Condition, span: Span) -> Node {
             vec![Node::list(cs.iter().map(|c| condition(&c.value, c.span)).collect(), span)],
             span,
         ),
-        Condition::Any(cs) => Node::call(
-            "Any",
-            vec![Node::list(cs.iter().map(|c| condition(&c.value, c.span)).collect(), span)],
-            span,
-        ),
+        Condition::Any(cs) => match compact_options(cs) {
+            Some((v, options, at)) => Node::call("Variant", vec![Node::str(&v.value, v.span), Node::str(options, at)], span),
+            None => Node::call(
+                "Any",
+                vec![Node::list(cs.iter().map(|c| condition(&c.value, c.span)).collect(), span)],
+                span,
+            ),
+        },
     }
 }
 

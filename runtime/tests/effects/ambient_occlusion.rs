@@ -474,7 +474,6 @@ fn temporal_gtao_averages_turned_slices_without_ghosts() {
     );
 }
 
-
 /// The share of the occlusion within `radius` at surface point `p` (normal `n`) that a
 /// screen-space method can see: of 256 cosine-weighted directions that meet a surface within
 /// the radius, those whose hit lies inside the image and is the surface the camera sees there.
@@ -508,25 +507,44 @@ fn observable_share(s: &lightbench::scene::Scene, world: &World, p: glam::Vec3, 
 fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
     let g = gpu();
     let scene = lightbench::scene::load(root().join("scenes/step.ron").to_str().unwrap()).unwrap();
-    let v = [("ao".to_string(), "gtao".to_string()), ("indirect_diffuse".to_string(), "off".to_string())];
-    let (exe, _) = lightbench::render::compile(&g, &root().join("pipelines/deferred_gi.lbp"), None, &scene, &v).unwrap_or_else(|e| panic!("{e}"));
-    let set = [("ao.radius".to_string(), "1".to_string()), ("lengths.world".to_string(), "true".to_string())];
+    let v = [
+        ("ao".to_string(), "gtao".to_string()),
+        ("indirect_diffuse".to_string(), "off".to_string()),
+    ];
+    let (exe, _) =
+        lightbench::render::compile(&g, &root().join("pipelines/deferred_gi.lbp"), None, &scene, &v).unwrap_or_else(|e| panic!("{e}"));
+    let set = [
+        ("ao.radius".to_string(), "1".to_string()),
+        ("lengths.world".to_string(), "true".to_string()),
+    ];
     let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
-    let ao = lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap().read_texture(&g, "ao.full", 0, 0).unwrap();
+    let ao = lightbench::render::render_with(&g, &exe, &scene, 1, &params)
+        .unwrap()
+        .read_texture(&g, "ao.full", 0, 0)
+        .unwrap();
     let settings = Settings {
         budget: Budget::Spp(256),
         terms: vec![Term::Ao],
         ao_radius: 1.0,
         ..Settings::default()
     };
-    let reference = lightbench::reference::render(&scene, &settings, false).term(Term::Ao).unwrap().mean.clone();
+    let reference = lightbench::reference::render(&scene, &settings, false)
+        .term(Term::Ao)
+        .unwrap()
+        .mean
+        .clone();
     let world = World::new(&scene);
     let (w, h) = scene.size;
     let inv = (scene.camera.proj(w as f32 / h as f32) * scene.camera.view()).inverse();
     // (sum of GTAO − reference, pixels) where ≥ 90% of the occlusion is observable, and < 50%.
     let (mut seen, mut hidden) = ((0.0, 0), (0.0, 0));
     for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
-        let ndc = glam::Vec4::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0, 0.5, 1.0);
+        let ndc = glam::Vec4::new(
+            (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+            1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
+            0.5,
+            1.0,
+        );
         let q = inv * ndc;
         let dir = (q.truncate() / q.w - scene.camera.position).normalize();
         let Some(hit) = world.trace(scene.camera.position, dir, (0.0, f32::INFINITY), Faces::Seen) else {
@@ -541,7 +559,10 @@ fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
         }
     }
     let (b_seen, b_hidden) = (seen.0 / seen.1 as f64, hidden.0 / hidden.1 as f64);
-    eprintln!("GTAO bias on the step: {b_seen:+.4} over {} pixels whose occluders are in view, {b_hidden:+.4} over {} mostly out of view", seen.1, hidden.1);
+    eprintln!(
+        "GTAO bias on the step: {b_seen:+.4} over {} pixels whose occluders are in view, {b_hidden:+.4} over {} mostly out of view",
+        seen.1, hidden.1
+    );
     assert!(seen.1 > 1000 && hidden.1 > 500, "{} and {} pixels", seen.1, hidden.1);
     assert!(b_seen.abs() <= 0.05, "in view: {b_seen}");
     assert!(b_hidden > 2.0 * b_seen.abs() + 0.03, "out of view {b_hidden} vs in view {b_seen}");

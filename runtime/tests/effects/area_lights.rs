@@ -50,11 +50,18 @@ fn raster(s: &Scene, option: &str) -> (lightbench::io::Image, lightbench::io::Im
     let g = gpu();
     let v = [("area_lights".to_string(), option.to_string())];
     let (exe, _) = lightbench::render::compile(&g, &root().join("pipelines/deferred.lbp"), None, s, &v).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(exe.plan.pass("area_light").is_some(), option != "off", "the area-light pass runs when asked");
+    assert_eq!(
+        exe.plan.pass("area_light").is_some(),
+        option != "off",
+        "the area-light pass runs when asked"
+    );
     let set = [("ambient.color".to_string(), "0,0,0".to_string())];
     let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
     let ex = lightbench::render::render_with(&g, &exe, s, 1, &params).unwrap();
-    (ex.read_texture(&g, "hdr", 0, 0).unwrap(), ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap())
+    (
+        ex.read_texture(&g, "hdr", 0, 0).unwrap(),
+        ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap(),
+    )
 }
 
 /// Floor pixels (not the lamp, which the camera sees from above, dark or emitting): their
@@ -161,7 +168,12 @@ fn lamp_box_pixels(s: &Scene, depth: &lightbench::io::Image) -> Vec<(usize, bool
         .filter_map(|k| {
             let i = (k * 4) as usize;
             let d = depth.rgba[i];
-            let ndc = glam::Vec4::new(((k % w) as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - ((k / w) as f32 + 0.5) / h as f32 * 2.0, d, 1.0);
+            let ndc = glam::Vec4::new(
+                ((k % w) as f32 + 0.5) / w as f32 * 2.0 - 1.0,
+                1.0 - ((k / w) as f32 + 0.5) / h as f32 * 2.0,
+                d,
+                1.0,
+            );
             let p = inv * ndc;
             let p = p.truncate() / p.w;
             // Background, the ceiling (the panel faces down) and the panel itself are left out.
@@ -199,7 +211,11 @@ fn the_lamp_lit_box_matches_the_reference_where_the_panel_is_in_full_view() {
         let mut full: Vec<f64> = pixels.iter().filter(|p| p.1).map(|p| rel(img, p.0)).collect();
         full.sort_by(f64::total_cmp);
         let (median, p95) = (full[full.len() / 2], full[full.len() * 95 / 100]);
-        let hidden: Vec<f64> = pixels.iter().filter(|p| !p.1).map(|p| (luminance(img, p.0) - luminance(&reference, p.0)).powi(2)).collect();
+        let hidden: Vec<f64> = pixels
+            .iter()
+            .filter(|p| !p.1)
+            .map(|p| (luminance(img, p.0) - luminance(&reference, p.0)).powi(2))
+            .collect();
         let rmse = (hidden.iter().sum::<f64>() / hidden.len() as f64).sqrt();
         eprintln!(
             "{option}: {} pixels see the whole panel: median {median:.4}, 95th percentile {p95:.4}, worst {:.4}; {} do not: RMSE {rmse:.4}",
@@ -207,12 +223,20 @@ fn the_lamp_lit_box_matches_the_reference_where_the_panel_is_in_full_view() {
             full[full.len() - 1],
             hidden.len()
         );
-        assert!(full.len() > 500 && hidden.len() > 300, "{option}: {} and {} pixels", full.len(), hidden.len());
+        assert!(
+            full.len() > 500 && hidden.len() > 300,
+            "{option}: {} and {} pixels",
+            full.len(),
+            hidden.len()
+        );
         assert!(median <= 0.015 && p95 <= 0.04, "{option}: median {median}, p95 {p95}");
         hidden_rmse.push(rmse);
     }
     assert!(hidden_rmse[1] < 0.8 * hidden_rmse[0], "screen-space shadows: {hidden_rmse:?}");
     // False shadows: pixels in full view of the panel that the option darkens by a tenth.
-    let darkened = pixels.iter().filter(|p| p.1 && luminance(&raster_shadowed, p.0) < 0.9 * luminance(&raster_ltc, p.0)).count();
+    let darkened = pixels
+        .iter()
+        .filter(|p| p.1 && luminance(&raster_shadowed, p.0) < 0.9 * luminance(&raster_ltc, p.0))
+        .count();
     assert!(darkened * 100 <= pixels.len(), "{darkened} pixels in full view darkened");
 }

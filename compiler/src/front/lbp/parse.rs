@@ -737,7 +737,24 @@ impl Builder<'_> {
         }
     }
 
-    /// `light(Point)`, `effect(Ssr)`, `toggle(p)`, `variant(v, o)`.
+    /// A condition's argument after the first: a name, or names joined by `|` as one string
+    /// (a variant's options, `variant(v, a | b)`).
+    fn option_list(&mut self, p: P) -> Option<Node> {
+        if p.as_rule() != Rule::arm_key {
+            return self.name(p);
+        }
+        let span = self.span(&p);
+        let names = kids(p).map(|n| self.name(n)).collect::<Option<Vec<_>>>()?;
+        match names.as_slice() {
+            [one] => Some(one.clone()),
+            _ => {
+                let texts: Vec<&str> = names.iter().map(|n| n.text().unwrap_or("")).collect();
+                Some(Node::str(texts.join(" | "), span))
+            }
+        }
+    }
+
+    /// `light(Point)`, `effect(Ssr)`, `toggle(p)`, `variant(v, o)`, `variant(v, a | b)`.
     fn call_cond(&mut self, inner: P, span: Span) -> Option<Node> {
         let mut it = kids(inner);
         let f = it.next()?;
@@ -753,11 +770,12 @@ impl Builder<'_> {
                 return self.err(d);
             }
         };
-        // Kinds and effects are enum values; toggles and variants name declarations.
+        // Kinds and effects are enum values; toggles and variants name declarations; a
+        // variant's option may be several, `a | b` (true while any is chosen).
         let args = args
             .into_iter()
             .map(|a| {
-                let n = self.name(a)?;
+                let n = self.option_list(a)?;
                 Some(if words { Node::ident(n.text().unwrap_or(""), n.span) } else { n })
             })
             .collect::<Option<Vec<_>>>()?;

@@ -344,10 +344,7 @@ fn choice(n: &Node, value: impl Fn(&Node) -> String) -> String {
         .map(entries)
         .unwrap_or(&[])
         .iter()
-        .map(|(k, v)| {
-            let options: Vec<String> = text(k).split('|').map(|o| name(o.trim())).collect();
-            format!("{}: {}", options.join(" | "), value(v))
-        })
+        .map(|(k, v)| format!("{}: {}", options(text(k)), value(v)))
         .collect();
     format!(
         "match({}) {{ {} }}",
@@ -461,8 +458,18 @@ fn cond(n: &Node) -> String {
         "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),
         w @ ("All" | "Any") => format!("{}({})", w.to_lowercase(), join(args.first().map(items).unwrap_or(&[]), cond)),
         w @ ("Light" | "Effect") => format!("{}({})", w.to_lowercase(), join(args, |a| text(a).to_string())),
+        // A variant's option may be several: `a | b`, each a name.
+        "Variant" => match args {
+            [v, o] => format!("variant({}, {})", name(text(v)), options(text(o))),
+            _ => format!("variant({})", join(args, |a| name(text(a)))),
+        },
         w => format!("{}({})", w.to_lowercase(), join(args, |a| name(text(a)))),
     }
+}
+
+/// Option names as LBP writes them: `a`, or `a | b`.
+fn options(text: &str) -> String {
+    text.split('|').map(|o| name(o.trim())).collect::<Vec<_>>().join(" | ")
 }
 
 fn option(f: &[Field]) -> String {

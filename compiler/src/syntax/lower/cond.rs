@@ -20,7 +20,7 @@ impl Lowerer<'_> {
                 ("Light", [k]) => Condition::Light(self.ident(k, "light kind", &LightKind::NAMES, LightKind::from_name)?),
                 ("Effect", [e]) => Condition::Effect(self.effect(e)?),
                 ("Toggle", [p]) => Condition::Toggle(self.string(p)?),
-                ("Variant", [v, o]) => Condition::Variant(self.string(v)?, self.string(o)?),
+                ("Variant", [v, o]) => variant_options(self.string(v)?, self.string(o)?),
                 ("Not", [c]) => Condition::Not(Box::new(self.condition(c)?)),
                 ("All" | "Any", [l]) => {
                     let items = self.list(l)?.to_vec();
@@ -33,7 +33,7 @@ impl Lowerer<'_> {
                 }
                 (k, _) if KINDS.contains(&k) => {
                     self.err(Diagnostic::error(Code::TypeMismatch, format!("wrong arguments for condition `{k}`"), n.span).with_note(
-                        "forms: Light(Point), Effect(Ssr), Reflective, Blended, Toggle(\"param\"), Variant(\"name\", \"option\"), Not(c), All([..]), Any([..])",
+                        "forms: Light(Point), Effect(Ssr), Reflective, Blended, Toggle(\"param\"), Variant(\"name\", \"option\" or \"a | b\"), Not(c), All([..]), Any([..])",
                     ));
                     return None;
                 }
@@ -49,7 +49,23 @@ impl Lowerer<'_> {
         };
         Some(Spanned::new(c, n.span))
     }
+}
 
+/// `Variant("v", "a | b")`: true while any of the options is chosen (as a choice's arm names
+/// them); one option is the plain condition. Each option keeps the written text's span.
+fn variant_options(v: Spanned<String>, o: Spanned<String>) -> Condition {
+    let options: Vec<&str> = o.value.split('|').map(str::trim).collect();
+    match options.as_slice() {
+        [one] => Condition::Variant(v, Spanned::new(one.to_string(), o.span)),
+        many => Condition::Any(
+            many.iter()
+                .map(|opt| Spanned::new(Condition::Variant(v.clone(), Spanned::new(opt.to_string(), o.span)), o.span))
+                .collect(),
+        ),
+    }
+}
+
+impl Lowerer<'_> {
     fn effect(&mut self, e: &Node) -> Res<Effect> {
         let Value::Ident(i) = &*e.value else {
             return self.type_err("an effect name", e);

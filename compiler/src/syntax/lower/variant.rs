@@ -1,6 +1,7 @@
 //! Lowering of variants and their options.
 
 use super::{Lowerer, Res};
+use crate::diag::{Code, Diagnostic};
 use crate::ir::{Literal, Variant, VariantOption};
 use crate::profile::Feature;
 use crate::span::Spanned;
@@ -37,6 +38,16 @@ impl Lowerer<'_> {
     fn variant_option(&mut self, name: Spanned<String>, node: &Node) -> Res<VariantOption> {
         let mut o = self.obj(node, &["Option"], "variant option")?;
         o.what = format!("variant option `{}`", name.value);
+        if name.value.contains('|') {
+            self.err(Diagnostic::error(
+                Code::TypeMismatch,
+                format!(
+                    "option `{}`: a name may not contain `|`, which separates options (`a | b`)",
+                    name.value
+                ),
+                name.span,
+            ));
+        }
         let requires = o.get("requires").and_then(|n| {
             let items = self.list(&n)?.to_vec();
             items
