@@ -224,14 +224,19 @@ fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
 
 /// A small LBP project whose `post` pass has the line `choice`.
 fn lbp(choice: &str) -> Outcome {
+    project("choice", choice, "")
+}
+
+/// The project `lbp` writes, with `more` (passes) after `post`.
+fn project(tag: &str, line: &str, more: &str) -> Outcome {
     let text = format!(
         "pipeline t\n\nsampler linear: Linear\ntexture color: Rgba16Float viewport\ntexture out: Rgba8Unorm viewport\n\n\
          fullscreen fill \"fill.wgsl\" {{\n    color color\n}}\n\n\
-         fullscreen post \"post.wgsl\" {{\n    reads color\n    color out\n    {choice}\n}}\n\n\
+         fullscreen post \"post.wgsl\" {{\n    reads color\n    color out\n    {line}\n}}\n\n{more}\
          variant quality = high {{\n    option high\n    option low\n    option fancy\n}}\n\noutput out\n"
     );
     let dir = write_project(
-        "choice",
+        tag,
         &[
             ("pipelines/t.lbp", &text),
             ("shaders/post.wgsl", POST_WGSL),
@@ -239,6 +244,12 @@ fn lbp(choice: &str) -> Outcome {
         ],
     );
     check_project(&dir, "pipelines/t.lbp", &Profile::offline("vulkan").unwrap(), None)
+}
+
+/// `check` of a project of one pipeline file (`text` at `file`) and `fill.wgsl`.
+fn checked(tag: &str, file: &str, text: &str) -> Outcome {
+    let dir = write_project(tag, &[(file, text), ("shaders/fill.wgsl", FILL_WGSL)]);
+    check_project(&dir, file, &Profile::offline("vulkan").unwrap(), None)
 }
 
 /// The first diagnostic: (code, message, line, column), and its notes.
@@ -295,22 +306,23 @@ fn an_option_in_two_arms_is_located_at_the_second() {
     );
 }
 
+/// An unknown option, in a choice's arm or among a condition's options, is located where it
+/// is written, with a suggestion.
 #[test]
-fn an_unknown_option_is_located_at_its_arm_with_a_suggestion() {
-    let o = lbp("fragment match(quality) { high | fancy: fs_main, lo: fs_low }");
-    let (d, notes) = first(&o);
-    assert_eq!(
-        d,
+fn an_unknown_option_is_located_with_a_suggestion() {
+    for (o, col, wanted) in [
         (
-            "unknown-variant-option".into(),
-            "variant `quality` has no option `lo`".into(),
-            14,
-            54
+            lbp("fragment match(quality) { high | fancy: fs_main, lo: fs_low }"),
+            54,
+            ("lo", "low"),
         ),
-        "{}",
-        o.dump()
-    );
-    assert_eq!(notes, ["did you mean `low`?"]);
+        (conditioned("when variant(quality, high | fnacy)"), 27, ("fnacy", "fancy")),
+    ] {
+        let (d, notes) = first(&o);
+        let message = format!("variant `quality` has no option `{}`", wanted.0);
+        assert_eq!(d, ("unknown-variant-option".into(), message, 14, col), "{}", o.dump());
+        assert_eq!(notes, [format!("did you mean `{}`?", wanted.1)]);
+    }
 }
 
 #[test]
@@ -347,8 +359,7 @@ fn a_choice_inside_a_target_is_refused_where_it_stands() {
     output: "out",
 )
 "#;
-    let dir = write_project("choice-misplaced", &[("pipelines/t.ron", text), ("shaders/fill.wgsl", FILL_WGSL)]);
-    let o = check_project(&dir, "pipelines/t.ron", &Profile::offline("vulkan").unwrap(), None);
+    let o = checked("choice-misplaced", "pipelines/t.ron", text);
     let (d, notes) = first(&o);
     assert_eq!(
         d,
@@ -420,22 +431,11 @@ fn fs_main(@location(0) uv: vec2<f32>) -> @location(0) vec4<f32> {
 /// A project whose `post` pass runs `when` the line says, and `plain` writes the output
 /// otherwise (`variant(quality, low)`).
 fn conditioned(when: &str) -> Outcome {
-    let text = format!(
-        "pipeline t\n\nsampler linear: Linear\ntexture color: Rgba16Float viewport\ntexture out: Rgba8Unorm viewport\n\n\
-         fullscreen fill \"fill.wgsl\" {{\n    color color\n}}\n\n\
-         fullscreen post \"post.wgsl\" {{\n    reads color\n    color out\n    {when}\n}}\n\n\
-         fullscreen plain \"fill.wgsl\" {{\n    color out\n    when variant(quality, low)\n}}\n\n\
-         variant quality = high {{\n    option high\n    option low\n    option fancy\n}}\n\noutput out\n"
-    );
-    let dir = write_project(
+    project(
         "condition",
-        &[
-            ("pipelines/t.lbp", &text),
-            ("shaders/post.wgsl", POST_WGSL),
-            ("shaders/fill.wgsl", FILL_WGSL),
-        ],
-    );
-    check_project(&dir, "pipelines/t.lbp", &Profile::offline("vulkan").unwrap(), None)
+        when,
+        "fullscreen plain \"fill.wgsl\" {\n    color out\n    when variant(quality, low)\n}\n\n",
+    )
 }
 
 /// Whether the `post` pass runs with `quality = option`.
@@ -462,23 +462,9 @@ fn a_condition_may_name_several_options_of_a_variant() {
     assert!(!post_runs(&o, "low"));
 }
 
+/// Only a variant's option may be several.
 #[test]
-fn an_unknown_option_among_several_is_located_with_a_suggestion() {
-    let o = conditioned("when variant(quality, high | fnacy)");
-    let (d, notes) = first(&o);
-    assert_eq!(
-        d,
-        (
-            "unknown-variant-option".into(),
-            "variant `quality` has no option `fnacy`".into(),
-            14,
-            27
-        ),
-        "{}",
-        o.dump()
-    );
-    assert!(notes.iter().any(|n| n.contains("`fancy`")), "{notes:?}");
-    // Only a variant's option may be several.
+fn only_a_variant_names_several_options() {
     let o = conditioned("when toggle(a | b)");
     let (d, _) = first(&o);
     assert_eq!((d.1.as_str(), d.2, d.3), ("expected `)`, found `|`", 14, 19), "{}", o.dump());
@@ -489,8 +475,7 @@ fn an_unknown_option_among_several_is_located_with_a_suggestion() {
 fn an_option_named_with_a_bar_is_refused_where_it_is_declared() {
     let text = "pipeline t\n\ntexture out: Rgba8Unorm viewport\n\nfullscreen fill \"fill.wgsl\" {\n    color out\n}\n\n\
                 variant quality = high {\n    option high\n    option \"low|fast\"\n}\n\noutput out\n";
-    let dir = write_project("bar", &[("pipelines/t.lbp", text), ("shaders/fill.wgsl", FILL_WGSL)]);
-    let o = check_project(&dir, "pipelines/t.lbp", &Profile::offline("vulkan").unwrap(), None);
+    let o = checked("bar", "pipelines/t.lbp", text);
     let (d, _) = first(&o);
     assert_eq!(
         d,
