@@ -240,3 +240,19 @@ fn the_lamp_lit_box_matches_the_reference_where_the_panel_is_in_full_view() {
         .count();
     assert!(darkened * 100 <= pixels.len(), "{darkened} pixels in full view darkened");
 }
+
+/// Area lights and their screen-space shadows are the same at any scale: an area light's
+/// light depends on the solid angle it fills, and the shadows' offsets and tolerances are
+/// fractions of the segment and of a pixel's width.
+#[test]
+fn shadowed_area_lights_are_the_same_at_any_scale() {
+    let mut s = lightbench::scene::builtin::cornell_lamp();
+    s.size = (48, 48);
+    let (one, _) = raster(&s, "ltc_shadowed");
+    for k in [0.001, 1000.0] {
+        let (other, _) = raster(&crate::scale_free::scaled(s.clone(), k), "ltc_shadowed");
+        let e = lightbench::io::rmse(&other, &one).unwrap();
+        eprintln!("scale {k}: RMSE {e} from scale 1");
+        assert!(other.non_finite() == 0 && e < 1e-3, "scale {k}: {e}");
+    }
+}

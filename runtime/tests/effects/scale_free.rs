@@ -13,7 +13,7 @@ use lightbench_compiler::ir::{LightKind, ParamValue};
 
 /// `s` scaled by `k` about the origin: geometry, camera, light positions and ranges, and
 /// the intensities of lights that fall off with distance (by k², so that they light alike).
-fn scaled(mut s: Scene, k: f32) -> Scene {
+pub(crate) fn scaled(mut s: Scene, k: f32) -> Scene {
     for m in &mut s.meshes {
         m.transform = Mat4::from_scale(Vec3::splat(k)) * m.transform;
     }
