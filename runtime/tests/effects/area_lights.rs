@@ -5,24 +5,14 @@
 use crate::gpu_common::*;
 use glam::Vec3;
 use lightbench::reference::{self, Budget, Settings, Term};
-use lightbench::scene::{Camera, Material, Scene};
+use lightbench::scene::{Material, Scene};
 
 /// A large floor (y = 0) of the given roughness and a 0.8 × 0.6 lamp 1 above it, facing down
 /// (or up), single-sided unless `double_sided`; the camera looks down at the floor.
 fn lamp_over_floor(roughness: f32, down: bool, double_sided: bool) -> Scene {
     let w = Vec3::Z * if down { 0.3 } else { -0.3 };
-    let mut lamp = Material::color("lamp", [0.0; 3], 1.0);
-    lamp.emissive = [8.0, 6.0, 4.0];
-    lamp.double_sided = double_sided;
-    let camera = Camera {
-        position: Vec3::new(0.0, 2.2, 1.6),
-        yaw: 0.0,
-        pitch: -60.0,
-        fov: 60.0,
-        near: 0.05,
-        far: 50.0,
-        animation: None,
-    };
+    let lamp = lamp_material([8.0, 6.0, 4.0], double_sided);
+    let camera = looking_down(Vec3::new(0.0, 2.2, 1.6), -60.0, (0.05, 50.0));
     let floor = Material::color("floor", [0.6, 0.5, 0.4], roughness);
     crate::gpu_common::lamp_over_floor((floor, lamp), (Vec3::new(0.0, 1.0, 0.0), Vec3::X * 0.4, w), camera, (24, 24))
 }

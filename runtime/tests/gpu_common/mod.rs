@@ -147,6 +147,28 @@ pub fn colonnade_with_point_light() -> Scene {
     colonnade
 }
 
+/// A lamp's material: black, emitting `emission`, from its front only unless `double_sided`.
+pub fn lamp_material(emission: [f32; 3], double_sided: bool) -> lightbench::scene::Material {
+    let mut lamp = lightbench::scene::Material::color("lamp", [0.0; 3], 1.0);
+    lamp.emissive = emission;
+    lamp.double_sided = double_sided;
+    lamp
+}
+
+/// A camera at `position` facing −z, pitched by `pitch` degrees (negative: down), 60° across,
+/// with the given near and far planes.
+pub fn looking_down(position: glam::Vec3, pitch: f32, (near, far): (f32, f32)) -> lightbench::scene::Camera {
+    lightbench::scene::Camera {
+        position,
+        yaw: 0.0,
+        pitch,
+        fov: 60.0,
+        near,
+        far,
+        animation: None,
+    }
+}
+
 /// A large floor (y = 0, 40 units across) of material `floor` and a quad lamp of material
 /// `lamp` (centre `c`, half extents `u` and `w`; its front faces along u × w), `size` pixels
 /// seen by `camera`, no other light.

@@ -11,7 +11,7 @@ use lightbench::reference::{
     self, emitters::Emitters, integrate::Context, sample::Rng, world::Faces, world::World, Brdf, Budget, Settings, Term,
 };
 use lightbench::scene::geometry::quad;
-use lightbench::scene::{builtin, Camera, Material, Mesh, Scene};
+use lightbench::scene::{builtin, Material, Mesh, Scene};
 
 const LE: f32 = 10.0;
 const ALBEDO: f32 = 0.5;
@@ -24,22 +24,13 @@ const LAMP_W: Vec3 = Vec3::new(0.0, 0.0, 0.15);
 /// up, single- or double-sided.
 fn lamp_over_floor(down: bool, double_sided: bool) -> Scene {
     let w = if down { LAMP_W } else { -LAMP_W };
-    let mut lamp = Material::color("lamp", [0.0; 3], 1.0);
-    lamp.emissive = [LE; 3];
-    lamp.double_sided = double_sided;
-    let camera = Camera {
-        position: Vec3::new(0.0, 3.0, 3.0),
-        yaw: 0.0,
-        pitch: -45.0,
-        fov: 60.0,
-        near: 0.01,
-        far: 100.0,
-        animation: None,
-    };
     gpu_common::lamp_over_floor(
-        (Material::color("grey", [ALBEDO; 3], 1.0), lamp),
+        (
+            Material::color("grey", [ALBEDO; 3], 1.0),
+            gpu_common::lamp_material([LE; 3], double_sided),
+        ),
         (LAMP_C, LAMP_U, w),
-        camera,
+        gpu_common::looking_down(Vec3::new(0.0, 3.0, 3.0), -45.0, (0.01, 100.0)),
         (8, 8),
     )
 }
