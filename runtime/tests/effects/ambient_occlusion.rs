@@ -40,24 +40,6 @@ fn texel_positions(world: &[Option<glam::Vec3>], screen: (u32, u32), buf: &Image
         .collect()
 }
 
-/// World positions of the pixels (None: background), from the depth buffer and the camera.
-fn world_positions(ex: &lightbench::gpu::Executor, depth: &Image) -> Vec<Option<glam::Vec3>> {
-    let cam = &ex.scene().camera;
-    let inv = (cam.proj(depth.width as f32 / depth.height as f32) * cam.view()).inverse();
-    let (w, h) = (depth.width as f32, depth.height as f32);
-    (0..depth.height)
-        .flat_map(|y| (0..depth.width).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            let d = depth.pixel(x, y)[0];
-            (d < 1.0).then(|| {
-                let ndc = glam::Vec4::new((x as f32 + 0.5) / w * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h * 2.0, d, 1.0);
-                let p = inv * ndc;
-                p.truncate() / p.w
-            })
-        })
-        .collect()
-}
-
 /// Occlusion values of the pixels whose world position satisfies `pick`.
 fn values(ao: &Image, world: &[Option<glam::Vec3>], pick: impl Fn(glam::Vec3) -> bool) -> Vec<f32> {
     world
@@ -85,7 +67,7 @@ fn ssao_darkens_corners_and_contacts_more_than_the_open_floor() {
     let scene = cornell_ao();
     let ex = render_with(&g, &root().join("pipelines/deferred_gi.ron"), &scene, &[], 1);
     let ao = ex.read_texture(&g, "ao.blurred", 0, 0).unwrap();
-    let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+    let world = world_positions(&ex.scene().camera, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
     let floor = |p: glam::Vec3| p.y.abs() < 0.01;
     let corner = values(&ao, &world, |p| floor(p) && p.x < -0.93);
     let open = values(&ao, &world, |p| floor(p) && p.x.abs() < 0.25 && p.z > 0.75);
@@ -117,7 +99,7 @@ fn more_samples_mean_less_noise() {
         let params = [("ao.samples".to_string(), ParamValue::Int(samples))];
         let ex = lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap();
         let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
-        let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+        let world = world_positions(&ex.scene().camera, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
         let strip = values(&raw, &world, |q| q.y.abs() < 0.01 && q.x > -0.9 && q.x < -0.8 && q.z > 0.0);
         assert!(strip.len() > 5, "{} strip pixels", strip.len());
         var.push(variance(&strip));
@@ -139,7 +121,7 @@ fn the_bilateral_blur_leaks_less_across_depth_edges() {
         let ex = render_with(&g, &p, &scene, &[("ao_blur", blur)], 1);
         let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
         let blurred = ex.read_texture(&g, "ao.blurred", 0, 0).unwrap();
-        let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+        let world = world_positions(&ex.scene().camera, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
         let cam = ex.scene().camera.position;
         let dist = |i: usize| world[i].map(|w| (w - cam).length());
         let (w, h) = (raw.width as usize, raw.height as usize);
@@ -178,7 +160,7 @@ fn ssao_presets_size_the_buffer_and_samples_cut_noise() {
         let full = ex.read_texture(&g, "ao.full", 0, 0).unwrap();
         assert_eq!((full.width, full.height), (128, 128), "{preset}");
         assert!(full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)), "{preset}");
-        let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+        let world = world_positions(&ex.scene().camera, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
         let texels = texel_positions(&world, (128, 128), &raw);
         let (noise, count) = wall_noise(&raw, &texels);
         assert!(count > 30, "{preset}: {count} wall texels");
@@ -292,7 +274,7 @@ fn multi_view_ao_sees_an_occluder_the_camera_cannot() {
             let ex = render_with(&g, &p, scene, &[("ao", ao)], 1);
             let full = ex.read_texture(&g, "ao.full", 0, 0).unwrap();
             assert!(full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)), "{ao}");
-            let world = world_positions(&ex, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+            let world = world_positions(&ex.scene().camera, &ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
             let near = values(&full, &world, |q| q.y.abs() < 0.01 && q.x > -0.1 && q.x < 0.0 && q.z.abs() < 0.25);
             assert!(near.len() > 3, "{ao}: {} pixels beside the boxes", near.len());
             beside.push(mean(&near));
@@ -368,7 +350,7 @@ fn ao_volumes_darken_corners_like_ssao_without_noise() {
     );
     let aov = lightbench::render::render(&g, &exe, &scene, 1).unwrap();
     let ssao = render_with(&g, &p, &scene, &[("ao", "ssao"), ("ao_preset", "ssao5")], 1);
-    let world = world_positions(&aov, &aov.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
+    let world = world_positions(&aov.scene().camera, &aov.read_texture(&g, "gbuf.depth", 0, 0).unwrap());
     let a_full = aov.read_texture(&g, "ao.full", 0, 0).unwrap();
     let s_full = ssao.read_texture(&g, "ao.full", 0, 0).unwrap();
     assert!(a_full.rgba.iter().all(|v| v.is_finite() && (0.0..=1.0).contains(v)));
@@ -393,7 +375,7 @@ fn ao_volume_presets_and_the_gl_backend() {
         let ex = render_with(&vk, &p, &scene, &[("ao", "aov"), ("aov_preset", preset)], 1);
         let acc = ex.read_texture(&vk, "aov.accessibility", 0, 0).unwrap();
         assert_eq!((acc.width, acc.height), (side, side), "{preset}");
-        let world = world_positions(&ex, &ex.read_texture(&vk, "gbuf.depth", 0, 0).unwrap());
+        let world = world_positions(&ex.scene().camera, &ex.read_texture(&vk, "gbuf.depth", 0, 0).unwrap());
         let d = corner_darkening(&ex.read_texture(&vk, "ao.full", 0, 0).unwrap(), &world);
         assert!(d > 0.05, "{preset}: corner darkening {d}");
         if preset == "aov1" {
@@ -518,10 +500,11 @@ fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
         ("lengths.world".to_string(), "true".to_string()),
     ];
     let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
-    let ao = lightbench::render::render_with(&g, &exe, &scene, 1, &params)
-        .unwrap()
-        .read_texture(&g, "ao.full", 0, 0)
-        .unwrap();
+    let ex = lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap();
+    let (ao, depth) = (
+        ex.read_texture(&g, "ao.full", 0, 0).unwrap(),
+        ex.read_texture(&g, "gbuf.depth", 0, 0).unwrap(),
+    );
     let settings = Settings {
         budget: Budget::Spp(256),
         terms: vec![Term::Ao],
@@ -534,24 +517,15 @@ fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
         .mean
         .clone();
     let world = World::new(&scene);
-    let (w, h) = scene.size;
-    let inv = (scene.camera.proj(w as f32 / h as f32) * scene.camera.view()).inverse();
     // (sum of GTAO − reference, pixels) where ≥ 90% of the occlusion is observable, and < 50%.
     let (mut seen, mut hidden) = ((0.0, 0), (0.0, 0));
-    for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
-        let ndc = glam::Vec4::new(
-            (x as f32 + 0.5) / w as f32 * 2.0 - 1.0,
-            1.0 - (y as f32 + 0.5) / h as f32 * 2.0,
-            0.5,
-            1.0,
-        );
-        let q = inv * ndc;
-        let dir = (q.truncate() / q.w - scene.camera.position).normalize();
+    for (i, p) in world_positions(&scene.camera, &depth).into_iter().enumerate() {
+        let Some(p) = p else { continue };
+        let dir = (p - scene.camera.position).normalize();
         let Some(hit) = world.trace(scene.camera.position, dir, (0.0, f32::INFINITY), Faces::Seen) else {
             continue;
         };
-        let i = ((y * w + x) * 4) as usize;
-        let diff = (ao.rgba[i] - reference.rgba[i]) as f64;
+        let diff = (ao.rgba[i * 4] - reference.rgba[i * 4]) as f64;
         match observable_share(&scene, &world, hit.position, hit.n, 1.0) {
             s if s >= 0.9 => seen = (seen.0 + diff, seen.1 + 1),
             s if s < 0.5 => hidden = (hidden.0 + diff, hidden.1 + 1),

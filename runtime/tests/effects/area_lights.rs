@@ -149,32 +149,20 @@ fn screen_space_shadows_block_nothing_where_nothing_is_in_the_way() {
 /// (pixel index, sees the whole panel).
 fn lamp_box_pixels(s: &Scene, depth: &lightbench::io::Image) -> Vec<(usize, bool)> {
     let world = lightbench::reference::world::World::new(s);
-    let inv = (s.camera.proj(1.0) * s.camera.view()).inverse();
     let panel: Vec<Vec3> = (0..9)
         .map(|k| Vec3::new(0.0, 1.99, 0.0) + Vec3::X * 0.2 * ((k % 3) as f32 - 1.0) + Vec3::Z * 0.16 * ((k / 3) as f32 - 1.0))
         .collect();
-    let (w, h) = (depth.width, depth.height);
-    (0..w * h)
-        .filter_map(|k| {
-            let i = (k * 4) as usize;
-            let d = depth.rgba[i];
-            let ndc = glam::Vec4::new(
-                ((k % w) as f32 + 0.5) / w as f32 * 2.0 - 1.0,
-                1.0 - ((k / w) as f32 + 0.5) / h as f32 * 2.0,
-                d,
-                1.0,
-            );
-            let p = inv * ndc;
-            let p = p.truncate() / p.w;
-            // Background, the ceiling (the panel faces down) and the panel itself are left out.
-            if d >= 1.0 || p.y > 1.95 {
-                return None;
-            }
+    world_positions(&s.camera, depth)
+        .into_iter()
+        .enumerate()
+        // Background, the ceiling (the panel faces down) and the panel itself are left out.
+        .filter_map(|(k, p)| p.filter(|p| p.y <= 1.95).map(|p| (k * 4, p)))
+        .map(|(i, p)| {
             let sees = panel.iter().all(|q| {
                 let to = *q - p;
                 !world.occluded(p, to.normalize(), 2e-3, to.length() - 2e-3)
             });
-            Some((i, sees))
+            (i, sees)
         })
         .collect()
 }

@@ -147,6 +147,23 @@ pub fn colonnade_with_point_light() -> Scene {
     colonnade
 }
 
+/// World positions of a depth buffer's pixels (None: background) as `camera` saw them.
+pub fn world_positions(camera: &lightbench::scene::Camera, depth: &lightbench::io::Image) -> Vec<Option<glam::Vec3>> {
+    let inv = (camera.proj(depth.width as f32 / depth.height as f32) * camera.view()).inverse();
+    let (w, h) = (depth.width as f32, depth.height as f32);
+    (0..depth.height)
+        .flat_map(|y| (0..depth.width).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            let d = depth.pixel(x, y)[0];
+            (d < 1.0).then(|| {
+                let ndc = glam::Vec4::new((x as f32 + 0.5) / w * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h * 2.0, d, 1.0);
+                let p = inv * ndc;
+                p.truncate() / p.w
+            })
+        })
+        .collect()
+}
+
 /// A lamp's material: black, emitting `emission`, from its front only unless `double_sided`.
 pub fn lamp_material(emission: [f32; 3], double_sided: bool) -> lightbench::scene::Material {
     let mut lamp = lightbench::scene::Material::color("lamp", [0.0; 3], 1.0);
