@@ -38,23 +38,30 @@ fn power_heuristic(p: f32, other: f32) -> f32 {
 }
 
 /// What every sample of a pixel shares at the surface its camera ray found: the surface, its
-/// BRDF and the light arriving there from the scene's lights — deterministic, so worked out
-/// once per pixel instead of once per sample (the same numbers either way).
+/// BRDF and (when a term uses it) the light arriving there from the scene's lights —
+/// deterministic, so worked out once per pixel instead of once per sample (the same numbers
+/// either way).
 pub struct Primary {
     pub hit: Hit,
     lobes: Lobes,
-    lights: Vec3,
+    lights: Option<Vec3>,
 }
 
 impl Context<'_> {
-    /// The shared part of the pixel whose camera ray found `h` (seen from `v`).
-    pub fn primary(&self, h: &Hit, v: Vec3) -> Primary {
+    /// The shared part of the pixel whose camera ray found `h` (seen from `v`); the lights'
+    /// light (a shadow ray per light) only `with_lights`, for the terms that add it.
+    pub fn primary(&self, h: &Hit, v: Vec3, with_lights: bool) -> Primary {
         let lobes = self.brdf.at(h);
         Primary {
             hit: *h,
             lobes,
-            lights: self.lights(h, &lobes, v),
+            lights: with_lights.then(|| self.lights(h, &lobes, v)),
         }
+    }
+
+    /// The lights' light at a pixel's surface, seen from `v`: kept, or worked out now.
+    fn primary_lights(&self, p: &Primary, v: Vec3) -> Vec3 {
+        p.lights.unwrap_or_else(|| self.lights(&p.hit, &p.lobes, v))
     }
 
     fn origin(&self, h: &Hit) -> Vec3 {
@@ -158,7 +165,7 @@ impl Context<'_> {
     /// latter alone when emitters are not sampled).
     pub fn direct(&self, p: &Primary, v: Vec3, rng: &mut Rng) -> Vec3 {
         let (h, b) = (&p.hit, p.lobes);
-        let sum = h.emissive + p.lights;
+        let sum = h.emissive + self.primary_lights(p, v);
         if self.emitters.is_empty() {
             return sum;
         }
@@ -220,7 +227,7 @@ impl Context<'_> {
     /// the lights and emitters sampled at every vertex, emitters also found by the BRDF's
     /// directions and the two weighed by MIS; Russian roulette after a few bounces).
     pub fn full(&self, p: &Primary, v: Vec3, rng: &mut Rng) -> Vec3 {
-        let (mut h, mut v, mut b, mut lit) = (p.hit, v, p.lobes, p.lights);
+        let (mut h, mut v, mut b, mut lit) = (p.hit, v, p.lobes, self.primary_lights(p, v));
         let mut sum = h.emissive;
         let mut throughput = Vec3::ONE;
         for bounce in 1..=MAX_BOUNCES {

@@ -363,10 +363,11 @@ fn pass_row(
     row: &mut [f64],
 ) {
     let (w, _) = cam.size;
+    let with_lights = terms.iter().any(|t| matches!(t, Term::Direct | Term::Full));
     for x in 0..w {
         let (origin, dir, len) = cam.ray(x, y);
         let hit = ctx.world.trace(origin, dir, (0.0, len), world::Faces::Seen);
-        let primary = hit.map(|h| ctx.primary(&h, -dir));
+        let primary = hit.map(|h| ctx.primary(&h, -dir, with_lights));
         let pixel = (y * w + x) as u64;
         for (k, &term) in terms.iter().enumerate() {
             let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
