@@ -81,9 +81,19 @@ fn check_stage(pass: &Pass, st: &StageShader, constants: &[(String, f64)], cfg: 
     if m.module.overrides.is_empty() {
         return Ok(());
     }
+    let key = (
+        st.sref.entry.value.clone(),
+        constants.iter().map(|(k, v)| (k.clone(), v.to_bits())).collect(),
+    );
+    if m.overrides_accepted.lock().is_ok_and(|set| set.contains(&key)) {
+        return Ok(());
+    }
     let map: naga::back::PipelineConstants = constants.iter().cloned().collect();
     let stage = st.stage.naga();
     let Err(e) = process_overrides(&m.module, &m.info, Some((stage, &st.sref.entry.value)), &map) else {
+        if let Ok(mut set) = m.overrides_accepted.lock() {
+            set.insert(key);
+        }
         return Ok(());
     };
     let at = pass.constants.first().map_or(pass.name.span, |(k, _)| k.span);

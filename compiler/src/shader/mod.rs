@@ -13,7 +13,7 @@ use crate::span::{FileId, SourceMap, Span, Spanned};
 use crate::vfs::Vfs;
 pub use cache::{CacheStats, ModuleCache};
 use include::{Expanded, ShaderFs};
-use std::collections::{BTreeSet, HashMap};
+use std::collections::{BTreeSet, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -53,7 +53,13 @@ pub struct Compiled {
     pub layouter: naga::proc::Layouter,
     /// Resource globals, reflected once.
     pub globals: Vec<reflect::GlobalBinding>,
+    /// Constant sets naga's override processing has accepted, per entry point: every
+    /// configuration of a pipeline applies the same few, and each is a full validation.
+    pub overrides_accepted: std::sync::Mutex<HashSet<OverrideKey>>,
 }
+
+/// An entry point and the pipeline constants applied to it (values as bits: exact).
+pub type OverrideKey = (String, Vec<(String, u64)>);
 
 /// A parsed and validated shader module, with the source map of this session.
 pub struct ShaderModule {
@@ -438,6 +444,7 @@ fn compile(
         info,
         layouter,
         globals,
+        overrides_accepted: Default::default(),
     }))
 }
 
