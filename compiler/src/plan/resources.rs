@@ -5,13 +5,20 @@ use super::*;
 use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::{Pipeline, Resource, ResourceKind};
 use crate::layout::BindingType;
+use std::collections::HashMap;
 
 /// Every resource a kept pass reads, writes, renders into or binds, in declaration order.
 pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResource> {
+    let mut used = usages(p, kept);
     p.resources
         .iter()
         .filter_map(|r| {
-            let usage = usage(p, r, kept)?;
+            let (true, mut usage) = used.remove(r.name.value.as_str())? else {
+                return None;
+            };
+            if r.supplied() {
+                usage.insert(Usage::CopyDst); // filled by the runtime
+            }
             let mut pr = plan_resource(p, r, cfg, usage);
             if let ResourceShape::Buffer { words, .. } = &mut pr.shape {
                 *words = buffer_words(r, kept);
@@ -37,38 +44,41 @@ fn buffer_words(r: &Resource, kept: &Kept) -> Words {
     }
 }
 
-/// How the kept passes use `r`; `None` when none touches it.
-fn usage(p: &Pipeline, r: &Resource, kept: &Kept) -> Option<BTreeSet<Usage>> {
-    let name = r.name.value.as_str();
-    let mut usage = BTreeSet::new();
-    let saved = name == p.output.value || p.hdr_output.as_ref().is_some_and(|h| h.value == name);
-    let mut touched = saved;
+/// Per resource name: whether a kept pass touches it (or it is saved), and how the kept
+/// passes use it. One walk over the passes: planning runs for every configuration `check`
+/// covers, and a walk per resource made this the larger part of it.
+fn usages<'p>(p: &'p Pipeline, kept: &'p Kept) -> HashMap<&'p str, (bool, BTreeSet<Usage>)> {
+    let mut used: HashMap<&str, (bool, BTreeSet<Usage>)> = HashMap::new();
     for (i, version) in kept {
         let pass = &p.passes[*i];
-        touched |= pass.touched().any(|r| r.value == name);
-        if pass.color().iter().any(|c| c.resource.value == name) || pass.depth().is_some_and(|d| d.resource.value == name) {
-            usage.insert(Usage::RenderAttachment);
+        for r in pass.touched() {
+            used.entry(r.value.as_str()).or_default().0 = true;
+        }
+        let attachments = pass.color().iter().map(|c| &c.resource).chain(pass.depth().map(|d| &d.resource));
+        for a in attachments {
+            used.entry(a.value.as_str()).or_default().1.insert(Usage::RenderAttachment);
         }
         for e in version.resolved.groups.iter().flat_map(|g| &g.entries) {
-            if !matches!(&e.source, BindSource::Resource(n) | BindSource::Prev(n) if n == name) {
+            let (BindSource::Resource(n) | BindSource::Prev(n)) = &e.source else {
                 continue;
-            }
-            usage.extend(match &e.ty {
-                BindingType::Texture { .. } => Some(Usage::TextureBinding),
-                BindingType::StorageTexture { .. } => Some(Usage::StorageBinding),
-                BindingType::Storage { .. } => Some(Usage::Storage),
-                BindingType::Uniform { .. } => Some(Usage::Uniform),
-                BindingType::Sampler(_) => None,
-            });
+            };
+            let usage = match &e.ty {
+                BindingType::Texture { .. } => Usage::TextureBinding,
+                BindingType::StorageTexture { .. } => Usage::StorageBinding,
+                BindingType::Storage { .. } => Usage::Storage,
+                BindingType::Uniform { .. } => Usage::Uniform,
+                BindingType::Sampler(_) => continue,
+            };
+            used.entry(n.as_str()).or_default().1.insert(usage);
         }
     }
-    if saved {
-        usage.insert(Usage::CopySrc); // read back to save the image
+    // Read back to save the image.
+    for saved in std::iter::once(&p.output).chain(&p.hdr_output) {
+        let entry = used.entry(saved.value.as_str()).or_default();
+        entry.0 = true;
+        entry.1.insert(Usage::CopySrc);
     }
-    if r.supplied() {
-        usage.insert(Usage::CopyDst); // filled by the runtime
-    }
-    touched.then_some(usage)
+    used
 }
 
 fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
