@@ -96,11 +96,14 @@ struct ScreenShadows {
 // Whether the segment from `a` to `b`, marched in `steps` steps, passes through a surface in
 // the depth buffer: from one step on a side of what the camera sees to the next on the other,
 // by no more than twice the step (and the tolerance's width) — a larger jump is the segment
-// passing behind a silhouette, not through a surface. A step within 1.5 pixels' width of the
-// surface seen there is on neither side: the depth buffer holds one depth per pixel, and a
-// grazing surface's changes fast across one. What the camera does not see (off screen,
-// hidden) blocks nothing.
+// passing behind a silhouette, not through a surface — or from in front of what the camera
+// sees to at most three steps behind what it sees at the next: into an object through a face
+// seen edge-on (the tall box's side, from the wall beside it), which the depth buffer shows
+// as a jump too. A step within 1.5 pixels' width of the surface seen there is on neither
+// side: the depth buffer holds one depth per pixel, and a grazing surface's changes fast
+// across one. What the camera does not see (off screen, hidden) blocks nothing.
 fn crosses_depth_buffer(a: vec3<f32>, b: vec3<f32>, steps: u32) -> bool {
+    // Twice the step.
     let reach = 2.0 * distance(a, b) / f32(steps);
     // The side (−1 in front, +1 behind, 0 not known) and depth of the last step off the surface.
     var side = 0.0;
@@ -112,7 +115,9 @@ fn crosses_depth_buffer(a: vec3<f32>, b: vec3<f32>, steps: u32) -> bool {
         if p.miss {
             side = 0.0;
         } else if abs(p.behind) > 1.5 * pixel {
-            if sign(p.behind) * side < 0.0 && abs(p.behind - behind) <= reach + 5.0 * pixel {
+            let through = abs(p.behind - behind) <= reach + 5.0 * pixel;
+            let into = side < 0.0 && p.behind < 1.5 * reach;
+            if sign(p.behind) * side < 0.0 && (through || into) {
                 return true;
             }
             side = sign(p.behind);

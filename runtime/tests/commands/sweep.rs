@@ -164,14 +164,15 @@ fn every_bundled_sweep_spec_runs() {
         if spec == "area_lights" {
             // The emitter-lit box: light from the panel brings the image to within a quarter
             // of the error of none (the rest is mostly the boxes' shadows); screen-space
-            // shadows take a fifth of that off, in RMSE and in FLIP.
+            // shadows take two fifths of that off in RMSE and a third in FLIP (0.59× and
+            // 0.67× measured).
             let at = |o: &str| rows.iter().find(|r| r["area_lights"] == o).unwrap();
             let (off, ltc) = (num(at("off"), "rmse"), num(at("ltc"), "rmse"));
             assert!(ltc < 0.4 * off, "ltc {ltc} vs off {off}");
             assert!(num(at("ltc"), "bias").abs() < 0.01, "{:?}", at("ltc"));
             let shadowed = at("ltc_shadowed");
-            assert!(num(shadowed, "rmse") < 0.8 * ltc, "{shadowed:?} vs ltc {ltc}");
-            assert!(num(shadowed, "flip") < 0.9 * num(at("ltc"), "flip"), "{shadowed:?}");
+            assert!(num(shadowed, "rmse") < 0.7 * ltc, "{shadowed:?} vs ltc {ltc}");
+            assert!(num(shadowed, "flip") < 0.8 * num(at("ltc"), "flip"), "{shadowed:?}");
         }
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a

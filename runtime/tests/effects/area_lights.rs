@@ -175,7 +175,8 @@ fn luminance(img: &lightbench::io::Image, i: usize) -> f64 {
 /// pixel sees the whole panel, the unshadowed area light is what the path tracer computes:
 /// 0.6% median, 1.7% at the 95th percentile (the few worst pixels lie on edges, where the
 /// reference's pixels cover two surfaces), and screen-space shadows (`ltc_shadowed`) keep it
-/// so; where the boxes hide some of the panel they take 29% off the error (RMSE 0.082 → 0.059).
+/// so (1.9%); where the boxes hide some of the panel they take 37% off the error (RMSE 0.082 →
+/// 0.052; 0.059 before segments entering the tall box through its side counted as blocked).
 #[test]
 fn the_lamp_lit_box_matches_the_reference_where_the_panel_is_in_full_view() {
     let mut s = lightbench::scene::builtin::cornell_lamp();
@@ -210,7 +211,7 @@ fn the_lamp_lit_box_matches_the_reference_where_the_panel_is_in_full_view() {
         assert!(median <= 0.015 && p95 <= 0.04, "{option}: median {median}, p95 {p95}");
         hidden_rmse.push(rmse);
     }
-    assert!(hidden_rmse[1] < 0.8 * hidden_rmse[0], "screen-space shadows: {hidden_rmse:?}");
+    assert!(hidden_rmse[1] < 0.7 * hidden_rmse[0], "screen-space shadows: {hidden_rmse:?}");
     // False shadows: pixels in full view of the panel that the option darkens by a tenth.
     let darkened = pixels
         .iter()
