@@ -92,6 +92,11 @@ fn check_stage(pass: &Pass, st: &StageShader, constants: &[(String, f64)], cfg: 
     let stage = st.stage.naga();
     let Err(e) = process_overrides(&m.module, &m.info, Some((stage, &st.sref.entry.value)), &map) else {
         if let Ok(mut set) = m.overrides_accepted.lock() {
+            // A long-running process (viewer, language server) sees new sets as parameters
+            // change: start afresh now and then rather than grow without bound.
+            if set.len() >= 4096 {
+                set.clear();
+            }
             set.insert(key);
         }
         return Ok(());
