@@ -1,7 +1,7 @@
 //! The virtual file system a compilation reads through: the disk, or files held in memory
 //! (tests, an editor's unsaved buffers). Paths are compared after lexical normalisation.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io;
 use std::path::{Component, Path, PathBuf};
 use std::sync::RwLock;
@@ -156,6 +156,66 @@ pub fn read_error_code(e: &io::Error) -> crate::diag::Code {
         io::ErrorKind::FileTooLarge => Code::FileTooLarge,
         io::ErrorKind::InvalidData => Code::InvalidUtf8,
         _ => Code::FileNotFound,
+    }
+}
+
+/// One run's view of another file system: each file read once, each link check made once,
+/// for every compilation of the run (`Workspace::check_files`: the pipelines of one `check`
+/// read the same shaders and includes). Only successes are kept; a failed read or check is
+/// asked again, so each compilation reports it. Drop it at the end of the run: a
+/// long-running process must see edits.
+pub struct Snapshot {
+    inner: std::sync::Arc<dyn Vfs>,
+    texts: std::sync::Mutex<HashMap<PathBuf, String>>,
+    bytes: std::sync::Mutex<HashMap<PathBuf, Vec<u8>>>,
+    within: std::sync::Mutex<HashSet<(PathBuf, PathBuf)>>,
+}
+
+impl Snapshot {
+    pub fn new(inner: std::sync::Arc<dyn Vfs>) -> Self {
+        Snapshot {
+            inner,
+            texts: Default::default(),
+            bytes: Default::default(),
+            within: Default::default(),
+        }
+    }
+}
+
+impl Vfs for Snapshot {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        if let Some(t) = self.texts.lock().ok().and_then(|t| t.get(path).cloned()) {
+            return Ok(t);
+        }
+        let text = self.inner.read(path)?;
+        if let Ok(mut t) = self.texts.lock() {
+            t.insert(path.to_path_buf(), text.clone());
+        }
+        Ok(text)
+    }
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        if let Some(b) = self.bytes.lock().ok().and_then(|b| b.get(path).cloned()) {
+            return Ok(b);
+        }
+        let bytes = self.inner.read_bytes(path)?;
+        if let Ok(mut b) = self.bytes.lock() {
+            b.insert(path.to_path_buf(), bytes.clone());
+        }
+        Ok(bytes)
+    }
+    fn is_dir(&self, path: &Path) -> bool {
+        self.inner.is_dir(path)
+    }
+    fn within(&self, root: &Path, path: &Path) -> io::Result<()> {
+        let key = (root.to_path_buf(), path.to_path_buf());
+        if self.within.lock().is_ok_and(|w| w.contains(&key)) {
+            return Ok(());
+        }
+        self.inner.within(root, path)?;
+        if let Ok(mut w) = self.within.lock() {
+            w.insert(key);
+        }
+        Ok(())
     }
 }
 

@@ -98,11 +98,15 @@ impl Workspace {
         profile: &Profile,
         scene: Option<&SceneFeatures>,
     ) -> Vec<Session> {
+        // One read of each file for all of them; the sessions keep the workspace's view.
+        let snapshot: Arc<dyn Vfs> = Arc::new(crate::vfs::Snapshot::new(self.vfs.clone()));
         files
             .par_iter()
             .map(|f| {
                 let mut s = self.session();
+                s.vfs = snapshot.clone();
                 s.check_file(f, shader_root, profile, scene);
+                s.vfs = self.vfs.clone();
                 s
             })
             .collect()
