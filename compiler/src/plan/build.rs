@@ -34,9 +34,9 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         culled: schedule
             .culled
             .iter()
-            .map(|(i, why)| CulledPass {
-                name: p.passes[*i].name.value.clone(),
-                reason: why.clone(),
+            .map(|(&i, &cause)| CulledPass {
+                name: p.passes[i].name.value.clone(),
+                reason: cull::reason(p, cfg, i, cause),
             })
             .collect(),
         uncalled_effects: uncalled_effects(p, cfg, &schedule),

@@ -9,6 +9,21 @@ use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
 use std::collections::BTreeMap;
 
+/// Whether a condition holds for the configuration (`eval` says why not, when asked).
+fn holds(c: &Condition, p: &Pipeline, cfg: &Config) -> bool {
+    match c {
+        Condition::Light(k) => cfg.scene.lights.get(k).copied().unwrap_or(0) > 0,
+        Condition::Effect(e) => cfg.scene.effects.contains(e),
+        Condition::Reflective => cfg.scene.reflective,
+        Condition::Blended => cfg.scene.transparent,
+        Condition::Toggle(name) => matches!(p.param(name).map(|prm| cfg.default_of(p, prm).0), Some(ParamValue::Bool(true))),
+        Condition::Variant(v, o) => cfg.selection.chosen.get(&v.value).map_or("", String::as_str) == o.value,
+        Condition::Not(inner) => !holds(inner, p, cfg),
+        Condition::All(cs) => cs.iter().all(|c| holds(c, p, cfg)),
+        Condition::Any(cs) => cs.iter().any(|c| holds(c, p, cfg)),
+    }
+}
+
 /// `Ok(())` if true, else the reason it is false and whether a variant choice decided it.
 fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)> {
     match c {
@@ -97,8 +112,58 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
 
 /// Which passes a configuration keeps, in what order, and why the others are culled.
 pub struct Schedule {
-    pub culled: BTreeMap<usize, String>,
+    pub culled: BTreeMap<usize, Cause>,
     pub ordered: order::Ordered,
+}
+
+/// What culled a pass; `reason` words it (only a diagnostic or a Plan asks, so `check`'s
+/// many configurations format nothing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Cause {
+    /// Its condition is false.
+    Condition,
+    /// It repeats per light of kinds the scene has none of (or none casting shadows).
+    NoLights,
+    /// It draws blended meshes and the scene has none.
+    NoBlended,
+    /// Nothing on the way to the output reads what it writes.
+    Unreachable,
+}
+
+/// Why pass `i` was culled, in words.
+pub fn reason(p: &Pipeline, cfg: &Config, i: usize, cause: Cause) -> String {
+    let pass = &p.passes[i];
+    match cause {
+        Cause::Condition => {
+            let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
+            match when.as_ref().map(|w| (w, eval(w, p, cfg))) {
+                Some((_, Err((why, true)))) => why,
+                Some((w, Err((why, false)))) => format!("condition `{}` is false: {why}", w.describe()),
+                _ => "its condition is false".into(),
+            }
+        }
+        Cause::NoLights => {
+            let kinds: &[LightKind] = pass.per_light.as_ref().map_or(&[], |k| &k.value);
+            let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
+            if pass.shadow_casters && cfg.scene.light_count(kinds) > 0 {
+                format!(
+                    "runs per shadow-casting {} light and no such light casts shadows",
+                    names.join(" or ")
+                )
+            } else {
+                format!("runs per {} light and the scene has none", names.join(" or "))
+            }
+        }
+        Cause::NoBlended => "draws the scene's blended meshes and the scene has none".into(),
+        Cause::Unreachable => {
+            let writes: Vec<String> = pass.written().map(|w| format!("`{}`", w.value)).collect();
+            format!(
+                "output unreachable: nothing on the way to `{}` reads {}",
+                p.output.value,
+                writes.join(", ")
+            )
+        }
+    }
 }
 
 /// The checks of a configuration without assembling the Plan (what `check` needs).
@@ -107,16 +172,9 @@ pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Opt
     let (candidates, mut culled) = conditions(p, cfg);
     let kept = reachable(p, &candidates);
     for &i in candidates.iter().filter(|i| !kept.contains(i)) {
-        let writes: Vec<String> = p.passes[i].written().map(|w| format!("`{}`", w.value)).collect();
-        culled.insert(
-            i,
-            format!(
-                "output unreachable: nothing on the way to `{}` reads {}",
-                p.output.value,
-                writes.join(", ")
-            ),
-        );
+        culled.insert(i, Cause::Unreachable);
     }
+    let why = |j: usize| culled.get(&j).map(|&c| reason(p, cfg, j, c));
     for (what, out) in [("output", Some(&p.output)), ("hdr_output", p.hdr_output.as_ref())] {
         let Some(out) = out else { continue };
         if !kept.iter().any(|&i| p.passes[i].written().any(|w| w.value == out.value)) {
@@ -125,16 +183,17 @@ pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Opt
                 format!("no kept pass writes the {what} `{}`", out.value),
                 out.span,
             );
-            for (i, why) in &culled {
-                if p.passes[*i].written().any(|w| w.value == out.value) {
-                    d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[*i].name.value));
+            for &i in culled.keys() {
+                if p.passes[i].written().any(|w| w.value == out.value) {
+                    let why = why(i).unwrap_or_default();
+                    d = d.with_note(format!("its writer `{}` was culled: {why}", p.passes[i].name.value));
                 }
             }
             diags.push(d);
             return None;
         }
     }
-    let ordered = order::order(p, &kept, &culled, diags)?;
+    let ordered = order::order(p, &kept, &why, diags)?;
     // A pass whose shaders failed to check has no version; its errors are already reported.
     if ordered.order.iter().any(|&i| checked.version(i, &cfg.selection.chosen).is_none()) {
         return None;
@@ -143,8 +202,8 @@ pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Opt
 }
 
 /// Passes whose condition holds and whose light kinds the scene has; the others with why.
-fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String>) {
-    let mut culled: BTreeMap<usize, String> = BTreeMap::new();
+fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, Cause>) {
+    let mut culled: BTreeMap<usize, Cause> = BTreeMap::new();
     let mut candidates = vec![];
     for (i, pass) in p.passes.iter().enumerate() {
         // A copy of a pass written with choices whose arms are not chosen is not culled:
@@ -153,39 +212,25 @@ fn conditions(p: &Pipeline, cfg: &Config) -> (Vec<usize>, BTreeMap<usize, String
             continue;
         }
         let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
-        if let Some(w) = when {
-            if let Err((why, by_variant)) = eval(w, p, cfg) {
-                let reason = if by_variant {
-                    why
-                } else {
-                    format!("condition `{}` is false: {why}", w.describe())
-                };
-                culled.insert(i, reason);
-                continue;
-            }
-        }
-        if let Some(kinds) = pass
+        let cause = if when.as_ref().is_some_and(|w| !holds(w, p, cfg)) {
+            Some(Cause::Condition)
+        } else if pass
             .per_light
             .as_ref()
-            .filter(|k| cfg.scene.repeats_for(k, pass.shadow_casters) == 0)
+            .is_some_and(|k| cfg.scene.repeats_for(k, pass.shadow_casters) == 0)
         {
-            let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
-            let what = if pass.shadow_casters && cfg.scene.light_count(kinds) > 0 {
-                format!(
-                    "runs per shadow-casting {} light and no such light casts shadows",
-                    names.join(" or ")
-                )
-            } else {
-                format!("runs per {} light and the scene has none", names.join(" or "))
-            };
-            culled.insert(i, what);
-            continue;
+            Some(Cause::NoLights)
+        } else if matches!(&pass.kind, PassKind::Raster(r) if r.draw == Draw::Transparent) && !cfg.scene.transparent {
+            Some(Cause::NoBlended)
+        } else {
+            None
+        };
+        match cause {
+            Some(c) => {
+                culled.insert(i, c);
+            }
+            None => candidates.push(i),
         }
-        if matches!(&pass.kind, PassKind::Raster(r) if r.draw == Draw::Transparent) && !cfg.scene.transparent {
-            culled.insert(i, "draws the scene's blended meshes and the scene has none".into());
-            continue;
-        }
-        candidates.push(i);
     }
     (candidates, culled)
 }

@@ -21,8 +21,9 @@ pub struct Ordered {
 /// edge (from, to) -> (resource, span of the use in `to`)
 type Edges<'p> = BTreeMap<(usize, usize), (&'p str, Span)>;
 
-/// `culled` maps a culled pass index to its reason, to explain missing producers.
-pub fn order(p: &Pipeline, kept: &[usize], culled: &BTreeMap<usize, String>, diags: &mut Diagnostics) -> Option<Ordered> {
+/// `culled` gives a culled pass's reason (`None` for a pass not culled), to explain missing
+/// producers.
+pub fn order(p: &Pipeline, kept: &[usize], culled: &dyn Fn(usize) -> Option<String>, diags: &mut Diagnostics) -> Option<Ordered> {
     let before = diags.error_count();
     let writers = writers(p, kept);
     let mut edges = Edges::new();
@@ -66,7 +67,7 @@ fn read_edges<'p>(
     p: &'p Pipeline,
     i: usize,
     writers: &BTreeMap<&str, Vec<usize>>,
-    culled: &BTreeMap<usize, String>,
+    culled: &dyn Fn(usize) -> Option<String>,
     edges: &mut Edges<'p>,
     diags: &mut Diagnostics,
 ) {
@@ -149,7 +150,7 @@ fn missing_producer(
     pass: &Pass,
     name: &crate::span::Spanned<String>,
     res: &Resource,
-    culled: &BTreeMap<usize, String>,
+    culled: &dyn Fn(usize) -> Option<String>,
 ) -> Diagnostic {
     let mut d = Diagnostic::error(
         Code::ReadBeforeWrite,
@@ -157,10 +158,9 @@ fn missing_producer(
         name.span,
     )
     .with_secondary(res.span, "declared here");
-    let culled_writers: Vec<String> = culled
-        .iter()
-        .filter(|(j, _)| p.passes[**j].written().any(|w| w.value == name.value))
-        .map(|(j, why)| format!("its writer `{}` was culled: {why}", p.passes[*j].name.value))
+    let culled_writers: Vec<String> = (0..p.passes.len())
+        .filter(|&j| p.passes[j].written().any(|w| w.value == name.value))
+        .filter_map(|j| culled(j).map(|why| format!("its writer `{}` was culled: {why}", p.passes[j].name.value)))
         .collect();
     if culled_writers.is_empty() {
         d = d.with_note(
