@@ -103,10 +103,13 @@ fn expand_file(
     out.files.push(file);
     let text = sources.get(file).text.clone();
     let mut copied_to = 0;
-    let mut line_start = 0;
-    for line in text.split_inclusive('\n') {
-        let this_start = line_start;
-        line_start += line.len();
+    // Only lines holding `#include` can be directives: jump from one to the next.
+    let mut from = 0;
+    while let Some(at) = text[from..].find("#include").map(|i| from + i) {
+        let this_start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+        let line_start = text[at..].find('\n').map_or(text.len(), |i| at + i + 1);
+        from = line_start;
+        let line = &text[this_start..line_start];
         let Some(found) = included(line) else {
             continue;
         };
