@@ -204,12 +204,11 @@ fn writer_edges<'p>(p: &Pipeline, res: &'p str, ws: &[usize], edges: &mut Edges<
             );
         }
     }
+    // Different layers or mip levels of one texture are different resources here.
+    let written: Vec<Vec<Part>> = fresh.iter().map(|&w| parts(&p.passes[w], res)).collect();
     for (a, &x) in fresh.iter().enumerate() {
-        for &y in &fresh[a + 1..] {
-            // Different layers or mip levels of one texture are different resources here.
-            let overlap = parts(&p.passes[x], res)
-                .iter()
-                .any(|a| parts(&p.passes[y], res).iter().any(|b| a.overlaps(b)));
+        for (b, &y) in fresh.iter().enumerate().skip(a + 1) {
+            let overlap = written[a].iter().any(|pa| written[b].iter().any(|pb| pa.overlaps(pb)));
             if overlap && !reaches(edges, x, y) && !reaches(edges, y, x) {
                 diags.push(
                     Diagnostic::error(
