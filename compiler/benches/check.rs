@@ -92,10 +92,19 @@ fn main() {
     let distinct = shader_files(&files);
     let profile = Profile::vulkan();
     let rounds = 40;
-    // `LB_CHECK_ONLY=1`: only `check`, 100 times (for a profiler).
+    // `LB_CHECK_ONLY=1`: only `check`, 100 times or `LB_CHECK_ROUNDS` (for a profiler).
     if std::env::var("LB_CHECK_ONLY").is_ok() {
-        for _ in 0..100 {
+        let n = std::env::var("LB_CHECK_ROUNDS").ok().and_then(|n| n.parse().ok()).unwrap_or(100);
+        for _ in 0..n {
             check_all(&files, &profile);
+        }
+        return;
+    }
+    // `LB_NAGA_ONLY=1`: only the baseline over distinct files, as many rounds.
+    if std::env::var("LB_NAGA_ONLY").is_ok() {
+        let n = std::env::var("LB_CHECK_ROUNDS").ok().and_then(|n| n.parse().ok()).unwrap_or(100);
+        for _ in 0..n {
+            naga_alone(&shader_root, &distinct);
         }
         return;
     }
