@@ -113,9 +113,9 @@ fn read_edges<'p>(
         }
         let others: Vec<usize> = ws.iter().copied().filter(|&w| w != i).collect();
         // Shadow maps whose writers were all culled for lack of casting lights stay cleared;
-        // the lights read as unshadowed.
-        let unshadowed = p.written_by_casters_only(res) && ws.is_empty();
-        if others.is_empty() && !own_parts && !res.supplied() && !unshadowed {
+        // the lights read as unshadowed. (Asked last: it walks every pass.)
+        let unshadowed = || ws.is_empty() && p.written_by_casters_only(res);
+        if others.is_empty() && !own_parts && !res.supplied() && !unshadowed() {
             diags.push(missing_producer(p, pass, name, res, culled));
         }
         // A resource rewritten within the frame: a reader sees the writes before it in file
