@@ -128,6 +128,26 @@ impl Value {
     }
 }
 
+/// The same tree with every span in `file` (a tree another compilation parsed from the same
+/// text, whose source map numbered the file differently).
+pub fn refile(n: &Node, file: crate::span::FileId) -> Node {
+    let at = |s: Span| Span { file, ..s };
+    let value = match &*n.value {
+        Value::List(items) => Value::List(items.iter().map(|i| refile(i, file)).collect()),
+        Value::Map(entries) => Value::Map(entries.iter().map(|(k, v)| (refile(k, file), refile(v, file))).collect()),
+        Value::Struct { name, fields } => Value::Struct {
+            name: name.as_ref().map(|(n, s)| (n.clone(), at(*s))),
+            fields: fields.iter().map(|(k, s, v)| (k.clone(), at(*s), refile(v, file))).collect(),
+        },
+        Value::Tuple { name, items } => Value::Tuple {
+            name: name.as_ref().map(|(n, s)| (n.clone(), at(*s))),
+            items: items.iter().map(|i| refile(i, file)).collect(),
+        },
+        leaf => leaf.clone(),
+    };
+    Node::new(value, at(n.span))
+}
+
 /// Equal as data, ignoring spans (for default elision and tests).
 pub fn same(a: &Node, b: &Node) -> bool {
     match (&*a.value, &*b.value) {

@@ -84,6 +84,7 @@ impl Workspace {
             vfs: self.vfs.clone(),
             modules: self.modules.clone(),
             dependencies: BTreeSet::new(),
+            trees: None,
         }
     }
 
@@ -100,13 +101,16 @@ impl Workspace {
     ) -> Vec<Session> {
         // One read of each file for all of them; the sessions keep the workspace's view.
         let snapshot: Arc<dyn Vfs> = Arc::new(crate::vfs::Snapshot::new(self.vfs.clone()));
+        let trees = Arc::new(Trees::default());
         files
             .par_iter()
             .map(|f| {
                 let mut s = self.session();
                 s.vfs = snapshot.clone();
+                s.trees = Some(trees.clone());
                 s.check_file(f, shader_root, profile, scene);
                 s.vfs = self.vfs.clone();
+                s.trees = None;
                 s
             })
             .collect()
@@ -128,6 +132,29 @@ pub struct Session {
     vfs: Arc<dyn Vfs>,
     modules: Arc<ModuleCache>,
     dependencies: BTreeSet<PathBuf>,
+    /// Pipeline files parsed by the sessions of one run (`check_files`), if part of one.
+    trees: Option<Arc<Trees>>,
+}
+
+/// The pipeline files the sessions of one run parsed without a word of complaint: a file
+/// several pipelines use (`deferred_gi` uses `deferred`) is parsed once. Keyed by the name
+/// diagnostics show; the text must match.
+#[derive(Default)]
+struct Trees(std::sync::Mutex<std::collections::HashMap<String, (String, Node)>>);
+
+impl Trees {
+    /// The tree of `text` if another session parsed it, its spans moved into `file`.
+    fn get(&self, name: &str, text: &str, file: crate::span::FileId) -> Option<Node> {
+        let trees = self.0.lock().ok()?;
+        let (_, tree) = trees.get(name).filter(|(t, _)| t == text)?;
+        Some(crate::tree::refile(tree, file))
+    }
+
+    fn put(&self, name: &str, text: &str, tree: &Node) {
+        if let Ok(mut trees) = self.0.lock() {
+            trees.insert(name.to_string(), (text.to_string(), tree.clone()));
+        }
+    }
 }
 
 impl Default for Session {
@@ -291,8 +318,7 @@ impl Session {
     fn parse_pipeline_partial(&mut self, name: &str, text: String) -> (Option<Pipeline>, bool) {
         let file = self.sources.add(name, text.clone());
         let tree = match Path::new(name).extension().and_then(|e| e.to_str()) {
-            Some("ron") => crate::front::ron::parse_tree(file, &text, &mut self.diags),
-            Some("lbp") => crate::front::lbp::parse_tree(file, &text, &mut self.diags),
+            Some(ext @ ("ron" | "lbp")) => self.parse_tree(ext, name, &text, file),
             other => {
                 self.diags.push(Diagnostic::unlocated(
                     Severity::Error,
@@ -316,6 +342,24 @@ impl Session {
             }
         }
         (p, self.diags.error_count() == before)
+    }
+
+    /// The syntax tree of a pipeline file (`ext`: `ron` or `lbp`), added as `file`: parsed,
+    /// or another session's parse of the same text in this run.
+    fn parse_tree(&mut self, ext: &str, name: &str, text: &str, file: crate::span::FileId) -> Option<Node> {
+        if let Some(tree) = self.trees.as_ref().and_then(|t| t.get(name, text, file)) {
+            return Some(tree);
+        }
+        let before = self.diags.list.len();
+        let tree = match ext {
+            "ron" => crate::front::ron::parse_tree(file, text, &mut self.diags),
+            _ => crate::front::lbp::parse_tree(file, text, &mut self.diags),
+        };
+        // Only a parse that said nothing is shared: each session reports its own warnings.
+        if let (Some(trees), Some(tree), true) = (&self.trees, &tree, self.diags.list.len() == before) {
+            trees.put(name, text, tree);
+        }
+        tree
     }
 
     /// The pipeline a tree means: itself, or the pipeline it uses (composed in turn) with its
@@ -372,8 +416,7 @@ impl Session {
         };
         let file = self.sources.add(name.clone(), text.clone());
         match path.extension().and_then(|e| e.to_str()) {
-            Some("ron") => crate::front::ron::parse_tree(file, &text, &mut self.diags),
-            Some("lbp") => crate::front::lbp::parse_tree(file, &text, &mut self.diags),
+            Some(ext @ ("ron" | "lbp")) => self.parse_tree(ext, &name, &text, file),
             _ => {
                 let msg = format!("`{name}`: unknown pipeline format (expected `.ron` or `.lbp`)");
                 self.diags.push(Diagnostic::error(Code::UnknownFormat, msg, at));

@@ -93,3 +93,44 @@ fn files_checked_together_compile_a_shared_shader_once() {
     // The fragment shader and the built-in full-screen vertex stage, once each.
     assert_eq!(ws.module_stats().compiled, 2, "{:?}", ws.module_stats());
 }
+
+/// A pipeline file several files of one run parse (itself, and the one that `use`s it) is
+/// parsed once and shared; an error found in it afterwards is still located in it, in each
+/// session's own copy, at the same line and column.
+#[test]
+fn a_used_pipeline_parsed_once_is_located_in_every_session() {
+    // `base.ron` parses cleanly but names a resource it lacks (a lowering/check error).
+    let base = pipeline("base").replace("color: [\"out\"]", "color: [\"nowhere\"]");
+    let user = "Pipeline(name: \"user\", use: \"base.ron\")";
+    let dir = write_project(
+        "cache-used",
+        &[
+            ("pipelines/base.ron", &base),
+            ("pipelines/user.ron", user),
+            ("shaders/fill.wgsl", FILL),
+        ],
+    );
+    let ws = Workspace::disk();
+    let paths = [dir.join("pipelines/base.ron"), dir.join("pipelines/user.ron")];
+    // One thread: `base.ron` is parsed in its own session first, so the second takes it.
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let sessions = one.install(|| ws.check_files(&paths, None, &Profile::vulkan(), None));
+    let at: Vec<(String, usize, usize)> = sessions
+        .iter()
+        .map(|s| {
+            let d = s
+                .diags
+                .errors()
+                .next()
+                .unwrap_or_else(|| panic!("an error in each session: {}", s.render()));
+            d.location(&s.sources).unwrap()
+        })
+        .collect();
+    let col = base.find("\"nowhere\"").unwrap() + 1;
+    for (f, l, c) in &at {
+        assert!(
+            f.ends_with("base.ron") && *l == 1 && *c == col,
+            "{f}:{l}:{c}, want base.ron:1:{col}"
+        );
+    }
+}
