@@ -65,17 +65,6 @@ pub struct ModuleCache {
     pub capacity: usize,
 }
 
-/// A module is many arenas (naga's IR and analysis): the cache of a run (`check` of several
-/// pipelines) drops its modules on all cores rather than on one at the end.
-impl Drop for ModuleCache {
-    fn drop(&mut self) {
-        use rayon::prelude::*;
-        let Ok(inner) = self.inner.get_mut() else { return };
-        let entries: Vec<Entry> = inner.map.drain().map(|(_, e)| e).collect();
-        entries.into_par_iter().for_each(drop);
-    }
-}
-
 impl Default for ModuleCache {
     fn default() -> Self {
         Self::with_capacity(256)
