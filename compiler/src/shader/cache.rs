@@ -124,6 +124,13 @@ impl ModuleCache {
 
     /// Wait until no thread is compiling the module.
     pub fn wait_for(&self, key: &Key) {
+        // On a worker of the thread pool, take others' work meanwhile (the compiling thread's
+        // remaining modules among them) rather than block while it compiles them alone.
+        while self.inner.lock().is_ok_and(|g| g.compiling.contains(key)) {
+            if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                break;
+            }
+        }
         let Ok(mut g) = self.inner.lock() else { return };
         while g.compiling.contains(key) {
             g = match self.done.wait(g) {
