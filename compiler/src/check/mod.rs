@@ -95,11 +95,14 @@ pub fn check_pipeline(
     // Every module the passes will load, compiled ahead on all cores; the checks below then
     // find them in the module cache, and report in file order what failed.
     loader.prewarm(sources, &stage_requests(&pipeline, profile));
-    let versions = pipeline
+    // Loading takes the source map; the checks of each version are independent and run on
+    // all cores, each into its own diagnostics, merged in pass order (as a serial run).
+    let loaded: Vec<Vec<Loaded>> = pipeline
         .passes
         .iter()
-        .map(|pass| pass_versions(&pipeline, pass, profile, loader, sources, diags))
+        .map(|pass| load_versions(&pipeline, pass, profile, loader, sources))
         .collect();
+    let versions = checked_versions(&pipeline, profile, loaded, diags);
     Checked {
         pipeline,
         versions,
@@ -163,15 +166,15 @@ fn stage_requests(p: &Pipeline, profile: &Profile) -> Vec<(Spanned<String>, BTre
     out
 }
 
-/// Check every version of a pass; versions whose shaders fail are left out.
-fn pass_versions(
-    p: &Pipeline,
-    pass: &Pass,
-    profile: &Profile,
-    loader: &mut ShaderLoader,
-    sources: &mut SourceMap,
-    diags: &mut Diagnostics,
-) -> Vec<PassVersion> {
+/// A version of a pass with its stages loaded (`None`: one failed) and what loading said.
+struct Loaded {
+    option: Option<VariantChoice>,
+    stages: Option<Vec<StageShader>>,
+    diags: Diagnostics,
+}
+
+/// Load the stages of every version of a pass.
+fn load_versions(p: &Pipeline, pass: &Pass, profile: &Profile, loader: &mut ShaderLoader, sources: &mut SourceMap) -> Vec<Loaded> {
     let features = pass_features(p, pass, profile);
     let mut out = vec![];
     for (option, file) in wanted_versions(p, pass) {
@@ -179,31 +182,66 @@ fn pass_versions(
         if let Some((v, o)) = &option {
             feats.extend(option_features(p, v, o));
         }
-        let Some(stages) = load_stages(pass, file.as_ref(), &feats, loader, sources, diags) else {
-            continue;
-        };
-        io::check(p, pass, &stages, diags);
-        constants::check(p, pass, &stages, diags);
-        let Some(resolved) = bindings::resolve(p, pass, &stages, profile, diags) else {
-            continue;
-        };
-        limits::check(p, pass, &stages, &resolved, profile, diags);
-        let frame_fields = frame_fields(&stages, &resolved);
-        let buffer_scalars = reflect_facts::buffer_scalars(&stages, &resolved);
-        let workgroup_size = stages
-            .iter()
-            .find(|s| s.stage == Stage::Compute)
-            .map(|s| s.module.module.entry_points[s.entry].workgroup_size);
-        out.push(PassVersion {
-            option,
-            stages,
-            resolved,
-            frame_fields,
-            buffer_scalars,
-            workgroup_size,
-        });
+        let mut diags = Diagnostics::default();
+        let stages = load_stages(pass, file.as_ref(), &feats, loader, sources, &mut diags);
+        out.push(Loaded { option, stages, diags });
     }
     out
+}
+
+/// Check every loaded version of every pass; versions whose shaders fail are left out.
+fn checked_versions(p: &Pipeline, profile: &Profile, loaded: Vec<Vec<Loaded>>, diags: &mut Diagnostics) -> Vec<Vec<PassVersion>> {
+    use rayon::prelude::*;
+    let jobs: Vec<(usize, Loaded)> = loaded
+        .into_iter()
+        .enumerate()
+        .flat_map(|(i, versions)| versions.into_iter().map(move |l| (i, l)))
+        .collect();
+    let done: Vec<(usize, Diagnostics, Option<PassVersion>)> = jobs
+        .into_par_iter()
+        .map(|(i, mut l)| {
+            let version = l
+                .stages
+                .take()
+                .and_then(|stages| check_version(p, &p.passes[i], l.option, stages, profile, &mut l.diags));
+            (i, l.diags, version)
+        })
+        .collect();
+    let mut versions: Vec<Vec<PassVersion>> = p.passes.iter().map(|_| vec![]).collect();
+    for (i, d, version) in done {
+        diags.extend(d.list);
+        versions[i].extend(version);
+    }
+    versions
+}
+
+/// Check one version of a pass whose stages loaded.
+fn check_version(
+    p: &Pipeline,
+    pass: &Pass,
+    option: Option<VariantChoice>,
+    stages: Vec<StageShader>,
+    profile: &Profile,
+    diags: &mut Diagnostics,
+) -> Option<PassVersion> {
+    io::check(p, pass, &stages, diags);
+    constants::check(p, pass, &stages, diags);
+    let resolved = bindings::resolve(p, pass, &stages, profile, diags)?;
+    limits::check(p, pass, &stages, &resolved, profile, diags);
+    let frame_fields = frame_fields(&stages, &resolved);
+    let buffer_scalars = reflect_facts::buffer_scalars(&stages, &resolved);
+    let workgroup_size = stages
+        .iter()
+        .find(|s| s.stage == Stage::Compute)
+        .map(|s| s.module.module.entry_points[s.entry].workgroup_size);
+    Some(PassVersion {
+        option,
+        stages,
+        resolved,
+        frame_fields,
+        buffer_scalars,
+        workgroup_size,
+    })
 }
 
 /// The frame-block fields a pass version's entry points read (of every stage).
