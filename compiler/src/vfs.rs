@@ -1,7 +1,7 @@
 //! The virtual file system a compilation reads through: the disk, or files held in memory
 //! (tests, an editor's unsaved buffers). Paths are compared after lexical normalisation.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
 use std::io;
 use std::path::{Component, Path, PathBuf};
 use std::sync::RwLock;
@@ -168,7 +168,7 @@ pub struct Snapshot {
     inner: std::sync::Arc<dyn Vfs>,
     texts: std::sync::Mutex<HashMap<PathBuf, String>>,
     bytes: std::sync::Mutex<HashMap<PathBuf, Vec<u8>>>,
-    within: std::sync::Mutex<HashSet<(PathBuf, PathBuf)>>,
+    within: std::sync::Mutex<HashMap<(PathBuf, PathBuf), ()>>,
 }
 
 impl Snapshot {
@@ -182,40 +182,36 @@ impl Snapshot {
     }
 }
 
+/// A kept success, else `read` and keep what it gives.
+fn kept<K: Eq + std::hash::Hash, T: Clone>(
+    memo: &std::sync::Mutex<HashMap<K, T>>,
+    key: K,
+    read: impl FnOnce() -> io::Result<T>,
+) -> io::Result<T> {
+    if let Some(t) = memo.lock().ok().and_then(|m| m.get(&key).cloned()) {
+        return Ok(t);
+    }
+    let t = read()?;
+    if let Ok(mut m) = memo.lock() {
+        m.insert(key, t.clone());
+    }
+    Ok(t)
+}
+
 impl Vfs for Snapshot {
     fn read(&self, path: &Path) -> io::Result<String> {
-        if let Some(t) = self.texts.lock().ok().and_then(|t| t.get(path).cloned()) {
-            return Ok(t);
-        }
-        let text = self.inner.read(path)?;
-        if let Ok(mut t) = self.texts.lock() {
-            t.insert(path.to_path_buf(), text.clone());
-        }
-        Ok(text)
+        kept(&self.texts, path.to_path_buf(), || self.inner.read(path))
     }
     fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
-        if let Some(b) = self.bytes.lock().ok().and_then(|b| b.get(path).cloned()) {
-            return Ok(b);
-        }
-        let bytes = self.inner.read_bytes(path)?;
-        if let Ok(mut b) = self.bytes.lock() {
-            b.insert(path.to_path_buf(), bytes.clone());
-        }
-        Ok(bytes)
+        kept(&self.bytes, path.to_path_buf(), || self.inner.read_bytes(path))
     }
     fn is_dir(&self, path: &Path) -> bool {
         self.inner.is_dir(path)
     }
     fn within(&self, root: &Path, path: &Path) -> io::Result<()> {
-        let key = (root.to_path_buf(), path.to_path_buf());
-        if self.within.lock().is_ok_and(|w| w.contains(&key)) {
-            return Ok(());
-        }
-        self.inner.within(root, path)?;
-        if let Ok(mut w) = self.within.lock() {
-            w.insert(key);
-        }
-        Ok(())
+        kept(&self.within, (root.to_path_buf(), path.to_path_buf()), || {
+            self.inner.within(root, path)
+        })
     }
 }
 
