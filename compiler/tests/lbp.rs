@@ -308,8 +308,10 @@ mod generated {
     }
 
     /// Names of variant options: never `|`, which separates several (`a | b`).
+    /// An option a condition can name: `variant(v, a | b)` splits at `|` and trims blanks
+    /// around each option, so a name with either cannot round-trip there.
     fn option_name() -> impl Strategy<Value = String> {
-        name().prop_filter("no bar", |s| !s.contains('|'))
+        name().prop_filter("no bar, no blanks around", |s| !s.contains('|') && s.trim() == s)
     }
 
     fn text() -> impl Strategy<Value = String> {
@@ -857,3 +859,4 @@ fn the_readme_shows_every_form_and_it_parses() {
         "the manual's every-form file and `use` example lack {missing:?}"
     );
 }
+
