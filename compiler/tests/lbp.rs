@@ -859,4 +859,3 @@ fn the_readme_shows_every_form_and_it_parses() {
         "the manual's every-form file and `use` example lack {missing:?}"
     );
 }
-
