@@ -24,74 +24,10 @@ fn holds(c: &Condition, p: &Pipeline, cfg: &Config) -> bool {
     }
 }
 
-/// `Ok(())` if true, else the reason it is false and whether a variant choice decided it.
+/// `Ok(())` if true, else the reason it is false and whether a variant choice decided it
+/// (the truth is `holds`'s; this only words it).
 fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)> {
     match c {
-        Condition::Light(k) => {
-            if cfg.scene.lights.get(k).copied().unwrap_or(0) > 0 {
-                Ok(())
-            } else {
-                Err((format!("the scene has no {} light", k.name()), false))
-            }
-        }
-        Condition::Effect(e) => {
-            if cfg.scene.effects.contains(e) {
-                Ok(())
-            } else {
-                Err((format!("the scene does not call for {}", e.name()), false))
-            }
-        }
-        Condition::Reflective => {
-            if cfg.scene.reflective {
-                Ok(())
-            } else {
-                Err(("the scene has no reflective material".into(), false))
-            }
-        }
-        Condition::Blended => {
-            if cfg.scene.transparent {
-                Ok(())
-            } else {
-                Err(("the scene has no blended material".into(), false))
-            }
-        }
-        Condition::Toggle(name) => match p.param(name).map(|prm| cfg.default_of(p, prm).0) {
-            Some(ParamValue::Bool(true)) => Ok(()),
-            _ => Err((format!("toggle `{}` is off", name.value), false)),
-        },
-        Condition::Variant(v, o) => {
-            let chosen = cfg.selection.chosen.get(&v.value).cloned().unwrap_or_default();
-            if chosen == o.value {
-                Ok(())
-            } else {
-                Err((
-                    format!(
-                        "variant not chosen: `{}` is `{chosen}`, this pass belongs to `{}`",
-                        v.value, o.value
-                    ),
-                    true,
-                ))
-            }
-        }
-        Condition::Not(inner) if matches!(inner.value, Condition::Variant(..)) => match eval(inner, p, cfg) {
-            Ok(()) => {
-                let Condition::Variant(v, o) = &inner.value else {
-                    return Ok(());
-                };
-                Err((
-                    format!(
-                        "variant not chosen: `{}` is `{}`, this pass serves the other options",
-                        v.value, o.value
-                    ),
-                    true,
-                ))
-            }
-            Err(_) => Ok(()),
-        },
-        Condition::Not(inner) => match eval(inner, p, cfg) {
-            Ok(()) => Err((format!("{} holds", inner.describe()), inner.mentions_variant())),
-            Err(_) => Ok(()),
-        },
         Condition::All(cs) => cs.iter().try_for_each(|c| eval(c, p, cfg)),
         Condition::Any(cs) => {
             let mut reasons = vec![];
@@ -107,6 +43,39 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
             }
             Err((format!("none holds: {}", reasons.join("; ")), by_variant && !cs.is_empty()))
         }
+        _ if holds(c, p, cfg) => Ok(()),
+        _ => Err(why_false(c, cfg)),
+    }
+}
+
+/// Why a condition other than `All`/`Any` that does not hold is false, and whether a
+/// variant choice decided it.
+fn why_false(c: &Condition, cfg: &Config) -> (String, bool) {
+    match c {
+        Condition::Light(k) => (format!("the scene has no {} light", k.name()), false),
+        Condition::Effect(e) => (format!("the scene does not call for {}", e.name()), false),
+        Condition::Reflective => ("the scene has no reflective material".into(), false),
+        Condition::Blended => ("the scene has no blended material".into(), false),
+        Condition::Toggle(name) => (format!("toggle `{}` is off", name.value), false),
+        Condition::Variant(v, o) => {
+            let chosen = cfg.selection.chosen.get(&v.value).map_or("", String::as_str);
+            let why = format!(
+                "variant not chosen: `{}` is `{chosen}`, this pass belongs to `{}`",
+                v.value, o.value
+            );
+            (why, true)
+        }
+        Condition::Not(inner) => match &inner.value {
+            Condition::Variant(v, o) => {
+                let why = format!(
+                    "variant not chosen: `{}` is `{}`, this pass serves the other options",
+                    v.value, o.value
+                );
+                (why, true)
+            }
+            _ => (format!("{} holds", inner.describe()), inner.mentions_variant()),
+        },
+        Condition::All(_) | Condition::Any(_) => ("its condition is false".into(), c.mentions_variant()),
     }
 }
 
