@@ -199,12 +199,9 @@ fn checked_versions(p: &Pipeline, profile: &Profile, loaded: Vec<Vec<Loaded>>, d
         .collect();
     let done: Vec<(usize, Diagnostics, Option<PassVersion>)> = jobs
         .into_par_iter()
-        .map(|(i, mut l)| {
-            let version = l
-                .stages
-                .take()
-                .and_then(|stages| check_version(p, &p.passes[i], l.option, stages, profile, &mut l.diags));
-            (i, l.diags, version)
+        .map(|(i, Loaded { option, stages, mut diags })| {
+            let version = stages.and_then(|stages| check_version(p, &p.passes[i], option, stages, profile, &mut diags));
+            (i, diags, version)
         })
         .collect();
     let mut versions: Vec<Vec<PassVersion>> = p.passes.iter().map(|_| vec![]).collect();
