@@ -470,6 +470,27 @@ fn only_a_variant_names_several_options() {
     assert_eq!((d.1.as_str(), d.2, d.3), ("expected `)`, found `|`", 14, 19), "{}", o.dump());
 }
 
+/// Where options are named (`variant(v, a | b)`, an arm `a | b:`) each name is trimmed and
+/// `_` is every other option: an option no condition or arm could name is refused.
+#[test]
+fn an_option_that_cannot_be_named_is_refused_where_it_is_declared() {
+    let text = "pipeline t\n\ntexture out: Rgba8Unorm viewport\n\nfullscreen fill \"fill.wgsl\" {\n    color out\n}\n\n\
+                variant quality = high {\n    option high\n    option \" low\"\n    option \"_\"\n    option \"\"\n}\n\noutput out\n";
+    let o = checked("unnameable", "pipelines/t.lbp", text);
+    let found: Vec<(String, usize, usize)> = o.located().into_iter().map(|(_, m, _, l, c)| (m, l, c)).collect();
+    let blanks = "be empty or begin or end with blanks: where options are named (`a | b`) each name is trimmed";
+    assert_eq!(
+        found,
+        vec![
+            (format!("option ` low`: a name may not {blanks}"), 11, 12),
+            ("option `_`: a name may not be `_`, which stands for every option an arm of a choice does not name".into(), 12, 12),
+            (format!("option ``: a name may not {blanks}"), 13, 12),
+        ],
+        "{}",
+        o.dump()
+    );
+}
+
 /// `|` separates options where several are named, so no option's name may hold one.
 #[test]
 fn an_option_named_with_a_bar_is_refused_where_it_is_declared() {

@@ -307,11 +307,11 @@ mod generated {
         prop_oneof![4 => ident(), 1 => "[ -~]{1,8}".prop_filter("no hash", |s| !s.contains('#'))]
     }
 
-    /// Names of variant options: never `|`, which separates several (`a | b`).
-    /// An option a condition can name: `variant(v, a | b)` splits at `|` and trims blanks
-    /// around each option, so a name with either cannot round-trip there.
+    /// Names of variant options, as a declaration accepts them: never `|`, which separates
+    /// several (`a | b`), no blanks around (each named option is trimmed), never `_` (every
+    /// other option, in a choice's arms).
     fn option_name() -> impl Strategy<Value = String> {
-        name().prop_filter("no bar, no blanks around", |s| !s.contains('|') && s.trim() == s)
+        name().prop_filter("no bar, no blanks around, not _", |s| !s.contains('|') && s.trim() == s && s != "_")
     }
 
     fn text() -> impl Strategy<Value = String> {

@@ -38,15 +38,9 @@ impl Lowerer<'_> {
     fn variant_option(&mut self, name: Spanned<String>, node: &Node) -> Res<VariantOption> {
         let mut o = self.obj(node, &["Option"], "variant option")?;
         o.what = format!("variant option `{}`", name.value);
-        if name.value.contains('|') {
-            self.err(Diagnostic::error(
-                Code::TypeMismatch,
-                format!(
-                    "option `{}`: a name may not contain `|`, which separates options (`a | b`)",
-                    name.value
-                ),
-                name.span,
-            ));
+        if let Some(why) = unnameable(&name.value) {
+            let msg = format!("option `{}`: a name may not {why}", name.value);
+            self.err(Diagnostic::error(Code::TypeMismatch, msg, name.span));
         }
         let requires = o.get("requires").and_then(|n| {
             let items = self.list(&n)?.to_vec();
@@ -99,5 +93,19 @@ impl Lowerer<'_> {
             }
         }
         Some(out)
+    }
+}
+
+/// Why an option of this name could not be named where options are (`variant(v, a | b)`,
+/// a choice's arm `a | b: ...`, `_: ...`), if so.
+fn unnameable(name: &str) -> Option<&'static str> {
+    if name.contains('|') {
+        Some("contain `|`, which separates options (`a | b`)")
+    } else if name.is_empty() || name.trim() != name {
+        Some("be empty or begin or end with blanks: where options are named (`a | b`) each name is trimmed")
+    } else if name == "_" {
+        Some("be `_`, which stands for every option an arm of a choice does not name")
+    } else {
+        None
     }
 }
