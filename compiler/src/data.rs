@@ -53,10 +53,16 @@ pub fn inline_bytes(d: &DataSource) -> Option<Vec<u8>> {
 
 /// The bytes a buffer of `size` gets, or why they do not fit.
 pub fn check_buffer(bytes: Vec<u8>, size: u64) -> Result<Vec<u8>, String> {
-    if bytes.len() as u64 != size {
-        return Err(format!("has {} bytes, the buffer is declared with {size}", bytes.len()));
-    }
+    check_buffer_size(bytes.len(), size)?;
     Ok(bytes)
+}
+
+/// Whether `len` bytes fill a buffer of `size`, or why not.
+pub fn check_buffer_size(len: usize, size: u64) -> Result<(), String> {
+    if len as u64 != size {
+        return Err(format!("has {len} bytes, the buffer is declared with {size}"));
+    }
+    Ok(())
 }
 
 /// A texture's texels from a file: a PNG or EXR of exactly its size (one layer), or raw

@@ -84,7 +84,7 @@ impl Workspace {
             vfs: self.vfs.clone(),
             modules: self.modules.clone(),
             dependencies: BTreeSet::new(),
-            trees: None,
+            run: None,
         }
     }
 
@@ -101,16 +101,16 @@ impl Workspace {
     ) -> Vec<Session> {
         // One read of each file for all of them; the sessions keep the workspace's view.
         let snapshot: Arc<dyn Vfs> = Arc::new(crate::vfs::Snapshot::new(self.vfs.clone()));
-        let trees = Arc::new(Trees::default());
+        let run = Arc::new(Run::default());
         files
             .par_iter()
             .map(|f| {
                 let mut s = self.session();
                 s.vfs = snapshot.clone();
-                s.trees = Some(trees.clone());
+                s.run = Some(run.clone());
                 s.check_file(f, shader_root, profile, scene);
                 s.vfs = self.vfs.clone();
-                s.trees = None;
+                s.run = None;
                 s
             })
             .collect()
@@ -132,8 +132,16 @@ pub struct Session {
     vfs: Arc<dyn Vfs>,
     modules: Arc<ModuleCache>,
     dependencies: BTreeSet<PathBuf>,
-    /// Pipeline files parsed by the sessions of one run (`check_files`), if part of one.
-    trees: Option<Arc<Trees>>,
+    /// What the sessions of one run (`check_files`) share, if part of one.
+    run: Option<Arc<Run>>,
+}
+
+/// What the sessions of one run made of the files of its snapshot, for the others to take.
+#[derive(Default)]
+struct Run {
+    trees: Trees,
+    data: check::data::Decoded,
+    expansions: Arc<crate::shader::Expansions>,
 }
 
 /// The pipeline files the sessions of one run parsed without a word of complaint: a file
@@ -347,7 +355,7 @@ impl Session {
     /// The syntax tree of a pipeline file (`ext`: `ron` or `lbp`), added as `file`: parsed,
     /// or another session's parse of the same text in this run.
     fn parse_tree(&mut self, ext: &str, name: &str, text: &str, file: crate::span::FileId) -> Option<Node> {
-        if let Some(tree) = self.trees.as_ref().and_then(|t| t.get(name, text, file)) {
+        if let Some(tree) = self.run.as_ref().and_then(|r| r.trees.get(name, text, file)) {
             return Some(tree);
         }
         let before = self.diags.list.len();
@@ -356,8 +364,8 @@ impl Session {
             _ => crate::front::lbp::parse_tree(file, text, &mut self.diags),
         };
         // Only a parse that said nothing is shared: each session reports its own warnings.
-        if let (Some(trees), Some(tree), true) = (&self.trees, &tree, self.diags.list.len() == before) {
-            trees.put(name, text, tree);
+        if let (Some(run), Some(tree), true) = (&self.run, &tree, self.diags.list.len() == before) {
+            run.trees.put(name, text, tree);
         }
         tree
     }
@@ -430,12 +438,14 @@ impl Session {
         let file = self.sources.get(pipeline.span.file).name.clone();
         let mut loader = ShaderLoader::new(shader_root.to_path_buf(), self.vfs.clone(), self.modules.clone());
         loader.not_found_note = Some(shader_root_note(self.vfs.as_ref(), Path::new(&file), shader_root));
+        loader.expansions = self.run.as_ref().map(|r| r.expansions.clone());
         let mut checked = check::check_pipeline(pipeline, profile, &mut loader, &mut self.sources, &mut self.diags);
         self.dependencies.extend(loader.dependencies);
         let mut ctx = check::data::DataCtx {
             vfs: self.vfs.as_ref(),
             dir: Path::new(&file).parent().map(Path::to_path_buf).unwrap_or_default(),
             read: &mut self.dependencies,
+            decoded: self.run.as_ref().map(|r| &r.data),
         };
         checked.data = check::data::check(&checked.pipeline, &mut ctx, &mut self.diags);
         checked

@@ -134,3 +134,38 @@ fn a_used_pipeline_parsed_once_is_located_in_every_session() {
         );
     }
 }
+
+/// A shader the files of one run share is expanded once (its includes spliced in) and the
+/// others take that expansion into their own source maps: an error in an included file is
+/// located in it in every session, though the files sit at other places in each map.
+#[test]
+fn a_shared_expansion_is_located_in_every_session() {
+    let helpers = "fn helper() -> f32 {\n    return 1u;\n}\n";
+    let lit = "#include \"lib/helpers.wgsl\"\n@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(helper());\n}\n";
+    let a = "Pipeline(name: \"a\", resources: {\"out\": Texture(format: Rgba8Unorm)}, passes: [Fullscreen(name: \"f\", shader: \"lit.wgsl\", color: [\"out\"])], output: \"out\")";
+    // `b` loads another shader first: its source map holds the shared files at other ids.
+    let b = "Pipeline(name: \"b\", resources: {\"out\": Texture(format: Rgba8Unorm), \"first\": Texture(format: Rgba8Unorm)}, \
+             passes: [Fullscreen(name: \"e\", shader: \"fill.wgsl\", color: [\"first\"]), Fullscreen(name: \"f\", shader: \"lit.wgsl\", color: [\"out\"])], output: \"out\")";
+    let dir = write_project(
+        "cache-expanded",
+        &[
+            ("pipelines/a.ron", a),
+            ("pipelines/b.ron", b),
+            ("shaders/fill.wgsl", FILL),
+            ("shaders/lit.wgsl", lit),
+            ("shaders/lib/helpers.wgsl", helpers),
+        ],
+    );
+    let ws = Workspace::disk();
+    let paths = [dir.join("pipelines/a.ron"), dir.join("pipelines/b.ron")];
+    // One thread: `a` expands `lit.wgsl` first, `b` takes its expansion.
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    let sessions = one.install(|| ws.check_files(&paths, None, &Profile::vulkan(), None));
+    for s in &sessions {
+        let d = s.diags.errors().next().unwrap_or_else(|| panic!("an error in each session: {}", s.render()));
+        let (f, l, c) = d.location(&s.sources).unwrap();
+        // The invalid function, with `1u` marked in it on line 2.
+        assert!(f.ends_with("helpers.wgsl") && (l, c) == (1, 1), "{f}:{l}:{c}\n{}", s.render());
+        assert!(s.render().contains("2 │ │     return 1u;"), "{}", s.render());
+    }
+}

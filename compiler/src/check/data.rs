@@ -20,6 +20,25 @@ pub struct DataCtx<'a> {
     pub dir: PathBuf,
     /// Files read (a watcher reloads when they change).
     pub read: &'a mut BTreeSet<PathBuf>,
+    /// Buffers the other compilations of a run decoded from the same snapshot of the files.
+    pub decoded: Option<&'a Decoded>,
+}
+
+/// Buffers decoded from data files, by path, for the compilations of one run: they read the
+/// same snapshot, so one decode serves all (`deferred`'s LTC table is 8,192 numbers of JSON).
+#[derive(Default)]
+pub struct Decoded(std::sync::Mutex<std::collections::HashMap<PathBuf, Arc<Vec<u8>>>>);
+
+impl Decoded {
+    fn get(&self, path: &Path) -> Option<Arc<Vec<u8>>> {
+        self.0.lock().ok()?.get(path).cloned()
+    }
+
+    fn put(&self, path: &Path, bytes: &Arc<Vec<u8>>) {
+        if let Ok(mut m) = self.0.lock() {
+            m.insert(path.to_path_buf(), bytes.clone());
+        }
+    }
 }
 
 pub fn check(p: &Pipeline, ctx: &mut DataCtx, diags: &mut Diagnostics) -> ResourceData {
@@ -28,7 +47,7 @@ pub fn check(p: &Pipeline, ctx: &mut DataCtx, diags: &mut Diagnostics) -> Resour
         let Some(d) = r.data() else { continue };
         match bytes(r, d, ctx) {
             Ok(b) => {
-                out.insert(r.name.value.clone(), Arc::new(b));
+                out.insert(r.name.value.clone(), b);
             }
             Err((code, msg)) => diags.push(Diagnostic::error(code, format!("data of `{}`: {msg}", r.name.value), d.span)),
         }
@@ -38,7 +57,7 @@ pub fn check(p: &Pipeline, ctx: &mut DataCtx, diags: &mut Diagnostics) -> Resour
 
 type Failure = (Code, String);
 
-fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Vec<u8>, Failure> {
+fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Arc<Vec<u8>>, Failure> {
     let mismatch = |m: String| (Code::DataMismatch, m);
     if r.external() {
         return Err((
@@ -49,14 +68,11 @@ fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Vec
     match &r.kind {
         ResourceKind::Buffer(b) => {
             let raw = match &d.value {
-                DataSource::File(f) => {
-                    let path = resolve(ctx, f)?;
-                    let raw = read(ctx, &path, f)?;
-                    data::buffer_from_file(&path, raw).map_err(|e| mismatch(format!("`{f}`: {e}")))?
-                }
-                inline => data::inline_bytes(inline).unwrap_or_default(),
+                DataSource::File(f) => buffer_file(ctx, f)?,
+                inline => Arc::new(data::inline_bytes(inline).unwrap_or_default()),
             };
-            data::check_buffer(raw, b.size.value).map_err(|e| mismatch(format!("the data {e}")))
+            data::check_buffer_size(raw.len(), b.size.value).map_err(|e| mismatch(format!("the data {e}")))?;
+            Ok(raw)
         }
         ResourceKind::Texture(t) => {
             let SizeSpec::Fixed { width, height } = t.size.value else {
@@ -74,9 +90,27 @@ fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Vec
                 extent: (width, height),
                 layers: t.layers.value,
             };
-            data::texture_from_file(&path, raw, shape).map_err(|e| mismatch(format!("`{f}` {e}")))
+            data::texture_from_file(&path, raw, shape)
+                .map(Arc::new)
+                .map_err(|e| mismatch(format!("`{f}` {e}")))
         }
     }
+}
+
+/// A buffer's bytes from a data file, decoded once per run (read, and its link checked, by
+/// every compilation all the same: each reports its own failures and watches the file).
+fn buffer_file(ctx: &mut DataCtx, f: &str) -> Result<Arc<Vec<u8>>, Failure> {
+    let path = resolve(ctx, f)?;
+    let raw = read(ctx, &path, f)?;
+    if let Some(hit) = ctx.decoded.and_then(|d| d.get(&path)) {
+        return Ok(hit);
+    }
+    let bytes = data::buffer_from_file(&path, raw).map_err(|e| (Code::DataMismatch, format!("`{f}`: {e}")))?;
+    let bytes = Arc::new(bytes);
+    if let Some(d) = ctx.decoded {
+        d.put(&path, &bytes);
+    }
+    Ok(bytes)
 }
 
 /// A data path relative to the pipeline's directory, which it may not leave.

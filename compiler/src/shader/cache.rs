@@ -25,13 +25,18 @@ impl Key {
 }
 
 pub fn key(lang: Lang, caps: u64, text: &str) -> Key {
+    keyed(lang, caps, text_hash(text))
+}
+
+/// The key of a module whose text hashes to `text` (`text_hash`).
+pub fn keyed(lang: Lang, caps: u64, text: u64) -> Key {
+    Key { lang, caps, text }
+}
+
+pub fn text_hash(text: &str) -> u64 {
     let mut h = std::hash::DefaultHasher::new();
     text.hash(&mut h);
-    Key {
-        lang,
-        caps,
-        text: h.finish(),
-    }
+    h.finish()
 }
 
 /// What the cache did: naga compilations (misses), hits and evictions since it was made.

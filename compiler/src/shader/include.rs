@@ -24,6 +24,8 @@ pub struct Expanded {
     pub segments: Vec<Segment>,
     /// Every file that contributed, the root first (for hot reload and hashing).
     pub files: Vec<FileId>,
+    /// Beside `files`: each one's path as the shader or its `#include` names it.
+    pub paths: Vec<String>,
 }
 
 impl Expanded {
@@ -101,6 +103,7 @@ fn expand_file(
     out: &mut Expanded,
 ) -> Result<(), Diagnostic> {
     out.files.push(file);
+    out.paths.push(stack.last().cloned().unwrap_or_default());
     let text = sources.get(file).text.clone();
     let mut copied_to = 0;
     // Only lines holding `#include` can be directives: jump from one to the next (by `#`,

@@ -226,6 +226,8 @@ pub struct ShaderLoader {
     pub dependencies: BTreeSet<PathBuf>,
     /// Added to a `shader-not-found` error: where paths resolve, which folders were tried.
     pub not_found_note: Option<String>,
+    /// The expansions of the other compilations of a run, if part of one.
+    pub expansions: Option<Arc<Expansions>>,
 }
 
 impl ShaderLoader {
@@ -237,6 +239,7 @@ impl ShaderLoader {
             compiled,
             dependencies: BTreeSet::new(),
             not_found_note: None,
+            expansions: None,
         }
     }
 
@@ -254,7 +257,8 @@ impl ShaderLoader {
         }
         let fs = RootedFs::new(self.vfs.as_ref(), &self.root);
         let before = diags.list.len();
-        let result = load_module(&fs, sources, path, caps, &self.compiled, diags).map(Arc::new);
+        let shared = self.expansions.as_deref();
+        let result = load_module(&fs, sources, (path, shared), caps, &self.compiled, diags).map(Arc::new);
         if let (Some(note), Some(d)) = (&self.not_found_note, diags.list.get_mut(before)) {
             if d.code == Code::ShaderNotFound && d.primary_span() == Some(path.span) {
                 d.notes.push(note.clone());
@@ -280,10 +284,11 @@ impl ShaderLoader {
             if self.cache.contains_key(&at) || read.iter().any(|r| r.at == at) {
                 continue;
             }
-            let Some((lang, expanded, root)) = read_expanded(&fs, sources, path, &mut Diagnostics::default()) else {
+            let shared = self.expansions.as_deref();
+            let Some((lang, expanded, root, hash)) = read_hashed(&fs, sources, path, shared, &mut Diagnostics::default()) else {
                 continue;
             };
-            let key = cache::key(lang, caps.bits(), &expanded.text);
+            let key = cache::keyed(lang, caps.bits(), hash);
             let fallback = Span::new(root, 0, 0);
             read.push(Ahead {
                 at,
@@ -332,6 +337,71 @@ struct Ahead {
     caps: naga::valid::Capabilities,
     key: cache::Key,
     fallback: Span,
+}
+
+/// Shader files as the compilations of one run expanded them, by the name diagnostics show
+/// (the path under its root): they read one snapshot of the files, so one expansion, and
+/// its hash, serves them all. Only successes are kept.
+#[derive(Default)]
+pub struct Expansions(std::sync::Mutex<HashMap<String, Arc<(Lang, Expanded, u64)>>>);
+
+impl Expansions {
+    /// The expansion kept for `name`, rebuilt in `sources`: each of its files read again
+    /// through `fs` (recorded and link-checked as a fresh expansion's are; the snapshot
+    /// gives the same text) and added to the source map unless it holds it already.
+    fn take(&self, fs: &dyn ShaderFs, sources: &mut SourceMap, name: &str) -> Option<(Lang, Expanded, FileId, u64)> {
+        let kept = self.0.lock().ok()?.get(name)?.clone();
+        let (lang, e, hash) = &*kept;
+        let mut ids = Vec::with_capacity(e.paths.len());
+        for path in &e.paths {
+            let text = fs.read(path).ok()?;
+            let shown = fs.display(path);
+            ids.push(match sources.find(&shown) {
+                Some(id) if sources.get(id).text == text => id,
+                _ => sources.add(shown, text),
+            });
+        }
+        let local = |old: FileId| e.files.iter().position(|&f| f == old).map(|i| ids[i]);
+        let segments = e
+            .segments
+            .iter()
+            .map(|s| Some(include::Segment { file: local(s.file)?, ..s.clone() }))
+            .collect::<Option<Vec<_>>>()?;
+        let expanded = Expanded {
+            text: e.text.clone(),
+            segments,
+            files: ids.clone(),
+            paths: e.paths.clone(),
+        };
+        Some((*lang, expanded, ids[0], *hash))
+    }
+
+    fn put(&self, name: String, lang: Lang, expanded: &Expanded, hash: u64) {
+        if let Ok(mut m) = self.0.lock() {
+            m.insert(name, Arc::new((lang, expanded.clone(), hash)));
+        }
+    }
+}
+
+/// `read_expanded` with the text's hash, or what another compilation of the run made of
+/// the same file (`shared`).
+fn read_hashed(
+    fs: &dyn ShaderFs,
+    sources: &mut SourceMap,
+    path: &Spanned<String>,
+    shared: Option<&Expansions>,
+    diags: &mut Diagnostics,
+) -> Option<(Lang, Expanded, FileId, u64)> {
+    let name = fs.display(&path.value);
+    if let Some(hit) = shared.and_then(|s| s.take(fs, sources, &name)) {
+        return Some(hit);
+    }
+    let (lang, expanded, root) = read_expanded(fs, sources, path, diags)?;
+    let hash = cache::text_hash(&expanded.text);
+    if let Some(s) = shared {
+        s.put(name, lang, &expanded, hash);
+    }
+    Some((lang, expanded, root, hash))
 }
 
 /// A shader file's language, and its text with includes spliced in (`None`: the error is
@@ -386,14 +456,14 @@ fn read_expanded(
 pub fn load_module(
     fs: &dyn ShaderFs,
     sources: &mut SourceMap,
-    path: &Spanned<String>,
+    (path, shared): (&Spanned<String>, Option<&Expansions>),
     caps: naga::valid::Capabilities,
     cache: &ModuleCache,
     diags: &mut Diagnostics,
 ) -> Option<ShaderModule> {
-    let (lang, expanded, root) = read_expanded(fs, sources, path, diags)?;
+    let (lang, expanded, root, hash) = read_hashed(fs, sources, path, shared, diags)?;
     let fallback = Span::new(root, 0, 0);
-    let key = cache::key(lang, caps.bits(), &expanded.text);
+    let key = cache::keyed(lang, caps.bits(), hash);
     let compiled = match cache.get(&key, &expanded.text) {
         Some(c) => c,
         None => {
