@@ -474,6 +474,7 @@ impl Session {
             selection,
             params,
             scene_known: true,
+            orders: None,
         };
         plan::build_plan(checked, &cfg, &mut self.diags)
     }
@@ -529,6 +530,7 @@ impl Session {
             }
         }
         let none = ParamValues::new();
+        let orders = crate::plan::order::Orders::default();
         let found: Vec<Diagnostics> = jobs
             .into_par_iter()
             .map(|(scene, selection)| {
@@ -538,6 +540,7 @@ impl Session {
                     selection,
                     params: &none,
                     scene_known: scene_given,
+                    orders: Some(&orders),
                 };
                 let mut diags = Diagnostics::default();
                 // Every stage of planning that can fail, sizing included (extents, mips).

@@ -82,7 +82,7 @@ fn why_false(c: &Condition, cfg: &Config) -> (String, bool) {
 /// Which passes a configuration keeps, in what order, and why the others are culled.
 pub struct Schedule {
     pub culled: BTreeMap<usize, Cause>,
-    pub ordered: order::Ordered,
+    pub ordered: std::sync::Arc<order::Ordered>,
 }
 
 /// What culled a pass; `reason` words it (only a diagnostic or a Plan asks, so `check`'s
@@ -162,7 +162,10 @@ pub fn schedule(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> Opt
             return None;
         }
     }
-    let ordered = order::order(p, &kept, &why, diags)?;
+    let ordered = match cfg.orders {
+        Some(orders) => orders.order(p, &kept, &why, diags)?,
+        None => std::sync::Arc::new(order::order(p, &kept, &why, diags)?),
+    };
     // A pass whose shaders failed to check has no version; its errors are already reported.
     if ordered.order.iter().any(|&i| checked.version(i, &cfg.selection.chosen).is_none()) {
         return None;

@@ -47,6 +47,8 @@ pub struct Config<'a> {
     /// scene: only then does a kept pass that renders to a format the profile cannot render to
     /// fail the plan (without one, the declaration check warns).
     pub scene_known: bool,
+    /// Orders the other configurations of one check worked out (`check_configurations`).
+    pub orders: Option<&'a order::Orders>,
 }
 
 impl Config<'_> {

@@ -18,6 +18,35 @@ pub struct Ordered {
     pub after: BTreeMap<usize, Vec<usize>>,
 }
 
+/// Orders already worked out for sets of kept passes of one pipeline: the configurations
+/// `check` plans often keep the same passes (another shader substituted, another constant),
+/// which order alike. Only orders made without a diagnostic are kept.
+#[derive(Default)]
+pub struct Orders(std::sync::Mutex<std::collections::HashMap<Vec<usize>, std::sync::Arc<Ordered>>>);
+
+impl Orders {
+    /// `order` of `kept`, or the order another configuration kept the same passes in.
+    pub fn order(
+        &self,
+        p: &Pipeline,
+        kept: &[usize],
+        culled: &dyn Fn(usize) -> Option<String>,
+        diags: &mut Diagnostics,
+    ) -> Option<std::sync::Arc<Ordered>> {
+        if let Some(o) = self.0.lock().ok().and_then(|m| m.get(kept).cloned()) {
+            return Some(o);
+        }
+        let before = diags.list.len();
+        let o = std::sync::Arc::new(order(p, kept, culled, diags)?);
+        if diags.list.len() == before {
+            if let Ok(mut m) = self.0.lock() {
+                m.insert(kept.to_vec(), o.clone());
+            }
+        }
+        Some(o)
+    }
+}
+
 /// edge (from, to) -> (resource, span of the use in `to`)
 type Edges<'p> = BTreeMap<(usize, usize), (&'p str, Span)>;
 
