@@ -162,7 +162,11 @@ fn a_shared_expansion_is_located_in_every_session() {
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let sessions = one.install(|| ws.check_files(&paths, None, &Profile::vulkan(), None));
     for s in &sessions {
-        let d = s.diags.errors().next().unwrap_or_else(|| panic!("an error in each session: {}", s.render()));
+        let d = s
+            .diags
+            .errors()
+            .next()
+            .unwrap_or_else(|| panic!("an error in each session: {}", s.render()));
         let (f, l, c) = d.location(&s.sources).unwrap();
         // The invalid function, with `1u` marked in it on line 2.
         assert!(f.ends_with("helpers.wgsl") && (l, c) == (1, 1), "{f}:{l}:{c}\n{}", s.render());

@@ -483,7 +483,11 @@ fn an_option_that_cannot_be_named_is_refused_where_it_is_declared() {
         found,
         vec![
             (format!("option ` low`: a name may not {blanks}"), 11, 12),
-            ("option `_`: a name may not be `_`, which stands for every option an arm of a choice does not name".into(), 12, 12),
+            (
+                "option `_`: a name may not be `_`, which stands for every option an arm of a choice does not name".into(),
+                12,
+                12
+            ),
             (format!("option ``: a name may not {blanks}"), 13, 12),
         ],
         "{}",

@@ -343,7 +343,14 @@ struct Ahead {
 /// (the path under its root): they read one snapshot of the files, so one expansion, and
 /// its hash, serves them all. Only successes are kept.
 #[derive(Default)]
-pub struct Expansions(std::sync::Mutex<HashMap<String, Arc<(Lang, Expanded, u64)>>>);
+pub struct Expansions(std::sync::Mutex<HashMap<String, Arc<Expansion>>>);
+
+/// A shader file's language, its text with includes spliced in and the text's hash.
+struct Expansion {
+    lang: Lang,
+    expanded: Expanded,
+    hash: u64,
+}
 
 impl Expansions {
     /// The expansion kept for `name`, rebuilt in `sources`: each of its files read again
@@ -351,7 +358,7 @@ impl Expansions {
     /// gives the same text) and added to the source map unless it holds it already.
     fn take(&self, fs: &dyn ShaderFs, sources: &mut SourceMap, name: &str) -> Option<(Lang, Expanded, FileId, u64)> {
         let kept = self.0.lock().ok()?.get(name)?.clone();
-        let (lang, e, hash) = &*kept;
+        let e = &kept.expanded;
         let mut ids = Vec::with_capacity(e.paths.len());
         for path in &e.paths {
             let text = fs.read(path).ok()?;
@@ -365,7 +372,12 @@ impl Expansions {
         let segments = e
             .segments
             .iter()
-            .map(|s| Some(include::Segment { file: local(s.file)?, ..s.clone() }))
+            .map(|s| {
+                Some(include::Segment {
+                    file: local(s.file)?,
+                    ..s.clone()
+                })
+            })
             .collect::<Option<Vec<_>>>()?;
         let expanded = Expanded {
             text: e.text.clone(),
@@ -373,12 +385,13 @@ impl Expansions {
             files: ids.clone(),
             paths: e.paths.clone(),
         };
-        Some((*lang, expanded, ids[0], *hash))
+        Some((kept.lang, expanded, ids[0], kept.hash))
     }
 
     fn put(&self, name: String, lang: Lang, expanded: &Expanded, hash: u64) {
         if let Ok(mut m) = self.0.lock() {
-            m.insert(name, Arc::new((lang, expanded.clone(), hash)));
+            let expanded = expanded.clone();
+            m.insert(name, Arc::new(Expansion { lang, expanded, hash }));
         }
     }
 }
