@@ -110,21 +110,10 @@ fn a_used_pipeline_parsed_once_is_located_in_every_session() {
             ("shaders/fill.wgsl", FILL),
         ],
     );
-    let ws = Workspace::disk();
-    let paths = [dir.join("pipelines/base.ron"), dir.join("pipelines/user.ron")];
-    // One thread: `base.ron` is parsed in its own session first, so the second takes it.
-    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-    let sessions = one.install(|| ws.check_files(&paths, None, &Profile::vulkan(), None));
-    let at: Vec<(String, usize, usize)> = sessions
-        .iter()
-        .map(|s| {
-            let d = s
-                .diags
-                .errors()
-                .next()
-                .unwrap_or_else(|| panic!("an error in each session: {}", s.render()));
-            d.location(&s.sources).unwrap()
-        })
+    // `base.ron` is parsed in its own session first, so the second takes it.
+    let at: Vec<(String, usize, usize)> = first_errors_in_order(&dir, &["base.ron", "user.ron"])
+        .into_iter()
+        .map(|(at, _)| at)
         .collect();
     let col = base.find("\"nowhere\"").unwrap() + 1;
     for (f, l, c) in &at {
@@ -156,20 +145,31 @@ fn a_shared_expansion_is_located_in_every_session() {
             ("shaders/lib/helpers.wgsl", helpers),
         ],
     );
+    // `a` expands `lit.wgsl` first, `b` takes its expansion.
+    for ((f, l, c), report) in first_errors_in_order(&dir, &["a.ron", "b.ron"]) {
+        // The invalid function, with `1u` marked in it on line 2.
+        assert!(f.ends_with("helpers.wgsl") && (l, c) == (1, 1), "{f}:{l}:{c}\n{report}");
+        assert!(report.contains("2 │ │     return 1u;"), "{report}");
+    }
+}
+
+/// Check `pipelines/<file>` of `dir` in one run, on one thread (so in the order given, each
+/// taking what the ones before made): each session's first error, located, and its report.
+fn first_errors_in_order(dir: &std::path::Path, files: &[&str]) -> Vec<((String, usize, usize), String)> {
     let ws = Workspace::disk();
-    let paths = [dir.join("pipelines/a.ron"), dir.join("pipelines/b.ron")];
-    // One thread: `a` expands `lit.wgsl` first, `b` takes its expansion.
+    let paths: Vec<_> = files.iter().map(|f| dir.join("pipelines").join(f)).collect();
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let sessions = one.install(|| ws.check_files(&paths, None, &Profile::vulkan(), None));
-    for s in &sessions {
-        let d = s
-            .diags
-            .errors()
-            .next()
-            .unwrap_or_else(|| panic!("an error in each session: {}", s.render()));
-        let (f, l, c) = d.location(&s.sources).unwrap();
-        // The invalid function, with `1u` marked in it on line 2.
-        assert!(f.ends_with("helpers.wgsl") && (l, c) == (1, 1), "{f}:{l}:{c}\n{}", s.render());
-        assert!(s.render().contains("2 │ │     return 1u;"), "{}", s.render());
-    }
+    sessions
+        .iter()
+        .map(|s| {
+            let report = s.render();
+            let d = s
+                .diags
+                .errors()
+                .next()
+                .unwrap_or_else(|| panic!("an error in each session: {report}"));
+            (d.location(&s.sources).unwrap(), report)
+        })
+        .collect()
 }
