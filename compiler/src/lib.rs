@@ -18,6 +18,7 @@ pub mod format;
 pub mod front;
 pub mod ir;
 pub mod layout;
+pub mod memo;
 pub mod plan;
 pub mod profile;
 pub mod scene;

@@ -1,7 +1,8 @@
 //! The virtual file system a compilation reads through: the disk, or files held in memory
 //! (tests, an editor's unsaved buffers). Paths are compared after lexical normalisation.
 
-use std::collections::{BTreeMap, HashMap};
+use crate::memo::Memo;
+use std::collections::BTreeMap;
 use std::io;
 use std::path::{Component, Path, PathBuf};
 use std::sync::RwLock;
@@ -166,9 +167,9 @@ pub fn read_error_code(e: &io::Error) -> crate::diag::Code {
 /// long-running process must see edits.
 pub struct Snapshot {
     inner: std::sync::Arc<dyn Vfs>,
-    texts: std::sync::Mutex<HashMap<PathBuf, String>>,
-    bytes: std::sync::Mutex<HashMap<PathBuf, Vec<u8>>>,
-    within: std::sync::Mutex<HashMap<(PathBuf, PathBuf), ()>>,
+    texts: Memo<PathBuf, String>,
+    bytes: Memo<PathBuf, Vec<u8>>,
+    within: Memo<(PathBuf, PathBuf), ()>,
 }
 
 impl Snapshot {
@@ -182,36 +183,19 @@ impl Snapshot {
     }
 }
 
-/// A kept success, else `read` and keep what it gives.
-fn kept<K: Eq + std::hash::Hash, T: Clone>(
-    memo: &std::sync::Mutex<HashMap<K, T>>,
-    key: K,
-    read: impl FnOnce() -> io::Result<T>,
-) -> io::Result<T> {
-    if let Some(t) = memo.lock().ok().and_then(|m| m.get(&key).cloned()) {
-        return Ok(t);
-    }
-    let t = read()?;
-    if let Ok(mut m) = memo.lock() {
-        m.insert(key, t.clone());
-    }
-    Ok(t)
-}
-
 impl Vfs for Snapshot {
     fn read(&self, path: &Path) -> io::Result<String> {
-        kept(&self.texts, path.to_path_buf(), || self.inner.read(path))
+        self.texts.kept(path.to_path_buf(), || self.inner.read(path))
     }
     fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
-        kept(&self.bytes, path.to_path_buf(), || self.inner.read_bytes(path))
+        self.bytes.kept(path.to_path_buf(), || self.inner.read_bytes(path))
     }
     fn is_dir(&self, path: &Path) -> bool {
         self.inner.is_dir(path)
     }
     fn within(&self, root: &Path, path: &Path) -> io::Result<()> {
-        kept(&self.within, (root.to_path_buf(), path.to_path_buf()), || {
-            self.inner.within(root, path)
-        })
+        self.within
+            .kept((root.to_path_buf(), path.to_path_buf()), || self.inner.within(root, path))
     }
 }
 

@@ -148,20 +148,17 @@ struct Run {
 /// several pipelines use (`deferred_gi` uses `deferred`) is parsed once. Keyed by the name
 /// diagnostics show; the text must match.
 #[derive(Default)]
-struct Trees(std::sync::Mutex<std::collections::HashMap<String, (String, Node)>>);
+struct Trees(crate::memo::Memo<String, Arc<(String, Node)>>);
 
 impl Trees {
     /// The tree of `text` if another session parsed it, its spans moved into `file`.
     fn get(&self, name: &str, text: &str, file: crate::span::FileId) -> Option<Node> {
-        let trees = self.0.lock().ok()?;
-        let (_, tree) = trees.get(name).filter(|(t, _)| t == text)?;
-        Some(crate::tree::refile(tree, file))
+        let kept = self.0.get(name).filter(|k| k.0 == text)?;
+        Some(crate::tree::refile(&kept.1, file))
     }
 
     fn put(&self, name: &str, text: &str, tree: &Node) {
-        if let Ok(mut trees) = self.0.lock() {
-            trees.insert(name.to_string(), (text.to_string(), tree.clone()));
-        }
+        self.0.put(name.to_string(), Arc::new((text.to_string(), tree.clone())));
     }
 }
 

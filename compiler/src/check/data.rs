@@ -26,20 +26,7 @@ pub struct DataCtx<'a> {
 
 /// Buffers decoded from data files, by path, for the compilations of one run: they read the
 /// same snapshot, so one decode serves all (`deferred`'s LTC table is 8,192 numbers of JSON).
-#[derive(Default)]
-pub struct Decoded(std::sync::Mutex<std::collections::HashMap<PathBuf, Arc<Vec<u8>>>>);
-
-impl Decoded {
-    fn get(&self, path: &Path) -> Option<Arc<Vec<u8>>> {
-        self.0.lock().ok()?.get(path).cloned()
-    }
-
-    fn put(&self, path: &Path, bytes: &Arc<Vec<u8>>) {
-        if let Ok(mut m) = self.0.lock() {
-            m.insert(path.to_path_buf(), bytes.clone());
-        }
-    }
-}
+pub type Decoded = crate::memo::Memo<PathBuf, Arc<Vec<u8>>>;
 
 pub fn check(p: &Pipeline, ctx: &mut DataCtx, diags: &mut Diagnostics) -> ResourceData {
     let mut out = ResourceData::new();
@@ -102,15 +89,14 @@ fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Arc
 fn buffer_file(ctx: &mut DataCtx, f: &str) -> Result<Arc<Vec<u8>>, Failure> {
     let path = resolve(ctx, f)?;
     let raw = read(ctx, &path, f)?;
-    if let Some(hit) = ctx.decoded.and_then(|d| d.get(&path)) {
-        return Ok(hit);
+    let decode = || {
+        let bytes = data::buffer_from_file(&path, raw).map_err(|e| (Code::DataMismatch, format!("`{f}`: {e}")))?;
+        Ok(Arc::new(bytes))
+    };
+    match ctx.decoded {
+        Some(d) => d.kept(path.clone(), decode),
+        None => decode(),
     }
-    let bytes = data::buffer_from_file(&path, raw).map_err(|e| (Code::DataMismatch, format!("`{f}`: {e}")))?;
-    let bytes = Arc::new(bytes);
-    if let Some(d) = ctx.decoded {
-        d.put(&path, &bytes);
-    }
-    Ok(bytes)
 }
 
 /// A data path relative to the pipeline's directory, which it may not leave.

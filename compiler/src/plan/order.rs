@@ -22,7 +22,7 @@ pub struct Ordered {
 /// `check` plans often keep the same passes (another shader substituted, another constant),
 /// which order alike. Only orders made without a diagnostic are kept.
 #[derive(Default)]
-pub struct Orders(std::sync::Mutex<std::collections::HashMap<Vec<usize>, std::sync::Arc<Ordered>>>);
+pub struct Orders(crate::memo::Memo<Vec<usize>, std::sync::Arc<Ordered>>);
 
 impl Orders {
     /// `order` of `kept`, or the order another configuration kept the same passes in.
@@ -33,15 +33,13 @@ impl Orders {
         culled: &dyn Fn(usize) -> Option<String>,
         diags: &mut Diagnostics,
     ) -> Option<std::sync::Arc<Ordered>> {
-        if let Some(o) = self.0.lock().ok().and_then(|m| m.get(kept).cloned()) {
+        if let Some(o) = self.0.get(kept) {
             return Some(o);
         }
         let before = diags.list.len();
         let o = std::sync::Arc::new(order(p, kept, culled, diags)?);
         if diags.list.len() == before {
-            if let Ok(mut m) = self.0.lock() {
-                m.insert(kept.to_vec(), o.clone());
-            }
+            self.0.put(kept.to_vec(), o.clone());
         }
         Some(o)
     }

@@ -343,7 +343,7 @@ struct Ahead {
 /// (the path under its root): they read one snapshot of the files, so one expansion, and
 /// its hash, serves them all. Only successes are kept.
 #[derive(Default)]
-pub struct Expansions(std::sync::Mutex<HashMap<String, Arc<Expansion>>>);
+pub struct Expansions(crate::memo::Memo<String, Arc<Expansion>>);
 
 /// A shader file's language, its text with includes spliced in and the text's hash.
 struct Expansion {
@@ -357,7 +357,7 @@ impl Expansions {
     /// through `fs` (recorded and link-checked as a fresh expansion's are; the snapshot
     /// gives the same text) and added to the source map unless it holds it already.
     fn take(&self, fs: &dyn ShaderFs, sources: &mut SourceMap, name: &str) -> Option<(Lang, Expanded, FileId, u64)> {
-        let kept = self.0.lock().ok()?.get(name)?.clone();
+        let kept = self.0.get(name)?;
         let e = &kept.expanded;
         let mut ids = Vec::with_capacity(e.paths.len());
         for path in &e.paths {
@@ -389,10 +389,8 @@ impl Expansions {
     }
 
     fn put(&self, name: String, lang: Lang, expanded: &Expanded, hash: u64) {
-        if let Ok(mut m) = self.0.lock() {
-            let expanded = expanded.clone();
-            m.insert(name, Arc::new(Expansion { lang, expanded, hash }));
-        }
+        let expanded = expanded.clone();
+        self.0.put(name, Arc::new(Expansion { lang, expanded, hash }));
     }
 }
 
@@ -405,13 +403,14 @@ fn read_hashed(
     shared: Option<&Expansions>,
     diags: &mut Diagnostics,
 ) -> Option<(Lang, Expanded, FileId, u64)> {
-    let name = fs.display(&path.value);
-    if let Some(hit) = shared.and_then(|s| s.take(fs, sources, &name)) {
+    // Without a run to share with, no name is needed.
+    let name = shared.map(|_| fs.display(&path.value));
+    if let Some(hit) = shared.zip(name.as_deref()).and_then(|(s, name)| s.take(fs, sources, name)) {
         return Some(hit);
     }
     let (lang, expanded, root) = read_expanded(fs, sources, path, diags)?;
     let hash = cache::text_hash(&expanded.text);
-    if let Some(s) = shared {
+    if let Some((s, name)) = shared.zip(name) {
         s.put(name, lang, &expanded, hash);
     }
     Some((lang, expanded, root, hash))
