@@ -10,6 +10,7 @@ override SHADOWS: bool = false;
 
 struct Params {
     shadow_steps: u32,
+    residual: u32,
 };
 
 @group(2) @binding(4) var<uniform> params: Params;
@@ -19,7 +20,7 @@ fn lit(s: Surface) -> vec4<f32> {
         return vec4<f32>(0.0);
     }
     let shadows = ScreenShadows(SHADOWS, params.shadow_steps);
-    return vec4<f32>(area_lighting(s, shadows), 0.0);
+    return vec4<f32>(area_lighting(s, shadows, params.residual), 0.0);
 }
 
 @fragment

@@ -3,7 +3,8 @@
 // runtime) and the integral of a clamped cosine over a polygon, in closed form. The diffuse
 // lobe is that cosine; the specular lobe of lib/lighting.wgsl's Blinn-Phong is a cosine carried
 // by the inverse transform of pipelines/ltc_blinn_phong.json (fitted by
-// `cargo run --release -p lightbench-reference --example ltc_fit`; docs/reference.md).
+// `cargo run --release -p lightbench-reference --example ltc_fit`; docs/reference.md), plus
+// what that fit leaves out, by quadrature (`Residual`).
 
 struct AreaLight {
     // Corners in world space (w unused), counter-clockwise seen from the emitting side.
@@ -32,36 +33,151 @@ fn ltc_edge(a: vec3<f32>, b: vec3<f32>) -> f32 {
     return c.z * theta / max(s, 1e-9);
 }
 
-// The integral over triangle (a, b, c) — points relative to the shading point, in a frame
-// whose cosine lobe points +z — of the clamped cosine / π, clipped to the upper hemisphere.
-// Signed: positive when the triangle is seen clockwise (its front, emitting side, faces the
-// point for counter-clockwise corners).
-fn ltc_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
-    // Clip against z = 0 (Sutherland-Hodgman): a triangle keeps at most four corners.
+// A triangle clipped to the upper hemisphere (z > 0; Sutherland-Hodgman): at most four corners.
+struct Clipped {
+    p: array<vec3<f32>, 4>,
+    n: u32,
+};
+
+fn ltc_clip(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> Clipped {
     var p: array<vec3<f32>, 3> = array<vec3<f32>, 3>(a, b, c);
-    var out: array<vec3<f32>, 4>;
-    var n = 0u;
+    var out: Clipped;
+    out.n = 0u;
     for (var i = 0u; i < 3u; i = i + 1u) {
         let cur = p[i];
         let next = p[(i + 1u) % 3u];
         if cur.z > 0.0 {
-            out[n] = cur;
-            n = n + 1u;
+            out.p[out.n] = cur;
+            out.n = out.n + 1u;
         }
         if (cur.z > 0.0) != (next.z > 0.0) {
             let t = cur.z / (cur.z - next.z);
-            out[n] = mix(cur, next, t);
-            n = n + 1u;
+            out.p[out.n] = mix(cur, next, t);
+            out.n = out.n + 1u;
         }
     }
-    if n < 3u {
+    return out;
+}
+
+// The integral of the clamped cosine / π over a clipped triangle on the unit sphere. Signed:
+// positive when the triangle is seen clockwise (its front, emitting side, faces the point for
+// counter-clockwise corners).
+fn ltc_integral(q: Clipped) -> f32 {
+    if q.n < 3u {
         return 0.0;
     }
+    var p = q.p;
     var sum = 0.0;
-    for (var i = 0u; i < n; i = i + 1u) {
-        sum = sum + ltc_edge(normalize(out[i]), normalize(out[(i + 1u) % n]));
+    for (var i = 0u; i < q.n; i = i + 1u) {
+        sum = sum + ltc_edge(normalize(p[i]), normalize(p[(i + 1u) % q.n]));
     }
     return -sum / 6.2831853;
+}
+
+// The integral over triangle (a, b, c) — points relative to the shading point, in a frame
+// whose cosine lobe points +z — of the clamped cosine / π, clipped to the upper hemisphere.
+fn ltc_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
+    return ltc_integral(ltc_clip(a, b, c));
+}
+
+// The fitted lobe's residual. A cosine-power lobe is not a transformed cosine (the fit is too
+// low at the peak, too high in the tails: docs/reference.md), so the specular integral is the
+// fitted lobe's, in closed form, plus the integral of (true lobe − fitted lobe) over the
+// polygon by Gauss-Legendre quadrature. The quadrature runs in M⁻¹'s space, where the fitted
+// lobe is a plain cosine and the polygon as wide as the lobe is sharp: a few points resolve
+// the difference at any roughness. `order` points per side per triangle; 0: none.
+struct Residual {
+    // M (the fitted transform; M⁻¹ carries the polygon to the cosine's space), |det M|.
+    m: mat3x3<f32>,
+    det_m: f32,
+    magnitude: f32,
+    // The view direction and Blinn-Phong exponent, in the surface's frame (normal +z).
+    v: vec3<f32>,
+    shininess: f32,
+    order: u32,
+};
+
+// Gauss-Legendre nodes on [0, 1] and their weights, row n − 1 for n points (n ≤ 5).
+const GL_NODES = array<array<f32, 5>, 5>(
+    array<f32, 5>(0.5, 0.0, 0.0, 0.0, 0.0),
+    array<f32, 5>(0.21132487, 0.78867513, 0.0, 0.0, 0.0),
+    array<f32, 5>(0.11270167, 0.5, 0.88729833, 0.0, 0.0),
+    array<f32, 5>(0.06943184, 0.33000948, 0.66999052, 0.93056816, 0.0),
+    array<f32, 5>(0.04691008, 0.23076534, 0.5, 0.76923466, 0.95308992),
+);
+const GL_WEIGHTS = array<array<f32, 5>, 5>(
+    array<f32, 5>(1.0, 0.0, 0.0, 0.0, 0.0),
+    array<f32, 5>(0.5, 0.5, 0.0, 0.0, 0.0),
+    array<f32, 5>(0.27777778, 0.44444444, 0.27777778, 0.0, 0.0),
+    array<f32, 5>(0.17392742, 0.32607258, 0.32607258, 0.17392742, 0.0),
+    array<f32, 5>(0.11846344, 0.23931434, 0.28444444, 0.23931434, 0.11846344),
+);
+
+// The specular lobe × cos θ for a specular colour of 1 (`blinn_phong()`), normal +z.
+fn lobe(l: vec3<f32>, r: Residual) -> f32 {
+    let h = safe_normalize(l + r.v, vec3<f32>(0.0, 0.0, 1.0));
+    return (r.shininess + 8.0) / 25.132741 * pow(max(h.z, 0.0), max(r.shininess, 1.0)) * max(l.z, 0.0);
+}
+
+// The angle at corner `a` of the spherical triangle (a, b, c).
+fn corner_angle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
+    return acos(clamp(dot(normalize(cross(a, b)), normalize(cross(a, c))), -1.0, 1.0));
+}
+
+// ∫ (lobe − magnitude · fitted lobe) over the spherical triangle (a, b, c) of the cosine's
+// space: points from Arvo's area-preserving map of the unit square (1995), the lobe carried
+// back by M with its Jacobian |det M| / |M ω|³.
+fn residual_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, r: Residual) -> f32 {
+    // Corners that (nearly) coincide: a sliver of no area (and no well-defined angles).
+    if min(min(length(cross(a, b)), length(cross(b, c))), length(cross(c, a))) < 1e-6 {
+        return 0.0;
+    }
+    let alpha = corner_angle(a, b, c);
+    let area = alpha + corner_angle(b, c, a) + corner_angle(c, a, b) - 3.14159265;
+    if area <= 1e-7 {
+        return 0.0;
+    }
+    let c_perp = safe_normalize(c - dot(c, a) * a, b);
+    let cos_a = cos(alpha);
+    let sin_a = sin(alpha);
+    let cos_ab = dot(a, b);
+    var nodes = GL_NODES[r.order - 1u];
+    var weights = GL_WEIGHTS[r.order - 1u];
+    var sum = 0.0;
+    for (var i = 0u; i < r.order; i = i + 1u) {
+        // The sub-triangle (a, b, ĉ) of area u₁ · area, then a point along b → ĉ by u₂.
+        let part = nodes[i] * area - alpha;
+        let s = sin(part);
+        let t = cos(part);
+        let u = t - cos_a;
+        let w = s + sin_a * cos_ab;
+        let q = clamp(((w * t - u * s) * cos_a - w) / max((w * s + u * t) * sin_a, 1e-12), -1.0, 1.0);
+        let c_hat = q * a + sqrt(max(1.0 - q * q, 0.0)) * c_perp;
+        let b_perp = safe_normalize(c_hat - dot(c_hat, b) * b, c_hat);
+        for (var j = 0u; j < r.order; j = j + 1u) {
+            let z = 1.0 - nodes[j] * (1.0 - dot(c_hat, b));
+            let o = z * b + sqrt(max(1.0 - z * z, 0.0)) * b_perp;
+            let carried = r.m * o;
+            let len = length(carried);
+            let jacobian = r.det_m / max(len * len * len, 1e-12);
+            let f = lobe(carried / len, r) * jacobian - r.magnitude * max(o.z, 0.0) / 3.14159265;
+            sum = sum + weights[i] * weights[j] * f;
+        }
+    }
+    return sum * area;
+}
+
+// The residual over a clipped triangle of the cosine's space (a fan of at most two).
+fn ltc_residual(q: Clipped, r: Residual) -> f32 {
+    if r.order == 0u || q.n < 3u {
+        return 0.0;
+    }
+    var p = q.p;
+    var sum = 0.0;
+    for (var k = 1u; k + 1u < q.n; k = k + 1u) {
+        sum = sum + residual_triangle(normalize(p[0]), normalize(p[k]), normalize(p[k + 1u]), r);
+    }
+    return sum;
 }
 
 fn ltc_cell(part: u32, i: u32, j: u32) -> vec4<f32> {
@@ -147,9 +263,10 @@ fn area_visibility(s: Surface, l: AreaLight, shadows: ScreenShadows) -> f32 {
 }
 
 // What the scene's area lights add at surface `s`: per triangle, the clamped cosine's integral
-// in the surface's frame (the diffuse lobe) and in the frame M⁻¹ carries the specular lobe to,
-// times its radiance and, with `shadows.on`, the share of it `s` sees in screen space.
-fn area_lighting(s: Surface, shadows: ScreenShadows) -> vec3<f32> {
+// in the surface's frame (the diffuse lobe) and in the frame M⁻¹ carries the specular lobe to
+// (plus the fit's residual by `residual_order` points per side), times its radiance and, with
+// `shadows.on`, the share of it `s` sees in screen space.
+fn area_lighting(s: Surface, shadows: ScreenShadows, residual_order: u32) -> vec3<f32> {
     let n = s.n;
     let cos_v = clamp(dot(n, s.v), 0.02, 1.0);
     // The surface's frame: x towards the view in the tangent plane, z the normal.
@@ -160,21 +277,37 @@ fn area_lighting(s: Surface, shadows: ScreenShadows) -> vec3<f32> {
     let m = ltc_lookup(0u, s.roughness, cos_v);
     let inv = mat3x3<f32>(vec3<f32>(m.x, 0.0, m.w), vec3<f32>(0.0, m.z, 0.0), vec3<f32>(m.y, 0.0, 1.0));
     let magnitude = ltc_lookup(1u, s.roughness, cos_v).x;
+    // M from M⁻¹ = [a 0 b; 0 c 0; d 0 1]: its x-z block inverted, 1/c on y.
+    let k = m.x - m.y * m.w;
+    let residual = Residual(
+        mat3x3<f32>(vec3<f32>(1.0, 0.0, -m.w) / k, vec3<f32>(0.0, 1.0 / m.z, 0.0), vec3<f32>(-m.y, 0.0, m.x) / k),
+        1.0 / abs(k * m.z),
+        magnitude,
+        to_local * s.v,
+        2.0 / max(pow(s.roughness, 4.0), 1e-4) - 2.0,
+        min(residual_order, 5u),
+    );
     let spec_color = mix(vec3<f32>(0.04), s.albedo, s.metallic);
     let diffuse = s.albedo * (1.0 - s.metallic);
     var sum = vec3<f32>(0.0);
-    for (var k = 0u; k < arrayLength(&area_lights); k = k + 1u) {
-        let l = area_lights[k];
+    for (var i = 0u; i < arrayLength(&area_lights); i = i + 1u) {
+        let l = area_lights[i];
         let a = to_local * (l.p0.xyz - s.world);
         let b = to_local * (l.p1.xyz - s.world);
         let c = to_local * (l.p2.xyz - s.world);
         var d = ltc_triangle(a, b, c);
-        var sp = ltc_triangle(inv * a, inv * b, inv * c);
+        let carried = ltc_clip(inv * a, inv * b, inv * c);
+        var sp = ltc_integral(carried);
         if l.radiance.w > 0.5 {
             d = abs(d);
             sp = abs(sp);
         }
-        let light = l.radiance.rgb * (diffuse * max(d, 0.0) + spec_color * magnitude * max(sp, 0.0));
+        // The residual where the fitted lobe lights the point: the front of a one-sided light.
+        var specular = 0.0;
+        if sp > 0.0 {
+            specular = max(magnitude * sp + ltc_residual(carried, residual), 0.0);
+        }
+        let light = l.radiance.rgb * (diffuse * max(d, 0.0) + spec_color * specular);
         if any(light > vec3<f32>(0.0)) {
             sum = sum + light * area_visibility(s, l, shadows);
         }

@@ -37,6 +37,11 @@ fn rendered(s: &Scene, spp: u32) -> (lightbench::io::Image, lightbench::io::Imag
 
 /// The raster `hdr` (no ambient) and depth with `area_lights = option`.
 fn raster(s: &Scene, option: &str) -> (lightbench::io::Image, lightbench::io::Image) {
+    raster_with(s, option, &[])
+}
+
+/// `raster` with parameters `set` as `--param` sets them.
+fn raster_with(s: &Scene, option: &str, set: &[(&str, &str)]) -> (lightbench::io::Image, lightbench::io::Image) {
     let g = gpu();
     let v = [("area_lights".to_string(), option.to_string())];
     let (exe, _) = lightbench::render::compile(&g, &root().join("pipelines/deferred.lbp"), None, s, &v).unwrap_or_else(|e| panic!("{e}"));
@@ -45,7 +50,11 @@ fn raster(s: &Scene, option: &str) -> (lightbench::io::Image, lightbench::io::Im
         option != "off",
         "the area-light pass runs when asked"
     );
-    let set = [("ambient.color".to_string(), "0,0,0".to_string())];
+    let set: Vec<(String, String)> = [("ambient.color", "0,0,0")]
+        .iter()
+        .chain(set)
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
     let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
     let ex = lightbench::render::render_with(&g, &exe, s, 1, &params).unwrap();
     (
@@ -82,13 +91,14 @@ fn floor_difference(s: &Scene, raster: &lightbench::io::Image, reference: &light
     (rel[rel.len() - 1], rel[rel.len() / 2])
 }
 
-/// Unshadowed and alone, the closed form should match the path tracer where the lobes are LTCs:
-/// the diffuse one exactly (a rough floor: within 3% per pixel, the reference's noise
-/// included); the specular lobe of a smoother floor keeps the fit's shape error
-/// (docs/reference.md), a few per cent at the worst pixel.
+/// Unshadowed and alone, the closed form should match the path tracer: the diffuse lobe is
+/// exact, the specular one the fitted lobe plus its residual by quadrature (`area.residual`,
+/// 4): within 3% per floor pixel (the reference's noise included) from rough to glossy. The
+/// fit alone is 4.0% at roughness 0.5 and ~5% at 0.3 and 0.2 (docs/effects.md). Not at 0.1:
+/// there the highlight's edges are sharper than a pixel, which the raster shades at its centre.
 #[test]
 fn a_lamp_above_a_floor_matches_the_reference_direct_term() {
-    for (roughness, worst_allowed, median_allowed) in [(1.0, 0.03, 0.01), (0.5, 0.05, 0.015)] {
+    for (roughness, worst_allowed, median_allowed) in [(1.0, 0.03, 0.01), (0.5, 0.03, 0.01), (0.3, 0.03, 0.01), (0.2, 0.03, 0.01)] {
         let s = lamp_over_floor(roughness, true, false);
         let (raster, reference) = raster_and_reference(&s, 4096);
         let (worst, median) = floor_difference(&s, &raster, &reference);
@@ -98,6 +108,13 @@ fn a_lamp_above_a_floor_matches_the_reference_direct_term() {
             "roughness {roughness}: worst {worst}, median {median}"
         );
         assert_eq!(raster.non_finite(), 0);
+        if roughness == 0.5 {
+            // The fit alone (`area.residual` 0) is what the residual corrects.
+            let (alone, _) = raster_with(&s, "ltc", &[("area.residual", "0")]);
+            let (worst_alone, _) = floor_difference(&s, &alone, &reference);
+            eprintln!("roughness 0.5, the fit alone: worst {worst_alone:.4}");
+            assert!(worst_alone > 0.035, "the fit alone at roughness 0.5: worst {worst_alone}");
+        }
     }
 }
 
