@@ -15,8 +15,9 @@
 //!    each (`Executor::set_merge(false)`): frame GPU and wall ms, light-pass encode µs, ratios;
 //!    and untimed, where the light pass also continues ambient's render pass (`continues`):
 //!    frame wall ms merged vs apart.
-//! 4. Area lights (`-- area`): the `area_light` pass (`area_lights = ltc`, and `ltc_shadowed`) on the Cornell box
-//!    with 2, 32 and 512 emissive triangles (a grid of small lamps under the ceiling) at
+//! 4. Area lights (`-- area`): the `area_light` pass (`area_lights = ltc`; the same with the
+//!    fit's residual off, `area.residual` 0, as the baseline; and `ltc_shadowed`) on the Cornell
+//!    box with 2, 32 and 512 emissive triangles (a grid of small lamps under the ceiling) at
 //!    128×128, 256×256 and 512×512: pass GPU ms and µs per triangle.
 //!
 //! Every pass runs every frame (no reuse); figures are means over the frames after a warm-up.
@@ -263,19 +264,33 @@ fn lamps(quads: usize, size: u32) -> Scene {
 fn area_lights(gpu: &Gpu) {
     println!("Area lights: the area_light pass on the Cornell box with emissive triangles under the ceiling");
     println!(
-        "    {:<14} {:<10} {:>10} {:>14} {:>18}",
+        "    {:<16} {:<10} {:>10} {:>14} {:>18}",
         "area_lights", "size", "triangles", "pass GPU ms", "µs per triangle"
     );
-    let ws = project(|t| t);
-    // Screen-space shadows march 4 segments per triangle and pixel: not past 32 triangles here.
-    for (option, most) in [("ltc", 256usize), ("ltc_shadowed", 16)] {
+    // The baseline: the fitted lobe alone (`area.residual` 0), the same pipelines otherwise.
+    let fit_alone = |t: String| {
+        let residual = "\"area.residual\": Int(default: 4,";
+        assert!(
+            t.contains(residual) || !t.contains("\"area.residual\""),
+            "the default this bench assumes"
+        );
+        t.replace(residual, "\"area.residual\": Int(default: 0,")
+    };
+    let runs = [
+        ("ltc", project(|t| t), 256usize),
+        ("ltc, residual 0", project(fit_alone), 256),
+        // Screen-space shadows march 4 segments per triangle and pixel: not past 32 triangles here.
+        ("ltc_shadowed", project(|t| t), 16),
+    ];
+    for (label, ws, most) in &runs {
+        let option = label.split(',').next().expect("an option");
         for size in [128u32, 256, 512] {
-            for quads in [1usize, 16, 256].into_iter().filter(|q| *q <= most) {
+            for quads in [1usize, 16, 256].into_iter().filter(|q| q <= most) {
                 let scene = lamps(quads, size);
-                let c = measure(gpu, &ws, &scene, &[("area_lights", option)], 3, |p| p == "area_light");
+                let c = measure(gpu, ws, &scene, &[("area_lights", option)], 3, |p| p == "area_light");
                 let per = c.picked_ms * 1e3 / (2 * quads) as f64;
                 println!(
-                    "    {option:<14} {:<10} {:>10} {:>14.2} {per:>18.1}",
+                    "    {label:<16} {:<10} {:>10} {:>14.2} {per:>18.1}",
                     format!("{size}²"),
                     2 * quads,
                     c.picked_ms
