@@ -85,7 +85,8 @@ fn ltc_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>) -> f32 {
 // fitted lobe's, in closed form, plus the integral of (true lobe − fitted lobe) over the
 // polygon by Gauss-Legendre quadrature. The quadrature runs in M⁻¹'s space, where the fitted
 // lobe is a plain cosine and the polygon as wide as the lobe is sharp: a few points resolve
-// the difference at any roughness. `order` points per side per triangle; 0: none.
+// the difference down to roughness ~0.2 (at 0.1, 4 points are short: docs/effects.md).
+// `order` points per side per triangle; 0: none.
 struct Residual {
     // M (the fitted transform; M⁻¹ carries the polygon to the cosine's space), |det M|.
     m: mat3x3<f32>,
