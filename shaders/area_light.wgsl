@@ -3,6 +3,7 @@
 // what the depth buffer holds.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/lighting.wgsl"
 #include "lib/area_light.wgsl"
 
 // Screen-space shadows (`area_lights = ltc_shadowed`).

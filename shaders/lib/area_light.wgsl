@@ -92,32 +92,25 @@ struct Residual {
     m: mat3x3<f32>,
     det_m: f32,
     magnitude: f32,
-    // The view direction and Blinn-Phong exponent, in the surface's frame (normal +z).
+    // The view direction, in the surface's frame (normal +z), and the surface's roughness.
     v: vec3<f32>,
-    shininess: f32,
+    roughness: f32,
     order: u32,
 };
 
-// Gauss-Legendre nodes on [0, 1] and their weights, row n − 1 for n points (n ≤ 5).
-const GL_NODES = array<array<f32, 5>, 5>(
-    array<f32, 5>(0.5, 0.0, 0.0, 0.0, 0.0),
-    array<f32, 5>(0.21132487, 0.78867513, 0.0, 0.0, 0.0),
-    array<f32, 5>(0.11270167, 0.5, 0.88729833, 0.0, 0.0),
-    array<f32, 5>(0.06943184, 0.33000948, 0.66999052, 0.93056816, 0.0),
-    array<f32, 5>(0.04691008, 0.23076534, 0.5, 0.76923466, 0.95308992),
-);
-const GL_WEIGHTS = array<array<f32, 5>, 5>(
-    array<f32, 5>(1.0, 0.0, 0.0, 0.0, 0.0),
-    array<f32, 5>(0.5, 0.5, 0.0, 0.0, 0.0),
-    array<f32, 5>(0.27777778, 0.44444444, 0.27777778, 0.0, 0.0),
-    array<f32, 5>(0.17392742, 0.32607258, 0.32607258, 0.17392742, 0.0),
-    array<f32, 5>(0.11846344, 0.23931434, 0.28444444, 0.23931434, 0.11846344),
+// Gauss-Legendre rules on [0, 1]: (node, weight) pairs, row n − 1 for n points (n ≤ 5).
+const GAUSS_LEGENDRE = array<array<vec2<f32>, 5>, 5>(
+    array<vec2<f32>, 5>(vec2(0.5, 1.0), vec2(0.0), vec2(0.0), vec2(0.0), vec2(0.0)),
+    array<vec2<f32>, 5>(vec2(0.21132487, 0.5), vec2(0.78867513, 0.5), vec2(0.0), vec2(0.0), vec2(0.0)),
+    array<vec2<f32>, 5>(vec2(0.11270167, 0.27777778), vec2(0.5, 0.44444444), vec2(0.88729833, 0.27777778), vec2(0.0), vec2(0.0)),
+    array<vec2<f32>, 5>(vec2(0.06943184, 0.17392742), vec2(0.33000948, 0.32607258), vec2(0.66999052, 0.32607258), vec2(0.93056816, 0.17392742), vec2(0.0)),
+    array<vec2<f32>, 5>(vec2(0.04691008, 0.11846344), vec2(0.23076534, 0.23931434), vec2(0.5, 0.28444444), vec2(0.76923466, 0.23931434), vec2(0.95308992, 0.11846344)),
 );
 
-// The specular lobe × cos θ for a specular colour of 1 (`blinn_phong()`), normal +z.
+// The specular lobe × cos θ for a specular colour of 1, normal +z: `blinn_phong()` of a white
+// metal (no diffuse lobe, specular colour 1).
 fn lobe(l: vec3<f32>, r: Residual) -> f32 {
-    let h = safe_normalize(l + r.v, vec3<f32>(0.0, 0.0, 1.0));
-    return (r.shininess + 8.0) / 25.132741 * pow(max(h.z, 0.0), max(r.shininess, 1.0)) * max(l.z, 0.0);
+    return blinn_phong(vec3<f32>(0.0, 0.0, 1.0), l, r.v, vec3<f32>(1.0), 1.0, r.roughness).x;
 }
 
 // The angle at corner `a` of the spherical triangle (a, b, c).
@@ -142,12 +135,11 @@ fn residual_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, r: Residual) -> f
     let cos_a = cos(alpha);
     let sin_a = sin(alpha);
     let cos_ab = dot(a, b);
-    var nodes = GL_NODES[r.order - 1u];
-    var weights = GL_WEIGHTS[r.order - 1u];
+    var rule = GAUSS_LEGENDRE[r.order - 1u];
     var sum = 0.0;
     for (var i = 0u; i < r.order; i = i + 1u) {
         // The sub-triangle (a, b, ĉ) of area u₁ · area, then a point along b → ĉ by u₂.
-        let part = nodes[i] * area - alpha;
+        let part = rule[i].x * area - alpha;
         let s = sin(part);
         let t = cos(part);
         let u = t - cos_a;
@@ -156,13 +148,13 @@ fn residual_triangle(a: vec3<f32>, b: vec3<f32>, c: vec3<f32>, r: Residual) -> f
         let c_hat = q * a + sqrt(max(1.0 - q * q, 0.0)) * c_perp;
         let b_perp = safe_normalize(c_hat - dot(c_hat, b) * b, c_hat);
         for (var j = 0u; j < r.order; j = j + 1u) {
-            let z = 1.0 - nodes[j] * (1.0 - dot(c_hat, b));
+            let z = 1.0 - rule[j].x * (1.0 - dot(c_hat, b));
             let o = z * b + sqrt(max(1.0 - z * z, 0.0)) * b_perp;
             let carried = r.m * o;
             let len = length(carried);
             let jacobian = r.det_m / max(len * len * len, 1e-12);
             let f = lobe(carried / len, r) * jacobian - r.magnitude * max(o.z, 0.0) / 3.14159265;
-            sum = sum + weights[i] * weights[j] * f;
+            sum = sum + rule[i].y * rule[j].y * f;
         }
     }
     return sum * area;
@@ -285,7 +277,7 @@ fn area_lighting(s: Surface, shadows: ScreenShadows, residual_order: u32) -> vec
         1.0 / abs(k * m.z),
         magnitude,
         to_local * s.v,
-        2.0 / max(pow(s.roughness, 4.0), 1e-4) - 2.0,
+        s.roughness,
         min(residual_order, 5u),
     );
     let spec_color = mix(vec3<f32>(0.04), s.albedo, s.metallic);
