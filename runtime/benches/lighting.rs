@@ -24,6 +24,7 @@
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::{builtin, Scene};
+use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::vfs::MemoryVfs;
 use lightbench_compiler::workspace::Workspace;
 use std::path::Path;
@@ -66,14 +67,14 @@ fn project(edit: impl Fn(String) -> String) -> Workspace {
 }
 
 fn measure(gpu: &Gpu, ws: &Workspace, scene: &Scene, variants: &[(&str, &str)], frames: u32, pick: impl Fn(&str) -> bool) -> Cost {
-    measure_with(gpu, ws, scene, (variants, true, true), frames, pick)
+    measure_with(gpu, ws, scene, (variants, &[], true, true), frames, pick)
 }
 
 fn measure_with(
     gpu: &Gpu,
     ws: &Workspace,
     scene: &Scene,
-    (variants, merge, timed): (&[(&str, &str)], bool, bool),
+    (variants, params, merge, timed): (&[(&str, &str)], &[(&str, ParamValue)], bool, bool),
     frames: u32,
     pick: impl Fn(&str) -> bool,
 ) -> Cost {
@@ -86,6 +87,9 @@ fn measure_with(
         }
     }
     let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
+    for (name, value) in params {
+        ex.set_param(name, value.clone()).expect("a parameter of the pipeline");
+    }
     ex.set_reuse(false);
     ex.set_merge(merge);
     ex.set_timing(timed);
@@ -217,11 +221,11 @@ fn merged_repetitions(gpu: &Gpu) {
             let mut scene = builtin::many_lights(n);
             scene.size = (512, 384);
             let lights = |p: &str| p.starts_with("light_") || p.starts_with("volume_");
-            let m = measure_with(gpu, &ws, &scene, (&[("lighting", model)], true, true), 3, lights);
-            let a = measure_with(gpu, &ws, &scene, (&[("lighting", model)], false, true), 3, lights);
+            let m = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], true, true), 3, lights);
+            let a = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], false, true), 3, lights);
             // Untimed, merging also lets the light pass continue ambient's render pass.
-            let mc = measure_with(gpu, &ws, &scene, (&[("lighting", model)], true, false), 3, lights);
-            let au = measure_with(gpu, &ws, &scene, (&[("lighting", model)], false, false), 3, lights);
+            let mc = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], true, false), 3, lights);
+            let au = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], false, false), 3, lights);
             println!(
                 "    {model:<20} {n:>6} {:>9.1} / {:>7.1} {:.2}× {:>8.1} / {:>7.1} {:.2}× {:>9.0} / {:>7.0} {:.2}× {:>11.1} / {:>7.1} {:.2}×",
                 m.frame_gpu_ms,
@@ -267,27 +271,22 @@ fn area_lights(gpu: &Gpu) {
         "    {:<16} {:<10} {:>10} {:>14} {:>18}",
         "area_lights", "size", "triangles", "pass GPU ms", "µs per triangle"
     );
-    // The baseline: the fitted lobe alone (`area.residual` 0), the same pipelines otherwise.
-    let fit_alone = |t: String| {
-        let residual = "\"area.residual\": Int(default: 4,";
-        assert!(
-            t.contains(residual) || !t.contains("\"area.residual\""),
-            "the default this bench assumes"
-        );
-        t.replace(residual, "\"area.residual\": Int(default: 0,")
-    };
-    let runs = [
-        ("ltc", project(|t| t), 256usize),
-        ("ltc, residual 0", project(fit_alone), 256),
+    let ws = project(|t| t);
+    // The baseline: the fitted lobe alone (`area.residual` 0), the same pipeline otherwise.
+    let fit_alone = [("area.residual", ParamValue::Int(0))];
+    let runs: [(&str, &[(&str, ParamValue)], usize); 3] = [
+        ("ltc", &[], 256),
+        ("ltc, residual 0", &fit_alone, 256),
         // Screen-space shadows march 4 segments per triangle and pixel: not past 32 triangles here.
-        ("ltc_shadowed", project(|t| t), 16),
+        ("ltc_shadowed", &[], 16),
     ];
-    for (label, ws, most) in &runs {
+    for (label, params, most) in runs {
         let option = label.split(',').next().expect("an option");
         for size in [128u32, 256, 512] {
-            for quads in [1usize, 16, 256].into_iter().filter(|q| q <= most) {
+            for quads in [1usize, 16, 256].into_iter().filter(|q| *q <= most) {
                 let scene = lamps(quads, size);
-                let c = measure(gpu, ws, &scene, &[("area_lights", option)], 3, |p| p == "area_light");
+                let setup = (&[("area_lights", option)][..], params, true, true);
+                let c = measure_with(gpu, &ws, &scene, setup, 3, |p| p == "area_light");
                 let per = c.picked_ms * 1e3 / (2 * quads) as f64;
                 println!(
                     "    {label:<16} {:<10} {:>10} {:>14.2} {per:>18.1}",
