@@ -70,11 +70,14 @@ fn measure(gpu: &Gpu, ws: &Workspace, scene: &Scene, variants: &[(&str, &str)], 
     measure_with(gpu, ws, scene, (variants, &[], true, true), frames, pick)
 }
 
+/// Parameters set on the executor before a measurement (`Executor::set_param`).
+type Set<'a> = [(&'a str, ParamValue)];
+
 fn measure_with(
     gpu: &Gpu,
     ws: &Workspace,
     scene: &Scene,
-    (variants, params, merge, timed): (&[(&str, &str)], &[(&str, ParamValue)], bool, bool),
+    (variants, params, merge, timed): (&[(&str, &str)], &Set, bool, bool),
     frames: u32,
     pick: impl Fn(&str) -> bool,
 ) -> Cost {
@@ -274,7 +277,7 @@ fn area_lights(gpu: &Gpu) {
     let ws = project(|t| t);
     // The baseline: the fitted lobe alone (`area.residual` 0), the same pipeline otherwise.
     let fit_alone = [("area.residual", ParamValue::Int(0))];
-    let runs: [(&str, &[(&str, ParamValue)], usize); 3] = [
+    let runs: [(&str, &Set, usize); 3] = [
         ("ltc", &[], 256),
         ("ltc, residual 0", &fit_alone, 256),
         // Screen-space shadows march 4 segments per triangle and pixel: not past 32 triangles here.
