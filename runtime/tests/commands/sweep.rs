@@ -190,10 +190,11 @@ fn every_bundled_sweep_spec_runs() {
         }
         if spec == "ao" {
             // GTAO integrates the cosine-weighted visibility the reference measures: within
-            // ±0.05 of it on average at its defaults in the Cornell box, and nearest it on the
-            // step too, where occluders off screen (walls beside and behind the camera) are
-            // more than any screen-space method can see; every seed method sits far above.
-            for (scene, bound) in [("cornell_spot", 0.05), ("step", 0.1)] {
+            // ±0.05 of it on average at its defaults in the Cornell box and on the step seen
+            // from close by (its samples off screen read the edge); every seed method sits far
+            // above.
+            for scene in ["cornell_spot", "step"] {
+                let bound = 0.05;
                 let at = |r: &&BTreeMap<String, String>| r["scene"] == scene;
                 let gtao = rows
                     .iter()

@@ -481,12 +481,13 @@ fn observable_share(s: &lightbench::scene::Scene, world: &World, p: glam::Vec3, 
     }
 }
 
-/// On the step seen from close by (`scenes/step.ron`) GTAO's bias against the reference is
-/// what no screen-space method sees: where at least 90% of what occludes a pixel within the
-/// radius is on screen and in view, GTAO is within ±0.05 of the reference (+0.035 measured);
-/// where less than half is, it is about +0.13 — the walls beside and behind the camera.
+/// On the step seen from close by (`scenes/step.ron`) GTAO is within ±0.05 of the reference
+/// over the whole image (+0.036 measured; +0.078 when samples off screen were skipped rather
+/// than read at the screen's edge), and what is left is what the camera does not see: where at
+/// least 90% of what occludes a pixel within the radius is on screen and in view, +0.018;
+/// where less than half is, +0.063 — the wall beside the camera.
 #[test]
-fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
+fn gtao_on_the_step_is_within_the_bound_and_misses_only_what_the_camera_does_not_see() {
     let g = gpu();
     let scene = lightbench::scene::load(root().join("scenes/step.ron").to_str().unwrap()).unwrap();
     let v = [
@@ -518,7 +519,7 @@ fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
         .clone();
     let world = World::new(&scene);
     // (sum of GTAO − reference, pixels) where ≥ 90% of the occlusion is observable, and < 50%.
-    let (mut seen, mut hidden) = ((0.0, 0), (0.0, 0));
+    let (mut seen, mut hidden, mut all) = ((0.0, 0), (0.0, 0), (0.0, 0));
     for (i, p) in world_positions(&scene.camera, &depth).into_iter().enumerate() {
         let Some(p) = p else { continue };
         let dir = (p - scene.camera.position).normalize();
@@ -526,18 +527,21 @@ fn gtao_on_the_step_misses_only_the_occluders_it_cannot_see() {
             continue;
         };
         let diff = (ao.rgba[i * 4] - reference.rgba[i * 4]) as f64;
+        all = (all.0 + diff, all.1 + 1);
         match observable_share(&scene, &world, hit.position, hit.n, 1.0) {
             s if s >= 0.9 => seen = (seen.0 + diff, seen.1 + 1),
             s if s < 0.5 => hidden = (hidden.0 + diff, hidden.1 + 1),
             _ => {}
         }
     }
-    let (b_seen, b_hidden) = (seen.0 / seen.1 as f64, hidden.0 / hidden.1 as f64);
+    let (b_seen, b_hidden, b_all) = (seen.0 / seen.1 as f64, hidden.0 / hidden.1 as f64, all.0 / all.1 as f64);
     eprintln!(
-        "GTAO bias on the step: {b_seen:+.4} over {} pixels whose occluders are in view, {b_hidden:+.4} over {} mostly out of view",
-        seen.1, hidden.1
+        "GTAO bias on the step: {b_all:+.4} over {} pixels; {b_seen:+.4} over {} whose occluders are in view, {b_hidden:+.4} over {} mostly out of view",
+        all.1, seen.1, hidden.1
     );
     assert!(seen.1 > 1000 && hidden.1 > 500, "{} and {} pixels", seen.1, hidden.1);
+    assert!(b_all.abs() <= 0.05, "the whole image: {b_all}");
     assert!(b_seen.abs() <= 0.05, "in view: {b_seen}");
-    assert!(b_hidden > 2.0 * b_seen.abs() + 0.03, "out of view {b_hidden} vs in view {b_seen}");
+    assert!(b_hidden > b_seen + 0.03, "out of view {b_hidden} vs in view {b_seen}");
 }
+
