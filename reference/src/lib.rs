@@ -156,7 +156,10 @@ impl Reference {
     }
 }
 
-/// Samples per pixel in one pass over the image (time budgets stop between passes).
+/// Samples per pixel in one pass over the image under a time budget, which stops between
+/// passes. A count or an error target takes all the samples it asks for in one pass, so that
+/// each pixel's camera ray and first vertex (`integrate::Primary`) are worked out once for
+/// all of them rather than once per pass (the sums, and so the image, are the same).
 const PASS_SPP: u32 = 4;
 
 /// Camera rays through pixel centres, clipped to the near and far planes as rasterising is.
@@ -262,14 +265,17 @@ pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
                 break;
             }
             goal = predict(done, error / target).min(max_spp);
-            bar.set_length((h * goal.div_ceil(PASS_SPP)) as u64);
+            bar.inc_length(h as u64);
         }
         if let Budget::Seconds(t) = s.budget {
             if start.elapsed().as_secs_f64() >= t && done > 0 {
                 break;
             }
         }
-        let n = PASS_SPP.min(goal - done);
+        let n = match s.budget {
+            Budget::Seconds(_) => PASS_SPP.min(goal - done),
+            Budget::Spp(_) | Budget::Error { .. } => goal - done,
+        };
         sums.par_chunks_mut(w as usize * terms.len() * SLOTS)
             .enumerate()
             .for_each(|(y, row)| {
@@ -342,9 +348,9 @@ fn progress_bar(budget: Budget, rows: u32, visible: bool) -> indicatif::Progress
         return indicatif::ProgressBar::hidden();
     }
     let (len, what) = match budget {
-        Budget::Spp(n) => ((rows * n.div_ceil(PASS_SPP)) as u64, "rows"),
+        Budget::Spp(_) => (rows as u64, "rows"),
         Budget::Seconds(_) => (1000, "‰ of the time"),
-        Budget::Error { max_spp, .. } => ((rows * PILOT_SPP.min(max_spp).div_ceil(PASS_SPP)) as u64, "rows (so far)"),
+        Budget::Error { .. } => (rows as u64, "rows (so far)"),
     };
     let bar = indicatif::ProgressBar::new(len);
     let style = format!("reference {{bar:40}} {{pos}}/{{len}} {what}, ETA {{eta}}");

@@ -331,11 +331,21 @@ fn hit_distance(tri: &Triangle, ray: &Ray) -> (f32, f32) {
     if det == 0.0 || !det.is_finite() {
         return (f32::INFINITY, det);
     }
-    let inv = 1.0 / det;
+    // A barycentric coordinate is negative where its numerator and det differ in sign:
+    // most triangles a ray is tested against fail there, before the cross product and the
+    // division (u and v themselves are computed as before, so hits are unchanged).
     let s = ray.origin - tri.v0;
-    let u = s.dot(p) * inv;
+    let u_num = s.dot(p);
+    if u_num * det < 0.0 {
+        return (f32::INFINITY, det);
+    }
     let q = s.cross(e1);
-    let v = ray.direction.dot(q) * inv;
+    let v_num = ray.direction.dot(q);
+    if v_num * det < 0.0 {
+        return (f32::INFINITY, det);
+    }
+    let inv = 1.0 / det;
+    let (u, v) = (u_num * inv, v_num * inv);
     if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
         return (f32::INFINITY, det);
     }

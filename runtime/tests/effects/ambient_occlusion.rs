@@ -544,4 +544,3 @@ fn gtao_on_the_step_is_within_the_bound_and_misses_only_what_the_camera_does_not
     assert!(b_seen.abs() <= 0.05, "in view: {b_seen}");
     assert!(b_hidden > b_seen + 0.03, "out of view {b_hidden} vs in view {b_seen}");
 }
-
