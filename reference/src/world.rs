@@ -333,7 +333,8 @@ fn hit_distance(tri: &Triangle, ray: &Ray) -> (f32, f32) {
     }
     // A barycentric coordinate is negative where its numerator and det differ in sign:
     // most triangles a ray is tested against fail there, before the cross product and the
-    // division (u and v themselves are computed as before, so hits are unchanged).
+    // division (u and v themselves are computed as before, so hits are unchanged, but for
+    // a coordinate so small that its quotient rounds to −0).
     let s = ray.origin - tri.v0;
     let u_num = s.dot(p);
     if u_num * det < 0.0 {
