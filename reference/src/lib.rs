@@ -305,7 +305,8 @@ pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
 }
 
 /// Samples per pixel that bring a relative error `ratio` times the target down to it
-/// (error ∝ 1/√n, 5% spare for the estimate's own noise), in whole passes, more than `done`.
+/// (error ∝ 1/√n, 5% spare for the estimate's own noise), a multiple of
+/// `PASS_SPP`, at least that many more than `done`.
 fn predict(done: u32, ratio: f64) -> u32 {
     let need = (done as f64 * ratio * ratio * 1.05).ceil().min(u32::MAX as f64 / 2.0) as u32;
     need.max(done + PASS_SPP).next_multiple_of(PASS_SPP)
