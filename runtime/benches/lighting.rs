@@ -277,14 +277,13 @@ fn area_lights(gpu: &Gpu) {
     let ws = project(|t| t);
     // The baseline: the fitted lobe alone (`area.residual` 0), the same pipeline otherwise.
     let fit_alone = [("area.residual", ParamValue::Int(0))];
-    let runs: [(&str, &Set, usize); 3] = [
-        ("ltc", &[], 256),
-        ("ltc, residual 0", &fit_alone, 256),
+    let runs: [(&str, &str, &Set, usize); 3] = [
+        ("ltc", "ltc", &[], 256),
+        ("ltc, residual 0", "ltc", &fit_alone, 256),
         // Screen-space shadows march 4 segments per triangle and pixel: not past 32 triangles here.
-        ("ltc_shadowed", &[], 16),
+        ("ltc_shadowed", "ltc_shadowed", &[], 16),
     ];
-    for (label, params, most) in runs {
-        let option = label.split(',').next().expect("an option");
+    for (label, option, params, most) in runs {
         for size in [128u32, 256, 512] {
             for quads in [1usize, 16, 256].into_iter().filter(|q| *q <= most) {
                 let scene = lamps(quads, size);

@@ -193,8 +193,8 @@ fn every_bundled_sweep_spec_runs() {
             // ±0.05 of it on average at its defaults in the Cornell box and on the step seen
             // from close by (its samples off screen read the edge); every seed method sits far
             // above.
+            let bound = 0.05;
             for scene in ["cornell_spot", "step"] {
-                let bound = 0.05;
                 let at = |r: &&BTreeMap<String, String>| r["scene"] == scene;
                 let gtao = rows
                     .iter()
