@@ -5,15 +5,15 @@
 //! multiple importance sampling.
 
 use super::world::World;
-use glam::Vec3;
+use glam::Vec3A;
 
 /// A point drawn on an emitter, as seen from the point being lit.
 pub struct LightSample {
     /// Unit direction from the lit point towards it, and its distance.
-    pub l: Vec3,
+    pub l: Vec3A,
     pub dist: f32,
     /// What it emits towards the lit point (0 from behind a single-sided emitter).
-    pub radiance: Vec3,
+    pub radiance: Vec3A,
     /// Density of having drawn it, per unit solid angle at the lit point.
     pub pdf: f32,
 }
@@ -22,7 +22,7 @@ pub struct Emitters {
     /// World triangle of each emitter, its unit face normal, its area and its probability
     /// of being chosen.
     triangle: Vec<u32>,
-    normal: Vec<Vec3>,
+    normal: Vec<Vec3A>,
     area: Vec<f32>,
     prob: Vec<f32>,
     alias: AliasTable,
@@ -73,12 +73,12 @@ impl Emitters {
     }
 
     /// A point on an emitter for the surface point `x`, from three uniform numbers.
-    pub fn sample(&self, world: &World, x: Vec3, u: (f32, f32, f32)) -> Option<LightSample> {
+    pub fn sample(&self, world: &World, x: Vec3A, u: (f32, f32, f32)) -> Option<LightSample> {
         let k = self.alias.pick(u.0)?;
         let i = self.triangle[k] as usize;
         // Uniform on the triangle: the square root warp of two numbers to barycentrics.
         let r = u.1.sqrt();
-        let w = Vec3::new(1.0 - r, r * (1.0 - u.2), r * u.2);
+        let w = Vec3A::new(1.0 - r, r * (1.0 - u.2), r * u.2);
         let [a, b, c] = world.corners(i);
         let p = a * w.x + b * w.y + c * w.z;
         let d = p - x;
@@ -98,7 +98,7 @@ impl Emitters {
 
     /// Density per unit solid angle at a point `dist` away that `sample` would have drawn
     /// the point of triangle `i` a ray along `dir` met (0 for a triangle that does not emit).
-    pub fn pdf(&self, world: &World, i: u32, dir: Vec3, dist: f32) -> f32 {
+    pub fn pdf(&self, world: &World, i: u32, dir: Vec3A, dist: f32) -> f32 {
         let Some(&k) = self.slot.get(i as usize).filter(|&&k| k != NONE) else {
             return 0.0;
         };

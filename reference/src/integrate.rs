@@ -6,7 +6,7 @@ use super::emitters::Emitters;
 use super::sample::{cosine_hemisphere, power_lobe, Rng};
 use super::shading::{shininess, Brdf, Lobes, PunctualLight};
 use super::world::{Faces, Hit, World};
-use glam::Vec3;
+use glam::Vec3A;
 
 /// Bounces after which Russian roulette may end a `full` path, and the hard cap.
 const ROULETTE_FROM: u32 = 3;
@@ -44,13 +44,13 @@ fn power_heuristic(p: f32, other: f32) -> f32 {
 pub struct Primary {
     pub hit: Hit,
     lobes: Lobes,
-    lights: Option<Vec3>,
+    lights: Option<Vec3A>,
 }
 
 impl Context<'_> {
     /// The shared part of the pixel whose camera ray found `h` (seen from `v`); the lights'
     /// light (a shadow ray per light) only `with_lights`, for the terms that add it.
-    pub fn primary(&self, h: &Hit, v: Vec3, with_lights: bool) -> Primary {
+    pub fn primary(&self, h: &Hit, v: Vec3A, with_lights: bool) -> Primary {
         let lobes = self.brdf.at(h);
         Primary {
             hit: *h,
@@ -60,11 +60,11 @@ impl Context<'_> {
     }
 
     /// The lights' light at a pixel's surface, seen from `v`: kept, or worked out now.
-    fn primary_lights(&self, p: &Primary, v: Vec3) -> Vec3 {
+    fn primary_lights(&self, p: &Primary, v: Vec3A) -> Vec3A {
         p.lights.unwrap_or_else(|| self.lights(&p.hit, &p.lobes, v))
     }
 
-    fn origin(&self, h: &Hit) -> Vec3 {
+    fn origin(&self, h: &Hit) -> Vec3A {
         h.position + h.ng * self.eps
     }
 
@@ -81,9 +81,9 @@ impl Context<'_> {
 
     /// Light from the scene's lights reflected at `h` towards `v`, with exact visibility
     /// (hard shadows): what the raster light passes compute with shadow maps.
-    pub fn lights(&self, h: &Hit, b: &Lobes, v: Vec3) -> Vec3 {
+    pub fn lights(&self, h: &Hit, b: &Lobes, v: Vec3A) -> Vec3A {
         let origin = self.origin(h);
-        let mut sum = Vec3::ZERO;
+        let mut sum = Vec3A::ZERO;
         for light in &self.lights {
             let (radiance, l, dist) = light.at(h.position);
             if radiance.max_element() <= 0.0 {
@@ -105,24 +105,24 @@ impl Context<'_> {
     /// Light from one point drawn on an emitter, reflected at `h` towards `v` (next-event
     /// estimation), weighed against BRDF sampling by the power heuristic when `mis`. Draws
     /// no random numbers when nothing emits (point-lit images stay as they were).
-    pub fn emitted_light(&self, h: &Hit, b: &Lobes, v: Vec3, rng: &mut Rng, mis: bool) -> Vec3 {
+    pub fn emitted_light(&self, h: &Hit, b: &Lobes, v: Vec3A, rng: &mut Rng, mis: bool) -> Vec3A {
         if !self.emits() {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         let u = (rng.uniform(), rng.uniform(), rng.uniform());
         let Some(s) = self.emitters.sample(self.world, h.position, u) else {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         };
         // Below the geometric surface BRDF sampling never goes: neither does this.
         if h.ng.dot(s.l) <= 0.0 || s.radiance.max_element() <= 0.0 {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         let (f, brdf_pdf) = b.eval_pdf(h, s.l, v);
         if f.max_element() <= 0.0 {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         if !self.visible(h, h.position + s.l * s.dist) {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         let w = if mis { power_heuristic(s.pdf, brdf_pdf) } else { 1.0 };
         f * s.radiance * (w / s.pdf)
@@ -132,7 +132,7 @@ impl Context<'_> {
     /// from the offset origin to `p` itself and stops short of it (towards `p` from the
     /// offset origin, not along the direction from `h`, which would meet `p`'s plane early
     /// where the two surfaces face each other).
-    fn visible(&self, h: &Hit, p: Vec3) -> bool {
+    fn visible(&self, h: &Hit, p: Vec3A) -> bool {
         let origin = self.origin(h);
         let d = p - origin;
         let dist = d.length();
@@ -143,9 +143,9 @@ impl Context<'_> {
     /// What a surface `y` that a BRDF-sampled ray (direction `l`, density `pdf`) met emits
     /// towards it, weighed against next-event estimation. Nothing where the ray passed the
     /// back of a single-sided surface first: light is shadowed by every surface.
-    fn emission_found(&self, y: &Hit, l: Vec3, pdf: f32) -> Vec3 {
+    fn emission_found(&self, y: &Hit, l: Vec3A, pdf: f32) -> Vec3A {
         if y.emissive.max_element() <= 0.0 || y.shadowed {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         if !self.emits() {
             return y.emissive;
@@ -155,7 +155,7 @@ impl Context<'_> {
 
     /// The light arriving directly from every light and emitter, reflected at `h` towards
     /// `v` (emitters by next-event estimation alone).
-    pub fn direct_light(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
+    pub fn direct_light(&self, h: &Hit, v: Vec3A, rng: &mut Rng) -> Vec3A {
         let b = self.brdf.at(h);
         self.lights(h, &b, v) + self.emitted_light(h, &b, v, rng, false)
     }
@@ -163,7 +163,7 @@ impl Context<'_> {
     /// `direct`: emission plus the lights' light with hard shadows, plus the emitters' by
     /// both strategies (a point drawn on one, and a direction drawn from the BRDF; the
     /// latter alone when emitters are not sampled).
-    pub fn direct(&self, p: &Primary, v: Vec3, rng: &mut Rng) -> Vec3 {
+    pub fn direct(&self, p: &Primary, v: Vec3A, rng: &mut Rng) -> Vec3A {
         let (h, b) = (&p.hit, p.lobes);
         let sum = h.emissive + self.primary_lights(p, v);
         if self.emitters.is_empty() {
@@ -175,7 +175,7 @@ impl Context<'_> {
             true => self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen),
             false => None,
         };
-        let by_brdf = found.map_or(Vec3::ZERO, |y| w * self.emission_found(&y, l, pdf));
+        let by_brdf = found.map_or(Vec3A::ZERO, |y| w * self.emission_found(&y, l, pdf));
         sum + self.emitted_light(h, &b, v, rng, true) + by_brdf
     }
 
@@ -196,14 +196,14 @@ impl Context<'_> {
     /// `indirect_diffuse`: one bounce of the lights' light off the surfaces around, as a
     /// white Lambertian receiver reflects it: (1/π) ∫ L_direct(y → x) cos θ dω. Raster
     /// indirect diffuse (`gi.indirect`) holds this before the albedo is applied.
-    pub fn indirect_diffuse(&self, h: &Hit, rng: &mut Rng) -> Vec3 {
+    pub fn indirect_diffuse(&self, h: &Hit, rng: &mut Rng) -> Vec3A {
         let d = cosine_hemisphere(h.n, rng.pair());
         if h.ng.dot(d) <= 0.0 {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         match self.world.trace(self.origin(h), d, (0.0, f32::INFINITY), Faces::Seen) {
             Some(y) => self.direct_light(&y, -d, rng),
-            None => Vec3::ZERO,
+            None => Vec3A::ZERO,
         }
     }
 
@@ -211,25 +211,25 @@ impl Context<'_> {
     /// surfaces along directions drawn from the specular lobe about the mirror direction
     /// (a mirror at low roughness), averaged; before the surface's reflectance is applied,
     /// as raster SSR (`ssr.color`) holds it.
-    pub fn indirect_specular(&self, h: &Hit, v: Vec3, rng: &mut Rng) -> Vec3 {
+    pub fn indirect_specular(&self, h: &Hit, v: Vec3A, rng: &mut Rng) -> Vec3A {
         let half = power_lobe(h.n, shininess(h.roughness).max(1.0), rng.pair());
         let l = (2.0 * v.dot(half) * half - v).normalize_or_zero();
         if h.ng.dot(l) <= 0.0 || h.n.dot(l) <= 0.0 {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         match self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen) {
             Some(y) => y.emissive + self.direct_light(&y, -l, rng),
-            None => Vec3::ZERO,
+            None => Vec3A::ZERO,
         }
     }
 
     /// `full`: all light leaving the surface towards `v`, every bounce (path tracing with
     /// the lights and emitters sampled at every vertex, emitters also found by the BRDF's
     /// directions and the two weighed by MIS; Russian roulette after a few bounces).
-    pub fn full(&self, p: &Primary, v: Vec3, rng: &mut Rng) -> Vec3 {
+    pub fn full(&self, p: &Primary, v: Vec3A, rng: &mut Rng) -> Vec3A {
         let (mut h, mut v, mut b, mut lit) = (p.hit, v, p.lobes, self.primary_lights(p, v));
         let mut sum = h.emissive;
-        let mut throughput = Vec3::ONE;
+        let mut throughput = Vec3A::ONE;
         for bounce in 1..=MAX_BOUNCES {
             sum += throughput * (lit + self.emitted_light(&h, &b, v, rng, true));
             let (u, choose) = (rng.pair(), rng.uniform());

@@ -13,7 +13,7 @@ pub mod shading;
 pub mod store;
 pub mod world;
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3A, Vec4};
 use lightbench_scene::io::Image;
 use lightbench_scene::Scene;
 use rayon::prelude::*;
@@ -189,7 +189,7 @@ impl Camera {
     }
 
     /// Origin (on the near plane), unit direction and length to the far plane.
-    fn ray(&self, x: u32, y: u32) -> (Vec3, Vec3, f32) {
+    fn ray(&self, x: u32, y: u32) -> (Vec3A, Vec3A, f32) {
         let (w, h) = self.size;
         let nx = (x as f64 + 0.5) / w as f64 * 2.0 - 1.0;
         let ny = 1.0 - (y as f64 + 0.5) / h as f64 * 2.0;
@@ -198,7 +198,7 @@ impl Camera {
         let near = self.to_world.transform_point3(at_one * self.near);
         let far = self.to_world.transform_point3(at_one * self.far);
         let d = far - near;
-        (near.as_vec3(), d.normalize_or(glam::DVec3::NEG_Z).as_vec3(), d.length() as f32)
+        (near.as_vec3a(), d.normalize_or(glam::DVec3::NEG_Z).as_vec3a(), d.length() as f32)
     }
 }
 
@@ -394,15 +394,15 @@ fn pass_row(
     }
 }
 
-fn estimate(ctx: &integrate::Context, term: Term, primary: Option<&integrate::Primary>, v: Vec3, rng: &mut sample::Rng) -> Vec3 {
+fn estimate(ctx: &integrate::Context, term: Term, primary: Option<&integrate::Primary>, v: Vec3A, rng: &mut sample::Rng) -> Vec3A {
     let Some(p) = primary else {
         // The background: nothing drawn, nothing occluded.
-        return if term == Term::Ao { Vec3::ONE } else { Vec3::ZERO };
+        return if term == Term::Ao { Vec3A::ONE } else { Vec3A::ZERO };
     };
     let h = &p.hit;
     match term {
         Term::Direct => ctx.direct(p, v, rng),
-        Term::Ao => Vec3::splat(ctx.ao(h, rng)),
+        Term::Ao => Vec3A::splat(ctx.ao(h, rng)),
         Term::IndirectDiffuse => ctx.indirect_diffuse(h, rng),
         Term::IndirectSpecular => ctx.indirect_specular(h, v, rng),
         Term::Full => ctx.full(p, v, rng),

@@ -127,7 +127,7 @@ impl Ltc {
 
     /// A direction drawn from D (a cosine-distributed one carried by M).
     pub fn sample(&self, u: (f32, f32)) -> Vec3 {
-        (self.m * crate::sample::cosine_hemisphere(Vec3::Z, u)).normalize()
+        (self.m * Vec3::from(crate::sample::cosine_hemisphere(glam::Vec3A::Z, u))).normalize()
     }
 
     /// The share of D above the horizon, estimated with `n²` samples drawn from it.

@@ -2,7 +2,7 @@
 //! pixel, sample, term) — never on threads or scheduling, so a seed gives bit-identical
 //! images — and the direction distributions the estimators draw from.
 
-use glam::Vec3;
+use glam::Vec3A;
 use std::f32::consts::PI;
 
 /// SplitMix64: a counter-based stream, one per (seed, pixel, sample, term).
@@ -41,33 +41,39 @@ pub fn unit_hash(values: &[f32]) -> f32 {
 }
 
 /// Two unit vectors completing `n` to an orthonormal frame (Duff et al. 2017, branchless).
-pub fn frame(n: Vec3) -> (Vec3, Vec3) {
+pub fn frame(n: Vec3A) -> (Vec3A, Vec3A) {
     let s = 1f32.copysign(n.z);
     let a = -1.0 / (s + n.z);
     let b = n.x * n.y * a;
     (
-        Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
-        Vec3::new(b, s + n.y * n.y * a, -n.y),
+        Vec3A::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        Vec3A::new(b, s + n.y * n.y * a, -n.y),
     )
 }
 
 /// Cosine-weighted direction about `n` (Malley: a uniform disc point lifted to the
 /// hemisphere); its density is cos θ / π.
-pub fn cosine_hemisphere(n: Vec3, (u1, u2): (f32, f32)) -> Vec3 {
+pub fn cosine_hemisphere(n: Vec3A, (u1, u2): (f32, f32)) -> Vec3A {
     let r = u1.sqrt();
     let phi = 2.0 * PI * u2;
     let (t, b) = frame(n);
-    (t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt()).normalize()
+    unit(t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u1).max(0.0).sqrt())
 }
 
 /// A half vector about `n` with density (e + 1) / 2π · cos^e θ (a Phong-power lobe;
 /// `Brdf::eval_pdf` states the density of the direction it reflects to).
-pub fn power_lobe(n: Vec3, e: f32, (u1, u2): (f32, f32)) -> Vec3 {
+pub fn power_lobe(n: Vec3A, e: f32, (u1, u2): (f32, f32)) -> Vec3A {
     let cos_t = u1.powf(1.0 / (e + 1.0));
     let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
     let phi = 2.0 * PI * u2;
     let (t, b) = frame(n);
-    (t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + n * cos_t).normalize()
+    unit(t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + n * cos_t)
+}
+
+/// `v` at unit length, as a multiple of its reciprocal length (`Vec3A::normalize` divides,
+/// which rounds otherwise: a seed's images stay what they were with `Vec3`).
+fn unit(v: Vec3A) -> Vec3A {
+    v * v.length_recip()
 }
 
 #[cfg(test)]
@@ -87,7 +93,7 @@ mod tests {
     /// Cosine sampling: E[cos θ] = 2/3 and every direction above the surface.
     #[test]
     fn cosine_hemisphere_has_the_cosine_density() {
-        let n = Vec3::new(0.3, -0.8, 0.5).normalize();
+        let n = Vec3A::new(0.3, -0.8, 0.5).normalize();
         let mut rng = Rng::new(1, 0, 0, 0);
         let cos: Vec<f32> = (0..50_000).map(|_| cosine_hemisphere(n, rng.pair()).dot(n)).collect();
         assert!(cos.iter().all(|&c| c >= -1e-6));

@@ -5,7 +5,7 @@
 //! `tests/reference/reference.rs` renders the Cornell box both ways and compares.
 
 use super::world::Hit;
-use glam::Vec3;
+use glam::Vec3A;
 use lightbench_compiler::ir::LightKind;
 use lightbench_scene::Light;
 use std::f32::consts::PI;
@@ -30,9 +30,9 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 #[derive(Clone, Debug)]
 pub struct PunctualLight {
     pub kind: LightKind,
-    pub radiance: Vec3,
-    pub position: Vec3,
-    pub direction: Vec3,
+    pub radiance: Vec3A,
+    pub position: Vec3A,
+    pub direction: Vec3A,
     pub range: f32,
     pub cos_inner: f32,
     pub cos_outer: f32,
@@ -44,9 +44,9 @@ impl PunctualLight {
         let l = l.at(0.0);
         PunctualLight {
             kind: l.kind,
-            radiance: l.color * l.intensity,
-            position: l.position,
-            direction: l.direction.try_normalize().unwrap_or(Vec3::NEG_Y),
+            radiance: (l.color * l.intensity).into(),
+            position: l.position.into(),
+            direction: Vec3A::from(l.direction).try_normalize().unwrap_or(Vec3A::NEG_Y),
             range: l.range,
             cos_inner: l.inner_angle.to_radians().cos(),
             cos_outer: l.outer_angle.to_radians().cos(),
@@ -55,7 +55,7 @@ impl PunctualLight {
 
     /// `light_at()`: light arriving at `p` before shadowing, the unit vector towards the
     /// light, and its distance (infinite for directional lights).
-    pub fn at(&self, p: Vec3) -> (Vec3, Vec3, f32) {
+    pub fn at(&self, p: Vec3A) -> (Vec3A, Vec3A, f32) {
         if self.kind == LightKind::Directional {
             return (self.radiance, -self.direction, f32::INFINITY);
         }
@@ -90,11 +90,11 @@ pub fn shininess(roughness: f32) -> f32 {
 
 impl Brdf {
     /// Diffuse reflectance and specular colour of a surface.
-    pub fn colours(self, h: &Hit) -> (Vec3, Vec3) {
+    pub fn colours(self, h: &Hit) -> (Vec3A, Vec3A) {
         let diffuse = h.albedo * (1.0 - h.metallic);
         match self {
-            Brdf::BlinnPhong => (diffuse, Vec3::splat(0.04).lerp(h.albedo, h.metallic)),
-            Brdf::Lambert => (diffuse, Vec3::ZERO),
+            Brdf::BlinnPhong => (diffuse, Vec3A::splat(0.04).lerp(h.albedo, h.metallic)),
+            Brdf::Lambert => (diffuse, Vec3A::ZERO),
         }
     }
 
@@ -115,12 +115,12 @@ impl Brdf {
     }
 
     /// BRDF × cos θ_l for light arriving from `l` seen from `v` (`blinn_phong()`).
-    pub fn eval(self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
+    pub fn eval(self, h: &Hit, l: Vec3A, v: Vec3A) -> Vec3A {
         self.at(h).eval(h, l, v)
     }
 
     /// Density of `Lobes::sample` drawing `l`.
-    pub fn pdf(self, h: &Hit, l: Vec3, v: Vec3) -> f32 {
+    pub fn pdf(self, h: &Hit, l: Vec3A, v: Vec3A) -> f32 {
         self.at(h).eval_pdf(h, l, v).1
     }
 }
@@ -129,8 +129,8 @@ impl Brdf {
 /// exponent and density constant, and the probability of sampling the specular lobe.
 #[derive(Clone, Copy, Debug)]
 pub struct Lobes {
-    diffuse: Vec3,
-    specular: Vec3,
+    diffuse: Vec3A,
+    specular: Vec3A,
     exponent: f32,
     density: f32,
     specular_share: f32,
@@ -138,10 +138,10 @@ pub struct Lobes {
 
 impl Lobes {
     /// BRDF × cos θ_l for light arriving from `l` seen from `v`.
-    pub fn eval(&self, h: &Hit, l: Vec3, v: Vec3) -> Vec3 {
+    pub fn eval(&self, h: &Hit, l: Vec3A, v: Vec3A) -> Vec3A {
         let ndl = h.n.dot(l);
         if ndl <= 0.0 {
-            return Vec3::ZERO;
+            return Vec3A::ZERO;
         }
         let half = (l + v).try_normalize().unwrap_or(h.n);
         let lobe = h.n.dot(half).max(0.0).powf(self.exponent);
@@ -150,17 +150,17 @@ impl Lobes {
 
     /// `eval` and the density of `sample` drawing `l` (the one-sample mixture of the cosine
     /// and specular lobes), sharing the lobe's power of n · h.
-    pub fn eval_pdf(&self, h: &Hit, l: Vec3, v: Vec3) -> (Vec3, f32) {
+    pub fn eval_pdf(&self, h: &Hit, l: Vec3A, v: Vec3A) -> (Vec3A, f32) {
         let ndl = h.n.dot(l).max(0.0);
         let cos = ndl / PI;
         let ps = self.specular_share;
         if ps == 0.0 && ndl <= 0.0 {
-            return (Vec3::ZERO, cos);
+            return (Vec3A::ZERO, cos);
         }
         let half = (l + v).try_normalize().unwrap_or(h.n);
         let lobe = h.n.dot(half).max(0.0).powf(self.exponent);
         let f = if ndl <= 0.0 {
-            Vec3::ZERO
+            Vec3A::ZERO
         } else {
             (self.diffuse + self.specular * lobe) * ndl
         };
@@ -173,7 +173,7 @@ impl Lobes {
 
     /// A direction to continue a path in, from the lobes in proportion to their reflectance,
     /// its weight BRDF × cos / pdf (zero when it points below the surface) and its density.
-    pub fn sample(&self, h: &Hit, v: Vec3, u: (f32, f32), choose: f32) -> (Vec3, Vec3, f32) {
+    pub fn sample(&self, h: &Hit, v: Vec3A, u: (f32, f32), choose: f32) -> (Vec3A, Vec3A, f32) {
         let l = if choose < self.specular_share {
             let half = super::sample::power_lobe(h.n, self.exponent, u);
             (2.0 * v.dot(half) * half - v).normalize_or_zero()
@@ -182,7 +182,7 @@ impl Lobes {
         };
         let (f, pdf) = self.eval_pdf(h, l, v);
         if h.ng.dot(l) <= 0.0 || pdf <= 0.0 {
-            return (l, Vec3::ZERO, pdf);
+            return (l, Vec3A::ZERO, pdf);
         }
         (l, f / pdf, pdf)
     }

@@ -7,7 +7,7 @@
 //! a ray crosses (a Vec per ray, no closest-hit early-out), which costs several times as much
 //! per ray on scenes of more than a few hundred triangles.
 
-use glam::{Vec2, Vec3, Vec3A, Vec4};
+use glam::{Vec2, Vec3A, Vec4};
 use lightbench_scene::{AlphaMode, ImageData, Material, Scene, Wrap};
 use obvhs::cwbvh::{builder::build_cwbvh_from_tris, CwBvh};
 use obvhs::ray::{Ray, RayHit};
@@ -18,7 +18,7 @@ use std::cell::Cell;
 /// One triangle's vertex attributes, in world space.
 #[derive(Clone, Copy)]
 struct Corner {
-    normal: Vec3,
+    normal: Vec3A,
     uv: Vec2,
     uv1: Vec2,
     tangent: Vec4,
@@ -28,15 +28,15 @@ struct Corner {
 #[derive(Clone, Copy, Debug)]
 pub struct Hit {
     pub t: f32,
-    pub position: Vec3,
+    pub position: Vec3A,
     /// Shading normal (interpolated, normal-mapped), turned towards the ray's origin.
-    pub n: Vec3,
+    pub n: Vec3A,
     /// Geometric normal, on the same side as `n`: rays leave along it.
-    pub ng: Vec3,
-    pub albedo: Vec3,
+    pub ng: Vec3A,
+    pub albedo: Vec3A,
     pub metallic: f32,
     pub roughness: f32,
-    pub emissive: Vec3,
+    pub emissive: Vec3A,
     /// The triangle hit (an index into the world's triangles).
     pub triangle: u32,
     /// The ray passed the back of a single-sided surface on its way here (camera and bounce
@@ -90,7 +90,7 @@ impl World {
                     [idx[0], idx[1], idx[2]]
                 };
                 let vs = idx.map(|i| m.vertices.get(i as usize).copied().unwrap_or_else(bytemuck::Zeroable::zeroed));
-                let p = vs.map(|v| Vec3A::from(m.transform.transform_point3(Vec3::from(v.position))));
+                let p = vs.map(|v| m.transform.transform_point3a(Vec3A::from(v.position)));
                 tris.push(Triangle {
                     v0: p[0],
                     v1: p[1],
@@ -98,12 +98,12 @@ impl World {
                 });
                 corners.push(vs.map(|v| {
                     Corner {
-                        normal: normal_matrix.transform_vector3(Vec3::from(v.normal)),
+                        normal: normal_matrix.transform_vector3a(Vec3A::from(v.normal)),
                         uv: Vec2::from(v.uv),
                         uv1: Vec2::from(v.uv1),
                         tangent: m
                             .transform
-                            .transform_vector3(Vec3::from_slice(&v.tangent[..3]))
+                            .transform_vector3a(Vec3A::from_slice(&v.tangent[..3]))
                             .extend(v.tangent[3]),
                     }
                 }));
@@ -177,14 +177,14 @@ impl World {
             // ray always meets the same surfaces (bit-identical reruns).
             AlphaMode::Blend => super::sample::unit_hash(&[ray.origin.x, ray.origin.y, ray.direction.z, i as f32, t]),
         };
-        let (bary, _) = self.barycentrics(i, Vec3::from(ray.origin + ray.direction * t));
+        let (bary, _) = self.barycentrics(i, ray.origin + ray.direction * t);
         self.base_color(mat, self.uv_at(i, bary, 0)).w < cutoff
     }
 
     /// The nearest surface along `dir` from `origin` between `tmin` and `tmax`, of the
     /// `faces` asked for.
-    pub fn trace(&self, origin: Vec3, dir: Vec3, (tmin, tmax): (f32, f32), faces: Faces) -> Option<Hit> {
-        let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
+    pub fn trace(&self, origin: Vec3A, dir: Vec3A, (tmin, tmax): (f32, f32), faces: Faces) -> Option<Hit> {
+        let ray = Ray::new(origin, dir, tmin, tmax);
         let mut hit = RayHit::none();
         let back = Cell::new(f32::INFINITY);
         if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i, faces, &back)) {
@@ -196,16 +196,16 @@ impl World {
     }
 
     /// Whether anything lies along `dir` from `origin` between `tmin` and `tmax`.
-    pub fn occluded(&self, origin: Vec3, dir: Vec3, tmin: f32, tmax: f32) -> bool {
-        let ray = Ray::new(origin.into(), dir.into(), tmin, tmax);
+    pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
+        let ray = Ray::new(origin, dir, tmin, tmax);
         let back = Cell::new(f32::INFINITY);
         !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i, Faces::Both, &back))
     }
 
     /// Triangle `i`'s corners.
-    pub fn corners(&self, i: usize) -> [Vec3; 3] {
+    pub fn corners(&self, i: usize) -> [Vec3A; 3] {
         let t = &self.tris[i];
-        [t.v0.into(), t.v1.into(), t.v2.into()]
+        [t.v0, t.v1, t.v2]
     }
 
     pub fn double_sided(&self, i: usize) -> bool {
@@ -214,25 +214,25 @@ impl World {
 
     /// What triangle `i` emits at barycentric weights `w` (the emissive factor, times the
     /// emissive map there).
-    pub fn emission(&self, i: usize, w: Vec3) -> Vec3 {
+    pub fn emission(&self, i: usize, w: Vec3A) -> Vec3A {
         let mat = &self.materials[self.material[i] as usize];
-        Vec3::from(mat.emissive) * self.emissive_map(mat, i, w).truncate()
+        Vec3A::from(mat.emissive) * Vec3A::from_vec4(self.emissive_map(mat, i, w))
     }
 
     /// The most triangle `i` can emit on average per channel, as a power estimate: the
     /// emissive factor times the emissive map's mean (0 only where it emits nothing).
-    pub fn emission_bound(&self, i: usize, map_means: &[Vec3]) -> Vec3 {
+    pub fn emission_bound(&self, i: usize, map_means: &[Vec3A]) -> Vec3A {
         let mat = &self.materials[self.material[i] as usize];
-        let mean = mat.emissive_texture.and_then(|t| map_means.get(t).copied()).unwrap_or(Vec3::ONE);
-        Vec3::from(mat.emissive) * mean
+        let mean = mat.emissive_texture.and_then(|t| map_means.get(t).copied()).unwrap_or(Vec3A::ONE);
+        Vec3A::from(mat.emissive) * mean
     }
 
     /// Mean linear colour of each texture (for `emission_bound`).
-    pub fn texture_means(&self) -> Vec<Vec3> {
+    pub fn texture_means(&self) -> Vec<Vec3A> {
         self.textures.iter().map(texture_mean).collect()
     }
 
-    fn emissive_map(&self, mat: &Material, i: usize, w: Vec3) -> Vec4 {
+    fn emissive_map(&self, mat: &Material, i: usize, w: Vec3A) -> Vec4 {
         let uv = self.uv_at(i, w, (mat.uv_sets >> 3) & 1);
         mat.emissive_texture
             .and_then(|t| self.textures.get(t))
@@ -240,17 +240,17 @@ impl World {
     }
 
     /// Barycentric weights of `p` on triangle `i` and its (unnormalised) face normal.
-    fn barycentrics(&self, i: usize, p: Vec3) -> (Vec3, Vec3) {
+    fn barycentrics(&self, i: usize, p: Vec3A) -> (Vec3A, Vec3A) {
         let t = &self.tris[i];
-        let (a, b, c) = (Vec3::from(t.v0), Vec3::from(t.v1), Vec3::from(t.v2));
+        let (a, b, c) = (t.v0, t.v1, t.v2);
         let n = (b - a).cross(c - a);
         let area = n.length_squared().max(1e-30);
         let wb = (p - a).cross(c - a).dot(n) / area;
         let wc = (b - a).cross(p - a).dot(n) / area;
-        (Vec3::new(1.0 - wb - wc, wb, wc), n)
+        (Vec3A::new(1.0 - wb - wc, wb, wc), n)
     }
 
-    fn uv_at(&self, i: usize, w: Vec3, set: u32) -> Vec2 {
+    fn uv_at(&self, i: usize, w: Vec3A, set: u32) -> Vec2 {
         let c = &self.corners[i];
         let (a, b, d) = if set == 0 {
             (c[0].uv, c[1].uv, c[2].uv)
@@ -260,11 +260,11 @@ impl World {
         a * w.x + b * w.y + d * w.z
     }
 
-    fn surface(&self, i: usize, origin: Vec3, dir: Vec3, t: f32) -> Hit {
+    fn surface(&self, i: usize, origin: Vec3A, dir: Vec3A, t: f32) -> Hit {
         let position = origin + dir * t;
         let (w, face) = self.barycentrics(i, position);
         let c = &self.corners[i];
-        let ng = face.normalize_or(Vec3::Y);
+        let ng = face.normalize_or(Vec3A::Y);
         let interpolated = c[0].normal * w.x + c[1].normal * w.y + c[2].normal * w.z;
         // Zero-length vertex normals: the face normal stands in (as in the shaders).
         let mut n = interpolated.try_normalize().unwrap_or(ng);
@@ -275,7 +275,7 @@ impl World {
             n = normal_mapped(
                 n,
                 tangent,
-                sample(tex, mat, self.transform_uv(mat, map(2))).truncate(),
+                Vec3A::from_vec4(sample(tex, mat, self.transform_uv(mat, map(2)))),
                 mat.normal_scale,
             );
         }
@@ -297,10 +297,10 @@ impl World {
             position,
             n,
             ng,
-            albedo: base.truncate(),
+            albedo: Vec3A::from_vec4(base),
             metallic: (mat.metallic * mr.z).clamp(0.0, 1.0),
             roughness: (mat.roughness * mr.y).clamp(0.03, 1.0),
-            emissive: Vec3::from(mat.emissive) * emissive.truncate(),
+            emissive: Vec3A::from(mat.emissive) * Vec3A::from_vec4(emissive),
             triangle: i as u32,
             shadowed: false,
         }
@@ -359,7 +359,7 @@ fn hit_distance(tri: &Triangle, ray: &Ray) -> (f32, f32) {
 }
 
 /// Mean of a texture's texels, sRGB colour decoded to linear.
-fn texture_mean(img: &ImageData) -> Vec3 {
+fn texture_mean(img: &ImageData) -> Vec3A {
     let n = (img.rgba.len() / 4).max(1) as f32;
     let f = |v: u8| {
         let v = v as f32 / 255.0;
@@ -371,17 +371,17 @@ fn texture_mean(img: &ImageData) -> Vec3 {
     };
     img.rgba
         .chunks_exact(4)
-        .fold(Vec3::ZERO, |s, p| s + Vec3::new(f(p[0]), f(p[1]), f(p[2])))
+        .fold(Vec3A::ZERO, |s, p| s + Vec3A::new(f(p[0]), f(p[1]), f(p[2])))
         / n
 }
 
 /// The tangent-space normal map applied as `lib/material.wgsl` applies it.
-fn normal_mapped(n: Vec3, tangent: Vec4, texel: Vec3, scale: f32) -> Vec3 {
-    let t_len = tangent.truncate().length();
+fn normal_mapped(n: Vec3A, tangent: Vec4, texel: Vec3A, scale: f32) -> Vec3A {
+    let t_len = Vec3A::from_vec4(tangent).length();
     if t_len <= 1e-6 {
         return n;
     }
-    let t = (tangent.truncate() - n * n.dot(tangent.truncate())).normalize_or_zero();
+    let t = (Vec3A::from_vec4(tangent) - n * n.dot(Vec3A::from_vec4(tangent))).normalize_or_zero();
     let b = n.cross(t) * tangent.w;
     let k = texel * 2.0 - 1.0;
     (t * k.x * scale + b * k.y * scale + n * k.z).try_normalize().unwrap_or(n)

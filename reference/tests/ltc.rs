@@ -2,7 +2,7 @@
 //! fit program writes, fitted to this project's Blinn-Phong, its lobes integrating to the
 //! specular albedo.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use lightbench_reference::ltc::{self, Ltc, SIZE, STRIDE};
 use lightbench_reference::world::Hit;
 use lightbench_reference::Brdf;
@@ -29,13 +29,13 @@ fn the_fitted_lobe_is_the_renderers_blinn_phong() {
     for roughness in [0.15, 0.4, 0.8, 1.0] {
         let hit = Hit {
             t: 1.0,
-            position: Vec3::ZERO,
-            n: Vec3::Z,
-            ng: Vec3::Z,
-            albedo: Vec3::ONE,
+            position: Vec3A::ZERO,
+            n: Vec3A::Z,
+            ng: Vec3A::Z,
+            albedo: Vec3A::ONE,
             metallic: 1.0,
             roughness,
-            emissive: Vec3::ZERO,
+            emissive: Vec3A::ZERO,
             triangle: 0,
             shadowed: false,
         };
@@ -45,7 +45,7 @@ fn the_fitted_lobe_is_the_renderers_blinn_phong() {
             Vec3::new(-0.3, 0.4, 0.866).normalize(),
             Vec3::new(0.1, -0.2, 0.97).normalize(),
         ] {
-            let want = Brdf::BlinnPhong.eval(&hit, l, v).x;
+            let want = Brdf::BlinnPhong.eval(&hit, l.into(), v.into()).x;
             let got = ltc::lobe(v, l, ltc::shininess(roughness));
             assert!(
                 (want - got).abs() <= 1e-4 * want.max(1.0),

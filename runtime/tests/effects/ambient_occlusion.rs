@@ -461,18 +461,22 @@ fn temporal_gtao_averages_turned_slices_without_ghosts() {
 /// the radius, those whose hit lies inside the image and is the surface the camera sees there.
 fn observable_share(s: &lightbench::scene::Scene, world: &World, p: glam::Vec3, n: glam::Vec3, radius: f32) -> f32 {
     let (w, h) = (s.size.0 as f32, s.size.1 as f32);
+    let (p, n) = (glam::Vec3A::from(p), glam::Vec3A::from(n));
     let (mut hits, mut seen) = (0, 0);
     for i in 0..256 {
         let u = (((i % 16) as f32 + 0.5) / 16.0, ((i / 16) as f32 + 0.5) / 16.0);
         let d = lightbench::reference::sample::cosine_hemisphere(n, u);
-        let Some(q) = world.trace(p + n * 1e-3, d, (0.0, radius), Faces::Both).map(|hit| hit.position) else {
+        let Some(q) = world
+            .trace(p + n * 1e-3, d, (0.0, radius), Faces::Both)
+            .map(|hit| glam::Vec3::from(hit.position))
+        else {
             continue;
         };
         hits += 1;
         let inside = s.project(q).is_some_and(|(x, y)| x >= 0.0 && y >= 0.0 && x < w && y < h);
         let to = q - s.camera.position;
-        let front = world.trace(s.camera.position, to.normalize(), (0.0, f32::INFINITY), Faces::Seen);
-        seen += (inside && front.is_some_and(|f| (f.position - q).length() <= 1e-2 * to.length())) as u32;
+        let front = world.trace(s.camera.position.into(), to.normalize().into(), (0.0, f32::INFINITY), Faces::Seen);
+        seen += (inside && front.is_some_and(|f| (glam::Vec3::from(f.position) - q).length() <= 1e-2 * to.length())) as u32;
     }
     if hits == 0 {
         1.0
@@ -523,12 +527,12 @@ fn gtao_on_the_step_is_within_the_bound_and_misses_only_what_the_camera_does_not
     for (i, p) in world_positions(&scene.camera, &depth).into_iter().enumerate() {
         let Some(p) = p else { continue };
         let dir = (p - scene.camera.position).normalize();
-        let Some(hit) = world.trace(scene.camera.position, dir, (0.0, f32::INFINITY), Faces::Seen) else {
+        let Some(hit) = world.trace(scene.camera.position.into(), dir.into(), (0.0, f32::INFINITY), Faces::Seen) else {
             continue;
         };
         let diff = (ao.rgba[i * 4] - reference.rgba[i * 4]) as f64;
         all = (all.0 + diff, all.1 + 1);
-        match observable_share(&scene, &world, hit.position, hit.n, 1.0) {
+        match observable_share(&scene, &world, hit.position.into(), hit.n.into(), 1.0) {
             s if s >= 0.9 => seen = (seen.0 + diff, seen.1 + 1),
             s if s < 0.5 => hidden = (hidden.0 + diff, hidden.1 + 1),
             _ => {}

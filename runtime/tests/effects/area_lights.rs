@@ -177,7 +177,7 @@ fn lamp_box_pixels(s: &Scene, depth: &lightbench::io::Image) -> Vec<(usize, bool
         .map(|(i, p)| {
             let sees = panel.iter().all(|q| {
                 let to = *q - p;
-                !world.occluded(p, to.normalize(), 2e-3, to.length() - 2e-3)
+                !world.occluded(p.into(), to.normalize().into(), 2e-3, to.length() - 2e-3)
             });
             (i, sees)
         })

@@ -170,7 +170,7 @@ fn reference_rays_through_a_shared_edge_hit_from_either_side() {
     let w = World::new(&s);
     for (origin, dir) in [(Vec3::Z * 3.0, Vec3::NEG_Z), (Vec3::NEG_Z, Vec3::Z)] {
         for d in [dir, (dir + Vec3::new(0.01, -0.01, 0.0)).normalize()] {
-            let t = w.trace(origin, d, (0.0, 100.0), Faces::Both).map(|h| h.t);
+            let t = w.trace(origin.into(), d.into(), (0.0, 100.0), Faces::Both).map(|h| h.t);
             let expected = origin.z.abs() / d.z.abs();
             assert!(t.is_some_and(|t| (t - expected).abs() < 1e-4), "from {origin} along {d}: {t:?}");
         }

@@ -4,7 +4,7 @@
 
 use crate::gpu_common;
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec3A};
 use gpu_common::{camera, mesh};
 use lightbench::io::Image;
 use lightbench::reference::{
@@ -107,7 +107,7 @@ fn floor_and_wall(wall: bool) -> Scene {
 fn ao_at(s: &Scene, x: f32, radius: f32, n: u32) -> f64 {
     let world = World::new(s);
     let hit = world
-        .trace(Vec3::new(x, 1.0, 0.0), Vec3::NEG_Y, (0.0, 10.0), Faces::Seen)
+        .trace(Vec3A::new(x, 1.0, 0.0), Vec3A::NEG_Y, (0.0, 10.0), Faces::Seen)
         .expect("the floor");
     let ctx = Context {
         world: &world,

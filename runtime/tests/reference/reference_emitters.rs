@@ -5,7 +5,7 @@
 
 use crate::gpu_common;
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec3A};
 use gpu_common::mesh;
 use lightbench::reference::{
     self, emitters::Emitters, integrate::Context, sample::Rng, world::Faces, world::World, Brdf, Budget, Settings, Term,
@@ -76,11 +76,11 @@ fn direct_on_floor(s: &Scene) -> Vec<(f64, f64, f64)> {
     for k in 0..64u64 {
         let x = Vec3::new((k % 8) as f32 * 0.25 - 0.9, 0.0, (k / 8) as f32 * 0.2 - 0.7);
         let hit = world
-            .trace(x + Vec3::Y * 0.5, Vec3::NEG_Y, (0.0, 1.0), Faces::Seen)
+            .trace(Vec3A::from(x + Vec3::Y * 0.5), Vec3A::NEG_Y, (0.0, 1.0), Faces::Seen)
             .expect("the floor");
-        let primary = ctx.primary(&hit, Vec3::Y, true);
+        let primary = ctx.primary(&hit, Vec3A::Y, true);
         let samples: Vec<f64> = (0..64)
-            .map(|i| ctx.direct(&primary, Vec3::Y, &mut Rng::new(1, k, i, 0)).x as f64)
+            .map(|i| ctx.direct(&primary, Vec3A::Y, &mut Rng::new(1, k, i, 0)).x as f64)
             .collect();
         let mean = samples.iter().sum::<f64>() / 64.0;
         let var = samples.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 63.0 / 64.0;
@@ -222,11 +222,13 @@ fn an_emissive_texture_is_sampled_as_it_is_seen() {
     let (mut z2, mut count, mut under) = (0.0f64, 0, [0.0f64; 2]);
     for k in 0..16u64 {
         let x = Vec3::new((k % 4) as f32 * 0.8 - 1.2, 0.0, (k / 4) as f32 * 0.8 - 1.2);
-        let hit = world.trace(x + Vec3::Y * 0.5, Vec3::NEG_Y, (0.0, 1.0), Faces::Seen).unwrap();
+        let hit = world
+            .trace(Vec3A::from(x + Vec3::Y * 0.5), Vec3A::NEG_Y, (0.0, 1.0), Faces::Seen)
+            .unwrap();
         let stats = |ctx: &Context| {
-            let primary = ctx.primary(&hit, Vec3::Y, true);
+            let primary = ctx.primary(&hit, Vec3A::Y, true);
             let v: Vec<f64> = (0..4096)
-                .map(|i| ctx.direct(&primary, Vec3::Y, &mut Rng::new(5, k, i, 0)).x as f64)
+                .map(|i| ctx.direct(&primary, Vec3A::Y, &mut Rng::new(5, k, i, 0)).x as f64)
                 .collect();
             let m = v.iter().sum::<f64>() / v.len() as f64;
             (
