@@ -68,6 +68,14 @@ impl Context<'_> {
         h.position + h.ng * self.eps
     }
 
+    /// The nearest surface along `dir` from just off `h`, no farther than `tmax`. Rays leaving
+    /// a surface (here and in the shadow rays) pass what lies nearer than the offset: at a
+    /// corner the offset origin can round onto or just behind the other surface, which
+    /// shadows nothing of the corner itself.
+    fn trace_from(&self, h: &Hit, dir: Vec3A, tmax: f32, faces: Faces) -> Option<Hit> {
+        self.world.trace(self.origin(h), dir, (self.eps, tmax), faces)
+    }
+
     /// Whether `term`'s estimate has no noise, so one sample per pixel is enough: `direct`
     /// with point lights only (with emitters, it samples them).
     pub fn exact(&self, term: super::Term) -> bool {
@@ -95,7 +103,7 @@ impl Context<'_> {
             }
             // A light closer than the offset (on the surface) is not shadowed.
             let tmax = dist - self.eps;
-            if tmax <= 0.0 || !self.world.occluded(origin, l, 0.0, tmax) {
+            if tmax <= 0.0 || !self.world.occluded(origin, l, self.eps, tmax) {
                 sum += f * radiance;
             }
         }
@@ -137,7 +145,7 @@ impl Context<'_> {
         let d = p - origin;
         let dist = d.length();
         let tmax = dist - self.eps;
-        tmax <= 0.0 || !self.world.occluded(origin, d / dist, 0.0, tmax)
+        tmax <= 0.0 || !self.world.occluded(origin, d / dist, self.eps, tmax)
     }
 
     /// What a surface `y` that a BRDF-sampled ray (direction `l`, density `pdf`) met emits
@@ -172,7 +180,7 @@ impl Context<'_> {
         let (u, choose) = (rng.pair(), rng.uniform());
         let (l, w, pdf) = b.sample(h, v, u, choose);
         let found = match w.max_element() > 0.0 {
-            true => self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen),
+            true => self.trace_from(h, l, f32::INFINITY, Faces::Seen),
             false => None,
         };
         let by_brdf = found.map_or(Vec3A::ZERO, |y| w * self.emission_found(&y, l, pdf));
@@ -186,7 +194,7 @@ impl Context<'_> {
         if h.ng.dot(d) <= 0.0 {
             return 0.0;
         }
-        match self.world.trace(self.origin(h), d, (0.0, self.ao_radius), Faces::Both) {
+        match self.trace_from(h, d, self.ao_radius, Faces::Both) {
             Some(hit) if self.ao_falloff => 1.0 - 1.0 / (1.0 + hit.t * hit.t),
             Some(_) => 0.0,
             None => 1.0,
@@ -201,7 +209,7 @@ impl Context<'_> {
         if h.ng.dot(d) <= 0.0 {
             return Vec3A::ZERO;
         }
-        match self.world.trace(self.origin(h), d, (0.0, f32::INFINITY), Faces::Seen) {
+        match self.trace_from(h, d, f32::INFINITY, Faces::Seen) {
             Some(y) => self.direct_light(&y, -d, rng),
             None => Vec3A::ZERO,
         }
@@ -217,7 +225,7 @@ impl Context<'_> {
         if h.ng.dot(l) <= 0.0 || h.n.dot(l) <= 0.0 {
             return Vec3A::ZERO;
         }
-        match self.world.trace(self.origin(h), l, (0.0, f32::INFINITY), Faces::Seen) {
+        match self.trace_from(h, l, f32::INFINITY, Faces::Seen) {
             Some(y) => y.emissive + self.direct_light(&y, -l, rng),
             None => Vec3A::ZERO,
         }
@@ -245,7 +253,7 @@ impl Context<'_> {
                 }
                 throughput /= survive;
             }
-            let Some(y) = self.world.trace(self.origin(&h), l, (0.0, f32::INFINITY), Faces::Seen) else {
+            let Some(y) = self.trace_from(&h, l, f32::INFINITY, Faces::Seen) else {
                 break;
             };
             sum += throughput * self.emission_found(&y, l, pdf);

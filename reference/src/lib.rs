@@ -5,6 +5,7 @@
 //! `emitters` (emissive triangles as lights), `sample` (deterministic random numbers, directions), `integrate` (one estimator per term),
 //! `store` (EXR files, manifest, cache); here: terms, settings and the pixel loop.
 
+mod bvh;
 pub mod emitters;
 pub mod integrate;
 pub mod ltc;

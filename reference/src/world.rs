@@ -1,19 +1,15 @@
 //! Stage `world` of the reference renderer: the scene the raster passes draw, as world-space
 //! triangles in a BVH, with the surface (position, normals, material) at any hit.
 //!
-//! BVH: obvhs over bvh. obvhs builds a compressed 8-wide BVH (PLOC, SAH-guided) and traverses
-//! it 4 nodes at a time with SIMD, with closest-hit and any-hit traversal built in; it shares
-//! our glam 0.34 and needs no other heavy dependency. bvh 0.13 returns every shape whose box
-//! a ray crosses (a Vec per ray, no closest-hit early-out), which costs several times as much
-//! per ray on scenes of more than a few hundred triangles.
+//! BVH: `bvh.rs`, built by obvhs (PLOC, SAH-guided; it shares our glam 0.34 and needs no
+//! other heavy dependency) and traversed there. bvh 0.13 returns every shape whose box a ray
+//! crosses (a Vec per ray, no closest-hit early-out), which costs several times as much per
+//! ray on scenes of more than a few hundred triangles.
 
+use super::bvh::{Bvh, Ray};
 use glam::{Vec2, Vec3A, Vec4};
 use lightbench_scene::{AlphaMode, ImageData, Material, Scene, Wrap};
-use obvhs::cwbvh::{builder::build_cwbvh_from_tris, CwBvh};
-use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle;
-use obvhs::BvhBuildParams;
-use std::cell::Cell;
 
 /// One triangle's vertex attributes, in world space.
 #[derive(Clone, Copy)]
@@ -61,11 +57,14 @@ const DOUBLE_SIDED: u8 = 1;
 const OPAQUE: u8 = 2;
 
 pub struct World {
-    bvh: CwBvh,
-    /// Triangles in BVH order (so a leaf's primitive id indexes them directly).
+    bvh: Bvh,
+    /// Triangles in BVH order (so a hit's id indexes them directly).
     tris: Vec<Triangle>,
     corners: Vec<[Corner; 3]>,
     material: Vec<u32>,
+    /// Each triangle's place in the scene's order, which stochastic transparency hashes (the
+    /// same whatever order a BVH keeps them in).
+    scene_index: Vec<u32>,
     /// Per triangle: `DOUBLE_SIDED` and `OPAQUE` of its material (no lookup while traversing).
     flags: Vec<u8>,
     materials: Vec<Material>,
@@ -110,11 +109,8 @@ impl World {
                 material.push(m.material as u32);
             }
         }
-        let bvh = build_cwbvh_from_tris(&tris, BvhBuildParams::medium_build(), &mut std::time::Duration::default());
-        // Reorder so that BVH primitive ids index the arrays without an indirection.
-        let order: Vec<usize> = bvh.primitive_indices.iter().map(|&i| i as usize).collect();
-        let mut bvh = bvh;
-        bvh.primitive_indices = (0..order.len() as u32).collect();
+        // Reordered so that the BVH's hit ids index the arrays without an indirection.
+        let (bvh, order) = Bvh::build(&tris);
         // One past the scene's: white, for a mesh whose material index is out of range.
         let materials: Vec<Material> = scene
             .materials
@@ -135,6 +131,7 @@ impl World {
             tris: order.iter().map(|&i| tris[i]).collect(),
             corners: order.iter().map(|&i| corners[i]).collect(),
             material,
+            scene_index: order.iter().map(|&i| i as u32).collect(),
             flags,
             materials,
             textures: scene.textures.clone(),
@@ -145,25 +142,21 @@ impl World {
         self.tris.len()
     }
 
-    /// Distance to triangle `i` along `ray`, or infinity; cut-out texels (alpha mask) and,
-    /// with the probability of their transparency, blended ones let the ray through. With
-    /// `Faces::Seen` so does the back of a single-sided surface, whose distance goes to `back`
-    /// (the nearest such).
-    fn intersect(&self, ray: &Ray, i: usize, faces: Faces, back: &Cell<f32>) -> f32 {
-        let (t, det) = hit_distance(&self.tris[i], ray);
-        if !t.is_finite() {
-            return t;
-        }
+    /// Whether a hit on triangle `i` at `t` (determinant `det`) counts: cut-out texels (alpha
+    /// mask) and, with the probability of their transparency, blended ones let the ray
+    /// through. With `Faces::Seen` so does the back of a single-sided surface, whose distance
+    /// goes to `back` (the nearest such).
+    fn counts(&self, ray: &Ray, (i, t, det): (usize, f32, f32), faces: Faces, back: &mut f32) -> bool {
         let flags = self.flags[i];
         if flags & OPAQUE == 0 && self.cut_out(ray, i, t) {
-            return f32::INFINITY;
+            return false;
         }
         // det < 0: the ray meets the face from behind (det = −d · (e1 × e2)).
         if faces == Faces::Seen && flags & DOUBLE_SIDED == 0 && det < 0.0 {
-            back.set(back.get().min(t));
-            return f32::INFINITY;
+            *back = back.min(t);
+            return false;
         }
-        t
+        true
     }
 
     /// Whether the ray passes triangle `i` at `t`: a cut-out texel, or a blended one by the
@@ -175,9 +168,9 @@ impl World {
             AlphaMode::Mask(c) => c,
             // Stochastic transparency, decided by a hash of the ray and triangle: the same
             // ray always meets the same surfaces (bit-identical reruns).
-            AlphaMode::Blend => super::sample::unit_hash(&[ray.origin.x, ray.origin.y, ray.direction.z, i as f32, t]),
+            AlphaMode::Blend => super::sample::unit_hash(&[ray.origin.x, ray.origin.y, ray.dir.z, self.scene_index[i] as f32, t]),
         };
-        let (bary, _) = self.barycentrics(i, ray.origin + ray.direction * t);
+        let (bary, _) = self.barycentrics(i, ray.origin + ray.dir * t);
         self.base_color(mat, self.uv_at(i, bary, 0)).w < cutoff
     }
 
@@ -185,21 +178,21 @@ impl World {
     /// `faces` asked for.
     pub fn trace(&self, origin: Vec3A, dir: Vec3A, (tmin, tmax): (f32, f32), faces: Faces) -> Option<Hit> {
         let ray = Ray::new(origin, dir, tmin, tmax);
-        let mut hit = RayHit::none();
-        let back = Cell::new(f32::INFINITY);
-        if !self.bvh.ray_traverse(ray, &mut hit, |r, i| self.intersect(r, i, faces, &back)) {
-            return None;
-        }
-        let mut h = self.surface(hit.primitive_id as usize, origin, dir, hit.t);
-        h.shadowed = back.get() < hit.t;
+        let mut back = f32::INFINITY;
+        let (i, t) = self
+            .bvh
+            .closest(&ray, &mut |i, t, det| self.counts(&ray, (i, t, det), faces, &mut back))?;
+        let mut h = self.surface(i as usize, origin, dir, t);
+        h.shadowed = back < t;
         Some(h)
     }
 
     /// Whether anything lies along `dir` from `origin` between `tmin` and `tmax`.
     pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
         let ray = Ray::new(origin, dir, tmin, tmax);
-        let back = Cell::new(f32::INFINITY);
-        !self.bvh.ray_traverse_miss(ray, |r, i| self.intersect(r, i, Faces::Both, &back))
+        let mut back = f32::INFINITY;
+        self.bvh
+            .any(&ray, &mut |i, t, det| self.counts(&ray, (i, t, det), Faces::Both, &mut back))
     }
 
     /// Triangle `i`'s corners.
@@ -317,44 +310,6 @@ impl World {
             .and_then(|t| self.textures.get(t))
             .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, uv)));
         Vec4::from(mat.base_color) * tex
-    }
-}
-
-/// Möller–Trumbore, from either side, edges included: a ray through the edge two triangles
-/// share hits one of them whichever side it comes from (obvhs's `Triangle::intersect` tests
-/// signs by bits, so -0.0 on a shared edge seen from behind misses both). The distance (or
-/// infinity) and the determinant, negative where the ray meets the back.
-fn hit_distance(tri: &Triangle, ray: &Ray) -> (f32, f32) {
-    let (e1, e2) = (tri.v1 - tri.v0, tri.v2 - tri.v0);
-    let p = ray.direction.cross(e2);
-    let det = e1.dot(p);
-    if det == 0.0 || !det.is_finite() {
-        return (f32::INFINITY, det);
-    }
-    // A barycentric coordinate is negative where its numerator and det differ in sign:
-    // most triangles a ray is tested against fail there, before the cross product and the
-    // division (u and v themselves are computed as before, so hits are unchanged, but for
-    // a coordinate so small that its quotient rounds to −0).
-    let s = ray.origin - tri.v0;
-    let u_num = s.dot(p);
-    if u_num * det < 0.0 {
-        return (f32::INFINITY, det);
-    }
-    let q = s.cross(e1);
-    let v_num = ray.direction.dot(q);
-    if v_num * det < 0.0 {
-        return (f32::INFINITY, det);
-    }
-    let inv = 1.0 / det;
-    let (u, v) = (u_num * inv, v_num * inv);
-    if !(u >= 0.0 && v >= 0.0 && u + v <= 1.0) {
-        return (f32::INFINITY, det);
-    }
-    let t = e2.dot(q) * inv;
-    if t >= ray.tmin && t <= ray.tmax {
-        (t, det)
-    } else {
-        (f32::INFINITY, det)
     }
 }
 
