@@ -50,18 +50,18 @@ pub struct Primary {
 impl Context<'_> {
     /// The shared part of the pixel whose camera ray found `h` (seen from `v`); the lights'
     /// light (a shadow ray per light) only `with_lights`, for the terms that add it.
-    pub fn primary(&self, h: &Hit, v: Vec3A, with_lights: bool) -> Primary {
+    pub fn primary(&self, h: &Hit, v: Vec3A, with_lights: bool, coin: u32) -> Primary {
         let lobes = self.brdf.at(h);
         Primary {
             hit: *h,
             lobes,
-            lights: with_lights.then(|| self.lights(h, &lobes, v)),
+            lights: with_lights.then(|| self.lights(h, &lobes, v, coin)),
         }
     }
 
     /// The lights' light at a pixel's surface, seen from `v`: kept, or worked out now.
     fn primary_lights(&self, p: &Primary, v: Vec3A) -> Vec3A {
-        p.lights.unwrap_or_else(|| self.lights(&p.hit, &p.lobes, v))
+        p.lights.unwrap_or_else(|| self.lights(&p.hit, &p.lobes, v, 0))
     }
 
     fn origin(&self, h: &Hit) -> Vec3A {
@@ -77,9 +77,10 @@ impl Context<'_> {
     }
 
     /// Whether `term`'s estimate has no noise, so one sample per pixel is enough: `direct`
-    /// with point lights only (with emitters, it samples them).
+    /// with point lights only (with emitters, it samples them) and nothing blended (its
+    /// coins differ between samples).
     pub fn exact(&self, term: super::Term) -> bool {
-        term == super::Term::Direct && self.emitters.is_empty()
+        term == super::Term::Direct && self.emitters.is_empty() && !self.world.has_blended()
     }
 
     /// Whether the emitters are sampled as lights (else BRDF sampling alone finds them).
@@ -88,8 +89,9 @@ impl Context<'_> {
     }
 
     /// Light from the scene's lights reflected at `h` towards `v`, with exact visibility
-    /// (hard shadows): what the raster light passes compute with shadow maps.
-    pub fn lights(&self, h: &Hit, b: &Lobes, v: Vec3A) -> Vec3A {
+    /// (hard shadows): what the raster light passes compute with shadow maps. Blended
+    /// surfaces in the way pass the light by `coin` (see `World::trace_with_coin`).
+    pub fn lights(&self, h: &Hit, b: &Lobes, v: Vec3A, coin: u32) -> Vec3A {
         let origin = self.origin(h);
         let mut sum = Vec3A::ZERO;
         for light in &self.lights {
@@ -103,7 +105,7 @@ impl Context<'_> {
             }
             // A light closer than the offset (on the surface) is not shadowed.
             let tmax = dist - self.eps;
-            if tmax <= 0.0 || !self.world.occluded(origin, l, self.eps, tmax) {
+            if tmax <= 0.0 || !self.world.occluded_with_coin(origin, l, (self.eps, tmax), coin) {
                 sum += f * radiance;
             }
         }
@@ -165,7 +167,7 @@ impl Context<'_> {
     /// `v` (emitters by next-event estimation alone).
     pub fn direct_light(&self, h: &Hit, v: Vec3A, rng: &mut Rng) -> Vec3A {
         let b = self.brdf.at(h);
-        self.lights(h, &b, v) + self.emitted_light(h, &b, v, rng, false)
+        self.lights(h, &b, v, 0) + self.emitted_light(h, &b, v, rng, false)
     }
 
     /// `direct`: emission plus the lights' light with hard shadows, plus the emitters' by
@@ -259,7 +261,7 @@ impl Context<'_> {
             sum += throughput * self.emission_found(&y, l, pdf);
             (h, v) = (y, -l);
             b = self.brdf.at(&h);
-            lit = self.lights(&h, &b, v);
+            lit = self.lights(&h, &b, v, 0);
         }
         sum
     }

@@ -372,10 +372,16 @@ fn pass_row(
 ) {
     let (w, _) = cam.size;
     let with_lights = terms.iter().any(|t| matches!(t, Term::Direct | Term::Full));
+    // With blended surfaces each sample traces the camera ray with a coin of its own (else
+    // a pixel would meet them in all its samples or none); without, once per pixel.
+    let blended = ctx.world.has_blended();
     for x in 0..w {
         let (origin, dir, len) = cam.ray(x, y);
-        let hit = ctx.world.trace(origin, dir, (0.0, len), world::Faces::Seen);
-        let primary = hit.map(|h| ctx.primary(&h, -dir, with_lights));
+        let first = |coin| {
+            let hit = ctx.world.trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, coin);
+            hit.map(|h| ctx.primary(&h, -dir, with_lights, coin))
+        };
+        let shared = (!blended).then(|| first(0));
         let pixel = (y * w + x) as u64;
         for (k, &term) in terms.iter().enumerate() {
             let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
@@ -384,7 +390,15 @@ fn pass_row(
                     break;
                 }
                 let mut rng = sample::Rng::new(seed, pixel, i as u64, term as u64);
-                let v = estimate(ctx, term, primary.as_ref(), -dir, &mut rng);
+                let own;
+                let primary = match &shared {
+                    Some(p) => p.as_ref(),
+                    None => {
+                        own = first(sample::coin(seed, pixel, i as u64));
+                        own.as_ref()
+                    }
+                };
+                let v = estimate(ctx, term, primary, -dir, &mut rng);
                 debug_assert!(v.is_finite(), "{term:?} at ({x}, {y}) sample {i}: {v}");
                 for c in 0..3 {
                     slot[c] += v[c] as f64;

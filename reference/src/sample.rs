@@ -34,6 +34,12 @@ impl Rng {
     }
 }
 
+/// The coin of a pixel's sample (for blended surfaces its camera ray meets; `World::trace_with_coin`):
+/// a stream of its own, so the terms' numbers stay as they are.
+pub fn coin(seed: u64, pixel: u64, sample: u64) -> u32 {
+    (Rng::new(seed, pixel, sample, u64::MAX).0 >> 32) as u32
+}
+
 /// A number in [0, 1) from a few floats (stochastic transparency's coin).
 pub fn unit_hash(values: &[f32]) -> f32 {
     let h = values.iter().fold(0x51_7cc1_b727_220au64, |h, v| mix(h ^ v.to_bits() as u64));

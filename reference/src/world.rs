@@ -69,6 +69,8 @@ pub struct World {
     flags: Vec<u8>,
     materials: Vec<Material>,
     textures: Vec<ImageData>,
+    /// Some triangle's material is blended (`has_blended`).
+    blended: bool,
 }
 
 impl World {
@@ -126,6 +128,7 @@ impl World {
                 (m.double_sided as u8 * DOUBLE_SIDED) | ((m.alpha == AlphaMode::Opaque) as u8 * OPAQUE)
             })
             .collect();
+        let blended = material.iter().any(|&m| materials[m as usize].alpha == AlphaMode::Blend);
         World {
             bvh,
             tris: order.iter().map(|&i| tris[i]).collect(),
@@ -135,6 +138,7 @@ impl World {
             flags,
             materials,
             textures: scene.textures.clone(),
+            blended,
         }
     }
 
@@ -146,9 +150,9 @@ impl World {
     /// mask) and, with the probability of their transparency, blended ones let the ray
     /// through. With `Faces::Seen` so does the back of a single-sided surface, whose distance
     /// goes to `back` (the nearest such).
-    fn counts(&self, ray: &Ray, (i, t, det): (usize, f32, f32), faces: Faces, back: &mut f32) -> bool {
+    fn counts(&self, ray: &Ray, (i, t, det): (usize, f32, f32), (faces, coin): (Faces, u32), back: &mut f32) -> bool {
         let flags = self.flags[i];
-        if flags & OPAQUE == 0 && self.cut_out(ray, i, t) {
+        if flags & OPAQUE == 0 && self.cut_out(ray, i, t, coin) {
             return false;
         }
         // det < 0: the ray meets the face from behind (det = −d · (e1 × e2)).
@@ -161,14 +165,25 @@ impl World {
 
     /// Whether the ray passes triangle `i` at `t`: a cut-out texel, or a blended one by the
     /// probability of its transparency.
-    fn cut_out(&self, ray: &Ray, i: usize, t: f32) -> bool {
+    fn cut_out(&self, ray: &Ray, i: usize, t: f32, coin: u32) -> bool {
         let mat = &self.materials[self.material[i] as usize];
         let cutoff = match mat.alpha {
             AlphaMode::Opaque => return false,
             AlphaMode::Mask(c) => c,
-            // Stochastic transparency, decided by a hash of the ray and triangle: the same
-            // ray always meets the same surfaces (bit-identical reruns).
-            AlphaMode::Blend => super::sample::unit_hash(&[ray.origin.x, ray.origin.y, ray.dir.z, self.scene_index[i] as f32, t]),
+            // Stochastic transparency, decided by a hash of the ray, the triangle and the
+            // caller's coin: the same query always meets the same surfaces (bit-identical
+            // reruns), and a camera ray repeated per sample gets a coin per sample.
+            AlphaMode::Blend => {
+                let key = [
+                    ray.origin.x,
+                    ray.origin.y,
+                    ray.dir.z,
+                    self.scene_index[i] as f32,
+                    t,
+                    f32::from_bits(coin),
+                ];
+                super::sample::unit_hash(&key)
+            }
         };
         let (bary, _) = self.barycentrics(i, ray.origin + ray.dir * t);
         self.base_color(mat, self.uv_at(i, bary, 0)).w < cutoff
@@ -176,12 +191,17 @@ impl World {
 
     /// The nearest surface along `dir` from `origin` between `tmin` and `tmax`, of the
     /// `faces` asked for.
-    pub fn trace(&self, origin: Vec3A, dir: Vec3A, (tmin, tmax): (f32, f32), faces: Faces) -> Option<Hit> {
+    pub fn trace(&self, origin: Vec3A, dir: Vec3A, range: (f32, f32), faces: Faces) -> Option<Hit> {
+        self.trace_with_coin(origin, dir, range, faces, 0)
+    }
+
+    /// `trace`, blended surfaces passed or met by `coin` as well as by the ray.
+    pub fn trace_with_coin(&self, origin: Vec3A, dir: Vec3A, (tmin, tmax): (f32, f32), faces: Faces, coin: u32) -> Option<Hit> {
         let ray = Ray::new(origin, dir, tmin, tmax);
         let mut back = f32::INFINITY;
         let (i, t) = self
             .bvh
-            .closest(&ray, &mut |i, t, det| self.counts(&ray, (i, t, det), faces, &mut back))?;
+            .closest(&ray, &mut |i, t, det| self.counts(&ray, (i, t, det), (faces, coin), &mut back))?;
         let mut h = self.surface(i as usize, origin, dir, t);
         h.shadowed = back < t;
         Some(h)
@@ -189,10 +209,22 @@ impl World {
 
     /// Whether anything lies along `dir` from `origin` between `tmin` and `tmax`.
     pub fn occluded(&self, origin: Vec3A, dir: Vec3A, tmin: f32, tmax: f32) -> bool {
+        self.occluded_with_coin(origin, dir, (tmin, tmax), 0)
+    }
+
+    /// `occluded`, blended surfaces passed or met by `coin` as well as by the ray.
+    pub fn occluded_with_coin(&self, origin: Vec3A, dir: Vec3A, (tmin, tmax): (f32, f32), coin: u32) -> bool {
         let ray = Ray::new(origin, dir, tmin, tmax);
         let mut back = f32::INFINITY;
-        self.bvh
-            .any(&ray, &mut |i, t, det| self.counts(&ray, (i, t, det), Faces::Both, &mut back))
+        self.bvh.any(&ray, &mut |i, t, det| {
+            self.counts(&ray, (i, t, det), (Faces::Both, coin), &mut back)
+        })
+    }
+
+    /// Whether some material is blended: then what a camera ray meets differs between samples
+    /// (each with its own coin), and no term is exact with one sample.
+    pub fn has_blended(&self) -> bool {
+        self.blended
     }
 
     /// Triangle `i`'s corners.

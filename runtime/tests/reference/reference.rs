@@ -166,6 +166,51 @@ fn the_same_seed_gives_bit_identical_images_on_any_thread_count() {
     assert_eq!(other.term(Term::Direct).unwrap().mean.rgba, a.term(Term::Direct).unwrap().mean.rgba);
 }
 
+/// A half-transparent pane (blended, alpha 0.5, albedo 0.8) before a wall (albedo 0.5), both
+/// facing a sun behind the camera: every sample of a pixel tosses its own coins (the camera
+/// ray's and the shadow ray's), so each pixel converges to the blend — half the pane, half
+/// the wall, which the pane shadows half the time — instead of showing one or the other.
+#[test]
+fn blended_surfaces_converge_per_pixel_instead_of_dithering() {
+    use lightbench::scene::{AlphaMode, Light};
+    let quad_mesh = |name: &str, centre: Vec3, half: f32, material: usize| {
+        let (mut vs, mut is) = (vec![], vec![]);
+        quad(centre, Vec3::X * half, Vec3::Y * half, &mut vs, &mut is);
+        Mesh {
+            material,
+            ..mesh(name, (vs, is), Mat4::IDENTITY)
+        }
+    };
+    let mut pane = Material::color("pane", [0.8; 3], 1.0);
+    (pane.base_color[3], pane.alpha, pane.double_sided) = (0.5, AlphaMode::Blend, true);
+    let mut s = scene(
+        // The pane a quarter pixel off centre: no pixel's ray runs through the edge its two
+        // triangles share (there it would toss a coin for each; see docs/reference.md).
+        vec![quad_mesh("wall", Vec3::NEG_Z, 10.0, 0), quad_mesh("pane", Vec3::X * 0.05, 0.6, 1)],
+        vec![Material::color("wall", [0.5; 3], 1.0), pane],
+        camera(Vec3::new(0.0, 0.0, 3.0), 0.0),
+        (16, 16),
+    );
+    s.lights = vec![Light::directional(Vec3::NEG_Z, Vec3::ONE, 1.0)];
+    let r = reference::render(&s, &settings(&[Term::Direct], 256), false);
+    let t = r.term(Term::Direct).unwrap();
+    // Light and view along the normal: the BRDF is (albedo + 0.04)/π at roughness 1.
+    let (pane_lit, wall_lit) = (0.84 / std::f64::consts::PI, 0.54 / std::f64::consts::PI);
+    let expected = 0.5 * pane_lit + 0.5 * (0.5 * wall_lit);
+    // The pane covers −0.55..0.65 at 3 units, the view ±tan 30° × 3 = ±1.73: the middle
+    // 4 × 4 pixels see it whole.
+    let mut worst: f64 = 0.0;
+    for y in 6..10 {
+        for x in 6..10 {
+            let i = (y * 16 + x) * 4;
+            let (v, var) = (t.mean.rgba[i] as f64, t.variance.rgba[i] as f64);
+            assert!(var > 0.0, "pixel ({x}, {y}): no noise, so one coin for all its samples");
+            worst = worst.max((v - expected).abs() / var.sqrt());
+        }
+    }
+    assert!(worst < 5.0, "a pixel {worst:.1} standard errors from the blend {expected:.4}");
+}
+
 /// The reference's `direct` term and the raster deferred pipeline's `hdr` with `params` set
 /// (ambient 0 among them), compared value by value: the share of values within `tolerance`
 /// (relative, against at least 0.02) and the median relative difference.

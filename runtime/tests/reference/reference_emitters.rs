@@ -78,7 +78,7 @@ fn direct_on_floor(s: &Scene) -> Vec<(f64, f64, f64)> {
         let hit = world
             .trace(Vec3A::from(x + Vec3::Y * 0.5), Vec3A::NEG_Y, (0.0, 1.0), Faces::Seen)
             .expect("the floor");
-        let primary = ctx.primary(&hit, Vec3A::Y, true);
+        let primary = ctx.primary(&hit, Vec3A::Y, true, 0);
         let samples: Vec<f64> = (0..64)
             .map(|i| ctx.direct(&primary, Vec3A::Y, &mut Rng::new(1, k, i, 0)).x as f64)
             .collect();
@@ -226,7 +226,7 @@ fn an_emissive_texture_is_sampled_as_it_is_seen() {
             .trace(Vec3A::from(x + Vec3::Y * 0.5), Vec3A::NEG_Y, (0.0, 1.0), Faces::Seen)
             .unwrap();
         let stats = |ctx: &Context| {
-            let primary = ctx.primary(&hit, Vec3A::Y, true);
+            let primary = ctx.primary(&hit, Vec3A::Y, true, 0);
             let v: Vec<f64> = (0..4096)
                 .map(|i| ctx.direct(&primary, Vec3A::Y, &mut Rng::new(5, k, i, 0)).x as f64)
                 .collect();
