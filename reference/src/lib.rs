@@ -383,21 +383,16 @@ fn pass_row(
         };
         let shared = (!blended).then(|| first(0));
         let pixel = (y * w + x) as u64;
-        for (k, &term) in terms.iter().enumerate() {
-            let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
-            for i in range.clone() {
+        for i in range.clone() {
+            // Worked out once per sample for all the terms.
+            let own = blended.then(|| first(sample::coin(seed, pixel, i as u64)));
+            let primary = own.as_ref().or(shared.as_ref()).and_then(Option::as_ref);
+            for (k, &term) in terms.iter().enumerate() {
                 if ctx.exact(term) && i > 0 {
-                    break;
+                    continue;
                 }
+                let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
                 let mut rng = sample::Rng::new(seed, pixel, i as u64, term as u64);
-                let own;
-                let primary = match &shared {
-                    Some(p) => p.as_ref(),
-                    None => {
-                        own = first(sample::coin(seed, pixel, i as u64));
-                        own.as_ref()
-                    }
-                };
                 let v = estimate(ctx, term, primary, -dir, &mut rng);
                 debug_assert!(v.is_finite(), "{term:?} at ({x}, {y}) sample {i}: {v}");
                 for c in 0..3 {
