@@ -53,6 +53,43 @@ pub enum Faces {
     Both,
 }
 
+/// What `surface` knows of a triangle before a hit: its unit face normal, and its shading
+/// normal where that is the same everywhere on it (its corners' normals are one: flat faces).
+#[derive(Clone, Copy)]
+struct Face {
+    normal: Vec3A,
+    flat: Option<Vec3A>,
+}
+
+/// A material as evaluated at a point (`lib/material.wgsl`): base colour, metallic and
+/// roughness clamped, emission.
+#[derive(Clone, Copy)]
+struct Look {
+    albedo: Vec3A,
+    metallic: f32,
+    roughness: f32,
+    emissive: Vec3A,
+}
+
+impl Look {
+    /// `mat` with its textures' values `base`, `mr` (metallic in z, roughness in y) and
+    /// `emissive` at the point.
+    fn new(mat: &Material, base: Vec4, mr: Vec4, emissive: Vec4) -> Look {
+        Look {
+            albedo: Vec3A::from_vec4(Vec4::from(mat.base_color) * base),
+            metallic: (mat.metallic * mr.z).clamp(0.0, 1.0),
+            roughness: (mat.roughness * mr.y).clamp(0.03, 1.0),
+            emissive: Vec3A::from(mat.emissive) * Vec3A::from_vec4(emissive),
+        }
+    }
+
+    /// The same everywhere: `mat` without textures (else none).
+    fn plain(mat: &Material) -> Option<Look> {
+        let textured = [mat.base_color_texture, mat.metallic_roughness_texture, mat.emissive_texture, mat.normal_texture];
+        textured.iter().all(Option::is_none).then(|| Look::new(mat, Vec4::ONE, Vec4::ONE, Vec4::ONE))
+    }
+}
+
 const DOUBLE_SIDED: u8 = 1;
 const OPAQUE: u8 = 2;
 
@@ -61,6 +98,7 @@ pub struct World {
     /// Triangles in BVH order (so a hit's id indexes them directly).
     tris: Vec<Triangle>,
     corners: Vec<[Corner; 3]>,
+    faces: Vec<Face>,
     material: Vec<u32>,
     /// Each triangle's place in the scene's order, which stochastic transparency hashes (the
     /// same whatever order a BVH keeps them in).
@@ -68,9 +106,24 @@ pub struct World {
     /// Per triangle: `DOUBLE_SIDED` and `OPAQUE` of its material (no lookup while traversing).
     flags: Vec<u8>,
     materials: Vec<Material>,
+    /// Per material, its look where it has no textures: a hit on a flat face of it needs no
+    /// barycentrics.
+    plain: Vec<Option<Look>>,
     textures: Vec<ImageData>,
     /// Some triangle's material is blended (`has_blended`).
     blended: bool,
+}
+
+impl Face {
+    fn new(t: &Triangle, c: &[Corner; 3]) -> Face {
+        // As `barycentrics` and `look_at` work them out at a hit (the same bits).
+        let normal = (t.v1 - t.v0).cross(t.v2 - t.v0).normalize_or(Vec3A::Y);
+        let same = c[1].normal == c[0].normal && c[2].normal == c[0].normal;
+        Face {
+            normal,
+            flat: same.then(|| c[0].normal.try_normalize().unwrap_or(normal)),
+        }
+    }
 }
 
 impl World {
@@ -129,10 +182,14 @@ impl World {
             })
             .collect();
         let blended = material.iter().any(|&m| materials[m as usize].alpha == AlphaMode::Blend);
+        let tris: Vec<Triangle> = order.iter().map(|&i| tris[i]).collect();
+        let corners: Vec<[Corner; 3]> = order.iter().map(|&i| corners[i]).collect();
         World {
             bvh,
-            tris: order.iter().map(|&i| tris[i]).collect(),
-            corners: order.iter().map(|&i| corners[i]).collect(),
+            faces: tris.iter().zip(&corners).map(|(t, c)| Face::new(t, c)).collect(),
+            plain: materials.iter().map(Look::plain).collect(),
+            tris,
+            corners,
             material,
             scene_index: order.iter().map(|&i| i as u32).collect(),
             flags,
@@ -287,9 +344,37 @@ impl World {
 
     fn surface(&self, i: usize, origin: Vec3A, dir: Vec3A, t: f32) -> Hit {
         let position = origin + dir * t;
-        let (w, face) = self.barycentrics(i, position);
+        let ng = self.faces[i].normal;
+        let (n, look) = match (self.faces[i].flat, self.plain[self.material[i] as usize]) {
+            (Some(n), Some(look)) => (n, look),
+            _ => self.look_at(i, position, ng),
+        };
+        // Normals face the incoming ray: a back is hit only where it is seen (double-sided)
+        // or by an occlusion ray.
+        let (ng, n) = if ng.dot(dir) > 0.0 {
+            (-ng, if n.dot(dir) > 0.0 { -n } else { n })
+        } else {
+            (ng, if n.dot(ng) < 0.0 { -n } else { n })
+        };
+        Hit {
+            t,
+            position,
+            n,
+            ng,
+            albedo: look.albedo,
+            metallic: look.metallic,
+            roughness: look.roughness,
+            emissive: look.emissive,
+            triangle: i as u32,
+            shadowed: false,
+        }
+    }
+
+    /// The shading normal and material at `position` on triangle `i` (unit face normal
+    /// `ng`): vertex normals interpolated, textures sampled.
+    fn look_at(&self, i: usize, position: Vec3A, ng: Vec3A) -> (Vec3A, Look) {
+        let (w, _) = self.barycentrics(i, position);
         let c = &self.corners[i];
-        let ng = face.normalize_or(Vec3A::Y);
         let interpolated = c[0].normal * w.x + c[1].normal * w.y + c[2].normal * w.z;
         // Zero-length vertex normals: the face normal stands in (as in the shaders).
         let mut n = interpolated.try_normalize().unwrap_or(ng);
@@ -310,25 +395,7 @@ impl World {
             .and_then(|t| self.textures.get(t))
             .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, map(1))));
         let emissive = self.emissive_map(mat, i, w);
-        // Normals face the incoming ray: a back is hit only where it is seen (double-sided)
-        // or by an occlusion ray.
-        let (ng, n) = if ng.dot(dir) > 0.0 {
-            (-ng, if n.dot(dir) > 0.0 { -n } else { n })
-        } else {
-            (ng, if n.dot(ng) < 0.0 { -n } else { n })
-        };
-        Hit {
-            t,
-            position,
-            n,
-            ng,
-            albedo: Vec3A::from_vec4(base),
-            metallic: (mat.metallic * mr.z).clamp(0.0, 1.0),
-            roughness: (mat.roughness * mr.y).clamp(0.03, 1.0),
-            emissive: Vec3A::from(mat.emissive) * Vec3A::from_vec4(emissive),
-            triangle: i as u32,
-            shadowed: false,
-        }
+        (n, Look::new(mat, base, mr, emissive))
     }
 
     fn transform_uv(&self, mat: &Material, uv: Vec2) -> Vec2 {
