@@ -305,6 +305,17 @@ fn enter(node: &Node, ray: &Lanes, tmax: f32, stack: &mut Stack) -> Option<(u32,
         let slot = mask.trailing_zeros() as usize;
         return Some((node.child[slot], near[slot]));
     }
+    let first = mask.trailing_zeros() as usize;
+    let rest = mask & (mask - 1);
+    if rest & (rest - 1) == 0 {
+        // Two children: one comparison orders them.
+        let second = rest.trailing_zeros() as usize;
+        let (a, b) = ((node.child[first], near[first]), (node.child[second], near[second]));
+        // A tie goes to the later slot, as the insertion below orders them.
+        let (nearer, farther) = if b.1 <= a.1 { (b, a) } else { (a, b) };
+        stack.push(farther);
+        return Some(nearer);
+    }
     let mut hits = [(0u32, 0f32); 4];
     let mut n = 0;
     while mask != 0 {
