@@ -72,11 +72,11 @@ struct Look {
 }
 
 impl Look {
-    /// `mat` with its textures' values `base`, `mr` (metallic in z, roughness in y) and
-    /// `emissive` at the point.
+    /// `mat` at a point of base colour `base` (the factor times the texture) and textures'
+    /// values `mr` (metallic in z, roughness in y) and `emissive`.
     fn new(mat: &Material, base: Vec4, mr: Vec4, emissive: Vec4) -> Look {
         Look {
-            albedo: Vec3A::from_vec4(Vec4::from(mat.base_color) * base),
+            albedo: Vec3A::from_vec4(base),
             metallic: (mat.metallic * mr.z).clamp(0.0, 1.0),
             roughness: (mat.roughness * mr.y).clamp(0.03, 1.0),
             emissive: Vec3A::from(mat.emissive) * Vec3A::from_vec4(emissive),
@@ -86,7 +86,7 @@ impl Look {
     /// The same everywhere: `mat` without textures (else none).
     fn plain(mat: &Material) -> Option<Look> {
         let textured = [mat.base_color_texture, mat.metallic_roughness_texture, mat.emissive_texture, mat.normal_texture];
-        textured.iter().all(Option::is_none).then(|| Look::new(mat, Vec4::ONE, Vec4::ONE, Vec4::ONE))
+        textured.iter().all(Option::is_none).then(|| Look::new(mat, Vec4::from(mat.base_color), Vec4::ONE, Vec4::ONE))
     }
 }
 
@@ -480,5 +480,57 @@ fn wrap(i: i64, n: i64, mode: Wrap) -> i64 {
                 2 * n - 1 - m
             }
         }
+    }
+}
+
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The scenes bundled with the project: every `.ron` under `scenes/` and `scenes/hard/`,
+    /// and the built-in ones.
+    fn bundled() -> Vec<Scene> {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes");
+        let mut files: Vec<_> = [root.clone(), root.join("hard")]
+            .iter()
+            .flat_map(|d| std::fs::read_dir(d).unwrap().map(|e| e.unwrap().path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+            .collect();
+        files.sort();
+        let loaded = files.iter().map(|f| lightbench_scene::load::load_sized(f.to_str().unwrap(), None, &[]).unwrap());
+        loaded.chain(lightbench_scene::builtin::NAMES.iter().filter_map(|n| lightbench_scene::builtin::by_name(n))).collect()
+    }
+
+    /// A hit on a flat face of a material without textures skips interpolation: what it takes
+    /// is what interpolating gives (the normal to rounding, the material exactly), and a
+    /// material without textures looks the same on every face, flat or not.
+    #[test]
+    fn the_flat_face_shortcut_is_what_interpolation_gives() {
+        let scenes = bundled();
+        assert!(scenes.len() > 30);
+        let (mut flat, mut smooth) = (0, 0);
+        for s in &scenes {
+            let w = World::new(s);
+            for i in 0..w.triangles() {
+                let t = &w.tris[i];
+                let centre = (t.v0 + t.v1 + t.v2) / 3.0;
+                let (n, look) = w.look_at(i, centre, w.faces[i].normal);
+                let Some(plain) = w.plain[w.material[i] as usize] else { continue };
+                let same = |a: Look, b: Look| {
+                    (a.albedo, a.metallic, a.roughness, a.emissive) == (b.albedo, b.metallic, b.roughness, b.emissive)
+                };
+                assert!(same(look, plain), "{}: triangle {i}", s.name);
+                match w.faces[i].flat {
+                    Some(shortcut) => {
+                        assert!((shortcut - n).length() < 1e-5, "{}: triangle {i}: {shortcut} against {n}", s.name);
+                        flat += 1;
+                    }
+                    None => smooth += 1,
+                }
+            }
+        }
+        // Both kinds were met: the check is not vacuous.
+        assert!(flat > 100 && smooth > 100, "{flat} flat, {smooth} smooth");
     }
 }
