@@ -287,6 +287,7 @@ impl Lanes {
 
 /// The children of `node` that the ray reaches before `tmax`: the nearest returned, the
 /// others pushed farthest first.
+#[inline(always)]
 fn enter(node: &Node, ray: &Lanes, tmax: f32, stack: &mut Stack) -> Option<(u32, f32)> {
     let slab = |axis: usize| {
         let a = (node.min[axis] - ray.o[axis]) * ray.inv[axis];
