@@ -85,8 +85,16 @@ impl Look {
 
     /// The same everywhere: `mat` without textures (else none).
     fn plain(mat: &Material) -> Option<Look> {
-        let textured = [mat.base_color_texture, mat.metallic_roughness_texture, mat.emissive_texture, mat.normal_texture];
-        textured.iter().all(Option::is_none).then(|| Look::new(mat, Vec4::from(mat.base_color), Vec4::ONE, Vec4::ONE))
+        let textured = [
+            mat.base_color_texture,
+            mat.metallic_roughness_texture,
+            mat.emissive_texture,
+            mat.normal_texture,
+        ];
+        textured
+            .iter()
+            .all(Option::is_none)
+            .then(|| Look::new(mat, Vec4::from(mat.base_color), Vec4::ONE, Vec4::ONE))
     }
 }
 
@@ -483,7 +491,6 @@ fn wrap(i: i64, n: i64, mode: Wrap) -> i64 {
     }
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -498,8 +505,16 @@ mod tests {
             .filter(|p| p.extension().is_some_and(|e| e == "ron"))
             .collect();
         files.sort();
-        let loaded = files.iter().map(|f| lightbench_scene::load::load_sized(f.to_str().unwrap(), None, &[]).unwrap());
-        loaded.chain(lightbench_scene::builtin::NAMES.iter().filter_map(|n| lightbench_scene::builtin::by_name(n))).collect()
+        let loaded = files
+            .iter()
+            .map(|f| lightbench_scene::load::load_sized(f.to_str().unwrap(), None, &[]).unwrap());
+        loaded
+            .chain(
+                lightbench_scene::builtin::NAMES
+                    .iter()
+                    .filter_map(|n| lightbench_scene::builtin::by_name(n)),
+            )
+            .collect()
     }
 
     /// A hit on a flat face of a material without textures skips interpolation: what it takes
@@ -517,9 +532,8 @@ mod tests {
                 let centre = (t.v0 + t.v1 + t.v2) / 3.0;
                 let (n, look) = w.look_at(i, centre, w.faces[i].normal);
                 let Some(plain) = w.plain[w.material[i] as usize] else { continue };
-                let same = |a: Look, b: Look| {
-                    (a.albedo, a.metallic, a.roughness, a.emissive) == (b.albedo, b.metallic, b.roughness, b.emissive)
-                };
+                let same =
+                    |a: Look, b: Look| (a.albedo, a.metallic, a.roughness, a.emissive) == (b.albedo, b.metallic, b.roughness, b.emissive);
                 assert!(same(look, plain), "{}: triangle {i}", s.name);
                 match w.faces[i].flat {
                     Some(shortcut) => {
