@@ -124,7 +124,7 @@ pub struct World {
 
 impl Face {
     fn new(t: &Triangle, c: &[Corner; 3]) -> Face {
-        // As `barycentrics` and `look_at` work them out at a hit (the same bits).
+        // The face normal as a hit worked it out before it was kept here (the same bits).
         let normal = (t.v1 - t.v0).cross(t.v2 - t.v0).normalize_or(Vec3A::Y);
         let same = c[1].normal == c[0].normal && c[2].normal == c[0].normal;
         Face {
@@ -250,7 +250,7 @@ impl World {
                 super::sample::unit_hash(&key)
             }
         };
-        let (bary, _) = self.barycentrics(i, ray.origin + ray.dir * t);
+        let bary = self.barycentrics(i, ray.origin + ray.dir * t);
         self.base_color(mat, self.uv_at(i, bary, 0)).w < cutoff
     }
 
@@ -329,15 +329,15 @@ impl World {
             .map_or(Vec4::ONE, |tex| sample(tex, mat, self.transform_uv(mat, uv)))
     }
 
-    /// Barycentric weights of `p` on triangle `i` and its (unnormalised) face normal.
-    fn barycentrics(&self, i: usize, p: Vec3A) -> (Vec3A, Vec3A) {
+    /// Barycentric weights of `p` on triangle `i`.
+    fn barycentrics(&self, i: usize, p: Vec3A) -> Vec3A {
         let t = &self.tris[i];
         let (a, b, c) = (t.v0, t.v1, t.v2);
         let n = (b - a).cross(c - a);
         let area = n.length_squared().max(1e-30);
         let wb = (p - a).cross(c - a).dot(n) / area;
         let wc = (b - a).cross(p - a).dot(n) / area;
-        (Vec3A::new(1.0 - wb - wc, wb, wc), n)
+        Vec3A::new(1.0 - wb - wc, wb, wc)
     }
 
     fn uv_at(&self, i: usize, w: Vec3A, set: u32) -> Vec2 {
@@ -381,7 +381,7 @@ impl World {
     /// The shading normal and material at `position` on triangle `i` (unit face normal
     /// `ng`): vertex normals interpolated, textures sampled.
     fn look_at(&self, i: usize, position: Vec3A, ng: Vec3A) -> (Vec3A, Look) {
-        let (w, _) = self.barycentrics(i, position);
+        let w = self.barycentrics(i, position);
         let c = &self.corners[i];
         let interpolated = c[0].normal * w.x + c[1].normal * w.y + c[2].normal * w.z;
         // Zero-length vertex normals: the face normal stands in (as in the shaders).
