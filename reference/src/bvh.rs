@@ -105,8 +105,15 @@ impl Stack {
             self.fixed[self.len] = e;
             self.len += 1;
         } else {
-            self.spill.push(e);
+            self.spill_push(e);
         }
+    }
+
+    /// Out of line: deep trees only, and inlined it crowds the traversal loop.
+    #[cold]
+    #[inline(never)]
+    fn spill_push(&mut self, e: (u32, f32)) {
+        self.spill.push(e);
     }
 
     fn pop(&mut self) -> Option<(u32, f32)> {
