@@ -65,6 +65,8 @@ pub enum BindingType {
         read_only: bool,
         min_binding_size: u32,
     },
+    /// The scene's top-level acceleration structure (WGSL `acceleration_structure`).
+    AccelerationStructure,
 }
 
 /// Global names of the standard blocks the runtime provides (see `shaders/lib/frame.wgsl`).

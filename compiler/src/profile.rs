@@ -196,6 +196,8 @@ impl Profile {
             Feature::SubgroupBarrier,
             Feature::PrimitiveIndex,
             Feature::ShaderEarlyDepthTest,
+            // Mesa 25 lavapipe's VK_KHR_ray_query, which wgpu 30 exposes as experimental.
+            Feature::ExperimentalRayQuery,
         ]
         .into_iter()
         .collect();

@@ -67,12 +67,15 @@ pub struct Binder<'a> {
     pub volumes: (&'a wgpu::Buffer, &'a super::light_volumes::LightVolumes),
     pub instance: &'a wgpu::Buffer,
     pub lights: &'a [Light],
+    /// The scene's acceleration structure, when the Plan binds one.
+    pub tlas: Option<&'a wgpu::Tlas>,
 }
 
 enum Held<'a> {
     Buf(wgpu::BufferBinding<'a>),
     View(wgpu::TextureView),
     Sampler(&'a wgpu::Sampler),
+    Tlas(&'a wgpu::Tlas),
 }
 
 impl Binder<'_> {
@@ -270,6 +273,7 @@ impl Binder<'_> {
                     Held::Buf(bb) => wgpu::BindingResource::Buffer(bb.clone()),
                     Held::View(v) => wgpu::BindingResource::TextureView(v),
                     Held::Sampler(s) => wgpu::BindingResource::Sampler(s),
+                    Held::Tlas(t) => wgpu::BindingResource::AccelerationStructure(t),
                 },
             })
             .collect();
@@ -285,6 +289,10 @@ impl Binder<'_> {
         let inst = self.instance_of(id, light);
         let name = &self.plan.res(id).name;
         Ok(match ty {
+            BindingType::AccelerationStructure => Held::Tlas(
+                self.tlas
+                    .ok_or_else(|| Error::Plan(format!("`{name}`: the scene's acceleration structure was not built")))?,
+            ),
             BindingType::Texture { view_dimension, .. } | BindingType::StorageTexture { view_dimension, .. } => {
                 let tex = entry
                     .texture(inst, prev, parity)

@@ -200,6 +200,7 @@ pub fn binding_type(t: &BindingType) -> wgpu::BindingType {
             has_dynamic_offset: false,
             min_binding_size: std::num::NonZeroU64::new(*min_binding_size as u64),
         },
+        BindingType::AccelerationStructure => wgpu::BindingType::AccelerationStructure { vertex_return: false },
     }
 }
 
@@ -213,7 +214,7 @@ pub fn usage(usages: &std::collections::BTreeSet<Usage>) -> wgpu::TextureUsages 
             Usage::StorageBinding => wgpu::TextureUsages::STORAGE_BINDING,
             Usage::CopySrc => wgpu::TextureUsages::COPY_SRC,
             Usage::CopyDst => wgpu::TextureUsages::COPY_DST,
-            Usage::Storage | Usage::Uniform => wgpu::TextureUsages::empty(),
+            Usage::Storage | Usage::Uniform | Usage::RayQuery => wgpu::TextureUsages::empty(),
         };
     }
     u

@@ -43,9 +43,9 @@ pub struct Gpu {
     pub notes: Vec<String>,
 }
 
-/// wgpu features lightbench asks for when the adapter has them. Not the experimental ones
-/// (ray queries): wgpu enables those only behind an `unsafe` acknowledgement, so a pipeline
-/// that `requires(ExperimentalRayQuery)` checks offline but finds no device that runs it.
+/// wgpu features lightbench asks for when the adapter has them. Ray queries are experimental
+/// in wgpu 30: `device_descriptor` acknowledges that (`ExperimentalFeatures::enabled`) only
+/// when the adapter has them.
 const WANTED: &[(wgpu::Features, Feature)] = &[
     (wgpu::Features::MULTIVIEW, Feature::Multiview),
     (wgpu::Features::CLIP_DISTANCES, Feature::ClipDistances),
@@ -81,6 +81,7 @@ const WANTED: &[(wgpu::Features, Feature)] = &[
     (wgpu::Features::PRIMITIVE_INDEX, Feature::PrimitiveIndex),
     (wgpu::Features::SHADER_EARLY_DEPTH_TEST, Feature::ShaderEarlyDepthTest),
     (wgpu::Features::SHADER_BARYCENTRICS, Feature::ShaderBarycentrics),
+    (wgpu::Features::EXPERIMENTAL_RAY_QUERY, Feature::ExperimentalRayQuery),
 ];
 
 impl Gpu {
@@ -296,11 +297,23 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
         required.remove(wgpu::Features::MULTIVIEW);
         limits.max_multiview_view_count = 0;
     }
+    let rays = required.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+    if rays {
+        // The adapter's own acceleration-structure limits: wgpu's guaranteed minimums exceed
+        // some drivers' (lavapipe's BLAS primitive count).
+        limits = limits.using_acceleration_structure_values(a);
+    }
     wgpu::DeviceDescriptor {
         label: Some("lightbench"),
         required_features: required,
         required_limits: limits,
-        experimental_features: wgpu::ExperimentalFeatures::disabled(),
+        // SAFETY: asked for only where the adapter exposes ray queries; wgpu's experimental
+        // flag acknowledges its ray-query implementation may still have bugs (what we use of
+        // it: BLAS/TLAS builds and inline ray queries, tested on lavapipe in CI).
+        experimental_features: match rays {
+            true => unsafe { wgpu::ExperimentalFeatures::enabled() },
+            false => wgpu::ExperimentalFeatures::disabled(),
+        },
         memory_hints: wgpu::MemoryHints::Performance,
         trace: wgpu::Trace::Off,
     }

@@ -994,7 +994,18 @@ fn build_state(
         resources_reused: pool.reused.clone(),
         ..Default::default()
     };
+    // Rays need the scene's acceleration structure: built the first time a Plan binds it.
+    let tlas = match plan.resources.iter().any(|r| r.is_accel()) {
+        true => Some(
+            &err_scope(gpu, "building the acceleration structure", || {
+                shared.scene_gpu.accel(device, &gpu.queue)
+            })??
+            .tlas,
+        ),
+        false => None,
+    };
     let binder = Binder {
+        tlas,
         gpu,
         plan,
         pool: &pool,

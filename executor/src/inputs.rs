@@ -36,6 +36,11 @@ impl Executor {
             ResourceShape::Texture {
                 format, extent, layers, ..
             } => data::texture_from_file(file, raw, TextureShape { format, extent, layers }).map_err(bad)?,
+            ResourceShape::AccelerationStructure => {
+                return Err(Error::Usage(format!(
+                    "--input `{name}`: an acceleration structure is built from the scene"
+                )))
+            }
         };
         let res = res.clone();
         self.fill(gpu, &res, &bytes)?;
@@ -78,6 +83,7 @@ impl Executor {
                             write_texture(gpu, t, bytes, format.bytes(), extent, layers);
                         }
                     }
+                    ResourceShape::AccelerationStructure => {}
                 }
             }
         }

@@ -38,6 +38,7 @@
 //! `examples/headless.rs` renders into a texture and writes it to PNG; `examples/embed.rs` is
 //! a winit program presenting through its own blit pass, reloading the pipeline on save.
 
+pub mod accel;
 mod bind_groups;
 pub mod convert;
 pub mod device;

@@ -30,7 +30,7 @@ impl Key {
     pub fn layers(&self) -> u32 {
         match self.shape {
             ResourceShape::Texture { layers, .. } => layers,
-            ResourceShape::Buffer { .. } => 1,
+            ResourceShape::Buffer { .. } | ResourceShape::AccelerationStructure => 1,
         }
     }
 }
@@ -39,6 +39,8 @@ impl Key {
 pub enum Storage {
     Textures(Vec<wgpu::Texture>),
     Buffers(Vec<wgpu::Buffer>),
+    /// The scene's acceleration structure: the scene upload holds it, the pool nothing.
+    Scene,
 }
 
 #[derive(Clone)]
@@ -59,13 +61,13 @@ impl Entry {
     pub fn texture(&self, instance: u32, prev: bool, parity: u32) -> Option<&wgpu::Texture> {
         match &self.storage {
             Storage::Textures(list) => list.get(self.index(instance, prev, parity)),
-            Storage::Buffers(_) => None,
+            Storage::Buffers(_) | Storage::Scene => None,
         }
     }
     pub fn buffer(&self, instance: u32, prev: bool, parity: u32) -> Option<&wgpu::Buffer> {
         match &self.storage {
             Storage::Buffers(list) => list.get(self.index(instance, prev, parity)),
-            Storage::Textures(_) => None,
+            Storage::Textures(_) | Storage::Scene => None,
         }
     }
 }
@@ -162,6 +164,7 @@ impl Pool {
 fn create(device: &wgpu::Device, r: &PlanResource, key: &Key) -> Storage {
     let count = key.instances * key.copies;
     match &r.shape {
+        ResourceShape::AccelerationStructure => Storage::Scene,
         ResourceShape::Buffer { size, .. } => Storage::Buffers(
             (0..count)
                 .map(|i| {

@@ -8,9 +8,13 @@ use lightbench_scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
 use wgpu::util::DeviceExt;
 
 pub struct MeshGpu {
+    pub name: String,
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
     pub index_count: u32,
+    pub vertex_count: u32,
+    /// Model to world (the acceleration structure places the mesh's BLAS with it).
+    pub transform: glam::Mat4,
     pub block: wgpu::Buffer,
     pub material: usize,
     /// Its material blends (alphaMode BLEND): drawn by `draw: Transparent` passes only.
@@ -53,6 +57,8 @@ pub struct SceneGpu {
     /// The standard `light_volumes` binding and the range each light's volume takes in it.
     pub light_volumes: wgpu::Buffer,
     pub volumes: super::light_volumes::LightVolumes,
+    /// The acceleration structure, built the first time a Plan binds it (`accel`).
+    accel: std::sync::OnceLock<super::accel::Accel>,
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
@@ -217,8 +223,13 @@ fn materials(
     (out, descs)
 }
 
-/// Vertex, index and mesh-block buffers of every non-empty mesh.
+/// Vertex, index and mesh-block buffers of every non-empty mesh (inputs of the acceleration
+/// structure's build too, where the device traces rays).
 fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
+    let traced = match device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
+        true => wgpu::BufferUsages::BLAS_INPUT,
+        false => wgpu::BufferUsages::empty(),
+    };
     let buffer = |label: &str, contents: &[u8], usage| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
@@ -244,9 +255,12 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
             normal_matrix: m.transform.inverse().transpose().to_cols_array_2d(),
         };
         out.push(MeshGpu {
-            vertices: buffer(&m.name, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX),
-            indices: buffer(&m.name, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX),
+            name: m.name.clone(),
+            vertices: buffer(&m.name, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX | traced),
+            indices: buffer(&m.name, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX | traced),
             index_count: m.drawn_indices(),
+            vertex_count: m.vertices.len() as u32,
+            transform: m.transform,
             block: buffer(&m.name, bytemuck::bytes_of(&block), wgpu::BufferUsages::UNIFORM),
             material: m.material,
             blend: material.alpha == AlphaMode::Blend,
@@ -374,6 +388,15 @@ fn mesh_centre(m: &lightbench_scene::Mesh) -> glam::Vec3 {
 }
 
 impl SceneGpu {
+    /// The scene's acceleration structure, built on first use (ray-query devices only).
+    pub fn accel(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<&super::accel::Accel> {
+        if let Some(a) = self.accel.get() {
+            return Ok(a);
+        }
+        let built = super::accel::Accel::build(device, queue, &self.meshes)?;
+        Ok(self.accel.get_or_init(|| built))
+    }
+
     pub fn draw_order(&self, eye: glam::Vec3) -> DrawOrder {
         let opaque = (0..self.meshes.len()).filter(|&i| !self.meshes[i].blend).collect();
         let mut back_to_front: Vec<usize> = (0..self.meshes.len()).filter(|&i| self.meshes[i].blend).collect();
@@ -442,6 +465,7 @@ impl SceneGpu {
             area_lights_dropped,
             light_volumes,
             volumes,
+            accel: Default::default(),
         })
     }
 }

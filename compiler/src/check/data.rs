@@ -53,6 +53,10 @@ fn bytes(r: &Resource, d: &Spanned<DataSource>, ctx: &mut DataCtx) -> Result<Arc
         ));
     }
     match &r.kind {
+        ResourceKind::AccelerationStructure => Err((
+            Code::ConflictingKeys,
+            "an acceleration structure is built from the scene; it takes no `data`".into(),
+        )),
         ResourceKind::Buffer(b) => {
             let raw = match &d.value {
                 DataSource::File(f) => buffer_file(ctx, f)?,

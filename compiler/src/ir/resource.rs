@@ -131,6 +131,10 @@ pub struct BufferDesc {
 pub enum ResourceKind {
     Texture(TextureDesc),
     Buffer(BufferDesc),
+    /// The scene's ray-tracing acceleration structure: the executor builds one bottom level
+    /// per mesh and the top level from the instances; no pass writes it, passes that trace
+    /// rays read it (a WGSL `acceleration_structure` global).
+    AccelerationStructure,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -147,35 +151,43 @@ impl Resource {
     pub fn texture(&self) -> Option<&TextureDesc> {
         match &self.kind {
             ResourceKind::Texture(t) => Some(t),
-            ResourceKind::Buffer(_) => None,
+            ResourceKind::Buffer(_) | ResourceKind::AccelerationStructure => None,
         }
+    }
+    pub fn is_accel(&self) -> bool {
+        matches!(self.kind, ResourceKind::AccelerationStructure)
     }
     pub fn per_light(&self) -> Option<&Spanned<Vec<LightKind>>> {
         match &self.kind {
             ResourceKind::Texture(t) => t.per_light.as_ref(),
             ResourceKind::Buffer(b) => b.per_light.as_ref(),
+            ResourceKind::AccelerationStructure => None,
         }
     }
     pub fn history(&self) -> bool {
         match &self.kind {
             ResourceKind::Texture(t) => t.history,
             ResourceKind::Buffer(b) => b.history,
+            ResourceKind::AccelerationStructure => false,
         }
     }
     pub fn external(&self) -> bool {
         match &self.kind {
             ResourceKind::Texture(t) => t.external,
             ResourceKind::Buffer(b) => b.external,
+            ResourceKind::AccelerationStructure => false,
         }
     }
-    /// Content comes from outside the passes (the caller, or `data`): no writer needed.
+    /// Content comes from outside the passes (the caller, `data`, or the scene for an
+    /// acceleration structure): no writer needed.
     pub fn supplied(&self) -> bool {
-        self.external() || self.data().is_some()
+        self.external() || self.data().is_some() || self.is_accel()
     }
     pub fn data(&self) -> Option<&Spanned<DataSource>> {
         match &self.kind {
             ResourceKind::Texture(t) => t.data.as_ref(),
             ResourceKind::Buffer(b) => b.data.as_ref(),
+            ResourceKind::AccelerationStructure => None,
         }
     }
 }

@@ -65,6 +65,7 @@ fn binding_word(t: &BindingType) -> String {
             read_only,
             min_binding_size,
         } => format!("storage {} (≥{min_binding_size} B)", if *read_only { "read" } else { "read_write" }),
+        BindingType::AccelerationStructure => "acceleration structure".into(),
     }
 }
 
@@ -442,6 +443,7 @@ pub fn shape_word(r: &PlanResource) -> String {
             shape
         }
         ResourceShape::Buffer { size, .. } => format!("{size} bytes"),
+        ResourceShape::AccelerationStructure => "acceleration structure (built from the scene)".into(),
     }
 }
 
@@ -501,6 +503,7 @@ pub fn to_dot(plan: &Plan) -> String {
         let detail = match &r.shape {
             ResourceShape::Texture { format, .. } => format.name().to_string(),
             ResourceShape::Buffer { size, .. } => format!("{size} bytes"),
+            ResourceShape::AccelerationStructure => "acceleration structure".into(),
         };
         let _ = writeln!(
             s,

@@ -325,6 +325,9 @@ pub enum ResourceShape {
         /// What its 32-bit words hold, as the shaders binding it declare them.
         words: Words,
     },
+    /// The scene's ray-tracing acceleration structure, which the executor builds from the
+    /// scene (one bottom level per mesh, the top level from the instances).
+    AccelerationStructure,
 }
 
 /// The scalar type of a buffer's words: `U32`/`I32` when every shader binding it declares
@@ -347,6 +350,8 @@ pub enum Usage {
     Uniform,
     CopySrc,
     CopyDst,
+    /// Bound as an acceleration structure that shaders trace rays against.
+    RayQuery,
 }
 
 impl Usage {
@@ -359,6 +364,7 @@ impl Usage {
             Usage::Uniform => "UNIFORM",
             Usage::CopySrc => "COPY_SRC",
             Usage::CopyDst => "COPY_DST",
+            Usage::RayQuery => "(acceleration structure binding)",
         }
     }
 }
@@ -397,8 +403,11 @@ impl PlanResource {
     pub fn layers(&self) -> u32 {
         match self.shape {
             ResourceShape::Texture { layers, .. } => layers,
-            ResourceShape::Buffer { .. } => 1,
+            ResourceShape::Buffer { .. } | ResourceShape::AccelerationStructure => 1,
         }
+    }
+    pub fn is_accel(&self) -> bool {
+        matches!(self.shape, ResourceShape::AccelerationStructure)
     }
 }
 
@@ -443,7 +452,7 @@ pub struct PlanSampler {
 
 /// The version of the Plan's data format (`plan --json`, specified in `docs/plan.md`): raised
 /// when a field changes meaning or goes; new optional fields keep it.
-pub const FORMAT: u32 = 1;
+pub const FORMAT: u32 = 2;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Plan {

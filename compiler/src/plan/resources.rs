@@ -67,6 +67,7 @@ fn usages<'p>(p: &'p Pipeline, kept: &'p Kept) -> HashMap<&'p str, (bool, BTreeS
                 BindingType::StorageTexture { .. } => Usage::StorageBinding,
                 BindingType::Storage { .. } => Usage::Storage,
                 BindingType::Uniform { .. } => Usage::Uniform,
+                BindingType::AccelerationStructure => Usage::RayQuery,
                 BindingType::Sampler(_) => continue,
             };
             used.entry(n.as_str()).or_default().1.insert(usage);
@@ -114,6 +115,8 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
             let shape = ResourceShape::Buffer { size, words: Words::F32 };
             (shape, size)
         }
+        // Its size is the driver's business, known only once built (the executor reports it).
+        ResourceKind::AccelerationStructure => (ResourceShape::AccelerationStructure, 0),
     };
     PlanResource {
         name: r.name.value.clone(),

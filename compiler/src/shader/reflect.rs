@@ -36,6 +36,8 @@ pub enum BindingTy {
         read_only: bool,
         size: u32,
     },
+    /// `acceleration_structure`: the scene's ray-tracing acceleration structure.
+    AccelerationStructure,
     Unsupported,
 }
 
@@ -106,6 +108,7 @@ pub fn resource_globals_of(m: &naga::Module, layouter: &naga::proc::Layouter) ->
                 ImageClass::External => BindingTy::Unsupported,
             },
             (AddressSpace::Handle, TypeInner::Sampler { comparison }) => BindingTy::Sampler { comparison: *comparison },
+            (AddressSpace::Handle, TypeInner::AccelerationStructure { vertex_return: false }) => BindingTy::AccelerationStructure,
             _ => BindingTy::Unsupported,
         };
         out.push(GlobalBinding {

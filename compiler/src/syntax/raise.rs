@@ -134,6 +134,9 @@ fn size(s: &SizeSpec, span: Span) -> Node {
 
 fn resource(r: &Resource) -> Node {
     let (kind, mut f) = match &r.kind {
+        ResourceKind::AccelerationStructure => {
+            return Fields::new("AccelerationStructure").into_node(Some("AccelerationStructure"), r.span, r.span);
+        }
         ResourceKind::Texture(t) => {
             let mut f = Fields::new("Texture");
             f.put("format", Node::ident(t.format.value.name(), t.format.span));

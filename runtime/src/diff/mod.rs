@@ -305,6 +305,8 @@ fn read_resource(gpu: &Gpu, (ea, eb): (&Executor, &Executor), (name, name_b): (&
                 let words = |ex: &Executor, n: &str| ex.read_buffer(gpu, n, slice.0).map(|w| Values::Words(crate::io::Image::row(w)));
                 (words(ea, name)?, words(eb, name_b)?, 1, false, "buffer".to_string())
             }
+            // Built from the scene, not by the passes: nothing of it can be read back.
+            ResourceShape::AccelerationStructure => continue,
         };
         out.push(Slice {
             name: if name == name_b {

@@ -164,6 +164,7 @@ fn resource_facts(r: &lightbench_compiler::plan::PlanResource) -> String {
         ResourceShape::Texture { extent, layers, .. } if *layers > 1 => format!("{}×{}×{layers}", extent.0, extent.1),
         ResourceShape::Texture { extent, .. } => format!("{}×{}", extent.0, extent.1),
         ResourceShape::Buffer { size, .. } => format!("{size} bytes"),
+        ResourceShape::AccelerationStructure => "built from the scene".to_string(),
     };
     let usage: Vec<&str> = r.usage.iter().map(|u| u.name()).collect();
     let instances = if r.instances == 1 {

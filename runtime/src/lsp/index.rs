@@ -273,6 +273,10 @@ fn resource_hover(p: &Pipeline, r: &Resource) -> String {
             let per = if b.per_pixel { " per pixel" } else { "" };
             format!("**buffer** `{}`: {} bytes{per}", r.name.value, b.size.value)
         }
+        ResourceKind::AccelerationStructure => format!(
+            "**acceleration structure** `{}`: the scene's triangles, built by the executor for ray queries",
+            r.name.value
+        ),
     };
     let passes = |f: &dyn Fn(&Pass) -> bool| {
         let names: Vec<String> = p.written_passes().filter(|x| f(x)).map(|x| format!("`{}`", x.name.value)).collect();

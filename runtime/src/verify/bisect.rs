@@ -98,6 +98,7 @@ fn read_at(gpu: &Gpu, ex: &Executor, pass: &PlanPass, bad: &Bad) -> Result<Vec<(
                 format!("[{}, {}, {}, {}] at ({ix}, {iy})", num(a), num(b), num(c), num(d))
             }
             (ResourceShape::Texture { .. }, At::Word(_)) => "(a texture)".into(),
+            (ResourceShape::AccelerationStructure, _) => "(the scene's acceleration structure)".into(),
             (ResourceShape::Buffer { .. }, _) => match scan::resource(gpu, ex, r, &[part])? {
                 Some(b) => format!("{} at {:?} ({} non-finite)", b.value, b.at, b.count),
                 None => "all finite".into(),

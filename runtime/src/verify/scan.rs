@@ -64,6 +64,8 @@ fn non_finite(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part]) -> R
             ResourceShape::Texture { .. } => ex
                 .scan_part(gpu, &res.name, part)?
                 .map(|((x, y, channel), v, n)| (At::Pixel { x, y, channel }, v, n)),
+            // Built from the scene's own (checked) positions; nothing to read back.
+            ResourceShape::AccelerationStructure => None,
         };
         if let Some((at, value, count)) = found {
             return Ok(Some(Bad {
@@ -83,7 +85,7 @@ fn non_finite(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part]) -> R
 /// Every resource of the Plan, every part: the first non-finite value of each offender.
 pub fn all(gpu: &Gpu, ex: &Executor) -> Result<Vec<Bad>> {
     let mut out = vec![];
-    for r in &ex.plan().resources {
+    for r in ex.plan().resources.iter().filter(|r| !r.is_accel()) {
         let parts = ex.parts(&r.name)?;
         out.extend(resource(gpu, ex, r, &parts)?);
     }
@@ -100,7 +102,7 @@ fn out_of_range(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part], (m
                 let count = w.iter().filter(|v| outside(**v)).count();
                 w.iter().position(|v| outside(*v)).map(|i| (At::Word(i), w[i], count))
             }
-            ResourceShape::Buffer { .. } => None,
+            ResourceShape::Buffer { .. } | ResourceShape::AccelerationStructure => None,
             ResourceShape::Texture { format, .. } => {
                 let img = ex.read_part(gpu, &res.name, part)?;
                 let n = format.components().clamp(1, 4) as usize;
@@ -135,7 +137,7 @@ fn out_of_range(gpu: &Gpu, ex: &Executor, res: &PlanResource, parts: &[Part], (m
 fn place(res: &PlanResource, p: Part) -> String {
     let mips = match res.shape {
         ResourceShape::Texture { mips, .. } => mips,
-        ResourceShape::Buffer { .. } => 1,
+        ResourceShape::Buffer { .. } | ResourceShape::AccelerationStructure => 1,
     };
     let mut parts = vec![];
     if !res.per_light.is_empty() {

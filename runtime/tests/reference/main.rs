@@ -5,5 +5,6 @@
 #[path = "../gpu_common/mod.rs"]
 mod gpu_common;
 
+mod ray_traced;
 mod reference;
 mod reference_emitters;

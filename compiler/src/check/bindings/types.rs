@@ -50,6 +50,16 @@ impl Ctx<'_> {
                 self.count(&u.stages, |c| c.uniform_buffers += 1);
                 Some(BindingType::Uniform { min_binding_size: *size })
             }
+            (BindingTy::AccelerationStructure, ResourceKind::AccelerationStructure) => {
+                self.used_reads.push(res_name.to_string());
+                if writable {
+                    let msg = format!("`{res_name}` is built from the scene by the executor; no pass writes it");
+                    let gspan = u.stage.module.global_span(u.g.handle);
+                    diags.push(Diagnostic::error(Code::BindingAccess, msg, gspan).with_note("list it under `reads`"));
+                    return None;
+                }
+                Some(BindingType::AccelerationStructure)
+            }
             (sty, kind) => {
                 mismatch(u, res_name, sty, kind, res.span, diags);
                 None
@@ -278,12 +288,14 @@ fn mismatch(u: &Used, res_name: &str, sty: &BindingTy, kind: &ResourceKind, decl
     let (what, decl) = match kind {
         ResourceKind::Texture(t) => (format!("a {} texture", t.format.value.name()), t.format.span),
         ResourceKind::Buffer(_) => ("a buffer".to_string(), decl_span),
+        ResourceKind::AccelerationStructure => ("an acceleration structure".to_string(), decl_span),
     };
     let shader_what = match sty {
         BindingTy::Texture { .. } => "a sampled texture",
         BindingTy::StorageTexture { .. } => "a storage texture",
         BindingTy::Storage { .. } => "a storage buffer",
         BindingTy::Uniform { .. } => "a uniform buffer",
+        BindingTy::AccelerationStructure => "an `acceleration_structure`",
         _ => "an unsupported binding",
     };
     diags.push(

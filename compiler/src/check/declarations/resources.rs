@@ -36,6 +36,7 @@ pub(super) fn resources(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics
                     diags.push(Diagnostic::error(Code::ConflictingKeys, msg, d.span).with_note("drop `data`, or give a fixed size"));
                 }
             }
+            ResourceKind::AccelerationStructure => {}
         }
         if let Some(k) = r.per_light() {
             empty_kinds(k, diags);

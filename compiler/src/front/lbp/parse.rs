@@ -251,7 +251,7 @@ impl Builder<'_> {
                 continue;
             }
             match it.as_rule() {
-                Rule::param | Rule::sampler | Rule::texture | Rule::buffer | Rule::variant => {
+                Rule::param | Rule::sampler | Rule::texture | Rule::buffer | Rule::accel | Rule::variant => {
                     self.map_item(it, &mut maps, |v| v);
                 }
                 Rule::pass => {
@@ -418,6 +418,12 @@ impl Builder<'_> {
         Some((name.clone(), Node::structure("Buffer", name.span, f.0, span)))
     }
 
+    fn accel(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let name = self.name(kids(p).next()?)?;
+        Some((name.clone(), Node::structure("AccelerationStructure", name.span, vec![], span)))
+    }
+
     /// A parameter, sampler, resource or variant line into its map, its value through `wrap`.
     fn map_item(&mut self, it: P, maps: &mut [MapField; 4], wrap: impl FnOnce(Node) -> Node) {
         let at = self.span(&it);
@@ -426,6 +432,7 @@ impl Builder<'_> {
             Rule::sampler => (1, self.sampler(it)),
             Rule::texture => (2, self.texture(it)),
             Rule::buffer => (2, self.buffer(it)),
+            Rule::accel => (2, self.accel(it)),
             _ => (3, self.variant(it)),
         };
         maps[slot].1.extend(entry.map(|(k, v)| (k, wrap(v))));

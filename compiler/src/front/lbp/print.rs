@@ -248,6 +248,9 @@ fn per_light(n: &Node) -> String {
 
 fn resource(k: &Node, v: &Node) -> String {
     let f = fields(v);
+    if v.name() == Some("AccelerationStructure") {
+        return format!("acceleration_structure {}", name(text(k)));
+    }
     let mut line = if v.name() == Some("Buffer") {
         format!("buffer {}: {} bytes", name(text(k)), get(f, "size").map(value).unwrap_or_default())
     } else {

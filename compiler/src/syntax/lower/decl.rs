@@ -112,8 +112,20 @@ impl Lowerer<'_> {
     }
 
     fn resource(&mut self, name: Spanned<String>, node: &Node) -> Res<Resource> {
-        let mut o = self.obj(node, &["Texture", "Buffer"], "resource")?;
+        let mut o = self.obj(node, &["Texture", "Buffer", "AccelerationStructure"], "resource")?;
         o.what = format!("resource `{}`", name.value);
+        if o.kind == "AccelerationStructure" {
+            // The scene supplies it whole: nothing about it is declared.
+            let span = o.span;
+            self.finish(o, &[], &[]);
+            let kind = ResourceKind::AccelerationStructure;
+            return Some(Resource {
+                name,
+                kind,
+                valid: None,
+                span,
+            });
+        }
         let per_light = match o.take("per_light") {
             Some(n) => Some(self.light_kinds(&n)?),
             None => None,
