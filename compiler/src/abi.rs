@@ -98,6 +98,37 @@ pub struct AreaLightBlock {
     pub radiance: [f32; 4],
 }
 
+/// One traced triangle of the standard `hit_triangles` binding (`shaders/lib/hit.wgsl`): its
+/// corners' shading normals in world space (unit), the front's geometric normal (the side
+/// its counter-clockwise winding faces, swapped under a mirroring transform), its material's
+/// index into `hit_materials` and whether both sides are seen.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct HitTriangle {
+    pub n0: [f32; 3],
+    pub material: u32,
+    pub n1: [f32; 3],
+    pub double_sided: u32,
+    pub n2: [f32; 3],
+    pub _pad0: u32,
+    pub ng: [f32; 3],
+    pub _pad1: u32,
+}
+
+/// One material of the standard `hit_materials` binding: what a ray's hit is shaded with.
+/// Textures are not sampled at hits: each map stands in by its mean (its 1×1 mip level).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct HitMaterial {
+    /// Linear base colour × the base-colour map's mean; a: alpha.
+    pub albedo: [f32; 4],
+    /// Emitted radiance (factor × strength × the emissive map's mean); w unused.
+    pub emissive: [f32; 4],
+    pub metallic: f32,
+    pub roughness: f32,
+    pub _pad: [f32; 2],
+}
+
 /// Interleaved scene vertex: locations 0..4 of the standard vertex layout.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
@@ -122,7 +153,9 @@ mod tests {
         // area_light.wgsl's bindings read tables its includer binds: the structs alone.
         let area = read("area_light.wgsl");
         let area_struct = &area[area.find("struct AreaLight").unwrap()..area.find("@group").unwrap()];
-        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct;
+        let hit = read("hit.wgsl");
+        let hit_structs = &hit[hit.find("struct HitTriangle").unwrap()..hit.find("@group").unwrap()];
+        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct + hit_structs;
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
@@ -136,6 +169,8 @@ mod tests {
         assert_eq!(size_of("Mesh"), std::mem::size_of::<MeshBlock>());
         assert_eq!(size_of("Material"), std::mem::size_of::<MaterialBlock>());
         assert_eq!(size_of("AreaLight"), std::mem::size_of::<AreaLightBlock>());
+        assert_eq!(size_of("HitTriangle"), std::mem::size_of::<HitTriangle>());
+        assert_eq!(size_of("HitMaterial"), std::mem::size_of::<HitMaterial>());
         // Member offsets of the light block, the most intricate one.
         let (_, light) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Light")).unwrap();
         let naga::TypeInner::Struct { members, .. } = &light.inner else {

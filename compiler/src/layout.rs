@@ -76,6 +76,8 @@ pub const LIGHTS: &str = "lights";
 pub const TRIANGLES: &str = "triangles";
 pub const LIGHT_VOLUMES: &str = "light_volumes";
 pub const AREA_LIGHTS: &str = "area_lights";
+pub const HIT_TRIANGLES: &str = "hit_triangles";
+pub const HIT_MATERIALS: &str = "hit_materials";
 
 macro_rules! draw_slots {
     ($( $variant:ident = $name:literal ),* $(,)?) => {
@@ -128,6 +130,12 @@ pub enum BindSource<R, S> {
     /// The scene's emissive triangles as area lights, `AreaLight` structs of 4 `vec4` each
     /// (storage, read-only; see `shaders/lib/area_light.wgsl`).
     AreaLights,
+    /// What a ray query's hit needs to shade it: per traced triangle its corners' shading
+    /// normals, front normal and material, indexed by the hit's instance custom data plus its
+    /// primitive index (see `shaders/lib/hit.wgsl`); built with the acceleration structure.
+    HitTriangles,
+    /// The traced meshes' materials (`HitMaterial`, `shaders/lib/hit.wgsl`).
+    HitMaterials,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
 }

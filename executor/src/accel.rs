@@ -4,8 +4,15 @@
 //! scene's geometry does not change between frames; a new scene builds its own).
 
 use super::scene_gpu::MeshGpu;
-use lightbench_compiler::abi::Vertex;
+use bytemuck::Zeroable;
+use lightbench_compiler::abi::{HitMaterial, HitTriangle, Vertex};
 use lightbench_scene::error::{Error, Result};
+use lightbench_scene::{Mesh, Scene};
+use wgpu::util::DeviceExt;
+
+/// A ray hit finds its triangle's data at the instance's custom index plus its primitive
+/// index; custom indices have 24 bits.
+const MAX_TRACED_TRIANGLES: u64 = 1 << 24;
 
 /// What rays are traced against: the opaque and alpha-masked meshes, as the raster's shadow
 /// and G-buffer passes draw them (blended meshes are left out, as `draw: Scene` leaves them).
@@ -14,6 +21,10 @@ pub struct Accel {
     /// The bottom levels, one per traced mesh (the TLAS's instances keep them alive too).
     pub blas: Vec<wgpu::Blas>,
     pub triangles: u64,
+    /// The standard `hit_triangles` binding: every traced triangle, mesh after mesh.
+    pub hit_triangles: wgpu::Buffer,
+    /// The standard `hit_materials` binding: every material of the scene.
+    pub hit_materials: wgpu::Buffer,
 }
 
 /// Mesh `m`'s triangles as one BLAS geometry: positions are the first 12 bytes of each
@@ -46,8 +57,14 @@ fn check_limits(device: &wgpu::Device, meshes: &[MeshGpu], list: &[usize]) -> Re
     let limits = device.limits();
     if list.is_empty() {
         return Err(Error::Scene(
-            "the scene has no opaque triangles to trace rays against (the pipeline reads an acceleration structure)".into(),
+            "the scene has no opaque or masked triangles to trace rays against (the pipeline reads an acceleration structure; try its raster option)".into(),
         ));
+    }
+    let total: u64 = list.iter().map(|&i| meshes[i].index_count as u64 / 3).sum();
+    if total > MAX_TRACED_TRIANGLES {
+        return Err(Error::Scene(format!(
+            "the scene has {total} triangles to trace, over the {MAX_TRACED_TRIANGLES} a ray hit can name (24-bit instance index)"
+        )));
     }
     if list.len() as u64 > limits.max_tlas_instance_count as u64 {
         return Err(Error::Scene(format!(
@@ -68,9 +85,66 @@ fn check_limits(device: &wgpu::Device, meshes: &[MeshGpu], list: &[usize]) -> Re
     Ok(())
 }
 
+/// Mesh `m`'s drawn triangles as hits read them: world-space shading normals (the geometric
+/// normal where a vertex has none), the front's normal, the material.
+fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>) {
+    let normal_matrix = glam::Mat3::from_mat4(m.transform).inverse().transpose();
+    let mirrored = m.transform.determinant() < 0.0;
+    let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
+    for t in drawn.chunks_exact(3) {
+        let v = |k: usize| m.vertices.get(t[k] as usize).copied().unwrap_or(Vertex::zeroed());
+        let p = |k: usize| m.transform.transform_point3(glam::Vec3::from(v(k).position));
+        let cross = (p(1) - p(0)).cross(p(2) - p(0));
+        let ng = if mirrored { -cross } else { cross }.normalize_or_zero();
+        let n = |k: usize| {
+            let n = (normal_matrix * glam::Vec3::from(v(k).normal)).normalize_or_zero();
+            if n == glam::Vec3::ZERO {
+                ng.to_array()
+            } else {
+                n.to_array()
+            }
+        };
+        out.push(HitTriangle {
+            n0: n(0),
+            material: m.material as u32,
+            n1: n(1),
+            double_sided: double_sided as u32,
+            n2: n(2),
+            ng: ng.to_array(),
+            ..Default::default()
+        });
+    }
+}
+
+/// Every traced mesh's hit data, mesh after mesh, and where each mesh's begins.
+fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<u32>) {
+    let (mut all, mut first) = (vec![], vec![]);
+    for &i in list {
+        first.push(all.len() as u32);
+        let m = &scene.meshes[meshes[i].source];
+        let double_sided = scene.materials.get(m.material).is_some_and(|mat| mat.double_sided);
+        hit_triangles(m, double_sided, &mut all);
+    }
+    (all, first)
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
 impl Accel {
-    /// Build the BLAS of every traced mesh and the TLAS over them, and wait for the build.
-    pub fn build(device: &wgpu::Device, queue: &wgpu::Queue, meshes: &[MeshGpu]) -> Result<Accel> {
+    /// Build the BLAS of every traced mesh and the TLAS over them, and wait for the build;
+    /// and the hit data the shaders shade hits with.
+    pub fn build(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (meshes, materials): (&[MeshGpu], &[HitMaterial]),
+        scene: &Scene,
+    ) -> Result<Accel> {
         if !device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
             return Err(Error::Adapter(
                 "this device has no ray queries (EXPERIMENTAL_RAY_QUERY): the pipeline's acceleration structure cannot be built".into(),
@@ -78,6 +152,7 @@ impl Accel {
         }
         let list = traced(meshes);
         check_limits(device, meshes, &list)?;
+        let (hits, first) = hit_data(meshes, &list, scene);
         let sizes: Vec<_> = list.iter().map(|&i| size_of(&meshes[i])).collect();
         let blas: Vec<wgpu::Blas> = list
             .iter()
@@ -102,8 +177,8 @@ impl Accel {
             update_mode: wgpu::AccelerationStructureUpdateMode::Build,
         });
         for (k, (&i, b)) in list.iter().zip(&blas).enumerate() {
-            // The custom index is the mesh's index in the scene upload (24 bits).
-            tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), i as u32 & 0xff_ffff, 0xff));
+            // The custom index is where the mesh's hit data begins (checked to fit 24 bits).
+            tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), first[k], 0xff));
         }
         let entries: Vec<wgpu::BlasBuildEntry> = list
             .iter()
@@ -131,7 +206,19 @@ impl Accel {
         device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("building the acceleration structure", e))?;
-        let triangles = list.iter().map(|&i| meshes[i].index_count as u64 / 3).sum();
-        Ok(Accel { tlas, blas, triangles })
+        let triangles = hits.len() as u64;
+        // A binding cannot be empty: one zeroed material stands in for a scene without any.
+        let materials = if materials.is_empty() {
+            &[HitMaterial::default()][..]
+        } else {
+            materials
+        };
+        Ok(Accel {
+            tlas,
+            blas,
+            triangles,
+            hit_triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
+            hit_materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
+        })
     }
 }

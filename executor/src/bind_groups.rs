@@ -67,8 +67,8 @@ pub struct Binder<'a> {
     pub volumes: (&'a wgpu::Buffer, &'a super::light_volumes::LightVolumes),
     pub instance: &'a wgpu::Buffer,
     pub lights: &'a [Light],
-    /// The scene's acceleration structure, when the Plan binds one.
-    pub tlas: Option<&'a wgpu::Tlas>,
+    /// The scene's acceleration structure and hit data, when the Plan traces rays.
+    pub accel: Option<&'a super::accel::Accel>,
 }
 
 enum Held<'a> {
@@ -92,6 +92,11 @@ impl Binder<'_> {
                 .unwrap_or(0) as u32,
             _ => 0,
         }
+    }
+
+    fn accel(&self) -> Result<&super::accel::Accel> {
+        self.accel
+            .ok_or_else(|| Error::Plan("the scene's acceleration structure was not built for this Plan".into()))
     }
 
     fn entry(&self, res: ResourceId) -> Result<&super::pool::Entry> {
@@ -231,6 +236,8 @@ impl Binder<'_> {
                 BindSource::Triangles => Held::Buf(self.triangles.as_entire_buffer_binding()),
                 BindSource::LightVolumes => Held::Buf(self.volumes.0.as_entire_buffer_binding()),
                 BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
+                BindSource::HitTriangles => Held::Buf(self.accel()?.hit_triangles.as_entire_buffer_binding()),
+                BindSource::HitMaterials => Held::Buf(self.accel()?.hit_materials.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,
@@ -289,10 +296,7 @@ impl Binder<'_> {
         let inst = self.instance_of(id, light);
         let name = &self.plan.res(id).name;
         Ok(match ty {
-            BindingType::AccelerationStructure => Held::Tlas(
-                self.tlas
-                    .ok_or_else(|| Error::Plan(format!("`{name}`: the scene's acceleration structure was not built")))?,
-            ),
+            BindingType::AccelerationStructure => Held::Tlas(&self.accel()?.tlas),
             BindingType::Texture { view_dimension, .. } | BindingType::StorageTexture { view_dimension, .. } => {
                 let tex = entry
                     .texture(inst, prev, parity)

@@ -9,6 +9,7 @@
 
 mod embed;
 
+use super::accel::Accel;
 use super::bind_groups::{Binder, SLOT};
 use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
@@ -113,6 +114,8 @@ struct Shared {
     frame_buf: wgpu::Buffer,
     lights_buf: wgpu::Buffer,
     scene_gpu: SceneGpu,
+    /// The scene's acceleration structure, built the first time a Plan traces rays.
+    accel: std::sync::OnceLock<Accel>,
     scene: Scene,
     lights: Vec<Light>,
     bounds: (glam::Vec3, glam::Vec3),
@@ -191,9 +194,24 @@ impl Shared {
             }),
             scene_gpu: err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, &mut scene))??,
             bounds: scene.bounds(),
+            accel: Default::default(),
             lights,
             scene,
         })
+    }
+
+    /// The scene's acceleration structure, built on first use (ray-query devices only).
+    fn accel(&self, gpu: &Gpu) -> Result<&Accel> {
+        if let Some(a) = self.accel.get() {
+            return Ok(a);
+        }
+        let built = Accel::build(
+            &gpu.device,
+            &gpu.queue,
+            (&self.scene_gpu.meshes, &self.scene_gpu.hit_materials),
+            &self.scene,
+        )?;
+        Ok(self.accel.get_or_init(|| built))
     }
 }
 
@@ -967,6 +985,19 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
     [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
 }
 
+/// Whether a Plan traces rays: it binds the acceleration structure or the hit data.
+fn traces(plan: &Plan) -> bool {
+    use lightbench_compiler::layout::BindSource;
+    let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials);
+    plan.resources.iter().any(|r| r.is_accel())
+        || plan
+            .passes
+            .iter()
+            .flat_map(|p| &p.bind_groups)
+            .flat_map(|g| &g.entries)
+            .any(|e| hit_data(&e.source))
+}
+
 /// The GPU state of an executable: resources (sharing `old`'s where unchanged; transient ones
 /// sharing memory with `alias`), samplers,
 /// parameter blocks, pipelines (from `cache`, or built: returned as `Fresh` to be cached once
@@ -995,17 +1026,12 @@ fn build_state(
         ..Default::default()
     };
     // Rays need the scene's acceleration structure: built the first time a Plan binds it.
-    let tlas = match plan.resources.iter().any(|r| r.is_accel()) {
-        true => Some(
-            &err_scope(gpu, "building the acceleration structure", || {
-                shared.scene_gpu.accel(device, &gpu.queue)
-            })??
-            .tlas,
-        ),
+    let accel = match traces(plan) {
+        true => Some(err_scope(gpu, "building the acceleration structure", || shared.accel(gpu))??),
         false => None,
     };
     let binder = Binder {
-        tlas,
+        accel,
         gpu,
         plan,
         pool: &pool,

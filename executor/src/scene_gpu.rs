@@ -1,13 +1,15 @@
 //! The scene on the GPU: vertex and index buffers, per-mesh and per-material blocks and
 //! textures, ready to be bound in `draw: Scene` passes.
 
-use lightbench_compiler::abi::{AreaLightBlock, MaterialBlock, MeshBlock};
+use lightbench_compiler::abi::{AreaLightBlock, HitMaterial, MaterialBlock, MeshBlock};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::io::{linear_to_srgb, srgb_to_linear};
 use lightbench_scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
 use wgpu::util::DeviceExt;
 
 pub struct MeshGpu {
+    /// Its index in the scene's meshes.
+    pub source: usize,
     pub name: String,
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
@@ -57,14 +59,32 @@ pub struct SceneGpu {
     /// The standard `light_volumes` binding and the range each light's volume takes in it.
     pub light_volumes: wgpu::Buffer,
     pub volumes: super::light_volumes::LightVolumes,
-    /// The acceleration structure, built the first time a Plan binds it (`accel`).
-    accel: std::sync::OnceLock<super::accel::Accel>,
+    /// Each material as ray hits shade it (`hit_materials` of the acceleration structure).
+    pub hit_materials: Vec<HitMaterial>,
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
-/// for sRGB data, so that mips do not darken). Takes the texels: no copy of level 0 is made.
-fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h: u32, rgba: Vec<u8>, srgb: bool) -> wgpu::TextureView {
+/// for sRGB data, so that mips do not darken), and its mean in linear values (its 1×1 level:
+/// what ray hits read for the map). Takes the texels: no copy of level 0 is made.
+fn texture_2d(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    w: u32,
+    h: u32,
+    rgba: Vec<u8>,
+    srgb: bool,
+) -> (wgpu::TextureView, [f32; 4]) {
     let (levels, data) = mip_chain(w, h, rgba, srgb);
+    let last = &data[data.len().saturating_sub(4)..];
+    let mean: [f32; 4] = std::array::from_fn(|c| {
+        let v = last.get(c).copied().unwrap_or(255) as f32 / 255.0;
+        if srgb && c < 3 {
+            srgb_to_linear(v)
+        } else {
+            v
+        }
+    });
     let tex = device.create_texture_with_data(
         queue,
         &wgpu::TextureDescriptor {
@@ -88,7 +108,7 @@ fn texture_2d(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, w: u32, h
         wgpu::util::TextureDataOrder::LayerMajor,
         &data,
     );
-    tex.create_view(&wgpu::TextureViewDescriptor::default())
+    (tex.create_view(&wgpu::TextureViewDescriptor::default()), mean)
 }
 
 /// Every mip level down to 1×1, concatenated (level 0 first, as the upload wants them):
@@ -152,9 +172,10 @@ fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
     })
 }
 
-/// Every texture with its mip chain, each dropped on the CPU once uploaded.
-fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<lightbench_scene::ImageData>) -> Result<Vec<wgpu::TextureView>> {
-    let mut textures = vec![];
+/// Every texture with its mip chain, each dropped on the CPU once uploaded, and each one's mean.
+type Uploaded = (Vec<wgpu::TextureView>, Vec<[f32; 4]>);
+fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<lightbench_scene::ImageData>) -> Result<Uploaded> {
+    let (mut textures, mut means) = (vec![], vec![]);
     for (i, t) in images.into_iter().enumerate() {
         if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
             return Err(Error::Scene(format!(
@@ -164,15 +185,9 @@ fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<light
                 t.height
             )));
         }
-        textures.push(texture_2d(
-            device,
-            queue,
-            &format!("scene_texture_{i}"),
-            t.width,
-            t.height,
-            t.rgba,
-            t.srgb,
-        ));
+        let (view, mean) = texture_2d(device, queue, &format!("scene_texture_{i}"), t.width, t.height, t.rgba, t.srgb);
+        textures.push(view);
+        means.push(mean);
         // Flush the upload's staging copy before the next texture, so that staging for every
         // texture is never held at once.
         queue.submit(std::iter::empty());
@@ -180,7 +195,7 @@ fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<light
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("uploading scene textures", e))?;
     }
-    Ok(textures)
+    Ok((textures, means))
 }
 
 /// Material blocks and texture views (defaults for absent maps), and the distinct samplers
@@ -191,9 +206,9 @@ fn materials(
     list: &[Material],
     textures: &[wgpu::TextureView],
 ) -> (Vec<MaterialGpu>, Vec<SamplerDesc>) {
-    let white = texture_2d(device, queue, "white", 1, 1, vec![255, 255, 255, 255], true);
-    let white_linear = texture_2d(device, queue, "white_linear", 1, 1, vec![255, 255, 255, 255], false);
-    let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, vec![128, 128, 255, 255], false);
+    let white = texture_2d(device, queue, "white", 1, 1, vec![255, 255, 255, 255], true).0;
+    let white_linear = texture_2d(device, queue, "white_linear", 1, 1, vec![255, 255, 255, 255], false).0;
+    let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, vec![128, 128, 255, 255], false).0;
     let pick = |i: Option<usize>, default: &wgpu::TextureView| i.and_then(|i| textures.get(i)).unwrap_or(default).clone();
     let mut descs: Vec<SamplerDesc> = vec![];
     let out = list
@@ -238,7 +253,7 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
         })
     };
     let mut out = vec![];
-    for m in &scene.meshes {
+    for (index, m) in scene.meshes.iter().enumerate() {
         let Some(material) = scene.materials.get(m.material) else {
             return Err(Error::Scene(format!(
                 "mesh `{}` uses material {} of {}",
@@ -255,6 +270,7 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
             normal_matrix: m.transform.inverse().transpose().to_cols_array_2d(),
         };
         out.push(MeshGpu {
+            source: index,
             name: m.name.clone(),
             vertices: buffer(&m.name, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX | traced),
             indices: buffer(&m.name, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX | traced),
@@ -388,21 +404,35 @@ fn mesh_centre(m: &lightbench_scene::Mesh) -> glam::Vec3 {
 }
 
 impl SceneGpu {
-    /// The scene's acceleration structure, built on first use (ray-query devices only).
-    pub fn accel(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<&super::accel::Accel> {
-        if let Some(a) = self.accel.get() {
-            return Ok(a);
-        }
-        let built = super::accel::Accel::build(device, queue, &self.meshes)?;
-        Ok(self.accel.get_or_init(|| built))
-    }
-
     pub fn draw_order(&self, eye: glam::Vec3) -> DrawOrder {
         let opaque = (0..self.meshes.len()).filter(|&i| !self.meshes[i].blend).collect();
         let mut back_to_front: Vec<usize> = (0..self.meshes.len()).filter(|&i| self.meshes[i].blend).collect();
         let dist = |i: usize| (self.meshes[i].centre - eye).length_squared();
         back_to_front.sort_by(|&a, &b| dist(b).total_cmp(&dist(a)));
         DrawOrder { opaque, back_to_front }
+    }
+}
+
+/// What ray hits shade with: each map stands in by its mean (`means`, linear, by texture).
+fn hit_material(m: &Material, means: &[[f32; 4]]) -> HitMaterial {
+    let mean = |t: Option<usize>| t.and_then(|i| means.get(i)).copied().unwrap_or([1.0; 4]);
+    let (base, emissive, mr) = (
+        mean(m.base_color_texture),
+        mean(m.emissive_texture),
+        mean(m.metallic_roughness_texture),
+    );
+    HitMaterial {
+        albedo: std::array::from_fn(|c| m.base_color[c] * base[c]),
+        emissive: [
+            m.emissive[0] * emissive[0],
+            m.emissive[1] * emissive[1],
+            m.emissive[2] * emissive[2],
+            0.0,
+        ],
+        // glTF: roughness in the map's green channel, metalness in its blue.
+        metallic: m.metallic * mr[2],
+        roughness: m.roughness * mr[1],
+        _pad: [0.0; 2],
     }
 }
 
@@ -433,7 +463,8 @@ impl SceneGpu {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &mut Scene) -> Result<SceneGpu> {
         // Before the textures are handed to the GPU: emissive maps set the area lights' radiance.
         let (mut areas, area_lights_dropped) = area_lights(scene);
-        let textures = upload_textures(device, queue, std::mem::take(&mut scene.textures))?;
+        let (textures, means) = upload_textures(device, queue, std::mem::take(&mut scene.textures))?;
+        let hit_materials = scene.materials.iter().map(|m| hit_material(m, &means)).collect();
         let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
         let meshes = meshes(device, scene)?;
         let (triangles, triangle_count) = triangles(device, scene);
@@ -465,7 +496,7 @@ impl SceneGpu {
             area_lights_dropped,
             light_volumes,
             volumes,
-            accel: Default::default(),
+            hit_materials,
         })
     }
 }

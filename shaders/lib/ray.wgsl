@@ -47,7 +47,12 @@ fn light_visibility(l: Light, world: vec3<f32>, n: vec3<f32>, to_light: vec3<f32
     if l.casts_shadows == 0u {
         return 1.0;
     }
-    let eps = surface_offset(world);
+    return light_reaches(l, world, n, to_light, surface_offset(world));
+}
+
+// The shadow ray itself, from `eps` off the surface (every light, `shadows: false` or not:
+// what the reference computes everywhere).
+fn light_reaches(l: Light, world: vec3<f32>, n: vec3<f32>, to_light: vec3<f32>, eps: f32) -> f32 {
     // Off the side the light is on: a back-lit double-sided wall shadows itself.
     let side = select(-1.0, 1.0, dot(n, to_light) >= 0.0);
     let origin = world + n * side * eps;

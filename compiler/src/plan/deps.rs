@@ -34,7 +34,12 @@ pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depen
         frame_index: has("frame_index"),
         lights: pass.per_light.is_none() && entries().any(|e| matches!(e.source, BindSource::Lights)),
         scene: draw.is_some_and(Draw::uses_scene)
-            || entries().any(|e| matches!(e.source, BindSource::Triangles | BindSource::AreaLights))
+            || entries().any(|e| {
+                matches!(
+                    e.source,
+                    BindSource::Triangles | BindSource::AreaLights | BindSource::HitTriangles | BindSource::HitMaterials
+                )
+            })
             || pass.reads.iter().any(|r| p.resource(&r.name().value).is_some_and(|d| d.is_accel())),
         always: always(p, pass),
         frame_fields: fields.iter().filter(|f| !f.starts_with('_')).cloned().collect(),

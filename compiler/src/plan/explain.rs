@@ -81,6 +81,8 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
         BindSource::Triangles => "<triangles>".into(),
         BindSource::LightVolumes => "<light_volumes>".into(),
         BindSource::AreaLights => "<area_lights>".into(),
+        BindSource::HitTriangles => "<hit_triangles>".into(),
+        BindSource::HitMaterials => "<hit_materials>".into(),
         BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
 }

@@ -364,7 +364,7 @@ impl Usage {
             Usage::Uniform => "UNIFORM",
             Usage::CopySrc => "COPY_SRC",
             Usage::CopyDst => "COPY_DST",
-            Usage::RayQuery => "(acceleration structure binding)",
+            Usage::RayQuery => "ACCELERATION_STRUCTURE",
         }
     }
 }

@@ -204,6 +204,8 @@ fn bind_group(g: &NamedGroup, ids: &Ids) -> Option<PlanBindGroup> {
                 BindSource::Triangles => BindSource::Triangles,
                 BindSource::LightVolumes => BindSource::LightVolumes,
                 BindSource::AreaLights => BindSource::AreaLights,
+                BindSource::HitTriangles => BindSource::HitTriangles,
+                BindSource::HitMaterials => BindSource::HitMaterials,
                 BindSource::Draw(d) => BindSource::Draw(*d),
             };
             Some(Binding {

@@ -16,7 +16,7 @@ pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResourc
             let (true, mut usage) = used.remove(r.name.value.as_str())? else {
                 return None;
             };
-            if r.supplied() {
+            if r.supplied() && !r.is_accel() {
                 usage.insert(Usage::CopyDst); // filled by the runtime
             }
             let mut pr = plan_resource(p, r, cfg, usage);

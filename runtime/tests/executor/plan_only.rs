@@ -604,6 +604,7 @@ fn resource(d: &wgpu::Device, r: &lightbench_compiler::plan::PlanResource) -> Re
                 })
                 .collect(),
         ),
+        ResourceShape::AccelerationStructure => return unsupported(format!("acceleration structure `{}`", r.name)),
     })
 }
 

@@ -577,3 +577,45 @@ fn view_help_names_every_script_action() {
         assert!(readme.contains(&format!("`{action}")), "the manual omits `{action}`");
     }
 }
+
+/// The ray-traced options need ray queries: where the profile lacks `ExperimentalRayQuery`
+/// (wgpu's GL backend, the WebGPU baseline) `plan` falls back to the raster option and says
+/// why, and `rt!` refuses (exit 1); the Vulkan profile (lavapipe's) keeps them.
+#[test]
+fn ray_traced_options_fall_back_where_rays_are_missing() {
+    let options = [
+        ("pipelines/deferred.ron", "shadows", "rt", "maps"),
+        ("pipelines/deferred_gi.lbp", "ao", "rtao", "gtao"),
+    ];
+    for (pipeline, variant, option, fallback) in options {
+        for profile in ["gl", "webgpu"] {
+            let pick = format!("{variant}={option}");
+            let (code, out, err) = lightbench(&["plan", pipeline, "--profile", profile, "--variant", &pick, "--json"]);
+            assert_eq!(code, 0, "{err}");
+            let plan: serde_json::Value = serde_json::from_str(&out).unwrap();
+            let chosen = plan["variants"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|v| v["variant"] == variant)
+                .unwrap();
+            assert_eq!(chosen["option"], fallback, "{profile}: {chosen}");
+            let why = chosen["reason"].as_str().unwrap();
+            assert!(
+                why.contains(&format!(
+                    "`{option}` needs feature ExperimentalRayQuery, which profile `{profile}` lacks"
+                )),
+                "{why}"
+            );
+            let forced = format!("{pick}!");
+            let (code, _, err) = lightbench(&["plan", pipeline, "--profile", profile, "--variant", &forced]);
+            assert_eq!(code, 1, "{err}");
+            assert!(err.contains("needs feature ExperimentalRayQuery"), "{err}");
+        }
+        let pick = format!("{variant}={option}!");
+        let (code, out, err) = lightbench(&["plan", pipeline, "--profile", "vulkan", "--variant", &pick]);
+        assert_eq!(code, 0, "{err}");
+        assert!(out.contains(&format!("{variant} = {option}")), "{out}");
+        assert!(out.contains("scene.accel"), "the Plan binds the acceleration structure: {out}");
+    }
+}

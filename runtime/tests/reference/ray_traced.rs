@@ -43,3 +43,207 @@ fn ray_traced_shadows_equal_the_reference_direct_light() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// The Cornell box calling for ambient occlusion, `n`×`n` pixels (a scene file, as a user
+/// writes one).
+fn cornell_ao(n: u32) -> lightbench::scene::Scene {
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-rtao-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let file = d.join(format!("ao{n}.ron"));
+    let text = format!("Scene(name: \"ao\", size: ({n}, {n}), builtin: \"cornell\", effects: [AmbientOcclusion])\n");
+    std::fs::write(&file, text).unwrap();
+    lightbench::scene::load(file.to_str().unwrap()).unwrap()
+}
+
+/// `ao = rtao` at a high ray count converges to the reference's `ao` term: on the Cornell box
+/// (64², radius 0.5 world units, with and without `ao.falloff`), 256 rays per pixel unblurred
+/// (`ao.raw`, full size) against 512 reference samples: the mean bias is within 0.01 and each
+/// pixel's difference is within its noise (|z| < 4.5 for ≥ 99% of pixels, the z-score's
+/// variance near 1).
+#[test]
+fn ray_traced_ao_converges_to_the_reference_ao() {
+    use lightbench::reference::{Budget, Settings, Term};
+    let scene = cornell_ao(64);
+    for falloff in [false, true] {
+        let settings = Settings {
+            budget: Budget::Spp(512),
+            terms: vec![Term::Ao],
+            ao_radius: 0.5,
+            ao_falloff: falloff,
+            ..Settings::default()
+        };
+        let r = lightbench::reference::render(&scene, &settings, false);
+        let reference = r.term(Term::Ao).unwrap();
+        let g = gpu_common::gpu();
+        let pipeline = gpu_common::root().join("pipelines/deferred_gi.lbp");
+        let fall = if falloff { "inverse_square" } else { "range" };
+        let v = [("ao", "rtao"), ("indirect_diffuse", "off"), ("ao_falloff", fall)].map(|(a, b)| (a.to_string(), b.to_string()));
+        let (exe, _) = lightbench::render::compile(&g, &pipeline, None, &scene, &v).unwrap_or_else(|e| panic!("{e}"));
+        assert!(exe.plan.passes.iter().any(|p| p.name == "rtao"), "rtao runs");
+        let set = [
+            ("ao.radius", "0.5"),
+            ("lengths.world", "true"),
+            ("ao.rt.rays", "256"),
+            ("ao.scale", "1"),
+        ]
+        .map(|(a, b)| (a.to_string(), b.to_string()));
+        let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+        let ex = lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap();
+        let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
+        let (mut diff, mut n, mut z_out, mut z2) = (0.0f64, 0usize, 0usize, 0.0f64);
+        for (i, px) in raw.rgba.chunks_exact(4).enumerate() {
+            let (a, b) = (px[0] as f64, reference.mean.rgba[i * 4] as f64);
+            assert!(a.is_finite() && (0.0..=1.0).contains(&a), "pixel {i}: {a}");
+            // The background is 1 in both; only surfaces count.
+            if b >= 1.0 && a >= 1.0 {
+                continue;
+            }
+            // Each side's variance of its mean: the reference's own estimate; 256 rays of a
+            // value in [0, 1] whose mean is `a` vary by at most a(1 − a) each.
+            let var = reference.variance.rgba[i * 4] as f64 + (a * (1.0 - a)).max(1e-4) / 256.0;
+            let z = (a - b) / var.sqrt();
+            diff += a - b;
+            n += 1;
+            z2 += z * z;
+            z_out += (z.abs() >= 4.5) as usize;
+        }
+        let (bias, z_var, out) = (diff / n as f64, z2 / n as f64, z_out as f64 / n as f64);
+        eprintln!(
+            "rtao (falloff {falloff}): bias {bias:+.4} over {n} pixels, z variance {z_var:.3}, {:.2}% beyond 4.5σ",
+            out * 100.0
+        );
+        assert!(n > 3000, "{n} pixels");
+        assert!(bias.abs() <= 0.01, "bias {bias}");
+        assert!(out <= 0.01 && z_var < 2.0, "z variance {z_var}, {:.2}% beyond 4.5σ", out * 100.0);
+    }
+}
+
+/// A scene file, as a user writes one, in a fresh folder.
+fn scene_file(name: &str, text: &str) -> lightbench::scene::Scene {
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("lightbench-rt-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let file = d.join(format!("{name}.ron"));
+    std::fs::write(&file, text).unwrap();
+    lightbench::scene::load(file.to_str().unwrap()).unwrap()
+}
+
+/// 8×8-pixel block means of channel-summed values and of their variances of the mean, over
+/// the blocks every pixel of which is a surface.
+fn blocks(img: &Image, var: Option<&Image>, covered: &[bool]) -> Vec<Option<(f64, f64)>> {
+    let (w, h) = (img.width as usize, img.height as usize);
+    let mut out = vec![];
+    for by in 0..h / 8 {
+        for bx in 0..w / 8 {
+            let (mut sum, mut v, mut all) = (0.0, 0.0, true);
+            for y in by * 8..by * 8 + 8 {
+                for x in bx * 8..bx * 8 + 8 {
+                    let i = (y * w + x) * 4;
+                    all &= covered[y * w + x];
+                    sum += (0..3).map(|c| img.rgba[i + c] as f64).sum::<f64>();
+                    // Channels vary together: the sum's deviation is at most the deviations' sum.
+                    v += var.map_or(0.0, |var| (0..3).map(|c| (var.rgba[i + c] as f64).sqrt()).sum::<f64>().powi(2));
+                }
+            }
+            out.push(all.then_some((sum / 64.0, v / 4096.0)));
+        }
+    }
+    out
+}
+
+/// `indirect_diffuse = rt` converges to the reference's `indirect_diffuse` block by block
+/// (not only on average): at 64², two frames of 64 bounce rays per pixel unblurred
+/// (`gi.indirect`; each frame draws other rays) against 256 reference samples, every 8×8
+/// block's mean within 4 of its standard errors plus 3% — the ray-traced side's error taken
+/// from the two frames' differences, the reference's from its own variance — on the spot- and
+/// sun-lit boxes (RSM's scenes) and the box lit only by its ceiling lamp, which RSM leaves
+/// without bounce light.
+#[test]
+fn ray_traced_indirect_diffuse_matches_the_reference_block_by_block() {
+    use lightbench::reference::{Budget, Settings, Term};
+    let lamp = "Scene(name: \"lamp_gi\", size: (64, 64), builtin: \"cornell_lamp\", effects: [IndirectDiffuse])\n";
+    let scenes = [
+        lightbench::scene::load(gpu_common::root().join("scenes/cornell_spot.ron").to_str().unwrap()).unwrap(),
+        lightbench::scene::load(gpu_common::root().join("scenes/cornell_sun.ron").to_str().unwrap()).unwrap(),
+        scene_file("lamp_gi", lamp),
+    ];
+    let mut failures = vec![];
+    for scene in &scenes {
+        assert_eq!(scene.size, (64, 64));
+        let settings = Settings {
+            budget: Budget::Spp(256),
+            terms: vec![Term::IndirectDiffuse],
+            ..Settings::default()
+        };
+        let r = lightbench::reference::render(scene, &settings, false);
+        let reference = r.term(Term::IndirectDiffuse).unwrap();
+        let (first, second) = two_frames(scene);
+        let covered: Vec<bool> = first.rgba.chunks_exact(4).map(|p| p[3] > 0.5).collect();
+        let (mut mean, mut noise) = (first.clone(), first.clone());
+        for i in 0..first.rgba.len() {
+            let (a, b) = (first.rgba[i], second.rgba[i]);
+            mean.rgba[i] = (a + b) / 2.0;
+            // The variance of the two frames' mean: (a − b)² / 4 estimates it.
+            noise.rgba[i] = (a - b) * (a - b) / 4.0;
+        }
+        let ours = blocks(&mean, Some(&noise), &covered);
+        let theirs = blocks(&reference.mean, Some(&reference.variance), &covered);
+        let (mut worst, mut count, mut ratios) = (0.0f64, 0, vec![]);
+        for (k, (a, b)) in ours.iter().zip(&theirs).enumerate() {
+            let (Some((a, var_a)), Some((b, var_b))) = (a, b) else { continue };
+            let sigma = (var_a + var_b).sqrt();
+            let excess = ((a - b).abs() - 0.03 * b) / sigma.max(1e-9);
+            if excess > 3.0 {
+                eprintln!("  block {k} (x {}, y {}): {a:.4} vs {b:.4}, σ {sigma:.4}", k % 8, k / 8);
+            }
+            worst = worst.max(excess);
+            count += 1;
+            ratios.push(a / b.max(1e-9));
+        }
+        ratios.sort_by(f64::total_cmp);
+        eprintln!(
+            "{}: {count} blocks, block ratios {:.3}..{:.3} (median {:.3}), worst excess {worst:.2}σ",
+            scene.name,
+            ratios[0],
+            ratios[ratios.len() - 1],
+            ratios[ratios.len() / 2]
+        );
+        if count < 30 || worst > 4.0 {
+            failures.push(format!("{}: {count} blocks, worst {worst:.2}σ beyond 3%", scene.name));
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// `gi.indirect` of two consecutive frames of `indirect_diffuse = rt` at 64 rays per pixel.
+fn two_frames(scene: &lightbench::scene::Scene) -> (Image, Image) {
+    let g = gpu_common::gpu();
+    let pipeline = gpu_common::root().join("pipelines/deferred_gi.lbp");
+    let v = [("indirect_diffuse".to_string(), "rt".to_string())];
+    let (exe, _) = lightbench::render::compile(&g, &pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
+    let set = [("gi.rt.rays".to_string(), "64".to_string())];
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    let mut ex = lightbench::render::render_with(&g, &exe, scene, 1, &params).unwrap();
+    let first = ex.read_texture(&g, "gi.indirect", 0, 0).unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
+    let second = ex.read_texture(&g, "gi.indirect", 0, 0).unwrap();
+    for img in [&first, &second] {
+        assert!(
+            img.rgba.iter().all(|v| v.is_finite() && *v >= 0.0),
+            "{}: NaN, Inf or negative",
+            scene.name
+        );
+    }
+    assert_ne!(first.rgba, second.rgba, "each frame draws other rays");
+    (first, second)
+}
+
+#[path = "../../benches/rt.rs"]
+mod rt_bench;
+
+/// `cargo bench --bench rt` runs: one small round of every comparison and build (its figures
+/// are the bench's to print, not asserted here).
+#[test]
+fn the_rt_bench_runs() {
+    let _g = gpu_common::gpu();
+    rt_bench::run(rt_bench::Size::Smoke);
+}

@@ -5,9 +5,23 @@ use super::{Ctx, Used};
 use crate::diag::{did_you_mean, Code, Diagnostic, Diagnostics};
 use crate::ir::{history_ident, shader_ident, PassKind, SamplerKind};
 use crate::layout::{
-    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, INSTANCE, LIGHTS, LIGHT_VOLUMES, TRIANGLES,
+    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, HIT_MATERIALS, HIT_TRIANGLES, INSTANCE, LIGHTS,
+    LIGHT_VOLUMES, TRIANGLES,
 };
 use crate::shader::reflect::{BindingTy, TexKind};
+
+/// The standard blocks and buffers, bound by their global's name.
+const STANDARD: [&str; 8] = [
+    FRAME,
+    INSTANCE,
+    LIGHTS,
+    TRIANGLES,
+    LIGHT_VOLUMES,
+    AREA_LIGHTS,
+    HIT_TRIANGLES,
+    HIT_MATERIALS,
+];
+const STORAGE: [&str; 6] = [LIGHTS, TRIANGLES, LIGHT_VOLUMES, AREA_LIGHTS, HIT_TRIANGLES, HIT_MATERIALS];
 
 impl Ctx<'_> {
     pub(super) fn bind(&mut self, u: &Used, diags: &mut Diagnostics) {
@@ -15,7 +29,7 @@ impl Ctx<'_> {
         if target == Some("params") || (target.is_none() && u.g.name == self.pass.param_block.value) {
             return self.bind_params(u, diags);
         }
-        if target.is_none() && [FRAME, INSTANCE, LIGHTS, TRIANGLES, LIGHT_VOLUMES, AREA_LIGHTS].contains(&u.g.name.as_str()) {
+        if target.is_none() && STANDARD.contains(&u.g.name.as_str()) {
             return self.bind_standard(u, diags);
         }
         if let (None, Some(slot)) = (target, DrawSlot::from_name(&u.g.name)) {
@@ -50,11 +64,13 @@ impl Ctx<'_> {
         let (source, ty) = match (&g.ty, g.name.as_str()) {
             (BindingTy::Uniform { size, .. }, FRAME) => (BindSource::Frame, BindingType::Uniform { min_binding_size: *size }),
             (BindingTy::Uniform { size, .. }, INSTANCE) => (BindSource::Instance, BindingType::Uniform { min_binding_size: *size }),
-            (BindingTy::Storage { read_only: true, size }, name @ (LIGHTS | TRIANGLES | LIGHT_VOLUMES | AREA_LIGHTS)) => (
+            (BindingTy::Storage { read_only: true, size }, name) if STORAGE.contains(&name) => (
                 match name {
                     LIGHTS => BindSource::Lights,
                     TRIANGLES => BindSource::Triangles,
                     AREA_LIGHTS => BindSource::AreaLights,
+                    HIT_TRIANGLES => BindSource::HitTriangles,
+                    HIT_MATERIALS => BindSource::HitMaterials,
                     _ => BindSource::LightVolumes,
                 },
                 BindingType::Storage {
@@ -63,13 +79,15 @@ impl Ctx<'_> {
                 },
             ),
             (_, name) => {
-                let storage = [LIGHTS, TRIANGLES, LIGHT_VOLUMES, AREA_LIGHTS].contains(&name);
+                let storage = STORAGE.contains(&name);
                 let want = if storage { "`var<storage, read>`" } else { "`var<uniform>`" };
                 let what = match name {
                     LIGHTS => "the light array",
                     TRIANGLES => "the scene's triangle array",
                     LIGHT_VOLUMES => "the light-volume meshes",
                     AREA_LIGHTS => "the area-light array",
+                    HIT_TRIANGLES => "the traced triangles' hit data",
+                    HIT_MATERIALS => "the traced meshes' materials",
                     _ => "standard block",
                 };
                 diags.push(Diagnostic::error(

@@ -1,0 +1,235 @@
+//! `cargo bench -p lightbench --bench rt`: what tracing rays costs beside the raster method it
+//! replaces, on the adapter at hand — each ray-traced option's passes against its raster
+//! counterpart's (shadows: `rt` against shadow maps; AO: `rtao` against GTAO; indirect diffuse:
+//! `rt` against `filtered`), at three resolutions, on the Cornell box and on a glTF model
+//! (`scenes/hard/bare_model.ron`'s chair) — and the acceleration structure's build time
+//! against the triangle count. GPU time from timestamp queries: rounds interleave the two
+//! sides (each renders a frame and waits for it), and the figure is the median and quartiles
+//! of the per-round ratio. Needs a GPU adapter with ray queries (lavapipe is enough). Not a
+//! test; `tests/reference/ray_traced.rs` runs it once at its smallest (`Size::Smoke`).
+
+use lightbench::gpu::{DeviceOptions, Executor, Gpu};
+use lightbench::render::compile;
+use std::path::{Path, PathBuf};
+
+/// How much to measure: the full bench, or one small round of everything (the tests' run).
+#[derive(Clone, Copy, PartialEq)]
+pub enum Size {
+    Full,
+    Smoke,
+}
+
+impl Size {
+    fn rounds(self) -> usize {
+        if self == Size::Full {
+            9
+        } else {
+            1
+        }
+    }
+    fn resolutions(self) -> &'static [(u32, u32)] {
+        if self == Size::Full {
+            &[(128, 96), (256, 192), (512, 384)]
+        } else {
+            &[(32, 24)]
+        }
+    }
+    fn copies(self) -> &'static [u32] {
+        if self == Size::Full {
+            &[1, 8, 64, 512]
+        } else {
+            &[1, 2]
+        }
+    }
+}
+
+/// One side of a comparison: a pipeline, its variants, and the passes whose time counts.
+struct Side {
+    pipeline: &'static str,
+    variants: &'static [(&'static str, &'static str)],
+    passes: &'static [&'static str],
+}
+
+/// One comparison: a ray-traced option and its raster counterpart.
+struct Pair {
+    what: &'static str,
+    raster: Side,
+    rt: Side,
+}
+
+const PAIRS: [Pair; 3] = [
+    Pair {
+        what: "shadows (maps → rt)",
+        raster: Side {
+            pipeline: "deferred.lbp",
+            variants: &[("shadows", "maps")],
+            passes: &["shadow_map", "shadow_cube_classic", "light_directional_spot", "light_point"],
+        },
+        rt: Side {
+            pipeline: "deferred.lbp",
+            variants: &[("shadows", "rt")],
+            passes: &["light_rt"],
+        },
+    },
+    Pair {
+        what: "AO (gtao → rtao, 4 rays)",
+        raster: Side {
+            pipeline: "deferred_gi.lbp",
+            variants: &[("ao", "gtao"), ("indirect_diffuse", "off")],
+            passes: &["gtao", "ao_blur_h", "ao_blur_v", "ao_upsample"],
+        },
+        rt: Side {
+            pipeline: "deferred_gi.lbp",
+            variants: &[("ao", "rtao"), ("indirect_diffuse", "off")],
+            passes: &["rtao", "ao_blur_h", "ao_blur_v", "ao_upsample"],
+        },
+    },
+    Pair {
+        what: "indirect diffuse (filtered → rt, 4 rays)",
+        raster: Side {
+            pipeline: "deferred_gi.lbp",
+            variants: &[("indirect_diffuse", "filtered"), ("ao", "none")],
+            passes: &["rsm", "gi_clear", "indirect_diffuse", "indirect_blur_h", "indirect_blur_v"],
+        },
+        rt: Side {
+            pipeline: "deferred_gi.lbp",
+            variants: &[("indirect_diffuse", "rt"), ("ao", "none")],
+            passes: &["indirect_rt", "indirect_blur_h", "indirect_blur_v"],
+        },
+    },
+];
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// An executor of `side` on `scene`, every pass every frame.
+fn executor(gpu: &Gpu, side: &Side, scene: &lightbench::scene::Scene) -> Executor {
+    let v: Vec<(String, String)> = side.variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    let (exe, _) = compile(gpu, &root().join("pipelines").join(side.pipeline), None, scene, &v).expect("compile");
+    let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
+    ex.set_reuse(false);
+    ex.set_timing(true);
+    ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
+    ex
+}
+
+/// GPU ms of one frame's counted passes (the frame waited for).
+fn frame_ms(gpu: &Gpu, ex: &mut Executor, side: &Side) -> f64 {
+    ex.render_frame(gpu, &ex.inputs(0.0)).expect("frame");
+    ex.wait_idle(gpu).expect("wait");
+    ex.last_timings
+        .iter()
+        .filter(|t| side.passes.contains(&t.pass.as_str()))
+        .filter_map(|t| t.gpu_ms)
+        .sum()
+}
+
+/// Median and quartiles of a list.
+fn quartiles(mut v: Vec<f64>) -> (f64, f64, f64) {
+    v.sort_by(f64::total_cmp);
+    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
+    (at(0.25), at(0.5), at(0.75))
+}
+
+/// `base` (a built-in name or a scene file of the repository) at this size, calling for AO
+/// and indirect diffuse.
+fn scene(base: &str, (w, h): (u32, u32)) -> lightbench::scene::Scene {
+    let spec = if base.ends_with(".ron") {
+        root().join(base).to_string_lossy().into_owned()
+    } else {
+        base.to_string()
+    };
+    let mut s = lightbench::scene::load(&spec).expect("scene");
+    s.size = (w, h);
+    use lightbench_compiler::ir::Effect;
+    s.effects.extend([Effect::AmbientOcclusion, Effect::IndirectDiffuse]);
+    s
+}
+
+fn passes(gpu: &Gpu, size: Size) {
+    println!("ray-traced options against their raster counterparts: GPU ms of their passes, ratio rt / raster (median [quartiles] of {} interleaved rounds)", size.rounds());
+    for base in ["cornell", "scenes/hard/bare_model.ron"] {
+        for &(w, h) in size.resolutions() {
+            let s = scene(base, (w, h));
+            for pair in &PAIRS {
+                let (mut a, mut b) = (executor(gpu, &pair.raster, &s), executor(gpu, &pair.rt, &s));
+                let (mut ms_a, mut ms_b, mut ratios) = (vec![], vec![], vec![]);
+                for round in 0..size.rounds() {
+                    // Alternate which side goes first, so that neither always follows the other.
+                    let (x, y) = match round % 2 {
+                        0 => (frame_ms(gpu, &mut a, &pair.raster), frame_ms(gpu, &mut b, &pair.rt)),
+                        _ => {
+                            let y = frame_ms(gpu, &mut b, &pair.rt);
+                            (frame_ms(gpu, &mut a, &pair.raster), y)
+                        }
+                    };
+                    ms_a.push(x);
+                    ms_b.push(y);
+                    ratios.push(y / x.max(1e-9));
+                }
+                let ((_, ma, _), (_, mb, _), (q1, r, q3)) = (quartiles(ms_a), quartiles(ms_b), quartiles(ratios));
+                println!(
+                    "  {:<28} {w:>4}×{h:<4} {:<42} raster {ma:>8.3} ms  rt {mb:>8.3} ms  ×{r:.2} [{q1:.2}, {q3:.2}]",
+                    s.name, pair.what
+                );
+            }
+        }
+    }
+}
+
+/// Acceleration-structure build time (wall clock, the build waited for) against the triangle
+/// count: the chair of `scenes/bare.gltf` copied into a grid, one mesh per copy.
+fn builds(gpu: &Gpu, size: Size) {
+    println!(
+        "acceleration structure build (BLAS per mesh + TLAS), wall ms, median of {} builds:",
+        size.rounds()
+    );
+    let chair = lightbench::scene::load(root().join("scenes/hard/bare_model.ron").to_str().expect("path")).expect("scene");
+    for &n in size.copies() {
+        let mut s = chair.clone();
+        let per_row = (n as f32).sqrt().ceil() as u32;
+        s.meshes = (0..n)
+            .flat_map(|k| {
+                let at = glam::Vec3::new((k % per_row) as f32, 0.0, (k / per_row) as f32) * 2.0;
+                chair.meshes.iter().map(move |m| {
+                    let mut m = m.clone();
+                    m.transform = glam::Mat4::from_translation(at) * m.transform;
+                    m
+                })
+            })
+            .collect();
+        let triangles: usize = s.meshes.iter().map(|m| m.indices.len() / 3).sum();
+        let mut times = vec![];
+        for _ in 0..size.rounds() {
+            let mut scene = s.clone();
+            let gpu_scene = lightbench::gpu::scene_gpu::SceneGpu::new(&gpu.device, &gpu.queue, &mut scene).expect("upload");
+            let start = std::time::Instant::now();
+            let materials = (&gpu_scene.meshes[..], &gpu_scene.hit_materials[..]);
+            lightbench::gpu::accel::Accel::build(&gpu.device, &gpu.queue, materials, &scene).expect("build");
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+        }
+        let (q1, m, q3) = quartiles(times);
+        println!(
+            "  {triangles:>9} triangles in {:>5} meshes: {m:>9.2} ms [{q1:.2}, {q3:.2}], {:.3} µs per triangle",
+            s.meshes.len(),
+            m * 1e3 / triangles as f64
+        );
+    }
+}
+
+pub fn run(size: Size) {
+    let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
+    println!("{}", gpu.describe());
+    assert!(
+        gpu.profile.has(lightbench_compiler::profile::Feature::ExperimentalRayQuery),
+        "this adapter has no ray queries"
+    );
+    passes(&gpu, size);
+    builds(&gpu, size);
+}
+
+#[allow(dead_code)]
+fn main() {
+    run(Size::Full);
+}

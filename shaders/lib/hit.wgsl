@@ -1,0 +1,99 @@
+// Shading a ray's hit with the definitions the G-buffer and the reference use: the traced
+// triangle's interpolated shading normal, its front, and its material (standard bindings
+// `hit_triangles` and `hit_materials`, built with the acceleration structure). The including
+// file includes lib/ray.wgsl (which binds `scene_accel` through it). Textures are not sampled
+// at hits: each map stands in by its mean.
+
+struct HitTriangle {
+    // The corners' shading normals (world, unit).
+    n0: vec3<f32>,
+    material: u32,
+    n1: vec3<f32>,
+    // 1: both sides are seen (glTF doubleSided)
+    double_sided: u32,
+    n2: vec3<f32>,
+    _pad0: u32,
+    // The front's geometric normal (world, unit).
+    ng: vec3<f32>,
+    _pad1: u32,
+};
+
+struct HitMaterial {
+    // Linear base colour × the base-colour map's mean; a: alpha
+    albedo: vec4<f32>,
+    // Emitted radiance; w unused
+    emissive: vec4<f32>,
+    metallic: f32,
+    roughness: f32,
+    _pad: vec2<f32>,
+};
+
+@group(0) @binding(5) var<storage, read> hit_triangles: array<HitTriangle>;
+@group(0) @binding(6) var<storage, read> hit_materials: array<HitMaterial>;
+
+// What a ray met: the surface's point, its shading normal turned to face the ray, its
+// material, and whether the ray met its front.
+struct RayHit {
+    found: bool,
+    t: f32,
+    world: vec3<f32>,
+    n: vec3<f32>,
+    albedo: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    emissive: vec3<f32>,
+    front: bool,
+};
+
+fn hit_triangle(i: RayIntersection) -> HitTriangle {
+    return hit_triangles[i.instance_custom_data + i.primitive_index];
+}
+
+// Camera and bounce rays see the front of a single-sided surface and both sides of a
+// double-sided one (the sidedness rule of docs/scenes.md).
+fn seen_along(tri: HitTriangle, dir: vec3<f32>) -> bool {
+    return tri.double_sided != 0u || dot(tri.ng, dir) < 0.0;
+}
+
+// The nearest surface a bounce ray sees along `dir` (unit) between `t_min` and `t_max`.
+fn trace_seen(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> RayHit {
+    var rq: ray_query;
+    // Every triangle a candidate, so that the backs of single-sided ones can be passed.
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, 0xffu, t_min, t_max, origin, dir));
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && seen_along(hit_triangle(c), dir) {
+            rayQueryConfirmIntersection(&rq);
+        }
+    }
+    return ray_hit(rayQueryGetCommittedIntersection(&rq), origin, dir);
+}
+
+// A hit as the surface lib/lighting.wgsl shades, seen from `v`.
+fn hit_surface(h: RayHit, v: vec3<f32>) -> Surface {
+    return Surface(h.world, h.n, v, h.albedo, h.metallic, h.roughness, h.found);
+}
+
+// The committed intersection as a surface to shade.
+fn ray_hit(i: RayIntersection, origin: vec3<f32>, dir: vec3<f32>) -> RayHit {
+    var h: RayHit;
+    h.found = i.kind == RAY_QUERY_INTERSECTION_TRIANGLE;
+    if !h.found {
+        return h;
+    }
+    let tri = hit_triangle(i);
+    let m = hit_materials[tri.material];
+    let b = i.barycentrics;
+    let interpolated = tri.n0 * (1.0 - b.x - b.y) + tri.n1 * b.x + tri.n2 * b.y;
+    h.front = dot(tri.ng, dir) < 0.0;
+    // Facing the ray: a double-sided surface's back is lit as its own side.
+    let facing = select(-1.0, 1.0, h.front);
+    h.n = safe_normalize(interpolated, tri.ng) * facing;
+    h.t = i.t;
+    h.world = origin + dir * i.t;
+    h.albedo = m.albedo.rgb;
+    h.metallic = m.metallic;
+    h.roughness = m.roughness;
+    h.emissive = select(vec3<f32>(0.0), m.emissive.rgb, h.front || tri.double_sided != 0u);
+    return h;
+}
