@@ -21,21 +21,6 @@ struct Params {
 @group(2) @binding(8) var<uniform> params: Params;
 @group(2) @binding(9) var scene_accel: acceleration_structure;
 
-// The direct light at surface `s` (lights and emitters), reflected towards `s.v`.
-fn direct_light(s: Surface, u: vec3<f32>) -> vec3<f32> {
-    let eps = ray_offset();
-    var sum = vec3<f32>(0.0);
-    for (var i = 0u; i < frame.light_count; i++) {
-        let l = lights[i];
-        let ls = light_at(l, s.world);
-        let f = blinn_phong(s.n, ls.to_light, s.v, s.albedo, s.metallic, s.roughness) * ls.radiance;
-        if max(f.r, max(f.g, f.b)) > 0.0 {
-            sum += f * light_reaches(l, s.world, s.n, ls.to_light, eps);
-        }
-    }
-    return sum + emitter_light(s, u, eps);
-}
-
 @fragment
 fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let px = vec2<i32>(frag.xy);

@@ -52,35 +52,32 @@ fn traced(meshes: &[MeshGpu]) -> Vec<usize> {
         .collect()
 }
 
-/// Refuse what the device cannot build, naming the mesh and the limit.
-fn check_limits(device: &wgpu::Device, meshes: &[MeshGpu], list: &[usize]) -> Result<()> {
-    let limits = device.limits();
-    if list.is_empty() {
-        return Err(Error::Scene(
-            "the scene has no opaque or masked triangles to trace rays against (the pipeline reads an acceleration structure; try its raster option)".into(),
-        ));
-    }
-    let total: u64 = list.iter().map(|&i| meshes[i].index_count as u64 / 3).sum();
-    if total > MAX_TRACED_TRIANGLES {
+/// Refuse what the device cannot build, naming the scene or mesh and the limit: `meshes` the
+/// traced meshes' names and triangle counts.
+fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> Result<()> {
+    if meshes.is_empty() {
         return Err(Error::Scene(format!(
-            "the scene has {total} triangles to trace, over the {MAX_TRACED_TRIANGLES} a ray hit can name (24-bit instance index)"
+            "scene `{scene}` has no opaque or masked triangles to trace rays against (the pipeline reads an acceleration structure; choose its raster option)"
         )));
     }
-    if list.len() as u64 > limits.max_tlas_instance_count as u64 {
+    let total: u64 = meshes.iter().map(|m| m.1).sum();
+    if total > MAX_TRACED_TRIANGLES {
         return Err(Error::Scene(format!(
-            "the scene has {} meshes to trace, over this device's limit of {} acceleration-structure instances (max_tlas_instance_count)",
-            list.len(),
+            "scene `{scene}` has {total} triangles to trace, over the {MAX_TRACED_TRIANGLES} a ray hit can name (24-bit instance index)"
+        )));
+    }
+    if meshes.len() as u64 > limits.max_tlas_instance_count as u64 {
+        return Err(Error::Scene(format!(
+            "scene `{scene}` has {} meshes to trace, over this device's limit of {} acceleration-structure instances (max_tlas_instance_count)",
+            meshes.len(),
             limits.max_tlas_instance_count
         )));
     }
-    for &i in list {
-        let tris = meshes[i].index_count as u64 / 3;
-        if tris > limits.max_blas_primitive_count as u64 {
-            return Err(Error::Scene(format!(
-                "mesh `{}` has {tris} triangles, over this device's limit of {} per acceleration structure (max_blas_primitive_count)",
-                meshes[i].name, limits.max_blas_primitive_count
-            )));
-        }
+    if let Some((name, tris)) = meshes.iter().find(|m| m.1 > limits.max_blas_primitive_count as u64) {
+        return Err(Error::Scene(format!(
+            "mesh `{name}` of scene `{scene}` has {tris} triangles, over this device's limit of {} per acceleration structure (max_blas_primitive_count)",
+            limits.max_blas_primitive_count
+        )));
     }
     Ok(())
 }
@@ -151,7 +148,11 @@ impl Accel {
             ));
         }
         let list = traced(meshes);
-        check_limits(device, meshes, &list)?;
+        let sizes_of: Vec<(&str, u64)> = list
+            .iter()
+            .map(|&i| (meshes[i].name.as_str(), meshes[i].index_count as u64 / 3))
+            .collect();
+        check_limits(&device.limits(), &scene.name, &sizes_of)?;
         let (hits, first) = hit_data(meshes, &list, scene);
         let sizes: Vec<_> = list.iter().map(|&i| size_of(&meshes[i])).collect();
         let blas: Vec<wgpu::Blas> = list
@@ -220,5 +221,40 @@ impl Accel {
             hit_triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
             hit_materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_limits;
+
+    /// What a device cannot build is refused before anything is built, naming the scene, the
+    /// mesh and the limit.
+    #[test]
+    fn limits_are_refused_by_name() {
+        let limits = wgpu::Limits {
+            max_tlas_instance_count: 2,
+            max_blas_primitive_count: 100,
+            ..wgpu::Limits::default()
+        };
+        let err = |meshes: &[(&str, u64)]| check_limits(&limits, "yard", meshes).unwrap_err().to_string();
+        assert!(
+            err(&[]).starts_with("scene `yard` has no opaque or masked triangles"),
+            "{}",
+            err(&[])
+        );
+        let e = err(&[("fence", 10), ("tree", 101)]);
+        assert!(
+            e.contains("mesh `tree` of scene `yard` has 101 triangles") && e.contains("max_blas_primitive_count"),
+            "{e}"
+        );
+        let e = err(&[("a", 1), ("b", 1), ("c", 1)]);
+        assert!(
+            e.contains("3 meshes to trace") && e.contains("limit of 2") && e.contains("max_tlas_instance_count"),
+            "{e}"
+        );
+        let e = err(&[("a", 1 << 23), ("b", 1 << 23), ("c", 1)]);
+        assert!(e.contains("16777217 triangles to trace"), "{e}");
+        assert!(check_limits(&limits, "yard", &[("a", 100), ("b", 1)]).is_ok());
     }
 }

@@ -429,9 +429,10 @@ fn hit_material(m: &Material, means: &[[f32; 4]]) -> HitMaterial {
             m.emissive[2] * emissive[2],
             0.0,
         ],
-        // glTF: roughness in the map's green channel, metalness in its blue.
-        metallic: m.metallic * mr[2],
-        roughness: m.roughness * mr[1],
+        // glTF: roughness in the map's green channel, metalness in its blue; clamped as
+        // lib/material.wgsl clamps them.
+        metallic: (m.metallic * mr[2]).clamp(0.0, 1.0),
+        roughness: (m.roughness * mr[1]).clamp(0.03, 1.0),
         _pad: [0.0; 2],
     }
 }

@@ -1,7 +1,8 @@
-// Emissive surfaces as lights for passes that trace rays: one point drawn on one emitter
-// (next-event estimation, as the reference does), its light reflected at a surface, with a
-// shadow ray. Includes lib/area_light.wgsl for the emitters (standard binding `area_lights`);
-// the including file includes lib/ray.wgsl and lib/lighting.wgsl.
+// Direct light at a surface a ray found, for passes that trace rays: every light with a
+// shadow ray, and the emissive surfaces by one point drawn on one emitter (next-event
+// estimation, as the reference does) with a shadow ray. Includes lib/area_light.wgsl for the
+// emitters (standard binding `area_lights`); the including file includes lib/ray.wgsl and
+// lib/lighting.wgsl.
 #include "lib/area_light.wgsl"
 
 // The light of every emitter reflected at surface `s` (rays leave it `eps` off) towards
@@ -37,4 +38,21 @@ fn emitter_light(s: Surface, u: vec3<f32>, eps: f32) -> vec3<f32> {
     let side = select(-1.0, 1.0, dot(s.n, l) >= 0.0);
     let vis = unoccluded(s.world + s.n * side * eps, l, eps, dist - 2.0 * eps);
     return f * a.radiance.rgb * (abs(cos_e) * area * f32(count) / dist2) * vis;
+}
+
+// The direct light at surface `s` (every light and the emitters), reflected towards `s.v`;
+// `u` draws the emitter's point. Every light is shadowed, `shadows: false` or not, as the
+// reference's bounce light is.
+fn direct_light(s: Surface, u: vec3<f32>) -> vec3<f32> {
+    let eps = ray_offset();
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < frame.light_count; i++) {
+        let l = lights[i];
+        let ls = light_at(l, s.world);
+        let f = blinn_phong(s.n, ls.to_light, s.v, s.albedo, s.metallic, s.roughness) * ls.radiance;
+        if max(f.r, max(f.g, f.b)) > 0.0 {
+            sum += f * light_reaches(l, s.world, s.n, ls.to_light, eps);
+        }
+    }
+    return sum + emitter_light(s, u, eps);
 }

@@ -17,15 +17,26 @@ fn random_pair(px: vec2<u32>, frame_no: u32, k: u32) -> vec2<f32> {
     return vec2<f32>(f32(a >> 8u), f32(b >> 8u)) * (1.0 / 16777216.0);
 }
 
-// A direction about unit `n`, drawn with density cos θ / π from `u` (Malley's method).
-fn cosine_direction(n: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
-    // An orthonormal basis about n without a branch on its direction (Duff et al. 2017).
+// The direction at polar angle (cos θ, sin θ) and azimuth φ about unit `n`, in an orthonormal
+// basis built without a branch on n's direction (Duff et al. 2017).
+fn about(n: vec3<f32>, cos_t: f32, sin_t: f32, phi: f32) -> vec3<f32> {
     let sgn = select(-1.0, 1.0, n.z >= 0.0);
     let a = -1.0 / (sgn + n.z);
     let b = n.x * n.y * a;
     let t = vec3<f32>(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
     let bt = vec3<f32>(b, sgn + n.y * n.y * a, -n.y);
-    let r = sqrt(u.x);
-    let phi = 2.0 * SAMPLING_PI * u.y;
-    return normalize(t * (r * cos(phi)) + bt * (r * sin(phi)) + n * sqrt(max(1.0 - u.x, 0.0)));
+    return normalize(t * (sin_t * cos(phi)) + bt * (sin_t * sin(phi)) + n * cos_t);
+}
+
+// A direction about unit `n`, drawn with density cos θ / π from `u` (Malley's method).
+fn cosine_direction(n: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    return about(n, sqrt(max(1.0 - u.x, 0.0)), sqrt(u.x), 2.0 * SAMPLING_PI * u.y);
+}
+
+// A unit vector about unit `n` drawn with density (e + 1)/(2π) cosᵉ θ from `u`: the half
+// vector of the Blinn-Phong lobe of exponent `e` (lib/lighting.wgsl's shininess).
+fn power_lobe(n: vec3<f32>, e: f32, u: vec2<f32>) -> vec3<f32> {
+    let cos_t = pow(max(u.x, 1e-30), 1.0 / (e + 1.0));
+    let sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
+    return about(n, cos_t, sin_t, 2.0 * SAMPLING_PI * u.y);
 }

@@ -464,3 +464,50 @@ fn render_alias_renders_the_same_image_and_refuses_shared_dumps() {
         "{err}"
     );
 }
+
+/// Ray-traced shadows as a user asks for them: on wgpu's GL backend (no ray queries) `render`
+/// says why it falls back to shadow maps and renders the image the maps give; on a scene with
+/// nothing to trace it refuses with exit 1, naming the scene and what to do, and writes nothing.
+#[test]
+fn ray_traced_shadows_fall_back_on_gl_and_refuse_an_empty_scene() {
+    let dir = temp("rt-render");
+    let (rt, maps) = (dir.join("rt.png"), dir.join("maps.png"));
+    let render = |out: &std::path::Path, variant: &[&str]| {
+        let mut args = vec!["render", "--backend", "gl", "--size", "32x32", "--out", out.to_str().unwrap()];
+        args.extend(variant);
+        run(&args)
+    };
+    let (code, _, err) = render(&rt, &["--variant", "shadows=rt"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("variant shadows = maps (`rt` needs feature ExperimentalRayQuery") && err.contains("falling back to `maps`)"),
+        "{err}"
+    );
+    let (code, _, err) = render(&maps, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read(&rt).unwrap(),
+        std::fs::read(&maps).unwrap(),
+        "the fallback renders what the maps render"
+    );
+    let empty = dir.join("empty.ron");
+    let scene = "Scene(name: \"empty\", size: (16, 16), lights: [Directional(direction: (0.3, -1.0, -0.4), intensity: 3.0)])\n";
+    std::fs::write(&empty, scene).unwrap();
+    let out = dir.join("empty.png");
+    let args = [
+        "render",
+        "--scene",
+        empty.to_str().unwrap(),
+        "--variant",
+        "shadows=rt",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let (code, _, err) = run(&args);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("scene `empty` has no opaque or masked triangles to trace rays against"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -583,14 +583,27 @@ fn view_help_names_every_script_action() {
 /// why, and `rt!` refuses (exit 1); the Vulkan profile (lavapipe's) keeps them.
 #[test]
 fn ray_traced_options_fall_back_where_rays_are_missing() {
+    // Each on a scene that calls for what it computes (and, for deferred_gi, for nothing that
+    // needs 32-bit float targets, which GL cannot render).
     let options = [
-        ("pipelines/deferred.ron", "shadows", "rt", "maps"),
-        ("pipelines/deferred_gi.lbp", "ao", "rtao", "gtao"),
+        ("pipelines/deferred.ron", "cornell", "shadows", "rt", "maps"),
+        ("pipelines/deferred_gi.lbp", "scenes/step.ron", "ao", "rtao", "gtao"),
     ];
-    for (pipeline, variant, option, fallback) in options {
+    for (pipeline, scene, variant, option, fallback) in options {
         for profile in ["gl", "webgpu"] {
             let pick = format!("{variant}={option}");
-            let (code, out, err) = lightbench(&["plan", pipeline, "--profile", profile, "--variant", &pick, "--json"]);
+            let args = [
+                "plan",
+                pipeline,
+                "--scene",
+                scene,
+                "--profile",
+                profile,
+                "--variant",
+                &pick,
+                "--json",
+            ];
+            let (code, out, err) = lightbench(&args);
             assert_eq!(code, 0, "{err}");
             let plan: serde_json::Value = serde_json::from_str(&out).unwrap();
             let chosen = plan["variants"]
@@ -608,12 +621,12 @@ fn ray_traced_options_fall_back_where_rays_are_missing() {
                 "{why}"
             );
             let forced = format!("{pick}!");
-            let (code, _, err) = lightbench(&["plan", pipeline, "--profile", profile, "--variant", &forced]);
+            let (code, _, err) = lightbench(&["plan", pipeline, "--scene", scene, "--profile", profile, "--variant", &forced]);
             assert_eq!(code, 1, "{err}");
             assert!(err.contains("needs feature ExperimentalRayQuery"), "{err}");
         }
         let pick = format!("{variant}={option}!");
-        let (code, out, err) = lightbench(&["plan", pipeline, "--profile", "vulkan", "--variant", &pick]);
+        let (code, out, err) = lightbench(&["plan", pipeline, "--scene", scene, "--profile", "vulkan", "--variant", &pick]);
         assert_eq!(code, 0, "{err}");
         assert!(out.contains(&format!("{variant} = {option}")), "{out}");
         assert!(out.contains("scene.accel"), "the Plan binds the acceleration structure: {out}");
