@@ -1,9 +1,10 @@
 //! `cargo bench -p lightbench --bench rt`: what tracing rays costs beside the raster method it
 //! replaces, on the adapter at hand — each ray-traced option's passes against its raster
 //! counterpart's (shadows: `rt` against shadow maps; AO: `rtao` against GTAO; indirect diffuse:
-//! `rt` against `filtered`), at three resolutions, on the Cornell box and on a glTF model
-//! (`scenes/hard/bare_model.ron`'s chair) — and the acceleration structure's build time
-//! against the triangle count. GPU time from timestamp queries: rounds interleave the two
+//! `rt` against `filtered`), at three resolutions, on the spot-lit Cornell box
+//! (`scenes/cornell_spot.ron`) and on a glTF model (`scenes/hard/bare.gltf`'s chair on the ground,
+//! under a spot light: RSM's indirect light needs one) — and the acceleration structure's
+//! build time against the triangle count. GPU time from timestamp queries: rounds interleave the two
 //! sides (each renders a frame and waits for it), and the figure is the median and quartiles
 //! of the per-round ratio. Needs a GPU adapter with ray queries (lavapipe is enough). Not a
 //! test; `tests/reference/ray_traced.rs` runs it once at its smallest (`Size::Smoke`).
@@ -36,7 +37,7 @@ impl Size {
     }
     fn copies(self) -> &'static [u32] {
         if self == Size::Full {
-            &[1, 8, 64, 512]
+            &[1, 4, 16, 64]
         } else {
             &[1, 2]
         }
@@ -132,26 +133,36 @@ fn quartiles(mut v: Vec<f64>) -> (f64, f64, f64) {
     (at(0.25), at(0.5), at(0.75))
 }
 
-/// `base` (a built-in name or a scene file of the repository) at this size, calling for AO
-/// and indirect diffuse.
-fn scene(base: &str, (w, h): (u32, u32)) -> lightbench::scene::Scene {
-    let spec = if base.ends_with(".ron") {
-        root().join(base).to_string_lossy().into_owned()
-    } else {
-        base.to_string()
-    };
-    let mut s = lightbench::scene::load(&spec).expect("scene");
-    s.size = (w, h);
+/// The chair of `scenes/hard/bare.gltf` on the ground under a spot light, as a scene file.
+fn chair_scene(dir: &Path) -> String {
+    let scenes = root().join("scenes");
+    let text = format!(
+        "Scene(name: \"chair\", size: (64, 64), camera: (position: (0.0, 1.6, 3.0), pitch: -20.0, fov: 50.0, near: 0.05, far: 100.0), \
+         models: [(path: \"{}\"), (path: \"{}\")], \
+         lights: [Spot(position: (0.5, 2.5, 1.0), direction: (-0.2, -1.0, -0.3), inner: 35.0, outer: 50.0, intensity: 8.0, range: 10.0)])\n",
+        scenes.join("ground.gltf").display(),
+        scenes.join("hard/bare.gltf").display()
+    );
+    let path = dir.join("chair.ron");
+    std::fs::write(&path, text).expect("scene file");
+    path.to_string_lossy().into_owned()
+}
+
+/// Scene file `spec` at this size, calling for AO and indirect diffuse.
+fn scene(spec: &str, (w, h): (u32, u32)) -> lightbench::scene::Scene {
     use lightbench_compiler::ir::Effect;
+    let mut s = lightbench::scene::load(spec).expect("scene");
+    s.size = (w, h);
     s.effects.extend([Effect::AmbientOcclusion, Effect::IndirectDiffuse]);
     s
 }
 
-fn passes(gpu: &Gpu, size: Size) {
+fn passes(gpu: &Gpu, size: Size, dir: &Path) {
     println!("ray-traced options against their raster counterparts: GPU ms of their passes, ratio rt / raster (median [quartiles] of {} interleaved rounds)", size.rounds());
-    for base in ["cornell", "scenes/hard/bare_model.ron"] {
+    let cornell = root().join("scenes/cornell_spot.ron").to_string_lossy().into_owned();
+    for base in [cornell, chair_scene(dir)] {
         for &(w, h) in size.resolutions() {
-            let s = scene(base, (w, h));
+            let s = scene(&base, (w, h));
             for pair in &PAIRS {
                 let (mut a, mut b) = (executor(gpu, &pair.raster, &s), executor(gpu, &pair.rt, &s));
                 let (mut ms_a, mut ms_b, mut ratios) = (vec![], vec![], vec![]);
@@ -169,6 +180,8 @@ fn passes(gpu: &Gpu, size: Size) {
                     ratios.push(y / x.max(1e-9));
                 }
                 let ((_, ma, _), (_, mb, _), (q1, r, q3)) = (quartiles(ms_a), quartiles(ms_b), quartiles(ratios));
+                // A counterpart the scene culls (no light it serves) has nothing to compare.
+                assert!(ma > 0.0, "{}: the raster side of {} ran no pass", s.name, pair.what);
                 println!(
                     "  {:<28} {w:>4}×{h:<4} {:<42} raster {ma:>8.3} ms  rt {mb:>8.3} ms  ×{r:.2} [{q1:.2}, {q3:.2}]",
                     s.name, pair.what
@@ -179,26 +192,24 @@ fn passes(gpu: &Gpu, size: Size) {
 }
 
 /// Acceleration-structure build time (wall clock, the build waited for) against the triangle
-/// count: the chair of `scenes/bare.gltf` copied into a grid, one mesh per copy.
+/// count: spheres of 2 × 64 × 64 triangles each (`geometry::sphere`), one mesh each, in a grid.
 fn builds(gpu: &Gpu, size: Size) {
+    use lightbench::scene::{geometry, Material, Mesh, Scene};
     println!(
-        "acceleration structure build (BLAS per mesh + TLAS), wall ms, median of {} builds:",
+        "acceleration structure build (BLAS per mesh + TLAS), wall ms, median [quartiles] of {} builds:",
         size.rounds()
     );
-    let chair = lightbench::scene::load(root().join("scenes/hard/bare_model.ron").to_str().expect("path")).expect("scene");
+    let (vertices, indices) = geometry::sphere(0.4, 64, 64);
     for &n in size.copies() {
-        let mut s = chair.clone();
         let per_row = (n as f32).sqrt().ceil() as u32;
-        s.meshes = (0..n)
-            .flat_map(|k| {
-                let at = glam::Vec3::new((k % per_row) as f32, 0.0, (k / per_row) as f32) * 2.0;
-                chair.meshes.iter().map(move |m| {
-                    let mut m = m.clone();
-                    m.transform = glam::Mat4::from_translation(at) * m.transform;
-                    m
-                })
+        let meshes: Vec<Mesh> = (0..n)
+            .map(|k| {
+                let at = glam::Vec3::new((k % per_row) as f32, 0.0, (k / per_row) as f32);
+                Mesh::new("sphere", vertices.clone(), indices.clone(), 0, glam::Mat4::from_translation(at))
             })
             .collect();
+        let grey = Material::color("grey", [0.5; 3], 1.0);
+        let s = Scene::from_meshes("spheres", (8, 8), meshes, vec![grey], vec![]).expect("scene");
         let triangles: usize = s.meshes.iter().map(|m| m.indices.len() / 3).sum();
         let mut times = vec![];
         for _ in 0..size.rounds() {
@@ -211,8 +222,7 @@ fn builds(gpu: &Gpu, size: Size) {
         }
         let (q1, m, q3) = quartiles(times);
         println!(
-            "  {triangles:>9} triangles in {:>5} meshes: {m:>9.2} ms [{q1:.2}, {q3:.2}], {:.3} µs per triangle",
-            s.meshes.len(),
+            "  {triangles:>9} triangles in {n:>4} meshes: {m:>9.2} ms [{q1:.2}, {q3:.2}], {:.3} µs per triangle",
             m * 1e3 / triangles as f64
         );
     }
@@ -225,7 +235,9 @@ pub fn run(size: Size) {
         gpu.profile.has(lightbench_compiler::profile::Feature::ExperimentalRayQuery),
         "this adapter has no ray queries"
     );
-    passes(&gpu, size);
+    let dir = std::env::temp_dir().join(format!("lightbench-bench-rt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    passes(&gpu, size, &dir);
     builds(&gpu, size);
 }
 
