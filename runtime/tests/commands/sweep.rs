@@ -196,6 +196,10 @@ fn every_bundled_sweep_spec_runs() {
             let shadowed = at("ltc_shadowed");
             assert!(num(shadowed, "rmse") < 0.7 * ltc, "{shadowed:?} vs ltc {ltc}");
             assert!(num(shadowed, "flip") < 0.8 * num(at("ltc"), "flip"), "{shadowed:?}");
+            // Ray traced, the panel's shadows come from the scene itself: unbiased and nearer
+            // in RMSE than the screen-space shadows (0.0053 against 0.0100 measured).
+            let rt = at("rt");
+            assert!(num(rt, "bias").abs() < 0.005 && num(rt, "rmse") < num(shadowed, "rmse"), "{rt:?}");
         }
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a
