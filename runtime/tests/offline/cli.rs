@@ -127,7 +127,7 @@ fn a_per_pixel_buffer_too_large_for_the_size_is_located() {
         "{err}"
     );
     assert!(
-        err.contains("pipelines/deferred.ron:69:35") && err.contains("limit: max_storage_buffer_binding_size"),
+        err.contains("pipelines/deferred.ron:72:35") && err.contains("limit: max_storage_buffer_binding_size"),
         "{err}"
     );
 }

@@ -178,23 +178,23 @@ fn ray_traced_indirect_diffuse_matches_the_reference_block_by_block() {
         let r = lightbench::reference::render(scene, &settings, false);
         let reference = r.term(Term::IndirectDiffuse).unwrap();
         let (first, second) = two_frames_of(scene, ("indirect_diffuse", "rt"), ("gi.rt.rays", "64"), "gi.indirect");
-        let (worst, count, ratios) = compare_blocks(&first, &second, reference);
-        eprintln!(
-            "{}: {count} blocks, block ratios {:.3}..{:.3} (median {:.3}), worst excess {worst:.2}σ",
-            scene.name,
-            ratios[0],
-            ratios[ratios.len() - 1],
-            ratios[ratios.len() / 2]
-        );
-        let spread = (ratios[0], ratios[ratios.len() - 1]);
-        if count < 30 || worst > 4.0 || ratios.len() < 30 || spread.0 < 0.85 || spread.1 > 1.15 {
-            failures.push(format!(
-                "{}: {count} blocks, worst {worst:.2}σ beyond 3%, ratios {spread:?}",
-                scene.name
-            ));
-        }
+        let compared = compare_blocks(&first, &second, reference);
+        failures.extend(judge(&scene.name, compared, (30, 30)));
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The verdict on one scene's block comparison: every block within 4 standard errors + 3%,
+/// the well-known ones within 15%, and at least `(blocks, known)` of each compared; printed.
+fn judge(name: &str, (worst, count, ratios): (f64, usize, Vec<f64>), (blocks, known): (usize, usize)) -> Option<String> {
+    let spread = (ratios.first().copied().unwrap_or(0.0), ratios.last().copied().unwrap_or(0.0));
+    let median = ratios.get(ratios.len() / 2).copied().unwrap_or(0.0);
+    eprintln!(
+        "{name}: {count} blocks, block ratios {:.3}..{:.3} (median {median:.3}), worst excess {worst:.2}σ",
+        spread.0, spread.1
+    );
+    let bad = count < blocks || worst > 4.0 || ratios.len() < known || spread.0 < 0.85 || spread.1 > 1.15;
+    bad.then(|| format!("{name}: {count} blocks, worst {worst:.2}σ beyond 3%, ratios {spread:?}"))
 }
 
 /// `resource` after two consecutive frames of `deferred_gi.lbp` with `variant` and `param` set
@@ -323,17 +323,8 @@ fn ray_traced_reflections_match_the_reference_block_by_block() {
         let r = lightbench::reference::render(&scene, &settings, false);
         let reference = r.term(Term::IndirectSpecular).unwrap();
         let (first, second) = two_frames_of(&scene, ("reflections", "rt"), ("ssr.rt.rays", "32"), "ssr.color");
-        let (worst, count, ratios) = compare_blocks(&first, &second, reference);
-        eprintln!(
-            "{floor}: {count} blocks, block ratios {:.3}..{:.3} (median {:.3}), worst excess {worst:.2}σ",
-            ratios[0],
-            ratios[ratios.len() - 1],
-            ratios[ratios.len() / 2]
-        );
-        let spread = (ratios[0], ratios[ratios.len() - 1]);
-        if count < 20 || worst > 4.0 || ratios.len() < 12 || spread.0 < 0.85 || spread.1 > 1.15 {
-            failures.push(format!("{floor}: {count} blocks, worst {worst:.2}σ beyond 3%, ratios {spread:?}"));
-        }
+        let compared = compare_blocks(&first, &second, reference);
+        failures.extend(judge(floor, compared, (20, 12)));
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
@@ -377,21 +368,8 @@ fn ray_traced_area_lights_match_the_reference_direct_light() {
                 img.rgba[i * 4 + 3] = if px[0] + px[1] + px[2] > 0.0 { 1.0 } else { 0.0 };
             }
         }
-        let (worst, count, ratios) = compare_blocks(&first, &second, reference);
-        eprintln!(
-            "{}: {count} blocks, block ratios {:.3}..{:.3} (median {:.3}), worst excess {worst:.2}σ",
-            scene.name,
-            ratios[0],
-            ratios[ratios.len() - 1],
-            ratios[ratios.len() / 2]
-        );
-        let spread = (ratios[0], ratios[ratios.len() - 1]);
-        if count < 30 || worst > 4.0 || ratios.len() < 20 || spread.0 < 0.85 || spread.1 > 1.15 {
-            failures.push(format!(
-                "{}: {count} blocks, worst {worst:.2}σ beyond 3%, ratios {spread:?}",
-                scene.name
-            ));
-        }
+        let compared = compare_blocks(&first, &second, reference);
+        failures.extend(judge(&scene.name, compared, (30, 20)));
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
