@@ -7,7 +7,7 @@
 //! build time against the triangle count. GPU time from timestamp queries: rounds interleave the two
 //! sides (each renders a frame and waits for it), and the figure is the median and quartiles
 //! of the per-round ratio. Needs a GPU adapter with ray queries (lavapipe is enough). Not a
-//! test; `tests/reference/ray_traced.rs` runs it once at its smallest (`Size::Smoke`).
+//! test; `tests/effects/ray_traced.rs` runs it once at its smallest (`Size::Smoke`).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;

@@ -277,7 +277,7 @@ fn every_bundled_sweep_spec_runs() {
             // Ray-traced shadows are exact: no bias; their error, like the maps', is the few
             // pixels along geometric edges where the G-buffer and the reference's camera rays see
             // different surfaces (the sun-lit box: 1.3× the maps' RMSE there, where PCF happens
-            // to land nearer; the per-value agreement is tested in reference/ray_traced.rs).
+            // to land nearer; the per-value agreement is tested in effects/ray_traced.rs).
             for scene in ["cornell", "cornell_sun", "cornell_spot"] {
                 let at = rows.iter().filter(|r| r["scene"] == scene);
                 let rt = at.clone().find(|r| r["shadows"] == "rt").unwrap();

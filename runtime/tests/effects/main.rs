@@ -1,5 +1,6 @@
 //! The bundled effects rendered in process and asserted on pixels: lighting, shadows, AO,
-//! indirect light, exposure, anti-aliasing, transparency, the G-buffer layouts, goldens.
+//! indirect light, exposure, anti-aliasing, transparency, the G-buffer layouts, goldens, and
+//! the ray-traced options against the reference.
 //! One test binary per area; each file below is a module of it.
 
 #[path = "../gpu_common/mod.rs"]
@@ -14,6 +15,7 @@ mod gpu_render;
 mod indirect;
 mod lighting_models;
 mod luminance;
+mod ray_traced;
 mod scale_free;
 mod shadow_acne;
 mod sidedness;

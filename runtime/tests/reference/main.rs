@@ -5,6 +5,5 @@
 #[path = "../gpu_common/mod.rs"]
 mod gpu_common;
 
-mod ray_traced;
 mod reference;
 mod reference_emitters;

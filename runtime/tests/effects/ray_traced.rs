@@ -1,5 +1,7 @@
-//! Ray-traced options (`shadows = rt`) against the reference: the raster's shadow rays trace
-//! the same triangles the path tracer does, so its direct light should be the reference's.
+//! The ray-traced options (shadows, AO, indirect diffuse, reflections, area lights) against
+//! the reference: their rays trace the same triangles the path tracer does and shade hits with
+//! its definitions, so each converges to the reference's term, region by region. (Kept apart
+//! from the reference's own tests, one of which times the reference: these load every core.)
 
 use super::gpu_common;
 use lightbench::io::Image;
