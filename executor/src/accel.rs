@@ -1,7 +1,9 @@
 //! The scene's acceleration structure: one bottom level (BLAS) per mesh, built from the
 //! mesh's own vertex and index buffers, and a top level (TLAS) over them placed by each mesh's
-//! transform. Built once, the first time a Plan binds it, and kept for the scene's life (the
-//! scene's geometry does not change between frames; a new scene builds its own).
+//! transform; and, apart, the data ray hits are shaded with (`HitData`), which only passes
+//! that shade hits need. Each is built once, the first time a Plan binds it, and kept for the
+//! scene's life (the scene's geometry does not change between frames; a new scene builds its
+//! own).
 
 use super::scene_gpu::MeshGpu;
 use bytemuck::Zeroable;
@@ -10,9 +12,9 @@ use lightbench_scene::error::{Error, Result};
 use lightbench_scene::{Mesh, Scene};
 use wgpu::util::DeviceExt;
 
-/// A ray hit finds its triangle's data at the instance's custom index plus its primitive
-/// index; custom indices have 24 bits.
-const MAX_TRACED_TRIANGLES: u64 = 1 << 24;
+/// A ray hit finds its triangle's data at the instance's custom index (where its mesh's
+/// triangles begin) plus its primitive index; custom indices have 24 bits.
+const MAX_FIRST_TRIANGLE: u64 = 1 << 24;
 
 /// What rays are traced against: the opaque and alpha-masked meshes, as the raster's shadow
 /// and G-buffer passes draw them (blended meshes are left out, as `draw: Scene` leaves them).
@@ -21,10 +23,14 @@ pub struct Accel {
     /// The bottom levels, one per traced mesh (the TLAS's instances keep them alive too).
     pub blas: Vec<wgpu::Blas>,
     pub triangles: u64,
-    /// The standard `hit_triangles` binding: every traced triangle, mesh after mesh.
-    pub hit_triangles: wgpu::Buffer,
-    /// The standard `hit_materials` binding: every material of the scene.
-    pub hit_materials: wgpu::Buffer,
+}
+
+/// The standard bindings hits are shaded with, in the order the TLAS's custom indices address.
+pub struct HitData {
+    /// `hit_triangles`: every traced triangle, mesh after mesh.
+    pub triangles: wgpu::Buffer,
+    /// `hit_materials`: every material of the scene.
+    pub materials: wgpu::Buffer,
 }
 
 /// Mesh `m`'s triangles as one BLAS geometry: positions are the first 12 bytes of each
@@ -52,6 +58,17 @@ fn traced(meshes: &[MeshGpu]) -> Vec<usize> {
         .collect()
 }
 
+/// Where each traced mesh's triangles begin among all traced triangles (the hit data's order).
+fn first_triangles(meshes: &[MeshGpu], list: &[usize]) -> Vec<u64> {
+    list.iter()
+        .scan(0u64, |next, &i| {
+            let first = *next;
+            *next += meshes[i].index_count as u64 / 3;
+            Some(first)
+        })
+        .collect()
+}
+
 /// Refuse what the device cannot build, naming the scene or mesh and the limit: `meshes` the
 /// traced meshes' names and triangle counts.
 fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> Result<()> {
@@ -60,11 +77,14 @@ fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> R
             "scene `{scene}` has no opaque or masked triangles to trace rays against (the pipeline reads an acceleration structure; choose its raster option)"
         )));
     }
-    let total: u64 = meshes.iter().map(|m| m.1).sum();
-    if total > MAX_TRACED_TRIANGLES {
-        return Err(Error::Scene(format!(
-            "scene `{scene}` has {total} triangles to trace, over the {MAX_TRACED_TRIANGLES} a ray hit can name (24-bit instance index)"
-        )));
+    let mut first = 0u64;
+    for (name, tris) in meshes {
+        if first >= MAX_FIRST_TRIANGLE {
+            return Err(Error::Scene(format!(
+                "mesh `{name}` of scene `{scene}` begins at traced triangle {first}, beyond the {MAX_FIRST_TRIANGLE} a ray hit can name (24-bit instance index)"
+            )));
+        }
+        first += tris;
     }
     if meshes.len() as u64 > limits.max_tlas_instance_count as u64 {
         return Err(Error::Scene(format!(
@@ -113,16 +133,15 @@ fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>) {
     }
 }
 
-/// Every traced mesh's hit data, mesh after mesh, and where each mesh's begins.
-fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<u32>) {
-    let (mut all, mut first) = (vec![], vec![]);
+/// Every traced mesh's hit data, mesh after mesh.
+fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> Vec<HitTriangle> {
+    let mut all = vec![];
     for &i in list {
-        first.push(all.len() as u32);
         let m = &scene.meshes[meshes[i].source];
         let double_sided = scene.materials.get(m.material).is_some_and(|mat| mat.double_sided);
         hit_triangles(m, double_sided, &mut all);
     }
-    (all, first)
+    all
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
@@ -133,15 +152,37 @@ fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     })
 }
 
+impl HitData {
+    /// The traced meshes' triangles and the scene's materials as hits read them, within the
+    /// device's storage-binding size.
+    pub fn build(device: &wgpu::Device, (meshes, materials): (&[MeshGpu], &[HitMaterial]), scene: &Scene) -> Result<HitData> {
+        let hits = hit_data(meshes, &traced(meshes), scene);
+        let bytes = std::mem::size_of_val(&hits[..]) as u64;
+        let max = device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size);
+        if bytes > max {
+            return Err(Error::Scene(format!(
+                "scene `{}`: the hit data of its {} traced triangles is {bytes} bytes, over this device's limit of {max} (max_storage_buffer_binding_size); choose the raster option of the pass that shades ray hits",
+                scene.name,
+                hits.len()
+            )));
+        }
+        // A binding cannot be empty: one zeroed entry stands in for none.
+        let hits = if hits.is_empty() { vec![HitTriangle::default()] } else { hits };
+        let materials = if materials.is_empty() {
+            &[HitMaterial::default()][..]
+        } else {
+            materials
+        };
+        Ok(HitData {
+            triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
+            materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
+        })
+    }
+}
+
 impl Accel {
-    /// Build the BLAS of every traced mesh and the TLAS over them, and wait for the build;
-    /// and the hit data the shaders shade hits with.
-    pub fn build(
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-        (meshes, materials): (&[MeshGpu], &[HitMaterial]),
-        scene: &Scene,
-    ) -> Result<Accel> {
+    /// Build the BLAS of every traced mesh and the TLAS over them, and wait for the build.
+    pub fn build(device: &wgpu::Device, queue: &wgpu::Queue, meshes: &[MeshGpu], scene: &Scene) -> Result<Accel> {
         if !device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
             return Err(Error::Adapter(
                 "this device has no ray queries (EXPERIMENTAL_RAY_QUERY): the pipeline's acceleration structure cannot be built".into(),
@@ -153,7 +194,7 @@ impl Accel {
             .map(|&i| (meshes[i].name.as_str(), meshes[i].index_count as u64 / 3))
             .collect();
         check_limits(&device.limits(), &scene.name, &sizes_of)?;
-        let (hits, first) = hit_data(meshes, &list, scene);
+        let first = first_triangles(meshes, &list);
         let sizes: Vec<_> = list.iter().map(|&i| size_of(&meshes[i])).collect();
         let blas: Vec<wgpu::Blas> = list
             .iter()
@@ -179,7 +220,7 @@ impl Accel {
         });
         for (k, (&i, b)) in list.iter().zip(&blas).enumerate() {
             // The custom index is where the mesh's hit data begins (checked to fit 24 bits).
-            tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), first[k], 0xff));
+            tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), first[k] as u32, 0xff));
         }
         let entries: Vec<wgpu::BlasBuildEntry> = list
             .iter()
@@ -207,20 +248,8 @@ impl Accel {
         device
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("building the acceleration structure", e))?;
-        let triangles = hits.len() as u64;
-        // A binding cannot be empty: one zeroed material stands in for a scene without any.
-        let materials = if materials.is_empty() {
-            &[HitMaterial::default()][..]
-        } else {
-            materials
-        };
-        Ok(Accel {
-            tlas,
-            blas,
-            triangles,
-            hit_triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
-            hit_materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
-        })
+        let triangles = sizes_of.iter().map(|m| m.1).sum();
+        Ok(Accel { tlas, blas, triangles })
     }
 }
 
@@ -253,8 +282,15 @@ mod tests {
             e.contains("3 meshes to trace") && e.contains("limit of 2") && e.contains("max_tlas_instance_count"),
             "{e}"
         );
-        let e = err(&[("a", 1 << 23), ("b", 1 << 23), ("c", 1)]);
-        assert!(e.contains("16777217 triangles to trace"), "{e}");
+        // Custom indices name where each mesh begins: the last may run past 2²⁴ triangles, but
+        // none may begin there.
+        let big = wgpu::Limits {
+            max_blas_primitive_count: 1 << 30,
+            ..limits.clone()
+        };
+        assert!(check_limits(&big, "yard", &[("a", (1 << 24) - 1), ("b", 1 << 20)]).is_ok());
+        let e = check_limits(&big, "yard", &[("a", 1 << 24), ("b", 1)]).unwrap_err().to_string();
+        assert!(e.contains("mesh `b` of scene `yard` begins at traced triangle 16777216"), "{e}");
         assert!(check_limits(&limits, "yard", &[("a", 100), ("b", 1)]).is_ok());
     }
 }

@@ -67,8 +67,10 @@ pub struct Binder<'a> {
     pub volumes: (&'a wgpu::Buffer, &'a super::light_volumes::LightVolumes),
     pub instance: &'a wgpu::Buffer,
     pub lights: &'a [Light],
-    /// The scene's acceleration structure and hit data, when the Plan traces rays.
+    /// The scene's acceleration structure, when the Plan traces rays.
     pub accel: Option<&'a super::accel::Accel>,
+    /// What ray hits are shaded with, when the Plan binds it.
+    pub hits: Option<&'a super::accel::HitData>,
 }
 
 enum Held<'a> {
@@ -97,6 +99,11 @@ impl Binder<'_> {
     fn accel(&self) -> Result<&super::accel::Accel> {
         self.accel
             .ok_or_else(|| Error::Plan("the scene's acceleration structure was not built for this Plan".into()))
+    }
+
+    fn hits(&self) -> Result<&super::accel::HitData> {
+        self.hits
+            .ok_or_else(|| Error::Plan("the scene's ray-hit data was not built for this Plan".into()))
     }
 
     fn entry(&self, res: ResourceId) -> Result<&super::pool::Entry> {
@@ -236,8 +243,8 @@ impl Binder<'_> {
                 BindSource::Triangles => Held::Buf(self.triangles.as_entire_buffer_binding()),
                 BindSource::LightVolumes => Held::Buf(self.volumes.0.as_entire_buffer_binding()),
                 BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
-                BindSource::HitTriangles => Held::Buf(self.accel()?.hit_triangles.as_entire_buffer_binding()),
-                BindSource::HitMaterials => Held::Buf(self.accel()?.hit_materials.as_entire_buffer_binding()),
+                BindSource::HitTriangles => Held::Buf(self.hits()?.triangles.as_entire_buffer_binding()),
+                BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

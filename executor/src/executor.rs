@@ -9,7 +9,7 @@
 
 mod embed;
 
-use super::accel::Accel;
+use super::accel::{Accel, HitData};
 use super::bind_groups::{Binder, SLOT};
 use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
@@ -116,6 +116,8 @@ struct Shared {
     scene_gpu: SceneGpu,
     /// The scene's acceleration structure, built the first time a Plan traces rays.
     accel: std::sync::OnceLock<Accel>,
+    /// What ray hits are shaded with, built the first time a Plan binds it.
+    hits: std::sync::OnceLock<HitData>,
     scene: Scene,
     lights: Vec<Light>,
     bounds: (glam::Vec3, glam::Vec3),
@@ -195,6 +197,7 @@ impl Shared {
             scene_gpu: err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, &mut scene))??,
             bounds: scene.bounds(),
             accel: Default::default(),
+            hits: Default::default(),
             lights,
             scene,
         })
@@ -205,13 +208,17 @@ impl Shared {
         if let Some(a) = self.accel.get() {
             return Ok(a);
         }
-        let built = Accel::build(
-            &gpu.device,
-            &gpu.queue,
-            (&self.scene_gpu.meshes, &self.scene_gpu.hit_materials),
-            &self.scene,
-        )?;
+        let built = Accel::build(&gpu.device, &gpu.queue, &self.scene_gpu.meshes, &self.scene)?;
         Ok(self.accel.get_or_init(|| built))
+    }
+
+    /// What ray hits are shaded with, built on first use.
+    fn hits(&self, gpu: &Gpu) -> Result<&HitData> {
+        if let Some(h) = self.hits.get() {
+            return Ok(h);
+        }
+        let built = HitData::build(&gpu.device, (&self.scene_gpu.meshes, &self.scene_gpu.hit_materials), &self.scene)?;
+        Ok(self.hits.get_or_init(|| built))
     }
 }
 
@@ -985,17 +992,12 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
     [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
 }
 
-/// Whether a Plan traces rays: it binds the acceleration structure or the hit data.
-fn traces(plan: &Plan) -> bool {
+/// What of the scene's ray-tracing data a Plan binds: the acceleration structure, the hit data.
+fn traces(plan: &Plan) -> (bool, bool) {
     use lightbench_compiler::layout::BindSource;
     let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials);
-    plan.resources.iter().any(|r| r.is_accel())
-        || plan
-            .passes
-            .iter()
-            .flat_map(|p| &p.bind_groups)
-            .flat_map(|g| &g.entries)
-            .any(|e| hit_data(&e.source))
+    let entries = || plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
+    (plan.resources.iter().any(|r| r.is_accel()), entries().any(|e| hit_data(&e.source)))
 }
 
 /// The GPU state of an executable: resources (sharing `old`'s where unchanged; transient ones
@@ -1026,12 +1028,18 @@ fn build_state(
         ..Default::default()
     };
     // Rays need the scene's acceleration structure: built the first time a Plan binds it.
-    let accel = match traces(plan) {
+    let (accel, hits) = traces(plan);
+    let accel = match accel {
         true => Some(err_scope(gpu, "building the acceleration structure", || shared.accel(gpu))??),
+        false => None,
+    };
+    let hits = match hits {
+        true => Some(err_scope(gpu, "building the ray-hit data", || shared.hits(gpu))??),
         false => None,
     };
     let binder = Binder {
         accel,
+        hits,
         gpu,
         plan,
         pool: &pool,
