@@ -101,7 +101,8 @@ pub struct AreaLightBlock {
 /// One traced triangle of the standard `hit_triangles` binding (`shaders/lib/hit.wgsl`): its
 /// corners' shading normals in world space (unit), the front's geometric normal (the side
 /// its counter-clockwise winding faces, swapped under a mirroring transform), its material's
-/// index into `hit_materials` and whether both sides are seen.
+/// index into `hit_materials`, whether both sides are seen, and its index into `hit_emitters`
+/// (`NO_EMITTER` when it emits nothing).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct HitTriangle {
@@ -110,9 +111,31 @@ pub struct HitTriangle {
     pub n1: [f32; 3],
     pub double_sided: u32,
     pub n2: [f32; 3],
-    pub _pad0: u32,
+    pub emitter: u32,
     pub ng: [f32; 3],
     pub _pad1: u32,
+}
+
+/// `HitTriangle::emitter` of a triangle that emits nothing.
+pub const NO_EMITTER: u32 = u32::MAX;
+
+/// One emissive traced triangle of the standard `hit_emitters` binding
+/// (`shaders/lib/hit_emitters.wgsl`): its world corners, counter-clockwise seen from its front;
+/// its radiance (its material's, as hits see it); its area; its probability of being chosen
+/// (its power, area × brightest channel, over all of theirs) and the cumulative probability
+/// of it and those before it (what a uniform number is searched in). With none, one entry of
+/// probability 0.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct HitEmitter {
+    pub p0: [f32; 3],
+    pub prob: f32,
+    pub p1: [f32; 3],
+    pub cdf: f32,
+    pub p2: [f32; 3],
+    pub double_sided: u32,
+    pub radiance: [f32; 3],
+    pub area: f32,
 }
 
 /// One material of the standard `hit_materials` binding: what a ray's hit is shaded with.
@@ -155,7 +178,9 @@ mod tests {
         let area_struct = &area[area.find("struct AreaLight").unwrap()..area.find("@group").unwrap()];
         let hit = read("hit.wgsl");
         let hit_structs = &hit[hit.find("struct HitTriangle").unwrap()..hit.find("@group").unwrap()];
-        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct + hit_structs;
+        let emit = read("hit_emitters.wgsl");
+        let emit_struct = &emit[emit.find("struct HitEmitter").unwrap()..emit.find("@group").unwrap()];
+        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct + hit_structs + emit_struct;
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
@@ -171,6 +196,7 @@ mod tests {
         assert_eq!(size_of("AreaLight"), std::mem::size_of::<AreaLightBlock>());
         assert_eq!(size_of("HitTriangle"), std::mem::size_of::<HitTriangle>());
         assert_eq!(size_of("HitMaterial"), std::mem::size_of::<HitMaterial>());
+        assert_eq!(size_of("HitEmitter"), std::mem::size_of::<HitEmitter>());
         // Member offsets of the light block, the most intricate one.
         let (_, light) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Light")).unwrap();
         let naga::TypeInner::Struct { members, .. } = &light.inner else {

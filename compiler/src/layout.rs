@@ -78,6 +78,7 @@ pub const LIGHT_VOLUMES: &str = "light_volumes";
 pub const AREA_LIGHTS: &str = "area_lights";
 pub const HIT_TRIANGLES: &str = "hit_triangles";
 pub const HIT_MATERIALS: &str = "hit_materials";
+pub const HIT_EMITTERS: &str = "hit_emitters";
 
 macro_rules! draw_slots {
     ($( $variant:ident = $name:literal ),* $(,)?) => {
@@ -136,6 +137,9 @@ pub enum BindSource<R, S> {
     HitTriangles,
     /// The traced meshes' materials (`HitMaterial`, `shaders/lib/hit.wgsl`).
     HitMaterials,
+    /// The traced emissive triangles as lights, each with its probability of being chosen
+    /// (in proportion to its power; `HitEmitter`, `shaders/lib/hit_emitters.wgsl`).
+    HitEmitters,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
 }

@@ -7,7 +7,7 @@
 
 use super::scene_gpu::MeshGpu;
 use bytemuck::Zeroable;
-use lightbench_compiler::abi::{HitMaterial, HitTriangle, Vertex};
+use lightbench_compiler::abi::{HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::{Mesh, Scene};
 use wgpu::util::DeviceExt;
@@ -31,7 +31,12 @@ pub struct HitData {
     pub triangles: wgpu::Buffer,
     /// `hit_materials`: every material of the scene.
     pub materials: wgpu::Buffer,
+    /// `hit_emitters`: the traced triangles that emit, with their choice probabilities.
+    pub emitters: wgpu::Buffer,
 }
+
+/// A traced triangle's world corners, counter-clockwise seen from its front.
+type Corners = [[f32; 3]; 3];
 
 /// Mesh `m`'s triangles as one BLAS geometry: positions are the first 12 bytes of each
 /// interleaved vertex.
@@ -103,8 +108,8 @@ fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> R
 }
 
 /// Mesh `m`'s drawn triangles as hits read them: world-space shading normals (the geometric
-/// normal where a vertex has none), the front's normal, the material.
-fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>) {
+/// normal where a vertex has none), the front's normal, the material; and their corners.
+fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, corners: &mut Vec<Corners>) {
     let normal_matrix = glam::Mat3::from_mat4(m.transform).inverse().transpose();
     let mirrored = m.transform.determinant() < 0.0;
     let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
@@ -127,21 +132,65 @@ fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>) {
             n1: n(1),
             double_sided: double_sided as u32,
             n2: n(2),
+            emitter: NO_EMITTER,
             ng: ng.to_array(),
             ..Default::default()
         });
+        // A mirroring transform turns the winding: swapped, the corners wind about the front.
+        let (b, c) = if mirrored { (p(2), p(1)) } else { (p(1), p(2)) };
+        corners.push([p(0).to_array(), b.to_array(), c.to_array()]);
     }
 }
 
-/// Every traced mesh's hit data, mesh after mesh.
-fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> Vec<HitTriangle> {
-    let mut all = vec![];
+/// Every traced mesh's hit data, mesh after mesh, and each traced triangle's corners.
+fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<Corners>) {
+    let (mut all, mut corners) = (vec![], vec![]);
     for &i in list {
         let m = &scene.meshes[meshes[i].source];
         let double_sided = scene.materials.get(m.material).is_some_and(|mat| mat.double_sided);
-        hit_triangles(m, double_sided, &mut all);
+        hit_triangles(m, double_sided, &mut all, &mut corners);
     }
-    all
+    (all, corners)
+}
+
+/// The traced triangles that emit as lights, chosen in proportion to their power (area ×
+/// brightest channel, as the reference weighs them), and each emitting triangle's index
+/// among them written to its hit data.
+fn emitters(hits: &mut [HitTriangle], corners: &[Corners], materials: &[HitMaterial]) -> Vec<HitEmitter> {
+    let mut out = vec![];
+    let mut power = vec![];
+    for (h, c) in hits.iter_mut().zip(corners) {
+        let Some(m) = materials.get(h.material as usize) else {
+            continue;
+        };
+        let [a, b, cc] = c.map(glam::Vec3::from);
+        let area = 0.5 * (b - a).cross(cc - a).length();
+        let p = area as f64 * m.emissive[..3].iter().fold(0.0f32, |x, &y| x.max(y)) as f64;
+        if p > 0.0 && p.is_finite() {
+            h.emitter = out.len() as u32;
+            out.push(HitEmitter {
+                p0: c[0],
+                p1: c[1],
+                p2: c[2],
+                double_sided: h.double_sided,
+                radiance: [m.emissive[0], m.emissive[1], m.emissive[2]],
+                area,
+                ..Default::default()
+            });
+            power.push(p);
+        }
+    }
+    let total: f64 = power.iter().sum();
+    let mut below = 0.0;
+    for (e, p) in out.iter_mut().zip(&power) {
+        e.prob = (p / total) as f32;
+        below += p / total;
+        e.cdf = below as f32;
+    }
+    if let Some(last) = out.last_mut() {
+        last.cdf = 1.0;
+    }
+    out
 }
 
 fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
@@ -156,8 +205,9 @@ impl HitData {
     /// The traced meshes' triangles and the scene's materials as hits read them, within the
     /// device's storage-binding size.
     pub fn build(device: &wgpu::Device, (meshes, materials): (&[MeshGpu], &[HitMaterial]), scene: &Scene) -> Result<HitData> {
-        let hits = hit_data(meshes, &traced(meshes), scene);
-        let bytes = std::mem::size_of_val(&hits[..]) as u64;
+        let (mut hits, corners) = hit_data(meshes, &traced(meshes), scene);
+        let emitters = emitters(&mut hits, &corners, materials);
+        let bytes = std::mem::size_of_val(&hits[..]).max(std::mem::size_of_val(&emitters[..])) as u64;
         let max = device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size);
         if bytes > max {
             return Err(Error::Scene(format!(
@@ -168,6 +218,11 @@ impl HitData {
         }
         // A binding cannot be empty: one zeroed entry stands in for none.
         let hits = if hits.is_empty() { vec![HitTriangle::default()] } else { hits };
+        let emitters = if emitters.is_empty() {
+            vec![HitEmitter::default()]
+        } else {
+            emitters
+        };
         let materials = if materials.is_empty() {
             &[HitMaterial::default()][..]
         } else {
@@ -176,6 +231,7 @@ impl HitData {
         Ok(HitData {
             triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
             materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
+            emitters: storage(device, "hit emitters", bytemuck::cast_slice(&emitters)),
         })
     }
 }

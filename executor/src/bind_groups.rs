@@ -245,6 +245,7 @@ impl Binder<'_> {
                 BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
                 BindSource::HitTriangles => Held::Buf(self.hits()?.triangles.as_entire_buffer_binding()),
                 BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
+                BindSource::HitEmitters => Held::Buf(self.hits()?.emitters.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

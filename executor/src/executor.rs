@@ -995,7 +995,7 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
 /// What of the scene's ray-tracing data a Plan binds: the acceleration structure, the hit data.
 fn traces(plan: &Plan) -> (bool, bool) {
     use lightbench_compiler::layout::BindSource;
-    let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials);
+    let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters);
     let entries = || plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
     (plan.resources.iter().any(|r| r.is_accel()), entries().any(|e| hit_data(&e.source)))
 }

@@ -189,11 +189,17 @@ impl Camera {
         }
     }
 
-    /// Origin (on the near plane), unit direction and length to the far plane.
+    /// Origin (on the near plane), unit direction and length to the far plane of the ray
+    /// through pixel (x, y)'s centre.
     fn ray(&self, x: u32, y: u32) -> (Vec3A, Vec3A, f32) {
+        self.ray_at(x as f64 + 0.5, y as f64 + 0.5)
+    }
+
+    /// `ray` through any point of the image (in pixels from its top left corner).
+    fn ray_at(&self, px: f64, py: f64) -> (Vec3A, Vec3A, f32) {
         let (w, h) = self.size;
-        let nx = (x as f64 + 0.5) / w as f64 * 2.0 - 1.0;
-        let ny = 1.0 - (y as f64 + 0.5) / h as f64 * 2.0;
+        let nx = px / w as f64 * 2.0 - 1.0;
+        let ny = 1.0 - py / h as f64 * 2.0;
         // The view-space point at depth 1 through the pixel: scaled to the near and far planes.
         let at_one = glam::DVec3::new(nx * self.tan.0, ny * self.tan.1, -1.0);
         let near = self.to_world.transform_point3(at_one * self.near);
@@ -201,6 +207,43 @@ impl Camera {
         let d = far - near;
         (near.as_vec3a(), d.normalize_or(glam::DVec3::NEG_Z).as_vec3a(), d.length() as f32)
     }
+}
+
+/// The pixels whose centre lies within a thousandth of a pixel of an edge between surfaces
+/// that look different (another normal, material, emission, or nothing): there the surface a
+/// camera ray meets is a tie that another renderer (the GPU path tracer, a rasteriser) may
+/// break the other way, so comparisons of two renderers leave them out. Row by row.
+pub fn edge_pixels(scene: &Scene) -> Vec<bool> {
+    let world = world::World::new(scene);
+    let cam = Camera::new(scene);
+    let (w, h) = scene.size;
+    let look = |px: f64, py: f64| {
+        let (origin, dir, len) = cam.ray_at(px, py);
+        world
+            .trace(origin, dir, (0.0, len), world::Faces::Seen)
+            .map(|h| (h.n, h.albedo, h.emissive, h.metallic, h.roughness))
+    };
+    let same = |a: &Option<_>, b: &Option<_>| match (a, b) {
+        (None, None) => true,
+        (Some((n0, a0, e0, m0, r0)), Some((n1, a1, e1, m1, r1))) => {
+            let n0: &Vec3A = n0;
+            n0.dot(*n1) > 0.999 && a0 == a1 && e0 == e1 && m0 == m1 && r0 == r1
+        }
+        _ => false,
+    };
+    (0..h)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let look = &look;
+            (0..w).map(move |x| {
+                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
+                let centre = look(cx, cy);
+                [(1e-3, 0.0), (-1e-3, 0.0), (0.0, 1e-3), (0.0, -1e-3)]
+                    .iter()
+                    .any(|(dx, dy)| !same(&centre, &look(cx + dx, cy + dy)))
+            })
+        })
+        .collect()
 }
 
 /// Per-pixel running sums: for each term, Σx and Σx² per channel.
@@ -214,7 +257,7 @@ pub fn memory_bytes((w, h): (u32, u32), terms: usize) -> u64 {
 }
 
 /// Samples of a pilot for an error budget.
-const PILOT_SPP: u32 = 64;
+pub const PILOT_SPP: u32 = 64;
 
 /// The estimators' context for `scene` as `s` asks.
 fn context<'a>(scene: &Scene, world: &'a world::World, s: &Settings) -> integrate::Context<'a> {
@@ -308,7 +351,7 @@ pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
 /// Samples per pixel that bring a relative error `ratio` times the target down to it
 /// (error ∝ 1/√n, 5% spare for the estimate's own noise), a multiple of
 /// `PASS_SPP`, at least that many more than `done`.
-fn predict(done: u32, ratio: f64) -> u32 {
+pub fn predict(done: u32, ratio: f64) -> u32 {
     let need = (done as f64 * ratio * ratio * 1.05).ceil().min(u32::MAX as f64 / 2.0) as u32;
     need.max(done + PASS_SPP).next_multiple_of(PASS_SPP)
 }

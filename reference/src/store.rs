@@ -19,10 +19,23 @@ const MANIFEST: &str = "reference.json";
 /// Largest working set a reference may take (the machine this runs on has 24 GiB).
 const MAX_BYTES: u64 = 8 << 30;
 
+/// Which renderer made a reference: this crate's CPU path tracer, or the same integrator on
+/// a GPU (`pipelines/pathtrace.lbp`) on the adapter named. A GPU's references are cached
+/// apart from the CPU's (the key includes the adapter): equal within noise, not bit for bit.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Device {
+    #[default]
+    Cpu,
+    Gpu(String),
+}
+
 #[derive(Serialize, Deserialize)]
 struct Manifest {
     version: u32,
     key: String,
+    #[serde(default)]
+    device: Device,
     scene: String,
     size: (u32, u32),
     settings: Settings,
@@ -44,8 +57,16 @@ struct Manifest {
 /// Everything the images depend on, hashed: geometry, materials, textures, lights, camera,
 /// size, settings and the renderer's version.
 pub fn key(scene: &Scene, s: &Settings) -> String {
+    key_on(scene, s, &Device::Cpu)
+}
+
+/// `key` of a reference made on `device` (the CPU's is `key`'s, so its caches stay valid).
+pub fn key_on(scene: &Scene, s: &Settings, device: &Device) -> String {
     let mut h = lightbench_scene::io::Fnv1a::default();
     h.field(format!("v{VERSION} {:?} {:?} {:?}", scene.size, scene.camera, s).as_bytes());
+    if let Device::Gpu(adapter) = device {
+        h.field(format!("gpu {adapter}").as_bytes());
+    }
     for m in &scene.meshes {
         h.field(bytemuck::cast_slice(&m.vertices));
         h.field(bytemuck::cast_slice(
@@ -69,6 +90,11 @@ pub fn key(scene: &Scene, s: &Settings) -> String {
 /// Write the reference's images and manifest into `dir` (each file atomically; the manifest
 /// last, so a folder with a manifest is complete).
 pub fn write(r: &Reference, scene: &Scene, s: &Settings, dir: &Path) -> Result<()> {
+    write_on(r, scene, (s, &Device::Cpu), dir)
+}
+
+/// `write` for a reference made on `device`.
+pub fn write_on(r: &Reference, scene: &Scene, (s, device): (&Settings, &Device), dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     for t in &r.terms {
         t.mean.save(&dir.join(format!("{}.exr", t.term.name())))?;
@@ -78,7 +104,8 @@ pub fn write(r: &Reference, scene: &Scene, s: &Settings, dir: &Path) -> Result<(
     let samples = r.terms.iter().map(|t| t.samples as u64).sum::<u64>() * (scene.size.0 * scene.size.1) as u64;
     let m = Manifest {
         version: VERSION,
-        key: key(scene, s),
+        key: key_on(scene, s, device),
+        device: device.clone(),
         scene: scene.name.clone(),
         size: scene.size,
         settings: s.clone(),
@@ -109,6 +136,11 @@ fn preview(t: &TermImage) -> Image {
 /// is whole: each term the settings ask for, at the scene's size, finite. Anything else (an
 /// image cut short, replaced, or another term's) is a miss, rendered again.
 pub fn load(scene: &Scene, s: &Settings, dir: &Path) -> Result<Option<Reference>> {
+    load_on(scene, (s, &Device::Cpu), dir)
+}
+
+/// `load` of a reference made on `device`.
+pub fn load_on(scene: &Scene, (s, device): (&Settings, &Device), dir: &Path) -> Result<Option<Reference>> {
     let read = vfs::read_bytes(&dir.join(MANIFEST), 1 << 20).and_then(vfs::utf8);
     let Ok(text) = read else {
         return Ok(None);
@@ -120,7 +152,13 @@ pub fn load(scene: &Scene, s: &Settings, dir: &Path) -> Result<Option<Reference>
     wanted.sort();
     wanted.dedup();
     let n = m.terms.len();
-    if m.version != VERSION || m.key != key(scene, s) || m.terms != wanted || m.term_samples.len() != n || m.term_hashes.len() != n {
+    if m.version != VERSION
+        || m.key != key_on(scene, s, device)
+        || m.device != *device
+        || m.terms != wanted
+        || m.term_samples.len() != n
+        || m.term_hashes.len() != n
+    {
         return Ok(None);
     }
     let mut terms = vec![];
@@ -166,9 +204,27 @@ fn whole(img: &Image, size: (u32, u32)) -> bool {
 /// The reference for `scene` and `s` from `dir`, rendered (and written there) if it is not
 /// there yet. `true` with it: it was rendered now.
 pub fn cached(scene: &Scene, s: &Settings, dir: &Path, progress: bool) -> Result<(Reference, bool)> {
-    if let Some(r) = load(scene, s, dir)? {
+    cached_on(scene, (s, &Device::Cpu), dir, || render_cpu(scene, s, progress))
+}
+
+/// The reference for `scene` and `s` made on `device` from `dir`, else made by `render` and
+/// written there; `true` with it: it was rendered now.
+pub fn cached_on(
+    scene: &Scene,
+    (s, device): (&Settings, &Device),
+    dir: &Path,
+    render: impl FnOnce() -> Result<Reference>,
+) -> Result<(Reference, bool)> {
+    if let Some(r) = load_on(scene, (s, device), dir)? {
         return Ok((r, false));
     }
+    let r = render()?;
+    write_on(&r, scene, (s, device), dir)?;
+    Ok((r, true))
+}
+
+/// The CPU path tracer's render, refused when its sums would not fit in memory.
+fn render_cpu(scene: &Scene, s: &Settings, progress: bool) -> Result<Reference> {
     let need = super::memory_bytes(scene.size, s.terms.len());
     if need > MAX_BYTES {
         return Err(Error::Usage(format!(
@@ -180,9 +236,7 @@ pub fn cached(scene: &Scene, s: &Settings, dir: &Path, progress: bool) -> Result
             MAX_BYTES >> 30
         )));
     }
-    let r = super::render(scene, s, progress);
-    write(&r, scene, s, dir)?;
-    Ok((r, true))
+    Ok(super::render(scene, s, progress))
 }
 
 /// A linear EXR as RGBA floats (a regular file of at most 4 GiB: a pipe or device put in

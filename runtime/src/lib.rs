@@ -12,6 +12,7 @@ pub use lightbench_scene::{self as scene, error, files, io, Error, Result};
 pub mod bundled;
 pub mod cli;
 pub mod diff;
+pub mod gpu_reference;
 pub mod lsp;
 pub mod memory;
 pub mod sweep;

@@ -12,7 +12,8 @@ struct HitTriangle {
     // 1: both sides are seen (glTF doubleSided)
     double_sided: u32,
     n2: vec3<f32>,
-    _pad0: u32,
+    // Its index into `hit_emitters` (lib/hit_emitters.wgsl), NO_EMITTER if it emits nothing.
+    emitter: u32,
     // The front's geometric normal (world, unit).
     ng: vec3<f32>,
     _pad1: u32,
@@ -31,18 +32,25 @@ struct HitMaterial {
 @group(0) @binding(5) var<storage, read> hit_triangles: array<HitTriangle>;
 @group(0) @binding(6) var<storage, read> hit_materials: array<HitMaterial>;
 
-// What a ray met: the surface's point, its shading normal turned to face the ray, its
-// material, and whether the ray met its front.
+const NO_EMITTER: u32 = 0xffffffffu;
+
+// What a ray met: the surface's point, its shading and geometric normals turned to face the
+// ray, its material, whether the ray met its front, its triangle's emitter index, and
+// whether the ray passed the back of a single-sided surface on its way (then what this one
+// emits is shadowed from the ray's origin, as the reference's `Hit::shadowed`).
 struct RayHit {
     found: bool,
     t: f32,
     world: vec3<f32>,
     n: vec3<f32>,
+    ng: vec3<f32>,
     albedo: vec3<f32>,
     metallic: f32,
     roughness: f32,
     emissive: vec3<f32>,
     front: bool,
+    emitter: u32,
+    shadowed: bool,
 };
 
 fn hit_triangle(i: RayIntersection) -> HitTriangle {
@@ -60,13 +68,21 @@ fn trace_seen(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> RayH
     var rq: ray_query;
     // Every triangle a candidate, so that the backs of single-sided ones can be passed.
     rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, 0xffu, t_min, t_max, origin, dir));
+    // The nearest back passed: every candidate nearer than the final hit is offered.
+    var back = t_max;
     while rayQueryProceed(&rq) {
         let c = rayQueryGetCandidateIntersection(&rq);
-        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && seen_along(hit_triangle(c), dir) {
-            rayQueryConfirmIntersection(&rq);
+        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE {
+            if seen_along(hit_triangle(c), dir) {
+                rayQueryConfirmIntersection(&rq);
+            } else {
+                back = min(back, c.t);
+            }
         }
     }
-    return ray_hit(rayQueryGetCommittedIntersection(&rq), origin, dir);
+    var h = ray_hit(rayQueryGetCommittedIntersection(&rq), origin, dir);
+    h.shadowed = h.found && back < h.t;
+    return h;
 }
 
 // A hit as the surface lib/lighting.wgsl shades, seen from `v`.
@@ -86,9 +102,14 @@ fn ray_hit(i: RayIntersection, origin: vec3<f32>, dir: vec3<f32>) -> RayHit {
     let b = i.barycentrics;
     let interpolated = tri.n0 * (1.0 - b.x - b.y) + tri.n1 * b.x + tri.n2 * b.y;
     h.front = dot(tri.ng, dir) < 0.0;
-    // Facing the ray: a double-sided surface's back is lit as its own side.
-    let facing = select(-1.0, 1.0, h.front);
-    h.n = safe_normalize(interpolated, tri.ng) * facing;
+    // Facing the ray: a double-sided surface's back is lit as its own side. The shading
+    // normal is turned to the geometric one's side (on a front) or towards the ray (on a back),
+    // as the reference turns it, so that corner normals pointing the other way (a flipped
+    // winding) shade the side that is seen.
+    let n = safe_normalize(interpolated, tri.ng);
+    h.ng = select(-tri.ng, tri.ng, h.front);
+    h.n = select(select(n, -n, dot(n, dir) > 0.0), select(n, -n, dot(n, tri.ng) < 0.0), h.front);
+    h.emitter = tri.emitter;
     h.t = i.t;
     h.world = origin + dir * i.t;
     h.albedo = m.albedo.rgb;

@@ -37,7 +37,11 @@ pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depen
             || entries().any(|e| {
                 matches!(
                     e.source,
-                    BindSource::Triangles | BindSource::AreaLights | BindSource::HitTriangles | BindSource::HitMaterials
+                    BindSource::Triangles
+                        | BindSource::AreaLights
+                        | BindSource::HitTriangles
+                        | BindSource::HitMaterials
+                        | BindSource::HitEmitters
                 )
             })
             || pass.reads.iter().any(|r| p.resource(&r.name().value).is_some_and(|d| d.is_accel())),

@@ -83,6 +83,7 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
         BindSource::AreaLights => "<area_lights>".into(),
         BindSource::HitTriangles => "<hit_triangles>".into(),
         BindSource::HitMaterials => "<hit_materials>".into(),
+        BindSource::HitEmitters => "<hit_emitters>".into(),
         BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
 }

@@ -206,6 +206,7 @@ fn bind_group(g: &NamedGroup, ids: &Ids) -> Option<PlanBindGroup> {
                 BindSource::AreaLights => BindSource::AreaLights,
                 BindSource::HitTriangles => BindSource::HitTriangles,
                 BindSource::HitMaterials => BindSource::HitMaterials,
+                BindSource::HitEmitters => BindSource::HitEmitters,
                 BindSource::Draw(d) => BindSource::Draw(*d),
             };
             Some(Binding {

@@ -5,13 +5,13 @@ use super::{Ctx, Used};
 use crate::diag::{did_you_mean, Code, Diagnostic, Diagnostics};
 use crate::ir::{history_ident, shader_ident, PassKind, SamplerKind};
 use crate::layout::{
-    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, HIT_MATERIALS, HIT_TRIANGLES, INSTANCE, LIGHTS,
-    LIGHT_VOLUMES, TRIANGLES,
+    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, HIT_EMITTERS, HIT_MATERIALS, HIT_TRIANGLES, INSTANCE,
+    LIGHTS, LIGHT_VOLUMES, TRIANGLES,
 };
 use crate::shader::reflect::{BindingTy, TexKind};
 
 /// The standard blocks and buffers, bound by their global's name.
-const STANDARD: [&str; 8] = [
+const STANDARD: [&str; 9] = [
     FRAME,
     INSTANCE,
     LIGHTS,
@@ -20,8 +20,17 @@ const STANDARD: [&str; 8] = [
     AREA_LIGHTS,
     HIT_TRIANGLES,
     HIT_MATERIALS,
+    HIT_EMITTERS,
 ];
-const STORAGE: [&str; 6] = [LIGHTS, TRIANGLES, LIGHT_VOLUMES, AREA_LIGHTS, HIT_TRIANGLES, HIT_MATERIALS];
+const STORAGE: [&str; 7] = [
+    LIGHTS,
+    TRIANGLES,
+    LIGHT_VOLUMES,
+    AREA_LIGHTS,
+    HIT_TRIANGLES,
+    HIT_MATERIALS,
+    HIT_EMITTERS,
+];
 
 impl Ctx<'_> {
     pub(super) fn bind(&mut self, u: &Used, diags: &mut Diagnostics) {
@@ -71,6 +80,7 @@ impl Ctx<'_> {
                     AREA_LIGHTS => BindSource::AreaLights,
                     HIT_TRIANGLES => BindSource::HitTriangles,
                     HIT_MATERIALS => BindSource::HitMaterials,
+                    HIT_EMITTERS => BindSource::HitEmitters,
                     _ => BindSource::LightVolumes,
                 },
                 BindingType::Storage {
@@ -88,6 +98,7 @@ impl Ctx<'_> {
                     AREA_LIGHTS => "the area-light array",
                     HIT_TRIANGLES => "the traced triangles' hit data",
                     HIT_MATERIALS => "the traced meshes' materials",
+                    HIT_EMITTERS => "the traced emitters",
                     _ => "standard block",
                 };
                 diags.push(Diagnostic::error(

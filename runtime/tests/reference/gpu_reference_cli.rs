@@ -1,0 +1,105 @@
+//! `lightbench reference --device gpu` as a user runs it: the CPU reference's files and
+//! manifest fields (the device aside), its cache, and a clear refusal without ray queries.
+
+use crate::cli_common::{lightbench, scratch};
+
+fn manifest(dir: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("reference.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn the_gpu_reference_writes_what_the_cpu_one_writes() {
+    let dir = scratch("gpu-reference");
+    let run = |device: &str| {
+        let out = dir.join(device);
+        let args = [
+            "reference",
+            "--device",
+            device,
+            "--scene",
+            "cornell_lamp",
+            "--size",
+            "16x12",
+            "--terms",
+            "direct,full,ao",
+            "--spp",
+            "8",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ];
+        let (code, _, err) = lightbench(&args);
+        assert_eq!(code, 0, "{err}");
+        (out, err)
+    };
+    let (cpu, _) = run("cpu");
+    let (gpu, first) = run("gpu");
+    assert!(first.contains("reference rendered"), "{first}");
+    let (m_cpu, m_gpu) = (manifest(&cpu), manifest(&gpu));
+    let keys = |m: &serde_json::Value| m.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(&m_cpu), keys(&m_gpu));
+    for field in [
+        "version",
+        "scene",
+        "size",
+        "settings",
+        "spp",
+        "triangles",
+        "terms",
+        "term_samples",
+        "emitters",
+    ] {
+        assert_eq!(m_cpu[field], m_gpu[field], "{field}");
+    }
+    assert_eq!(m_cpu["device"], "cpu");
+    assert!(
+        m_gpu["device"]["gpu"].as_str().is_some_and(|n| !n.is_empty()),
+        "{}",
+        m_gpu["device"]
+    );
+    assert_ne!(m_cpu["key"], m_gpu["key"], "the device is part of the cache key");
+    for term in ["direct", "full", "ao"] {
+        for file in [format!("{term}.exr"), format!("{term}.variance.exr"), format!("{term}.png")] {
+            assert!(gpu.join(&file).is_file(), "{file}");
+        }
+    }
+    let (_, again) = run("gpu");
+    assert!(again.contains("up to date"), "{again}");
+}
+
+#[test]
+fn a_gpu_without_ray_queries_is_refused_by_name() {
+    let out = scratch("gpu-reference-gl");
+    let (code, _, err) = lightbench(&[
+        "reference",
+        "--device",
+        "gpu",
+        "--backend",
+        "gl",
+        "--scene",
+        "cornell",
+        "--size",
+        "8x8",
+        "--terms",
+        "full",
+        "--spp",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("no ray queries") && err.contains("EXPERIMENTAL_RAY_QUERY"), "{err}");
+    let (code, _, err) = lightbench(&[
+        "reference",
+        "--device",
+        "gpu",
+        "--terms",
+        "indirect_diffuse",
+        "--size",
+        "8x8",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("`indirect_diffuse` is the CPU reference's only"), "{err}");
+}

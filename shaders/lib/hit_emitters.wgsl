@@ -1,0 +1,97 @@
+// The traced emissive triangles as lights, for passes that trace paths (standard binding
+// `hit_emitters`, built with the hit data): one is chosen in proportion to its power (area ×
+// brightest channel, as the reference weighs them) by searching a uniform number in their
+// cumulative probabilities, then a point uniformly on it (next-event estimation);
+// `emitter_pdf` gives the density of having drawn the point a bounce ray found, so that the
+// two ways of reaching an emitter are weighed by multiple importance sampling. The including
+// file includes lib/hit.wgsl (NO_EMITTER).
+
+struct HitEmitter {
+    // Corners (world), counter-clockwise seen from the front.
+    p0: vec3<f32>,
+    // Probability of being chosen (0 in the one entry that stands for none).
+    prob: f32,
+    p1: vec3<f32>,
+    // Cumulative probability of this emitter and those before it (the last is 1).
+    cdf: f32,
+    p2: vec3<f32>,
+    // 1: both sides emit (glTF doubleSided), else the front only.
+    double_sided: u32,
+    radiance: vec3<f32>,
+    area: f32,
+};
+
+@group(0) @binding(7) var<storage, read> hit_emitters: array<HitEmitter>;
+
+// A point drawn on an emitter as seen from the point lit: the unit direction towards it,
+// its distance, what it emits that way, and the density of having drawn it per unit solid
+// angle (0: none drawn — nothing emits, or its back faces the point).
+struct EmitterSample {
+    l: vec3<f32>,
+    dist: f32,
+    radiance: vec3<f32>,
+    pdf: f32,
+};
+
+// Whether anything emits (the last cumulative probability is 1, else the one entry is 0).
+fn any_emitter() -> bool {
+    return hit_emitters[arrayLength(&hit_emitters) - 1u].cdf > 0.0;
+}
+
+// The first emitter whose cumulative probability exceeds `u` (binary search).
+fn emitter_pick(u: f32) -> u32 {
+    var lo = 0u;
+    var hi = arrayLength(&hit_emitters) - 1u;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if hit_emitters[mid].cdf > u {
+            hi = mid;
+        } else {
+            lo = mid + 1u;
+        }
+    }
+    return lo;
+}
+
+// The cosine at emitter `e` towards a point in direction `-l` from it, if it emits that way
+// (else 0): from its front, or from both sides when it is double-sided.
+fn emitter_facing(e: HitEmitter, l: vec3<f32>) -> f32 {
+    let c = -dot(normalize(cross(e.p1 - e.p0, e.p2 - e.p0)), l);
+    let facing = select(c, abs(c), e.double_sided != 0u);
+    return select(0.0, facing, facing > 1e-7);
+}
+
+// A point on an emitter for the surface point `x`, from three uniform numbers.
+fn emitter_sample(x: vec3<f32>, u: vec3<f32>) -> EmitterSample {
+    var s: EmitterSample;
+    let e = hit_emitters[emitter_pick(u.x)];
+    if e.prob <= 0.0 {
+        return s;
+    }
+    // Uniform on the triangle: the square root warp of two numbers to barycentrics.
+    let r = sqrt(u.y);
+    let p = e.p0 * (1.0 - r) + e.p1 * (r * (1.0 - u.z)) + e.p2 * (r * u.z);
+    let d = p - x;
+    s.dist = length(d);
+    if !(s.dist > 0.0) {
+        return s;
+    }
+    s.l = d / s.dist;
+    let cos_e = emitter_facing(e, s.l);
+    if cos_e > 0.0 {
+        s.radiance = e.radiance;
+        s.pdf = e.prob / e.area * s.dist * s.dist / cos_e;
+    }
+    return s;
+}
+
+// The density per unit solid angle with which `emitter_sample` draws the point of emitter
+// `index` that a ray along `dir` met at distance `dist` (0 where it emits nothing that way).
+fn emitter_pdf(index: u32, dir: vec3<f32>, dist: f32) -> f32 {
+    if index == NO_EMITTER {
+        return 0.0;
+    }
+    let e = hit_emitters[index];
+    let cos_e = emitter_facing(e, dir);
+    return select(0.0, e.prob / e.area * dist * dist / max(cos_e, 1e-30), cos_e > 0.0);
+}
