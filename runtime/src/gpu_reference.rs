@@ -50,20 +50,38 @@ pub fn check(scene: &Scene, s: &Settings) -> Result<()> {
             "--device gpu shades with the Blinn-Phong BRDF only; --brdf lambert is the CPU reference's (--device cpu)".into(),
         ));
     }
-    if blended(scene) {
+    if let Some(why) = unsupported(scene) {
         return Err(Error::Usage(format!(
-            "scene `{}` has blended (alpha: Blend) surfaces, which the GPU path tracer does not trace yet; use --device cpu",
+            "scene `{}`: {why}, which the GPU path tracer does not trace yet (its hits see each material's factors and each map's mean); use --device cpu",
             scene.name
         )));
     }
     Ok(())
 }
 
-fn blended(scene: &Scene) -> bool {
-    scene
-        .meshes
-        .iter()
-        .any(|m| scene.materials.get(m.material).is_some_and(|mat| mat.alpha == AlphaMode::Blend))
+/// What of the scene's materials the GPU path tracer would get wrong, if anything: blended
+/// surfaces (the CPU reference's stochastic transparency), alpha-masked cut-outs and
+/// texture maps (sampled per hit by the CPU reference).
+pub fn unsupported(scene: &Scene) -> Option<String> {
+    for m in &scene.meshes {
+        let Some(mat) = scene.materials.get(m.material) else {
+            continue;
+        };
+        let maps = [
+            mat.base_color_texture,
+            mat.metallic_roughness_texture,
+            mat.normal_texture,
+            mat.emissive_texture,
+        ];
+        let why = match mat.alpha {
+            AlphaMode::Blend => "blended (alpha: Blend) surfaces",
+            AlphaMode::Mask(_) => "alpha-masked cut-outs",
+            AlphaMode::Opaque if maps.iter().any(Option::is_some) => "texture maps",
+            AlphaMode::Opaque => continue,
+        };
+        return Some(format!("material `{}` has {why}", mat.name));
+    }
+    None
 }
 
 /// The triangles that emit (of meshes whose material has an emissive factor, with an area).

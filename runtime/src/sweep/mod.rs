@@ -156,7 +156,7 @@ pub fn load_scene(l: &Loaded, p: &Point) -> Result<Scene> {
     })
 }
 
-fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> Result<()> {
+fn reference_for(gpu: &Gpu, inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> Result<()> {
     let key = (p.scene.clone(), p.size);
     if inputs.references.contains_key(&key) {
         return Ok(());
@@ -172,13 +172,27 @@ fn reference_for(inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> 
         brdf: reference::Brdf::BlinnPhong,
         sample_emitters: true,
     };
-    let cache_key = reference::store::key(&scene, &settings);
+    let device = match r.device {
+        spec::ReferenceDevice::Cpu => reference::store::Device::Cpu,
+        spec::ReferenceDevice::Gpu => reference::store::Device::Gpu(gpu.info.name.clone()),
+    };
+    let cache_key = reference::store::key_on(&scene, &settings, &device);
     let dir = opts
         .references
         .clone()
         .unwrap_or_else(|| opts.out.join("references"))
         .join(&cache_key);
-    let (made, _) = reference::store::cached(&scene, &settings, &dir, false)?;
+    let made = match r.device {
+        spec::ReferenceDevice::Cpu => reference::store::cached(&scene, &settings, &dir, false)?.0,
+        spec::ReferenceDevice::Gpu => {
+            // Said at the spec's `device`, naming the scene.
+            crate::gpu_reference::check(&scene, &settings).map_err(|e| l.error_at("device", e))?;
+            let (pipeline, ws) = crate::gpu_reference::source(None)?;
+            let tracer = crate::gpu_reference::Tracer { ws: &ws, pipeline: &pipeline };
+            let render = || crate::gpu_reference::render(gpu, &tracer, &scene, &settings);
+            reference::store::cached_on(&scene, (&settings, &device), &dir, render)?.0
+        }
+    };
     inputs.references.insert(key, (made, cache_key));
     Ok(())
 }
@@ -201,7 +215,7 @@ fn check_compare(l: &Loaded, plan: &lightbench_compiler::plan::Plan, p: &Point) 
 }
 
 fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usize), opts: &Options, inputs: &mut Inputs) -> Result<Row> {
-    reference_for(inputs, l, p, opts)?;
+    reference_for(gpu, inputs, l, p, opts)?;
     let scene = scene(inputs, l, p)?.clone();
     let pipeline = l.pipeline();
     let configured = crate::render::plan_configured(ws, (&pipeline, None), (&gpu.profile, &scene), &p.settings)?;

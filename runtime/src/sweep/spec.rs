@@ -89,6 +89,18 @@ pub struct ReferenceSpec {
     pub spp: u32,
     #[serde(default)]
     pub seed: u64,
+    /// Which renderer makes it: the CPU path tracer, or the same integrator on the sweep's
+    /// GPU (`pipelines/pathtrace.lbp`; terms direct, ao, full).
+    #[serde(default)]
+    pub device: ReferenceDevice,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReferenceDevice {
+    #[default]
+    Cpu,
+    Gpu,
 }
 
 fn default_radius() -> f32 {
@@ -280,6 +292,12 @@ fn check(l: &Loaded) -> Result<()> {
     }
     if !(s.reference.ao_radius.is_finite() && s.reference.ao_radius > 0.0) {
         return Err(l.error_at("ao_radius", "`ao_radius` must be a positive number"));
+    }
+    if s.reference.device == ReferenceDevice::Gpu && !crate::gpu_reference::TERMS.contains(&s.reference.term) {
+        return Err(l.error_at(
+            "device",
+            format!("the GPU reference has no term `{}` (it renders direct, ao and full)", s.reference.term.name()),
+        ));
     }
     if s.sizes.is_empty() && l.text.contains("sizes:") {
         return Err(l.error_at("sizes", "`sizes` names no size (leave the key out to use each scene's own size)"));

@@ -2,13 +2,14 @@
 //! the output or any resource of the Plan, camera and light controls, parameter and variant
 //! widgets, per-pass costs, screenshots. Sub-stages: `state` (what is shown and the actions
 //! that change it: keys, widgets and `--script` alike), `script` (a script file as steps, one
-//! step run), `display` (any format as an image), `panels` (egui), `window` (winit, the
-//! wgpu surface).
+//! step run), `display` (any format as an image), `traced` (the path-traced view beside the
+//! raster one), `panels` (egui), `window` (winit, the wgpu surface).
 
 pub mod display;
 mod panels;
 pub mod script;
 pub mod state;
+pub mod traced;
 mod window;
 
 use crate::error::{Error, Result};

@@ -17,10 +17,17 @@ pub fn panels(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
             variants(ui, v, actions);
             lights(ui, v, actions);
             effects(ui, v, actions);
+            let mut traced = v.traced.is_some();
+            if ui.checkbox(&mut traced, "path traced (T): the GPU reference of this view").changed() {
+                actions.push(Action::Trace(traced));
+            }
+            if let Some(t) = &v.traced {
+                ui.label(t.caption());
+            }
             if ui.button("screenshot (F12)").clicked() {
                 actions.push(Action::Screenshot(format!("lightbench-view-{}-{}.png", std::process::id(), v.frames).into()));
             }
-            ui.label("O/P: buffer view · K/L: light or layer · 1–9, 0: light · Q: on/off · arrows: turn it · WASD, Space, Ctrl, Shift, left drag: camera · F12: screenshot");
+            ui.label("O/P: buffer view · K/L: light or layer · 1–9, 0: light · Q: on/off · arrows: turn it · WASD, Space, Ctrl, Shift, left drag: camera · F12: screenshot · T: path traced");
         });
     });
 }

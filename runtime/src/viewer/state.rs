@@ -38,6 +38,11 @@ pub enum Action {
     RemoveLight,
     /// Call for an effect or stop calling for it (passes conditioned on it run or are culled).
     Effect(lightbench_compiler::ir::Effect, bool),
+    /// Show the path-traced view of the same scene (the GPU reference, refining while nothing
+    /// changes) in place of the raster output, or the raster output again.
+    Trace(bool),
+    /// `Trace` on when it is off, off when it is on (key T).
+    ToggleTrace,
 }
 
 pub struct Viewer {
@@ -61,6 +66,8 @@ pub struct Viewer {
     pub options: Vec<(String, Vec<OptionState>)>,
     /// Hot reload of the pipeline and shader files (not for the bundled pipeline).
     reloader: Option<crate::reload::Reloader>,
+    /// The path-traced view, while it is shown (`Action::Trace`).
+    pub traced: Option<super::traced::Traced>,
 }
 
 /// A variant option and, when the adapter cannot run it, what it needs.
@@ -130,6 +137,7 @@ impl Viewer {
             last_error: None,
             options,
             reloader: None,
+            traced: None,
         })
     }
 
@@ -146,6 +154,9 @@ impl Viewer {
             true => self.ex.replace_scene(gpu, &exe, &self.scene)?,
             false => self.ex.replace(gpu, &exe)?,
         };
+        if scene_changed {
+            self.restart_traced(gpu)?;
+        }
         if let Some(r) = self.reloader.as_mut() {
             r.set_variants(&self.variants);
             r.set_scene(&self.scene);
@@ -183,18 +194,33 @@ impl Viewer {
     fn lights_changed(&mut self, gpu: &Gpu) -> Result<()> {
         let signature = |s: &Scene| s.active_lights().iter().map(|l| (l.kind, l.shadows)).collect::<Vec<_>>();
         if signature(&self.scene) == signature(self.ex.scene()) {
-            return Ok(());
+            // The path tracer's accumulation holds the old light: it starts again.
+            return self.restart_traced(gpu);
         }
         self.rebuild(gpu, true)
+    }
+
+    /// A fresh path-traced view of the scene as it is now, if one is shown.
+    fn restart_traced(&mut self, gpu: &Gpu) -> Result<()> {
+        if self.traced.is_some() {
+            self.traced = Some(super::traced::Traced::new(gpu, &self.scene)?);
+        }
+        Ok(())
     }
 
     /// Render one frame from the viewer's camera, with its lights as they are now.
     pub fn frame(&mut self, gpu: &Gpu) -> Result<()> {
         let start = std::time::Instant::now();
-        let mut inputs = self.ex.inputs(self.frames as f32 / 60.0);
-        inputs.camera = self.camera.clone();
-        inputs.lights = Some(self.scene.active_lights().into_iter().cloned().collect());
-        self.ex.render_frame(gpu, &inputs)?;
+        let lights: Vec<_> = self.scene.active_lights().into_iter().cloned().collect();
+        // While the path-traced view is shown, it is what renders.
+        if let Some(t) = self.traced.as_mut() {
+            t.frame(gpu, &self.camera, &lights)?;
+        } else {
+            let mut inputs = self.ex.inputs(self.frames as f32 / 60.0);
+            inputs.camera = self.camera.clone();
+            inputs.lights = Some(lights);
+            self.ex.render_frame(gpu, &inputs)?;
+        }
         let ms = start.elapsed().as_secs_f64() * 1e3;
         self.frame_ms = if self.frames == 0 { ms } else { 0.9 * self.frame_ms + 0.1 * ms };
         self.frames += 1;
@@ -243,6 +269,10 @@ impl Viewer {
     /// as the output is —: its texture (copied, never read back), layer and caption. `None`
     /// for what needs the display mapping first (HDR, depth, data: `view_image`).
     pub fn shown_texture(&self) -> Result<Option<(wgpu::Texture, u32, String)>> {
+        if let Some(t) = &self.traced {
+            let output = &t.ex.plan().output_resource().name;
+            return Ok(Some((t.ex.texture(output)?.clone(), 0, t.caption())));
+        }
         let (name, (inst, layer), format, caption) = self.shown_slice()?;
         if format != TextureFormat::Rgba8UnormSrgb || inst != 0 {
             return Ok(None);
@@ -252,6 +282,11 @@ impl Viewer {
 
     /// The shown image mapped for display (8-bit RGB) and a caption naming it.
     pub fn view_image(&self, gpu: &Gpu) -> Result<(u32, u32, Vec<u8>, String)> {
+        if let Some(t) = &self.traced {
+            let img = t.ex.read_texture(gpu, &t.ex.plan().output_resource().name, 0, 0)?;
+            let rgb = super::display::rgb8(&img, TextureFormat::Rgba8UnormSrgb, (self.camera.near, self.camera.far));
+            return Ok((img.width, img.height, rgb, t.caption()));
+        }
         let (name, (inst, layer), format, caption) = self.shown_slice()?;
         let img = self.ex.read_texture(gpu, &name, inst, layer)?;
         let rgb = super::display::rgb8(&img, format, (self.camera.near, self.camera.far));
@@ -364,13 +399,17 @@ impl Viewer {
                 };
                 self.rebuild(gpu, true)?;
             }
+            Action::Trace(true) if self.traced.is_none() => self.traced = Some(super::traced::Traced::new(gpu, &self.scene)?),
+            Action::Trace(true) => {}
+            Action::Trace(false) => self.traced = None,
+            Action::ToggleTrace => return self.apply_inner(gpu, Action::Trace(self.traced.is_none())),
         }
         Ok(())
     }
 }
 
 /// The script actions (`frames N` is the window's: render N frames).
-pub const ACTIONS: [&str; 16] = [
+pub const ACTIONS: [&str; 17] = [
     "next-view",
     "prev-view",
     "next-slice",
@@ -387,6 +426,7 @@ pub const ACTIONS: [&str; 16] = [
     "add-light",
     "remove-light",
     "effect",
+    "trace",
 ];
 
 /// Largest camera move or angle a script may give: beyond it a frame is all precision loss
@@ -396,7 +436,8 @@ const MAX_SCRIPT_NUMBER: f32 = 1e6;
 /// One `--script` line as an action: `next-view`, `prev-view`, `next-slice`, `prev-slice`,
 /// `view NAME`, `light N` (1-based), `toggle-light`, `rotate-light YAW PITCH`,
 /// `move X Y Z`, `look YAW PITCH`, `param NAME=VALUE`, `variant NAME=OPTION`,
-/// `screenshot FILE`, `add-light Point|Spot|Directional`, `remove-light`, `effect NAME=true|false`.
+/// `screenshot FILE`, `add-light Point|Spot|Directional`, `remove-light`, `effect NAME=true|false`,
+/// `trace on|off` (the path-traced view in place of the raster output).
 /// Without a `plan`, parameter values are not type-checked (the script's syntax, checked
 /// before the window opens).
 pub fn parse_action(line: &str, plan: Option<&lightbench_compiler::plan::Plan>) -> Result<Action> {
@@ -444,6 +485,11 @@ pub fn parse_action(line: &str, plan: Option<&lightbench_compiler::plan::Plan>) 
             Action::AddLight(lightbench_compiler::ir::LightKind::from_name(kind).ok_or_else(|| bad("expected Point, Spot or Directional"))?)
         }
         "remove-light" => Action::RemoveLight,
+        "trace" => Action::Trace(match word("on or off")? {
+            "on" => true,
+            "off" => false,
+            w => return Err(bad(&format!("`trace` takes on or off, not `{w}`"))),
+        }),
         "effect" => {
             let (k, v) = pair()?;
             let e = lightbench_compiler::ir::Effect::from_name(k).ok_or_else(|| {

@@ -127,6 +127,7 @@ fn key_action(code: KeyCode) -> Option<Action> {
         KeyCode::KeyK => Action::PrevSlice,
         KeyCode::KeyL => Action::NextSlice,
         KeyCode::KeyQ => Action::ToggleLight,
+        KeyCode::KeyT => Action::ToggleTrace,
         KeyCode::ArrowLeft => Action::RotateLight(5.0, 0.0),
         KeyCode::ArrowRight => Action::RotateLight(-5.0, 0.0),
         KeyCode::ArrowUp => Action::RotateLight(0.0, 5.0),

@@ -103,3 +103,30 @@ fn a_gpu_without_ray_queries_is_refused_by_name() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("`indirect_diffuse` is the CPU reference's only"), "{err}");
 }
+
+/// A sweep takes its reference from the GPU path tracer with `device: gpu`, and says where a
+/// term the GPU path tracer lacks is asked of it.
+#[test]
+fn a_sweep_measures_against_the_gpu_reference() {
+    let dir = scratch("gpu-reference-sweep");
+    let pipeline = crate::cli_common::root().join("pipelines/deferred.lbp");
+    let spec = |reference: &str| {
+        format!(
+            "Sweep(\n    pipeline: {:?},\n    scenes: [\"cornell\"],\n    sizes: [(16, 16)],\n    set: {{\"ambient.color\": \"(0, 0, 0)\"}},\n    points: [{{\"shadows\": \"rt\"}}],\n    effect: [\"light_rt\"],\n    compare: \"hdr\",\n    reference: {reference},\n    warmup: 1,\n    frames: 2,\n)\n",
+            pipeline.display().to_string()
+        )
+    };
+    let good = dir.join("good.ron");
+    std::fs::write(&good, spec("(term: direct, spp: 2, device: gpu)")).unwrap();
+    let out = dir.join("out");
+    let (code, _, err) = lightbench(&["sweep", good.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert_eq!(code, 0, "{err}");
+    let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().map(|e| e.unwrap().path()).collect();
+    assert_eq!(refs.len(), 1);
+    assert!(manifest(&refs[0])["device"]["gpu"].is_string());
+    let bad = dir.join("bad.ron");
+    std::fs::write(&bad, spec("(term: indirect_diffuse, device: gpu)")).unwrap();
+    let (code, _, err) = lightbench(&["sweep", bad.to_str().unwrap(), "--out", dir.join("out2").to_str().unwrap(), "--quiet"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("bad.ron:9:41:") && err.contains("no term `indirect_diffuse`"), "{err}");
+}
