@@ -70,13 +70,18 @@ fn case(gpu: &Gpu, size: Size, (spec, term): (&str, Term)) {
     };
     let pipeline = root().join("pipelines/pathtrace.lbp");
     let ws = lightbench_compiler::Workspace::disk();
-    let tracer = Tracer { ws: &ws, pipeline: &pipeline };
+    let tracer = Tracer {
+        ws: &ws,
+        pipeline: &pipeline,
+    };
     let paths = (scene.size.0 * scene.size.1 * size.spp()) as f64;
     let (mut cpu, mut on_gpu, mut ratio) = (vec![], vec![], vec![]);
     for _ in 0..size.rounds() {
         let c = paths / reference::render(&scene, &s, false).seconds;
         let g = paths / render(gpu, &tracer, &scene, &s).expect("GPU path tracer").seconds;
-        (cpu.push(c), on_gpu.push(g), ratio.push(g / c));
+        cpu.push(c);
+        on_gpu.push(g);
+        ratio.push(g / c);
     }
     let (c, g, (q1, r, q3)) = (quartiles(cpu).1, quartiles(on_gpu).1, quartiles(ratio));
     println!(

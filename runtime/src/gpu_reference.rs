@@ -214,7 +214,7 @@ impl Run {
             Budget::Spp(n) => self.take(gpu, n).map(|_| None),
             Budget::Seconds(t) => {
                 while self.done == 0 || start.elapsed().as_secs_f64() < t {
-                    self.take(gpu, self.chunk.min(4).max(1))?;
+                    self.take(gpu, self.chunk.clamp(1, 4))?;
                 }
                 Ok(None)
             }

@@ -188,7 +188,10 @@ fn reference_for(gpu: &Gpu, inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &O
             // Said at the spec's `device`, naming the scene.
             crate::gpu_reference::check(&scene, &settings).map_err(|e| l.error_at("device", e))?;
             let (pipeline, ws) = crate::gpu_reference::source(None)?;
-            let tracer = crate::gpu_reference::Tracer { ws: &ws, pipeline: &pipeline };
+            let tracer = crate::gpu_reference::Tracer {
+                ws: &ws,
+                pipeline: &pipeline,
+            };
             let render = || crate::gpu_reference::render(gpu, &tracer, &scene, &settings);
             reference::store::cached_on(&scene, (&settings, &device), &dir, render)?.0
         }

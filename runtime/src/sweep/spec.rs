@@ -296,7 +296,10 @@ fn check(l: &Loaded) -> Result<()> {
     if s.reference.device == ReferenceDevice::Gpu && !crate::gpu_reference::TERMS.contains(&s.reference.term) {
         return Err(l.error_at(
             "device",
-            format!("the GPU reference has no term `{}` (it renders direct, ao and full)", s.reference.term.name()),
+            format!(
+                "the GPU reference has no term `{}` (it renders direct, ao and full)",
+                s.reference.term.name()
+            ),
         ));
     }
     if s.sizes.is_empty() && l.text.contains("sizes:") {

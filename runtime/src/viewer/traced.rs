@@ -72,7 +72,11 @@ impl Traced {
 
     /// The caption of the image shown.
     pub fn caption(&self) -> String {
-        let caveat = self.caveat.as_ref().map(|c| format!(" ({c}: not traced as the reference does)")).unwrap_or_default();
+        let caveat = self
+            .caveat
+            .as_ref()
+            .map(|c| format!(" ({c}: not traced as the reference does)"))
+            .unwrap_or_default();
         format!("path traced, {} paths per pixel{caveat}", self.samples)
     }
 }

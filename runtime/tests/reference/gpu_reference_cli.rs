@@ -121,12 +121,21 @@ fn a_sweep_measures_against_the_gpu_reference() {
     let out = dir.join("out");
     let (code, _, err) = lightbench(&["sweep", good.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
     assert_eq!(code, 0, "{err}");
-    let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().map(|e| e.unwrap().path()).collect();
+    let refs: Vec<_> = std::fs::read_dir(out.join("references"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     assert_eq!(refs.len(), 1);
     assert!(manifest(&refs[0])["device"]["gpu"].is_string());
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, spec("(term: indirect_diffuse, device: gpu)")).unwrap();
-    let (code, _, err) = lightbench(&["sweep", bad.to_str().unwrap(), "--out", dir.join("out2").to_str().unwrap(), "--quiet"]);
+    let (code, _, err) = lightbench(&[
+        "sweep",
+        bad.to_str().unwrap(),
+        "--out",
+        dir.join("out2").to_str().unwrap(),
+        "--quiet",
+    ]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("bad.ron:9:41:") && err.contains("no term `indirect_diffuse`"), "{err}");
 }

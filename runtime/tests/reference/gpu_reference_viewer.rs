@@ -30,7 +30,16 @@ fn the_path_traced_view_is_the_gpu_reference_and_restarts_on_change() {
         terms: vec![Term::Full],
         ..Settings::default()
     };
-    let r = render(&g, &Tracer { ws: &ws, pipeline: &tracer_path }, &scene, &s).unwrap();
+    let r = render(
+        &g,
+        &Tracer {
+            ws: &ws,
+            pipeline: &tracer_path,
+        },
+        &scene,
+        &s,
+    )
+    .unwrap();
     let reference = &r.term(Term::Full).unwrap().mean;
     for (a, b) in traced.rgba.chunks_exact(4).zip(reference.rgba.chunks_exact(4)) {
         assert_eq!(a[..3], b[..3]);
