@@ -25,7 +25,8 @@ pub struct Args {
     /// Run these actions, one per line, then close: next-view, prev-view, next-slice,
     /// prev-slice, view NAME, light N, toggle-light, rotate-light YAW PITCH, move X Y Z,
     /// look YAW PITCH, param NAME=VALUE, variant NAME=OPTION, screenshot FILE,
-    /// add-light Point|Spot|Directional, remove-light, effect NAME=true|false, frames N.
+    /// add-light Point|Spot|Directional, remove-light, effect NAME=true|false, trace on|off
+    /// (the path-traced view), frames N.
     #[arg(long, value_name = "FILE")]
     pub script: Option<PathBuf>,
     /// Save a screenshot of the shown image to FILE after N frames, then close.

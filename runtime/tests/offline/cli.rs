@@ -22,12 +22,24 @@ fn check_bundled_pipelines_succeeds() {
     let (code, _, err) = lightbench(&["check", "pipelines/"]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("checked 4 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
+        err.contains("checked 6 pipeline file(s) against profile `vulkan`: 0 error(s), 0 warning(s)"),
         "{err}"
     );
+    // The raster pipelines run everywhere (their ray-traced options fall back); the path
+    // tracer needs ray queries, and says so.
     for profile in ["webgpu", "gl"] {
-        let (code, _, err) = lightbench(&["check", "--profile", profile, "pipelines/"]);
-        assert_eq!(code, 0, "{profile}: {err}");
+        for p in ["deferred.ron", "deferred.lbp", "deferred_gi.ron", "deferred_gi.lbp"] {
+            let (code, _, err) = lightbench(&["check", "--profile", profile, &format!("pipelines/{p}")]);
+            assert_eq!(code, 0, "{profile} {p}: {err}");
+        }
+        for p in ["pathtrace.ron", "pathtrace.lbp"] {
+            let (code, _, err) = lightbench(&["check", "--profile", profile, &format!("pipelines/{p}")]);
+            assert_eq!(code, 1, "{profile} {p}: {err}");
+            assert!(
+                err.contains("option `full` needs feature ExperimentalRayQuery") && err.contains(&format!("profile `{profile}` lacks")),
+                "{profile} {p}: {err}"
+            );
+        }
     }
 }
 

@@ -10,7 +10,8 @@ use crate::layout::{
 };
 use crate::shader::reflect::{BindingTy, TexKind};
 
-/// The standard blocks and buffers, bound by their global's name.
+/// The standard blocks and buffers, bound by their global's name: the two uniform blocks,
+/// then the read-only storage buffers (`STORAGE`).
 const STANDARD: [&str; 9] = [
     FRAME,
     INSTANCE,
@@ -22,15 +23,7 @@ const STANDARD: [&str; 9] = [
     HIT_MATERIALS,
     HIT_EMITTERS,
 ];
-const STORAGE: [&str; 7] = [
-    LIGHTS,
-    TRIANGLES,
-    LIGHT_VOLUMES,
-    AREA_LIGHTS,
-    HIT_TRIANGLES,
-    HIT_MATERIALS,
-    HIT_EMITTERS,
-];
+const STORAGE: &[&str] = STANDARD.split_at(2).1;
 
 impl Ctx<'_> {
     pub(super) fn bind(&mut self, u: &Used, diags: &mut Diagnostics) {
