@@ -78,7 +78,7 @@ fn case(gpu: &Gpu, size: Size, (spec, term): (&str, Term)) {
     let (mut cpu, mut on_gpu, mut ratio) = (vec![], vec![], vec![]);
     for _ in 0..size.rounds() {
         let c = paths / reference::render(&scene, &s, false).seconds;
-        let g = paths / render(gpu, &tracer, &scene, &s).expect("GPU path tracer").seconds;
+        let g = paths / render(gpu, &tracer, &scene, &s, false).expect("GPU path tracer").seconds;
         cpu.push(c);
         on_gpu.push(g);
         ratio.push(g / c);

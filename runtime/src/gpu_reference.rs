@@ -119,8 +119,9 @@ fn per_frame((w, h): (u32, u32)) -> u32 {
     ((4u64 << 20) / (w as u64 * h as u64).max(1)).clamp(1, 64) as u32
 }
 
-/// Render every term of `s` with the path-tracing pipeline on `gpu`.
-pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings) -> Result<Reference> {
+/// Render every term of `s` with the path-tracing pipeline on `gpu`; `progress` draws a bar
+/// of the paths traced on a terminal.
+pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings, progress: bool) -> Result<Reference> {
     check(scene, s)?;
     if !gpu.device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
         return Err(Error::Adapter(format!(
@@ -138,8 +139,10 @@ pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings) -> Result
         Budget::Spp(n) => n,
         _ => 0,
     };
+    let bar = progress_bar(s, terms.len(), progress);
     for &t in &terms {
         let mut run = Run::new(gpu, tracer, scene, s, t)?;
+        run.bar = bar.clone();
         let budget = match s.budget {
             _ if exact(scene, t) => Budget::Spp(1),
             // The time is shared out between the noisy terms.
@@ -153,6 +156,7 @@ pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings) -> Result
         }
         images.push(image);
     }
+    bar.finish_and_clear();
     Ok(Reference {
         spp: spp.max(1),
         terms: images,
@@ -163,12 +167,29 @@ pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings) -> Result
     })
 }
 
+/// A bar of paths per pixel over every term (with a count to reach; else of elapsed frames).
+fn progress_bar(s: &Settings, terms: usize, visible: bool) -> indicatif::ProgressBar {
+    if !visible {
+        return indicatif::ProgressBar::hidden();
+    }
+    let len = match s.budget {
+        Budget::Spp(n) => n as u64 * terms as u64,
+        _ => 0,
+    };
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(st) = indicatif::ProgressStyle::with_template("reference (GPU) {bar:40} {pos}/{len} paths per pixel, ETA {eta}") {
+        bar.set_style(st);
+    }
+    bar
+}
+
 /// One term's accumulation on the GPU.
 struct Run {
     ex: Executor,
     done: u32,
     chunk: u32,
     pixels: (u32, u32),
+    bar: indicatif::ProgressBar,
 }
 
 impl Run {
@@ -190,6 +211,7 @@ impl Run {
             done: 0,
             chunk: per_frame(scene.size),
             pixels: scene.size,
+            bar: indicatif::ProgressBar::hidden(),
         })
     }
 
@@ -204,6 +226,7 @@ impl Run {
             let inputs = self.ex.inputs(0.0);
             self.ex.render_frame(gpu, &inputs)?;
             self.done += k;
+            self.bar.inc(k as u64);
         }
         self.ex.wait_idle(gpu)
     }

@@ -184,7 +184,7 @@ fn on_gpu(a: &Args, scene: &crate::scene::Scene, s: &Settings) -> Result<(crate:
         ws: &ws,
         pipeline: &pipeline,
     };
-    store::cached_on(scene, (s, &device), &a.out, || gpu_ref::render(&gpu, &tracer, scene, s))
+    store::cached_on(scene, (s, &device), &a.out, || gpu_ref::render(&gpu, &tracer, scene, s, !a.quiet))
 }
 
 pub fn run(a: Args) -> i32 {

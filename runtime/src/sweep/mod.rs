@@ -192,7 +192,7 @@ fn reference_for(gpu: &Gpu, inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &O
                 ws: &ws,
                 pipeline: &pipeline,
             };
-            let render = || crate::gpu_reference::render(gpu, &tracer, &scene, &settings);
+            let render = || crate::gpu_reference::render(gpu, &tracer, &scene, &settings, false);
             reference::store::cached_on(&scene, (&settings, &device), &dir, render)?.0
         }
     };

@@ -31,7 +31,7 @@ fn on_gpu(scene: &Scene, s: &Settings, pipeline: &Path) -> Reference {
     let gpu = gpu_common::gpu();
     let ws = lightbench_compiler::Workspace::disk();
     let tracer = Tracer { ws: &ws, pipeline };
-    gpu_reference::render(&gpu, &tracer, scene, s).unwrap_or_else(|e| panic!("{}: {e}", scene.name))
+    gpu_reference::render(&gpu, &tracer, scene, s, false).unwrap_or_else(|e| panic!("{}: {e}", scene.name))
 }
 
 /// How two estimates of one term differ, in units of their combined noise: per value the

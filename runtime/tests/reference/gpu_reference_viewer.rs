@@ -38,6 +38,7 @@ fn the_path_traced_view_is_the_gpu_reference_and_restarts_on_change() {
         },
         &scene,
         &s,
+        false,
     )
     .unwrap();
     let reference = &r.term(Term::Full).unwrap().mean;
