@@ -50,6 +50,12 @@ pub fn check(scene: &Scene, s: &Settings) -> Result<()> {
             "--device gpu shades with the Blinn-Phong BRDF only; --brdf lambert is the CPU reference's (--device cpu)".into(),
         ));
     }
+    if scene.meshes.iter().all(|m| m.drawn_indices() < 3) {
+        return Err(Error::Scene(format!(
+            "scene `{}` has no triangles for the GPU path tracer to trace (its reference is black, and AO 1 everywhere); the CPU reference renders it",
+            scene.name
+        )));
+    }
     if let Some(why) = unsupported(scene) {
         return Err(Error::Usage(format!(
             "scene `{}`: {why}, which the GPU path tracer does not trace yet (its hits see each material's factors and each map's mean); use --device cpu",

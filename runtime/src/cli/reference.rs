@@ -191,11 +191,12 @@ pub fn run(a: Args) -> i32 {
     match execute(&a) {
         Ok(()) => EXIT_OK,
         Err(Error::Usage(msg)) => usage_error(msg),
-        // Compile and scene errors are rendered diagnostics already.
-        Err(Error::Compile(report) | Error::Scene(report)) => {
+        // Compile diagnostics are rendered already, and so are a scene's that did not load.
+        Err(Error::Compile(report)) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
+        Err(Error::Scene(msg)) if msg.is_empty() => EXIT_ERRORS,
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS

@@ -36,6 +36,8 @@ fn a_scripted_viewer_session_under_xvfb() {
     // Lights added and removed, an effect called for: each a new Plan at a frame boundary.
     script += "add-light Spot\nframes 1\neffect Bloom=true\nframes 1\nremove-light\nframes 1\n";
     script += "param exposure.ev=1\nparam exposure.automatic=false\nframes 1\nview output\nscreenshot last.png\n";
+    // The path-traced view in place of the output, and back.
+    script += "trace on\nframes 3\nscreenshot traced.png\ntrace off\nframes 1\n";
     std::fs::write(d.join("script.txt"), script).unwrap();
     let out = Command::new("xvfb-run")
         .args(["-a", "-s", "-screen 0 1024x768x24"])
@@ -59,7 +61,10 @@ fn a_scripted_viewer_session_under_xvfb() {
     // Exposure fixed at +1 EV after the variant switch and the light toggled off and on.
     let last = shot("last.png");
     assert!(!uniform(&last));
-    assert_ne!(last.into_raw(), first.into_raw(), "the parameter change shows");
+    assert_ne!(last.clone().into_raw(), first.into_raw(), "the parameter change shows");
+    let traced = shot("traced.png");
+    assert!(!uniform(&traced), "the path-traced view is an image");
+    assert_ne!(traced.into_raw(), last.into_raw(), "the path-traced view is not the raster output");
 }
 
 /// `lightbench view ARGS` under Xvfb, in `dir`: (exit code, stderr).

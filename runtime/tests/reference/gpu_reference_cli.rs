@@ -102,6 +102,27 @@ fn a_gpu_without_ray_queries_is_refused_by_name() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("`indirect_diffuse` is the CPU reference's only"), "{err}");
+    // Nothing to trace: said, not a build error of the acceleration structure.
+    let empty = out.join("empty.ron");
+    std::fs::write(
+        &empty,
+        "Scene(name: \"empty\", size: (8, 8), camera: (position: (0.0, 1.0, 3.0)), lights: [Point(position: (0.0, 2.0, 0.0), intensity: 1.0, range: 5.0)])\n",
+    )
+    .unwrap();
+    let (code, _, err) = lightbench(&[
+        "reference",
+        "--device",
+        "gpu",
+        "--scene",
+        empty.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.starts_with("error: scene `empty` has no triangles for the GPU path tracer"),
+        "{err}"
+    );
 }
 
 /// A sweep takes its reference from the GPU path tracer with `device: gpu`, and says where a
