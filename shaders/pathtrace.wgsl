@@ -7,6 +7,9 @@ enable wgpu_ray_query;
 //   against next-event estimation by the power heuristic, Russian roulette after 3 bounces;
 // - `fs_direct`: emission + the lights + the emitters by both strategies, once;
 // - `fs_ao`: 1 − the cosine-weighted share of directions meeting a surface within the radius.
+// Materials are looked up where rays meet them (lib/hit_maps.wgsl: base colour,
+// metallic-roughness, normal and emissive maps; masked surfaces cut out and blended ones
+// stochastically transparent, for every ray).
 // Each frame adds `samples` paths per pixel to a running mean and sum of squared deviations
 // (Welford; in `pt.mean`, `pt.m2`, history resources, so the image refines frame by frame);
 // the count restarts in the first frame, when the camera moves, and with fresh history.
@@ -18,8 +21,9 @@ enable wgpu_ray_query;
 #include "lib/surface.wgsl"
 #include "lib/ray.wgsl"
 #include "lib/hit.wgsl"
-#include "lib/hit_emitters.wgsl"
 #include "lib/sampling.wgsl"
+#include "lib/hit_maps.wgsl"
+#include "lib/hit_emitters.wgsl"
 #include "lib/lobes.wgsl"
 
 struct Params {
@@ -53,6 +57,12 @@ fn rng_new(pixel: u32, sample: u32) -> Rng {
 fn rand(r: ptr<function, Rng>) -> f32 {
     (*r).state = pcg_hash((*r).state);
     return f32((*r).state >> 8u) * (1.0 / 16777216.0);
+}
+
+// A fresh coin source for the rays about to leave (blended surfaces, lib/hit_maps.wgsl).
+fn toss(r: ptr<function, Rng>) {
+    (*r).state = pcg_hash((*r).state);
+    ray_coin = (*r).state;
 }
 
 // How far rays leaving a surface start off it: 1e-5 of the scene's diagonal, the reference's.
@@ -91,7 +101,7 @@ fn visible(start: vec3<f32>, to: vec3<f32>) -> bool {
     let d = to - start;
     let dist = length(d);
     let eps = path_eps();
-    return dist - eps <= eps || unoccluded(start, d / dist, eps, dist - eps) > 0.0;
+    return dist - eps <= eps || unoccluded_mapped(start, d / dist, eps, dist - eps) > 0.0;
 }
 
 // The lights' light at `h` reflected towards `v`, each with a shadow ray.
@@ -110,7 +120,7 @@ fn lights_at(h: RayHit, b: Lobes, v: vec3<f32>) -> vec3<f32> {
             continue;
         }
         let t_max = select(ls.dist - eps, FAR, l.kind == LIGHT_DIRECTIONAL);
-        if t_max <= 0.0 || unoccluded(origin, ls.to_light, eps, t_max) > 0.0 {
+        if t_max <= 0.0 || unoccluded_mapped(origin, ls.to_light, eps, t_max) > 0.0 {
             sum += f * ls.radiance;
         }
     }
@@ -168,6 +178,7 @@ fn full(first: RayHit, v0: vec3<f32>, r: ptr<function, Rng>) -> vec3<f32> {
     var sum = h.emissive;
     var throughput = vec3<f32>(1.0);
     for (var bounce = 1u; bounce <= MAX_BOUNCES; bounce++) {
+        toss(r);
         let b = lobes_at(h);
         sum += throughput * (lights_at(h, b, v) + emitted_light(h, b, v, r, true));
         let u = vec2<f32>(rand(r), rand(r));
@@ -183,7 +194,7 @@ fn full(first: RayHit, v0: vec3<f32>, r: ptr<function, Rng>) -> vec3<f32> {
             }
             throughput /= survive;
         }
-        let y = trace_seen(origin_of(h), s.l, path_eps(), FAR);
+        let y = trace_seen_mapped(origin_of(h), s.l, path_eps(), FAR);
         if !y.found {
             break;
         }
@@ -197,6 +208,7 @@ fn full(first: RayHit, v0: vec3<f32>, r: ptr<function, Rng>) -> vec3<f32> {
 // `direct`: emission, the lights, and the emitters by a point drawn on one and by a
 // direction drawn from the BRDF.
 fn direct(h: RayHit, v: vec3<f32>, r: ptr<function, Rng>) -> vec3<f32> {
+    toss(r);
     let b = lobes_at(h);
     var sum = h.emissive + lights_at(h, b, v);
     if !any_emitter() {
@@ -205,7 +217,7 @@ fn direct(h: RayHit, v: vec3<f32>, r: ptr<function, Rng>) -> vec3<f32> {
     let u = vec2<f32>(rand(r), rand(r));
     let s = lobes_sample(b, h.n, h.ng, v, u, rand(r));
     if max(s.weight.r, max(s.weight.g, s.weight.b)) > 0.0 {
-        let y = trace_seen(origin_of(h), s.l, path_eps(), FAR);
+        let y = trace_seen_mapped(origin_of(h), s.l, path_eps(), FAR);
         if y.found {
             sum += s.weight * emission_found(y, s.l, s.pdf);
         }
@@ -215,18 +227,16 @@ fn direct(h: RayHit, v: vec3<f32>, r: ptr<function, Rng>) -> vec3<f32> {
 
 // `ao`: a cosine-weighted direction, occluded by any surface within the radius.
 fn ao(h: RayHit, r: ptr<function, Rng>) -> f32 {
+    toss(r);
     let d = cosine_direction(h.n, vec2<f32>(rand(r), rand(r)));
     if dot(h.ng, d) <= 0.0 {
         return 0.0;
     }
-    var rq: ray_query;
-    rayQueryInitialize(&rq, scene_accel, RayDesc(0u, 0xffu, path_eps(), params.ao_radius, origin_of(h), d));
-    rayQueryProceed(&rq);
-    let hit = rayQueryGetCommittedIntersection(&rq);
-    if hit.kind == RAY_QUERY_INTERSECTION_NONE {
+    let t = nearest_occluder(origin_of(h), d, path_eps(), params.ao_radius);
+    if t < 0.0 {
         return 1.0;
     }
-    return select(0.0, 1.0 - 1.0 / (1.0 + hit.t * hit.t), params.ao_falloff != 0u);
+    return select(0.0, 1.0 - 1.0 / (1.0 + t * t), params.ao_falloff != 0u);
 }
 
 const TERM_FULL: u32 = 0u;
@@ -270,9 +280,10 @@ fn accumulate(frag: vec4<f32>, term: u32) -> Out {
     // The camera ray is traced with each sample (it meets the same surface every time; traced
     // once before the loop, lavapipe's ray query crashes), and once when no sample is due.
     for (var k = 0u; k < max(todo, 1u); k++) {
-        first = trace_seen(ray.origin, ray.dir, ray.t_min, ray.t_max);
+        var r = rng_new(pixel, u32(mean.a));
+        toss(&r);
+        first = trace_seen_mapped(ray.origin, ray.dir, ray.t_min, ray.t_max);
         if k < todo {
-            var r = rng_new(pixel, u32(mean.a));
             let x = estimate(term, first, -ray.dir, &r);
             mean.a += 1.0;
             let delta = x - mean.rgb;

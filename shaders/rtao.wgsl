@@ -24,7 +24,7 @@ struct Params {
 // What one ray along `d` from `origin` lets through (1: it meets nothing within the radius).
 fn ray_visibility(origin: vec3<f32>, d: vec3<f32>, eps: f32, radius: f32) -> f32 {
     var rq: ray_query;
-    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_NONE, 0xffu, eps, radius, origin, d));
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_NONE, OPAQUE_MESHES, eps, radius, origin, d));
     rayQueryProceed(&rq);
     let hit = rayQueryGetCommittedIntersection(&rq);
     if hit.kind == RAY_QUERY_INTERSECTION_NONE {

@@ -120,8 +120,10 @@ pub struct HitTriangle {
 pub const NO_EMITTER: u32 = u32::MAX;
 
 /// One emissive traced triangle of the standard `hit_emitters` binding
-/// (`shaders/lib/hit_emitters.wgsl`): its world corners, counter-clockwise seen from its front;
-/// its radiance (its material's, as hits see it); its area; its probability of being chosen
+/// (`shaders/lib/hit_emitters.wgsl`): its world corners in its own order, its index among the
+/// traced triangles (its front, sidedness and material: a point's emission is looked up
+/// there); its radiance with its emissive map's mean (what its power is weighed with); its
+/// area; its probability of being chosen
 /// (its power, area × brightest channel, over all of theirs) and the cumulative probability
 /// of it and those before it (what a uniform number is searched in). With none, one entry of
 /// probability 0.
@@ -133,13 +135,18 @@ pub struct HitEmitter {
     pub p1: [f32; 3],
     pub cdf: f32,
     pub p2: [f32; 3],
-    pub double_sided: u32,
+    pub triangle: u32,
     pub radiance: [f32; 3],
     pub area: f32,
 }
 
-/// One material of the standard `hit_materials` binding: what a ray's hit is shaded with.
-/// Textures are not sampled at hits: each map stands in by its mean (its 1×1 mip level).
+/// `HitMaterial::maps` entry of a material without that map.
+pub const NO_MAP: u32 = u32::MAX;
+
+/// One material of the standard `hit_materials` binding: what a ray's hit is shaded with —
+/// its values with each map's mean (its 1×1 mip level) for passes that do not look maps up,
+/// and its factors, maps (indices into `hit_maps`), UV sets and transform, wrap modes and
+/// alpha cutoff for those that do (`shaders/lib/hit_maps.wgsl`, as the reference does).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct HitMaterial {
@@ -149,7 +156,34 @@ pub struct HitMaterial {
     pub emissive: [f32; 4],
     pub metallic: f32,
     pub roughness: f32,
-    pub _pad: [f32; 2],
+    /// Alpha below which a masked surface is cut out (0: opaque; −1: blended, cut out where
+    /// its alpha is below a coin tossed per ray and triangle).
+    pub cutoff: f32,
+    /// Bit k: map k (base colour, metallic-roughness, normal, emissive) reads TEXCOORD_1.
+    pub uv_sets: u32,
+    /// The factors the maps multiply: base colour (a: alpha), emission.
+    pub base_factor: [f32; 4],
+    pub emissive_factor: [f32; 3],
+    /// Wrap mode per axis (bits 0–1: u, 2–3: v; 0 repeat, 1 clamp, 2 mirror).
+    pub wrap: u32,
+    pub metallic_factor: f32,
+    pub roughness_factor: f32,
+    pub normal_scale: f32,
+    pub _pad: f32,
+    /// Base colour, metallic-roughness, normal and emissive maps (`NO_MAP`: none).
+    pub maps: [u32; 4],
+    /// The UV transform's rows (KHR_texture_transform; w unused).
+    pub uv_row0: [f32; 4],
+    pub uv_row1: [f32; 4],
+}
+
+/// One traced triangle's corners in the standard `hit_corners` binding: per corner (u, v) of
+/// TEXCOORD_0 and of TEXCOORD_1, and its tangent in world space (w: the bitangent's sign).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
+pub struct HitCorners {
+    pub uv: [[f32; 4]; 3],
+    pub tangent: [[f32; 4]; 3],
 }
 
 /// Interleaved scene vertex: locations 0..4 of the standard vertex layout.
@@ -180,7 +214,9 @@ mod tests {
         let hit_structs = &hit[hit.find("struct HitTriangle").unwrap()..hit.find("@group").unwrap()];
         let emit = read("hit_emitters.wgsl");
         let emit_struct = &emit[emit.find("struct HitEmitter").unwrap()..emit.find("@group").unwrap()];
-        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct + hit_structs + emit_struct;
+        let maps = read("hit_maps.wgsl");
+        let maps_struct = &maps[maps.find("struct HitCorners").unwrap()..maps.find("@group").unwrap()];
+        let src = read("frame.wgsl") + &read("mesh.wgsl") + area_struct + hit_structs + emit_struct + maps_struct;
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
@@ -197,6 +233,7 @@ mod tests {
         assert_eq!(size_of("HitTriangle"), std::mem::size_of::<HitTriangle>());
         assert_eq!(size_of("HitMaterial"), std::mem::size_of::<HitMaterial>());
         assert_eq!(size_of("HitEmitter"), std::mem::size_of::<HitEmitter>());
+        assert_eq!(size_of("HitCorners"), std::mem::size_of::<HitCorners>());
         // Member offsets of the light block, the most intricate one.
         let (_, light) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Light")).unwrap();
         let naga::TypeInner::Struct { members, .. } = &light.inner else {

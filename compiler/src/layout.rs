@@ -79,6 +79,8 @@ pub const AREA_LIGHTS: &str = "area_lights";
 pub const HIT_TRIANGLES: &str = "hit_triangles";
 pub const HIT_MATERIALS: &str = "hit_materials";
 pub const HIT_EMITTERS: &str = "hit_emitters";
+pub const HIT_CORNERS: &str = "hit_corners";
+pub const HIT_MAPS: &str = "hit_maps";
 
 macro_rules! draw_slots {
     ($( $variant:ident = $name:literal ),* $(,)?) => {
@@ -140,6 +142,12 @@ pub enum BindSource<R, S> {
     /// The traced emissive triangles as lights, each with its probability of being chosen
     /// (in proportion to its power; `HitEmitter`, `shaders/lib/hit_emitters.wgsl`).
     HitEmitters,
+    /// Per traced triangle its corners' texture coordinates, both sets (`HitCorners`,
+    /// `shaders/lib/hit_maps.wgsl`): where a hit's maps are looked up.
+    HitCorners,
+    /// The scene's texture maps at full resolution as one array of `u32` (a table of
+    /// offset, size and row pitch per map, then RGBA8 texels), for lookups at ray hits.
+    HitMaps,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
 }

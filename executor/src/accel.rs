@@ -7,17 +7,23 @@
 
 use super::scene_gpu::MeshGpu;
 use bytemuck::Zeroable;
-use lightbench_compiler::abi::{HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
+use lightbench_compiler::abi::{HitCorners, HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::{Mesh, Scene};
 use wgpu::util::DeviceExt;
+
+/// Instance masks (`shaders/lib/ray.wgsl`).
+const OPAQUE_MESHES: u32 = 1;
+const BLENDED_MESHES: u32 = 2;
 
 /// A ray hit finds its triangle's data at the instance's custom index (where its mesh's
 /// triangles begin) plus its primitive index; custom indices have 24 bits.
 const MAX_FIRST_TRIANGLE: u64 = 1 << 24;
 
-/// What rays are traced against: the opaque and alpha-masked meshes, as the raster's shadow
-/// and G-buffer passes draw them (blended meshes are left out, as `draw: Scene` leaves them).
+/// What rays are traced against: every mesh, the opaque and alpha-masked ones under instance
+/// mask `OPAQUE_MESHES` (what the raster's shadow and G-buffer passes draw), the blended ones
+/// under `BLENDED_MESHES` (which passes skip by their cull mask, as `draw: Scene` skips
+/// them; the path tracer meets them as stochastic transparency).
 pub struct Accel {
     pub tlas: wgpu::Tlas,
     /// The bottom levels, one per traced mesh (the TLAS's instances keep them alive too).
@@ -33,9 +39,13 @@ pub struct HitData {
     pub materials: wgpu::Buffer,
     /// `hit_emitters`: the traced triangles that emit, with their choice probabilities.
     pub emitters: wgpu::Buffer,
+    /// `hit_corners`: every traced triangle's corners' texture coordinates.
+    pub corners: wgpu::Buffer,
+    /// `hit_maps`: the scene's maps at full resolution.
+    pub maps: wgpu::Buffer,
 }
 
-/// A traced triangle's world corners, counter-clockwise seen from its front.
+/// A traced triangle's world corners, in its own order (its front is its hit data's `ng`).
 type Corners = [[f32; 3]; 3];
 
 /// Mesh `m`'s triangles as one BLAS geometry: positions are the first 12 bytes of each
@@ -56,11 +66,9 @@ fn rows(t: &glam::Mat4) -> [f32; 12] {
     std::array::from_fn(|i| r[i])
 }
 
-/// The meshes traced: opaque and masked ones with at least one whole triangle drawn.
+/// The meshes traced: those with at least one whole triangle drawn.
 fn traced(meshes: &[MeshGpu]) -> Vec<usize> {
-    (0..meshes.len())
-        .filter(|&i| !meshes[i].blend && meshes[i].index_count >= 3)
-        .collect()
+    (0..meshes.len()).filter(|&i| meshes[i].index_count >= 3).collect()
 }
 
 /// Where each traced mesh's triangles begin among all traced triangles (the hit data's order).
@@ -79,7 +87,7 @@ fn first_triangles(meshes: &[MeshGpu], list: &[usize]) -> Vec<u64> {
 fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> Result<()> {
     if meshes.is_empty() {
         return Err(Error::Scene(format!(
-            "scene `{scene}` has no opaque or masked triangles to trace rays against (the pipeline reads an acceleration structure; choose its raster option)"
+            "scene `{scene}` has no triangles to trace rays against (the pipeline reads an acceleration structure; choose its raster option)"
         )));
     }
     let mut first = 0u64;
@@ -109,7 +117,7 @@ fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> R
 
 /// Mesh `m`'s drawn triangles as hits read them: world-space shading normals (the geometric
 /// normal where a vertex has none), the front's normal, the material; and their corners.
-fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, corners: &mut Vec<Corners>) {
+fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, (corners, uvs): (&mut Vec<Corners>, &mut Vec<HitCorners>)) {
     let normal_matrix = glam::Mat3::from_mat4(m.transform).inverse().transpose();
     let mirrored = m.transform.determinant() < 0.0;
     let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
@@ -136,21 +144,95 @@ fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, corne
             ng: ng.to_array(),
             ..Default::default()
         });
-        // A mirroring transform turns the winding: swapped, the corners wind about the front.
-        let (b, c) = if mirrored { (p(2), p(1)) } else { (p(1), p(2)) };
-        corners.push([p(0).to_array(), b.to_array(), c.to_array()]);
+        corners.push([p(0).to_array(), p(1).to_array(), p(2).to_array()]);
+        uvs.push(HitCorners {
+            uv: std::array::from_fn(|k| {
+                let v = v(k);
+                [v.uv[0], v.uv[1], v.uv1[0], v.uv1[1]]
+            }),
+            // As the reference places them: by the transform itself, the sign kept.
+            tangent: std::array::from_fn(|k| {
+                let t = v(k).tangent;
+                m.transform
+                    .transform_vector3(glam::Vec3::from_slice(&t[..3]))
+                    .extend(t[3])
+                    .to_array()
+            }),
+        });
     }
 }
 
-/// Every traced mesh's hit data, mesh after mesh, and each traced triangle's corners.
-fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<Corners>) {
-    let (mut all, mut corners) = (vec![], vec![]);
+/// Every traced mesh's hit data, mesh after mesh, each traced triangle's corners and their
+/// texture coordinates.
+fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<Corners>, Vec<HitCorners>) {
+    let (mut all, mut corners, mut uvs) = (vec![], vec![], vec![]);
     for &i in list {
         let m = &scene.meshes[meshes[i].source];
         let double_sided = scene.materials.get(m.material).is_some_and(|mat| mat.double_sided);
-        hit_triangles(m, double_sided, &mut all, &mut corners);
+        hit_triangles(m, double_sided, &mut all, (&mut corners, &mut uvs));
     }
-    (all, corners)
+    (all, corners, uvs)
+}
+
+/// Where each map's texels begin in `hit_maps` (bytes, 256-aligned as copies want them), its
+/// row pitch in bytes, and the whole buffer's size.
+fn map_layout(textures: &[wgpu::Texture]) -> (Vec<(u64, u64)>, u64) {
+    let header = 4 * (1 + 4 * textures.len() as u64);
+    let mut at = header.next_multiple_of(256);
+    let mut places = vec![];
+    for t in textures {
+        let pitch = (4 * t.width() as u64).next_multiple_of(256);
+        places.push((at, pitch));
+        at += pitch * t.height() as u64;
+    }
+    (places, at.max(16))
+}
+
+/// The scene's maps for lookups at ray hits (`hit_maps`): a table — the count, then per map
+/// (first texel's index, width, height, row pitch in texels | 1 << 31 for sRGB) — then each
+/// map's level 0 as RGBA8 texels, copied on the GPU from the uploaded textures (the scene
+/// keeps no CPU copy).
+fn maps(device: &wgpu::Device, queue: &wgpu::Queue, textures: &[wgpu::Texture], max: u64) -> Result<wgpu::Buffer> {
+    let (places, size) = map_layout(textures);
+    if size > max {
+        return Err(Error::Scene(format!(
+            "the scene's {} maps are {size} bytes at full resolution, over this device's limit of {max} (max_storage_buffer_binding_size) for looking them up at ray hits",
+            textures.len()
+        )));
+    }
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("hit maps"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut table = vec![textures.len() as u32];
+    for (t, (at, pitch)) in textures.iter().zip(&places) {
+        let srgb = (t.format() == wgpu::TextureFormat::Rgba8UnormSrgb) as u32;
+        table.extend([(at / 4) as u32, t.width(), t.height(), (pitch / 4) as u32 | srgb << 31]);
+    }
+    queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&table));
+    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("hit maps") });
+    for (t, (at, pitch)) in textures.iter().zip(&places) {
+        enc.copy_texture_to_buffer(
+            t.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: *at,
+                    bytes_per_row: Some(*pitch as u32),
+                    rows_per_image: Some(t.height()),
+                },
+            },
+            wgpu::Extent3d {
+                width: t.width(),
+                height: t.height(),
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    queue.submit([enc.finish()]);
+    Ok(buffer)
 }
 
 /// The traced triangles that emit as lights, chosen in proportion to their power (area ×
@@ -159,7 +241,7 @@ fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriang
 fn emitters(hits: &mut [HitTriangle], corners: &[Corners], materials: &[HitMaterial]) -> Vec<HitEmitter> {
     let mut out = vec![];
     let mut power = vec![];
-    for (h, c) in hits.iter_mut().zip(corners) {
+    for (i, (h, c)) in hits.iter_mut().zip(corners).enumerate() {
         let Some(m) = materials.get(h.material as usize) else {
             continue;
         };
@@ -172,7 +254,7 @@ fn emitters(hits: &mut [HitTriangle], corners: &[Corners], materials: &[HitMater
                 p0: c[0],
                 p1: c[1],
                 p2: c[2],
-                double_sided: h.double_sided,
+                triangle: i as u32,
                 radiance: [m.emissive[0], m.emissive[1], m.emissive[2]],
                 area,
                 ..Default::default()
@@ -204,8 +286,10 @@ fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
 impl HitData {
     /// The traced meshes' triangles and the scene's materials as hits read them, within the
     /// device's storage-binding size.
-    pub fn build(device: &wgpu::Device, (meshes, materials): (&[MeshGpu], &[HitMaterial]), scene: &Scene) -> Result<HitData> {
-        let (mut hits, corners) = hit_data(meshes, &traced(meshes), scene);
+    pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitData> {
+        let (device, queue) = gpu;
+        let (meshes, materials) = (&scene_gpu.meshes[..], &scene_gpu.hit_materials[..]);
+        let (mut hits, corners, uvs) = hit_data(meshes, &traced(meshes), scene);
         let emitters = emitters(&mut hits, &corners, materials);
         let bytes = std::mem::size_of_val(&hits[..]).max(std::mem::size_of_val(&emitters[..])) as u64;
         let max = device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size);
@@ -218,6 +302,7 @@ impl HitData {
         }
         // A binding cannot be empty: one zeroed entry stands in for none.
         let hits = if hits.is_empty() { vec![HitTriangle::default()] } else { hits };
+        let uvs = if uvs.is_empty() { vec![HitCorners::default()] } else { uvs };
         let emitters = if emitters.is_empty() {
             vec![HitEmitter::default()]
         } else {
@@ -232,6 +317,8 @@ impl HitData {
             triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
             materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
             emitters: storage(device, "hit emitters", bytemuck::cast_slice(&emitters)),
+            corners: storage(device, "hit corners", bytemuck::cast_slice(&uvs)),
+            maps: maps(device, queue, &scene_gpu.textures, max)?,
         })
     }
 }
@@ -276,7 +363,8 @@ impl Accel {
         });
         for (k, (&i, b)) in list.iter().zip(&blas).enumerate() {
             // The custom index is where the mesh's hit data begins (checked to fit 24 bits).
-            tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), first[k] as u32, 0xff));
+            let mask = if meshes[i].blend { BLENDED_MESHES } else { OPAQUE_MESHES };
+            tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), first[k] as u32, mask as u8));
         }
         let entries: Vec<wgpu::BlasBuildEntry> = list
             .iter()
@@ -323,11 +411,7 @@ mod tests {
             ..wgpu::Limits::default()
         };
         let err = |meshes: &[(&str, u64)]| check_limits(&limits, "yard", meshes).unwrap_err().to_string();
-        assert!(
-            err(&[]).starts_with("scene `yard` has no opaque or masked triangles"),
-            "{}",
-            err(&[])
-        );
+        assert!(err(&[]).starts_with("scene `yard` has no triangles to trace"), "{}", err(&[]));
         let e = err(&[("fence", 10), ("tree", 101)]);
         assert!(
             e.contains("mesh `tree` of scene `yard` has 101 triangles") && e.contains("max_blas_primitive_count"),

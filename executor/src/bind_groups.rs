@@ -246,6 +246,8 @@ impl Binder<'_> {
                 BindSource::HitTriangles => Held::Buf(self.hits()?.triangles.as_entire_buffer_binding()),
                 BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
                 BindSource::HitEmitters => Held::Buf(self.hits()?.emitters.as_entire_buffer_binding()),
+                BindSource::HitCorners => Held::Buf(self.hits()?.corners.as_entire_buffer_binding()),
+                BindSource::HitMaps => Held::Buf(self.hits()?.maps.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

@@ -217,7 +217,7 @@ impl Shared {
         if let Some(h) = self.hits.get() {
             return Ok(h);
         }
-        let built = HitData::build(&gpu.device, (&self.scene_gpu.meshes, &self.scene_gpu.hit_materials), &self.scene)?;
+        let built = HitData::build((&gpu.device, &gpu.queue), &self.scene_gpu, &self.scene)?;
         Ok(self.hits.get_or_init(|| built))
     }
 }
@@ -995,7 +995,12 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
 /// What of the scene's ray-tracing data a Plan binds: the acceleration structure, the hit data.
 fn traces(plan: &Plan) -> (bool, bool) {
     use lightbench_compiler::layout::BindSource;
-    let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters);
+    let hit_data = |s: &BindSource<_, _>| {
+        matches!(
+            s,
+            BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters | BindSource::HitCorners | BindSource::HitMaps
+        )
+    };
     let entries = || plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
     (plan.resources.iter().any(|r| r.is_accel()), entries().any(|e| hit_data(&e.source)))
 }

@@ -1,7 +1,7 @@
 //! The scene on the GPU: vertex and index buffers, per-mesh and per-material blocks and
 //! textures, ready to be bound in `draw: Scene` passes.
 
-use lightbench_compiler::abi::{AreaLightBlock, HitMaterial, MaterialBlock, MeshBlock};
+use lightbench_compiler::abi::{AreaLightBlock, HitMaterial, MaterialBlock, MeshBlock, NO_MAP};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::io::{linear_to_srgb, srgb_to_linear};
 use lightbench_scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
@@ -61,6 +61,8 @@ pub struct SceneGpu {
     pub volumes: super::light_volumes::LightVolumes,
     /// Each material as ray hits shade it (`hit_materials` of the acceleration structure).
     pub hit_materials: Vec<HitMaterial>,
+    /// The scene's textures, in the scene's order (what `hit_maps` copies level 0 of).
+    pub textures: Vec<wgpu::Texture>,
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
@@ -102,7 +104,8 @@ fn texture_2d(
             } else {
                 wgpu::TextureFormat::Rgba8Unorm
             },
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            // Copied from where ray hits look maps up (`accel::maps`).
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         },
         wgpu::util::TextureDataOrder::LayerMajor,
@@ -433,7 +436,37 @@ fn hit_material(m: &Material, means: &[[f32; 4]]) -> HitMaterial {
         // lib/material.wgsl clamps them.
         metallic: (m.metallic * mr[2]).clamp(0.0, 1.0),
         roughness: (m.roughness * mr[1]).clamp(0.03, 1.0),
-        _pad: [0.0; 2],
+        cutoff: match m.alpha {
+            lightbench_scene::AlphaMode::Mask(c) => c,
+            lightbench_scene::AlphaMode::Blend => -1.0,
+            lightbench_scene::AlphaMode::Opaque => 0.0,
+        },
+        uv_sets: m.uv_sets,
+        base_factor: m.base_color,
+        emissive_factor: m.emissive,
+        wrap: m.sampler.wrap.iter().enumerate().map(|(k, w)| wrap_code(*w) << (2 * k)).sum(),
+        metallic_factor: m.metallic,
+        roughness_factor: m.roughness,
+        normal_scale: m.normal_scale,
+        _pad: 0.0,
+        maps: [
+            m.base_color_texture,
+            m.metallic_roughness_texture,
+            m.normal_texture,
+            m.emissive_texture,
+        ]
+        .map(|t| t.map_or(NO_MAP, |i| i as u32)),
+        uv_row0: [m.uv_transform[0][0], m.uv_transform[0][1], m.uv_transform[0][2], 0.0],
+        uv_row1: [m.uv_transform[1][0], m.uv_transform[1][1], m.uv_transform[1][2], 0.0],
+    }
+}
+
+/// A wrap mode as `HitMaterial::wrap` codes it.
+fn wrap_code(w: lightbench_scene::Wrap) -> u32 {
+    match w {
+        lightbench_scene::Wrap::Repeat => 0,
+        lightbench_scene::Wrap::Clamp => 1,
+        lightbench_scene::Wrap::Mirror => 2,
     }
 }
 
@@ -498,6 +531,7 @@ impl SceneGpu {
             light_volumes,
             volumes,
             hit_materials,
+            textures: textures.iter().map(|v| v.texture().clone()).collect(),
         })
     }
 }

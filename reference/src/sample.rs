@@ -37,7 +37,8 @@ impl Rng {
 /// The coin of a pixel's sample (for blended surfaces its camera ray meets; `World::trace_with_coin`):
 /// a stream of its own, so the terms' numbers stay as they are.
 pub fn coin(seed: u64, pixel: u64, sample: u64) -> u32 {
-    (Rng::new(seed, pixel, sample, u64::MAX).0 >> 32) as u32
+    // Never `world::SOLID_BLEND`, which keeps blended surfaces solid.
+    ((Rng::new(seed, pixel, sample, u64::MAX).0 >> 32) as u32).min(super::world::SOLID_BLEND - 1)
 }
 
 /// A number in [0, 1) from a few floats (stochastic transparency's coin).

@@ -56,38 +56,14 @@ pub fn check(scene: &Scene, s: &Settings) -> Result<()> {
             scene.name
         )));
     }
-    if let Some(why) = unsupported(scene) {
-        return Err(Error::Usage(format!(
-            "scene `{}`: {why}, which the GPU path tracer does not trace yet (its hits see each material's factors and each map's mean); use --device cpu",
-            scene.name
-        )));
-    }
     Ok(())
 }
 
-/// What of the scene's materials the GPU path tracer would get wrong, if anything: blended
-/// surfaces (the CPU reference's stochastic transparency), alpha-masked cut-outs and
-/// texture maps (sampled per hit by the CPU reference).
-pub fn unsupported(scene: &Scene) -> Option<String> {
-    for m in &scene.meshes {
-        let Some(mat) = scene.materials.get(m.material) else {
-            continue;
-        };
-        let maps = [
-            mat.base_color_texture,
-            mat.metallic_roughness_texture,
-            mat.normal_texture,
-            mat.emissive_texture,
-        ];
-        let why = match mat.alpha {
-            AlphaMode::Blend => "blended (alpha: Blend) surfaces",
-            AlphaMode::Mask(_) => "alpha-masked cut-outs",
-            AlphaMode::Opaque if maps.iter().any(Option::is_some) => "texture maps",
-            AlphaMode::Opaque => continue,
-        };
-        return Some(format!("material `{}` has {why}", mat.name));
-    }
-    None
+fn blended(scene: &Scene) -> bool {
+    scene
+        .meshes
+        .iter()
+        .any(|m| scene.materials.get(m.material).is_some_and(|mat| mat.alpha == AlphaMode::Blend))
 }
 
 /// The triangles that emit (of meshes whose material has an emissive factor, with an area).
@@ -114,9 +90,9 @@ fn emitters(scene: &Scene) -> usize {
 }
 
 /// Whether a term has no noise, so that one sample is all of it (as the CPU reference
-/// decides): `direct` with no emitter.
+/// decides): `direct` with no emitter and nothing blended (its coins differ by sample).
 fn exact(scene: &Scene, term: Term) -> bool {
-    term == Term::Direct && emitters(scene) == 0
+    term == Term::Direct && emitters(scene) == 0 && !blended(scene)
 }
 
 /// Paths per pixel in one frame: about 4 million a frame at most, so that a frame stays

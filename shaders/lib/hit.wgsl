@@ -26,7 +26,21 @@ struct HitMaterial {
     emissive: vec4<f32>,
     metallic: f32,
     roughness: f32,
-    _pad: vec2<f32>,
+    // What lib/hit_maps.wgsl looks maps up with: the alpha cutoff (0: opaque, −1: blended), the UV
+    // set of each map (bit k), the factors the maps multiply, the wrap modes (2 bits per
+    // axis), the maps (base colour, metallic-roughness, normal, emissive) and UV transform.
+    cutoff: f32,
+    uv_sets: u32,
+    base_factor: vec4<f32>,
+    emissive_factor: vec3<f32>,
+    wrap: u32,
+    metallic_factor: f32,
+    roughness_factor: f32,
+    normal_scale: f32,
+    _pad: f32,
+    maps: vec4<u32>,
+    uv_row0: vec4<f32>,
+    uv_row1: vec4<f32>,
 };
 
 @group(0) @binding(5) var<storage, read> hit_triangles: array<HitTriangle>;
@@ -51,6 +65,9 @@ struct RayHit {
     front: bool,
     emitter: u32,
     shadowed: bool,
+    // The triangle met (an index into `hit_triangles`) and where on it.
+    triangle: u32,
+    bary: vec2<f32>,
 };
 
 fn hit_triangle(i: RayIntersection) -> HitTriangle {
@@ -67,7 +84,7 @@ fn seen_along(tri: HitTriangle, dir: vec3<f32>) -> bool {
 fn trace_seen(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> RayHit {
     var rq: ray_query;
     // Every triangle a candidate, so that the backs of single-sided ones can be passed.
-    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, 0xffu, t_min, t_max, origin, dir));
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, OPAQUE_MESHES, t_min, t_max, origin, dir));
     // The nearest back passed: every candidate nearer than the final hit is offered.
     var back = t_max;
     while rayQueryProceed(&rq) {
@@ -99,6 +116,8 @@ fn ray_hit(i: RayIntersection, origin: vec3<f32>, dir: vec3<f32>) -> RayHit {
     }
     let tri = hit_triangle(i);
     let m = hit_materials[tri.material];
+    h.triangle = i.instance_custom_data + i.primitive_index;
+    h.bary = i.barycentrics;
     let b = i.barycentrics;
     let interpolated = tri.n0 * (1.0 - b.x - b.y) + tri.n1 * b.x + tri.n2 * b.y;
     h.front = dot(tri.ng, dir) < 0.0;

@@ -4,10 +4,10 @@
 // cumulative probabilities, then a point uniformly on it (next-event estimation);
 // `emitter_pdf` gives the density of having drawn the point a bounce ray found, so that the
 // two ways of reaching an emitter are weighed by multiple importance sampling. The including
-// file includes lib/hit.wgsl (NO_EMITTER).
+// file includes lib/hit.wgsl and lib/hit_maps.wgsl (a point's emission).
 
 struct HitEmitter {
-    // Corners (world), counter-clockwise seen from the front.
+    // Corners (world), as the triangle's are (its front is `hit_triangles`' `ng`).
     p0: vec3<f32>,
     // Probability of being chosen (0 in the one entry that stands for none).
     prob: f32,
@@ -15,8 +15,9 @@ struct HitEmitter {
     // Cumulative probability of this emitter and those before it (the last is 1).
     cdf: f32,
     p2: vec3<f32>,
-    // 1: both sides emit (glTF doubleSided), else the front only.
-    double_sided: u32,
+    // Its triangle (an index into `hit_triangles`: its front, sidedness and material).
+    triangle: u32,
+    // Radiance with the emissive map's mean: what its power, and so its choice, is weighed by.
     radiance: vec3<f32>,
     area: f32,
 };
@@ -56,8 +57,9 @@ fn emitter_pick(u: f32) -> u32 {
 // The cosine at emitter `e` towards a point in direction `-l` from it, if it emits that way
 // (else 0): from its front, or from both sides when it is double-sided.
 fn emitter_facing(e: HitEmitter, l: vec3<f32>) -> f32 {
-    let c = -dot(normalize(cross(e.p1 - e.p0, e.p2 - e.p0)), l);
-    let facing = select(c, abs(c), e.double_sided != 0u);
+    let tri = hit_triangles[e.triangle];
+    let c = -dot(tri.ng, l);
+    let facing = select(c, abs(c), tri.double_sided != 0u);
     return select(0.0, facing, facing > 1e-7);
 }
 
@@ -79,7 +81,8 @@ fn emitter_sample(x: vec3<f32>, u: vec3<f32>) -> EmitterSample {
     s.l = d / s.dist;
     let cos_e = emitter_facing(e, s.l);
     if cos_e > 0.0 {
-        s.radiance = e.radiance;
+        // Its emission there: the emissive map looked up (lib/hit_maps.wgsl).
+        s.radiance = emission_at(e.triangle, vec2<f32>(r * (1.0 - u.z), r * u.z));
         s.pdf = e.prob / e.area * s.dist * s.dist / cos_e;
     }
     return s;

@@ -1,7 +1,12 @@
 // Ray queries against the scene's acceleration structure (the `acceleration_structure`
-// resource). The including file starts with `enable wgpu_ray_query;` and binds the structure
+// resource). Its instances are masked: opaque and alpha-masked meshes by `OPAQUE_MESHES`,
+// blended ones by `BLENDED_MESHES` (which only the path tracer traces, as stochastic
+// transparency). The including file starts with `enable wgpu_ray_query;` and binds the structure
 // as `scene_accel`. Sidedness: shadow and occlusion rays stop at every surface, from either
 // side (docs/scenes.md), as the reference's do.
+
+const OPAQUE_MESHES: u32 = 1u;
+const BLENDED_MESHES: u32 = 2u;
 
 // How far a ray leaving a surface starts off it, and the nearest distance it counts: a
 // fraction of the scene's size (as the reference's offset is), large enough to clear the
@@ -34,7 +39,7 @@ fn unoccluded(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> f32 
         return 1.0;
     }
     var rq: ray_query;
-    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_TERMINATE_ON_FIRST_HIT, 0xffu, t_min, t_max, origin, dir));
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_TERMINATE_ON_FIRST_HIT, OPAQUE_MESHES, t_min, t_max, origin, dir));
     rayQueryProceed(&rq);
     let hit = rayQueryGetCommittedIntersection(&rq);
     return select(1.0, 0.0, hit.kind != RAY_QUERY_INTERSECTION_NONE);

@@ -42,6 +42,8 @@ pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depen
                         | BindSource::HitTriangles
                         | BindSource::HitMaterials
                         | BindSource::HitEmitters
+                        | BindSource::HitCorners
+                        | BindSource::HitMaps
                 )
             })
             || pass.reads.iter().any(|r| p.resource(&r.name().value).is_some_and(|d| d.is_accel())),

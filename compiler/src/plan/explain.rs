@@ -84,6 +84,8 @@ fn source_word(plan: &Plan, s: &PlanSource) -> String {
         BindSource::HitTriangles => "<hit_triangles>".into(),
         BindSource::HitMaterials => "<hit_materials>".into(),
         BindSource::HitEmitters => "<hit_emitters>".into(),
+        BindSource::HitCorners => "<hit_corners>".into(),
+        BindSource::HitMaps => "<hit_maps>".into(),
         BindSource::Draw(d) => format!("<draw.{}>", d.name()),
     }
 }

@@ -207,6 +207,8 @@ fn bind_group(g: &NamedGroup, ids: &Ids) -> Option<PlanBindGroup> {
                 BindSource::HitTriangles => BindSource::HitTriangles,
                 BindSource::HitMaterials => BindSource::HitMaterials,
                 BindSource::HitEmitters => BindSource::HitEmitters,
+                BindSource::HitCorners => BindSource::HitCorners,
+                BindSource::HitMaps => BindSource::HitMaps,
                 BindSource::Draw(d) => BindSource::Draw(*d),
             };
             Some(Binding {

@@ -18,8 +18,6 @@ pub struct Traced {
     /// The last frame's view and projection (view matrix, fov, near, far): the path tracer
     /// starts again when they change.
     camera: Option<(glam::Mat4, [f32; 3])>,
-    /// What the GPU path tracer leaves out on this scene (shown with the sample count).
-    pub caveat: Option<String>,
 }
 
 /// The pipeline's value of an integer parameter.
@@ -50,7 +48,6 @@ impl Traced {
             per_frame,
             max,
             camera: None,
-            caveat: crate::gpu_reference::unsupported(scene),
         })
     }
 
@@ -72,11 +69,6 @@ impl Traced {
 
     /// The caption of the image shown.
     pub fn caption(&self) -> String {
-        let caveat = self
-            .caveat
-            .as_ref()
-            .map(|c| format!(" ({c}: not traced as the reference does)"))
-            .unwrap_or_default();
-        format!("path traced, {} paths per pixel{caveat}", self.samples)
+        format!("path traced, {} paths per pixel", self.samples)
     }
 }

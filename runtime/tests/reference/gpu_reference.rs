@@ -35,13 +35,14 @@ fn on_gpu(scene: &Scene, s: &Settings, pipeline: &Path) -> Reference {
 }
 
 /// How two estimates of one term differ, in units of their combined noise: per value the
-/// z-score (mean, RMS), and the worst 8×8 block's bias (the block's summed difference over
-/// its summed noise). Pixels on an edge between surfaces (`reference::edge_pixels`) are left
+/// z-score (mean, RMS), and each 8×8 block's bias (the block's summed difference over its
+/// summed noise). Pixels on an edge between surfaces (`reference::edge_pixels`) are left
 /// out; where neither has noise (an exact term, a black pixel) the two must agree to 1e-3.
 struct Agreement {
     mean: f64,
     rms: f64,
-    worst_block: f64,
+    /// Each block's bias in σ (signed), row by row.
+    blocks: Vec<f64>,
     exact_off: usize,
 }
 
@@ -75,34 +76,74 @@ fn agreement(a: &reference::TermImage, b: &reference::TermImage, edges: &[bool])
     Agreement {
         mean: z.iter().sum::<f64>() / n,
         rms: (z.iter().map(|v| v * v).sum::<f64>() / n).sqrt(),
-        worst_block: blocks
-            .iter()
-            .filter(|b| b.1 > 0.0)
-            .map(|b| (b.0 / b.1.sqrt()).abs())
-            .fold(0.0, f64::max),
+        blocks: blocks.iter().map(|b| if b.1 > 0.0 { b.0 / b.1.sqrt() } else { 0.0 }).collect(),
         exact_off,
     }
 }
 
-/// Every term of the two references agrees (see `Agreement`); the failures, named.
-fn compare(scene: &Scene, cpu: &Reference, gpu: &Reference) -> Vec<String> {
+/// Every term of the two references agrees (see `Agreement`): the failures of the values'
+/// z-scores, named, and the blocks biased by more than 3σ as (term, block, signed σ).
+fn compare(scene: &Scene, cpu: &Reference, gpu: &Reference) -> (Vec<String>, Vec<(Term, usize, f64)>) {
     let edges = reference::edge_pixels(scene);
-    let mut bad = vec![];
+    let (mut bad, mut biased) = (vec![], vec![]);
     for t in &cpu.terms {
         let g = gpu.term(t.term).unwrap();
         let a = agreement(t, g, &edges);
         let left = edges.iter().filter(|e| **e).count();
+        let worst = a.blocks.iter().map(|b| b.abs()).fold(0.0, f64::max);
         eprintln!(
-            "{} {}: z mean {:+.3}, RMS {:.3}, worst 8×8 block {:.2}σ, {} exact values off, {left} edge pixels left out",
+            "{} {}: z mean {:+.3}, RMS {:.3}, worst 8×8 block {worst:.2}σ, {} exact values off, {left} edge pixels left out",
             scene.name,
             t.term.name(),
             a.mean,
             a.rms,
-            a.worst_block,
             a.exact_off
         );
-        if a.mean.abs() > 0.1 || a.rms > 1.3 || a.worst_block > 3.0 || a.exact_off > 0 {
+        if a.mean.abs() > 0.1 || a.rms > 1.3 || a.exact_off > 0 {
             bad.push(format!("{} {}", scene.name, t.term.name()));
+        }
+        biased.extend(
+            a.blocks
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| b.abs() > 3.0)
+                .map(|(i, b)| (t.term, i, *b)),
+        );
+    }
+    (bad, biased)
+}
+
+/// The GPU path tracer at `pipeline` against the CPU reference on `scene` with `s`: the
+/// failures, named. A block beyond 3σ is biased if it is again, the same way, with the next
+/// seed: among the hundreds of blocks of a run a few pass 3σ by chance (0.27% each), a bias
+/// does not go away.
+fn judge(scene: &Scene, s: &Settings, pipeline: &Path) -> Vec<String> {
+    let run = |s: &Settings| {
+        let cpu = reference::render(scene, s, false);
+        let gpu = on_gpu(scene, s, pipeline);
+        assert_eq!(gpu.spp, cpu.spp, "{}", scene.name);
+        for (a, b) in cpu.terms.iter().zip(&gpu.terms) {
+            assert_eq!((a.term, a.samples), (b.term, b.samples), "{}", scene.name);
+        }
+        compare(scene, &cpu, &gpu)
+    };
+    let (mut bad, first) = run(s);
+    if !first.is_empty() {
+        let (_, again) = run(&Settings {
+            seed: s.seed + 1,
+            ..s.clone()
+        });
+        for (term, block, z) in first {
+            let twice = again.iter().any(|(t, b, z2)| (*t, *b) == (term, block) && z * z2 > 0.0);
+            eprintln!(
+                "{} {} block {block}: {z:+.2}σ, with the next seed {}",
+                scene.name,
+                term.name(),
+                if twice { "again" } else { "not" }
+            );
+            if twice {
+                bad.push(format!("{} {} block {block}", scene.name, term.name()));
+            }
         }
     }
     bad
@@ -128,24 +169,88 @@ fn the_gpu_path_tracer_equals_the_cpu_reference_within_noise() {
     let pipeline = gpu_common::root().join("pipelines/pathtrace.lbp");
     let mut bad = vec![];
     for (spec, terms) in CASES {
-        let scene = load(spec, (64, 64));
-        let s = settings(terms, 128);
-        let cpu = reference::render(&scene, &s, false);
-        let gpu = on_gpu(&scene, &s, &pipeline);
-        assert_eq!(gpu.spp, cpu.spp, "{spec}");
-        for (a, b) in cpu.terms.iter().zip(&gpu.terms) {
-            assert_eq!((a.term, a.samples), (b.term, b.samples), "{spec}");
-        }
-        bad.extend(compare(&scene, &cpu, &gpu));
+        bad.extend(judge(&load(spec, (64, 64)), &settings(terms, 128), &pipeline));
     }
     assert!(bad.is_empty(), "the GPU path tracer differs from the CPU reference: {bad:?}");
 }
 
-/// The same comparison catches a path tracer that lets single-sided emitters light what lies
-/// behind them (next-event estimation counting both sides).
+/// The emitter-lit box with maps on its materials: a checkered floor (sRGB base colour, UV
+/// transform, repeat and mirror), the tall box's metallic-roughness map (and it blended), a
+/// normal-mapped back wall, a lamp emitting through a map dark on one side, and the short
+/// box alpha-masked by a checker of holes (camera, bounce and shadow rays pass through them).
+fn textured_box(size: (u32, u32)) -> Scene {
+    use lightbench::scene::{AlphaMode, ImageData, Material, Wrap};
+    let mut s = load("cornell_lamp", size);
+    let checker = |n: u32, a: [u8; 4], b: [u8; 4], srgb: bool| ImageData {
+        width: n,
+        height: n,
+        rgba: (0..n * n)
+            .flat_map(|i| if (i % n + i / n).is_multiple_of(2) { a } else { b })
+            .collect(),
+        srgb,
+    };
+    s.textures.push(checker(8, [240, 240, 240, 255], [40, 60, 200, 255], true));
+    s.textures.push(ImageData {
+        width: 4,
+        height: 1,
+        // Roughness (green) no sharper than 0.47: a sharp metal makes caustics of the lamp,
+        // whose rare bright paths 128 samples' variance estimates miss.
+        rgba: vec![0, 120, 0, 255, 0, 255, 255, 255, 0, 160, 128, 255, 0, 200, 30, 255],
+        srgb: false,
+    });
+    s.textures.push(ImageData {
+        width: 2,
+        height: 1,
+        rgba: vec![255, 255, 255, 255, 30, 30, 30, 255],
+        srgb: true,
+    });
+    s.textures.push(checker(4, [200, 200, 200, 255], [200, 200, 200, 0], true));
+    // Normals tilted left, right, up and down in turn (tangent space, linear).
+    s.textures.push(ImageData {
+        width: 2,
+        height: 2,
+        rgba: vec![60, 128, 230, 255, 196, 128, 230, 255, 128, 60, 230, 255, 128, 196, 230, 255],
+        srgb: false,
+    });
+    let lamp = s.materials[s.meshes.iter().find(|m| m.name == "lamp").unwrap().material].clone();
+    let mut add = |m: Material, mesh: &str| {
+        s.materials.push(m);
+        let i = s.materials.len() - 1;
+        s.meshes.iter_mut().find(|x| x.name == mesh).unwrap().material = i;
+    };
+    let mut floor = Material::color("floor", [1.0; 3], 0.6);
+    (floor.base_color_texture, floor.uv_transform) = (Some(0), [[2.0, 0.0, 0.25], [0.0, 2.0, 0.0]]);
+    floor.sampler.wrap = [Wrap::Repeat, Wrap::Mirror];
+    add(floor, "floor");
+    let mut tall = Material::color("tall", [0.8, 0.7, 0.5], 1.0);
+    (tall.metallic, tall.metallic_roughness_texture) = (1.0, Some(1));
+    // Blended: seen through, shadows let through, by coins (stochastic transparency).
+    (tall.base_color[3], tall.alpha, tall.double_sided) = (0.6, AlphaMode::Blend, true);
+    add(tall, "tall_box");
+    let mut back = Material::color("back", [0.73; 3], 0.4);
+    (back.normal_texture, back.normal_scale) = (Some(4), 0.8);
+    add(back, "back");
+    let mut lamp = lamp;
+    lamp.emissive_texture = Some(2);
+    add(lamp, "lamp");
+    let mut short = Material::color("short", [1.0; 3], 0.5);
+    (short.base_color_texture, short.alpha) = (Some(3), AlphaMode::Mask(0.5));
+    add(short, "short_box");
+    s
+}
+
 #[test]
-fn a_path_tracer_with_two_sided_emission_fails_the_comparison() {
-    let dir = std::env::temp_dir().join(format!("lightbench-pt-mutant-{}", std::process::id()));
+fn the_gpu_path_tracer_looks_maps_up_as_the_cpu_reference_does() {
+    let scene = textured_box((64, 64));
+    let s = settings(&[Term::Direct, Term::Ao, Term::Full], 128);
+    let bad = judge(&scene, &s, &gpu_common::root().join("pipelines/pathtrace.lbp"));
+    assert!(bad.is_empty(), "with maps: {bad:?}");
+}
+
+/// A copy of the path tracer (its pipeline and every shader) in a folder of its own, with
+/// `from` replaced by `to` in `shaders/lib/FILE`: a deliberately wrong path tracer.
+fn mutant(tag: &str, file: &str, (from, to): (&str, &str)) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("lightbench-pt-mutant-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     copy_tree(&gpu_common::root().join("shaders"), &dir.join("shaders"));
     std::fs::create_dir_all(dir.join("pipelines")).unwrap();
@@ -154,11 +259,26 @@ fn a_path_tracer_with_two_sided_emission_fails_the_comparison() {
         dir.join("pipelines/pathtrace.lbp"),
     )
     .unwrap();
-    let lib = dir.join("shaders/lib/hit_emitters.wgsl");
+    let lib = dir.join("shaders/lib").join(file);
     let text = std::fs::read_to_string(&lib).unwrap();
-    let wrong = text.replace("let facing = select(c, abs(c), e.double_sided != 0u);", "let facing = abs(c);");
+    let wrong = text.replace(from, to);
     assert_ne!(wrong, text, "the line the mutant changes is gone");
     std::fs::write(&lib, wrong).unwrap();
+    dir
+}
+
+/// The same comparison catches a path tracer that lets single-sided emitters light what lies
+/// behind them (next-event estimation counting both sides), one that shades hits with their
+/// maps' means, and one that cuts nothing out (masked and blended surfaces solid).
+#[test]
+fn deliberately_wrong_path_tracers_fail_the_comparison() {
+    let two_sided = mutant(
+        "two-sided",
+        "hit_emitters.wgsl",
+        ("let facing = select(c, abs(c), tri.double_sided != 0u);", "let facing = abs(c);"),
+    );
+    let means = mutant("means", "hit_maps.wgsl", ("        look_up_maps(&h, dir);\n", ""));
+    let solid = mutant("solid", "hit_maps.wgsl", ("    if m.cutoff == 0.0 {", "    if true {"));
     // The lamp lowered to mid-height and turned to face the ceiling: below it, only its back.
     let mut scene = load("cornell_lamp", (32, 32));
     let lamp = scene.meshes.iter_mut().find(|m| m.name == "lamp").unwrap();
@@ -166,13 +286,19 @@ fn a_path_tracer_with_two_sided_emission_fails_the_comparison() {
     for t in lamp.indices.chunks_exact_mut(3) {
         t.swap(1, 2);
     }
+    let textured = textured_box((32, 32));
     let s = settings(&[Term::Full], 128);
-    let cpu = reference::render(&scene, &s, false);
-    let right = on_gpu(&scene, &s, &gpu_common::root().join("pipelines/pathtrace.lbp"));
-    assert!(compare(&scene, &cpu, &right).is_empty(), "the lamp facing the ceiling");
-    let gpu = on_gpu(&scene, &s, &dir.join("pipelines/pathtrace.lbp"));
-    let _ = std::fs::remove_dir_all(&dir);
-    assert!(!compare(&scene, &cpu, &gpu).is_empty(), "two-sided emission passed as equal");
+    let pipeline = |dir: &Path| dir.join("pipelines/pathtrace.lbp");
+    for (scene, dirs) in [(&scene, vec![&two_sided]), (&textured, vec![&means, &solid])] {
+        let right = judge(scene, &s, &gpu_common::root().join("pipelines/pathtrace.lbp"));
+        assert!(right.is_empty(), "{}: the right path tracer: {right:?}", scene.name);
+        for dir in dirs {
+            assert!(!judge(scene, &s, &pipeline(dir)).is_empty(), "{} passed as equal", dir.display());
+        }
+    }
+    for dir in [two_sided, means, solid] {
+        let _ = std::fs::remove_dir_all(dir);
+    }
 }
 
 fn copy_tree(from: &Path, to: &Path) {

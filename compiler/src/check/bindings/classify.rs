@@ -5,14 +5,14 @@ use super::{Ctx, Used};
 use crate::diag::{did_you_mean, Code, Diagnostic, Diagnostics};
 use crate::ir::{history_ident, shader_ident, PassKind, SamplerKind};
 use crate::layout::{
-    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, HIT_EMITTERS, HIT_MATERIALS, HIT_TRIANGLES, INSTANCE,
-    LIGHTS, LIGHT_VOLUMES, TRIANGLES,
+    BindSource, BindingType, DrawSlot, SampleType, ShaderDim, AREA_LIGHTS, FRAME, HIT_CORNERS, HIT_EMITTERS, HIT_MAPS, HIT_MATERIALS,
+    HIT_TRIANGLES, INSTANCE, LIGHTS, LIGHT_VOLUMES, TRIANGLES,
 };
 use crate::shader::reflect::{BindingTy, TexKind};
 
 /// The standard blocks and buffers, bound by their global's name: the two uniform blocks,
 /// then the read-only storage buffers (`STORAGE`).
-const STANDARD: [&str; 9] = [
+const STANDARD: [&str; 11] = [
     FRAME,
     INSTANCE,
     LIGHTS,
@@ -22,6 +22,8 @@ const STANDARD: [&str; 9] = [
     HIT_TRIANGLES,
     HIT_MATERIALS,
     HIT_EMITTERS,
+    HIT_CORNERS,
+    HIT_MAPS,
 ];
 const STORAGE: &[&str] = STANDARD.split_at(2).1;
 
@@ -74,6 +76,8 @@ impl Ctx<'_> {
                     HIT_TRIANGLES => BindSource::HitTriangles,
                     HIT_MATERIALS => BindSource::HitMaterials,
                     HIT_EMITTERS => BindSource::HitEmitters,
+                    HIT_CORNERS => BindSource::HitCorners,
+                    HIT_MAPS => BindSource::HitMaps,
                     _ => BindSource::LightVolumes,
                 },
                 BindingType::Storage {
@@ -92,6 +96,8 @@ impl Ctx<'_> {
                     HIT_TRIANGLES => "the traced triangles' hit data",
                     HIT_MATERIALS => "the traced meshes' materials",
                     HIT_EMITTERS => "the traced emitters",
+                    HIT_CORNERS => "the traced triangles' texture coordinates",
+                    HIT_MAPS => "the scene's maps for ray hits",
                     _ => "standard block",
                 };
                 diags.push(Diagnostic::error(

@@ -1,0 +1,216 @@
+// A material's maps looked up where a ray met it, as the reference looks them up (level 0,
+// bilinear, the material's wrap modes, sRGB colour decoded per texel): standard bindings
+// `hit_corners` (per traced triangle its corners' texture coordinates) and `hit_maps` (the
+// scene's maps as one array: a table of (first texel, width, height, row pitch | sRGB bit)
+// per map, then RGBA8 texels). Alpha-masked surfaces are cut out where their alpha is below
+// the cutoff, blended ones where it is below a coin tossed per ray and triangle (stochastic
+// transparency, as the reference's), for camera, bounce and shadow rays alike; normal maps
+// bend the shading normal. The including file includes lib/hit.wgsl and lib/sampling.wgsl,
+// and sets `ray_coin` before each ray that may meet blended surfaces.
+
+struct HitCorners {
+    // Per corner: (u, v) of TEXCOORD_0, then of TEXCOORD_1.
+    uv: array<vec4<f32>, 3>,
+    // Per corner: the tangent (world), w the bitangent's sign.
+    tangent: array<vec4<f32>, 3>,
+};
+
+// What the coins of the next ray's blended surfaces are drawn from.
+var<private> ray_coin: u32;
+
+@group(0) @binding(8) var<storage, read> hit_corners: array<HitCorners>;
+@group(0) @binding(9) var<storage, read> hit_maps: array<u32>;
+
+const NO_MAP: u32 = 0xffffffffu;
+const MAP_BASE: u32 = 0u;
+const MAP_METALLIC_ROUGHNESS: u32 = 1u;
+const MAP_NORMAL: u32 = 2u;
+const MAP_EMISSIVE: u32 = 3u;
+
+fn srgb_decode(c: f32) -> f32 {
+    return select(pow((c + 0.055) / 1.055, 2.4), c / 12.92, c <= 0.04045);
+}
+
+// Texel index `i` of `n` along an axis by wrap mode `mode` (0 repeat, 1 clamp, 2 mirror).
+fn wrap_texel(i: i32, n: i32, mode: u32) -> i32 {
+    if mode == 1u {
+        return clamp(i, 0, n - 1);
+    }
+    if mode == 2u {
+        let m = ((i % (2 * n)) + 2 * n) % (2 * n);
+        return select(2 * n - 1 - m, m, m < n);
+    }
+    return ((i % n) + n) % n;
+}
+
+// Map `map`'s texel (x, y), wrapped, decoded to linear where it is sRGB colour.
+fn map_texel(map: u32, x: i32, y: i32, wrap: u32) -> vec4<f32> {
+    let entry = 1u + 4u * map;
+    let first = hit_maps[entry];
+    let size = vec2<i32>(i32(hit_maps[entry + 1u]), i32(hit_maps[entry + 2u]));
+    let pitch = hit_maps[entry + 3u] & 0x7fffffffu;
+    let srgb = (hit_maps[entry + 3u] >> 31u) != 0u;
+    let xi = u32(wrap_texel(x, size.x, wrap & 3u));
+    let yi = u32(wrap_texel(y, size.y, (wrap >> 2u) & 3u));
+    let v = unpack4x8unorm(hit_maps[first + yi * pitch + xi]);
+    if srgb {
+        return vec4<f32>(srgb_decode(v.r), srgb_decode(v.g), srgb_decode(v.b), v.a);
+    }
+    return v;
+}
+
+// Bilinear lookup of map `map` at `uv` (1 where there is no map).
+fn sample_map(map: u32, uv: vec2<f32>, wrap: u32) -> vec4<f32> {
+    if map == NO_MAP || map >= hit_maps[0] {
+        return vec4<f32>(1.0);
+    }
+    let entry = 1u + 4u * map;
+    let size = vec2<f32>(f32(hit_maps[entry + 1u]), f32(hit_maps[entry + 2u]));
+    let p = uv * size - 0.5;
+    let p0 = floor(p);
+    let f = p - p0;
+    let i = vec2<i32>(p0);
+    let top = mix(map_texel(map, i.x, i.y, wrap), map_texel(map, i.x + 1, i.y, wrap), f.x);
+    let bottom = mix(map_texel(map, i.x, i.y + 1, wrap), map_texel(map, i.x + 1, i.y + 1, wrap), f.x);
+    return mix(top, bottom, f.y);
+}
+
+// Map `k` of material `m`'s texture coordinates at barycentrics `b` of triangle `index`,
+// through the material's UV transform.
+fn map_uv(m: HitMaterial, index: u32, b: vec2<f32>, k: u32) -> vec2<f32> {
+    let c = hit_corners[index];
+    let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
+    let second = ((m.uv_sets >> k) & 1u) != 0u;
+    let uv4 = c.uv[0] * w.x + c.uv[1] * w.y + c.uv[2] * w.z;
+    let uv = select(uv4.xy, uv4.zw, second);
+    return vec2<f32>(dot(m.uv_row0.xyz, vec3<f32>(uv, 1.0)), dot(m.uv_row1.xyz, vec3<f32>(uv, 1.0)));
+}
+
+fn material_map(m: HitMaterial, index: u32, b: vec2<f32>, k: u32) -> vec4<f32> {
+    if m.maps[k] == NO_MAP {
+        return vec4<f32>(1.0);
+    }
+    return sample_map(m.maps[k], map_uv(m, index, b, k), m.wrap);
+}
+
+// The tangent-space normal map's texel applied to unit normal `n` (the reference's
+// `normal_mapped`): tangent made orthogonal to n, bitangent n × t times the tangent's sign.
+fn normal_mapped(n: vec3<f32>, tangent: vec4<f32>, texel: vec3<f32>, scale: f32) -> vec3<f32> {
+    if length(tangent.xyz) <= 1e-6 {
+        return n;
+    }
+    let t = safe_normalize(tangent.xyz - n * dot(n, tangent.xyz), vec3<f32>(0.0));
+    let b = cross(n, t) * tangent.w;
+    let k = texel * 2.0 - 1.0;
+    return safe_normalize(t * k.x * scale + b * k.y * scale + n * k.z, n);
+}
+
+// The shading normal at a hit along `dir` with the material's normal map applied, turned as
+// lib/hit.wgsl's `ray_hit` turns it.
+fn mapped_normal(h: RayHit, m: HitMaterial, dir: vec3<f32>) -> vec3<f32> {
+    let tri = hit_triangles[h.triangle];
+    let w = vec3<f32>(1.0 - h.bary.x - h.bary.y, h.bary.x, h.bary.y);
+    let c = hit_corners[h.triangle];
+    let tangent = c.tangent[0] * w.x + c.tangent[1] * w.y + c.tangent[2] * w.z;
+    let texel = material_map(m, h.triangle, h.bary, MAP_NORMAL).xyz;
+    let n = normal_mapped(safe_normalize(tri.n0 * w.x + tri.n1 * w.y + tri.n2 * w.z, tri.ng), tangent, texel, m.normal_scale);
+    return select(select(n, -n, dot(n, dir) > 0.0), select(n, -n, dot(n, tri.ng) < 0.0), h.front);
+}
+
+// The hit's material where a ray along `dir` met it: albedo, metallic, roughness and emission
+// from the factors times the maps (lib/material.wgsl's definitions) in place of the maps'
+// means, and the normal map applied.
+fn look_up_maps(h: ptr<function, RayHit>, dir: vec3<f32>) {
+    let m = hit_materials[hit_triangles[(*h).triangle].material];
+    if m.maps[MAP_NORMAL] != NO_MAP {
+        (*h).n = mapped_normal(*h, m, dir);
+    }
+    let base = m.base_factor * material_map(m, (*h).triangle, (*h).bary, MAP_BASE);
+    let mr = material_map(m, (*h).triangle, (*h).bary, MAP_METALLIC_ROUGHNESS);
+    (*h).albedo = base.rgb;
+    (*h).metallic = clamp(m.metallic_factor * mr.z, 0.0, 1.0);
+    (*h).roughness = clamp(m.roughness_factor * mr.y, 0.03, 1.0);
+    let emits = (*h).front || hit_triangles[(*h).triangle].double_sided != 0u;
+    let e = m.emissive_factor * material_map(m, (*h).triangle, (*h).bary, MAP_EMISSIVE).rgb;
+    (*h).emissive = select(vec3<f32>(0.0), e, emits);
+}
+
+// What emitter triangle `index` emits at barycentrics `b` (its map looked up).
+fn emission_at(index: u32, b: vec2<f32>) -> vec3<f32> {
+    let m = hit_materials[hit_triangles[index].material];
+    return m.emissive_factor * material_map(m, index, b, MAP_EMISSIVE).rgb;
+}
+
+// Whether triangle `index`, met at distance `t` and barycentrics `b`, is cut out: its alpha
+// below the cutoff (masked), or below a coin of this ray's and this triangle's (blended).
+fn cut_out(index: u32, b: vec2<f32>, t: f32) -> bool {
+    let m = hit_materials[hit_triangles[index].material];
+    if m.cutoff == 0.0 {
+        return false;
+    }
+    var cutoff = m.cutoff;
+    if cutoff < 0.0 {
+        cutoff = f32(pcg_hash(ray_coin ^ pcg_hash(index ^ bitcast<u32>(t))) >> 8u) * (1.0 / 16777216.0);
+    }
+    return (m.base_factor.a * material_map(m, index, b, MAP_BASE).a) < cutoff;
+}
+
+// The nearest surface a camera or bounce ray sees along `dir` between `t_min` and `t_max`,
+// masked surfaces cut out, its maps looked up.
+fn trace_seen_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> RayHit {
+    var rq: ray_query;
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, 0xffu, t_min, t_max, origin, dir));
+    // The nearest back passed (every candidate nearer than the final hit is offered).
+    var back = t_max;
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE {
+            let index = c.instance_custom_data + c.primitive_index;
+            if !cut_out(index, c.barycentrics, c.t) {
+                if seen_along(hit_triangles[index], dir) {
+                    rayQueryConfirmIntersection(&rq);
+                } else {
+                    back = min(back, c.t);
+                }
+            }
+        }
+    }
+    var h = ray_hit(rayQueryGetCommittedIntersection(&rq), origin, dir);
+    h.shadowed = h.found && back < h.t;
+    if h.found {
+        look_up_maps(&h, dir);
+    }
+    return h;
+}
+
+// 1 when no surface (masked ones cut out) lies along `dir` between `t_min` and `t_max`.
+fn unoccluded_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
+    if t_max <= t_min {
+        return 1.0;
+    }
+    var rq: ray_query;
+    let flags = RAY_FLAG_FORCE_NO_OPAQUE | RAY_FLAG_TERMINATE_ON_FIRST_HIT;
+    rayQueryInitialize(&rq, scene_accel, RayDesc(flags, 0xffu, t_min, t_max, origin, dir));
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && !cut_out(c.instance_custom_data + c.primitive_index, c.barycentrics, c.t) {
+            rayQueryConfirmIntersection(&rq);
+        }
+    }
+    return select(1.0, 0.0, rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE);
+}
+
+// The distance to the nearest surface (masked ones cut out, either side) along `dir` between
+// `t_min` and `t_max`, or −1 where there is none.
+fn nearest_occluder(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
+    var rq: ray_query;
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, 0xffu, t_min, t_max, origin, dir));
+    while rayQueryProceed(&rq) {
+        let c = rayQueryGetCandidateIntersection(&rq);
+        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && !cut_out(c.instance_custom_data + c.primitive_index, c.barycentrics, c.t) {
+            rayQueryConfirmIntersection(&rq);
+        }
+    }
+    let hit = rayQueryGetCommittedIntersection(&rq);
+    return select(-1.0, hit.t, hit.kind != RAY_QUERY_INTERSECTION_NONE);
+}
