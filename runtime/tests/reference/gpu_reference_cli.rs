@@ -160,3 +160,37 @@ fn a_sweep_measures_against_the_gpu_reference() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("bad.ron:9:41:") && err.contains("no term `indirect_diffuse`"), "{err}");
 }
+
+/// `--target-error` on the GPU: a pilot, then the samples predicted, until the percentile of
+/// the lit pixels' relative standard error reaches the target, reported as on the CPU.
+#[test]
+fn the_gpu_reference_renders_to_an_error_target() {
+    let out = scratch("gpu-reference-target");
+    let (code, _, err) = lightbench(&[
+        "reference",
+        "--device",
+        "gpu",
+        "--scene",
+        "cornell",
+        "--size",
+        "16x16",
+        "--terms",
+        "full",
+        "--target-error",
+        "0.1",
+        "--percentile",
+        "90",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("at the 90th percentile of lit pixels") && err.contains("(target 0.1: reached)"),
+        "{err}"
+    );
+    let m = manifest(&out);
+    let reached = &m["reached"];
+    assert!(reached["error"].as_f64().unwrap() <= 0.1, "{reached}");
+    assert!(m["spp"].as_u64().unwrap() > 64, "more than the pilot: {}", m["spp"]);
+}
