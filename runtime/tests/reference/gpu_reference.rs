@@ -190,28 +190,24 @@ fn textured_box(size: (u32, u32)) -> Scene {
         srgb,
     };
     s.textures.push(checker(8, [240, 240, 240, 255], [40, 60, 200, 255], true));
-    s.textures.push(ImageData {
-        width: 4,
-        height: 1,
-        // Roughness (green) no sharper than 0.47: a sharp metal makes caustics of the lamp,
-        // whose rare bright paths 128 samples' variance estimates miss.
-        rgba: vec![0, 120, 0, 255, 0, 255, 255, 255, 0, 160, 128, 255, 0, 200, 30, 255],
-        srgb: false,
-    });
-    s.textures.push(ImageData {
-        width: 2,
-        height: 1,
-        rgba: vec![255, 255, 255, 255, 30, 30, 30, 255],
-        srgb: true,
-    });
+    let image = |width, height, rgba: Vec<u8>, srgb| ImageData { width, height, rgba, srgb };
+    // Roughness (green) no sharper than 0.47: a sharp metal makes caustics of the lamp, whose
+    // rare bright paths 128 samples' variance estimates miss.
+    s.textures.push(image(
+        4,
+        1,
+        vec![0, 120, 0, 255, 0, 255, 255, 255, 0, 160, 128, 255, 0, 200, 30, 255],
+        false,
+    ));
+    s.textures.push(image(2, 1, vec![255, 255, 255, 255, 30, 30, 30, 255], true));
     s.textures.push(checker(4, [200, 200, 200, 255], [200, 200, 200, 0], true));
     // Normals tilted left, right, up and down in turn (tangent space, linear).
-    s.textures.push(ImageData {
-        width: 2,
-        height: 2,
-        rgba: vec![60, 128, 230, 255, 196, 128, 230, 255, 128, 60, 230, 255, 128, 196, 230, 255],
-        srgb: false,
-    });
+    s.textures.push(image(
+        2,
+        2,
+        vec![60, 128, 230, 255, 196, 128, 230, 255, 128, 60, 230, 255, 128, 196, 230, 255],
+        false,
+    ));
     let lamp = s.materials[s.meshes.iter().find(|m| m.name == "lamp").unwrap().material].clone();
     let mut add = |m: Material, mesh: &str| {
         s.materials.push(m);
