@@ -221,7 +221,7 @@ pub fn edge_pixels(scene: &Scene) -> Vec<bool> {
     let look = |px: f64, py: f64| {
         let (origin, dir, len) = cam.ray_at(px, py);
         world
-            .trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, world::SOLID_BLEND)
+            .trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, sample::SOLID_BLEND)
             .map(|h| (h.n, h.albedo, h.emissive, h.metallic, h.roughness))
     };
     // Within 1% (a map's bilinear lookup moves a little within a thousandth of a pixel).

@@ -34,11 +34,15 @@ impl Rng {
     }
 }
 
+/// The coin that keeps blended surfaces where they are, as solid as opaque ones (their outline
+/// is an edge, which `edge_pixels` looks for; their stochastic transparency is not).
+pub const SOLID_BLEND: u32 = u32::MAX;
+
 /// The coin of a pixel's sample (for blended surfaces its camera ray meets; `World::trace_with_coin`):
 /// a stream of its own, so the terms' numbers stay as they are.
 pub fn coin(seed: u64, pixel: u64, sample: u64) -> u32 {
-    // Never `world::SOLID_BLEND`, which keeps blended surfaces solid.
-    ((Rng::new(seed, pixel, sample, u64::MAX).0 >> 32) as u32).min(super::world::SOLID_BLEND - 1)
+    // Never `SOLID_BLEND`, which keeps blended surfaces solid.
+    ((Rng::new(seed, pixel, sample, u64::MAX).0 >> 32) as u32).min(SOLID_BLEND - 1)
 }
 
 /// A number in [0, 1) from a few floats (stochastic transparency's coin).

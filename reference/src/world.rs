@@ -41,10 +41,6 @@ pub struct Hit {
     pub shadowed: bool,
 }
 
-/// The coin that keeps blended surfaces where they are, as solid as opaque ones (their outline
-/// is an edge, which `edge_pixels` looks for; their stochastic transparency is not).
-pub const SOLID_BLEND: u32 = u32::MAX;
-
 /// Which faces a ray meets. The one sidedness rule, as the raster pipelines draw it: what
 /// the camera sees, directly or by a bounce, is a surface's front, or either side of a
 /// double-sided one (glTF `doubleSided`); what blocks light (shadows, occlusion) is every
@@ -242,7 +238,7 @@ impl World {
         let cutoff = match mat.alpha {
             AlphaMode::Opaque => return false,
             AlphaMode::Mask(c) => c,
-            AlphaMode::Blend if coin == SOLID_BLEND => return false,
+            AlphaMode::Blend if coin == super::sample::SOLID_BLEND => return false,
             // Stochastic transparency, decided by a hash of the ray, the triangle and the
             // caller's coin: the same query always meets the same surfaces (bit-identical
             // reruns), and a camera ray repeated per sample gets a coin per sample.
