@@ -1,6 +1,6 @@
 //! Stage `measure` of `sweep`: how far a raster estimate is from the reference term — RMSE
-//! corrected for the reference's own noise, bias, and for colour terms mean FLIP — over the
-//! pixels both images have.
+//! corrected for the reference's own noise, bias, for colour terms mean FLIP, and region by
+//! region the ratios of 8×8-block means — over the pixels both images have.
 
 use crate::error::{Error, Result};
 use crate::io::Image;
@@ -24,6 +24,63 @@ pub struct ErrorMetrics {
     pub flip: Option<f64>,
     /// Estimate values that are NaN or infinite (left out of the means above).
     pub non_finite: usize,
+    /// Region by region: the ratios of the estimate's 8×8-block means to the reference's
+    /// (none where no block qualifies; rows written before had none).
+    #[serde(default)]
+    pub blocks: Option<BlockRatios>,
+}
+
+/// The ratios of 8×8-block means, estimate over reference (channels summed), over the blocks
+/// the reference lights (a mean of at least 1% of its image's) and knows (a standard error of
+/// at most 5% of that mean, so that its noise does not make the ratio): their 10th and 90th
+/// percentiles, extremes and count. A mean right overall can hide a band of the image at 0.1×
+/// and another at 2×; these do not.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BlockRatios {
+    pub p10: f64,
+    pub p90: f64,
+    pub min: f64,
+    pub max: f64,
+    pub blocks: usize,
+}
+
+/// Side of the blocks `BlockRatios` compares.
+pub const BLOCK: usize = 8;
+
+/// The block ratios of `estimate` (linear RGBA) against `reference`, over `n` channels.
+fn block_ratios(estimate: &[f32], reference: &TermImage, n: usize) -> Option<BlockRatios> {
+    let (w, h) = (reference.mean.width as usize, reference.mean.height as usize);
+    let (bw, bh) = (w.div_ceil(BLOCK), h.div_ceil(BLOCK));
+    // Per block: estimate sum, reference sum, reference variance sum, finite estimate.
+    let mut sums = vec![(0.0f64, 0.0f64, 0.0f64, true); bw * bh];
+    for p in 0..w * h {
+        let b = &mut sums[(p / w / BLOCK) * bw + (p % w) / BLOCK];
+        for c in 0..n {
+            let e = estimate[p * 4 + c];
+            b.3 &= e.is_finite();
+            b.0 += e as f64;
+            b.1 += reference.mean.rgba[p * 4 + c] as f64;
+            b.2 += reference.variance.rgba[p * 4 + c] as f64;
+        }
+    }
+    let floor = 0.01 * sums.iter().map(|b| b.1).sum::<f64>() / sums.len().max(1) as f64;
+    let mut ratios: Vec<f64> = sums
+        .iter()
+        .filter(|b| b.3 && b.1 > floor && b.1 > 0.0 && b.2.sqrt() <= 0.05 * b.1)
+        .map(|b| b.0 / b.1)
+        .collect();
+    if ratios.is_empty() {
+        return None;
+    }
+    ratios.sort_by(f64::total_cmp);
+    let pick = |q: f64| crate::reference::percentile_of(&ratios, q);
+    Some(BlockRatios {
+        p10: pick(10.0),
+        p90: pick(90.0),
+        min: ratios[0],
+        max: ratios[ratios.len() - 1],
+        blocks: ratios.len(),
+    })
 }
 
 /// JSON has no NaN: serde_json writes it as `null`, read back here as NaN.
@@ -76,6 +133,7 @@ pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<
         rmse: if count == 0 { f64::NAN } else { (mse - var / k).max(0.0).sqrt() },
         rmse_raw: mse.sqrt(),
         bias: diff / k,
+        blocks: block_ratios(&est, reference, n),
         flip: (n == 3).then(|| flip(est, r)),
         non_finite,
     })
@@ -130,6 +188,45 @@ mod tests {
         assert!((m.rmse - (0.09f64 - 0.01).sqrt()).abs() < 1e-5, "{m:?}");
         let small = Image { width: 4, ..est };
         assert!(error(&small, &r, "ao").unwrap_err().to_string().contains("size of the viewport"));
+    }
+
+    /// Block ratios find what the mean hides: half the image at twice the reference and half
+    /// at none has a ratio of 1 on the whole but 0 and 2 by block; dark blocks and blocks the
+    /// reference does not know are left out.
+    #[test]
+    fn block_ratios_show_regions_the_mean_hides() {
+        let mut r = ao_reference(0.5, 0.0);
+        r.term = Term::Direct;
+        r.mean = Image {
+            width: 16,
+            height: 16,
+            rgba: [0.5, 0.5, 0.5, 1.0].repeat(256),
+            srgb: false,
+        };
+        r.variance = Image {
+            rgba: [0.0; 4].repeat(256),
+            ..r.mean.clone()
+        };
+        let mut est = r.mean.clone();
+        for p in 0..256 {
+            let v = if p % 16 < 8 { 1.0 } else { 0.0 };
+            est.rgba[p * 4..p * 4 + 3].copy_from_slice(&[v; 3]);
+        }
+        let m = error(&est, &r, "hdr").unwrap();
+        assert!(m.bias.abs() < 1e-9, "{m:?}");
+        let b = m.blocks.unwrap();
+        assert_eq!((b.min, b.max, b.blocks), (0.0, 2.0, 4), "{b:?}");
+        assert_eq!((b.p10, b.p90), (0.0, 2.0));
+        // A dark block and a noisy one are not judged.
+        for p in 0..64 {
+            let (x, y) = (p % 8, p / 8);
+            r.mean.rgba[(y * 16 + x) * 4..][..3].copy_from_slice(&[0.0; 3]);
+            r.variance.rgba[(y * 16 + x + 8) * 4..][..3].copy_from_slice(&[1.0; 3]);
+        }
+        assert_eq!(error(&est, &r, "hdr").unwrap().blocks.unwrap().blocks, 2);
+        // Rows written before block ratios existed still load.
+        let old = r#"{"rmse":0.1,"rmse_raw":0.1,"bias":0.0,"flip":null,"non_finite":0}"#;
+        assert!(serde_json::from_str::<ErrorMetrics>(old).unwrap().blocks.is_none());
     }
 
     /// An estimate without one finite value has no error to state: NaN (not 0, which would

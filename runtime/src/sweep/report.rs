@@ -98,6 +98,10 @@ pub fn csv(rows: &[Row]) -> String {
             "rmse_raw",
             "bias",
             "flip",
+            "block_p10",
+            "block_p90",
+            "block_min",
+            "block_max",
             "non_finite",
             "pareto",
             "variants",
@@ -119,6 +123,8 @@ pub fn csv(rows: &[Row]) -> String {
             num(Some(r.error.bias)),
             num(r.error.flip),
         ]);
+        let b = r.error.blocks;
+        f.extend([b.map(|b| b.p10), b.map(|b| b.p90), b.map(|b| b.min), b.map(|b| b.max)].map(num));
         f.push(r.error.non_finite.to_string());
         f.push(on_front(&groups, r).to_string());
         f.push(r.variants.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" "));
@@ -165,23 +171,27 @@ pub fn markdown(rows: &[Row], points: usize) -> String {
             g.plot_name()
         ));
         out.push_str(&format!(
-            "| {} | effect GPU ms (min–max) | frame ms (min–max) | RMSE | bias | FLIP | front |\n",
+            "| {} | effect GPU ms (min–max) | frame ms (min–max) | RMSE | bias | FLIP | 8×8 blocks p10–p90 (min–max) | front |\n",
             keys.join(" | ")
         ));
-        out.push_str(&format!("|{}---|---|---|---|---|---|\n", "---|".repeat(keys.len())));
+        out.push_str(&format!("|{}---|---|---|---|---|---|---|\n", "---|".repeat(keys.len())));
         for (r, &front) in g.rows.iter().zip(&g.front) {
             let vals: Vec<String> = keys
                 .iter()
                 .map(|k| r.settings.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone()).unwrap_or_default())
                 .collect();
             out.push_str(&format!(
-                "| {} | {} | {} | {:.5} | {:+.5} | {} | {} |\n",
+                "| {} | {} | {} | {:.5} | {:+.5} | {} | {} | {} |\n",
                 vals.join(" | "),
                 ms(r.effect_ms),
                 ms(r.frame_ms),
                 r.error.rmse,
                 r.error.bias,
                 r.error.flip.map(|f| format!("{f:.4}")).unwrap_or_else(|| "–".into()),
+                r.error
+                    .blocks
+                    .map(|b| format!("{:.2}–{:.2} ({:.2}–{:.2})", b.p10, b.p90, b.min, b.max))
+                    .unwrap_or_else(|| "–".into()),
                 if front { "★" } else { "" }
             ));
         }

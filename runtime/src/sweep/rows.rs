@@ -163,6 +163,7 @@ mod tests {
                 bias: 0.0,
                 flip: None,
                 non_finite: 0,
+                blocks: None,
             },
             reference: String::new(),
             reference_spp: 1,

@@ -148,6 +148,15 @@ fn a_sweep_measures_against_the_gpu_reference() {
         .collect();
     assert_eq!(refs.len(), 1);
     assert!(manifest(&refs[0])["device"]["gpu"].is_string());
+    // The regional measure is among the results: ray-traced shadows against the GPU's `direct`.
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let (head, row) = csv.split_once('\n').unwrap();
+    let at = head.split(',').position(|h| h == "block_p10").expect("a block_p10 column");
+    let p10: f64 = row.split(',').nth(at).unwrap().parse().unwrap();
+    assert!(
+        (0.9..1.1).contains(&p10),
+        "shadow rays are the reference's direct light, block by block: {p10}"
+    );
     let bad = dir.join("bad.ron");
     std::fs::write(&bad, spec("(term: indirect_diffuse, device: gpu)")).unwrap();
     let (code, _, err) = lightbench(&[
