@@ -14,34 +14,20 @@ use lightbench::reference::{self, Budget, Settings, Term};
 use lightbench::scene::Scene;
 use std::path::{Path, PathBuf};
 
-/// How much to measure: the full bench, or one small round of each case (the tests' run).
-#[derive(Clone, Copy, PartialEq)]
-pub enum Size {
-    Full,
-    Smoke,
-}
+#[path = "common/mod.rs"]
+mod common;
+use common::quartiles;
+pub use common::Size;
 
 impl Size {
     fn rounds(self) -> usize {
-        if self == Size::Full {
-            7
-        } else {
-            1
-        }
+        self.pick(7, 1)
     }
     fn size(self) -> (u32, u32) {
-        if self == Size::Full {
-            (128, 128)
-        } else {
-            (16, 16)
-        }
+        self.pick((128, 128), (16, 16))
     }
     fn spp(self) -> u32 {
-        if self == Size::Full {
-            64
-        } else {
-            4
-        }
+        self.pick(64, 4)
     }
 }
 
@@ -51,13 +37,6 @@ fn root() -> PathBuf {
 
 fn scene(spec: &str, size: (u32, u32)) -> Scene {
     lightbench::scene::load::load_sized(spec, Some(size), &[]).expect("scene")
-}
-
-/// Median and quartiles of a list.
-fn quartiles(mut v: Vec<f64>) -> (f64, f64, f64) {
-    v.sort_by(f64::total_cmp);
-    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-    (at(0.25), at(0.5), at(0.75))
 }
 
 /// One case: its paths per second on each side over the rounds, and the ratio's quartiles.

@@ -13,34 +13,20 @@ use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
 use std::path::{Path, PathBuf};
 
-/// How much to measure: the full bench, or one small round of everything (the tests' run).
-#[derive(Clone, Copy, PartialEq)]
-pub enum Size {
-    Full,
-    Smoke,
-}
+#[path = "common/mod.rs"]
+mod common;
+use common::quartiles;
+pub use common::Size;
 
 impl Size {
     fn rounds(self) -> usize {
-        if self == Size::Full {
-            9
-        } else {
-            1
-        }
+        self.pick(9, 1)
     }
     fn resolutions(self) -> &'static [(u32, u32)] {
-        if self == Size::Full {
-            &[(128, 96), (256, 192), (512, 384)]
-        } else {
-            &[(32, 24)]
-        }
+        self.pick(&[(128, 96), (256, 192), (512, 384)], &[(32, 24)])
     }
     fn copies(self) -> &'static [u32] {
-        if self == Size::Full {
-            &[1, 4, 16, 64]
-        } else {
-            &[1, 2]
-        }
+        self.pick(&[1, 4, 16, 64], &[1, 2])
     }
 }
 
@@ -124,13 +110,6 @@ fn frame_ms(gpu: &Gpu, ex: &mut Executor, side: &Side) -> f64 {
         .filter(|t| side.passes.contains(&t.pass.as_str()))
         .filter_map(|t| t.gpu_ms)
         .sum()
-}
-
-/// Median and quartiles of a list.
-fn quartiles(mut v: Vec<f64>) -> (f64, f64, f64) {
-    v.sort_by(f64::total_cmp);
-    let at = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
-    (at(0.25), at(0.5), at(0.75))
 }
 
 /// The chair of `scenes/hard/bare.gltf` on the ground under a spot light, as a scene file.
