@@ -6,7 +6,7 @@
 use crate::error::{Error, Result};
 use crate::gpu::{Executor, Gpu};
 use crate::reference::{self, Brdf, Budget, Reached, Reference, Settings, Term, TermImage};
-use crate::scene::{AlphaMode, Scene};
+use crate::scene::Scene;
 use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::Workspace;
 use std::path::Path;
@@ -59,40 +59,11 @@ pub fn check(scene: &Scene, s: &Settings) -> Result<()> {
     Ok(())
 }
 
-fn blended(scene: &Scene) -> bool {
-    scene
-        .meshes
-        .iter()
-        .any(|m| scene.materials.get(m.material).is_some_and(|mat| mat.alpha == AlphaMode::Blend))
-}
-
-/// The triangles that emit (of meshes whose material has an emissive factor, with an area).
+/// The triangles that emit with some power (the area lights' count, emissive maps' means
+/// included, before any is left out for the raster's budget).
 fn emitters(scene: &Scene) -> usize {
-    let emits = |m: &crate::scene::Mesh| {
-        scene
-            .materials
-            .get(m.material)
-            .is_some_and(|mat| mat.emissive.iter().any(|c| *c > 0.0))
-    };
-    let mut n = 0;
-    for m in scene.meshes.iter().filter(|m| emits(m)) {
-        let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
-        let p = |i: u32| m.vertices.get(i as usize).map(|v| glam::Vec3::from(v.position));
-        n += drawn
-            .chunks_exact(3)
-            .filter(|t| match (p(t[0]), p(t[1]), p(t[2])) {
-                (Some(a), Some(b), Some(c)) => (b - a).cross(c - a).length_squared() > 0.0,
-                _ => false,
-            })
-            .count();
-    }
-    n
-}
-
-/// Whether a term has no noise, so that one sample is all of it (as the CPU reference
-/// decides): `direct` with no emitter and nothing blended (its coins differ by sample).
-fn exact(scene: &Scene, term: Term) -> bool {
-    term == Term::Direct && emitters(scene) == 0 && !blended(scene)
+    let (kept, dropped) = crate::gpu::scene_gpu::area_lights(scene);
+    kept.len() + dropped
 }
 
 /// Paths per pixel in one frame: about 4 million a frame at most, so that a frame stays
@@ -115,7 +86,11 @@ pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings, progress:
     let mut terms = s.terms.clone();
     terms.sort();
     terms.dedup();
-    let noisy = terms.iter().filter(|t| !exact(scene, **t)).count().max(1);
+    let (emitters, blended) = (emitters(scene), scene.features().transparent);
+    // `direct` has no noise (one sample is all of it, as the CPU reference decides) with no
+    // emitter and nothing blended (its coins differ by sample).
+    let exact = |t: Term| t == Term::Direct && emitters == 0 && !blended;
+    let noisy = terms.iter().filter(|t| !exact(**t)).count().max(1);
     let (mut images, mut reached) = (vec![], None);
     let mut spp = match s.budget {
         Budget::Spp(n) => n,
@@ -126,14 +101,14 @@ pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings, progress:
         let mut run = Run::new(gpu, tracer, scene, s, t)?;
         run.bar = bar.clone();
         let budget = match s.budget {
-            _ if exact(scene, t) => Budget::Spp(1),
+            _ if exact(t) => Budget::Spp(1),
             // The time is shared out between the noisy terms.
             Budget::Seconds(secs) => Budget::Seconds(secs / noisy as f64),
             b => b,
         };
         reached = run.until(gpu, budget, Instant::now())?.or(reached);
         let image = run.image(gpu, t)?;
-        if !exact(scene, t) {
+        if !exact(t) {
             spp = spp.max(image.samples);
         }
         images.push(image);
@@ -144,7 +119,7 @@ pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings, progress:
         terms: images,
         seconds: start.elapsed().as_secs_f64(),
         triangles: scene.meshes.iter().map(|m| m.drawn_indices() as usize / 3).sum(),
-        emitters: emitters(scene),
+        emitters,
         reached,
     })
 }
