@@ -39,7 +39,12 @@ pub struct HitData {
     pub materials: wgpu::Buffer,
     /// `hit_emitters`: the traced triangles that emit, with their choice probabilities.
     pub emitters: wgpu::Buffer,
-    /// `hit_corners`: every traced triangle's corners' texture coordinates.
+}
+
+/// What maps are looked up at hits with, built apart (only passes that look maps up bind it:
+/// the scene's textures at full resolution need not be copied for the others).
+pub struct HitMaps {
+    /// `hit_corners`: every traced triangle's corners' texture coordinates and tangents.
     pub corners: wgpu::Buffer,
     /// `hit_maps`: the scene's maps at full resolution.
     pub maps: wgpu::Buffer,
@@ -117,7 +122,7 @@ fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> R
 
 /// Mesh `m`'s drawn triangles as hits read them: world-space shading normals (the geometric
 /// normal where a vertex has none), the front's normal, the material; and their corners.
-fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, (corners, uvs): (&mut Vec<Corners>, &mut Vec<HitCorners>)) {
+fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, corners: &mut Vec<Corners>) {
     let normal_matrix = glam::Mat3::from_mat4(m.transform).inverse().transpose();
     let mirrored = m.transform.determinant() < 0.0;
     let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
@@ -145,12 +150,20 @@ fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, (corn
             ..Default::default()
         });
         corners.push([p(0).to_array(), p(1).to_array(), p(2).to_array()]);
-        uvs.push(HitCorners {
+    }
+}
+
+/// Mesh `m`'s drawn triangles' corners as map lookups read them: both UV sets, and tangents
+/// placed as the reference places them (by the transform itself, the sign kept).
+fn hit_corners(m: &Mesh, out: &mut Vec<HitCorners>) {
+    let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
+    for t in drawn.chunks_exact(3) {
+        let v = |k: usize| m.vertices.get(t[k] as usize).copied().unwrap_or(Vertex::zeroed());
+        out.push(HitCorners {
             uv: std::array::from_fn(|k| {
                 let v = v(k);
                 [v.uv[0], v.uv[1], v.uv1[0], v.uv1[1]]
             }),
-            // As the reference places them: by the transform itself, the sign kept.
             tangent: std::array::from_fn(|k| {
                 let t = v(k).tangent;
                 m.transform
@@ -162,16 +175,15 @@ fn hit_triangles(m: &Mesh, double_sided: bool, out: &mut Vec<HitTriangle>, (corn
     }
 }
 
-/// Every traced mesh's hit data, mesh after mesh, each traced triangle's corners and their
-/// texture coordinates.
-fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<Corners>, Vec<HitCorners>) {
-    let (mut all, mut corners, mut uvs) = (vec![], vec![], vec![]);
+/// Every traced mesh's hit data, mesh after mesh, and each traced triangle's corners.
+fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriangle>, Vec<Corners>) {
+    let (mut all, mut corners) = (vec![], vec![]);
     for &i in list {
         let m = &scene.meshes[meshes[i].source];
         let double_sided = scene.materials.get(m.material).is_some_and(|mat| mat.double_sided);
-        hit_triangles(m, double_sided, &mut all, (&mut corners, &mut uvs));
+        hit_triangles(m, double_sided, &mut all, &mut corners);
     }
-    (all, corners, uvs)
+    (all, corners)
 }
 
 /// Where each map's texels begin in `hit_maps` (bytes, 256-aligned as copies want them), its
@@ -275,6 +287,11 @@ fn emitters(hits: &mut [HitTriangle], corners: &[Corners], materials: &[HitMater
     out
 }
 
+/// The most bytes one storage binding may hold on `device`.
+fn storage_limit(device: &wgpu::Device) -> u64 {
+    device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size)
+}
+
 fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
@@ -286,13 +303,12 @@ fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
 impl HitData {
     /// The traced meshes' triangles and the scene's materials as hits read them, within the
     /// device's storage-binding size.
-    pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitData> {
-        let (device, queue) = gpu;
+    pub fn build(device: &wgpu::Device, scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitData> {
         let (meshes, materials) = (&scene_gpu.meshes[..], &scene_gpu.hit_materials[..]);
-        let (mut hits, corners, uvs) = hit_data(meshes, &traced(meshes), scene);
+        let (mut hits, corners) = hit_data(meshes, &traced(meshes), scene);
         let emitters = emitters(&mut hits, &corners, materials);
         let bytes = std::mem::size_of_val(&hits[..]).max(std::mem::size_of_val(&emitters[..])) as u64;
-        let max = device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size);
+        let max = storage_limit(device);
         if bytes > max {
             return Err(Error::Scene(format!(
                 "scene `{}`: the hit data of its {} traced triangles is {bytes} bytes, over this device's limit of {max} (max_storage_buffer_binding_size); choose the raster option of the pass that shades ray hits",
@@ -302,7 +318,6 @@ impl HitData {
         }
         // A binding cannot be empty: one zeroed entry stands in for none.
         let hits = if hits.is_empty() { vec![HitTriangle::default()] } else { hits };
-        let uvs = if uvs.is_empty() { vec![HitCorners::default()] } else { uvs };
         let emitters = if emitters.is_empty() {
             vec![HitEmitter::default()]
         } else {
@@ -317,7 +332,32 @@ impl HitData {
             triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
             materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
             emitters: storage(device, "hit emitters", bytemuck::cast_slice(&emitters)),
-            corners: storage(device, "hit corners", bytemuck::cast_slice(&uvs)),
+        })
+    }
+}
+
+impl HitMaps {
+    /// The traced triangles' corners (in the hit data's order) and the scene's maps, within
+    /// the device's storage-binding size.
+    pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitMaps> {
+        let (device, queue) = gpu;
+        let mut corners = vec![];
+        for i in traced(&scene_gpu.meshes) {
+            hit_corners(&scene.meshes[scene_gpu.meshes[i].source], &mut corners);
+        }
+        let max = storage_limit(device);
+        let bytes = std::mem::size_of_val(&corners[..]) as u64;
+        if bytes > max {
+            return Err(Error::Scene(format!(
+                "scene `{}`: the texture coordinates of its {} traced triangles are {bytes} bytes, over this device's limit of {max} (max_storage_buffer_binding_size) for looking maps up at ray hits",
+                scene.name,
+                corners.len()
+            )));
+        }
+        // A binding cannot be empty: one zeroed entry stands in for none.
+        let corners = if corners.is_empty() { vec![HitCorners::default()] } else { corners };
+        Ok(HitMaps {
+            corners: storage(device, "hit corners", bytemuck::cast_slice(&corners)),
             maps: maps(device, queue, &scene_gpu.textures, max)?,
         })
     }

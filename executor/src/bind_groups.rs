@@ -71,6 +71,8 @@ pub struct Binder<'a> {
     pub accel: Option<&'a super::accel::Accel>,
     /// What ray hits are shaded with, when the Plan binds it.
     pub hits: Option<&'a super::accel::HitData>,
+    /// What maps are looked up at hits with, when the Plan binds it.
+    pub maps: Option<&'a super::accel::HitMaps>,
 }
 
 enum Held<'a> {
@@ -104,6 +106,11 @@ impl Binder<'_> {
     fn hits(&self) -> Result<&super::accel::HitData> {
         self.hits
             .ok_or_else(|| Error::Plan("the scene's ray-hit data was not built for this Plan".into()))
+    }
+
+    fn maps(&self) -> Result<&super::accel::HitMaps> {
+        self.maps
+            .ok_or_else(|| Error::Plan("the maps looked up at ray hits were not built for this Plan".into()))
     }
 
     fn entry(&self, res: ResourceId) -> Result<&super::pool::Entry> {
@@ -246,8 +253,8 @@ impl Binder<'_> {
                 BindSource::HitTriangles => Held::Buf(self.hits()?.triangles.as_entire_buffer_binding()),
                 BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
                 BindSource::HitEmitters => Held::Buf(self.hits()?.emitters.as_entire_buffer_binding()),
-                BindSource::HitCorners => Held::Buf(self.hits()?.corners.as_entire_buffer_binding()),
-                BindSource::HitMaps => Held::Buf(self.hits()?.maps.as_entire_buffer_binding()),
+                BindSource::HitCorners => Held::Buf(self.maps()?.corners.as_entire_buffer_binding()),
+                BindSource::HitMaps => Held::Buf(self.maps()?.maps.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

@@ -9,7 +9,7 @@
 
 mod embed;
 
-use super::accel::{Accel, HitData};
+use super::accel::{Accel, HitData, HitMaps};
 use super::bind_groups::{Binder, SLOT};
 use super::encode::{encode, PassGpu};
 use super::pipelines::{Built, PipelineCache, PipelineKey};
@@ -118,6 +118,8 @@ struct Shared {
     accel: std::sync::OnceLock<Accel>,
     /// What ray hits are shaded with, built the first time a Plan binds it.
     hits: std::sync::OnceLock<HitData>,
+    /// What maps are looked up at hits with, built the first time a Plan binds it.
+    hit_maps: std::sync::OnceLock<HitMaps>,
     scene: Scene,
     lights: Vec<Light>,
     bounds: (glam::Vec3, glam::Vec3),
@@ -198,6 +200,7 @@ impl Shared {
             bounds: scene.bounds(),
             accel: Default::default(),
             hits: Default::default(),
+            hit_maps: Default::default(),
             lights,
             scene,
         })
@@ -217,8 +220,17 @@ impl Shared {
         if let Some(h) = self.hits.get() {
             return Ok(h);
         }
-        let built = HitData::build((&gpu.device, &gpu.queue), &self.scene_gpu, &self.scene)?;
+        let built = HitData::build(&gpu.device, &self.scene_gpu, &self.scene)?;
         Ok(self.hits.get_or_init(|| built))
+    }
+
+    /// What maps are looked up at hits with, built on first use.
+    fn hit_maps(&self, gpu: &Gpu) -> Result<&HitMaps> {
+        if let Some(m) = self.hit_maps.get() {
+            return Ok(m);
+        }
+        let built = HitMaps::build((&gpu.device, &gpu.queue), &self.scene_gpu, &self.scene)?;
+        Ok(self.hit_maps.get_or_init(|| built))
     }
 }
 
@@ -992,17 +1004,18 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
     [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
 }
 
-/// What of the scene's ray-tracing data a Plan binds: the acceleration structure, the hit data.
-fn traces(plan: &Plan) -> (bool, bool) {
+/// What of the scene's ray-tracing data a Plan binds: the acceleration structure, the hit
+/// data, the maps looked up at hits.
+fn traces(plan: &Plan) -> (bool, bool, bool) {
     use lightbench_compiler::layout::BindSource;
-    let hit_data = |s: &BindSource<_, _>| {
-        matches!(
-            s,
-            BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters | BindSource::HitCorners | BindSource::HitMaps
-        )
-    };
+    let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters);
+    let hit_maps = |s: &BindSource<_, _>| matches!(s, BindSource::HitCorners | BindSource::HitMaps);
     let entries = || plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
-    (plan.resources.iter().any(|r| r.is_accel()), entries().any(|e| hit_data(&e.source)))
+    (
+        plan.resources.iter().any(|r| r.is_accel()),
+        entries().any(|e| hit_data(&e.source)),
+        entries().any(|e| hit_maps(&e.source)),
+    )
 }
 
 /// The GPU state of an executable: resources (sharing `old`'s where unchanged; transient ones
@@ -1033,7 +1046,7 @@ fn build_state(
         ..Default::default()
     };
     // Rays need the scene's acceleration structure: built the first time a Plan binds it.
-    let (accel, hits) = traces(plan);
+    let (accel, hits, maps) = traces(plan);
     let accel = match accel {
         true => Some(err_scope(gpu, "building the acceleration structure", || shared.accel(gpu))??),
         false => None,
@@ -1042,9 +1055,14 @@ fn build_state(
         true => Some(err_scope(gpu, "building the ray-hit data", || shared.hits(gpu))??),
         false => None,
     };
+    let maps = match maps {
+        true => Some(err_scope(gpu, "copying the maps looked up at ray hits", || shared.hit_maps(gpu))??),
+        false => None,
+    };
     let binder = Binder {
         accel,
         hits,
+        maps,
         gpu,
         plan,
         pool: &pool,
