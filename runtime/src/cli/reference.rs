@@ -132,6 +132,16 @@ fn settings(a: &Args) -> Result<Settings> {
 
 fn execute(a: &Args) -> Result<()> {
     let s = settings(a)?;
+    let gpu_only = [
+        ("--pipeline", a.pipeline.is_some()),
+        ("--adapter", a.adapter.is_some()),
+        ("--backend", a.backend.is_some()),
+    ];
+    if let (Device::Cpu, Some((flag, _))) = (a.device, gpu_only.iter().find(|(_, given)| *given)) {
+        return Err(Error::Usage(format!(
+            "{flag} chooses how the GPU reference renders: it needs --device gpu"
+        )));
+    }
     let size = a.size.as_deref().map(parse_size).transpose()?;
     let scene = crate::scene::load::load_sized(&a.scene, size, &[])?;
     let (r, fresh) = match a.device {

@@ -203,3 +203,52 @@ fn the_gpu_reference_renders_to_an_error_target() {
     assert!(reached["error"].as_f64().unwrap() <= 0.1, "{reached}");
     assert!(m["spp"].as_u64().unwrap() > 64, "more than the pilot: {}", m["spp"]);
 }
+
+/// Bad inputs of the GPU reference: each said, with its exit code, and nothing written.
+#[test]
+fn bad_gpu_reference_inputs_are_refused_and_write_nothing() {
+    let dir = scratch("gpu-reference-bad");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    for (args, code, says) in [
+        (
+            vec!["--device", "gpu", "--pipeline", "no/such.lbp"],
+            2,
+            "no such pipeline file: no/such.lbp",
+        ),
+        (
+            vec!["--device", "gpu", "--adapter", "no such adapter"],
+            1,
+            "no adapter matches `no such adapter`",
+        ),
+        (
+            vec!["--pipeline", "pipelines/pathtrace.lbp"],
+            2,
+            "--pipeline chooses how the GPU reference renders: it needs --device gpu",
+        ),
+        (vec!["--adapter", "llvmpipe"], 2, "--adapter chooses how the GPU reference renders"),
+        (vec!["--device", "tpu"], 2, "invalid value 'tpu'"),
+    ] {
+        let mut all = vec!["reference", "--scene", "cornell", "--size", "8x8", "--spp", "1", "--out", o];
+        all.extend(args);
+        let (got, _, err) = lightbench(&all);
+        assert_eq!(got, code, "{all:?}: {err}");
+        assert!(err.contains(says), "{all:?}: {err}");
+        assert!(!out.exists(), "{all:?} wrote {}", out.display());
+    }
+    // A sweep's reference device that is not one, located in the spec.
+    let spec = dir.join("tpu.ron");
+    let pipeline = crate::cli_common::root().join("pipelines/deferred.lbp");
+    std::fs::write(
+        &spec,
+        format!("Sweep(\n    pipeline: {:?},\n    scenes: [\"cornell\"],\n    points: [{{}}],\n    effect: [\"gbuffer\"],\n    compare: \"hdr\",\n    reference: (term: direct, device: tpu),\n)\n", pipeline.display().to_string()),
+    )
+    .unwrap();
+    let (got, _, err) = lightbench(&["sweep", spec.to_str().unwrap(), "--out", o, "--quiet"]);
+    assert_eq!(got, 1, "{err}");
+    assert!(
+        err.contains("tpu.ron:7:") && err.contains("`tpu`") && err.contains("expected either `cpu` or `gpu`"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
