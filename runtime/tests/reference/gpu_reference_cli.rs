@@ -252,3 +252,27 @@ fn bad_gpu_reference_inputs_are_refused_and_write_nothing() {
     );
     assert!(!out.exists());
 }
+
+/// docs/reference.md's GPU example, run as written (in a project that `lightbench init` made,
+/// where `pipelines/pathtrace.lbp` is the path a user types).
+#[test]
+fn the_documented_gpu_example_runs_as_written() {
+    let doc = std::fs::read_to_string(crate::cli_common::root().join("docs/reference.md")).unwrap();
+    let block = doc
+        .split("```sh\n")
+        .map(|b| b.split("```").next().unwrap())
+        .find(|b| b.contains("--device gpu"))
+        .expect("the GPU example");
+    let dir = scratch("gpu-reference-doc");
+    let (code, _, err) = crate::cli_common::lightbench_in(&dir, &["init", "."]);
+    assert_eq!(code, 0, "{err}");
+    for line in block.lines() {
+        let args: Vec<&str> = line.split_whitespace().skip(1).collect();
+        let (code, _, err) = crate::cli_common::lightbench_in(&dir, &args);
+        assert_eq!(code, 0, "{line}: {err}");
+    }
+    assert!(dir.join("ref-gpu/full.exr").is_file() && dir.join("ref-gpu/direct.variance.exr").is_file());
+    let img = image::open(dir.join("traced.png")).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (64, 64));
+    assert!(img.pixels().any(|p| p != img.get_pixel(0, 0)), "a lit, non-uniform image");
+}
