@@ -1,16 +1,16 @@
 // lib/lighting.wgsl's Blinn-Phong as a path tracer samples it (the reference's `Lobes`,
-// reference/src/shading.rs): BRDF × cos, and a direction drawn from a one-sample mixture of
-// the cosine lobe and the Phong-power lobe about the half vector, each in proportion to its
-// share of the reflectance, with the mixture's density. The including file includes
-// lib/sampling.wgsl.
+// reference/src/shading.rs): a direction drawn from a one-sample mixture of the cosine lobe
+// and the Phong-power lobe about the half vector, each in proportion to its share of the
+// reflectance, with the mixture's density, and the BRDF × cos there (`blinn_phong` itself).
+// The including file includes lib/lighting.wgsl and lib/sampling.wgsl.
 
 struct Lobes {
-    // diffuse reflectance / π
-    diffuse: vec3<f32>,
-    // specular colour × (s + 8) / 8π
-    specular: vec3<f32>,
+    // The surface, as lib/lighting.wgsl's `blinn_phong` takes it.
+    albedo: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+    // The specular lobe's exponent and its density constant (e + 1) / 2π.
     exponent: f32,
-    // (e + 1) / 2π: the power lobe's density constant
     density: f32,
     // probability of drawing from the specular lobe
     specular_share: f32,
@@ -19,30 +19,25 @@ struct Lobes {
 fn lobes(albedo: vec3<f32>, metallic: f32, roughness: f32) -> Lobes {
     let diffuse = albedo * (1.0 - metallic);
     let spec_color = mix(vec3<f32>(0.04), albedo, metallic);
-    let s = 2.0 / max(roughness * roughness * roughness * roughness, 1e-4) - 2.0;
-    let e = max(s, 1.0);
+    let e = max(2.0 / max(roughness * roughness * roughness * roughness, 1e-4) - 2.0, 1.0);
     let d = max(diffuse.r, max(diffuse.g, diffuse.b));
     let sp = max(spec_color.r, max(spec_color.g, spec_color.b));
-    return Lobes(diffuse / SAMPLING_PI, spec_color * ((s + 8.0) / 25.132741), e, (e + 1.0) / (2.0 * SAMPLING_PI), select(sp / (d + sp), 0.0, d + sp <= 0.0));
+    return Lobes(albedo, metallic, roughness, e, (e + 1.0) / (2.0 * SAMPLING_PI), select(sp / (d + sp), 0.0, d + sp <= 0.0));
 }
 
-// BRDF × cos θ_l for light from `l` seen from `v` at shading normal `n`, and the density of
-// `lobes_sample` drawing `l`.
+// BRDF × cos θ_l for light from `l` seen from `v` at shading normal `n` (lib/lighting.wgsl's
+// definition), and the density of `lobes_sample` drawing `l`.
 struct LobeValue {
     f: vec3<f32>,
     pdf: f32,
 };
 
 fn lobes_eval(b: Lobes, n: vec3<f32>, l: vec3<f32>, v: vec3<f32>) -> LobeValue {
-    let ndl = max(dot(n, l), 0.0);
-    let cos_pdf = ndl / SAMPLING_PI;
-    let half = safe_normalize(l + v, n);
-    let lobe = pow(max(dot(n, half), 0.0), b.exponent);
-    var out = LobeValue(vec3<f32>(0.0), cos_pdf);
-    if ndl > 0.0 {
-        out.f = (b.diffuse + b.specular * lobe) * ndl;
-    }
+    let cos_pdf = max(dot(n, l), 0.0) / SAMPLING_PI;
+    var out = LobeValue(blinn_phong(n, l, v, b.albedo, b.metallic, b.roughness), cos_pdf);
     if b.specular_share > 0.0 {
+        let half = safe_normalize(l + v, n);
+        let lobe = pow(max(dot(n, half), 0.0), b.exponent);
         let spec = b.density * lobe / (4.0 * max(abs(dot(v, half)), 1e-6));
         out.pdf = (1.0 - b.specular_share) * cos_pdf + b.specular_share * spec;
     }
