@@ -23,8 +23,8 @@ fn the_path_traced_view_is_the_gpu_reference_and_restarts_on_change() {
     assert!(t.caption().contains("12 paths per pixel"), "{}", t.caption());
     // The same paths as `reference --device gpu` with 12 samples (seed 0).
     let traced = t.ex.read_texture(&g, "pt.mean", 0, 0).unwrap();
-    let ws = Workspace::disk();
-    let tracer_path = gpu_common::root().join("pipelines/pathtrace.lbp");
+    // The path tracer the viewer runs, from where the viewer finds it.
+    let (tracer_path, ws) = lightbench::gpu_reference::source(None).unwrap();
     let s = Settings {
         budget: Budget::Spp(12),
         terms: vec![Term::Full],
