@@ -250,6 +250,37 @@ pub fn edge_pixels(scene: &Scene) -> Vec<bool> {
         .collect()
 }
 
+/// The mesh each pixel's centre sees (an index into `scene.meshes`; `None` over the
+/// background), as a camera ray finds it: what per-surface comparisons group pixels by. Row by
+/// row.
+pub fn surfaces_seen(scene: &Scene) -> Vec<Option<usize>> {
+    let world = world::World::new(scene);
+    let cam = Camera::new(scene);
+    // The first scene triangle of each mesh, as World::new lays them out.
+    let starts: Vec<u32> = scene
+        .meshes
+        .iter()
+        .scan(0u32, |next, m| {
+            let start = *next;
+            *next += (m.drawn_indices() as usize).min(m.indices.len()) as u32 / 3;
+            Some(start)
+        })
+        .collect();
+    let (w, h) = scene.size;
+    (0..h)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let (world, cam, starts) = (&world, &cam, &starts);
+            (0..w).map(move |x| {
+                let (origin, dir, len) = cam.ray_at(x as f64 + 0.5, y as f64 + 0.5);
+                let hit = world.trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, sample::SOLID_BLEND)?;
+                let t = world.scene_triangle(hit.triangle);
+                Some(starts.partition_point(|&s| s <= t) - 1)
+            })
+        })
+        .collect()
+}
+
 /// Per-pixel running sums: for each term, Σx and Σx² per channel.
 type Sums = Vec<f64>;
 const SLOTS: usize = 6;

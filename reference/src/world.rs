@@ -211,6 +211,11 @@ impl World {
         self.tris.len()
     }
 
+    /// Triangle `i`'s place in the scene's order (the meshes' drawn triangles one after another).
+    pub fn scene_triangle(&self, i: u32) -> u32 {
+        self.scene_index[i as usize]
+    }
+
     /// Whether a hit on triangle `i` at `t` (determinant `det`) counts: cut-out texels (alpha
     /// mask) and, with the probability of their transparency, blended ones let the ray
     /// through. With `Faces::Seen` so does the back of a single-sided surface, whose distance

@@ -1,13 +1,14 @@
 //! Stage `measure` of `sweep`: how far a raster estimate is from the reference term — RMSE
 //! corrected for the reference's own noise, bias, for colour terms mean FLIP, and region by
-//! region the ratios of 8×8-block means — over the pixels both images have.
+//! region the ratios of 8×8-block means and of each labelled surface's mean — over the pixels
+//! both images have.
 
 use crate::error::{Error, Result};
 use crate::io::Image;
 use crate::reference::{Term, TermImage};
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ErrorMetrics {
     /// √max(0, MSE − mean reference variance): the error the estimate would have against a
     /// noise-free reference (the reference's noise adds its variance to the expected MSE).
@@ -28,7 +29,38 @@ pub struct ErrorMetrics {
     /// (none where no block qualifies; rows written before had none).
     #[serde(default)]
     pub blocks: Option<BlockRatios>,
+    /// Surface by surface (the scene's mesh names): the ratio of the estimate's mean over the
+    /// pixels showing it to the reference's, for the surfaces judged as blocks are (at least
+    /// `MIN_SURFACE_PIXELS`, lit, known); lowest ratio first. Empty where none qualifies.
+    #[serde(default)]
+    pub surfaces: Vec<SurfaceRatio>,
 }
+
+/// One labelled surface's ratio of means, estimate over reference, and the pixels it covers.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SurfaceRatio {
+    pub name: String,
+    pub ratio: f64,
+    pub pixels: usize,
+}
+
+impl ErrorMetrics {
+    /// The surfaces with the lowest and the highest ratio.
+    pub fn surface_extremes(&self) -> Option<(&SurfaceRatio, &SurfaceRatio)> {
+        Some((self.surfaces.first()?, self.surfaces.last()?))
+    }
+}
+
+/// Which surface each pixel shows (row by row; `None`: the background) and the surfaces'
+/// names: meshes of one name are one surface.
+pub struct Surfaces {
+    pub seen: Vec<Option<usize>>,
+    pub names: Vec<String>,
+}
+
+/// Fewest pixels a surface must cover to be judged (a 4×4 patch): fewer say more about the
+/// raster's and the reference's edges than about the effect.
+pub const MIN_SURFACE_PIXELS: usize = 16;
 
 /// The ratios of 8×8-block means, estimate over reference (channels summed), over the blocks
 /// the reference lights (a mean of at least 1% of its image's) and knows (a standard error of
@@ -47,28 +79,65 @@ pub struct BlockRatios {
 /// Side of the blocks `BlockRatios` compares.
 pub const BLOCK: usize = 8;
 
+/// Sums over the pixels of one region (a block, a surface), channels summed.
+#[derive(Clone, Copy, Default)]
+struct Region {
+    estimate: f64,
+    reference: f64,
+    /// Of the reference's per-pixel variances: the variance of its sum.
+    variance: f64,
+    non_finite: bool,
+    pixels: usize,
+}
+
+impl Region {
+    fn add(&mut self, estimate: &[f32], reference: &TermImage, n: usize, p: usize) {
+        self.pixels += 1;
+        for c in 0..n {
+            let e = estimate[p * 4 + c];
+            self.non_finite |= !e.is_finite();
+            self.estimate += e as f64;
+            self.reference += reference.mean.rgba[p * 4 + c] as f64;
+            self.variance += reference.variance.rgba[p * 4 + c] as f64;
+        }
+    }
+
+    /// Whether the region is judged: its estimate finite, its reference lit (at least 1% of
+    /// the image's mean pixel, `mean_pixel`, per pixel) and known (a standard error of at most
+    /// 5% of its sum, so that the reference's noise does not make the ratio).
+    fn judged(&self, mean_pixel: f64) -> bool {
+        !self.non_finite
+            && self.reference > 0.0
+            && self.reference > 0.01 * mean_pixel * self.pixels as f64
+            && self.variance.sqrt() <= 0.05 * self.reference
+    }
+
+    fn ratio(&self) -> f64 {
+        self.estimate / self.reference
+    }
+}
+
+/// The reference's mean pixel, channels summed.
+fn mean_pixel(reference: &TermImage, n: usize) -> f64 {
+    let sum: f64 = reference
+        .mean
+        .rgba
+        .chunks_exact(4)
+        .map(|p| p[..n].iter().map(|&v| v as f64).sum::<f64>())
+        .sum();
+    sum / (reference.mean.rgba.len() / 4).max(1) as f64
+}
+
 /// The block ratios of `estimate` (linear RGBA) against `reference`, over `n` channels.
 fn block_ratios(estimate: &[f32], reference: &TermImage, n: usize) -> Option<BlockRatios> {
     let (w, h) = (reference.mean.width as usize, reference.mean.height as usize);
     let (bw, bh) = (w.div_ceil(BLOCK), h.div_ceil(BLOCK));
-    // Per block: estimate sum, reference sum, reference variance sum, finite estimate.
-    let mut sums = vec![(0.0f64, 0.0f64, 0.0f64, true); bw * bh];
+    let mut blocks = vec![Region::default(); bw * bh];
     for p in 0..w * h {
-        let b = &mut sums[(p / w / BLOCK) * bw + (p % w) / BLOCK];
-        for c in 0..n {
-            let e = estimate[p * 4 + c];
-            b.3 &= e.is_finite();
-            b.0 += e as f64;
-            b.1 += reference.mean.rgba[p * 4 + c] as f64;
-            b.2 += reference.variance.rgba[p * 4 + c] as f64;
-        }
+        blocks[(p / w / BLOCK) * bw + (p % w) / BLOCK].add(estimate, reference, n, p);
     }
-    let floor = 0.01 * sums.iter().map(|b| b.1).sum::<f64>() / sums.len().max(1) as f64;
-    let mut ratios: Vec<f64> = sums
-        .iter()
-        .filter(|b| b.3 && b.1 > floor && b.1 > 0.0 && b.2.sqrt() <= 0.05 * b.1)
-        .map(|b| b.0 / b.1)
-        .collect();
+    let mean = mean_pixel(reference, n);
+    let mut ratios: Vec<f64> = blocks.iter().filter(|b| b.judged(mean)).map(Region::ratio).collect();
     if ratios.is_empty() {
         return None;
     }
@@ -81,6 +150,36 @@ fn block_ratios(estimate: &[f32], reference: &TermImage, n: usize) -> Option<Blo
         max: ratios[ratios.len() - 1],
         blocks: ratios.len(),
     })
+}
+
+/// The ratio of each labelled surface's mean to the reference's (channels summed), lowest
+/// first.
+fn surface_ratios(estimate: &[f32], reference: &TermImage, n: usize, labels: &Surfaces) -> Vec<SurfaceRatio> {
+    let mut names: Vec<&String> = labels.names.iter().collect();
+    names.sort();
+    names.dedup();
+    let mut surfaces = vec![Region::default(); names.len()];
+    for (p, seen) in labels.seen.iter().enumerate().take(estimate.len() / 4) {
+        if let Some(i) = seen
+            .and_then(|m| labels.names.get(m))
+            .and_then(|name| names.binary_search(&name).ok())
+        {
+            surfaces[i].add(estimate, reference, n, p);
+        }
+    }
+    let mean = mean_pixel(reference, n);
+    let mut ratios: Vec<SurfaceRatio> = names
+        .iter()
+        .zip(&surfaces)
+        .filter(|(_, s)| s.pixels >= MIN_SURFACE_PIXELS && s.judged(mean))
+        .map(|(name, s)| SurfaceRatio {
+            name: name.to_string(),
+            ratio: s.ratio(),
+            pixels: s.pixels,
+        })
+        .collect();
+    ratios.sort_by(|a, b| a.ratio.total_cmp(&b.ratio));
+    ratios
 }
 
 /// JSON has no NaN: serde_json writes it as `null`, read back here as NaN.
@@ -97,7 +196,9 @@ pub fn channels(term: Term) -> usize {
     }
 }
 
-pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<ErrorMetrics> {
+/// The error of `estimate` against the reference term; per surface where `labels` says which
+/// surface each pixel shows.
+pub fn error(estimate: &Image, reference: &TermImage, resource: &str, labels: Option<&Surfaces>) -> Result<ErrorMetrics> {
     let r = &reference.mean;
     if (estimate.width, estimate.height) != (r.width, r.height) {
         return Err(Error::Input(format!(
@@ -134,6 +235,7 @@ pub fn error(estimate: &Image, reference: &TermImage, resource: &str) -> Result<
         rmse_raw: mse.sqrt(),
         bias: diff / k,
         blocks: block_ratios(&est, reference, n),
+        surfaces: labels.map(|l| surface_ratios(&est, reference, n, l)).unwrap_or_default(),
         flip: (n == 3).then(|| flip(est, r)),
         non_finite,
     })
@@ -180,14 +282,17 @@ mod tests {
     fn the_reference_noise_is_subtracted() {
         let r = ao_reference(0.5, 0.01);
         let (est, _) = flat(0.6, 0.0);
-        let m = error(&est, &r, "ao").unwrap();
+        let m = error(&est, &r, "ao", None).unwrap();
         assert!((m.rmse_raw - 0.1).abs() < 1e-6 && m.rmse.abs() < 1e-3, "{m:?}");
         assert!((m.bias - 0.1).abs() < 1e-6 && m.flip.is_none());
         let (est, _) = flat(0.8, 0.0);
-        let m = error(&est, &r, "ao").unwrap();
+        let m = error(&est, &r, "ao", None).unwrap();
         assert!((m.rmse - (0.09f64 - 0.01).sqrt()).abs() < 1e-5, "{m:?}");
         let small = Image { width: 4, ..est };
-        assert!(error(&small, &r, "ao").unwrap_err().to_string().contains("size of the viewport"));
+        assert!(error(&small, &r, "ao", None)
+            .unwrap_err()
+            .to_string()
+            .contains("size of the viewport"));
     }
 
     /// Block ratios find what the mean hides: half the image at twice the reference and half
@@ -212,7 +317,7 @@ mod tests {
             let v = if p % 16 < 8 { 1.0 } else { 0.0 };
             est.rgba[p * 4..p * 4 + 3].copy_from_slice(&[v; 3]);
         }
-        let m = error(&est, &r, "hdr").unwrap();
+        let m = error(&est, &r, "hdr", None).unwrap();
         assert!(m.bias.abs() < 1e-9, "{m:?}");
         let b = m.blocks.unwrap();
         assert_eq!((b.min, b.max, b.blocks), (0.0, 2.0, 4), "{b:?}");
@@ -223,10 +328,47 @@ mod tests {
             r.mean.rgba[(y * 16 + x) * 4..][..3].copy_from_slice(&[0.0; 3]);
             r.variance.rgba[(y * 16 + x + 8) * 4..][..3].copy_from_slice(&[1.0; 3]);
         }
-        assert_eq!(error(&est, &r, "hdr").unwrap().blocks.unwrap().blocks, 2);
+        assert_eq!(error(&est, &r, "hdr", None).unwrap().blocks.unwrap().blocks, 2);
         // Rows written before block ratios existed still load.
         let old = r#"{"rmse":0.1,"rmse_raw":0.1,"bias":0.0,"flip":null,"non_finite":0}"#;
         assert!(serde_json::from_str::<ErrorMetrics>(old).unwrap().blocks.is_none());
+    }
+
+    /// Surface ratios group pixels by the name of the surface they show (meshes of one name
+    /// are one surface), leave out the background and surfaces under 16 pixels, and come
+    /// lowest first.
+    #[test]
+    fn surface_ratios_group_pixels_by_name() {
+        let mut r = ao_reference(0.5, 0.0);
+        r.term = Term::Direct;
+        let mut est = r.mean.clone();
+        // Rows 0–3: "wall" (meshes 0 and 2) at 2×; rows 4–6: "floor" at 0.5×; row 7: one
+        // "box" pixel, the rest background.
+        let seen: Vec<Option<usize>> = (0..64)
+            .map(|p| match p / 8 {
+                0..=3 => Some(if p % 2 == 0 { 0 } else { 2 }),
+                4..=6 => Some(1),
+                _ => (p == 56).then_some(3),
+            })
+            .collect();
+        for (p, s) in seen.iter().enumerate() {
+            let v = match s {
+                Some(0 | 2) => 1.0,
+                Some(1) => 0.25,
+                _ => 0.5,
+            };
+            est.rgba[p * 4..p * 4 + 3].copy_from_slice(&[v; 3]);
+        }
+        let labels = Surfaces {
+            seen,
+            names: ["wall", "floor", "wall", "box"].map(String::from).to_vec(),
+        };
+        let m = error(&est, &r, "hdr", Some(&labels)).unwrap();
+        let got: Vec<(&str, f64, usize)> = m.surfaces.iter().map(|s| (s.name.as_str(), s.ratio, s.pixels)).collect();
+        assert_eq!(got, [("floor", 0.5, 24), ("wall", 2.0, 32)]);
+        let (low, high) = m.surface_extremes().unwrap();
+        assert_eq!((low.name.as_str(), high.name.as_str()), ("floor", "wall"));
+        assert!(error(&est, &r, "hdr", None).unwrap().surfaces.is_empty());
     }
 
     /// An estimate without one finite value has no error to state: NaN (not 0, which would
@@ -235,7 +377,7 @@ mod tests {
     fn an_error_over_no_finite_value_is_nan() {
         let r = ao_reference(0.5, 0.01);
         let (est, _) = flat(f32::NAN, 0.0);
-        let m = error(&est, &r, "ao").unwrap();
+        let m = error(&est, &r, "ao", None).unwrap();
         assert!(m.rmse.is_nan() && m.rmse_raw.is_nan() && m.bias.is_nan(), "{m:?}");
         assert_eq!(m.non_finite, 64);
         let json = serde_json::to_string(&m).unwrap();

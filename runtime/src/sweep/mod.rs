@@ -46,10 +46,11 @@ pub struct Summary {
 /// A scene as a spec names it, at a size (none: its own).
 type SceneKey = (String, Option<(u32, u32)>);
 
-/// Scenes and references (with their cache keys), each made once per scene and size.
+/// Scenes and references (with their cache keys and the surface each pixel shows), each made
+/// once per scene and size.
 struct Inputs {
     scenes: HashMap<SceneKey, Scene>,
-    references: HashMap<SceneKey, (Reference, String)>,
+    references: HashMap<SceneKey, (Reference, String, measure::Surfaces)>,
 }
 
 pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
@@ -196,7 +197,11 @@ fn reference_for(gpu: &Gpu, inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &O
             reference::store::cached_on(&scene, (&settings, &device), &dir, render)?.0
         }
     };
-    inputs.references.insert(key, (made, cache_key));
+    let surfaces = measure::Surfaces {
+        seen: reference::surfaces_seen(&scene),
+        names: scene.meshes.iter().map(|m| m.name.clone()).collect(),
+    };
+    inputs.references.insert(key, (made, cache_key, surfaces));
     Ok(())
 }
 
@@ -230,11 +235,11 @@ fn measure_point(gpu: &Gpu, ws: &Workspace, l: &Loaded, (p, total): (&Point, usi
     }
     let (effect, frame, timing) = time_frames(gpu, &mut ex, l)?;
     let estimate = ex.read_texture(gpu, &p.compare, 0, 0)?;
-    let (reference, key) = &inputs.references[&(p.scene.clone(), p.size)];
+    let (reference, key, surfaces) = &inputs.references[&(p.scene.clone(), p.size)];
     let term = reference
         .term(l.spec.reference.term)
         .ok_or_else(|| Error::Usage("the reference lacks its term".into()))?;
-    let error = measure::error(&estimate, term, &p.compare).map_err(|e| l.error_at("compare", e))?;
+    let error = measure::error(&estimate, term, &p.compare, Some(surfaces)).map_err(|e| l.error_at("compare", e))?;
     Ok(Row {
         spec: l.fingerprint.clone(),
         sweep: l.name.clone(),

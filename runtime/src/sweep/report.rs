@@ -102,6 +102,10 @@ pub fn csv(rows: &[Row]) -> String {
             "block_p90",
             "block_min",
             "block_max",
+            "surface_min",
+            "surface_min_name",
+            "surface_max",
+            "surface_max_name",
             "non_finite",
             "pareto",
             "variants",
@@ -123,8 +127,12 @@ pub fn csv(rows: &[Row]) -> String {
             num(Some(r.error.bias)),
             num(r.error.flip),
         ]);
-        let b = r.error.blocks;
+        let b = r.error.blocks.as_ref();
         f.extend([b.map(|b| b.p10), b.map(|b| b.p90), b.map(|b| b.min), b.map(|b| b.max)].map(num));
+        let (low, high) = r.error.surface_extremes().unzip();
+        for s in [low, high] {
+            f.extend([num(s.map(|s| s.ratio)), s.map(|s| s.name.clone()).unwrap_or_default()]);
+        }
         f.push(r.error.non_finite.to_string());
         f.push(on_front(&groups, r).to_string());
         f.push(r.variants.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" "));
@@ -171,17 +179,17 @@ pub fn markdown(rows: &[Row], points: usize) -> String {
             g.plot_name()
         ));
         out.push_str(&format!(
-            "| {} | effect GPU ms (min–max) | frame ms (min–max) | RMSE | bias | FLIP | 8×8 blocks p10–p90 (min–max) | front |\n",
+            "| {} | effect GPU ms (min–max) | frame ms (min–max) | RMSE | bias | FLIP | 8×8 blocks p10–p90 (min–max) | surfaces (lowest–highest) | front |\n",
             keys.join(" | ")
         ));
-        out.push_str(&format!("|{}---|---|---|---|---|---|---|\n", "---|".repeat(keys.len())));
+        out.push_str(&format!("|{}---|---|---|---|---|---|---|---|\n", "---|".repeat(keys.len())));
         for (r, &front) in g.rows.iter().zip(&g.front) {
             let vals: Vec<String> = keys
                 .iter()
                 .map(|k| r.settings.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone()).unwrap_or_default())
                 .collect();
             out.push_str(&format!(
-                "| {} | {} | {} | {:.5} | {:+.5} | {} | {} | {} |\n",
+                "| {} | {} | {} | {:.5} | {:+.5} | {} | {} | {} | {} |\n",
                 vals.join(" | "),
                 ms(r.effect_ms),
                 ms(r.frame_ms),
@@ -191,6 +199,10 @@ pub fn markdown(rows: &[Row], points: usize) -> String {
                 r.error
                     .blocks
                     .map(|b| format!("{:.2}–{:.2} ({:.2}–{:.2})", b.p10, b.p90, b.min, b.max))
+                    .unwrap_or_else(|| "–".into()),
+                r.error
+                    .surface_extremes()
+                    .map(|(lo, hi)| format!("{:.2} {} – {:.2} {}", lo.ratio, lo.name, hi.ratio, hi.name))
                     .unwrap_or_else(|| "–".into()),
                 if front { "★" } else { "" }
             ));

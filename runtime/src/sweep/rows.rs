@@ -164,6 +164,7 @@ mod tests {
                 flip: None,
                 non_finite: 0,
                 blocks: None,
+                surfaces: vec![],
             },
             reference: String::new(),
             reference_spp: 1,
