@@ -18,6 +18,9 @@ struct Params {
     area_weights: u32,
     // min_distance in world units, else in the scene's (lib/frame.wgsl)
     world: u32,
+    // Screen-space visibility of each sender (`visible`): points marched, 0 for none.
+    steps: u32,
+    thickness: f32,
 };
 
 @group(2) @binding(3) var rsm_position: texture_2d<f32>;
@@ -43,18 +46,22 @@ fn texel_power(l: Light, t: vec2<i32>, sp: vec3<f32>, sn: vec3<f32>, size: f32) 
 // The seed's fixed pattern: every pixel, every frame, the same samples.
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(gather(vec2<i32>(pos.xy), 0.0, false), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), vec2<f32>(0.0), false), 0.0);
 }
 
-// The filtered variant: samples uniform in area over the disc (radius · √e1, each standing
-// for the same area, so every weight is 1: unbiased for the disc), the pattern rotated by an
-// angle per pixel (the same every frame), which turns the fixed pattern's structured error
-// into noise that a cross-bilateral blur (bilateral_blur.wgsl) removes.
+// The filtered variant: samples uniform over the whole map (each standing for the same number
+// of texels, so every weight is 1: unbiased for everything the light reaches, near the
+// receiver's projection or not — a disc around it misses the light of senders far away in the
+// map, such as the floor for a wall a spot light grazes), the pattern shifted per pixel (the
+// same every frame), which turns its structured error into noise that a cross-bilateral blur
+// (bilateral_blur.wgsl) removes; each sender tested for occlusion in the camera's depth buffer
+// (`visible`), since the whole map holds senders hidden from the receiver.
 @fragment
 fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);
     let h = hash(p.x ^ hash(p.y));
-    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0, true), 0.0);
+    let shift = vec2<f32>(f32(h), f32(hash(h))) / 4294967296.0;
+    return vec4<f32>(gather(vec2<i32>(pos.xy), shift, true), 0.0);
 }
 
 // The temporal variant (after Lambru et al., seed 000 §4.3.3): fewer samples, the pattern
@@ -64,7 +71,7 @@ fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);
     let h = hash(p.x ^ hash(p.y ^ hash(frame.frame_index)));
-    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0, false), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), vec2<f32>(f32(h) / 4294967296.0, 0.0), false), 0.0);
 }
 
 // The weight of a sample at e1 (its distance from the centre over the radius). Samples are
@@ -76,6 +83,32 @@ fn sample_weight(e1: f32) -> f32 {
     return select(e1 * e1, 2.0 * e1, params.area_weights != 0u);
 }
 
+// Whether the segment from the receiver at `a` to a sender at `b` is clear in the camera's
+// depth buffer (after screen-space directional occlusion, Ritschel et al. 2009): the RSM holds
+// what the light sees, not what stands between two surfaces. `gi.occlusion.steps` points of the
+// segment, shifted by `jitter` (0..1), are probed; one blocks where it lies behind the surface
+// the camera sees there by less than `gi.occlusion.thickness` (every surface is taken to be
+// that thick); points off screen or over the background block nothing.
+fn visible(a: vec3<f32>, b: vec3<f32>, jitter: f32) -> bool {
+    let unit = length_unit(params.world);
+    // The receiver's and sender's own surfaces are not in the way.
+    let bias = 0.01 * unit;
+    for (var k = 0u; k < params.steps; k++) {
+        let q = probe(mix(a, b, (f32(k) + jitter) / f32(params.steps)));
+        if !q.miss && q.behind > bias && q.behind < params.thickness * unit {
+            return false;
+        }
+    }
+    return true;
+}
+
+// Point i of n of a rank-1 (Fibonacci) lattice over the unit square: every point alone in its
+// row and column of the n × n grid and spread evenly in 2D, so a shifted lattice samples the map
+// with far less variance than as many random points.
+fn lattice(i: u32, n: u32) -> vec2<f32> {
+    return vec2<f32>((f32(i) + 0.5) / f32(n), fract(f32(i) * 0.618034));
+}
+
 // PCG-style integer hash.
 fn hash(x: u32) -> u32 {
     let s = x * 747796405u + 2891336453u;
@@ -83,10 +116,11 @@ fn hash(x: u32) -> u32 {
     return (w >> 22u) ^ w;
 }
 
-// Irradiance / π at pixel `px` from the light of this repetition; `turn` (in turns) rotates
-// the sample pattern; `uniform_area` places samples uniformly in area (weight 1) instead of
-// uniformly in radius (the seed's, weighted by `sample_weight`).
-fn gather(px: vec2<i32>, turn: f32, uniform_area: bool) -> vec3<f32> {
+// Irradiance / π at pixel `px` from the light of this repetition. The seed's sampling (`whole`
+// false): a disc around the receiver's projection, uniform in radius and weighted by
+// `sample_weight`, its pattern turned by `shift.x` (in turns). The filtered variant's (`whole`):
+// uniform over the whole map, the pattern shifted by `shift` (modulo 1), occlusion tested.
+fn gather(px: vec2<i32>, shift: vec2<f32>, whole: bool) -> vec3<f32> {
     let s = load_surface(px);
     if !s.covered {
         return vec3<f32>(0.0);
@@ -101,17 +135,17 @@ fn gather(px: vec2<i32>, turn: f32, uniform_area: bool) -> vec3<f32> {
     let size = vec2<i32>(textureDimensions(rsm_flux, 0));
     let last = size - 1;
     let n = min(params.samples, arrayLength(&gi_pattern));
-    // Texels of the sampled disc that each sample stands for.
-    let per_sample = PI * params.radius * params.radius * f32(size.x * size.y) / f32(max(n, 1u));
+    // Texels of the sampled area (the disc, or the map) that each sample stands for.
+    let area = select(PI * params.radius * params.radius, 1.0, whole);
+    let per_sample = area * f32(size.x * size.y) / f32(max(n, 1u));
     let min_d = params.min_distance * length_unit(params.world);
     let min_d2 = min_d * min_d;
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i++) {
         let e = gi_pattern[i];
-        let a = 2.0 * PI * (e.y + turn);
-        let r = select(e.x, sqrt(e.x), uniform_area);
-        let weight = select(sample_weight(e.x), 1.0, uniform_area);
-        let suv = uv + params.radius * r * vec2<f32>(sin(a), cos(a));
+        let a = 2.0 * PI * (e.y + shift.x);
+        let disc = uv + params.radius * e.x * vec2<f32>(sin(a), cos(a));
+        let suv = select(disc, fract(lattice(i, n) + shift), whole);
         if any(suv < vec2<f32>(0.0)) || any(suv >= vec2<f32>(1.0)) {
             continue;
         }
@@ -121,10 +155,15 @@ fn gather(px: vec2<i32>, turn: f32, uniform_area: bool) -> vec3<f32> {
             continue; // nothing drawn there
         }
         let sn = textureLoad(rsm_normal, t, 0).xyz;
-        let flux = texel_power(l, t, sp.xyz, sn, f32(size.x)) * per_sample;
         let d = sp.xyz - s.world;
+        let facing = max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0);
+        if facing == 0.0 || (whole && !visible(s.world, sp.xyz, fract(e.x + shift.y))) {
+            continue; // turned away, or hidden from the receiver
+        }
+        let flux = texel_power(l, t, sp.xyz, sn, f32(size.x)) * per_sample;
         let d2 = max(dot(d, d), min_d2);
-        sum += weight * flux * max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0) / (d2 * d2);
+        let weight = select(sample_weight(e.x), 1.0, whole);
+        sum += weight * flux * facing / (d2 * d2);
     }
     // The sum is ∫ B cos θ_p cos θ_s / |d|² dA = π E (B: the senders' radiosity, E: the
     // receiver's irradiance); the term held is E / π (the receiver's Lambert 1/π, applied
