@@ -136,13 +136,24 @@ pub struct Lobes {
     specular_share: f32,
 }
 
+/// Whether a surface reflects light from `l` towards `v` at all: both must lie above the
+/// shading normal's hemisphere. The second half is the convention of the independent renderer
+/// the reference is checked against (Mitsuba 3's BSDFs are zero for a cos θ ≤ 0 on either side,
+/// in the shading frame): at a smooth-normal surface seen at a grazing angle the interpolated
+/// normal can turn away from the viewer while the face does not, and without it such a point
+/// still reflected the light it gets — 1.05% of a smooth sphere's and its floor's indirect light
+/// (docs/reference.md, tested). `lib/lobes.wgsl` applies the same rule.
+fn reflects(h: &Hit, l: Vec3A, v: Vec3A) -> bool {
+    h.n.dot(l) > 0.0 && h.n.dot(v) > 0.0
+}
+
 impl Lobes {
     /// BRDF × cos θ_l for light arriving from `l` seen from `v`.
     pub fn eval(&self, h: &Hit, l: Vec3A, v: Vec3A) -> Vec3A {
-        let ndl = h.n.dot(l);
-        if ndl <= 0.0 {
+        if !reflects(h, l, v) {
             return Vec3A::ZERO;
         }
+        let ndl = h.n.dot(l);
         let half = (l + v).try_normalize().unwrap_or(h.n);
         let lobe = h.n.dot(half).max(0.0).powf(self.exponent);
         (self.diffuse + self.specular * lobe) * ndl
@@ -159,7 +170,7 @@ impl Lobes {
         }
         let half = (l + v).try_normalize().unwrap_or(h.n);
         let lobe = h.n.dot(half).max(0.0).powf(self.exponent);
-        let f = if ndl <= 0.0 {
+        let f = if !reflects(h, l, v) {
             Vec3A::ZERO
         } else {
             (self.diffuse + self.specular * lobe) * ndl

@@ -26,7 +26,10 @@ fn lobes(albedo: vec3<f32>, metallic: f32, roughness: f32) -> Lobes {
 }
 
 // BRDF × cos θ_l for light from `l` seen from `v` at shading normal `n` (lib/lighting.wgsl's
-// definition), and the density of `lobes_sample` drawing `l`.
+// definition), and the density of `lobes_sample` drawing `l`. Nothing is reflected towards a
+// `v` below the shading normal's hemisphere (a smooth-normal surface seen at a grazing angle):
+// the reference's convention (`reflects` in reference/src/shading.rs), which the raster
+// passes' `blinn_phong` does not apply.
 struct LobeValue {
     f: vec3<f32>,
     pdf: f32,
@@ -34,7 +37,8 @@ struct LobeValue {
 
 fn lobes_eval(b: Lobes, n: vec3<f32>, l: vec3<f32>, v: vec3<f32>) -> LobeValue {
     let cos_pdf = max(dot(n, l), 0.0) / SAMPLING_PI;
-    var out = LobeValue(blinn_phong(n, l, v, b.albedo, b.metallic, b.roughness), cos_pdf);
+    let f = select(vec3<f32>(0.0), blinn_phong(n, l, v, b.albedo, b.metallic, b.roughness), dot(n, v) > 0.0);
+    var out = LobeValue(f, cos_pdf);
     if b.specular_share > 0.0 {
         let half = safe_normalize(l + v, n);
         let lobe = pow(max(dot(n, half), 0.0), b.exponent);

@@ -330,3 +330,24 @@ fn progressive_accumulation_is_independent_of_the_frame_pacing() {
     assert_eq!(once.rgba, spread.rgba, "mean and count");
     assert_eq!(once_m2.rgba, spread_m2.rgba, "squared deviations");
 }
+
+/// The smooth-normal convention on the GPU as on the CPU (`lib/lobes.wgsl`, `reflects` in
+/// reference/src/shading.rs): shading normals leaning 60° from their face, seen from above
+/// their hemisphere and from below it (where nothing is reflected, the sky's light included).
+#[test]
+fn the_gpu_path_tracer_keeps_the_smooth_normal_convention() {
+    let pipeline = gpu_common::root().join("pipelines/pathtrace.lbp");
+    for eye in [glam::Vec3::new(3.0, 2.0, 0.0), glam::Vec3::new(-2.0, 1.0, 0.0)] {
+        // 64²: the mean z-score of the comparison is judged over enough pixels.
+        let scene = Scene {
+            size: (64, 64),
+            ..crate::reference::leaning_normals(eye)
+        };
+        let s = settings(&[Term::Full], 128);
+        assert_eq!(judge(&scene, &s, &pipeline), Vec::<String>::new(), "from {eye}");
+        if eye.x < 0.0 {
+            let gpu = on_gpu(&scene, &s, &pipeline);
+            assert!(gpu.terms[0].mean.rgba.chunks_exact(4).all(|p| p[..3] == [0.0; 3]), "from {eye}");
+        }
+    }
+}

@@ -465,3 +465,53 @@ fn point_and_sun_lit_images_are_those_of_before_emitters() {
         }
     }
 }
+
+/// A 2×2 floor quad (y = 0, facing up) whose vertex normals all lean 60° towards +x, inside a
+/// closed black box 20 units wide that emits 1 everywhere, seen from `eye`: a surface with
+/// shading normals that are not its face's, in uniform light.
+pub fn leaning_normals(eye: Vec3) -> Scene {
+    let (mut vs, mut is) = (vec![], vec![]);
+    quad(Vec3::ZERO, Vec3::X, Vec3::NEG_Z, &mut vs, &mut is);
+    let lean = Vec3::new(60f32.to_radians().sin(), 60f32.to_radians().cos(), 0.0);
+    vs.iter_mut().for_each(|v| v.normal = lean.to_array());
+    let mut grey = Material::color("grey", [0.5; 3], 1.0);
+    grey.metallic = 0.0;
+    let mut sky = Material::color("sky", [0.0; 3], 1.0);
+    sky.emissive = [1.0; 3];
+    sky.double_sided = true;
+    let mut walls = mesh("sky", cuboid(Vec3::splat(10.0)), Mat4::IDENTITY);
+    walls.material = 1;
+    let mut cam = camera(eye, 0.0);
+    cam.fov = 10.0;
+    cam.look_at(Vec3::ZERO);
+    scene(vec![mesh("quad", (vs, is), Mat4::IDENTITY), walls], vec![grey, sky], cam, (16, 16))
+}
+
+/// The reference's smooth-normal convention, against the analytic answer (docs/reference.md):
+/// light is drawn about the shading normal n and cut off below the face, so a Lambertian
+/// surface of albedo a under uniform radiance E reflects a·E·(1 + cos α)/2 (the share of the
+/// cosine lobe about n above a face tilted α from it: a tilted plane's sky view) — wherever
+/// the viewer is above n's hemisphere; where the viewer is below it (the face still seen),
+/// nothing, as the independent renderer the reference is checked against has it.
+#[test]
+fn leaning_shading_normals_reflect_the_analytic_share_or_nothing() {
+    let expected = 0.5 * (1.0 + 60f64.to_radians().cos()) / 2.0;
+    for (eye, want) in [(Vec3::new(3.0, 2.0, 0.0), expected), (Vec3::new(-2.0, 1.0, 0.0), 0.0)] {
+        let s = leaning_normals(eye);
+        let settings = Settings {
+            brdf: Brdf::Lambert,
+            ..settings(&[Term::Full], 512)
+        };
+        let r = reference::render(&s, &settings, false);
+        let full = r.term(Term::Full).unwrap();
+        let got = mean(&full.mean);
+        let noise = (mean(&full.variance) / 256.0).sqrt();
+        assert!(
+            (got - want).abs() <= 0.01 * want + 4.0 * noise,
+            "from {eye}: {got} vs {want} (±{noise})"
+        );
+        if want == 0.0 {
+            assert!(full.mean.rgba.chunks_exact(4).all(|p| p[0] == 0.0), "from {eye}: a pixel reflects");
+        }
+    }
+}
