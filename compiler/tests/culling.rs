@@ -164,3 +164,44 @@ fn scene_file_features_and_errors() {
     assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((2, 15)));
     assert!(d.notes[0].contains("did you mean `Ssr`?"));
 }
+
+/// A scene calling for an effect whose passes all run per light kinds it lacks (an
+/// emitter-lit box calling for indirect light, which the bundled RSM options gather from
+/// directional and spot lights only) gets a note naming the pass and why, instead of a silent
+/// 0; choosing the option off culls by condition and says nothing more.
+#[test]
+fn an_effect_no_kept_pass_serves_is_named_with_why() {
+    let mut s = Session::new();
+    let gi = repo_root().join("pipelines/deferred_gi.lbp");
+    let emitter_lit = SceneFeatures {
+        lights: Default::default(),
+        casters: Default::default(),
+        ..scene(&[Effect::IndirectDiffuse])
+    };
+    let plan = s
+        .plan_file(&gi, None, &Profile::vulkan(), &emitter_lit, &[])
+        .unwrap_or_else(|| panic!("{}", s.render()));
+    let unserved: Vec<(Effect, &str, &str)> = plan
+        .unserved_effects
+        .iter()
+        .map(|u| (u.effect, u.pass.as_str(), u.reason.as_str()))
+        .collect();
+    assert_eq!(
+        unserved,
+        [(
+            Effect::IndirectDiffuse,
+            "rsm",
+            "runs per Directional or Spot light and the scene has none"
+        )]
+    );
+    let off = [("indirect_diffuse".to_string(), "off".to_string())];
+    let plan = s.plan_file(&gi, None, &Profile::vulkan(), &emitter_lit, &off).unwrap();
+    assert!(plan.unserved_effects.is_empty(), "{:?}", plan.unserved_effects);
+    // With a spot light the effect is served.
+    let spot_lit = SceneFeatures {
+        lights: [(LightKind::Spot, 1)].into_iter().collect(),
+        ..emitter_lit
+    };
+    let plan = s.plan_file(&gi, None, &Profile::vulkan(), &spot_lit, &[]).unwrap();
+    assert!(plan.unserved_effects.is_empty(), "{:?}", plan.unserved_effects);
+}

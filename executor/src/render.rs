@@ -186,10 +186,24 @@ pub fn parse_params(plan: &lightbench_compiler::plan::Plan, args: &[(String, Str
     Ok(out)
 }
 
-/// What a command says once about a Plan: the effects the pipeline serves that the scene does
-/// not call for, and how to ask for them (a model rendered on its own otherwise silently does
-/// no GI).
-pub fn uncalled_effects_note(plan: &lightbench_compiler::plan::Plan) -> Option<String> {
+/// What a command says once about a Plan's effects: those the pipeline serves that the scene
+/// does not call for, and how to ask for them (a model rendered on its own otherwise silently
+/// does no GI); and those the scene calls for that no kept pass serves, with why.
+pub fn effect_notes(plan: &lightbench_compiler::plan::Plan) -> Vec<String> {
+    let unserved = plan.unserved_effects.iter().map(|u| {
+        format!(
+            "note: {}: the scene `{}` calls for {}, but every pass serving it is culled: `{}` {}",
+            plan.pipeline,
+            plan.scene,
+            u.effect.name(),
+            u.pass,
+            u.reason
+        )
+    });
+    uncalled_effects_note(plan).into_iter().chain(unserved).collect()
+}
+
+fn uncalled_effects_note(plan: &lightbench_compiler::plan::Plan) -> Option<String> {
     if plan.uncalled_effects.is_empty() {
         return None;
     }

@@ -40,6 +40,7 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
             })
             .collect(),
         uncalled_effects: uncalled_effects(p, cfg, &schedule),
+        unserved_effects: unserved_effects(p, cfg, &schedule),
         output: ids.res(&p.output.value)?,
         hdr_output: match &p.hdr_output {
             Some(h) => Some(ids.res(&h.value)?),
@@ -128,6 +129,38 @@ fn uncalled_effects(p: &crate::ir::Pipeline, cfg: &Config, schedule: &Schedule) 
         }
     }
     out.sort_by_key(|e| Effect::ALL.iter().position(|a| a == e));
+    out
+}
+
+/// Effects the scene calls for that passes serve (their conditions name them) but no kept pass
+/// does, where a serving pass is culled for want of a light kind or of blended meshes — not
+/// where every one is culled by a condition (an option chosen off says so itself).
+fn unserved_effects(p: &crate::ir::Pipeline, cfg: &Config, schedule: &Schedule) -> Vec<UnservedEffect> {
+    // A copy of a pass written with choices whose arms are not chosen serves nothing here.
+    let serves = |i: usize, e: Effect| {
+        let pass = &p.passes[i];
+        let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
+        !pass.choice.as_ref().is_some_and(|c| !c.serves(&cfg.selection.chosen))
+            && when.as_ref().is_some_and(|w| w.value.effects().contains(&e))
+    };
+    let mut out = vec![];
+    for &e in Effect::ALL.iter().filter(|e| cfg.scene.effects.contains(e)) {
+        let serving: Vec<usize> = (0..p.passes.len()).filter(|&i| serves(i, e)).collect();
+        if serving.iter().any(|i| !schedule.culled.contains_key(i)) {
+            continue;
+        }
+        let lacking = serving.iter().find_map(|&i| match schedule.culled.get(&i) {
+            Some(&c @ (cull::Cause::NoLights | cull::Cause::NoBlended)) => Some((i, c)),
+            _ => None,
+        });
+        if let Some((i, cause)) = lacking {
+            out.push(UnservedEffect {
+                effect: e,
+                pass: p.passes[i].name.value.clone(),
+                reason: cull::reason(p, cfg, i, cause),
+            });
+        }
+    }
     out
 }
 

@@ -308,6 +308,15 @@ pub struct CulledPass {
     pub reason: String,
 }
 
+/// An effect the scene calls for that no kept pass serves, and the first of its passes culled
+/// for want of what the scene lacks, with why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnservedEffect {
+    pub effect: Effect,
+    pub pass: String,
+    pub reason: String,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ResourceShape {
     Texture {
@@ -475,6 +484,11 @@ pub struct Plan {
     /// them (a model given on its own calls for shadows only): what `render` notes once.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub uncalled_effects: Vec<Effect>,
+    /// Effects the scene calls for whose serving passes are all culled, one or more for want
+    /// of a light kind or of blended meshes (an emitter-lit scene calling for indirect light
+    /// that RSMs of directional and spot lights give): what `render` notes once, not a silent 0.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub unserved_effects: Vec<UnservedEffect>,
     pub resources: Vec<PlanResource>,
     pub output: ResourceId,
     /// The linear image before tone mapping, when the pipeline names one (`hdr_output`).

@@ -181,7 +181,7 @@ fn execute(
             eprintln!("variant {} = {} ({r})", v.variant, v.option);
         }
     }
-    if let Some(note) = crate::render::uncalled_effects_note(&exe.plan) {
+    for note in crate::render::effect_notes(&exe.plan) {
         eprintln!("{note}");
     }
     if let Some(note) = area_lights_note(&exe.plan, &scene) {

@@ -84,7 +84,7 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
         // The names the spec uses do not depend on the point: checked once, planned as it is.
         let scene = scene(&mut inputs, l, first)?.clone();
         let plan = check_up_front(&ws, &gpu.profile, l, &scene, &points)?;
-        if let Some(note) = crate::render::uncalled_effects_note(&plan) {
+        for note in crate::render::effect_notes(&plan) {
             eprintln!("{note}");
         }
     }

@@ -306,6 +306,38 @@ fn effect_adds_to_a_model_given_on_its_own_and_culled_effects_are_noted() {
     assert!(!d.join("bad.png").exists(), "a usage error writes nothing");
 }
 
+/// The emitter-lit box calls for indirect light that `deferred_gi`'s RSM options cannot give
+/// (they gather from directional and spot lights): `render` says so, naming the pass and why
+/// (docs/commands.md), where it would otherwise add a silent 0; the ray-traced option serves it.
+#[test]
+fn an_effect_no_kept_pass_serves_is_noted() {
+    let d = temp("unserved");
+    let out = d.join("lamp.png").display().to_string();
+    let gi = root().join("pipelines/deferred_gi.lbp").display().to_string();
+    let base = [
+        "render",
+        "--pipeline",
+        &gi,
+        "--scene",
+        "cornell_lamp",
+        "--effect",
+        "IndirectDiffuse",
+        "--size",
+        "32x32",
+        "--out",
+        &out,
+    ];
+    let (code, _, err) = run(&base);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("note: deferred_gi: the scene `cornell_lamp` calls for IndirectDiffuse, but every pass serving it is culled: `rsm` runs per Directional or Spot light and the scene has none"),
+        "{err}"
+    );
+    let (code, _, err) = run(&[&base[..], &["--variant", "indirect_diffuse=rt"]].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("calls for IndirectDiffuse"), "{err}");
+}
+
 /// The README's `--param tonemap.by_luminance=true` and `--param lengths.world=true`, as typed:
 /// the luminance pass records the rule it metered by (the fifth word of `lum`); a value of
 /// the wrong type is an error that writes nothing.
