@@ -140,7 +140,7 @@ fn unserved_effects(p: &crate::ir::Pipeline, cfg: &Config, schedule: &Schedule) 
     let serves = |i: usize, e: Effect| {
         let pass = &p.passes[i];
         let when = pass.choice.as_ref().map_or(&pass.when, |c| &c.when);
-        !pass.choice.as_ref().is_some_and(|c| !c.serves(&cfg.selection.chosen))
+        pass.choice.as_ref().is_none_or(|c| c.serves(&cfg.selection.chosen))
             && when.as_ref().is_some_and(|w| w.value.effects().contains(&e))
     };
     let mut out = vec![];
