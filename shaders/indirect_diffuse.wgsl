@@ -9,6 +9,7 @@
 // not depend on the RSM's size or the scene's scale.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/sampling.wgsl"
 
 struct Params {
     radius: f32,
@@ -58,10 +59,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 // (`visible`), since the whole map holds senders hidden from the receiver.
 @fragment
 fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<u32>(pos.xy);
-    let h = hash(p.x ^ hash(p.y));
-    let shift = vec2<f32>(f32(h), f32(hash(h))) / 4294967296.0;
-    return vec4<f32>(gather(vec2<i32>(pos.xy), shift, true), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), pixel_shift(vec2<u32>(pos.xy)), true), 0.0);
 }
 
 // The temporal variant (after Lambru et al., seed 000 §4.3.3): fewer samples, the pattern
@@ -70,7 +68,7 @@ fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 @fragment
 fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);
-    let h = hash(p.x ^ hash(p.y ^ hash(frame.frame_index)));
+    let h = pcg_hash(p.x ^ pcg_hash(p.y ^ pcg_hash(frame.frame_index)));
     return vec4<f32>(gather(vec2<i32>(pos.xy), vec2<f32>(f32(h) / 4294967296.0, 0.0), false), 0.0);
 }
 
@@ -81,39 +79,6 @@ fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 // against the path-traced reference).
 fn sample_weight(e1: f32) -> f32 {
     return select(e1 * e1, 2.0 * e1, params.area_weights != 0u);
-}
-
-// Whether the segment from the receiver at `a` to a sender at `b` is clear in the camera's
-// depth buffer (after screen-space directional occlusion, Ritschel et al. 2009): the RSM holds
-// what the light sees, not what stands between two surfaces. `gi.occlusion.steps` points of the
-// segment, shifted by `jitter` (0..1), are probed; one blocks where it lies behind the surface
-// the camera sees there by less than `gi.occlusion.thickness` (every surface is taken to be
-// that thick); points off screen or over the background block nothing.
-fn visible(a: vec3<f32>, b: vec3<f32>, jitter: f32) -> bool {
-    let unit = length_unit(params.world);
-    // The receiver's and sender's own surfaces are not in the way.
-    let bias = 0.01 * unit;
-    for (var k = 0u; k < params.steps; k++) {
-        let q = probe(mix(a, b, (f32(k) + jitter) / f32(params.steps)));
-        if !q.miss && q.behind > bias && q.behind < params.thickness * unit {
-            return false;
-        }
-    }
-    return true;
-}
-
-// Point i of n of a rank-1 (Fibonacci) lattice over the unit square: every point alone in its
-// row and column of the n × n grid and spread evenly in 2D, so a shifted lattice samples the map
-// with far less variance than as many random points.
-fn lattice(i: u32, n: u32) -> vec2<f32> {
-    return vec2<f32>((f32(i) + 0.5) / f32(n), fract(f32(i) * 0.618034));
-}
-
-// PCG-style integer hash.
-fn hash(x: u32) -> u32 {
-    let s = x * 747796405u + 2891336453u;
-    let w = ((s >> ((s >> 28u) + 4u)) ^ s) * 277803737u;
-    return (w >> 22u) ^ w;
 }
 
 // Irradiance / π at pixel `px` from the light of this repetition. The seed's sampling (`whole`
@@ -138,7 +103,8 @@ fn gather(px: vec2<i32>, shift: vec2<f32>, whole: bool) -> vec3<f32> {
     // Texels of the sampled area (the disc, or the map) that each sample stands for.
     let area = select(PI * params.radius * params.radius, 1.0, whole);
     let per_sample = area * f32(size.x * size.y) / f32(max(n, 1u));
-    let min_d = params.min_distance * length_unit(params.world);
+    let unit = length_unit(params.world);
+    let min_d = params.min_distance * unit;
     let min_d2 = min_d * min_d;
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i++) {
@@ -157,7 +123,8 @@ fn gather(px: vec2<i32>, shift: vec2<f32>, whole: bool) -> vec3<f32> {
         let sn = textureLoad(rsm_normal, t, 0).xyz;
         let d = sp.xyz - s.world;
         let facing = max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0);
-        if facing == 0.0 || (whole && !visible(s.world, sp.xyz, fract(e.x + shift.y))) {
+        let jitter = fract(e.x + shift.y);
+        if facing == 0.0 || (whole && !segment_clear(s.world, sp.xyz, params.steps, params.thickness * unit, 0.01 * unit, jitter)) {
             continue; // turned away, or hidden from the receiver
         }
         let flux = texel_power(l, t, sp.xyz, sn, f32(size.x)) * per_sample;

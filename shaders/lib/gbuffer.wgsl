@@ -92,3 +92,19 @@ fn probe(pos: vec3<f32>) -> Probe {
     r.miss = false;
     return r;
 }
+
+// Whether the segment from `a` to `b` (a receiver and a sender of indirect light) is clear in
+// the depth buffer (after screen-space directional occlusion, Ritschel et al. 2009): `steps`
+// points of it, shifted by `jitter` (0..1), are probed; one blocks where it lies behind the
+// surface the camera sees there by more than `bias` (the two ends' own surfaces are not in the
+// way) and less than `thickness` (every surface is taken to be that thick); points off screen
+// or over the background block nothing.
+fn segment_clear(a: vec3<f32>, b: vec3<f32>, steps: u32, thickness: f32, bias: f32, jitter: f32) -> bool {
+    for (var k = 0u; k < steps; k++) {
+        let q = probe(mix(a, b, (f32(k) + jitter) / f32(steps)));
+        if !q.miss && q.behind > bias && q.behind < thickness {
+            return false;
+        }
+    }
+    return true;
+}

@@ -17,6 +17,19 @@ fn random_pair(px: vec2<u32>, frame_no: u32, k: u32) -> vec2<f32> {
     return vec2<f32>(f32(a >> 8u), f32(b >> 8u)) * (1.0 / 16777216.0);
 }
 
+// Point i of n of a rank-1 (Fibonacci) lattice over the unit square: every point alone in its
+// row and column of the n × n grid and spread evenly in 2D, so a shifted lattice samples an
+// area with far less variance than as many random points.
+fn lattice(i: u32, n: u32) -> vec2<f32> {
+    return vec2<f32>((f32(i) + 0.5) / f32(n), fract(f32(i) * 0.618034));
+}
+
+// A shift in [0, 1)² fixed per pixel (the same every frame), for a lattice (modulo 1).
+fn pixel_shift(px: vec2<u32>) -> vec2<f32> {
+    let h = pcg_hash(px.x ^ pcg_hash(px.y));
+    return vec2<f32>(f32(h), f32(pcg_hash(h))) / 4294967296.0;
+}
+
 // The direction at polar angle (cos θ, sin θ) and azimuth φ about unit `n`, in an orthonormal
 // basis built without a branch on n's direction (Duff et al. 2017).
 fn about(n: vec3<f32>, cos_t: f32, sin_t: f32, phi: f32) -> vec3<f32> {

@@ -204,16 +204,26 @@ fn every_bundled_sweep_spec_runs() {
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a
             // cost; a configuration whose effect passes are all culled costs 0.
-            let at = |gi: &str, ao: &str| {
+            let at = |gi: &str, ao: &str, bounces: &str| {
                 rows.iter()
                     .find(|r| {
-                        r["indirect_diffuse"] == gi && r["ao"] == ao && r["ambient.color"] == "(0, 0, 0)" && r["gi.area_weights"].is_empty()
+                        r["indirect_diffuse"] == gi
+                            && r["ao"] == ao
+                            && r["ambient.color"] == "(0, 0, 0)"
+                            && r["gi.area_weights"].is_empty()
+                            && r["gi_bounces"] == bounces
                     })
                     .unwrap()
             };
-            let (none, fixed) = (at("off", "none"), at("fixed", "none"));
+            let (none, fixed) = (at("off", "none", ""), at("fixed", "none", ""));
             assert!(num(fixed, "rmse") < num(none, "rmse") && num(fixed, "bias") > num(none, "bias"));
             assert!(num(fixed, "effect_ms") > 0.0 && none["effect_ms"] == "0", "{}", none["effect_ms"]);
+            // A second bounce brings it nearer still, region by region too.
+            let (one, two) = (at("filtered", "none", ""), at("filtered", "none", "two"));
+            assert!(
+                num(two, "rmse") < num(one, "rmse") && num(two, "block_p10") > num(one, "block_p10"),
+                "{two:?}"
+            );
         }
         if spec == "ao" {
             // GTAO integrates the cosine-weighted visibility the reference measures: within
