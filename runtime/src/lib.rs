@@ -15,6 +15,7 @@ pub mod diff;
 pub mod gpu_reference;
 pub mod lsp;
 pub mod memory;
+pub mod regions;
 pub mod sweep;
 pub mod verify;
 pub mod viewer;

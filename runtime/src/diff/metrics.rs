@@ -1,6 +1,8 @@
 //! Stage `metrics` of `diff`: how far apart two images of one resource are — RMSE, largest
-//! difference, PSNR, and for 8-bit colour images mean FLIP (`nv-flip`, NVIDIA's perceptual
-//! metric) and SSIM (`image-compare`, mean over 8×8 windows) — and a per-pixel error map.
+//! difference, PSNR, region by region the ratios of B's 8×8-block means to A's (as `sweep`
+//! measures an estimate against the reference), and for 8-bit colour images mean FLIP
+//! (`nv-flip`, NVIDIA's perceptual metric) and SSIM (`image-compare`, mean over 8×8 windows) —
+//! and a per-pixel error map.
 
 use super::images::display_rgb8;
 use crate::io::Image;
@@ -15,6 +17,10 @@ pub struct Metrics {
     pub psnr_db: Option<f64>,
     pub flip_mean: Option<f64>,
     pub ssim: Option<f64>,
+    /// B's 8×8-block means over A's (channels up to three summed), over the blocks A lights
+    /// (at least 1% of its mean): where a change moves light between regions that the RMSE
+    /// alone would not place. `None` where no block qualifies.
+    pub blocks: Option<crate::regions::BlockRatios>,
 }
 
 pub struct Compared {
@@ -82,6 +88,8 @@ pub fn compare(a: &Image, b: &Image, channels: usize, colour: bool) -> Compared 
         let scale = if max_abs > 0.0 && max_abs.is_finite() { max_abs } else { 1.0 };
         (None, diff_map.iter().map(|d| (d / scale).min(1.0) as f32).collect(), None)
     };
+    let against = crate::regions::Against { mean: a, variance: None };
+    let blocks = crate::regions::block_ratios(&b.rgba, against, n.min(3));
     Compared {
         metrics: Metrics {
             rmse,
@@ -89,6 +97,7 @@ pub fn compare(a: &Image, b: &Image, channels: usize, colour: bool) -> Compared 
             psnr_db,
             flip_mean,
             ssim,
+            blocks,
         },
         error_map,
     }
@@ -129,5 +138,18 @@ mod tests {
         assert_eq!(f.metrics.flip_mean, None);
         assert_eq!(f.error_map[0], 1.0);
         assert!(f.metrics.psnr_db.unwrap() > 0.0);
+    }
+
+    /// B/A block ratios say where light moved: B moves half of A's light from the right half
+    /// to the left (the mean unchanged) — left blocks 1.5, right 0.5.
+    #[test]
+    fn block_ratios_show_where_light_moved() {
+        let a = image(16, 16, |_, _| [0.4, 0.4, 0.4, 1.0]);
+        let b = image(16, 16, |x, _| if x < 8 { [0.6, 0.6, 0.6, 1.0] } else { [0.2, 0.2, 0.2, 1.0] });
+        let blocks = compare(&a, &b, 4, false).metrics.blocks.unwrap();
+        assert!((blocks.min - 0.5).abs() < 1e-6 && (blocks.max - 1.5).abs() < 1e-6, "{blocks:?}");
+        assert_eq!(blocks.blocks, 4);
+        let same = compare(&a, &a.clone(), 4, false).metrics.blocks.unwrap();
+        assert_eq!((same.p10, same.p90), (1.0, 1.0));
     }
 }

@@ -97,7 +97,7 @@ fn pixels(r: &Report, s: &mut String) {
     let _ = writeln!(s, "\n## Pixels\n");
     let _ = writeln!(
         s,
-        "| resource [light/layer] | format | RMSE | max abs | PSNR dB | FLIP | SSIM | images |\n|---|---|---|---|---|---|---|---|"
+        "| resource [light/layer] | format | RMSE | max abs | PSNR dB | FLIP | SSIM | B/A 8×8 blocks p10–p90 (min–max) | images |\n|---|---|---|---|---|---|---|---|---|"
     );
     for i in &r.images {
         let m = &i.metrics;
@@ -109,13 +109,17 @@ fn pixels(r: &Report, s: &mut String) {
             .unwrap_or_default();
         let _ = writeln!(
             s,
-            "| {} | {} | {:.3e} | {:.3e} | {psnr} | {} | {} | {files} |",
+            "| {} | {} | {:.3e} | {:.3e} | {psnr} | {} | {} | {} | {files} |",
             slice_name(i),
             i.format,
             m.rmse,
             m.max_abs,
             num(m.flip_mean, 4),
-            num(m.ssim, 4)
+            num(m.ssim, 4),
+            m.blocks
+                .as_ref()
+                .map(|b| format!("{:.2}–{:.2} ({:.2}–{:.2})", b.p10, b.p90, b.min, b.max))
+                .unwrap_or_else(|| "—".into())
         );
     }
     for (n, why) in &r.not_compared {

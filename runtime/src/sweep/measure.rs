@@ -6,6 +6,8 @@
 use crate::error::{Error, Result};
 use crate::io::Image;
 use crate::reference::{Term, TermImage};
+pub use crate::regions::{block_ratios, Against, BlockRatios, BLOCK};
+use crate::regions::{mean_pixel, Region};
 use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -62,96 +64,6 @@ pub struct Surfaces {
 /// raster's and the reference's edges than about the effect.
 pub const MIN_SURFACE_PIXELS: usize = 16;
 
-/// The ratios of 8×8-block means, estimate over reference (channels summed), over the blocks
-/// the reference lights (a mean of at least 1% of its image's) and knows (a standard error of
-/// at most 5% of that mean, so that its noise does not make the ratio): their 10th and 90th
-/// percentiles, extremes and count. A mean right overall can hide a band of the image at 0.1×
-/// and another at 2×; these do not.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct BlockRatios {
-    pub p10: f64,
-    pub p90: f64,
-    pub min: f64,
-    pub max: f64,
-    pub blocks: usize,
-}
-
-/// Side of the blocks `BlockRatios` compares.
-pub const BLOCK: usize = 8;
-
-/// Sums over the pixels of one region (a block, a surface), channels summed.
-#[derive(Clone, Copy, Default)]
-struct Region {
-    estimate: f64,
-    reference: f64,
-    /// Of the reference's per-pixel variances: the variance of its sum.
-    variance: f64,
-    non_finite: bool,
-    pixels: usize,
-}
-
-impl Region {
-    fn add(&mut self, estimate: &[f32], reference: &TermImage, n: usize, p: usize) {
-        self.pixels += 1;
-        for c in 0..n {
-            let e = estimate[p * 4 + c];
-            self.non_finite |= !e.is_finite();
-            self.estimate += e as f64;
-            self.reference += reference.mean.rgba[p * 4 + c] as f64;
-            self.variance += reference.variance.rgba[p * 4 + c] as f64;
-        }
-    }
-
-    /// Whether the region is judged: its estimate finite, its reference lit (at least 1% of
-    /// the image's mean pixel, `mean_pixel`, per pixel) and known (a standard error of at most
-    /// 5% of its sum, so that the reference's noise does not make the ratio).
-    fn judged(&self, mean_pixel: f64) -> bool {
-        !self.non_finite
-            && self.reference > 0.0
-            && self.reference > 0.01 * mean_pixel * self.pixels as f64
-            && self.variance.sqrt() <= 0.05 * self.reference
-    }
-
-    fn ratio(&self) -> f64 {
-        self.estimate / self.reference
-    }
-}
-
-/// The reference's mean pixel, channels summed.
-fn mean_pixel(reference: &TermImage, n: usize) -> f64 {
-    let sum: f64 = reference
-        .mean
-        .rgba
-        .chunks_exact(4)
-        .map(|p| p[..n].iter().map(|&v| v as f64).sum::<f64>())
-        .sum();
-    sum / (reference.mean.rgba.len() / 4).max(1) as f64
-}
-
-/// The block ratios of `estimate` (linear RGBA) against `reference`, over `n` channels.
-fn block_ratios(estimate: &[f32], reference: &TermImage, n: usize) -> Option<BlockRatios> {
-    let (w, h) = (reference.mean.width as usize, reference.mean.height as usize);
-    let (bw, bh) = (w.div_ceil(BLOCK), h.div_ceil(BLOCK));
-    let mut blocks = vec![Region::default(); bw * bh];
-    for p in 0..w * h {
-        blocks[(p / w / BLOCK) * bw + (p % w) / BLOCK].add(estimate, reference, n, p);
-    }
-    let mean = mean_pixel(reference, n);
-    let mut ratios: Vec<f64> = blocks.iter().filter(|b| b.judged(mean)).map(Region::ratio).collect();
-    if ratios.is_empty() {
-        return None;
-    }
-    ratios.sort_by(f64::total_cmp);
-    let pick = |q: f64| crate::reference::percentile_of(&ratios, q);
-    Some(BlockRatios {
-        p10: pick(10.0),
-        p90: pick(90.0),
-        min: ratios[0],
-        max: ratios[ratios.len() - 1],
-        blocks: ratios.len(),
-    })
-}
-
 /// The ratio of each labelled surface's mean to the reference's (channels summed), lowest
 /// first.
 fn surface_ratios(estimate: &[f32], reference: &TermImage, n: usize, labels: &Surfaces) -> Vec<SurfaceRatio> {
@@ -164,10 +76,10 @@ fn surface_ratios(estimate: &[f32], reference: &TermImage, n: usize, labels: &Su
             .and_then(|m| labels.names.get(m))
             .and_then(|name| names.binary_search(&name).ok())
         {
-            surfaces[i].add(estimate, reference, n, p);
+            surfaces[i].add(estimate, reference.into(), n, p);
         }
     }
-    let mean = mean_pixel(reference, n);
+    let mean = mean_pixel(&reference.mean, n);
     let mut ratios: Vec<SurfaceRatio> = names
         .iter()
         .zip(&surfaces)
@@ -234,7 +146,7 @@ pub fn error(estimate: &Image, reference: &TermImage, resource: &str, labels: Op
         rmse: if count == 0 { f64::NAN } else { (mse - var / k).max(0.0).sqrt() },
         rmse_raw: mse.sqrt(),
         bias: diff / k,
-        blocks: block_ratios(&est, reference, n),
+        blocks: block_ratios(&est, reference.into(), n),
         surfaces: labels.map(|l| surface_ratios(&est, reference, n, l)).unwrap_or_default(),
         flip: (n == 3).then(|| flip(est, r)),
         non_finite,

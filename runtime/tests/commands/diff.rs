@@ -167,11 +167,17 @@ fn a_one_constant_edit_is_found_where_it_acts_and_gates_ci() {
     eprintln!("{inside} shadowed pixels; hot inside {hot_in}, hot outside {hot_out}");
     assert!(inside > 50 && hot_in as f32 > 0.8 * inside as f32, "hot where shadows fall");
     assert!(hot_out as f32 <= 0.05 * hot_in as f32, "cold elsewhere");
+    // Region by region, B/A: blocks holding shadow brighter, none darker.
+    let blocks = &image(&r, "hdr")["metrics"]["blocks"];
+    let at = |k: &str| blocks[k].as_f64().unwrap();
+    assert!(at("max") > 1.05 && at("min") > 0.999, "{blocks}");
     // The identical pair passes the gate.
     let (code, r, err) = diff_json(&[a, a, "--fail-above", "flip=0.001,rmse=0"], &dir.join("same"));
     assert_eq!(code, 0, "{err}");
     assert_eq!(r["thresholds"][0]["crossed"], false);
     assert_eq!(image(&r, "ldr")["metrics"]["flip_mean"].as_f64(), Some(0.0));
+    let same = &image(&r, "hdr")["metrics"]["blocks"];
+    assert_eq!((same["p10"].as_f64(), same["p90"].as_f64()), (Some(1.0), Some(1.0)), "{same}");
 }
 
 #[test]
