@@ -45,8 +45,9 @@ fn raster_with(s: &Scene, option: &str, set: &[(&str, &str)]) -> (lightbench::io
     let g = gpu();
     let v = [("area_lights".to_string(), option.to_string())];
     let (exe, _) = lightbench::render::compile(&g, &root().join("pipelines/deferred.lbp"), None, s, &v).unwrap_or_else(|e| panic!("{e}"));
+    let pass = if option == "rt" { "area_rt" } else { "area_light" };
     assert_eq!(
-        exe.plan.pass("area_light").is_some(),
+        exe.plan.pass(pass).is_some(),
         option != "off",
         "the area-light pass runs when asked"
     );
@@ -251,4 +252,42 @@ fn shadowed_area_lights_are_the_same_at_any_scale() {
         eprintln!("scale {k}: RMSE {e} from scale 1");
         assert!(other.non_finite() == 0 && e < 1e-3, "scale {k}: {e}");
     }
+}
+
+/// The emitter-lit box with its lamp moved above the ceiling, where its light reaches nothing
+/// the camera sees (the reference's `direct` is 0 there): `ltc`, unshadowed, lights the box
+/// through the ceiling at 28% of the mean the visible lamp gives it; `ltc_shadowed`'s
+/// screen-space shadows leave 2.7% (up to two fifths of `ltc`'s leak in blocks under the
+/// ceiling and on the boxes' tops, where segments to the lamp cross the ceiling near the top
+/// of the screen); `rt` none (docs/effects.md).
+#[test]
+fn a_lamp_above_the_ceiling_leaks_as_documented() {
+    let mut visible = lightbench::scene::builtin::cornell_lamp();
+    visible.size = (64, 64);
+    let mut hidden = visible.clone();
+    let lamp = hidden.meshes.iter_mut().find(|m| m.name == "lamp").unwrap();
+    lamp.transform = glam::Mat4::from_translation(Vec3::Y * 0.21);
+    let mean = |img: &lightbench::io::Image| img.rgba.chunks_exact(4).map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>();
+    let lit = mean(&raster(&visible, "ltc").0);
+    let share = |option: &str| mean(&raster(&hidden, option).0) / lit;
+    let (ltc, shadowed, rt) = (share("ltc"), share("ltc_shadowed"), share("rt"));
+    // Block by block, what the shadows leave of ltc's leak.
+    let (unshadowed, with_shadows) = (raster(&hidden, "ltc").0, raster(&hidden, "ltc_shadowed").0);
+    let against = lightbench::regions::Against {
+        mean: &unshadowed,
+        variance: None,
+    };
+    let left = lightbench::regions::block_ratios(&with_shadows.rgba, against, 3).unwrap();
+    eprintln!("left of ltc's leak by block: {left:?}");
+    assert!(left.max > 0.2 && left.max < 0.45, "{left:?}");
+    let settings = Settings {
+        budget: Budget::Spp(64),
+        terms: vec![Term::Direct],
+        ..Settings::default()
+    };
+    let truth = mean(&reference::render(&hidden, &settings, false).term(Term::Direct).unwrap().mean) / lit;
+    eprintln!("hidden lamp, share of the visible one's light: ltc {ltc:.4}, ltc_shadowed {shadowed:.4}, rt {rt:.5}, reference {truth:.5}");
+    assert!(truth < 0.002 && rt < 0.002, "nothing reaches the box: {truth}, rt {rt}");
+    assert!((0.2..0.36).contains(&ltc), "ltc leaks {ltc}");
+    assert!((0.01..0.05).contains(&shadowed), "ltc_shadowed leaks {shadowed}");
 }
