@@ -19,7 +19,8 @@ struct Params {
     area_weights: u32,
     // min_distance in world units, else in the scene's (lib/frame.wgsl)
     world: u32,
-    // Screen-space visibility of each sender (`visible`): points marched, 0 for none.
+    // The filtered variant's occlusion test (`segment_clear`, lib/gbuffer.wgsl): points
+    // probed per sender, 0 for none; how thick a surface is taken to be.
     steps: u32,
     thickness: f32,
 };
@@ -56,7 +57,7 @@ fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 // map, such as the floor for a wall a spot light grazes), the pattern shifted per pixel (the
 // same every frame), which turns its structured error into noise that a cross-bilateral blur
 // (bilateral_blur.wgsl) removes; each sender tested for occlusion in the camera's depth buffer
-// (`visible`), since the whole map holds senders hidden from the receiver.
+// (`segment_clear`), since the whole map holds senders hidden from the receiver.
 @fragment
 fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     return vec4<f32>(gather(vec2<i32>(pos.xy), pixel_shift(vec2<u32>(pos.xy)), true), 0.0);

@@ -1,5 +1,6 @@
-// Random numbers and direction sampling for passes that trace rays: numbers depend only on
-// (pixel, frame, sample), so the same frame renders the same whatever the pacing.
+// Random numbers, sample patterns and direction sampling for passes that trace rays or gather:
+// numbers depend only on (pixel, frame, sample), so the same frame renders the same whatever
+// the pacing.
 
 const SAMPLING_PI: f32 = 3.14159265;
 
@@ -18,8 +19,8 @@ fn random_pair(px: vec2<u32>, frame_no: u32, k: u32) -> vec2<f32> {
 }
 
 // Point i of n of a rank-1 (Fibonacci) lattice over the unit square: every point alone in its
-// row and column of the n × n grid and spread evenly in 2D, so a shifted lattice samples an
-// area with far less variance than as many random points.
+// column of n and the points spread evenly in 2D, so a shifted lattice samples an area with
+// far less variance than as many random points.
 fn lattice(i: u32, n: u32) -> vec2<f32> {
     return vec2<f32>((f32(i) + 0.5) / f32(n), fract(f32(i) * 0.618034));
 }
