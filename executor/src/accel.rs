@@ -292,10 +292,13 @@ fn storage_limit(device: &wgpu::Device) -> u64 {
     device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size)
 }
 
-fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+/// A storage buffer of `items`; a binding cannot be empty, so one zeroed item stands in for none.
+fn storage<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+    let zero = [T::zeroed()];
+    let items = if items.is_empty() { &zero[..] } else { items };
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
-        contents: bytes,
+        contents: bytemuck::cast_slice(items),
         usage: wgpu::BufferUsages::STORAGE,
     })
 }
@@ -316,22 +319,10 @@ impl HitData {
                 hits.len()
             )));
         }
-        // A binding cannot be empty: one zeroed entry stands in for none.
-        let hits = if hits.is_empty() { vec![HitTriangle::default()] } else { hits };
-        let emitters = if emitters.is_empty() {
-            vec![HitEmitter::default()]
-        } else {
-            emitters
-        };
-        let materials = if materials.is_empty() {
-            &[HitMaterial::default()][..]
-        } else {
-            materials
-        };
         Ok(HitData {
-            triangles: storage(device, "hit triangles", bytemuck::cast_slice(&hits)),
-            materials: storage(device, "hit materials", bytemuck::cast_slice(materials)),
-            emitters: storage(device, "hit emitters", bytemuck::cast_slice(&emitters)),
+            triangles: storage(device, "hit triangles", &hits),
+            materials: storage(device, "hit materials", materials),
+            emitters: storage(device, "hit emitters", &emitters),
         })
     }
 }
@@ -354,10 +345,8 @@ impl HitMaps {
                 corners.len()
             )));
         }
-        // A binding cannot be empty: one zeroed entry stands in for none.
-        let corners = if corners.is_empty() { vec![HitCorners::default()] } else { corners };
         Ok(HitMaps {
-            corners: storage(device, "hit corners", bytemuck::cast_slice(&corners)),
+            corners: storage(device, "hit corners", &corners),
             maps: maps(device, queue, &scene_gpu.textures, max)?,
         })
     }

@@ -215,15 +215,8 @@ impl Camera {
 /// camera ray meets is a tie that another renderer (the GPU path tracer, a rasteriser) may
 /// break the other way, so comparisons of two renderers leave them out. Row by row.
 pub fn edge_pixels(scene: &Scene) -> Vec<bool> {
-    let world = world::World::new(scene);
-    let cam = Camera::new(scene);
-    let (w, h) = scene.size;
-    let look = |px: f64, py: f64| {
-        let (origin, dir, len) = cam.ray_at(px, py);
-        world
-            .trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, sample::SOLID_BLEND)
-            .map(|h| (h.n, h.albedo, h.emissive, h.metallic, h.roughness))
-    };
+    let view = CameraView::new(scene);
+    let look = |px: f64, py: f64| view.seen(px, py).map(|h| (h.n, h.albedo, h.emissive, h.metallic, h.roughness));
     // Within 1% (a map's bilinear lookup moves a little within a thousandth of a pixel).
     let close = |a: Vec3A, b: Vec3A| (a - b).abs().max_element() <= 0.01 * a.abs().max(b.abs()).max_element().max(0.01);
     let same = |a: &Option<_>, b: &Option<_>| match (a, b) {
@@ -235,27 +228,19 @@ pub fn edge_pixels(scene: &Scene) -> Vec<bool> {
         }
         _ => false,
     };
-    (0..h)
-        .into_par_iter()
-        .flat_map_iter(|y| {
-            let look = &look;
-            (0..w).map(move |x| {
-                let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
-                let centre = look(cx, cy);
-                [(1e-3, 0.0), (-1e-3, 0.0), (0.0, 1e-3), (0.0, -1e-3)]
-                    .iter()
-                    .any(|(dx, dy)| !same(&centre, &look(cx + dx, cy + dy)))
-            })
-        })
-        .collect()
+    per_pixel(scene.size, |cx, cy| {
+        let centre = look(cx, cy);
+        [(1e-3, 0.0), (-1e-3, 0.0), (0.0, 1e-3), (0.0, -1e-3)]
+            .iter()
+            .any(|(dx, dy)| !same(&centre, &look(cx + dx, cy + dy)))
+    })
 }
 
 /// The mesh each pixel's centre sees (an index into `scene.meshes`; `None` over the
 /// background), as a camera ray finds it: what per-surface comparisons group pixels by. Row by
 /// row.
 pub fn surfaces_seen(scene: &Scene) -> Vec<Option<usize>> {
-    let world = world::World::new(scene);
-    let cam = Camera::new(scene);
+    let view = CameraView::new(scene);
     // The first scene triangle of each mesh, as World::new lays them out.
     let starts: Vec<u32> = scene
         .meshes
@@ -266,17 +251,42 @@ pub fn surfaces_seen(scene: &Scene) -> Vec<Option<usize>> {
             Some(start)
         })
         .collect();
-    let (w, h) = scene.size;
+    per_pixel(scene.size, |cx, cy| {
+        let t = view.world.scene_triangle(view.seen(cx, cy)?.triangle);
+        Some(starts.partition_point(|&s| s <= t) - 1)
+    })
+}
+
+/// What camera rays see of a scene, blended surfaces solid: what comparisons of renderers
+/// look at before any sample is drawn.
+struct CameraView {
+    world: world::World,
+    cam: Camera,
+}
+
+impl CameraView {
+    fn new(scene: &Scene) -> CameraView {
+        CameraView {
+            world: world::World::new(scene),
+            cam: Camera::new(scene),
+        }
+    }
+
+    /// The surface the camera ray through (px, py) (in pixels from the top left) meets.
+    fn seen(&self, px: f64, py: f64) -> Option<world::Hit> {
+        let (origin, dir, len) = self.cam.ray_at(px, py);
+        self.world
+            .trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, sample::SOLID_BLEND)
+    }
+}
+
+/// `f` at every pixel centre of an image of `size`, row by row (rows in parallel).
+fn per_pixel<T: Send>((w, h): (u32, u32), f: impl Fn(f64, f64) -> T + Sync) -> Vec<T> {
     (0..h)
         .into_par_iter()
         .flat_map_iter(|y| {
-            let (world, cam, starts) = (&world, &cam, &starts);
-            (0..w).map(move |x| {
-                let (origin, dir, len) = cam.ray_at(x as f64 + 0.5, y as f64 + 0.5);
-                let hit = world.trace_with_coin(origin, dir, (0.0, len), world::Faces::Seen, sample::SOLID_BLEND)?;
-                let t = world.scene_triangle(hit.triangle);
-                Some(starts.partition_point(|&s| s <= t) - 1)
-            })
+            let f = &f;
+            (0..w).map(move |x| f(x as f64 + 0.5, y as f64 + 0.5))
         })
         .collect()
 }

@@ -6,7 +6,7 @@
 use crate::error::{Error, Result};
 use crate::io::Image;
 use crate::reference::{Term, TermImage};
-pub use crate::regions::{block_ratios, Against, BlockRatios, BLOCK};
+use crate::regions::{block_ratios, BlockRatios};
 use crate::regions::{mean_pixel, Region};
 use serde::{Deserialize, Serialize};
 
