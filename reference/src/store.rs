@@ -14,7 +14,8 @@ use std::path::Path;
 /// Bumped when the renderer's results change for the same inputs (old caches then miss).
 // 2: sidedness (single-sided backs are not seen; glTF doubleSided).
 // 3: emitters sampled as lights (MIS), one-sided emission; camera rays in f64.
-const VERSION: u32 = 3;
+// 4: nothing reflected towards a viewer below the shading normal's hemisphere.
+const VERSION: u32 = 4;
 const MANIFEST: &str = "reference.json";
 /// Largest working set a reference may take (the machine this runs on has 24 GiB).
 const MAX_BYTES: u64 = 8 << 30;
