@@ -1,7 +1,7 @@
 enable wgpu_ray_query;
 // One bounce of ray-traced light, two ways of choosing the bounce (`rays` per pixel, each
 // traced to the nearest surface it sees and shaded there with the direct light of every light
-// and emitter, with shadow rays, seen back along the ray):
+// and emitter, with shadow rays, seen back along the ray; its maps looked up, cut-outs passed):
 // - `fs_diffuse` (indirect_diffuse = rt): cosine-weighted directions about the normal — the
 //   reference's `indirect_diffuse` term, irradiance / π (what a white Lambertian receiver
 //   reflects), as `gi.indirect` holds it before the albedo;
@@ -55,7 +55,9 @@ fn gather(frag: vec4<f32>, specular: bool) -> vec4<f32> {
         if dot(s.n, d) <= 0.0 {
             continue;
         }
-        let h = trace_seen(origin, d, eps, 2.5 * frame.scene_radius);
+        // Blended surfaces are seen by coins (stochastic transparency), as the reference sees them.
+        ray_coin = random_bits(seed, frame.frame_index ^ 0x85ebca6bu, k);
+        let h = trace_seen_mapped(origin, d, eps, 2.5 * frame.scene_radius);
         if h.found {
             let u = random_pair(seed, frame.frame_index, 2u * k + 1u);
             let pick = random_pair(seed, frame.frame_index ^ 0x9e3779b9u, k).x;

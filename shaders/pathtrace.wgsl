@@ -9,7 +9,8 @@ enable wgpu_ray_query;
 // - `fs_ao`: 1 − the cosine-weighted share of directions meeting a surface within the radius.
 // Materials are looked up where rays meet them (lib/hit_maps.wgsl: base colour,
 // metallic-roughness, normal and emissive maps; masked surfaces cut out and blended ones
-// stochastically transparent, for every ray).
+// stochastically transparent, for camera and bounce rays; shadow rays take the coins' mean,
+// lib/ray.wgsl's `transmittance`).
 // Each frame adds `samples` paths per pixel to a running mean and sum of squared deviations
 // (Welford; in `pt.mean`, `pt.m2`, history resources, so the image refines frame by frame);
 // the count restarts in the first frame, when the camera moves, and with fresh history.
@@ -95,13 +96,16 @@ fn camera_ray(px: vec2<f32>) -> CameraRay {
     return CameraRay(frame.camera_pos.xyz, normalize(rot * at_one), near * len, t_max);
 }
 
-// Whether nothing lies between `from` and `to` (a shadow ray from the offset origin towards
-// `to`, stopping short of it).
-fn visible(start: vec3<f32>, to: vec3<f32>) -> bool {
+// The share of light passing from `to` to `start` (a shadow ray from the offset origin
+// towards `to`, stopping short of it).
+fn seen_through(start: vec3<f32>, to: vec3<f32>) -> f32 {
     let d = to - start;
     let dist = length(d);
     let eps = path_eps();
-    return dist - eps <= eps || unoccluded_mapped(start, d / dist, eps, dist - eps) > 0.0;
+    if dist - eps <= eps {
+        return 1.0;
+    }
+    return transmittance(start, d / dist, eps, dist - eps);
 }
 
 // The lights' light at `h` reflected towards `v`, each with a shadow ray.
@@ -120,8 +124,10 @@ fn lights_at(h: RayHit, b: Lobes, v: vec3<f32>) -> vec3<f32> {
             continue;
         }
         let t_max = select(ls.dist - eps, FAR, l.kind == LIGHT_DIRECTIONAL);
-        if t_max <= 0.0 || unoccluded_mapped(origin, ls.to_light, eps, t_max) > 0.0 {
+        if t_max <= 0.0 {
             sum += f * ls.radiance;
+        } else {
+            sum += f * ls.radiance * transmittance(origin, ls.to_light, eps, t_max);
         }
     }
     return sum;
@@ -148,11 +154,11 @@ fn emitted_light(h: RayHit, b: Lobes, v: vec3<f32>, r: ptr<function, Rng>, mis: 
         return vec3<f32>(0.0);
     }
     let e = lobes_eval(b, h.n, s.l, v);
-    if max(e.f.r, max(e.f.g, e.f.b)) <= 0.0 || !visible(origin_of(h), h.world + s.l * s.dist) {
+    if max(e.f.r, max(e.f.g, e.f.b)) <= 0.0 {
         return vec3<f32>(0.0);
     }
     let w = select(1.0, power_heuristic(s.pdf, e.pdf), mis);
-    return e.f * s.radiance * (w / s.pdf);
+    return e.f * s.radiance * (w / s.pdf) * seen_through(origin_of(h), h.world + s.l * s.dist);
 }
 
 // What a surface `y` that a BRDF-drawn ray (direction `l`, density `pdf`) met emits towards

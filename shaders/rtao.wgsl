@@ -21,16 +21,14 @@ struct Params {
 @group(2) @binding(3) var<uniform> params: Params;
 @group(2) @binding(4) var scene_accel: acceleration_structure;
 
-// What one ray along `d` from `origin` lets through (1: it meets nothing within the radius).
+// What one ray along `d` from `origin` lets through (1: it meets nothing within the radius;
+// cut-outs passed, blended surfaces by the coin `ray_coin`, as the reference's AO rays).
 fn ray_visibility(origin: vec3<f32>, d: vec3<f32>, eps: f32, radius: f32) -> f32 {
-    var rq: ray_query;
-    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_NONE, OPAQUE_MESHES, eps, radius, origin, d));
-    rayQueryProceed(&rq);
-    let hit = rayQueryGetCommittedIntersection(&rq);
-    if hit.kind == RAY_QUERY_INTERSECTION_NONE {
+    let t = nearest_occluder(origin, d, eps, radius);
+    if t < 0.0 {
         return 1.0;
     }
-    return select(0.0, 1.0 - 1.0 / (1.0 + hit.t * hit.t), params.falloff != 0u);
+    return select(0.0, 1.0 - 1.0 / (1.0 + t * t), params.falloff != 0u);
 }
 
 @fragment
@@ -47,6 +45,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     var sum = 0.0;
     for (var k = 0u; k < rays; k++) {
         let d = cosine_direction(s.n, random_pair(vec2<u32>(frag.xy), frame.frame_index, k));
+        ray_coin = random_bits(vec2<u32>(frag.xy), frame.frame_index ^ 0x85ebca6bu, k);
         sum += ray_visibility(origin, d, eps, radius);
     }
     return vec4<f32>(sum / f32(rays));

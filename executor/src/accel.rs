@@ -22,8 +22,8 @@ const MAX_FIRST_TRIANGLE: u64 = 1 << 24;
 
 /// What rays are traced against: every mesh, the opaque and alpha-masked ones under instance
 /// mask `OPAQUE_MESHES` (what the raster's shadow and G-buffer passes draw), the blended ones
-/// under `BLENDED_MESHES` (which passes skip by their cull mask, as `draw: Scene` skips
-/// them; the path tracer meets them as stochastic transparency).
+/// under `BLENDED_MESHES` (a pass may skip them by its cull mask, as `draw: Scene` skips them;
+/// the bundled passes meet them as the reference does, as stochastic transparency).
 pub struct Accel {
     pub tlas: wgpu::Tlas,
     /// The bottom levels, one per traced mesh (the TLAS's instances keep them alive too).
@@ -54,14 +54,23 @@ pub struct HitMaps {
 type Corners = [[f32; 3]; 3];
 
 /// Mesh `m`'s triangles as one BLAS geometry: positions are the first 12 bytes of each
-/// interleaved vertex.
-fn size_of(m: &MeshGpu) -> wgpu::BlasTriangleGeometrySizeDescriptor {
+/// interleaved vertex. An opaque material's triangles end shadow queries by themselves; a
+/// masked or blended one's are offered to the shader (`shaders/lib/ray.wgsl`), each once, so
+/// that a blended surface's transmittance is counted once per ray.
+fn size_of(m: &MeshGpu, scene: &Scene) -> wgpu::BlasTriangleGeometrySizeDescriptor {
+    let opaque = scene
+        .materials
+        .get(m.material)
+        .is_none_or(|mat| mat.alpha == lightbench_scene::AlphaMode::Opaque);
     wgpu::BlasTriangleGeometrySizeDescriptor {
         vertex_format: wgpu::VertexFormat::Float32x3,
         vertex_count: m.vertex_count,
         index_format: Some(wgpu::IndexFormat::Uint32),
         index_count: Some(m.index_count),
-        flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+        flags: match opaque {
+            true => wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+            false => wgpu::AccelerationStructureGeometryFlags::NO_DUPLICATE_ANY_HIT_INVOCATION,
+        },
     }
 }
 
@@ -367,7 +376,7 @@ impl Accel {
             .collect();
         check_limits(&device.limits(), &scene.name, &sizes_of)?;
         let first = first_triangles(meshes, &list);
-        let sizes: Vec<_> = list.iter().map(|&i| size_of(&meshes[i])).collect();
+        let sizes: Vec<_> = list.iter().map(|&i| size_of(&meshes[i], scene)).collect();
         let blas: Vec<wgpu::Blas> = list
             .iter()
             .zip(&sizes)

@@ -36,7 +36,7 @@ fn emitter_light(s: Surface, u: vec3<f32>, eps: f32) -> vec3<f32> {
     }
     // The shadow ray stops short of the emitter's own triangle.
     let side = select(-1.0, 1.0, dot(s.n, l) >= 0.0);
-    let vis = unoccluded(s.world + s.n * side * eps, l, eps, dist - 2.0 * eps);
+    let vis = transmittance(s.world + s.n * side * eps, l, eps, dist - 2.0 * eps);
     return f * a.radiance.rgb * (abs(cos_e) * area * f32(count) / dist2) * vis;
 }
 

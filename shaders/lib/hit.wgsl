@@ -1,8 +1,10 @@
 // Shading a ray's hit with the definitions the G-buffer and the reference use: the traced
 // triangle's interpolated shading normal, its front, and its material (standard bindings
-// `hit_triangles` and `hit_materials`, built with the acceleration structure). The including
-// file includes lib/ray.wgsl (which binds `scene_accel` through it). Textures are not sampled
-// at hits: each map stands in by its mean.
+// `hit_triangles` and `hit_materials`, built with the acceleration structure). Included by
+// lib/hit_maps.wgsl, which looks the maps up where a ray met a surface (here each map stands
+// in by its mean), and through it by lib/ray.wgsl.
+#include "lib/math.wgsl"
+#include "lib/surface.wgsl"
 
 struct HitTriangle {
     // The corners' shading normals (world, unit).
@@ -78,28 +80,6 @@ fn hit_triangle(i: RayIntersection) -> HitTriangle {
 // double-sided one (the sidedness rule of docs/scenes.md).
 fn seen_along(tri: HitTriangle, dir: vec3<f32>) -> bool {
     return tri.double_sided != 0u || dot(tri.ng, dir) < 0.0;
-}
-
-// The nearest surface a bounce ray sees along `dir` (unit) between `t_min` and `t_max`.
-fn trace_seen(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> RayHit {
-    var rq: ray_query;
-    // Every triangle a candidate, so that the backs of single-sided ones can be passed.
-    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, OPAQUE_MESHES, t_min, t_max, origin, dir));
-    // The nearest back passed: every candidate nearer than the final hit is offered.
-    var back = t_max;
-    while rayQueryProceed(&rq) {
-        let c = rayQueryGetCandidateIntersection(&rq);
-        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE {
-            if seen_along(hit_triangle(c), dir) {
-                rayQueryConfirmIntersection(&rq);
-            } else {
-                back = min(back, c.t);
-            }
-        }
-    }
-    var h = ray_hit(rayQueryGetCommittedIntersection(&rq), origin, dir);
-    h.shadowed = h.found && back < h.t;
-    return h;
 }
 
 // A hit as the surface lib/lighting.wgsl shades, seen from `v`.

@@ -5,8 +5,12 @@
 // per map, then RGBA8 texels). Alpha-masked surfaces are cut out where their alpha is below
 // the cutoff, blended ones where it is below a coin tossed per ray and triangle (stochastic
 // transparency, as the reference's), for camera, bounce and shadow rays alike; normal maps
-// bend the shading normal. The including file includes lib/hit.wgsl and lib/sampling.wgsl,
-// and sets `ray_coin` before each ray that may meet blended surfaces.
+// bend the shading normal. The including file sets `ray_coin` before each ray that may meet
+// blended surfaces and is to see them stochastically (shadow rays take their mean instead:
+// lib/ray.wgsl's `transmittance`).
+#include "lib/hit.wgsl"
+#include "lib/sampling.wgsl"
+#include "lib/map_slots.wgsl"
 
 struct HitCorners {
     // Per corner: (u, v) of TEXCOORD_0, then of TEXCOORD_1.
@@ -22,10 +26,6 @@ var<private> ray_coin: u32;
 @group(0) @binding(9) var<storage, read> hit_maps: array<u32>;
 
 const NO_MAP: u32 = 0xffffffffu;
-const MAP_BASE: u32 = 0u;
-const MAP_METALLIC_ROUGHNESS: u32 = 1u;
-const MAP_NORMAL: u32 = 2u;
-const MAP_EMISSIVE: u32 = 3u;
 
 fn srgb_decode(c: f32) -> f32 {
     return select(pow((c + 0.055) / 1.055, 2.4), c / 12.92, c <= 0.04045);
@@ -125,7 +125,7 @@ fn look_up_maps(h: ptr<function, RayHit>, dir: vec3<f32>) {
     if m.maps[MAP_NORMAL] != NO_MAP {
         (*h).n = mapped_normal(*h, m, dir);
     }
-    let base = m.base_factor * material_map(m, (*h).triangle, (*h).bary, MAP_BASE);
+    let base = m.base_factor * material_map(m, (*h).triangle, (*h).bary, MAP_BASE_COLOR);
     let mr = material_map(m, (*h).triangle, (*h).bary, MAP_METALLIC_ROUGHNESS);
     (*h).albedo = base.rgb;
     (*h).metallic = clamp(m.metallic_factor * mr.z, 0.0, 1.0);
@@ -141,18 +141,30 @@ fn emission_at(index: u32, b: vec2<f32>) -> vec3<f32> {
     return m.emissive_factor * material_map(m, index, b, MAP_EMISSIVE).rgb;
 }
 
-// Whether triangle `index`, met at distance `t` and barycentrics `b`, is cut out: its alpha
-// below the cutoff (masked), or below a coin of this ray's and this triangle's (blended).
-fn cut_out(index: u32, b: vec2<f32>, t: f32) -> bool {
+// How much of the light triangle `index` stops at barycentrics `b`: 1 where it is opaque, 0
+// or 1 where it is masked (its alpha against the cutoff), its alpha where it is blended.
+fn coverage(index: u32, b: vec2<f32>) -> f32 {
     let m = hit_materials[hit_triangles[index].material];
     if m.cutoff == 0.0 {
-        return false;
+        return 1.0;
     }
-    var cutoff = m.cutoff;
-    if cutoff < 0.0 {
-        cutoff = f32(pcg_hash(ray_coin ^ pcg_hash(index ^ bitcast<u32>(t))) >> 8u) * (1.0 / 16777216.0);
+    let alpha = m.base_factor.a * material_map(m, index, b, MAP_BASE_COLOR).a;
+    if m.cutoff < 0.0 {
+        return clamp(alpha, 0.0, 1.0);
     }
-    return (m.base_factor.a * material_map(m, index, b, MAP_BASE).a) < cutoff;
+    return select(0.0, 1.0, alpha >= m.cutoff);
+}
+
+// Whether the ray passes triangle `index`, met at distance `t` and barycentrics `b`: a masked
+// one where its alpha is below the cutoff, a blended one where its alpha is below a coin of
+// this ray's and this triangle's (stochastic transparency: seen with probability alpha).
+fn ray_passes(index: u32, b: vec2<f32>, t: f32) -> bool {
+    let cover = coverage(index, b);
+    if cover >= 1.0 || cover <= 0.0 {
+        return cover <= 0.0;
+    }
+    let coin = f32(pcg_hash(ray_coin ^ pcg_hash(index ^ bitcast<u32>(t))) >> 8u) * (1.0 / 16777216.0);
+    return cover < coin;
 }
 
 // The nearest surface a camera or bounce ray sees along `dir` between `t_min` and `t_max`,
@@ -166,7 +178,7 @@ fn trace_seen_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) 
         let c = rayQueryGetCandidateIntersection(&rq);
         if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE {
             let index = c.instance_custom_data + c.primitive_index;
-            if !cut_out(index, c.barycentrics, c.t) {
+            if !ray_passes(index, c.barycentrics, c.t) {
                 if seen_along(hit_triangles[index], dir) {
                     rayQueryConfirmIntersection(&rq);
                 } else {
@@ -183,31 +195,14 @@ fn trace_seen_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) 
     return h;
 }
 
-// 1 when no surface (masked ones cut out) lies along `dir` between `t_min` and `t_max`.
-fn unoccluded_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
-    if t_max <= t_min {
-        return 1.0;
-    }
-    var rq: ray_query;
-    let flags = RAY_FLAG_FORCE_NO_OPAQUE | RAY_FLAG_TERMINATE_ON_FIRST_HIT;
-    rayQueryInitialize(&rq, scene_accel, RayDesc(flags, 0xffu, t_min, t_max, origin, dir));
-    while rayQueryProceed(&rq) {
-        let c = rayQueryGetCandidateIntersection(&rq);
-        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && !cut_out(c.instance_custom_data + c.primitive_index, c.barycentrics, c.t) {
-            rayQueryConfirmIntersection(&rq);
-        }
-    }
-    return select(1.0, 0.0, rayQueryGetCommittedIntersection(&rq).kind != RAY_QUERY_INTERSECTION_NONE);
-}
-
-// The distance to the nearest surface (masked ones cut out, either side) along `dir` between
-// `t_min` and `t_max`, or −1 where there is none.
+// The distance to the nearest surface (cut-outs passed, either side) along `dir` between
+// `t_min` and `t_max`, or −1 where there is none. Opaque triangles commit themselves.
 fn nearest_occluder(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) -> f32 {
     var rq: ray_query;
-    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_FORCE_NO_OPAQUE, 0xffu, t_min, t_max, origin, dir));
+    rayQueryInitialize(&rq, scene_accel, RayDesc(RAY_FLAG_NONE, 0xffu, t_min, t_max, origin, dir));
     while rayQueryProceed(&rq) {
         let c = rayQueryGetCandidateIntersection(&rq);
-        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && !cut_out(c.instance_custom_data + c.primitive_index, c.barycentrics, c.t) {
+        if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE && !ray_passes(c.instance_custom_data + c.primitive_index, c.barycentrics, c.t) {
             rayQueryConfirmIntersection(&rq);
         }
     }

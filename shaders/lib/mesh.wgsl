@@ -44,11 +44,7 @@ struct VertexIn {
 @group(1) @binding(6) var material_sampler: sampler;
 @group(1) @binding(7) var occlusion_map: texture_2d<f32>;
 
-const MAP_BASE_COLOR: u32 = 0u;
-const MAP_METALLIC_ROUGHNESS: u32 = 1u;
-const MAP_NORMAL: u32 = 2u;
-const MAP_EMISSIVE: u32 = 3u;
-const MAP_OCCLUSION: u32 = 4u;
+#include "lib/map_slots.wgsl"
 
 // The texture coordinates map `map` samples: its UV set, through the material's transform.
 fn material_uv(uv0: vec2<f32>, uv1: vec2<f32>, map: u32) -> vec2<f32> {

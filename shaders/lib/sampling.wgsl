@@ -11,9 +11,14 @@ fn pcg_hash(x: u32) -> u32 {
     return (w >> 22u) ^ w;
 }
 
+// 32 random bits for sample `k` of pixel `px` in frame `frame_no`.
+fn random_bits(px: vec2<u32>, frame_no: u32, k: u32) -> u32 {
+    return pcg_hash(px.x ^ pcg_hash(px.y ^ pcg_hash(frame_no ^ pcg_hash(k))));
+}
+
 // Two numbers in [0, 1) for sample `k` of pixel `px` in frame `frame_no`.
 fn random_pair(px: vec2<u32>, frame_no: u32, k: u32) -> vec2<f32> {
-    let a = pcg_hash(px.x ^ pcg_hash(px.y ^ pcg_hash(frame_no ^ pcg_hash(k))));
+    let a = random_bits(px, frame_no, k);
     let b = pcg_hash(a);
     return vec2<f32>(f32(a >> 8u), f32(b >> 8u)) * (1.0 / 16777216.0);
 }

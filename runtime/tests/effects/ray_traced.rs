@@ -46,6 +46,75 @@ fn ray_traced_shadows_equal_the_reference_direct_light() {
     assert!(failures.is_empty(), "{failures:#?}");
 }
 
+/// The Cornell box (its light under the ceiling) with its tall box blended (alpha 0.4, both
+/// sides) and its short box alpha-masked by a checker of holes: shadows through cut-outs.
+fn box_with_cut_outs() -> lightbench::scene::Scene {
+    use lightbench::scene::{AlphaMode, ImageData, Material};
+    let mut s = lightbench::scene::load::load_sized("cornell", Some((64, 64)), &[]).unwrap();
+    s.name = "cut_outs".into();
+    let n = 4u32;
+    s.textures.push(ImageData {
+        width: n,
+        height: n,
+        rgba: (0..n * n)
+            .flat_map(|i| [200, 200, 200, if (i % n + i / n).is_multiple_of(2) { 255 } else { 0 }])
+            .collect(),
+        srgb: true,
+    });
+    let mut tall = Material::color("tall", [0.7, 0.6, 0.5], 0.8);
+    (tall.base_color[3], tall.alpha, tall.double_sided) = (0.4, AlphaMode::Blend, true);
+    let mut short = Material::color("short", [1.0; 3], 0.8);
+    (short.base_color_texture, short.alpha) = (Some(s.textures.len() - 1), AlphaMode::Mask(0.5));
+    for (m, mesh) in [(tall, "tall_box"), (short, "short_box")] {
+        s.materials.push(m);
+        let i = s.materials.len() - 1;
+        s.meshes.iter_mut().find(|x| x.name == mesh).unwrap().material = i;
+    }
+    s
+}
+
+/// Ray-traced shadows let light through cut-outs as the reference does: a blended surface
+/// passes 1 − alpha of it (the mean of the reference's coins), a masked one passes it through
+/// its holes. On the floor and walls (the pixels that see neither box, edges left out),
+/// `shadows = rt` with ambient 0 is within 4σ of the reference's `direct` (256 spp, its
+/// noise from the coins) plus 1% for ≥ 99% of values — tracing the boxes whole (or skipping
+/// the blended one) leaves their shadows 0 or unshadowed, far outside.
+#[test]
+fn ray_traced_shadows_pass_through_cut_outs_as_the_reference() {
+    use lightbench::reference::{Budget, Settings, Term};
+    let s = box_with_cut_outs();
+    let settings = Settings {
+        budget: Budget::Spp(256),
+        terms: vec![Term::Direct],
+        ..Settings::default()
+    };
+    let r = lightbench::reference::render(&s, &settings, false);
+    let reference = r.term(Term::Direct).unwrap();
+    let g = gpu_common::gpu();
+    let v = [("shadows", "rt")].map(|(a, b)| (a.to_string(), b.to_string()));
+    let (exe, _) = lightbench::render::compile(&g, &gpu_common::deferred(), None, &s, &v).unwrap_or_else(|e| panic!("{e}"));
+    let set = [("ambient.color".to_string(), "(0, 0, 0)".to_string())];
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    let ex = lightbench::render::render_with(&g, &exe, &s, 1, &params).unwrap();
+    let hdr = ex.read_texture(&g, "hdr", 0, 0).unwrap();
+    let judged = beside_the_boxes(&s);
+    let (mut n, mut out, mut shaded) = (0usize, 0usize, 0usize);
+    for i in (0..judged.len()).filter(|&i| judged[i]) {
+        for c in 0..3 {
+            let (a, b) = (hdr.rgba[i * 4 + c] as f64, reference.mean.rgba[i * 4 + c] as f64);
+            assert!(a.is_finite(), "pixel {i}: {a}");
+            let sigma = (reference.variance.rgba[i * 4 + c] as f64).sqrt();
+            n += 1;
+            out += ((a - b).abs() > 4.0 * sigma + 0.01 * b.abs() + 1e-3) as usize;
+            // Partly shadowed: where the coins left noise (neither all lit nor all dark).
+            shaded += (c == 0 && sigma > 0.01 * b.abs()) as usize;
+        }
+    }
+    eprintln!("cut-out shadows: {out} of {n} values outside, {shaded} pixels partly shadowed");
+    assert!(shaded >= 40, "the blended box's shadow falls on the judged pixels: {shaded}");
+    assert!(n > 6000 && out * 100 <= n, "{out} of {n} values outside the reference's noise");
+}
+
 /// The Cornell box calling for ambient occlusion, `n`×`n` pixels (a scene file, as a user
 /// writes one).
 fn cornell_ao(n: u32) -> lightbench::scene::Scene {
@@ -58,66 +127,97 @@ fn cornell_ao(n: u32) -> lightbench::scene::Scene {
 }
 
 /// `ao = rtao` at a high ray count converges to the reference's `ao` term: on the Cornell box
-/// (64², radius 0.5 world units, with and without `ao.falloff`), 256 rays per pixel unblurred
-/// (`ao.raw`, full size) against 512 reference samples: the mean bias is within 0.01 and each
-/// pixel's difference is within its noise (|z| < 4.5 for ≥ 99% of pixels, the z-score's
-/// variance near 1).
+/// (64², radius 0.5 world units, with and without `ao.falloff`), and on the box with cut-outs
+/// (rays through the masked box's holes, through the blended one by coins), 256 rays per
+/// pixel unblurred (`ao.raw`, full size) against 512 reference samples: the mean bias is
+/// within 0.01 and each pixel's difference is within its noise (|z| < 4.5 for ≥ 99% of
+/// pixels, the z-score's variance near 1).
 #[test]
 fn ray_traced_ao_converges_to_the_reference_ao() {
-    use lightbench::reference::{Budget, Settings, Term};
-    let scene = cornell_ao(64);
+    let everywhere = vec![true; 64 * 64];
     for falloff in [false, true] {
-        let settings = Settings {
-            budget: Budget::Spp(512),
-            terms: vec![Term::Ao],
-            ao_radius: 0.5,
-            ao_falloff: falloff,
-            ..Settings::default()
-        };
-        let r = lightbench::reference::render(&scene, &settings, false);
-        let reference = r.term(Term::Ao).unwrap();
-        let g = gpu_common::gpu();
-        let pipeline = gpu_common::root().join("pipelines/deferred_gi.lbp");
-        let fall = if falloff { "inverse_square" } else { "range" };
-        let v = [("ao", "rtao"), ("indirect_diffuse", "off"), ("ao_falloff", fall)].map(|(a, b)| (a.to_string(), b.to_string()));
-        let (exe, _) = lightbench::render::compile(&g, &pipeline, None, &scene, &v).unwrap_or_else(|e| panic!("{e}"));
-        assert!(exe.plan.passes.iter().any(|p| p.name == "rtao"), "rtao runs");
-        let set = [
-            ("ao.radius", "0.5"),
-            ("lengths.world", "true"),
-            ("ao.rt.rays", "256"),
-            ("ao.scale", "1"),
-        ]
-        .map(|(a, b)| (a.to_string(), b.to_string()));
-        let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
-        let ex = lightbench::render::render_with(&g, &exe, &scene, 1, &params).unwrap();
-        let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
-        let (mut diff, mut n, mut z_out, mut z2) = (0.0f64, 0usize, 0usize, 0.0f64);
-        for (i, px) in raw.rgba.chunks_exact(4).enumerate() {
-            let (a, b) = (px[0] as f64, reference.mean.rgba[i * 4] as f64);
-            assert!(a.is_finite() && (0.0..=1.0).contains(&a), "pixel {i}: {a}");
-            // The background is 1 in both; only surfaces count.
-            if b >= 1.0 && a >= 1.0 {
-                continue;
-            }
-            // Each side's variance of its mean: the reference's own estimate; 256 rays of a
-            // value in [0, 1] whose mean is `a` vary by at most a(1 − a) each.
-            let var = reference.variance.rgba[i * 4] as f64 + (a * (1.0 - a)).max(1e-4) / 256.0;
-            let z = (a - b) / var.sqrt();
-            diff += a - b;
-            n += 1;
-            z2 += z * z;
-            z_out += (z.abs() >= 4.5) as usize;
-        }
-        let (bias, z_var, out) = (diff / n as f64, z2 / n as f64, z_out as f64 / n as f64);
-        eprintln!(
-            "rtao (falloff {falloff}): bias {bias:+.4} over {n} pixels, z variance {z_var:.3}, {:.2}% beyond 4.5σ",
-            out * 100.0
-        );
-        assert!(n > 3000, "{n} pixels");
-        assert!(bias.abs() <= 0.01, "bias {bias}");
-        assert!(out <= 0.01 && z_var < 2.0, "z variance {z_var}, {:.2}% beyond 4.5σ", out * 100.0);
+        rtao_against_the_reference(&cornell_ao(64), falloff, &everywhere);
     }
+    let mut cut = box_with_cut_outs();
+    cut.effects.insert(lightbench_compiler::ir::Effect::AmbientOcclusion);
+    rtao_against_the_reference(&cut, false, &beside_the_boxes(&cut));
+}
+
+/// The pixels whose camera ray meets neither box (nor an edge): where the raster G-buffer and
+/// the reference see the same surface when the boxes are cut out or blended.
+fn beside_the_boxes(s: &lightbench::scene::Scene) -> Vec<bool> {
+    let boxes: Vec<usize> = ["tall_box", "short_box"]
+        .iter()
+        .map(|b| s.meshes.iter().position(|m| &m.name == b).unwrap())
+        .collect();
+    let edges = lightbench::reference::edge_pixels(s);
+    let seen = lightbench::reference::surfaces_seen(s);
+    seen.iter()
+        .zip(edges)
+        .map(|(label, edge)| label.is_some_and(|l| !boxes.contains(&l)) && !edge)
+        .collect()
+}
+
+/// `ao = rtao` (256 rays, unblurred) against the reference's `ao` (512 samples) over the
+/// `judged` pixels of `scene`.
+fn rtao_against_the_reference(scene: &lightbench::scene::Scene, falloff: bool, judged: &[bool]) {
+    use lightbench::reference::{Budget, Settings, Term};
+    let settings = Settings {
+        budget: Budget::Spp(512),
+        terms: vec![Term::Ao],
+        ao_radius: 0.5,
+        ao_falloff: falloff,
+        ..Settings::default()
+    };
+    let r = lightbench::reference::render(scene, &settings, false);
+    let reference = r.term(Term::Ao).unwrap();
+    let g = gpu_common::gpu();
+    let pipeline = gpu_common::root().join("pipelines/deferred_gi.lbp");
+    let fall = if falloff { "inverse_square" } else { "range" };
+    let v = [("ao", "rtao"), ("indirect_diffuse", "off"), ("ao_falloff", fall)].map(|(a, b)| (a.to_string(), b.to_string()));
+    let (exe, _) = lightbench::render::compile(&g, &pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
+    assert!(exe.plan.passes.iter().any(|p| p.name == "rtao"), "rtao runs");
+    let set = [
+        ("ao.radius", "0.5"),
+        ("lengths.world", "true"),
+        ("ao.rt.rays", "256"),
+        ("ao.scale", "1"),
+    ]
+    .map(|(a, b)| (a.to_string(), b.to_string()));
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    let ex = lightbench::render::render_with(&g, &exe, scene, 1, &params).unwrap();
+    let raw = ex.read_texture(&g, "ao.raw", 0, 0).unwrap();
+    let (mut diff, mut n, mut z_out, mut z2) = (0.0f64, 0usize, 0usize, 0.0f64);
+    for (i, px) in raw.rgba.chunks_exact(4).enumerate() {
+        let (a, b) = (px[0] as f64, reference.mean.rgba[i * 4] as f64);
+        assert!(a.is_finite() && (0.0..=1.0).contains(&a), "pixel {i}: {a}");
+        // The background is 1 in both; only surfaces count.
+        if !judged[i] || (b >= 1.0 && a >= 1.0) {
+            continue;
+        }
+        // Each side's variance of its mean: the reference's own estimate; 256 rays of a
+        // value in [0, 1] whose mean is `a` vary by at most a(1 − a) each.
+        let var = reference.variance.rgba[i * 4] as f64 + (a * (1.0 - a)).max(1e-4) / 256.0;
+        let z = (a - b) / var.sqrt();
+        diff += a - b;
+        n += 1;
+        z2 += z * z;
+        z_out += (z.abs() >= 4.5) as usize;
+    }
+    let (bias, z_var, out) = (diff / n as f64, z2 / n as f64, z_out as f64 / n as f64);
+    eprintln!(
+        "rtao on {} (falloff {falloff}): bias {bias:+.4} over {n} pixels, z variance {z_var:.3}, {:.2}% beyond 4.5σ",
+        scene.name,
+        out * 100.0
+    );
+    assert!(n > 2500, "{n} pixels");
+    assert!(bias.abs() <= 0.01, "{}: bias {bias}", scene.name);
+    assert!(
+        out <= 0.01 && z_var < 2.0,
+        "{}: z variance {z_var}, {:.2}% beyond 4.5σ",
+        scene.name,
+        out * 100.0
+    );
 }
 
 /// A scene file, as a user writes one, in a fresh folder.
@@ -158,19 +258,24 @@ fn blocks(img: &Image, var: Option<&Image>, covered: &[bool]) -> Vec<Option<(f64
 /// block's mean within 4 of its standard errors plus 3% — the ray-traced side's error taken
 /// from the two frames' differences, the reference's from its own variance — and within 15%
 /// where both sides know it to 5%, on the spot- and
-/// sun-lit boxes (RSM's scenes) and the box lit only by its ceiling lamp, which RSM leaves
-/// without bounce light.
+/// sun-lit boxes (RSM's scenes), the box lit only by its ceiling lamp, which RSM leaves
+/// without bounce light, and the box with cut-outs (bounce rays through the masked box's
+/// holes and by coins through the blended one; the pixels that see neither box).
 #[test]
 fn ray_traced_indirect_diffuse_matches_the_reference_block_by_block() {
     use lightbench::reference::{Budget, Settings, Term};
     let lamp = "Scene(name: \"lamp_gi\", size: (64, 64), builtin: \"cornell_lamp\", effects: [IndirectDiffuse])\n";
+    let mut cut = box_with_cut_outs();
+    cut.effects.insert(lightbench_compiler::ir::Effect::IndirectDiffuse);
     let scenes = [
         lightbench::scene::load(gpu_common::root().join("scenes/cornell_spot.ron").to_str().unwrap()).unwrap(),
         lightbench::scene::load(gpu_common::root().join("scenes/cornell_sun.ron").to_str().unwrap()).unwrap(),
         scene_file("lamp_gi", lamp),
+        cut,
     ];
     let mut failures = vec![];
     for scene in &scenes {
+        let judged = (scene.name == "cut_outs").then(|| beside_the_boxes(scene));
         assert_eq!(scene.size, (64, 64));
         let settings = Settings {
             budget: Budget::Spp(256),
@@ -180,7 +285,7 @@ fn ray_traced_indirect_diffuse_matches_the_reference_block_by_block() {
         let r = lightbench::reference::render(scene, &settings, false);
         let reference = r.term(Term::IndirectDiffuse).unwrap();
         let (first, second) = two_frames_of(scene, ("indirect_diffuse", "rt"), ("gi.rt.rays", "64"), "gi.indirect");
-        let compared = compare_blocks(&first, &second, reference);
+        let compared = compare_blocks((&first, &second), reference, judged.as_deref());
         failures.extend(judge(&scene.name, compared, (30, 30)));
     }
     assert!(failures.is_empty(), "{failures:#?}");
@@ -234,16 +339,23 @@ fn two_frames_with(
     (first, second)
 }
 
-/// Two frames' mean against the reference, 8×8 block by block over the pixels the frames
-/// cover (alpha 1): the largest excess over 3% in standard errors (the frames' from their
+/// Two frames' mean against the reference, 8×8 block by block over the `judged` pixels the
+/// frames cover (alpha 1): the largest excess over 3% in standard errors (the frames' from their
 /// difference, the reference's from its variance), the blocks compared, and the sorted ratios
 /// of the blocks both sides know to 5% (standard error below 5% of the value; where both are
 /// noisier the excess alone bounds them). Pixels that see another surface than the
 /// reference's camera ray (along geometric edges: off by half and far beyond their noise) are
 /// left out, at most 1.5% of them.
-fn compare_blocks(first: &Image, second: &Image, reference: &lightbench::reference::TermImage) -> (f64, usize, Vec<f64>) {
+fn compare_blocks(
+    (first, second): (&Image, &Image),
+    reference: &lightbench::reference::TermImage,
+    judged: Option<&[bool]>,
+) -> (f64, usize, Vec<f64>) {
     let sum = |img: &Image, i: usize| (0..3).map(|c| img.rgba[i * 4 + c] as f64).sum::<f64>();
     let mut covered: Vec<bool> = first.rgba.chunks_exact(4).map(|p| p[3] > 0.5).collect();
+    for (c, j) in covered.iter_mut().zip(judged.unwrap_or(&[])) {
+        *c &= j;
+    }
     let surfaces = covered.iter().filter(|c| **c).count();
     let mut edges = 0;
     for (i, c) in covered.iter_mut().enumerate().filter(|(_, c)| **c) {
@@ -325,7 +437,7 @@ fn ray_traced_reflections_match_the_reference_block_by_block() {
         let r = lightbench::reference::render(&scene, &settings, false);
         let reference = r.term(Term::IndirectSpecular).unwrap();
         let (first, second) = two_frames_of(&scene, ("reflections", "rt"), ("ssr.rt.rays", "32"), "ssr.color");
-        let compared = compare_blocks(&first, &second, reference);
+        let compared = compare_blocks((&first, &second), reference, None);
         failures.extend(judge(floor, compared, (20, 12)));
     }
     assert!(failures.is_empty(), "{failures:#?}");
@@ -370,7 +482,7 @@ fn ray_traced_area_lights_match_the_reference_direct_light() {
                 img.rgba[i * 4 + 3] = if px[0] + px[1] + px[2] > 0.0 { 1.0 } else { 0.0 };
             }
         }
-        let compared = compare_blocks(&first, &second, reference);
+        let compared = compare_blocks((&first, &second), reference, None);
         failures.extend(judge(&scene.name, compared, (30, 20)));
     }
     assert!(failures.is_empty(), "{failures:#?}");
