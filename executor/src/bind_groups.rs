@@ -59,8 +59,8 @@ pub struct Binder<'a> {
     pub samplers: &'a [wgpu::Sampler],
     pub frame: &'a wgpu::Buffer,
     pub lights_buf: &'a wgpu::Buffer,
-    /// The scene's triangles (standard binding `triangles`).
-    pub triangles: &'a wgpu::Buffer,
+    /// The scene's triangles (standard binding `triangles`), where the Plan binds them.
+    pub triangles: Option<&'a wgpu::Buffer>,
     /// The scene's emissive triangles (standard binding `area_lights`).
     pub area_lights: &'a wgpu::Buffer,
     /// The light-volume meshes (standard binding `light_volumes`) and their ranges.
@@ -111,6 +111,11 @@ impl Binder<'_> {
     fn maps(&self) -> Result<&super::accel::HitMaps> {
         self.maps
             .ok_or_else(|| Error::Plan("the maps looked up at ray hits were not built for this Plan".into()))
+    }
+
+    fn triangles(&self) -> Result<&wgpu::Buffer> {
+        self.triangles
+            .ok_or_else(|| Error::Plan("the scene's triangles were not built for this Plan".into()))
     }
 
     fn entry(&self, res: ResourceId) -> Result<&super::pool::Entry> {
@@ -247,7 +252,7 @@ impl Binder<'_> {
             let r = match &e.source {
                 BindSource::Frame => Held::Buf(self.frame.as_entire_buffer_binding()),
                 BindSource::Lights => Held::Buf(self.lights_buf.as_entire_buffer_binding()),
-                BindSource::Triangles => Held::Buf(self.triangles.as_entire_buffer_binding()),
+                BindSource::Triangles => Held::Buf(self.triangles()?.as_entire_buffer_binding()),
                 BindSource::LightVolumes => Held::Buf(self.volumes.0.as_entire_buffer_binding()),
                 BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
                 BindSource::HitTriangles => Held::Buf(self.hits()?.triangles.as_entire_buffer_binding()),

@@ -285,6 +285,9 @@ pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'sta
         max_bind_groups: a.max_bind_groups.min(8),
         max_texture_dimension_2d: a.max_texture_dimension_2d,
         max_texture_array_layers: a.max_texture_array_layers,
+        // The adapter's own sizes: wgpu's defaults (256 MiB buffers) would refuse scenes of a
+        // few million triangles that the device holds.
+        max_buffer_size: a.max_buffer_size,
         max_storage_buffer_binding_size: a.max_storage_buffer_binding_size,
         max_sampled_textures_per_shader_stage: a.max_sampled_textures_per_shader_stage,
         max_storage_textures_per_shader_stage: a.max_storage_textures_per_shader_stage,

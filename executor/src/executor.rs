@@ -120,6 +120,8 @@ struct Shared {
     hits: std::sync::OnceLock<HitData>,
     /// What maps are looked up at hits with, built the first time a Plan binds it.
     hit_maps: std::sync::OnceLock<HitMaps>,
+    /// The standard `triangles` binding, built the first time a Plan binds it.
+    triangles: std::sync::OnceLock<wgpu::Buffer>,
     scene: Scene,
     lights: Vec<Light>,
     bounds: (glam::Vec3, glam::Vec3),
@@ -201,6 +203,7 @@ impl Shared {
             accel: Default::default(),
             hits: Default::default(),
             hit_maps: Default::default(),
+            triangles: Default::default(),
             lights,
             scene,
         })
@@ -231,6 +234,15 @@ impl Shared {
         }
         let built = HitMaps::build((&gpu.device, &gpu.queue), &self.scene_gpu, &self.scene)?;
         Ok(self.hit_maps.get_or_init(|| built))
+    }
+
+    /// The scene's drawn triangles in world space, built on first use.
+    fn triangles(&self, gpu: &Gpu) -> Result<&wgpu::Buffer> {
+        if let Some(t) = self.triangles.get() {
+            return Ok(t);
+        }
+        let built = super::scene_gpu::triangles(&gpu.device, &self.scene)?;
+        Ok(self.triangles.get_or_init(|| built))
     }
 }
 
@@ -1004,18 +1016,29 @@ pub fn halton_jitter(n: u64) -> [f32; 2] {
     [halton(i, 2) - 0.5, halton(i, 3) - 0.5]
 }
 
-/// What of the scene's ray-tracing data a Plan binds: the acceleration structure, the hit
-/// data, the maps looked up at hits.
-fn traces(plan: &Plan) -> (bool, bool, bool) {
+/// What of the scene's data built on demand a Plan binds.
+struct SceneNeeds {
+    /// The acceleration structure.
+    accel: bool,
+    /// The hit data.
+    hits: bool,
+    /// The maps looked up at hits.
+    maps: bool,
+    /// The standard `triangles` binding.
+    triangles: bool,
+}
+
+fn scene_needs(plan: &Plan) -> SceneNeeds {
     use lightbench_compiler::layout::BindSource;
     let hit_data = |s: &BindSource<_, _>| matches!(s, BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters);
     let hit_maps = |s: &BindSource<_, _>| matches!(s, BindSource::HitCorners | BindSource::HitMaps);
     let entries = || plan.passes.iter().flat_map(|p| &p.bind_groups).flat_map(|g| &g.entries);
-    (
-        plan.resources.iter().any(|r| r.is_accel()),
-        entries().any(|e| hit_data(&e.source)),
-        entries().any(|e| hit_maps(&e.source)),
-    )
+    SceneNeeds {
+        accel: plan.resources.iter().any(|r| r.is_accel()),
+        hits: entries().any(|e| hit_data(&e.source)),
+        maps: entries().any(|e| hit_maps(&e.source)),
+        triangles: entries().any(|e| matches!(e.source, BindSource::Triangles)),
+    }
 }
 
 /// The GPU state of an executable: resources (sharing `old`'s where unchanged; transient ones
@@ -1045,18 +1068,23 @@ fn build_state(
         resources_reused: pool.reused.clone(),
         ..Default::default()
     };
-    // Rays need the scene's acceleration structure: built the first time a Plan binds it.
-    let (accel, hits, maps) = traces(plan);
-    let accel = match accel {
+    // What only some Plans read (rays need the scene's acceleration structure): built the
+    // first time a Plan binds it.
+    let needs = scene_needs(plan);
+    let accel = match needs.accel {
         true => Some(err_scope(gpu, "building the acceleration structure", || shared.accel(gpu))??),
         false => None,
     };
-    let hits = match hits {
+    let hits = match needs.hits {
         true => Some(err_scope(gpu, "building the ray-hit data", || shared.hits(gpu))??),
         false => None,
     };
-    let maps = match maps {
+    let maps = match needs.maps {
         true => Some(err_scope(gpu, "copying the maps looked up at ray hits", || shared.hit_maps(gpu))??),
+        false => None,
+    };
+    let triangles = match needs.triangles {
+        true => Some(err_scope(gpu, "building the scene's triangles", || shared.triangles(gpu))??),
         false => None,
     };
     let binder = Binder {
@@ -1069,7 +1097,7 @@ fn build_state(
         samplers: &samplers,
         frame: &shared.frame_buf,
         lights_buf: &shared.lights_buf,
-        triangles: &shared.scene_gpu.triangles,
+        triangles,
         area_lights: &shared.scene_gpu.area_lights,
         volumes: (&shared.scene_gpu.light_volumes, &shared.scene_gpu.volumes),
         instance: &instance_buf,

@@ -46,10 +46,9 @@ pub struct SceneGpu {
     pub materials: Vec<MaterialGpu>,
     /// One per distinct material sampler.
     pub samplers: Vec<wgpu::Sampler>,
-    /// The standard `triangles` binding: world-space corners of the opaque and masked
-    /// triangles drawn, 3 `vec4` (w: 1) each; one zeroed triangle when there are none (a
-    /// binding cannot be empty).
-    pub triangles: wgpu::Buffer,
+    /// The opaque and masked triangles drawn: what `draw: Triangles(n)` instances and the
+    /// standard `triangles` binding holds (built apart, by `triangles`, only for a Plan that
+    /// binds it).
     pub triangle_count: u32,
     /// The standard `area_lights` binding: the emissive triangles (one zero-radiance entry when
     /// there are none: a binding cannot be empty), at most `MAX_AREA_LIGHTS`.
@@ -268,6 +267,9 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
         if m.vertices.is_empty() || m.indices.is_empty() {
             continue;
         }
+        let of = |what: &str| format!("mesh `{}` of scene `{}`: its {what}", m.name, scene.name);
+        check_buffer(device, || of("vertex buffer"), std::mem::size_of_val(&m.vertices[..]) as u64, false)?;
+        check_buffer(device, || of("index buffer"), std::mem::size_of_val(&m.indices[..]) as u64, false)?;
         let block = MeshBlock {
             model: m.transform.to_cols_array_2d(),
             normal_matrix: m.transform.inverse().transpose().to_cols_array_2d(),
@@ -289,30 +291,70 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
     Ok(out)
 }
 
-/// The world-space triangles of the meshes `draw: Scene` draws (the drawn fraction of each).
-fn triangles(device: &wgpu::Device, scene: &Scene) -> (wgpu::Buffer, u32) {
-    let mut corners: Vec<[f32; 4]> = vec![];
-    for m in &scene.meshes {
-        if scene.materials.get(m.material).is_none_or(|mat| mat.alpha == AlphaMode::Blend) {
-            continue;
-        }
-        let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
-        for &i in drawn {
-            let Some(v) = m.vertices.get(i as usize) else { continue };
-            corners.push(m.transform.transform_point3(glam::Vec3::from(v.position)).extend(1.0).to_array());
+/// The drawn triangles of the meshes `draw: Scene` draws (opaque and masked ones).
+fn drawn_triangles(scene: &Scene) -> impl Iterator<Item = (&lightbench_scene::Mesh, &[u32])> {
+    scene
+        .meshes
+        .iter()
+        .filter(|m| scene.materials.get(m.material).is_some_and(|mat| mat.alpha != AlphaMode::Blend))
+        .map(|m| (m, &m.indices[..(m.drawn_indices() as usize).min(m.indices.len()) / 3 * 3]))
+}
+
+/// How many triangles the standard `triangles` binding holds.
+fn triangle_count(scene: &Scene) -> u64 {
+    drawn_triangles(scene).map(|(_, drawn)| drawn.len() as u64 / 3).sum()
+}
+
+/// Refuse a buffer of `bytes` over the device's `max_buffer_size` (and, bound as storage,
+/// its `max_storage_buffer_binding_size`), naming what it would hold and the limit: wgpu
+/// would make an invalid buffer whose first use fails far from here.
+pub fn check_buffer(device: &wgpu::Device, what: impl FnOnce() -> String, bytes: u64, storage: bool) -> Result<()> {
+    let l = device.limits();
+    let (max, limit) = match storage && l.max_storage_buffer_binding_size < l.max_buffer_size {
+        true => (l.max_storage_buffer_binding_size, "max_storage_buffer_binding_size"),
+        false => (l.max_buffer_size, "max_buffer_size"),
+    };
+    if bytes <= max {
+        return Ok(());
+    }
+    let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
+    Err(Error::Scene(format!(
+        "{} needs {:.1} MiB ({bytes} bytes), over this device's {limit} of {:.1} MiB",
+        what(),
+        mib(bytes),
+        mib(max)
+    )))
+}
+
+/// The standard `triangles` binding: world-space corners of the triangles `draw: Scene` draws,
+/// 3 `vec4` (w: 1) each; one zeroed triangle when there are none (a binding cannot be empty).
+/// Within the device's storage-binding size, or an error naming it.
+pub fn triangles(device: &wgpu::Device, scene: &Scene) -> Result<wgpu::Buffer> {
+    let count = triangle_count(scene);
+    let what = || format!("scene `{}`: the `triangles` binding of its {count} drawn triangles", scene.name);
+    check_buffer(device, what, count * 48, true)?;
+    let mut corners: Vec<[f32; 4]> = Vec::with_capacity(count as usize * 3);
+    for (m, drawn) in drawn_triangles(scene) {
+        for t in drawn.chunks_exact(3) {
+            let c: Option<Vec<_>> = t.iter().map(|&i| m.vertices.get(i as usize)).collect();
+            match c {
+                Some(c) => corners.extend(
+                    c.iter()
+                        .map(|v| m.transform.transform_point3(glam::Vec3::from(v.position)).extend(1.0).to_array()),
+                ),
+                // A corner past the vertices: a zero-area triangle keeps the count.
+                None => corners.extend([[0.0; 4]; 3]),
+            }
         }
     }
-    corners.truncate(corners.len() / 3 * 3);
-    let count = (corners.len() / 3) as u32;
     if corners.is_empty() {
         corners = vec![[0.0; 4]; 3];
     }
-    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+    Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("scene triangles"),
         contents: bytemuck::cast_slice(&corners),
         usage: wgpu::BufferUsages::STORAGE,
-    });
-    (buffer, count)
+    }))
 }
 
 /// Area lights past this many emissive triangles are left out (the least powerful): each
@@ -501,7 +543,8 @@ impl SceneGpu {
         let hit_materials = scene.materials.iter().map(|m| hit_material(m, &means)).collect();
         let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
         let meshes = meshes(device, scene)?;
-        let (triangles, triangle_count) = triangles(device, scene);
+        let triangle_count = u32::try_from(triangle_count(scene))
+            .map_err(|_| Error::Scene(format!("scene `{}` draws more than 2³² triangles", scene.name)))?;
         let mut samplers: Vec<wgpu::Sampler> = sampler_descs.iter().map(|d| sampler(device, d)).collect();
         if samplers.is_empty() {
             samplers.push(sampler(device, &SamplerDesc::default()));
@@ -524,7 +567,6 @@ impl SceneGpu {
             meshes,
             materials,
             samplers,
-            triangles,
             triangle_count,
             area_lights,
             area_lights_dropped,

@@ -9,5 +9,6 @@ mod aliasing;
 mod embedding;
 mod hot_reload;
 mod in_flight;
+mod limits;
 mod plan_only;
 mod reload;
