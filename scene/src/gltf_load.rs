@@ -46,12 +46,22 @@ pub fn load(path: &Path) -> Result<Loaded> {
 /// Checks before anything large is read (a regular file, glTF, supported required
 /// extensions, referenced files present), then the import and accessor bounds.
 fn open(path: &Path) -> std::result::Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<gltf::image::Data>), String> {
+    document(path)?;
+    let (doc, buffers, images) = gltf::import(path).map_err(describe)?;
+    validate_accessors(&doc, &buffers).map_err(|m| m.to_string())?;
+    Ok((doc, buffers, images))
+}
+
+/// The model's JSON document, checked as `open` checks it before importing: a regular glTF
+/// file, supported required extensions, referenced files present. Of a binary glTF only the
+/// JSON chunk is read: what planning needs without the geometry.
+fn document(path: &Path) -> std::result::Result<gltf::Gltf, String> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if !matches!(ext.as_deref(), Some("gltf" | "glb")) {
         let hint = "models must be glTF 2.0 (.gltf or .glb); convert other formats (e.g. .obj, .fbx) with Blender's glTF exporter";
         return Err(format!("not a glTF file: {hint}"));
     }
-    let bytes = lightbench_compiler::vfs::read_bytes(path, MAX_MODEL_FILE_BYTES).map_err(|e| unreadable(path, e))?;
+    let bytes = json_bytes(path).map_err(|e| unreadable(path, e))?;
     let gltf = gltf::Gltf::from_slice_without_validation(&bytes).map_err(|e| format!("not a valid glTF file: {e}"))?;
     referenced_files(&gltf, path)?;
     if let Some(ext) = gltf.extensions_required().find(|e| !SUPPORTED_EXTENSIONS.contains(e)) {
@@ -60,9 +70,64 @@ fn open(path: &Path) -> std::result::Result<(gltf::Document, Vec<gltf::buffer::D
             SUPPORTED_EXTENSIONS.join(", ")
         ));
     }
-    let (doc, buffers, images) = gltf::import(path).map_err(describe)?;
-    validate_accessors(&doc, &buffers).map_err(|m| m.to_string())?;
-    Ok((doc, buffers, images))
+    Ok(gltf)
+}
+
+/// The JSON of a glTF file: the whole of a `.gltf`, the first chunk of a binary one (its
+/// 12-byte header, then the chunk's length and type; anything else is left to the parser).
+fn json_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    lightbench_compiler::vfs::regular_file(path, MAX_MODEL_FILE_BYTES)?;
+    let mut file = std::fs::File::open(path)?;
+    let mut head = [0u8; 20];
+    let n = file.read(&mut head)?;
+    let word = |i: usize| u32::from_le_bytes([head[i], head[i + 1], head[i + 2], head[i + 3]]);
+    if n < 20 || &head[..4] != b"glTF" || &head[16..20] != b"JSON" {
+        return lightbench_compiler::vfs::read_bytes(path, MAX_MODEL_FILE_BYTES);
+    }
+    let mut json = vec![];
+    file.take(word(12) as u64).read_to_end(&mut json)?;
+    Ok(json)
+}
+
+/// What planning needs of a model, read from its JSON alone (no buffer or image is read):
+/// its lights, placed as `load` places them, whether it draws a primitive, whether a drawn
+/// primitive blends, and the warnings `load` gives (skipped primitives, material modes).
+pub struct Outline {
+    pub lights: Vec<Light>,
+    pub draws: bool,
+    pub blended: bool,
+    pub warnings: Vec<String>,
+}
+
+pub fn outline(path: &Path) -> Result<Outline> {
+    let err = |msg: String| Error::Scene(format!("{}: {msg}", path.display()));
+    let gltf = document(path).map_err(err)?;
+    let mut out = Outline {
+        lights: vec![],
+        draws: false,
+        blended: false,
+        warnings: vec![],
+    };
+    for m in gltf.document.materials() {
+        material_warnings(&m, &mut out.warnings);
+    }
+    each_node(&gltf.document, |node, world| {
+        if let Some(mesh) = node.mesh() {
+            for (pi, prim) in mesh.primitives().enumerate() {
+                if !drawn(prim.mode()) {
+                    out.warnings.push(skipped(&mesh, pi, &prim));
+                    continue;
+                }
+                out.draws = true;
+                out.blended |= prim.material().alpha_mode() == gltf::material::AlphaMode::Blend;
+            }
+        }
+        out.lights.extend(node.light().map(|l| node_light(&l, world)));
+        Ok(())
+    })
+    .map_err(err)?;
+    Ok(out)
 }
 
 /// Decoded images become textures on first use. Each is converted once and its decoded form
@@ -146,8 +211,12 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
 
 /// The node hierarchy of the default scene: meshes and lights with their world transforms.
 /// Primitives without a material use the last (default) material.
-fn walk_nodes(doc: &gltf::Document, buffers: &[gltf::buffer::Data], out: &mut Loaded) -> std::result::Result<(), String> {
-    let default_material = out.materials.len() - 1;
+/// Every node of the default scene (else the first, else all nodes) with its world
+/// transform, parents first.
+fn each_node(
+    doc: &gltf::Document,
+    mut f: impl FnMut(&gltf::Node, Mat4) -> std::result::Result<(), String>,
+) -> std::result::Result<(), String> {
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(s) => s.nodes().collect(),
         None => doc.nodes().collect(),
@@ -158,14 +227,31 @@ fn walk_nodes(doc: &gltf::Document, buffers: &[gltf::buffer::Data], out: &mut Lo
             return Err("node hierarchy deeper than 64 levels (a cycle?)".into());
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        f(&node, world)?;
+        stack.extend(node.children().map(|c| (c, world, depth + 1)));
+    }
+    Ok(())
+}
+
+/// The warning for a primitive that is not drawn.
+fn skipped(mesh: &gltf::Mesh, pi: usize, prim: &gltf::Primitive) -> String {
+    let (name, mode) = (mesh.name().unwrap_or("?"), prim.mode());
+    format!("mesh `{name}` primitive {pi} is {mode:?}, which is not drawn (only triangles are); skipped")
+}
+
+/// Whether primitives of this mode are drawn (triangles; points and lines are skipped).
+fn drawn(mode: gltf::mesh::Mode) -> bool {
+    use gltf::mesh::Mode;
+    matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan)
+}
+
+fn walk_nodes(doc: &gltf::Document, buffers: &[gltf::buffer::Data], out: &mut Loaded) -> std::result::Result<(), String> {
+    let default_material = out.materials.len() - 1;
+    each_node(doc, |node, world| {
         if let Some(mesh) = node.mesh() {
             for (pi, prim) in mesh.primitives().enumerate() {
                 let Some((vertices, indices)) = primitive(&mesh, pi, &prim, buffers)? else {
-                    let name = mesh.name().unwrap_or("?");
-                    let mode = prim.mode();
-                    out.warnings.push(format!(
-                        "mesh `{name}` primitive {pi} is {mode:?}, which is not drawn (only triangles are); skipped"
-                    ));
+                    out.warnings.push(skipped(&mesh, pi, &prim));
                     continue;
                 };
                 let material = prim.material().index().unwrap_or(default_material);
@@ -176,9 +262,8 @@ fn walk_nodes(doc: &gltf::Document, buffers: &[gltf::buffer::Data], out: &mut Lo
         if let Some(l) = node.light() {
             out.lights.push(node_light(&l, world));
         }
-        stack.extend(node.children().map(|c| (c, world, depth + 1)));
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 /// Vertices and triangle-list indices.
@@ -191,8 +276,7 @@ fn primitive(
     prim: &gltf::Primitive,
     buffers: &[gltf::buffer::Data],
 ) -> std::result::Result<Option<Geometry>, String> {
-    use gltf::mesh::Mode;
-    if !matches!(prim.mode(), Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+    if !drawn(prim.mode()) {
         return Ok(None);
     }
     let at = format!("mesh `{}` primitive {pi}", mesh.name().unwrap_or("?"));
@@ -416,6 +500,7 @@ fn describe(e: gltf::Error) -> String {
             format!("buffer {buffer} is truncated: expected {expected} bytes, found {actual}")
         }
         gltf::Error::Io(e) => format!("cannot read a referenced file: {e}"),
+        gltf::Error::Image(e) => format!("an image it uses cannot be decoded: {e}"),
         other => other.to_string(),
     }
 }

@@ -18,7 +18,7 @@ pub mod math;
 
 pub use error::{Error, Result};
 pub use light::{Animation, Light};
-pub use load::{instantiate, load, load_in};
+pub use load::{features_in, instantiate, load, load_in};
 
 use glam::{Mat4, Vec3};
 pub use lightbench_compiler::abi::Vertex;

@@ -7,7 +7,7 @@ use crate::error::{Error, Result};
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
 use lightbench_compiler::ir::{Effect, LightKind};
-use lightbench_compiler::scene::{AnimationDesc, LightDesc, ModelDesc, SceneDesc};
+use lightbench_compiler::scene::{AnimationDesc, LightDesc, ModelDesc, SceneDesc, SceneFeatures};
 use lightbench_compiler::Session;
 
 /// A built-in scene by name, or a scene file; errors are the rendered diagnostics (warnings
@@ -42,18 +42,49 @@ pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> R
     Ok(scene)
 }
 
+/// What planning needs of the scene `spec` names — its features — read without its geometry
+/// or textures: the description, its built-in meshes (small) and each model's JSON
+/// (`gltf_load::outline`). `check --scene` and `plan --scene` read scenes so; a model that
+/// cannot be read is an error at its path, as in `load_in`.
+pub fn features_in(s: &mut Session, spec: &str) -> Option<SceneFeatures> {
+    let desc = s.load_scene(spec)?;
+    let mut scene = Scene::from_desc(&desc);
+    let before = s.diags.error_count();
+    let (mut reflective, mut blended) = (false, false);
+    for m in &desc.models {
+        match gltf_load::outline(&m.file) {
+            Ok(o) => {
+                model_warnings(m, o.warnings, &mut s.diags);
+                let transform = model_transform(m);
+                scene.lights.extend(o.lights.into_iter().map(|l| placed(l, m, transform)));
+                reflective |= o.draws && m.reflective;
+                blended |= o.blended;
+            }
+            Err(e) => {
+                let msg = format!("cannot load model `{}`: {e}", m.path.value);
+                s.diags.push(Diagnostic::error(Code::ModelLoad, msg, m.path.span));
+            }
+        }
+    }
+    if s.diags.error_count() != before {
+        return None;
+    }
+    if desc.framed_model && scene.lights.is_empty() {
+        scene.lights = framing::default_rig();
+    }
+    let mut f = scene.features();
+    f.reflective |= reflective;
+    f.transparent |= blended;
+    Some(f)
+}
+
 /// The description with its geometry; a model that cannot be loaded is an error at its path.
 pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
     let mut scene = Scene::from_desc(desc);
     let before = diags.error_count();
     for m in &desc.models {
         match add_model(&mut scene, m) {
-            Ok(warnings) => {
-                for w in warnings {
-                    let msg = format!("model `{}`: {w}", m.path.value);
-                    diags.push(Diagnostic::warning(Code::SkippedPrimitive, msg, m.path.span));
-                }
-            }
+            Ok(warnings) => model_warnings(m, warnings, diags),
             Err(e) => {
                 let msg = format!("cannot load model `{}`: {e}", m.path.value);
                 diags.push(Diagnostic::error(Code::ModelLoad, msg, m.path.span));
@@ -67,6 +98,14 @@ pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
         }
     }
     (diags.error_count() == before).then_some(scene)
+}
+
+/// What was loaded of model `m` only in part, at its path.
+fn model_warnings(m: &ModelDesc, warnings: Vec<String>, diags: &mut Diagnostics) {
+    for w in warnings {
+        let msg = format!("model `{}`: {w}", m.path.value);
+        diags.push(Diagnostic::warning(Code::SkippedPrimitive, msg, m.path.span));
+    }
 }
 
 impl Scene {
@@ -124,12 +163,7 @@ impl Light {
 /// Load a glTF model and place its meshes, materials, textures and lights in the scene;
 /// returns what was skipped.
 fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<Vec<String>> {
-    let [y, p, r] = m.rotation.map(f32::to_radians);
-    let transform = Mat4::from_scale_rotation_translation(
-        Vec3::splat(m.scale),
-        Quat::from_euler(EulerRot::YXZ, y, p, r),
-        Vec3::from(m.translation),
-    );
+    let transform = model_transform(m);
     let loaded = gltf_load::load(&m.file)?;
     let mat_base = scene.materials.len();
     let tex_base = scene.textures.len();
@@ -156,16 +190,29 @@ fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<Vec<String>> {
         mesh.reflective = m.reflective;
         scene.meshes.push(mesh);
     }
-    // A model's lights scale with it: positions, ranges and (inverse-square) intensities,
-    // so that a scaled model looks the same.
-    for mut l in loaded.lights {
-        l.position = transform.transform_point3(l.position);
-        l.direction = transform.transform_vector3(l.direction);
-        if l.kind != LightKind::Directional {
-            l.range *= m.scale;
-            l.intensity *= m.scale * m.scale;
-        }
-        scene.lights.push(l);
-    }
+    scene.lights.extend(loaded.lights.into_iter().map(|l| placed(l, m, transform)));
     Ok(loaded.warnings)
+}
+
+/// Where a model description places the model: scale, then rotation (yaw, pitch, roll in
+/// degrees), then translation.
+fn model_transform(m: &ModelDesc) -> Mat4 {
+    let [y, p, r] = m.rotation.map(f32::to_radians);
+    Mat4::from_scale_rotation_translation(
+        Vec3::splat(m.scale),
+        Quat::from_euler(EulerRot::YXZ, y, p, r),
+        Vec3::from(m.translation),
+    )
+}
+
+/// A model's light placed with the model. Lights scale with it: positions, ranges and
+/// (inverse-square) intensities, so that a scaled model looks the same.
+fn placed(mut l: Light, m: &ModelDesc, transform: Mat4) -> Light {
+    l.position = transform.transform_point3(l.position);
+    l.direction = transform.transform_vector3(l.direction);
+    if l.kind != LightKind::Directional {
+        l.range *= m.scale;
+        l.intensity *= m.scale * m.scale;
+    }
+    l
 }

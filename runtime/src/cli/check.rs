@@ -21,15 +21,16 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
         return usage_error(e);
     }
     let (mut errors, mut warnings, mut scenes, mut sweeps) = (0, 0, 0, 0);
-    // The scene is read as `render` reads it (models included), once for every pipeline.
+    // What planning needs of the scene (its models' JSON, no geometry or texture), once for
+    // every pipeline.
     let scene_features = match scene {
         Some(spec) => {
             let mut s = ws.session();
-            let loaded = crate::scene::load_in(&mut s, spec);
+            let loaded = crate::scene::features_in(&mut s, spec);
             emit(&s, format); // warnings too (skipped primitives, unsupported material modes)
             warnings += s.diags.warning_count();
             match loaded {
-                Some(scene) => Some(scene.features()),
+                Some(features) => Some(features),
                 None => return EXIT_ERRORS,
             }
         }

@@ -144,8 +144,9 @@ pub fn run(a: Args) -> i32 {
 /// `--lights` counts when planning without a scene. `Err` is the exit code.
 fn plan_scene(a: &Args, s: &mut Session) -> std::result::Result<SceneFeatures, i32> {
     let mut scene = match &a.scene {
-        Some(spec) => match crate::scene::load_in(s, spec) {
-            Some(scene) => scene.features(),
+        // What planning needs of it (its models' JSON, no geometry or texture).
+        Some(spec) => match crate::scene::features_in(s, spec) {
+            Some(features) => features,
             None => {
                 super::check::emit(s, Format::Human);
                 return Err(EXIT_ERRORS);

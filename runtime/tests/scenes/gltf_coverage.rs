@@ -157,6 +157,71 @@ fn a_missing_texture_and_a_non_gltf_model_are_named() {
     assert!(err.contains("not a glTF file: models must be glTF 2.0 (.gltf or .glb)"), "{err}");
 }
 
+/// `check --scene` and `plan --scene` read only what planning needs: a texture file that is
+/// not an image is not read by them (rc 0, the plan made), only by `render`, which names it
+/// (rc 1). A missing texture is still named by `check` (above): files are checked, not decoded.
+#[test]
+fn planning_reads_no_texture_and_render_names_a_broken_one() {
+    let d = scratch("plan-no-decode");
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("albedo.png"));
+    std::fs::write(d.join("albedo.png"), b"not an image at all").unwrap();
+    let scene_path = scene_file(&d, "model.gltf");
+    let scene_arg = scene_path.to_str().unwrap();
+    let (code, _, err) = lightbench(&["check", "pipelines/deferred.ron", "--scene", scene_arg]);
+    assert_eq!(code, 0, "check decodes no texture: {err}");
+    let (code, out, err) = lightbench(&["plan", "pipelines/deferred.ron", "--scene", scene_arg]);
+    assert_eq!(code, 0, "plan decodes no texture: {err}");
+    assert!(out.contains("gbuffer"), "the plan is printed: {out}");
+    let image = d.join("frame.png");
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--pipeline",
+        "pipelines/deferred.ron",
+        "--scene",
+        scene_arg,
+        "--out",
+        image.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("model.gltf: an image it uses cannot be decoded: Format error decoding Png"),
+        "render names the broken texture: {err}"
+    );
+    assert!(!image.exists(), "nothing written");
+}
+
+/// What planning reads of a scene (`features_in`: models' JSON only) is what it reads of the
+/// loaded scene: for every bundled scene file, built-in scene and model, and a model whose
+/// pane blends and whose points are skipped (the same warnings).
+#[test]
+fn scene_features_without_geometry_equal_those_of_the_loaded_scene() {
+    let mut specs: Vec<String> = ["cornell", "cornell_lamp", "colonnade", "many_lights", "panes"]
+        .map(String::from)
+        .to_vec();
+    for dir in ["scenes", "scenes/hard"] {
+        for e in std::fs::read_dir(root().join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "gltf" | "glb")) {
+                specs.push(p.display().to_string());
+            }
+        }
+    }
+    let d = scratch("features");
+    wall_and_pane(&d, Some(("BLEND", 0.4)));
+    specs.push(d.join("quads.ron").display().to_string());
+    let m = scratch("features-points");
+    write_model(&m, &[(4, &[0, 1, 2]), (0, &[0, 1])], None);
+    specs.push(scene_file(&m, "model.gltf").display().to_string());
+    assert!(specs.len() > 30, "{specs:?}");
+    for spec in &specs {
+        let (mut a, mut b) = (lightbench_compiler::Session::new(), lightbench_compiler::Session::new());
+        let planned = scene::features_in(&mut a, spec).unwrap_or_else(|| panic!("{spec}: {}", a.render()));
+        let loaded = scene::load_in(&mut b, spec).unwrap_or_else(|| panic!("{spec}: {}", b.render()));
+        assert_eq!(planned, loaded.features(), "{spec}");
+        assert_eq!(a.render(), b.render(), "{spec}: the same warnings");
+    }
+}
+
 /// A 2×1 texture: left texel red (alpha `left_alpha`), right texel blue; nearest filtering.
 fn two_texels(dir: &Path, left_alpha: u8) {
     let img = image::RgbaImage::from_raw(2, 1, vec![255, 0, 0, left_alpha, 0, 0, 255, 255]).unwrap();
