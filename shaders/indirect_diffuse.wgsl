@@ -35,14 +35,22 @@ const PI: f32 = 3.14159265;
 
 // The light RSM texel t reflects in all (per π: radiance times area): the flux map holds
 // radiosity per unit of the sender's own area, lit at incidence θ; the texel covers
-// texel_width² across the light's direction, 1/cos θ of that on the surface. The product,
-// light × albedo × texel_width², does not depend on how the sender is turned (an area
-// measured from neighbouring texels' positions would jump at every silhouette).
+// texel_width² across the map's axis at the sender's depth, 1/cos θ of that on the surface,
+// and, in a perspective map, cos α of that off the axis (α the ray's angle to the axis: a
+// texel's solid angle shrinks as cos³ α while its distance grows as 1/cos α; up to 4× at the
+// edge of an emitter's 150° map). The product, light × albedo × texel_width² × cos α, does not
+// depend on how the sender is turned (an area measured from neighbouring texels' positions
+// would jump at every silhouette).
 fn texel_power(l: Light, t: vec2<i32>, sp: vec3<f32>, sn: vec3<f32>, size: f32) -> vec3<f32> {
     let to_light = select(safe_normalize(l.position.xyz - sp, sn), -safe_normalize(l.direction.xyz, sn), l.kind == LIGHT_DIRECTIONAL);
     let cos_s = max(dot(sn, to_light), 1e-3);
     let w = texel_width(l.view_proj, sp, size);
-    return textureLoad(rsm_flux, t, 0).rgb / cos_s * w * w;
+    var cos_a = 1.0;
+    if l.kind != LIGHT_DIRECTIONAL {
+        let depth = abs((l.view_proj * vec4<f32>(sp, 1.0)).w);
+        cos_a = clamp(depth / max(distance(l.position.xyz, sp), 1e-20), 0.0, 1.0);
+    }
+    return textureLoad(rsm_flux, t, 0).rgb / cos_s * w * w * cos_a;
 }
 
 // The seed's fixed pattern: every pixel, every frame, the same samples.

@@ -1,5 +1,7 @@
 // Reflective shadow map (seed 000 §4.2.2, §6.2.2) of one directional (orthographic, fitted to
-// the scene) or spot (perspective, cone-fitted) light: per texel the world position (w: 1
+// the scene) or spot (perspective, cone-fitted) light, or of an emissive mesh (perspective from
+// its centre about its normal, 150° across; its light as lib/lighting.wgsl's `light_at` has
+// it): per texel the world position (w: 1
 // where a surface was drawn, 0 cleared), the normal and the flux — the light arriving per unit
 // of the surface's own area (colour × intensity × attenuation × cone × cos θ, θ the light's
 // incidence) times its diffuse albedo (the seed's "colour × specular strength"; here glTF base

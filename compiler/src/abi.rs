@@ -7,6 +7,8 @@ use bytemuck::{Pod, Zeroable};
 pub const LIGHT_DIRECTIONAL: u32 = 0;
 pub const LIGHT_SPOT: u32 = 1;
 pub const LIGHT_POINT: u32 = 2;
+/// An emissive mesh as a light (`LightKind::Area`): `direction.w` holds its area.
+pub const LIGHT_AREA: u32 = 3;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

@@ -165,21 +165,21 @@ fn scene_file_features_and_errors() {
     assert!(d.notes[0].contains("did you mean `Ssr`?"));
 }
 
-/// A scene calling for an effect whose passes all run per light kinds it lacks (an
-/// emitter-lit box calling for indirect light, which the bundled RSM options gather from
-/// directional and spot lights only) gets a note naming the pass and why, instead of a silent
-/// 0; choosing the option off culls by condition and says nothing more.
+/// A scene calling for an effect whose passes all run per light kinds it lacks (a box lit
+/// only by a point light calling for indirect light, which the bundled RSM options gather
+/// from directional and spot lights and emissive meshes) gets a note naming the pass and why,
+/// instead of a silent 0; choosing the option off culls by condition and says nothing more.
 #[test]
 fn an_effect_no_kept_pass_serves_is_named_with_why() {
     let mut s = Session::new();
     let gi = repo_root().join("pipelines/deferred_gi.lbp");
-    let emitter_lit = SceneFeatures {
-        lights: Default::default(),
-        casters: Default::default(),
+    let point_lit = SceneFeatures {
+        lights: [(LightKind::Point, 1)].into_iter().collect(),
+        casters: [(LightKind::Point, 1)].into_iter().collect(),
         ..scene(&[Effect::IndirectDiffuse])
     };
     let plan = s
-        .plan_file(&gi, None, &Profile::vulkan(), &emitter_lit, &[])
+        .plan_file(&gi, None, &Profile::vulkan(), &point_lit, &[])
         .unwrap_or_else(|| panic!("{}", s.render()));
     let unserved: Vec<(Effect, &str, &str)> = plan
         .unserved_effects
@@ -191,17 +191,19 @@ fn an_effect_no_kept_pass_serves_is_named_with_why() {
         [(
             Effect::IndirectDiffuse,
             "rsm",
-            "runs per Directional or Spot light and the scene has none"
+            "runs per Directional, Spot or Area light and the scene has none"
         )]
     );
     let off = [("indirect_diffuse".to_string(), "off".to_string())];
-    let plan = s.plan_file(&gi, None, &Profile::vulkan(), &emitter_lit, &off).unwrap();
+    let plan = s.plan_file(&gi, None, &Profile::vulkan(), &point_lit, &off).unwrap();
     assert!(plan.unserved_effects.is_empty(), "{:?}", plan.unserved_effects);
-    // With a spot light the effect is served.
-    let spot_lit = SceneFeatures {
-        lights: [(LightKind::Spot, 1)].into_iter().collect(),
-        ..emitter_lit
-    };
-    let plan = s.plan_file(&gi, None, &Profile::vulkan(), &spot_lit, &[]).unwrap();
-    assert!(plan.unserved_effects.is_empty(), "{:?}", plan.unserved_effects);
+    // With a spot light, or an emissive mesh (an `Area` light), the effect is served.
+    for kind in [LightKind::Spot, LightKind::Area] {
+        let lit = SceneFeatures {
+            lights: [(kind, 1)].into_iter().collect(),
+            ..point_lit.clone()
+        };
+        let plan = s.plan_file(&gi, None, &Profile::vulkan(), &lit, &[]).unwrap();
+        assert!(plan.unserved_effects.is_empty(), "{kind:?}: {:?}", plan.unserved_effects);
+    }
 }

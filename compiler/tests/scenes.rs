@@ -282,6 +282,8 @@ fn structure_errors_suggest_and_locate() {
         "rnage",
     );
     expect("Point(", "Pointt(", "unknown-kind", "unknown light kind `Pointt`", "Pointt");
+    // Area lights are emissive meshes, never written as lights.
+    expect("Point(", "Area(", "unknown-kind", "unknown light kind `Area`", "Area");
     expect(
         "Point(position",
         "Point(inner: 3.0, position",

@@ -52,7 +52,8 @@ pub struct FrameInputs {
     pub matrices: Option<CameraMatrices>,
     /// This frame's lights in place of the scene's (animated) ones: as many, of the same kinds
     /// and shadow casting, in the same order, since the Plan repeats passes per light; where
-    /// they are and how bright is free.
+    /// they are and how bright is free. The scene's emitter lights (`Area`, one per emissive
+    /// mesh) follow them in the light array as they are.
     pub lights: Option<Vec<Light>>,
 }
 
@@ -189,7 +190,7 @@ impl Shared {
     /// The scene is taken: its textures go to the GPU and are dropped on the CPU.
     fn new(gpu: &Gpu, mut scene: Scene) -> Result<Shared> {
         let device = &gpu.device;
-        let lights: Vec<Light> = scene.active_lights().into_iter().cloned().collect();
+        let lights = scene.light_array();
         Ok(Shared {
             frame_buf: uniform_buffer(device, "frame", std::mem::size_of::<FrameBlock>() as u64),
             lights_buf: device.create_buffer(&wgpu::BufferDescriptor {
@@ -207,6 +208,13 @@ impl Shared {
             lights,
             scene,
         })
+    }
+
+    /// The scene's punctual lights that are on: the light array's first part (shaders loop
+    /// over `frame.light_count` of them; emitter lights follow).
+    fn punctual(&self) -> &[Light] {
+        let n = self.lights.iter().take_while(|l| l.kind.punctual()).count();
+        &self.lights[..n]
     }
 
     /// The scene's acceleration structure, built on first use (ray-query devices only).
@@ -510,12 +518,17 @@ impl Executor {
             jitter: [jitter[0], jitter[1], prev_jitter[0], prev_jitter[1]],
             time: inputs.time,
             frame_index: self.frame_index as u32,
-            light_count: self.shared.lights.len() as u32,
+            light_count: self.shared.punctual().len() as u32,
             scene_radius: ((self.shared.bounds.1 - self.shared.bounds.0).length() * 0.5).max(1e-6),
         };
         gpu.queue.write_buffer(&self.shared.frame_buf, 0, bytemuck::bytes_of(&frame));
-        let lights = inputs.lights.as_deref().unwrap_or(&self.shared.lights);
-        let blocks: Vec<LightBlock> = lights.iter().map(|l| l.at(inputs.time).block(self.shared.bounds)).collect();
+        let punctual = inputs.lights.as_deref().unwrap_or(self.shared.punctual());
+        let emitters = &self.shared.lights[self.shared.punctual().len()..];
+        let blocks: Vec<LightBlock> = punctual
+            .iter()
+            .chain(emitters)
+            .map(|l| l.at(inputs.time).block(self.shared.bounds))
+            .collect();
         if !blocks.is_empty() {
             gpu.queue.write_buffer(&self.shared.lights_buf, 0, bytemuck::cast_slice(&blocks));
         }
@@ -558,7 +571,7 @@ impl Executor {
     /// Frame lights must be the scene's in number, kind and shadow casting (the Plan's
     /// repetitions and shadow resources were made for those).
     fn check_lights(&self, lights: &[Light]) -> Result<()> {
-        let scene = &self.shared.lights;
+        let scene = self.shared.punctual();
         if lights.len() != scene.len() {
             return Err(Error::Usage(format!(
                 "FrameInputs::lights has {} lights; the Plan was compiled for the scene's {}: compile for a scene with these lights (Executor::replace_scene)",

@@ -68,7 +68,7 @@ impl LightVolumes {
         match light.kind {
             LightKind::Directional => self.screen.clone(),
             LightKind::Spot if light.outer_angle <= WIDEST_CONE_DEG => self.cone.clone(),
-            LightKind::Spot | LightKind::Point => self.sphere.clone(),
+            LightKind::Spot | LightKind::Point | LightKind::Area => self.sphere.clone(),
         }
     }
 }

@@ -105,7 +105,7 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
         })
         .collect();
     let mut lights = vec![];
-    for l in scene.lights.iter().filter(|l| l.on) {
+    for l in scene.lights.iter().filter(|l| l.on && l.kind.punctual()) {
         // The glTF extension has no "off": switched-off lights are left out.
         let mut j = json!({"color": l.color.to_array(), "intensity": l.intensity});
         match l.kind {
@@ -114,7 +114,7 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
                 j["type"] = json!("point");
                 j["range"] = json!(l.range);
             }
-            LightKind::Spot => {
+            LightKind::Spot | LightKind::Area => {
                 j["type"] = json!("spot");
                 j["range"] = json!(l.range);
                 j["spot"] = json!({"innerConeAngle": l.inner_angle.to_radians(), "outerConeAngle": l.outer_angle.to_radians()});

@@ -92,11 +92,13 @@ fn json_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
 
 /// What planning needs of a model, read from its JSON alone (no buffer or image is read):
 /// its lights, placed as `load` places them, whether it draws a primitive, whether a drawn
-/// primitive blends, and the warnings `load` gives (skipped primitives, material modes).
+/// primitive blends, how many drawn primitives emit (each a mesh when loaded), and the
+/// warnings `load` gives (skipped primitives, material modes).
 pub struct Outline {
     pub lights: Vec<Light>,
     pub draws: bool,
     pub blended: bool,
+    pub emitters: usize,
     pub warnings: Vec<String>,
 }
 
@@ -107,6 +109,7 @@ pub fn outline(path: &Path) -> Result<Outline> {
         lights: vec![],
         draws: false,
         blended: false,
+        emitters: 0,
         warnings: vec![],
     };
     for m in gltf.document.materials() {
@@ -120,7 +123,9 @@ pub fn outline(path: &Path) -> Result<Outline> {
                     continue;
                 }
                 out.draws = true;
-                out.blended |= prim.material().alpha_mode() == gltf::material::AlphaMode::Blend;
+                let m = prim.material();
+                out.blended |= m.alpha_mode() == gltf::material::AlphaMode::Blend;
+                out.emitters += emissive(&m).iter().any(|c| *c > 0.0) as usize;
             }
         }
         out.lights.extend(node.light().map(|l| node_light(&l, world)));
@@ -183,7 +188,7 @@ impl Textures {
 /// A glTF metallic-roughness material with its textures.
 fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<Material, String> {
     let pbr = m.pbr_metallic_roughness();
-    let (e, strength) = (m.emissive_factor(), m.emissive_strength().unwrap_or(1.0));
+    let e = emissive(m);
     Ok(Material {
         name: m.name().unwrap_or("material").to_string(),
         base_color: pbr.base_color_factor(),
@@ -191,7 +196,7 @@ fn material(m: &gltf::Material, textures: &mut Textures) -> std::result::Result<
         metallic: pbr.metallic_factor(),
         roughness: pbr.roughness_factor(),
         metallic_roughness_texture: textures.of(pbr.metallic_roughness_texture().map(|t| t.texture()), false)?,
-        emissive: [e[0] * strength, e[1] * strength, e[2] * strength],
+        emissive: e,
         emissive_texture: textures.of(m.emissive_texture().map(|t| t.texture()), true)?,
         normal_texture: textures.of(m.normal_texture().map(|t| t.texture()), false)?,
         normal_scale: m.normal_texture().map(|t| t.scale()).unwrap_or(1.0),
@@ -231,6 +236,12 @@ fn each_node(
         stack.extend(node.children().map(|c| (c, world, depth + 1)));
     }
     Ok(())
+}
+
+/// A material's emitted radiance: its factor times KHR_materials_emissive_strength.
+fn emissive(m: &gltf::Material) -> [f32; 3] {
+    let (e, strength) = (m.emissive_factor(), m.emissive_strength().unwrap_or(1.0));
+    e.map(|c| c * strength)
 }
 
 /// The warning for a primitive that is not drawn.

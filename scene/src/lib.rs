@@ -5,6 +5,7 @@
 //! writes them; the error type they all return.
 
 pub mod builtin;
+pub mod emitter_lights;
 pub mod error;
 pub mod export;
 pub mod files;
@@ -345,7 +346,7 @@ impl Scene {
     pub fn features(&self) -> SceneFeatures {
         let reflective = self.meshes.iter().any(|m| m.reflective);
         let mut f = SceneFeatures::new(&self.name, self.size, [], &self.effects, reflective)
-            .with_order(self.active_lights().iter().map(|l| (l.kind, l.shadows)));
+            .with_order(self.light_array().iter().map(|l| (l.kind, l.shadows)));
         f.transparent = self
             .meshes
             .iter()
@@ -354,7 +355,7 @@ impl Scene {
     }
 
     pub fn light_count(&self, kind: LightKind) -> usize {
-        self.active_lights().iter().filter(|l| l.kind == kind).count()
+        self.light_array().iter().filter(|l| l.kind == kind).count()
     }
 }
 

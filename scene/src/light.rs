@@ -2,7 +2,7 @@
 //! pointing straight down (up parallel to the view direction) stays well defined.
 
 use glam::{Mat4, Vec3};
-use lightbench_compiler::abi::{LightBlock, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
+use lightbench_compiler::abi::{LightBlock, LIGHT_AREA, LIGHT_DIRECTIONAL, LIGHT_POINT, LIGHT_SPOT};
 use lightbench_compiler::ir::LightKind;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -99,7 +99,8 @@ impl Light {
     }
 
     /// World -> shadow clip space: orthographic over the scene for directional lights,
-    /// perspective over the outer cone for spot lights.
+    /// perspective over the outer cone for spot lights (and emitter lights, whose cone is
+    /// their RSM's field of view).
     pub fn view_proj(&self, bounds: (Vec3, Vec3)) -> Mat4 {
         let d = self.dir();
         match self.kind {
@@ -150,13 +151,16 @@ impl Light {
             position: [self.position.x, self.position.y, self.position.z, self.range],
             direction: {
                 let d = self.dir();
-                [d.x, d.y, d.z, 0.0]
+                // An emitter light's area (its intensity: `Scene::emitter_lights`).
+                let area = if self.kind == LightKind::Area { self.intensity } else { 0.0 };
+                [d.x, d.y, d.z, area]
             },
             cone: [self.inner_angle.to_radians().cos(), self.outer_angle.to_radians().cos(), n, f],
             kind: match self.kind {
                 LightKind::Directional => LIGHT_DIRECTIONAL,
                 LightKind::Spot => LIGHT_SPOT,
                 LightKind::Point => LIGHT_POINT,
+                LightKind::Area => LIGHT_AREA,
             },
             casts_shadows: self.shadows as u32,
             _pad0: 0,

@@ -51,6 +51,7 @@ pub fn features_in(s: &mut Session, spec: &str) -> Option<SceneFeatures> {
     let mut scene = Scene::from_desc(&desc);
     let before = s.diags.error_count();
     let (mut reflective, mut blended) = (false, false);
+    let mut emitters = scene.meshes.iter().filter(|m| crate::emitter_lights::emits(&scene, m)).count();
     for m in &desc.models {
         match gltf_load::outline(&m.file) {
             Ok(o) => {
@@ -59,6 +60,7 @@ pub fn features_in(s: &mut Session, spec: &str) -> Option<SceneFeatures> {
                 scene.lights.extend(o.lights.into_iter().map(|l| placed(l, m, transform)));
                 reflective |= o.draws && m.reflective;
                 blended |= o.blended;
+                emitters += o.emitters;
             }
             Err(e) => {
                 let msg = format!("cannot load model `{}`: {e}", m.path.value);
@@ -72,7 +74,17 @@ pub fn features_in(s: &mut Session, spec: &str) -> Option<SceneFeatures> {
     if desc.framed_model && scene.lights.is_empty() {
         scene.lights = framing::default_rig();
     }
-    let mut f = scene.features();
+    // The light array as `Scene::light_array` makes it: the lights that are on, then one
+    // light per emissive mesh (at most `MAX_EMITTER_LIGHTS`).
+    let area = (LightKind::Area, false);
+    let emitters = std::iter::repeat_n(area, emitters.min(crate::emitter_lights::MAX_EMITTER_LIGHTS));
+    let order = scene
+        .active_lights()
+        .iter()
+        .map(|l| (l.kind, l.shadows))
+        .chain(emitters)
+        .collect::<Vec<_>>();
+    let mut f = scene.features().with_order(order);
     f.reflective |= reflective;
     f.transparent |= blended;
     Some(f)

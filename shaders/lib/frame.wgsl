@@ -4,6 +4,9 @@
 const LIGHT_DIRECTIONAL: u32 = 0u;
 const LIGHT_SPOT: u32 = 1u;
 const LIGHT_POINT: u32 = 2u;
+// An emissive mesh as one light (after the punctual ones, beyond `light_count`): only passes
+// that run per `Area` light see it (an RSM of the light the emitter sends out).
+const LIGHT_AREA: u32 = 3u;
 
 struct Frame {
     view: mat4x4<f32>,
@@ -37,7 +40,8 @@ struct Light {
     color: vec4<f32>,
     // xyz: position (spot, point); w: range (windowed attenuation, seed 003 eq. 3.5)
     position: vec4<f32>,
-    // xyz: direction the light points (directional, spot); w: unused
+    // xyz: direction the light points (directional, spot; an area light's normal); w: an area
+    // light's area
     direction: vec4<f32>,
     // x: cos(inner cone), y: cos(outer cone), z: shadow near plane, w: shadow far plane
     cone: vec4<f32>,

@@ -28,7 +28,10 @@ struct LightSample {
 };
 
 // Directional: constant radiance from -direction. Spot and point: windowed inverse-square
-// attenuation; spot lights also fade over their cone.
+// attenuation; spot lights also fade over their cone. Area (an emissive mesh, colour = its
+// radiance × area A): a flat Lambertian emitter seen as a point, L·A·cos θ / (d² + A/π) — the
+// A/π is a disc's own term, exact on a disc's axis, so a receiver close to the emitter gets
+// its finite irradiance, not a point's.
 fn light_at(l: Light, world: vec3<f32>) -> LightSample {
     var ls: LightSample;
     ls.radiance = l.color.rgb;
@@ -38,6 +41,11 @@ fn light_at(l: Light, world: vec3<f32>) -> LightSample {
         let d = l.position.xyz - world;
         ls.dist = length(d);
         ls.to_light = d / max(ls.dist, 1e-6);
+        if l.kind == LIGHT_AREA {
+            let cos_e = max(-dot(ls.to_light, normalize(l.direction.xyz)), 0.0);
+            ls.radiance *= cos_e / (ls.dist * ls.dist + l.direction.w / 3.14159265);
+            return ls;
+        }
         ls.radiance *= attenuation(ls.dist, l.position.w);
         if l.kind == LIGHT_SPOT {
             ls.radiance *= spot_factor(l, -d);

@@ -3,26 +3,32 @@
 use crate::span::Spanned;
 use serde::{Deserialize, Serialize};
 
+/// The kinds of lights a frame's light array holds: the scene's punctual lights, then one
+/// `Area` light per emissive mesh (derived from the scene, never written in it), which only
+/// passes that list it (`per_light(.., Area)`, e.g. an RSM: its light seen from its centre) see.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub enum LightKind {
     Directional,
     Spot,
     Point,
+    Area,
 }
 
 impl LightKind {
-    pub const ALL: [LightKind; 3] = [LightKind::Directional, LightKind::Spot, LightKind::Point];
+    pub const ALL: [LightKind; 4] = [LightKind::Directional, LightKind::Spot, LightKind::Point, LightKind::Area];
+    pub const NAMES: [&'static str; 4] = ["Directional", "Spot", "Point", "Area"];
+    /// The kinds a scene file's `lights` may hold.
+    pub const PUNCTUAL_NAMES: [&'static str; 3] = ["Directional", "Spot", "Point"];
     pub fn name(self) -> &'static str {
-        match self {
-            LightKind::Directional => "Directional",
-            LightKind::Spot => "Spot",
-            LightKind::Point => "Point",
-        }
+        Self::NAMES[self as usize]
     }
     pub fn from_name(s: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|k| k.name() == s)
     }
-    pub const NAMES: [&'static str; 3] = ["Directional", "Spot", "Point"];
+    /// Whether lights of this kind are written in scenes (not derived from emissive meshes).
+    pub fn punctual(self) -> bool {
+        self != LightKind::Area
+    }
 }
 
 /// Effects a scene can call for; a pass's `when` may depend on them.

@@ -114,13 +114,15 @@ pub fn reason(p: &Pipeline, cfg: &Config, i: usize, cause: Cause) -> String {
         Cause::NoLights => {
             let kinds: &[LightKind] = pass.per_light.as_ref().map_or(&[], |k| &k.value);
             let names: Vec<&str> = kinds.iter().map(|k| k.name()).collect();
+            // "Directional, Spot or Area"
+            let either = match names.split_last() {
+                Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+                _ => names.concat(),
+            };
             if pass.shadow_casters && cfg.scene.light_count(kinds) > 0 {
-                format!(
-                    "runs per shadow-casting {} light and no such light casts shadows",
-                    names.join(" or ")
-                )
+                format!("runs per shadow-casting {either} light and no such light casts shadows")
             } else {
-                format!("runs per {} light and the scene has none", names.join(" or "))
+                format!("runs per {either} light and the scene has none")
             }
         }
         Cause::NoBlended => "draws the scene's blended meshes and the scene has none".into(),

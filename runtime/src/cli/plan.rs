@@ -72,9 +72,10 @@ fn parse_lights(s: &str) -> Result<Vec<(LightKind, u32)>> {
             "directional" => LightKind::Directional,
             "spot" => LightKind::Spot,
             "point" => LightKind::Point,
+            "area" => LightKind::Area,
             other => {
                 return Err(Error::Usage(format!(
-                    "unknown light kind `{other}`: expected directional, spot or point"
+                    "unknown light kind `{other}`: expected directional, spot, point or area (an emissive mesh)"
                 )))
             }
         };

@@ -170,7 +170,7 @@ fn lights(ui: &mut egui::Ui, v: &Viewer, actions: &mut Vec<Action>) {
             }
         }
         ui.horizontal(|ui| {
-            for kind in LightKind::ALL {
+            for kind in LightKind::ALL.into_iter().filter(|k| k.punctual()) {
                 if ui.button(format!("+ {}", kind.name())).clicked() {
                     actions.push(Action::AddLight(kind));
                 }

@@ -380,6 +380,8 @@ impl Viewer {
                         crate::scene::Light::spot(self.camera.position, f, 20.0, 30.0, c, 4.0, 10.0)
                     }
                     lightbench_compiler::ir::LightKind::Directional => crate::scene::Light::directional(f, c, 1.0),
+                    // Emissive meshes' lights are the scene's own (parsing refuses the kind).
+                    lightbench_compiler::ir::LightKind::Area => return Err(Error::Usage("an area light is an emissive mesh's".into())),
                 });
                 self.light = self.scene.lights.len() - 1;
                 self.rebuild(gpu, true)?;
@@ -482,7 +484,8 @@ pub fn parse_action(line: &str, plan: Option<&lightbench_compiler::plan::Plan>) 
         "screenshot" => Action::Screenshot(PathBuf::from(word("a file name")?)),
         "add-light" => {
             let kind = word("Point, Spot or Directional")?;
-            Action::AddLight(lightbench_compiler::ir::LightKind::from_name(kind).ok_or_else(|| bad("expected Point, Spot or Directional"))?)
+            let kind = lightbench_compiler::ir::LightKind::from_name(kind).filter(|k| k.punctual());
+            Action::AddLight(kind.ok_or_else(|| bad("expected Point, Spot or Directional"))?)
         }
         "remove-light" => Action::RemoveLight,
         "trace" => Action::Trace(match word("on or off")? {

@@ -306,9 +306,10 @@ fn effect_adds_to_a_model_given_on_its_own_and_culled_effects_are_noted() {
     assert!(!d.join("bad.png").exists(), "a usage error writes nothing");
 }
 
-/// The emitter-lit box calls for indirect light that `deferred_gi`'s RSM options cannot give
-/// (they gather from directional and spot lights): `render` says so, naming the pass and why
-/// (docs/commands.md), where it would otherwise add a silent 0; the ray-traced option serves it.
+/// The Cornell box lit by its point light calls for indirect light that `deferred_gi`'s RSM
+/// options cannot give (they gather from directional and spot lights and emissive meshes):
+/// `render` says so, naming the pass and why (docs/commands.md), where it would otherwise add
+/// a silent 0; the ray-traced option serves it.
 #[test]
 fn an_effect_no_kept_pass_serves_is_noted() {
     let d = temp("unserved");
@@ -319,7 +320,7 @@ fn an_effect_no_kept_pass_serves_is_noted() {
         "--pipeline",
         &gi,
         "--scene",
-        "cornell_lamp",
+        "cornell",
         "--effect",
         "IndirectDiffuse",
         "--size",
@@ -330,7 +331,7 @@ fn an_effect_no_kept_pass_serves_is_noted() {
     let (code, _, err) = run(&base);
     assert_eq!(code, 0, "{err}");
     assert!(
-        err.contains("note: deferred_gi: the scene `cornell_lamp` calls for IndirectDiffuse, but every pass serving it is culled: `rsm` runs per Directional or Spot light and the scene has none"),
+        err.contains("note: deferred_gi: the scene `cornell` calls for IndirectDiffuse, but every pass serving it is culled: `rsm` runs per Directional, Spot or Area light and the scene has none"),
         "{err}"
     );
     let (code, _, err) = run(&[&base[..], &["--variant", "indirect_diffuse=rt"]].concat());

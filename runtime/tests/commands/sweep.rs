@@ -302,7 +302,8 @@ fn every_bundled_sweep_spec_runs() {
             }
         }
         if spec == "indirect_diffuse" {
-            for scene in ["cornell_spot", "cornell_sun"] {
+            // Lit from inside, from outside, and by an emissive panel alone (its own RSM).
+            for scene in ["cornell_spot", "cornell_sun", "cornell_lamp"] {
                 let of = |gi: &str, key: &str, value: &str, weights: &str| {
                     rows.iter()
                         .find(|r| r["scene"] == scene && r["indirect_diffuse"] == gi && r[key] == value && r["gi.area_weights"] == weights)

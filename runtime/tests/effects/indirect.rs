@@ -525,16 +525,20 @@ fn the_default_indirect_diffuse_matches_the_reference_in_the_mean_without_struct
 /// bundled default's 8×8-block ratios have their 10th and 90th percentiles within 0.75–1.25
 /// of the reference's, and so does every labelled surface (wall, floor, box) the image shows.
 /// The disc around each receiver's projection that `filtered` gathered from before put a band
-/// of the walls under the ceiling at 0.10–0.20× (p10 0.17) while its mean was right. What
-/// docs/effects.md states it cannot do, too: seen from `scenes/step.ron`'s corner the left
-/// wall, whose occluder (the tall box) is off screen, gets 2.1×, the other surfaces 0.74–1.1.
+/// of the walls under the ceiling at 0.10–0.20× (p10 0.17) while its mean was right. The box
+/// lit only by its ceiling lamp (`scenes/cornell_lamp.ron`) gets its bounce from the lamp's
+/// own RSM (an `Area` light):
+/// blocks within 0.75–1.25 too, its surfaces within 0.75–1.35 (the floor 1.30×, docs/effects.md;
+/// before, 0). What docs/effects.md states it cannot do, too: seen from `scenes/step.ron`'s
+/// corner the left wall, whose occluder (the tall box) is off screen, gets 2.1×, the other
+/// surfaces 0.8–1.1.
 #[test]
 fn the_default_indirect_diffuse_holds_region_by_region() {
     use lightbench::reference::{self, Term};
     use lightbench::sweep::measure::{error, Surfaces};
     let g = gpu();
     let p = root().join("pipelines/deferred_gi.ron");
-    for file in ["cornell_spot", "cornell_sun", "step"] {
+    for file in ["cornell_spot", "cornell_sun", "step", "cornell_lamp"] {
         let mut s = scene_64(file);
         s.effects.insert(lightbench_compiler::ir::Effect::IndirectDiffuse);
         let term = reference_term(&s, Term::IndirectDiffuse, 512);
@@ -560,17 +564,18 @@ fn the_default_indirect_diffuse_holds_region_by_region() {
         for wall in ["floor", "back", "left", "right", "tall_box", "short_box"] {
             assert!(names.contains(&wall), "{file}: {wall} not judged: {names:?}");
         }
+        let most = if file == "cornell_lamp" { 1.35 } else { 1.25 };
         for surface in &m.surfaces {
-            assert!((0.75..=1.25).contains(&surface.ratio), "{file}: {surface:?}");
+            assert!((0.75..=most).contains(&surface.ratio), "{file}: {surface:?}");
         }
     }
 }
 
 /// A second bounce (`--variant gi_bounces=two`, docs/effects.md) takes the whole frame nearer
 /// the reference's `full` (every bounce) on the spot-lit box, the ambient term off: a lower
-/// RMSE and bias, and the 8×8 blocks' 10th percentile up (measured at 64², 1,024 spp: RMSE
-/// 0.039 → 0.030, p10 0.35 → 0.60), with `filtered` and with `rt` as first bounce; it adds to
-/// the first, so it never darkens a block.
+/// RMSE and bias, and the 8×8 blocks' 10th percentile up (`sweeps/frame.ron`, 64², 256 spp:
+/// RMSE 0.041 → 0.033, p10 0.34 → 0.56), with `filtered` and with `rt` as first bounce; it
+/// adds to the first, so it never darkens a block.
 #[test]
 fn a_second_bounce_brings_the_frame_nearer_every_bounce() {
     use lightbench::sweep::measure::error;

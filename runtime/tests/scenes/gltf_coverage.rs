@@ -191,8 +191,8 @@ fn planning_reads_no_texture_and_render_names_a_broken_one() {
 }
 
 /// What planning reads of a scene (`features_in`: models' JSON only) is what it reads of the
-/// loaded scene: for every bundled scene file, built-in scene and model, and a model whose
-/// pane blends and whose points are skipped (the same warnings).
+/// loaded scene: for every bundled scene file, built-in scene and model, a model whose pane
+/// blends, and an emissive one whose points are skipped (the same warnings and emitter lights).
 #[test]
 fn scene_features_without_geometry_equal_those_of_the_loaded_scene() {
     let mut specs: Vec<String> = ["cornell", "cornell_lamp", "colonnade", "many_lights", "panes"]
@@ -209,8 +209,11 @@ fn scene_features_without_geometry_equal_those_of_the_loaded_scene() {
     let d = scratch("features");
     wall_and_pane(&d, Some(("BLEND", 0.4)));
     specs.push(d.join("quads.ron").display().to_string());
+    // Points skipped, an emissive triangle (an emitter light) and a strip.
     let m = scratch("features-points");
-    write_model(&m, &[(4, &[0, 1, 2]), (0, &[0, 1])], None);
+    write_model_with(&m, &[(4, &[0, 1, 2]), (0, &[0, 1]), (5, &[0, 1, 3, 2])], None, |d| {
+        d["materials"][0]["emissiveFactor"] = serde_json::json!([1.0, 0.5, 0.0]);
+    });
     specs.push(scene_file(&m, "model.gltf").display().to_string());
     assert!(specs.len() > 30, "{specs:?}");
     for spec in &specs {

@@ -249,13 +249,13 @@ impl SceneFeatures {
         }
     }
 
-    /// Used when no scene is given: every light kind once, every effect, reflective
-    /// materials; so that nothing is culled for lack of scene content.
+    /// Used when no scene is given: every light kind once (the punctual ones casting shadows),
+    /// every effect, reflective materials; so that nothing is culled for lack of scene content.
     pub fn everything() -> Self {
         SceneFeatures {
             name: "<all features>".into(),
             lights: LightKind::ALL.into_iter().map(|k| (k, 1)).collect(),
-            casters: LightKind::ALL.into_iter().map(|k| (k, 1)).collect(),
+            casters: LightKind::ALL.into_iter().filter(|k| k.punctual()).map(|k| (k, 1)).collect(),
             effects: Effect::ALL.into_iter().collect(),
             reflective: true,
             transparent: true,

@@ -50,6 +50,8 @@ fn light_keys(kind: LightKind) -> Vec<&'static str> {
         LightKind::Point => &["position", "range"],
         LightKind::Spot => &["position", "direction", "inner", "outer", "range"],
         LightKind::Directional => &["direction"],
+        // Not written in scenes: one per emissive mesh.
+        LightKind::Area => &[],
     };
     LIGHT_KEYS[..5].iter().chain(own).copied().collect()
 }
@@ -220,7 +222,7 @@ impl Lowerer<'_> {
     }
 
     fn light(&mut self, n: &Node) -> Res<LightDesc> {
-        let mut o = self.obj(n, &LightKind::NAMES, "light")?;
+        let mut o = self.obj(n, &LightKind::PUNCTUAL_NAMES, "light")?;
         let kind = LightKind::from_name(&o.kind)?;
         o.what = format!("{} light", o.kind.to_lowercase());
         let on = o.get("on").and_then(|n| self.bool(&n));
