@@ -64,13 +64,16 @@ impl Server {
     }
 }
 
-/// In a scene file: effects in `effects: [..]`, light kinds elsewhere.
+/// In a scene file: effects in `effects: [..]`, the light kinds a scene writes elsewhere.
 fn scene_items(key: Option<&str>) -> Vec<CompletionItem> {
     use lightbench_compiler::ir::{Effect, LightKind};
     if key == Some("effects") {
         return Effect::NAMES.iter().map(|e| item(e, CompletionItemKind::ENUM_MEMBER)).collect();
     }
-    LightKind::ALL.iter().map(|k| item(k.name(), CompletionItemKind::STRUCT)).collect()
+    LightKind::PUNCTUAL_NAMES
+        .iter()
+        .map(|k| item(k, CompletionItemKind::STRUCT))
+        .collect()
 }
 
 fn item(label: &str, kind: CompletionItemKind) -> CompletionItem {

@@ -179,8 +179,8 @@ fn every_bundled_sweep_spec_runs() {
         assert!(rows.iter().any(|r| r["pareto"] == "true"), "{spec}");
         let refs: Vec<_> = std::fs::read_dir(out.join("references")).unwrap().collect();
         let scenes = match spec {
-            "indirect_diffuse" | "ao" => 2,
-            "shadow_methods" => 3,
+            "ao" => 2,
+            "indirect_diffuse" | "shadow_methods" => 3,
             _ => 1,
         };
         assert_eq!(refs.len(), scenes, "{spec}: one reference per scene and size");

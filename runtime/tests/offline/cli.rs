@@ -565,7 +565,7 @@ fn plan_memory_shows_logical_and_aliased_memory() {
     let (code, out, err) = lightbench(&["plan", "pipelines/deferred_gi.lbp", "--memory", "--size", "1920x1080"]);
     assert_eq!(code, 0, "{err}");
     assert!(
-        out.starts_with("memory at 1920×1080: 190.01 MiB logical, 122.77 MiB physical with transient resources aliased (0.65×)"),
+        out.starts_with("memory at 1920×1080: 192.26 MiB logical, 125.02 MiB physical with transient resources aliased (0.65×)"),
         "{out}"
     );
     let line = out.lines().find(|l| l.trim_start().starts_with("gi.indirect ")).unwrap();
