@@ -5,7 +5,7 @@
 //! scene's life (the scene's geometry does not change between frames; a new scene builds its
 //! own).
 
-use super::scene_gpu::MeshGpu;
+use super::scene_gpu::{check_buffer, MeshGpu};
 use bytemuck::Zeroable;
 use lightbench_compiler::abi::{HitCorners, HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
 use lightbench_scene::error::{Error, Result};
@@ -213,14 +213,10 @@ fn map_layout(textures: &[wgpu::Texture]) -> (Vec<(u64, u64)>, u64) {
 /// (first texel's index, width, height, row pitch in texels | 1 << 31 for sRGB) — then each
 /// map's level 0 as RGBA8 texels, copied on the GPU from the uploaded textures (the scene
 /// keeps no CPU copy).
-fn maps(device: &wgpu::Device, queue: &wgpu::Queue, textures: &[wgpu::Texture], max: u64) -> Result<wgpu::Buffer> {
+fn maps(device: &wgpu::Device, queue: &wgpu::Queue, textures: &[wgpu::Texture]) -> Result<wgpu::Buffer> {
     let (places, size) = map_layout(textures);
-    if size > max {
-        return Err(Error::Scene(format!(
-            "the scene's {} maps are {size} bytes at full resolution, over this device's limit of {max} (max_storage_buffer_binding_size) for looking them up at ray hits",
-            textures.len()
-        )));
-    }
+    let what = || format!("the scene's {} maps at full resolution, looked up at ray hits,", textures.len());
+    check_buffer(device, what, size, true)?;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("hit maps"),
         size,
@@ -296,11 +292,6 @@ fn emitters(hits: &mut [HitTriangle], corners: &[Corners], materials: &[HitMater
     out
 }
 
-/// The most bytes one storage binding may hold on `device`.
-fn storage_limit(device: &wgpu::Device) -> u64 {
-    device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size)
-}
-
 /// A storage buffer of `items`; a binding cannot be empty, so one zeroed item stands in for none.
 fn storage<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
     let zero = [T::zeroed()];
@@ -320,14 +311,8 @@ impl HitData {
         let (mut hits, corners) = hit_data(meshes, &traced(meshes), scene);
         let emitters = emitters(&mut hits, &corners, materials);
         let bytes = std::mem::size_of_val(&hits[..]).max(std::mem::size_of_val(&emitters[..])) as u64;
-        let max = storage_limit(device);
-        if bytes > max {
-            return Err(Error::Scene(format!(
-                "scene `{}`: the hit data of its {} traced triangles is {bytes} bytes, over this device's limit of {max} (max_storage_buffer_binding_size); choose the raster option of the pass that shades ray hits",
-                scene.name,
-                hits.len()
-            )));
-        }
+        let what = || format!("scene `{}`: the ray-hit data of its {} traced triangles", scene.name, hits.len());
+        check_buffer(device, what, bytes, true)?;
         Ok(HitData {
             triangles: storage(device, "hit triangles", &hits),
             materials: storage(device, "hit materials", materials),
@@ -345,18 +330,18 @@ impl HitMaps {
         for i in traced(&scene_gpu.meshes) {
             hit_corners(&scene.meshes[scene_gpu.meshes[i].source], &mut corners);
         }
-        let max = storage_limit(device);
         let bytes = std::mem::size_of_val(&corners[..]) as u64;
-        if bytes > max {
-            return Err(Error::Scene(format!(
-                "scene `{}`: the texture coordinates of its {} traced triangles are {bytes} bytes, over this device's limit of {max} (max_storage_buffer_binding_size) for looking maps up at ray hits",
+        let what = || {
+            format!(
+                "scene `{}`: the texture coordinates of its {} traced triangles",
                 scene.name,
                 corners.len()
-            )));
-        }
+            )
+        };
+        check_buffer(device, what, bytes, true)?;
         Ok(HitMaps {
             corners: storage(device, "hit corners", &corners),
-            maps: maps(device, queue, &scene_gpu.textures, max)?,
+            maps: maps(device, queue, &scene_gpu.textures)?,
         })
     }
 }

@@ -367,9 +367,10 @@ pub const MAX_AREA_LIGHTS: usize = 1024;
 pub fn area_lights(scene: &Scene) -> (Vec<AreaLightBlock>, usize) {
     let mut out: Vec<(f32, AreaLightBlock)> = vec![];
     for m in &scene.meshes {
-        let Some(mat) = scene.materials.get(m.material).filter(|mat| mat.emissive.iter().any(|c| *c > 0.0)) else {
+        if !lightbench_scene::emitter_lights::emits(scene, m) {
             continue;
-        };
+        }
+        let mat = &scene.materials[m.material];
         let drawn = &m.indices[..(m.drawn_indices() as usize).min(m.indices.len())];
         for t in drawn.chunks_exact(3) {
             let corner = |i: u32| {

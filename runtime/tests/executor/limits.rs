@@ -49,8 +49,9 @@ fn executor(gpu: &Gpu, pipeline: &str, variants: &[(&str, &str)], s: &lightbench
 
 /// A 120² grid in the Cornell box: its vertex buffer (0.8 MiB) fits, the `triangles` binding
 /// (28,356 triangles, 1.3 MiB) does not. The default pipeline reads no `triangles` and renders; ambient occlusion
-/// volumes (`ao = aov`) read them and are refused with the figure and the limit. A 200² grid's
-/// vertex buffer (2.1 MiB) is refused by the mesh's name.
+/// volumes (`ao = aov`) read them and are refused with the figure and the limit, and so are
+/// ray-traced shadows, whose ray-hit data does not fit. A 200² grid's vertex buffer (2.1 MiB)
+/// is refused by the mesh's name.
 #[test]
 fn buffers_over_the_device_limits_are_refused_by_name() {
     let gpu = small_device();
@@ -76,6 +77,17 @@ fn buffers_over_the_device_limits_are_refused_by_name() {
         .expect("the mesh does not fit")
         .to_string();
     for want in ["mesh `grid` of scene `cornell`: its vertex buffer", "max_buffer_size of 2.0 MiB"] {
+        assert!(err.contains(want), "{err}");
+    }
+    // Ray-traced shadows bind the scene's ray-hit data (64 B per triangle: 1.7 MiB here).
+    let err = executor(&gpu, "deferred.lbp", &[("shadows", "rt")], &s)
+        .err()
+        .expect("the hit data does not fit")
+        .to_string();
+    for want in [
+        "scene `cornell`: the ray-hit data of its 28356 traced triangles",
+        "max_storage_buffer_binding_size of 1.0 MiB",
+    ] {
         assert!(err.contains(want), "{err}");
     }
     assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());

@@ -239,6 +239,13 @@ fn plan_dot_and_json() {
         .find(|r| r["name"] == "shadow.cube")
         .unwrap();
     assert_eq!(cube["instances"], 2);
+    // `area=N` plans N emissive meshes' lights: the RSMs run per directional and spot light
+    // (kinds not named keep one each) and per emitter.
+    let (code, out, err) = lightbench(&["plan", "pipelines/deferred_gi.lbp", "--json", "--lights", "spot=1,area=2"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let flux = v["resources"].as_array().unwrap().iter().find(|r| r["name"] == "rsm.flux").unwrap();
+    assert_eq!(flux["instances"], 4);
 }
 
 #[test]

@@ -177,6 +177,10 @@ fn arguments_that_cannot_mean_anything_are_refused_before_rendering() {
             vec!["plan", "pipelines/deferred.ron", "--lights", "point=2,point=3"],
             "--lights names `point` twice",
         ),
+        (
+            vec!["plan", "pipelines/deferred.ron", "--lights", "sun=1"],
+            "unknown light kind `sun`: expected directional, spot, point or area (an emissive mesh)",
+        ),
         (vec!["plan", "pipelines/deferred.ron", "--size", "0x10"], "out of range"),
         (
             vec!["scene", "export", "cornell", glb.to_str().unwrap()],
