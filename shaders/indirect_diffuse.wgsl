@@ -56,19 +56,24 @@ fn texel_power(l: Light, t: vec2<i32>, sp: vec3<f32>, sn: vec3<f32>, size: f32) 
 // The seed's fixed pattern: every pixel, every frame, the same samples.
 @fragment
 fn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(gather(vec2<i32>(pos.xy), vec2<f32>(0.0), false), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), 0.0), 0.0);
 }
 
-// The filtered variant: samples uniform over the whole map (each standing for the same number
-// of texels, so every weight is 1: unbiased for everything the light reaches, near the
-// receiver's projection or not — a disc around it misses the light of senders far away in the
-// map, such as the floor for a wall a spot light grazes), the pattern shifted per pixel (the
-// same every frame), which turns its structured error into noise that a cross-bilateral blur
-// (bilateral_blur.wgsl) removes; each sender tested for occlusion in the camera's depth buffer
-// (`segment_clear`), since the whole map holds senders hidden from the receiver.
+// The filtered variant: two sampling strategies combined by the balance heuristic (Veach's
+// multiple importance sampling), unbiased for everything the light reaches. Half the samples
+// are uniform over the whole map (a disc around the receiver's projection misses the light of
+// senders far away in the map, such as the floor for a wall a spot light grazes); half lie on
+// a disc of radius `gi.filtered.radius` around that projection, uniform in radius, so dense
+// where senders are near the receiver: there the 1/|d|² falloff makes the light of a few
+// texels large, and uniform samples alone left whole surfaces ±30% off with 64 samples (the
+// lamp-lit box's floor 0.90–1.30× the reference as the per-pixel shift changed). The pattern
+// is shifted per pixel (the same every frame), which turns its structured error into noise
+// that a cross-bilateral blur (bilateral_blur.wgsl) removes; each sender is tested for
+// occlusion in the camera's depth buffer (`segment_clear`), since the whole map holds senders
+// hidden from the receiver.
 @fragment
 fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    return vec4<f32>(gather(vec2<i32>(pos.xy), pixel_shift(vec2<u32>(pos.xy)), true), 0.0);
+    return vec4<f32>(gather_mixed(vec2<i32>(pos.xy), pixel_shift(vec2<u32>(pos.xy))), 0.0);
 }
 
 // The temporal variant (after Lambru et al., seed 000 §4.3.3): fewer samples, the pattern
@@ -78,7 +83,7 @@ fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<u32>(pos.xy);
     let h = pcg_hash(p.x ^ pcg_hash(p.y ^ pcg_hash(frame.frame_index)));
-    return vec4<f32>(gather(vec2<i32>(pos.xy), vec2<f32>(f32(h) / 4294967296.0, 0.0), false), 0.0);
+    return vec4<f32>(gather(vec2<i32>(pos.xy), f32(h) / 4294967296.0), 0.0);
 }
 
 // The weight of a sample at e1 (its distance from the centre over the radius). Samples are
@@ -90,59 +95,107 @@ fn sample_weight(e1: f32) -> f32 {
     return select(e1 * e1, 2.0 * e1, params.area_weights != 0u);
 }
 
-// Irradiance / π at pixel `px` from the light of this repetition. The seed's sampling (`whole`
-// false): a disc around the receiver's projection, uniform in radius and weighted by
-// `sample_weight`, its pattern turned by `shift.x` (in turns). The filtered variant's (`whole`):
-// uniform over the whole map, the pattern shifted by `shift` (modulo 1), occlusion tested.
-fn gather(px: vec2<i32>, shift: vec2<f32>, whole: bool) -> vec3<f32> {
+// What the receiver needs of the light of this repetition: its surface, the light, and where
+// the receiver projects in the light's map (the disc's centre; a receiver behind a spot light
+// — a ceiling above it — has no place in its map but is lit by what it lights all the same:
+// its disc is centred on the map).
+struct Receiver {
+    s: Surface,
+    l: Light,
+    uv: vec2<f32>,
+};
+
+fn receiver(px: vec2<i32>) -> Receiver {
     let s = load_surface(px);
-    if !s.covered {
-        return vec3<f32>(0.0);
-    }
     let l = lights[instance.light];
     let on = on_texture(l.view_proj, s.world);
-    // The disc is centred where the receiver projects (samples around a receiver just off the
-    // map may still land on it); a receiver behind a spot light (a ceiling above it) has no
-    // place in its map but is lit by what it lights all the same: its disc is centred on the
-    // map.
-    let uv = select(vec2<f32>(0.5), on.uv, on.in_front);
+    return Receiver(s, l, select(vec2<f32>(0.5), on.uv, on.in_front));
+}
+
+// The light the RSM texel at `suv` sends the receiver, per unit of the map's area sampled:
+// power · cos θ_p · cos θ_s / |d|² (|d| clamped below by `gi.min_distance`), 0 off the map,
+// where nothing was drawn, for a sender turned away, or (`occluded`) one hidden in the
+// camera's depth buffer.
+fn sender(r: Receiver, suv: vec2<f32>, occluded: bool, jitter: f32) -> vec3<f32> {
+    if any(suv < vec2<f32>(0.0)) || any(suv >= vec2<f32>(1.0)) {
+        return vec3<f32>(0.0);
+    }
     let size = vec2<i32>(textureDimensions(rsm_flux, 0));
-    let last = size - 1;
-    let n = min(params.samples, arrayLength(&gi_pattern));
-    // Texels of the sampled area (the disc, or the map) that each sample stands for.
-    let area = select(PI * params.radius * params.radius, 1.0, whole);
-    let per_sample = area * f32(size.x * size.y) / f32(max(n, 1u));
+    let t = min(vec2<i32>(suv * vec2<f32>(size)), size - 1);
+    let sp = textureLoad(rsm_position, t, 0);
+    if sp.w == 0.0 {
+        return vec3<f32>(0.0); // nothing drawn there
+    }
+    let sn = textureLoad(rsm_normal, t, 0).xyz;
+    let d = sp.xyz - r.s.world;
+    let facing = max(dot(r.s.n, d), 0.0) * max(dot(sn, -d), 0.0);
     let unit = length_unit(params.world);
+    if facing == 0.0 || (occluded && !segment_clear(r.s.world, sp.xyz, params.steps, params.thickness * unit, 0.01 * unit, jitter)) {
+        return vec3<f32>(0.0); // turned away, or hidden from the receiver
+    }
     let min_d = params.min_distance * unit;
-    let min_d2 = min_d * min_d;
+    let d2 = max(dot(d, d), min_d * min_d);
+    let texels = f32(size.x * size.y);
+    return texel_power(r.l, t, sp.xyz, sn, f32(size.x)) * texels * facing / (d2 * d2);
+}
+
+// The sum over senders is ∫ B cos θ_p cos θ_s / |d|² dA = π E (B: the senders' radiosity, E:
+// the receiver's irradiance); the term held is E / π (the receiver's Lambert 1/π, applied
+// here, as indirect_compose.wgsl says).
+fn irradiance_over_pi(sum: vec3<f32>) -> vec3<f32> {
+    return sum * params.strength / (PI * PI);
+}
+
+// Irradiance / π at pixel `px` from the light of this repetition, by the seed's sampling: a
+// disc around the receiver's projection, uniform in radius and weighted by `sample_weight`
+// (each sample standing for the disc's area over the count), its pattern turned by `turn`.
+fn gather(px: vec2<i32>, turn: f32) -> vec3<f32> {
+    let r = receiver(px);
+    if !r.s.covered {
+        return vec3<f32>(0.0);
+    }
+    let n = min(params.samples, arrayLength(&gi_pattern));
+    let per_sample = PI * params.radius * params.radius / f32(max(n, 1u));
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i++) {
         let e = gi_pattern[i];
-        let a = 2.0 * PI * (e.y + shift.x);
-        let disc = uv + params.radius * e.x * vec2<f32>(sin(a), cos(a));
-        let suv = select(disc, fract(lattice(i, n) + shift), whole);
-        if any(suv < vec2<f32>(0.0)) || any(suv >= vec2<f32>(1.0)) {
-            continue;
-        }
-        let t = min(vec2<i32>(suv * vec2<f32>(size)), last);
-        let sp = textureLoad(rsm_position, t, 0);
-        if sp.w == 0.0 {
-            continue; // nothing drawn there
-        }
-        let sn = textureLoad(rsm_normal, t, 0).xyz;
-        let d = sp.xyz - s.world;
-        let facing = max(dot(s.n, d), 0.0) * max(dot(sn, -d), 0.0);
-        let jitter = fract(e.x + shift.y);
-        if facing == 0.0 || (whole && !segment_clear(s.world, sp.xyz, params.steps, params.thickness * unit, 0.01 * unit, jitter)) {
-            continue; // turned away, or hidden from the receiver
-        }
-        let flux = texel_power(l, t, sp.xyz, sn, f32(size.x)) * per_sample;
-        let d2 = max(dot(d, d), min_d2);
-        let weight = select(sample_weight(e.x), 1.0, whole);
-        sum += weight * flux * facing / (d2 * d2);
+        let a = 2.0 * PI * (e.y + turn);
+        let suv = r.uv + params.radius * e.x * vec2<f32>(sin(a), cos(a));
+        sum += sample_weight(e.x) * per_sample * sender(r, suv, false, 0.0);
     }
-    // The sum is ∫ B cos θ_p cos θ_s / |d|² dA = π E (B: the senders' radiosity, E: the
-    // receiver's irradiance); the term held is E / π (the receiver's Lambert 1/π, applied
-    // here, as indirect_compose.wgsl says).
-    return sum * params.strength / (PI * PI);
+    return irradiance_over_pi(sum);
+}
+
+// The share of the filtered variant's samples on the disc around the receiver's projection
+// (the rest uniform over the map): 0.25, 0.5 and 0.75 measured alike on the three Cornell
+// scenes of sweeps/indirect_diffuse.ron.
+const NEAR_SHARE: f32 = 0.5;
+
+// Irradiance / π at pixel `px` by the filtered variant's two strategies (see `fs_filtered`):
+// a sample at map point x counts f(x) / (n_u + n_d · p_d(x)), p_d the disc's density (uniform
+// in radius ρ: 1 / (2π R ρ) inside the disc), n_u and n_d the two strategies' sample counts —
+// the balance heuristic, unbiased whichever strategy drew x.
+fn gather_mixed(px: vec2<i32>, shift: vec2<f32>) -> vec3<f32> {
+    let r = receiver(px);
+    if !r.s.covered {
+        return vec3<f32>(0.0);
+    }
+    let n = min(params.samples, arrayLength(&gi_pattern));
+    let nd = u32(f32(n) * NEAR_SHARE);
+    let nu = n - nd;
+    let radius = params.radius;
+    var sum = vec3<f32>(0.0);
+    for (var i = 0u; i < n; i++) {
+        var suv = fract(lattice(i, nu) + shift);
+        if i >= nu {
+            let e = gi_pattern[i - nu];
+            let a = 2.0 * PI * (e.y + shift.x);
+            suv = r.uv + radius * fract(e.x + shift.y) * vec2<f32>(sin(a), cos(a));
+        }
+        let rho = length(suv - r.uv);
+        let p_disc = select(0.0, 1.0 / (2.0 * PI * radius * max(rho, 1e-9)), rho < radius);
+        let jitter = fract(f32(i) * 0.7548777 + shift.y);
+        sum += sender(r, suv, true, jitter) / (f32(nu) + f32(nd) * p_disc);
+    }
+    return irradiance_over_pi(sum);
 }
