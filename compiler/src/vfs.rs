@@ -94,8 +94,12 @@ pub fn regular_file(path: &Path, limit: u64) -> io::Result<()> {
 pub fn read_bytes(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     use std::io::Read;
     regular_file(path, limit)?;
-    let mut bytes = vec![];
-    std::fs::File::open(path)?.take(limit + 1).read_to_end(&mut bytes)?;
+    let file = std::fs::File::open(path)?;
+    // Room for the size it has now (and the one byte that finds it grown past the limit):
+    // read into at once, not grown by doubling and copying.
+    let len = file.metadata()?.len().min(limit);
+    let mut bytes = Vec::with_capacity(usize::try_from(len + 1).unwrap_or(usize::MAX));
+    file.take(limit + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
         return Err(too_large(limit));
     }
