@@ -4,6 +4,7 @@
 use super::geometry::compute_normals;
 use super::{AlphaMode, ImageData, Light, Material, Mesh, SamplerDesc, Wrap, IDENTITY_UV};
 use crate::error::{Error, Result};
+use crate::texture_cache::{Got, Key, Texels, TextureCache};
 use glam::{Mat4, Vec3};
 use lightbench_compiler::abi::Vertex;
 use std::path::Path;
@@ -21,10 +22,14 @@ pub struct Loaded {
 }
 
 pub fn load(path: &Path) -> Result<Loaded> {
+    load_with(path, &TextureCache::from_env())
+}
+
+/// `load`, its images kept decoded in `cache` (or read from it).
+pub fn load_with(path: &Path, cache: &TextureCache) -> Result<Loaded> {
     let err = |msg: String| Error::Scene(format!("{}: {msg}", path.display()));
-    let (doc, buffers, images) = open(path).map_err(err)?;
+    let (doc, buffers, images, mut warnings) = open(path, cache).map_err(err)?;
     let mut textures = Textures::new(images);
-    let mut warnings = vec![];
     let mut materials = vec![];
     for m in doc.materials() {
         materials.push(material(&m, &mut textures).map_err(err)?);
@@ -43,13 +48,109 @@ pub fn load(path: &Path) -> Result<Loaded> {
     Ok(loaded)
 }
 
+/// A model's document, buffers, images and the warnings of their decoding.
+type Opened = (gltf::Document, Vec<gltf::buffer::Data>, Vec<Texels>, Vec<String>);
+
 /// Checks before anything large is read (a regular file, glTF, supported required
-/// extensions, referenced files present), then the import and accessor bounds.
-fn open(path: &Path) -> std::result::Result<(gltf::Document, Vec<gltf::buffer::Data>, Vec<gltf::image::Data>), String> {
+/// extensions, referenced files present), then the buffers, accessor bounds and images.
+fn open(path: &Path, cache: &TextureCache) -> std::result::Result<Opened, String> {
     document(path)?;
-    let (doc, buffers, images) = gltf::import(path).map_err(describe)?;
-    validate_accessors(&doc, &buffers).map_err(|m| m.to_string())?;
-    Ok((doc, buffers, images))
+    let bytes = lightbench_compiler::vfs::read_bytes(path, MAX_MODEL_FILE_BYTES).map_err(|e| unreadable(path, e))?;
+    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(&bytes).map_err(describe)?;
+    drop(bytes);
+    let base = path.parent().unwrap_or(Path::new("."));
+    let buffers = gltf::import_buffers(&document, Some(base), blob).map_err(describe)?;
+    validate_accessors(&document, &buffers).map_err(|m| m.to_string())?;
+    let (images, warnings) = decode_images(&document, base, &buffers, cache)?;
+    Ok((document, buffers, images, warnings))
+}
+
+/// Every image of the document as RGBA8 texels: read from `cache`, else decoded and kept
+/// there; on rayon's threads, each distinct encoding once (two images of the same bytes share
+/// the work and the texels are copied). The encoded bytes are held only while they are
+/// hashed. An entry that could not be written is a warning, once.
+fn decode_images(
+    doc: &gltf::Document,
+    base: &Path,
+    buffers: &[gltf::buffer::Data],
+    cache: &TextureCache,
+) -> std::result::Result<(Vec<Texels>, Vec<String>), String> {
+    use rayon::prelude::*;
+    let images: Vec<gltf::Image> = doc.images().collect();
+    let keys = images
+        .par_iter()
+        .map(|i| encoded(i, base, buffers).map(|(kind, bytes)| Key::of(&kind, &bytes)))
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let mut first = std::collections::HashMap::new();
+    let firsts: Vec<usize> = keys.iter().enumerate().map(|(i, k)| *first.entry(*k).or_insert(i)).collect();
+    let mut decoded: Vec<Option<(Texels, Got)>> = (0..images.len())
+        .into_par_iter()
+        .map(|i| {
+            let decode = || decode(&images[i], base, buffers);
+            let got = (firsts[i] == i).then(|| cache.get(keys[i], decode));
+            got.transpose().map_err(|e| format!("image {i}{}{e}", image_name(&images[i])))
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()?;
+    let mut warnings = vec![];
+    if let Some(e) = decoded.iter().flatten().find_map(|(_, got)| match got {
+        Got::NotKept(e) => Some(e),
+        _ => None,
+    }) {
+        warnings.push(format!("decoded textures are not kept for the next run: {e}"));
+    }
+    let copies: Vec<Option<Texels>> = (0..images.len())
+        .map(|i| {
+            (firsts[i] != i)
+                .then(|| decoded[firsts[i]].as_ref().map(|(t, _)| t.clone()))
+                .flatten()
+        })
+        .collect();
+    let texels = copies
+        .into_iter()
+        .zip(decoded.iter_mut())
+        .map(|(copy, own)| copy.or_else(|| own.take().map(|(t, _)| t)))
+        .collect::<Option<Vec<_>>>()
+        .ok_or("an image was not decoded")?;
+    Ok((texels, warnings))
+}
+
+/// An image's encoded bytes and what chooses its decoder (its declared MIME type, else its
+/// URI): a buffer view's slice, a file's contents, or a `data:` URI itself.
+fn encoded(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> std::result::Result<(String, Vec<u8>), String> {
+    match image.source() {
+        gltf::image::Source::View { view, mime_type } => {
+            let data = &buffers[view.buffer().index()].0;
+            Ok((mime_type.to_string(), data[view.offset()..view.offset() + view.length()].to_vec()))
+        }
+        gltf::image::Source::Uri { uri, mime_type } => {
+            let kind = mime_type.unwrap_or(uri.rsplit('.').next().unwrap_or_default()).to_string();
+            if uri.starts_with("data:") {
+                return Ok((kind, uri.as_bytes().to_vec()));
+            }
+            let file = base.join(percent_decode(uri));
+            let bytes = lightbench_compiler::vfs::read_bytes(&file, MAX_MODEL_FILE_BYTES).map_err(|e| unreadable(&file, e))?;
+            Ok((kind, bytes))
+        }
+    }
+}
+
+/// An image decoded as glTF's importer decodes it, then made 8-bit RGBA.
+fn decode(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> std::result::Result<Texels, String> {
+    let img = gltf::image::Data::from_source(image.source(), Some(base), buffers).map_err(|e| match e {
+        gltf::Error::Image(e) => format!("cannot be decoded: {e}"),
+        other => describe(other),
+    })?;
+    let (format, width, height) = (img.format, img.width, img.height);
+    let rgba = to_rgba8(img).ok_or(format!("has an unsupported pixel format {format:?}"))?;
+    Ok(Texels { width, height, rgba })
+}
+
+/// How an error names an image: by its file where it has one.
+fn image_name(image: &gltf::Image) -> String {
+    match image.source() {
+        gltf::image::Source::Uri { uri, .. } if !uri.starts_with("data:") => format!(" (`{uri}`) "),
+        _ => " ".to_string(),
+    }
 }
 
 /// The model's JSON document, checked as `open` checks it before importing: a regular glTF
@@ -135,17 +236,16 @@ pub fn outline(path: &Path) -> Result<Outline> {
     Ok(out)
 }
 
-/// Decoded images become textures on first use. Each is converted once and its decoded form
-/// dropped right away, so loading holds at most one extra copy of one image (an RGBA8 image
-/// is moved, not copied).
+/// Decoded images become textures on first use: each image's texels are moved into its
+/// first texture, and shared (copied) only by a texture of the other colour space.
 struct Textures {
-    images: Vec<Option<gltf::image::Data>>,
+    images: Vec<Option<Texels>>,
     out: Vec<ImageData>,
     of_image: std::collections::HashMap<(usize, bool), usize>,
 }
 
 impl Textures {
-    fn new(images: Vec<gltf::image::Data>) -> Self {
+    fn new(images: Vec<Texels>) -> Self {
         Textures {
             images: images.into_iter().map(Some).collect(),
             out: vec![],
@@ -165,13 +265,11 @@ impl Textures {
                 ..self.out[i].clone()
             },
             None => {
-                let img = self
+                let Texels { width, height, rgba } = self
                     .images
                     .get_mut(index)
                     .and_then(Option::take)
                     .ok_or(format!("image {index} is missing"))?;
-                let (format, width, height) = (img.format, img.width, img.height);
-                let rgba = to_rgba8(img).ok_or(format!("image {index} has an unsupported pixel format {format:?}"))?;
                 ImageData { width, height, rgba, srgb }
             }
         };
@@ -511,7 +609,6 @@ fn describe(e: gltf::Error) -> String {
             format!("buffer {buffer} is truncated: expected {expected} bytes, found {actual}")
         }
         gltf::Error::Io(e) => format!("cannot read a referenced file: {e}"),
-        gltf::Error::Image(e) => format!("an image it uses cannot be decoded: {e}"),
         other => other.to_string(),
     }
 }

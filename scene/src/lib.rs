@@ -16,6 +16,7 @@ pub mod io;
 pub mod light;
 pub mod load;
 pub mod math;
+pub mod texture_cache;
 
 pub use error::{Error, Result};
 pub use light::{Animation, Light};

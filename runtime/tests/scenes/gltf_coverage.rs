@@ -184,10 +184,102 @@ fn planning_reads_no_texture_and_render_names_a_broken_one() {
     ]);
     assert_eq!(code, 1, "{err}");
     assert!(
-        err.contains("model.gltf: an image it uses cannot be decoded: Format error decoding Png"),
+        err.contains("model.gltf: image 0 (`albedo.png`) cannot be decoded: Format error decoding Png"),
         "render names the broken texture: {err}"
     );
     assert!(!image.exists(), "nothing written");
+}
+
+/// Textures are decoded once (docs/scenes.md): a model's second load reads its texels from
+/// the cache, equal to what decoding gave; an entry damaged on disk is decoded again and
+/// rewritten; two images of the same bytes are one entry; without a cache nothing is kept.
+#[test]
+fn textures_are_decoded_once_and_a_damaged_entry_is_rebuilt() {
+    use lightbench::scene::gltf_load::load_with;
+    use lightbench::scene::texture_cache::{Key, Texels, TextureCache};
+    let d = scratch("texture-cache");
+    two_texels(&d, 128);
+    std::fs::copy(d.join("two.png"), d.join("same.png")).unwrap();
+    let model = write_model_with(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"), |doc| {
+        doc["images"] = serde_json::json!([{"uri": "two.png"}, {"uri": "same.png"}]);
+        doc["textures"] = serde_json::json!([{"source": 0}, {"source": 1}]);
+        doc["materials"][0]["emissiveTexture"] = serde_json::json!({"index": 1});
+    });
+    let texels = |l: &lightbench::scene::gltf_load::Loaded| l.textures.iter().map(|t| t.rgba.clone()).collect::<Vec<_>>();
+    let decoded = load_with(&model, &TextureCache::at(None)).unwrap();
+    assert_eq!(texels(&decoded)[0], vec![255, 0, 0, 128, 0, 0, 255, 255]);
+    // An entry for the PNG's bytes that holds other texels: what a load then gets is the
+    // entry's, so it decoded nothing.
+    let png = std::fs::read(d.join("two.png")).unwrap();
+    let seeded = TextureCache::at(Some(&d.join("seeded")));
+    let other = Texels {
+        width: 2,
+        height: 1,
+        rgba: vec![7; 8],
+    };
+    seeded.get(Key::of("png", &png), || Ok(other.clone())).unwrap();
+    assert_eq!(texels(&load_with(&model, &seeded).unwrap())[0], other.rgba);
+    // A fresh cache: the first load keeps one entry for the two images of the same bytes, the
+    // second reads it.
+    let cache_root = d.join("cache");
+    let cache = TextureCache::at(Some(&cache_root));
+    let first = load_with(&model, &cache).unwrap();
+    let entries: Vec<PathBuf> = std::fs::read_dir(cache_root.join("textures"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(entries.len(), 1, "one entry for two images of the same bytes: {entries:?}");
+    let second = load_with(&model, &cache).unwrap();
+    assert_eq!(texels(&first), texels(&decoded));
+    assert_eq!(texels(&second), texels(&decoded));
+    // The file edited: other bytes, another entry (these are no image).
+    std::fs::write(d.join("two.png"), b"garbage").unwrap();
+    assert!(load_with(&model, &cache).is_err());
+    std::fs::write(d.join("two.png"), &png).unwrap();
+    // A texel of the entry flipped: found out, decoded again, rewritten whole.
+    let mut bytes = std::fs::read(&entries[0]).unwrap();
+    let last = bytes.len() - 1;
+    bytes[last] ^= 0xff;
+    std::fs::write(&entries[0], &bytes).unwrap();
+    let third = load_with(&model, &cache).unwrap();
+    assert_eq!(texels(&third), texels(&decoded), "the damaged entry is not used");
+    assert_ne!(std::fs::read(&entries[0]).unwrap(), bytes, "and it is rewritten");
+}
+
+/// `render` keeps the textures it decodes where docs/scenes.md says: under
+/// `$LIGHTBENCH_CACHE_DIR/textures` when that is set (the same image once); an empty value
+/// keeps nothing; a cache that cannot be written is a warning, and the frame is made.
+#[test]
+fn render_keeps_decoded_textures_where_the_environment_says() {
+    let d = scratch("texture-cache-cli");
+    two_texels(&d, 255);
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"));
+    let scene_path = scene_file(&d, "model.gltf");
+    let render = |cache: &std::ffi::OsStr| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+            .args(["render", "--pipeline", "pipelines/deferred.ron", "--scene"])
+            .arg(&scene_path)
+            .arg("--out")
+            .arg(d.join("frame.png"))
+            .env("LIGHTBENCH_CACHE_DIR", cache)
+            .current_dir(cli_common::root())
+            .output()
+            .unwrap();
+        (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let entries = |dir: &Path| std::fs::read_dir(dir.join("textures")).map(|r| r.count()).unwrap_or(0);
+    let (code, err) = render(d.join("cache").as_os_str());
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(entries(&d.join("cache")), 1);
+    let (code, err) = render(d.join("cache").as_os_str());
+    assert_eq!((code, entries(&d.join("cache"))), (Some(0), 1), "{err}");
+    let (code, err) = render(std::ffi::OsStr::new(""));
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains("not kept"), "{err}");
+    std::fs::write(d.join("a-file"), b"").unwrap();
+    let (code, err) = render(d.join("a-file").as_os_str());
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("decoded textures are not kept for the next run"), "{err}");
 }
 
 /// What planning reads of a scene (`features_in`: models' JSON only) is what it reads of the

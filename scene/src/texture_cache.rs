@@ -1,0 +1,188 @@
+//! glTF loading, its textures: images decoded once — in parallel, and kept decoded on disk in
+//! a content-addressed cache, so that a second run of the same scene reads texels instead of
+//! decoding JPEG and PNG files again.
+//!
+//! An entry is keyed by a 128-bit hash (XXH3) of the image's encoded bytes (file, buffer view or `data:`
+//! URI), their length and this module's `VERSION` (what the decoding makes of them): an image
+//! edited in place gets a new key, an old entry is simply never read again. Each entry holds
+//! the width, height and a checksum (XXH3) of its texels; one that is short, long or whose
+//! texels do not match it (a damaged disk, a killed writer of an older version) is decoded again
+//! and rewritten, atomically.
+
+use std::path::{Path, PathBuf};
+
+/// Bumped when the decoded texels change for the same encoded bytes.
+const VERSION: u32 = 1;
+const MAGIC: &[u8; 8] = b"LBTEX\0\0\x01";
+const HEADER: usize = 8 + 4 + 4 + 8;
+/// Where the cache goes instead of the user's cache folder; empty: no cache.
+pub const CACHE_ENV: &str = "LIGHTBENCH_CACHE_DIR";
+
+/// An image decoded to 8-bit RGBA, level 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texels {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+/// Where decoded textures are kept, if anywhere.
+#[derive(Clone, Debug)]
+pub struct TextureCache {
+    dir: Option<PathBuf>,
+}
+
+/// How an image was had: from the cache, or decoded now (and whether writing it failed).
+pub enum Got {
+    Cached,
+    Decoded,
+    NotKept(String),
+}
+
+impl TextureCache {
+    /// `$LIGHTBENCH_CACHE_DIR/textures` if set (an empty value: no cache), else the user's
+    /// cache folder (`$XDG_CACHE_HOME/lightbench/textures` or `~/.cache/lightbench/textures`),
+    /// else none.
+    pub fn from_env() -> Self {
+        let var = |k: &str| std::env::var_os(k).map(PathBuf::from);
+        let root = match var(CACHE_ENV) {
+            Some(d) if d.as_os_str().is_empty() => None,
+            Some(d) => Some(d),
+            None => var("XDG_CACHE_HOME")
+                .filter(|d| d.is_absolute())
+                .or_else(|| var("HOME").map(|h| h.join(".cache")))
+                .map(|d| d.join("lightbench")),
+        };
+        Self::at(root.as_deref())
+    }
+
+    /// A cache under `root` (its `textures` folder), or none.
+    pub fn at(root: Option<&Path>) -> Self {
+        TextureCache {
+            dir: root.map(|r| r.join("textures")),
+        }
+    }
+
+    /// The entry file for `key`, if there is a cache.
+    pub fn entry(&self, key: Key) -> Option<PathBuf> {
+        Some(self.dir.as_ref()?.join(format!("{:032x}-{}.rgba", key.hash, key.len)))
+    }
+
+    /// The texels of the image of `key`: from the cache when a whole entry is there, else
+    /// from `decode`, then kept.
+    pub fn get(
+        &self,
+        key: Key,
+        decode: impl FnOnce() -> std::result::Result<Texels, String>,
+    ) -> std::result::Result<(Texels, Got), String> {
+        let Some(entry) = self.entry(key) else {
+            return Ok((decode()?, Got::Decoded));
+        };
+        if let Some(t) = read_entry(&entry) {
+            return Ok((t, Got::Cached));
+        }
+        let t = decode()?;
+        let got = match crate::files::write_atomic(&entry, &encode_entry(&t)) {
+            Ok(()) => Got::Decoded,
+            Err(e) => Got::NotKept(e.to_string()),
+        };
+        Ok((t, got))
+    }
+}
+
+/// The texels' checksum, which finds a damaged entry.
+/// What an image's texels depend on: its encoded bytes, what they are declared as (a MIME
+/// type or file name: what chooses the decoder) and the decoding's `VERSION`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Key {
+    hash: u128,
+    len: usize,
+}
+
+impl Key {
+    pub fn of(kind: &str, bytes: &[u8]) -> Key {
+        let tag = xxhash_rust::xxh3::xxh3_64(format!("v{VERSION} rgba8 {kind}").as_bytes());
+        Key {
+            hash: xxhash_rust::xxh3::xxh3_128_with_seed(bytes, tag),
+            len: bytes.len(),
+        }
+    }
+}
+
+fn texel_hash(rgba: &[u8]) -> u64 {
+    xxhash_rust::xxh3::xxh3_64(rgba)
+}
+
+fn encode_entry(t: &Texels) -> Vec<u8> {
+    let mut out = Vec::with_capacity(HEADER + t.rgba.len());
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&t.width.to_le_bytes());
+    out.extend_from_slice(&t.height.to_le_bytes());
+    out.extend_from_slice(&texel_hash(&t.rgba).to_le_bytes());
+    out.extend_from_slice(&t.rgba);
+    out
+}
+
+/// A whole entry's texels; `None` for a missing, short, long or damaged one. The texels are
+/// read straight into their own buffer (no copy of a whole file).
+fn read_entry(path: &Path) -> Option<Texels> {
+    use std::io::Read;
+    let mut file = std::fs::File::open(path).ok()?;
+    let mut head = [0u8; HEADER];
+    file.read_exact(&mut head).ok()?;
+    let word = |i: usize| u32::from_le_bytes(head[i..i + 4].try_into().unwrap());
+    let (width, height) = (word(8), word(12));
+    let hash = u64::from_le_bytes(head[16..24].try_into().unwrap());
+    let len = (width as u64) * (height as u64) * 4;
+    if &head[..8] != MAGIC || file.metadata().ok()?.len() != HEADER as u64 + len {
+        return None;
+    }
+    let mut rgba = Vec::with_capacity(usize::try_from(len).ok()?);
+    file.take(len).read_to_end(&mut rgba).ok()?;
+    (rgba.len() as u64 == len && texel_hash(&rgba) == hash).then_some(Texels { width, height, rgba })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texels() -> Texels {
+        Texels {
+            width: 2,
+            height: 1,
+            rgba: vec![1, 2, 3, 4, 5, 6, 7, 8],
+        }
+    }
+
+    /// A kept entry is read back whole; a damaged one (a texel flipped, cut short) is decoded
+    /// again and rewritten.
+    #[test]
+    fn entries_are_kept_and_a_damaged_one_is_rebuilt() {
+        let dir = std::env::temp_dir().join(format!("lightbench-texcache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let cache = TextureCache::at(Some(&dir));
+        let decodes = std::cell::Cell::new(0);
+        let decode = || {
+            decodes.set(decodes.get() + 1);
+            Ok(texels())
+        };
+        let (t, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
+        assert!(matches!(got, Got::Decoded) && t == texels());
+        let (t, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
+        assert!(matches!(got, Got::Cached) && t == texels() && decodes.get() == 1);
+        let entry = cache.entry(Key::of("png", b"encoded")).unwrap();
+        let mut bytes = std::fs::read(&entry).unwrap();
+        bytes[HEADER] ^= 0x40;
+        std::fs::write(&entry, &bytes).unwrap();
+        let (t, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
+        assert!(matches!(got, Got::Decoded) && t == texels() && decodes.get() == 2);
+        std::fs::write(&entry, &bytes[..HEADER + 3]).unwrap();
+        let (_, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
+        assert!(matches!(got, Got::Decoded) && decodes.get() == 3);
+        assert_eq!(read_entry(&entry), Some(texels()), "rewritten whole");
+        // Other bytes or another declared kind, another entry.
+        assert_ne!(cache.entry(Key::of("png", b"encoded!")), Some(entry.clone()));
+        assert_ne!(cache.entry(Key::of("jpeg", b"encoded")), Some(entry));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
