@@ -168,7 +168,7 @@ impl Bvh {
                 .iter()
                 .enumerate()
                 .filter(|(_, &k)| counts[k] > 4)
-                .max_by(|a, b| tree.nodes[*a.1].aabb.half_area().total_cmp(&tree.nodes[*b.1].aabb.half_area()));
+                .max_by(|a, b| tree.nodes[*a.1].aabb().half_area().total_cmp(&tree.nodes[*b.1].aabb().half_area()));
             let Some((at, &k)) = open else { break };
             let first = tree.nodes[k].first_index as usize;
             kids[at] = first;
@@ -183,7 +183,7 @@ impl Bvh {
         });
         for (slot, &k) in kids.iter().enumerate() {
             let code = self.collapse(tree, k, counts, tris, order);
-            let aabb = tree.nodes[k].aabb;
+            let aabb = *tree.nodes[k].aabb();
             let grow = Vec3A::splat(aabb.min.abs().max(aabb.max.abs()).max_element() * BOX_GROWTH);
             let (lo, hi) = (aabb.min - grow, aabb.max + grow);
             let node = &mut self.nodes[index];

@@ -8,11 +8,12 @@
 
 use super::bvh::{Bvh, Ray};
 use glam::{Vec2, Vec3A, Vec4};
-use lightbench_scene::{AlphaMode, ImageData, Material, Scene, Wrap};
+use lightbench_scene::{AlphaMode, ImageData, Material, Mesh, Scene, Wrap};
 use obvhs::triangle::Triangle;
 
-/// One triangle's vertex attributes, in world space.
-#[derive(Clone, Copy)]
+/// A vertex's attributes, in world space (zero for an index past a mesh's vertices: the last
+/// of the world's `vertices`).
+#[derive(Clone, Copy, Default)]
 struct Corner {
     normal: Vec3A,
     uv: Vec2,
@@ -58,7 +59,9 @@ pub enum Faces {
 #[derive(Clone, Copy)]
 struct Face {
     normal: Vec3A,
-    flat: Option<Vec3A>,
+    /// Zero where the face is not flat (a unit vector otherwise; 32 bytes a face where an
+    /// `Option` took 48).
+    flat_normal: Vec3A,
 }
 
 /// A material as evaluated at a point (`lib/material.wgsl`): base colour, metallic and
@@ -105,7 +108,11 @@ pub struct World {
     bvh: Bvh,
     /// Triangles in BVH order (so a hit's id indexes them directly).
     tris: Vec<Triangle>,
-    corners: Vec<[Corner; 3]>,
+    /// Each triangle's corners: indices into `vertices`, which the meshes' triangles share as
+    /// their vertices do (a copy per corner was 144 bytes per triangle; this is 12, plus 48
+    /// per vertex).
+    corners: Vec<[u32; 3]>,
+    vertices: Vec<Corner>,
     faces: Vec<Face>,
     material: Vec<u32>,
     /// Each triangle's place in the scene's order, which stochastic transparency hashes (the
@@ -123,57 +130,120 @@ pub struct World {
 }
 
 impl Face {
-    fn new(t: &Triangle, c: &[Corner; 3]) -> Face {
+    fn flat(&self) -> Option<Vec3A> {
+        (self.flat_normal != Vec3A::ZERO).then_some(self.flat_normal)
+    }
+
+    fn new(t: &Triangle, c: [&Corner; 3]) -> Face {
         // The face normal as a hit worked it out before it was kept here (the same bits).
         let normal = (t.v1 - t.v0).cross(t.v2 - t.v0).normalize_or(Vec3A::Y);
         let same = c[1].normal == c[0].normal && c[2].normal == c[0].normal;
         Face {
             normal,
-            flat: same.then(|| c[0].normal.try_normalize().unwrap_or(normal)),
+            flat_normal: if same {
+                c[0].normal.try_normalize().unwrap_or(normal)
+            } else {
+                Vec3A::ZERO
+            },
         }
     }
+}
+
+/// `v` in `order`, `v` dropped (its old order is not held beside the new).
+fn reordered<T: Copy>(v: Vec<T>, order: &[usize]) -> Vec<T> {
+    order.iter().map(|&i| v[i]).collect()
+}
+
+/// Mesh `m`'s drawn triangles (its `triangle_fraction`, as the raster draws it), each as
+/// its three vertex indices: wound the other way under a mirroring transform (glTF §3.7.4:
+/// it swaps the sides), so that the face normal always points out of the front.
+fn drawn_triangles(m: &Mesh) -> impl Iterator<Item = [u32; 3]> + '_ {
+    let mirrored = m.transform.determinant() < 0.0;
+    (0..drawn_count(m)).map(move |t| triangle(m, t, mirrored))
+}
+
+fn drawn_count(m: &Mesh) -> usize {
+    (m.drawn_indices() as usize).min(m.indices.len()) / 3
+}
+
+/// Triangle `t` of mesh `m`, wound the other way if `mirrored`.
+fn triangle(m: &Mesh, t: usize, mirrored: bool) -> [u32; 3] {
+    let i = &m.indices[t * 3..t * 3 + 3];
+    if mirrored {
+        [i[0], i[2], i[1]]
+    } else {
+        [i[0], i[1], i[2]]
+    }
+}
+
+/// Every drawn triangle of the scene in world space, in the scene's order: what the BVH is
+/// built from (an index past its mesh's vertices reads a zero vertex).
+fn positions(scene: &Scene) -> Vec<Triangle> {
+    let mut tris = Vec::with_capacity(scene.meshes.iter().map(drawn_count).sum());
+    for m in &scene.meshes {
+        for idx in drawn_triangles(m) {
+            let vs = idx.map(|i| m.vertices.get(i as usize).copied().unwrap_or_else(bytemuck::Zeroable::zeroed));
+            let p = vs.map(|v| m.transform.transform_point3a(Vec3A::from(v.position)));
+            tris.push(Triangle {
+                v0: p[0],
+                v1: p[1],
+                v2: p[2],
+            });
+        }
+    }
+    tris
+}
+
+/// What triangles: each triangle's corners (indices into the vertices' world-space attributes,
+/// which follow; the last one zero, for an index past its mesh's vertices) and material.
+type Attributes = (Vec<[u32; 3]>, Vec<Corner>, Vec<u32>);
+
+/// The triangles' `Attributes` in `order` (the BVH's): gathered after the BVH is built, so
+/// that they are not held while it is (the build's peak). A mesh's material index out of
+/// range is the one past the scene's (white).
+fn attributes(scene: &Scene, order: &[usize]) -> Attributes {
+    let zero = scene.meshes.iter().map(|m| m.vertices.len()).sum::<usize>() as u32;
+    let (mut vertices, mut first, mut starts, mut mirrored) = (vec![], vec![], vec![], vec![]);
+    let mut triangles = 0;
+    for m in &scene.meshes {
+        let normal_matrix = m.transform.inverse().transpose();
+        first.push(vertices.len() as u32);
+        starts.push(triangles);
+        mirrored.push(m.transform.determinant() < 0.0);
+        triangles += drawn_count(m);
+        vertices.extend(m.vertices.iter().map(|v| {
+            Corner {
+                normal: normal_matrix.transform_vector3a(Vec3A::from(v.normal)),
+                uv: Vec2::from(v.uv),
+                uv1: Vec2::from(v.uv1),
+                tangent: m
+                    .transform
+                    .transform_vector3a(Vec3A::from_slice(&v.tangent[..3]))
+                    .extend(v.tangent[3]),
+            }
+        }));
+    }
+    vertices.push(Corner::default());
+    let (mut corners, mut material) = (Vec::with_capacity(order.len()), Vec::with_capacity(order.len()));
+    for &t in order {
+        let k = starts.partition_point(|&s| s <= t) - 1;
+        let m = &scene.meshes[k];
+        let idx = triangle(m, t - starts[k], mirrored[k]);
+        corners.push(idx.map(|i| if (i as usize) < m.vertices.len() { first[k] + i } else { zero }));
+        material.push((m.material as u32).min(scene.materials.len() as u32));
+    }
+    (corners, vertices, material)
 }
 
 impl World {
     /// Every drawn triangle of the scene (each mesh's `triangle_fraction` as the raster draws
     /// it), with its mesh's transform applied.
     pub fn new(scene: &Scene) -> World {
-        let (mut tris, mut corners, mut material) = (vec![], vec![], vec![]);
-        for m in &scene.meshes {
-            let normal_matrix = m.transform.inverse().transpose();
-            let drawn = m.drawn_indices() as usize;
-            // A mirroring transform swaps the sides of its triangles (glTF §3.7.4): wind them
-            // the other way, so that the face normal always points out of the front.
-            let mirrored = m.transform.determinant() < 0.0;
-            for idx in m.indices[..drawn.min(m.indices.len())].chunks_exact(3) {
-                let idx = if mirrored {
-                    [idx[0], idx[2], idx[1]]
-                } else {
-                    [idx[0], idx[1], idx[2]]
-                };
-                let vs = idx.map(|i| m.vertices.get(i as usize).copied().unwrap_or_else(bytemuck::Zeroable::zeroed));
-                let p = vs.map(|v| m.transform.transform_point3a(Vec3A::from(v.position)));
-                tris.push(Triangle {
-                    v0: p[0],
-                    v1: p[1],
-                    v2: p[2],
-                });
-                corners.push(vs.map(|v| {
-                    Corner {
-                        normal: normal_matrix.transform_vector3a(Vec3A::from(v.normal)),
-                        uv: Vec2::from(v.uv),
-                        uv1: Vec2::from(v.uv1),
-                        tangent: m
-                            .transform
-                            .transform_vector3a(Vec3A::from_slice(&v.tangent[..3]))
-                            .extend(v.tangent[3]),
-                    }
-                }));
-                material.push(m.material as u32);
-            }
-        }
+        let tris = positions(scene);
         // Reordered so that the BVH's hit ids index the arrays without an indirection.
         let (bvh, order) = Bvh::build(&tris);
+        let tris = reordered(tris, &order);
+        let (corners, vertices, material) = attributes(scene, &order);
         // One past the scene's: white, for a mesh whose material index is out of range.
         let materials: Vec<Material> = scene
             .materials
@@ -181,7 +251,6 @@ impl World {
             .cloned()
             .chain([Material::color("default", [1.0; 3], 1.0)])
             .collect();
-        let material: Vec<u32> = order.iter().map(|&i| material[i].min(scene.materials.len() as u32)).collect();
         let flags = material
             .iter()
             .map(|&m| {
@@ -190,14 +259,18 @@ impl World {
             })
             .collect();
         let blended = material.iter().any(|&m| materials[m as usize].alpha == AlphaMode::Blend);
-        let tris: Vec<Triangle> = order.iter().map(|&i| tris[i]).collect();
-        let corners: Vec<[Corner; 3]> = order.iter().map(|&i| corners[i]).collect();
+        let faces = tris
+            .iter()
+            .zip(&corners)
+            .map(|(t, c)| Face::new(t, c.map(|k| &vertices[k as usize])))
+            .collect();
         World {
             bvh,
-            faces: tris.iter().zip(&corners).map(|(t, c)| Face::new(t, c)).collect(),
+            faces,
             plain: materials.iter().map(Look::plain).collect(),
             tris,
             corners,
+            vertices,
             material,
             scene_index: order.iter().map(|&i| i as u32).collect(),
             flags,
@@ -205,6 +278,11 @@ impl World {
             textures: scene.textures.clone(),
             blended,
         }
+    }
+
+    /// Triangle `i`'s corners' attributes.
+    fn attributes(&self, i: usize) -> [&Corner; 3] {
+        self.corners[i].map(|k| &self.vertices[k as usize])
     }
 
     pub fn triangles(&self) -> usize {
@@ -350,7 +428,7 @@ impl World {
     }
 
     fn uv_at(&self, i: usize, w: Vec3A, set: u32) -> Vec2 {
-        let c = &self.corners[i];
+        let c = self.attributes(i);
         let (a, b, d) = if set == 0 {
             (c[0].uv, c[1].uv, c[2].uv)
         } else {
@@ -362,7 +440,7 @@ impl World {
     fn surface(&self, i: usize, origin: Vec3A, dir: Vec3A, t: f32) -> Hit {
         let position = origin + dir * t;
         let ng = self.faces[i].normal;
-        let (n, look) = match (self.faces[i].flat, self.plain[self.material[i] as usize]) {
+        let (n, look) = match (self.faces[i].flat(), self.plain[self.material[i] as usize]) {
             (Some(n), Some(look)) => (n, look),
             _ => self.look_at(i, position, ng),
         };
@@ -391,7 +469,7 @@ impl World {
     /// `ng`): vertex normals interpolated, textures sampled.
     fn look_at(&self, i: usize, position: Vec3A, ng: Vec3A) -> (Vec3A, Look) {
         let w = self.barycentrics(i, position);
-        let c = &self.corners[i];
+        let c = self.attributes(i);
         let interpolated = c[0].normal * w.x + c[1].normal * w.y + c[2].normal * w.z;
         // Zero-length vertex normals: the face normal stands in (as in the shaders).
         let mut n = interpolated.try_normalize().unwrap_or(ng);
@@ -544,7 +622,7 @@ mod tests {
                 let same =
                     |a: Look, b: Look| (a.albedo, a.metallic, a.roughness, a.emissive) == (b.albedo, b.metallic, b.roughness, b.emissive);
                 assert!(same(look, plain), "{}: triangle {i}", s.name);
-                match w.faces[i].flat {
+                match w.faces[i].flat() {
                     Some(shortcut) => {
                         assert!((shortcut - n).length() < 1e-5, "{}: triangle {i}: {shortcut} against {n}", s.name);
                         flat += 1;
