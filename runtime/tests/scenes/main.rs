@@ -1,4 +1,4 @@
-//! Scenes rendered: glTF coverage, real assets, scene files and glTF scenes.
+//! Scenes rendered: glTF coverage, real assets, scene files, glTF scenes and their scale.
 //! One test binary per area; each file below is a module of it.
 
 #[path = "../cli_common/mod.rs"]
@@ -10,5 +10,6 @@ mod mutate;
 
 mod gltf_coverage;
 mod real_assets;
+mod scale;
 mod scene_files;
 mod scenes_gltf;
