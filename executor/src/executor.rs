@@ -556,7 +556,7 @@ impl Executor {
         {
             let n = &r.name;
             return Err(Error::Usage(format!(
-                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input)"
+                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input, supply_input or mark_supplied)"
             )));
         }
         if let Some(lights) = &inputs.lights {

@@ -1,6 +1,8 @@
 //! External resources (`external: true`): the caller supplies their contents before a frame
 //! — a texture from a PNG or EXR, a buffer from raw little-endian bytes or a JSON array of
-//! numbers (as f32); and resources with `data`, uploaded once. Decoding is the compiler's
+//! numbers (as f32) (`load_input`); a host's bytes in memory (`supply_input`); or what the
+//! host wrote into the resource's own storage itself, with its queue or its encoder
+//! (`mark_supplied`) — and resources with `data`, uploaded once. Decoding is the compiler's
 //! (`lightbench_compiler::data`), so `check` accepts exactly what is uploaded here.
 
 use super::Executor;
@@ -13,18 +15,7 @@ use std::path::Path;
 impl Executor {
     /// Fill external resource `name` from `file`.
     pub fn load_input(&mut self, gpu: &Gpu, name: &str, file: &Path) -> Result<()> {
-        let res = self
-            .plan()
-            .resource(name)
-            .ok_or_else(|| Error::Usage(format!("--input `{name}`: no such resource")))?;
-        if !res.external {
-            return Err(Error::Usage(format!("--input `{name}`: the resource is not `external: true`")));
-        }
-        if !res.per_light.is_empty() {
-            return Err(Error::Usage(format!(
-                "--input `{name}`: per-light external resources cannot be supplied yet"
-            )));
-        }
+        let res = self.external(name, "--input")?;
         // The file's content (wrong size, format, a number beyond f32): bad input, exit 1.
         let bad = |e: String| Error::Input(format!("--input `{name}`: {} {e}", file.display()));
         let raw = lightbench_compiler::vfs::read_bytes(file, lightbench_compiler::vfs::MAX_FILE_BYTES).map_err(|e| Error::io(file, e))?;
@@ -36,18 +27,72 @@ impl Executor {
             ResourceShape::Texture {
                 format, extent, layers, ..
             } => data::texture_from_file(file, raw, TextureShape { format, extent, layers }).map_err(bad)?,
-            ResourceShape::AccelerationStructure => {
-                return Err(Error::Usage(format!(
-                    "--input `{name}`: an acceleration structure is built from the scene"
-                )))
-            }
+            ResourceShape::AccelerationStructure => return Err(built_from_the_scene("--input", name)),
         };
-        let res = res.clone();
         self.fill(gpu, &res, &bytes)?;
+        self.supplied_now(name);
+        Ok(())
+    }
+
+    /// Fill external resource `name` with the host's `bytes`: a buffer's, or a texture's
+    /// texels row by row, layer after layer, tightly packed in its format — exactly the size
+    /// the Plan declares (an error names both sizes).
+    pub fn supply_input(&mut self, gpu: &Gpu, name: &str, bytes: &[u8]) -> Result<()> {
+        let what = "supply_input";
+        let res = self.external(name, what)?;
+        let want = match res.shape {
+            ResourceShape::Buffer { size, .. } => size,
+            ResourceShape::Texture {
+                format, extent, layers, ..
+            } => extent.0 as u64 * extent.1 as u64 * layers as u64 * format.bytes() as u64,
+            ResourceShape::AccelerationStructure => return Err(built_from_the_scene(what, name)),
+        };
+        if bytes.len() as u64 != want {
+            return Err(Error::Input(format!(
+                "{what} `{name}`: {} bytes given, the resource holds {want}",
+                bytes.len()
+            )));
+        }
+        self.fill(gpu, &res, bytes)?;
+        self.supplied_now(name);
+        Ok(())
+    }
+
+    /// External resource `name` holds what the host wrote into its storage itself
+    /// (`texture(name)` or `buffer(name)`, with its queue or in its encoder before `encode`):
+    /// frames may read it. Its format, size and usages are the Plan's, which wgpu holds the
+    /// host's writes to. Storage recreated by a reload must be written and marked again.
+    pub fn mark_supplied(&mut self, name: &str) -> Result<()> {
+        self.external(name, "mark_supplied")?;
+        self.supplied_now(name);
+        Ok(())
+    }
+
+    /// The Plan's external resource `name`, which a caller may supply: one copy (not per
+    /// light), a texture or a buffer. `what` names the caller's way in errors.
+    fn external(&self, name: &str, what: &str) -> Result<PlanResource> {
+        let res = self
+            .plan()
+            .resource(name)
+            .ok_or_else(|| Error::Usage(format!("{what} `{name}`: no such resource")))?;
+        if !res.external {
+            return Err(Error::Usage(format!("{what} `{name}`: the resource is not `external: true`")));
+        }
+        if !res.per_light.is_empty() {
+            return Err(Error::Usage(format!(
+                "{what} `{name}`: per-light external resources cannot be supplied yet"
+            )));
+        }
+        if matches!(res.shape, ResourceShape::AccelerationStructure) {
+            return Err(built_from_the_scene(what, name));
+        }
+        Ok(res.clone())
+    }
+
+    fn supplied_now(&mut self, name: &str) {
         self.supplied.insert(name.to_string());
         // New contents: whatever read the old ones runs again.
         self.reuse.reset();
-        Ok(())
     }
 
     /// Upload every resource's `data` (checked and decoded by the compiler): on creation
@@ -89,6 +134,10 @@ impl Executor {
         }
         Ok(())
     }
+}
+
+fn built_from_the_scene(what: &str, name: &str) -> Error {
+    Error::Usage(format!("{what} `{name}`: an acceleration structure is built from the scene"))
 }
 
 fn write_texture(gpu: &Gpu, t: &wgpu::Texture, bytes: &[u8], texel: u32, (w, h): (u32, u32), layers: u32) {

@@ -151,3 +151,73 @@ fn a_hosts_own_meshes_are_a_scene() {
         .to_string();
     assert!(err.contains("mesh `box`") && err.contains("9999"), "{err}");
 }
+
+/// External inputs from the host (docs/embedding.md): bytes in memory (`supply_input`,
+/// exactly the declared size), or what the host wrote into the resource's own storage with
+/// its queue (`mark_supplied`); before either, the frame is refused and names the resource;
+/// what is not an external resource is refused by name.
+#[test]
+fn a_host_supplies_external_inputs_from_memory_or_its_own_writes() {
+    let g = gpu();
+    let d = scene_dir("host-inputs", &[]);
+    std::fs::create_dir_all(d.join("shaders")).unwrap();
+    std::fs::write(
+        d.join("shaders/show.wgsl"),
+        "@group(2) @binding(0) var<storage, read> weights: array<vec4<f32>>;\n@group(2) @binding(1) var noise: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let n = textureLoad(noise, vec2<i32>(pos.xy), 0);\n    return select(weights[0], n, pos.x > 2.0);\n}\n",
+    )
+    .unwrap();
+    let pipeline = d.join("show.ron");
+    std::fs::write(
+        &pipeline,
+        "Pipeline(\n    name: \"show\",\n    resources: {\n        \"weights\": Buffer(size: 16, external: true),\n        \"noise\": Texture(format: Rgba8Unorm, size: Fixed(4, 4), external: true),\n        \"out\": Texture(format: Rgba16Float, size: Viewport),\n    },\n    passes: [Fullscreen(name: \"show\", shader: \"show.wgsl\", reads: [\"weights\", \"noise\"], color: [\"out\"])],\n    output: \"out\",\n)\n",
+    )
+    .unwrap();
+    let mut s = lightbench::scene::load("cornell").unwrap();
+    s.size = (4, 4);
+    let (exe, _) = lightbench::render::compile(&g, &pipeline, Some(&d.join("shaders")), &s, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let mut ex = Executor::new(&g, &exe, &s).unwrap();
+    let err = ex.render_frame(&g, &ex.inputs(0.0)).unwrap_err().to_string();
+    assert!(err.contains("resource `weights` is external: supply its contents"), "{err}");
+    let weights: Vec<u8> = [0.25f32, 0.5, 0.75, 1.0].iter().flat_map(|f| f.to_le_bytes()).collect();
+    let err = ex.supply_input(&g, "weights", &weights[..8]).unwrap_err().to_string();
+    assert!(
+        err.contains("supply_input `weights`: 8 bytes given, the resource holds 16"),
+        "{err}"
+    );
+    let err = ex.supply_input(&g, "out", &[0; 16]).unwrap_err().to_string();
+    assert!(err.contains("supply_input `out`: the resource is not `external: true`"), "{err}");
+    let err = ex.mark_supplied("nothing").unwrap_err().to_string();
+    assert!(err.contains("mark_supplied `nothing`: no such resource"), "{err}");
+    ex.supply_input(&g, "weights", &weights).unwrap();
+    let err = ex.render_frame(&g, &ex.inputs(0.0)).unwrap_err().to_string();
+    assert!(err.contains("resource `noise` is external"), "{err}");
+    // The host writes the texture itself, then says so.
+    let texels: Vec<u8> = [0u8, 128, 255, 255].repeat(16);
+    g.queue.write_texture(
+        ex.texture("noise").unwrap().as_image_copy(),
+        &texels,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(16),
+            rows_per_image: Some(4),
+        },
+        wgpu::Extent3d {
+            width: 4,
+            height: 4,
+            depth_or_array_layers: 1,
+        },
+    );
+    ex.mark_supplied("noise").unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap_or_else(|e| panic!("{e}"));
+    let img = output(&g, &ex);
+    assert_eq!(img.pixel(0, 0), [0.25, 0.5, 0.75, 1.0], "the host's buffer");
+    let t = img.pixel(3, 0);
+    assert!(
+        t[0] == 0.0 && (t[1] - 128.0 / 255.0).abs() < 1e-3 && t[2] == 1.0,
+        "the host's texels: {t:?}"
+    );
+    // Bytes in memory for the texture too: the next frame reads them.
+    ex.supply_input(&g, "noise", &[255u8, 0, 0, 255].repeat(16)).unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
+    assert_eq!(output(&g, &ex).pixel(3, 0), [1.0, 0.0, 0.0, 1.0]);
+}
