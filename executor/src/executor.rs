@@ -682,12 +682,19 @@ impl Executor {
         self.reuse.decide(&state.graph, keys, &inputs)
     }
 
-    /// Let up to `n` frames be on the GPU at once (2 by default; at least 1): `render_frame`
-    /// returns once the frame is submitted and the one `n` frames back has finished, so the
-    /// CPU encodes the next frame while the GPU runs this one. A frame timed with timestamp
-    /// queries is waited for (its timings are read at once). Read-backs wait for every frame.
+    /// How many frames may still be on the GPU when `render_frame` returns: 0 waits for the
+    /// frame just submitted (serial); 1 lets it run while the caller records the next, and
+    /// waits for the one before; 2 (the default) waits for the frame two back. A frame timed
+    /// with timestamp queries is waited for (its timings are read at once) unless they are
+    /// read late (`set_late_timestamps`). Read-backs wait for every frame.
     pub fn set_frames_in_flight(&mut self, n: u32) {
-        self.frames_in_flight = n.max(1) as usize;
+        self.frames_in_flight = n as usize;
+    }
+
+    /// How many submitted frames `render_frame` has not waited for (at most the bound set by
+    /// `set_frames_in_flight`; some may have finished already).
+    pub fn frames_in_flight(&self) -> usize {
+        self.in_flight.len()
     }
 
     /// Wait until the GPU has run every submitted frame (late timestamps included: the

@@ -1,6 +1,6 @@
 //! Frames in flight (`Executor::set_frames_in_flight`): `render_frame` returns before the GPU
 //! is done, yet a read-back right after it sees that frame, and the images are those of
-//! waiting for every frame.
+//! waiting for every frame; 0, 1 and 2 are told apart by what is left on the GPU.
 
 use crate::gpu_common;
 
@@ -32,13 +32,39 @@ fn frames_in_flight_render_what_waiting_renders() {
         ex.wait_idle(&g).unwrap();
         out
     };
-    let (waiting, overlapped) = (images(1), images(3));
+    let (waiting, overlapped) = (images(0), images(3));
     for (i, (a, b)) in waiting.iter().zip(&overlapped).enumerate() {
         let e = rmse(a, b).unwrap();
         assert!(e <= 1e-6, "frame {}: RMSE {e}", 2 * i + 1);
     }
     // The frames differ from each other (the lights move), so a stale read would show.
     assert!(rmse(&waiting[0], &waiting[2]).unwrap() > 1e-4);
+}
+
+/// What `set_frames_in_flight` means (its doc, docs/benchmarks.md): when `render_frame`
+/// returns, at most that many frames are left unwaited — 0: none, and the queue is empty
+/// (serial); 1: the frame just submitted; 2: it and the one before.
+#[test]
+fn frames_in_flight_bound_what_is_left_on_the_gpu() {
+    let g = gpu();
+    let mut s = lightbench::scene::load("cornell").unwrap();
+    s.size = (32, 32);
+    let (exe, _) = lightbench::render::compile(&g, &root().join("pipelines/deferred.lbp"), None, &s, &[]).unwrap_or_else(|e| panic!("{e}"));
+    for n in [0u32, 1, 2] {
+        let mut ex = Executor::new(&g, &exe, &s).unwrap();
+        ex.set_timing(false);
+        ex.set_frames_in_flight(n);
+        for f in 0..4 {
+            ex.render_frame(&g, &ex.inputs(f as f32)).unwrap();
+            assert_eq!(ex.frames_in_flight(), (f + 1).min(n as usize), "{n} in flight, frame {f}");
+            if n == 0 {
+                let status = g.device.poll(wgpu::PollType::Poll).unwrap();
+                assert!(status.is_queue_empty(), "serial: nothing left on the GPU: {status:?}");
+            }
+        }
+        ex.wait_idle(&g).unwrap();
+        assert_eq!(ex.frames_in_flight(), 0);
+    }
 }
 
 /// Late timestamps (`set_late_timestamps`, what the viewer uses): timed frames are not waited
