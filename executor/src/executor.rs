@@ -8,6 +8,7 @@
 //! each pass is recorded by `encode`, and `timing` reads back per-pass GPU time.
 
 mod embed;
+mod relight;
 
 use super::accel::{Accel, HitData, HitMaps};
 use super::bind_groups::{Binder, SLOT};
@@ -126,6 +127,8 @@ struct Shared {
     scene: Scene,
     lights: Vec<Light>,
     bounds: (glam::Vec3, glam::Vec3),
+    /// How many times a scene was uploaded to this executor (`scene_uploads`).
+    uploads: u32,
 }
 
 /// A compiled Plan running on a device for one scene: its resources, pipelines and bind
@@ -177,6 +180,16 @@ fn sampler(device: &wgpu::Device, s: &PlanSampler) -> wgpu::Sampler {
     device.create_sampler(&convert::sampler(s))
 }
 
+/// The standard `lights` binding, room for `n` lights (at least one).
+fn lights_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("lights"),
+        size: (std::mem::size_of::<LightBlock>() * n.max(1)) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
@@ -193,12 +206,7 @@ impl Shared {
         let lights = scene.light_array();
         Ok(Shared {
             frame_buf: uniform_buffer(device, "frame", std::mem::size_of::<FrameBlock>() as u64),
-            lights_buf: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("lights"),
-                size: (std::mem::size_of::<LightBlock>() * lights.len().max(1)) as u64,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            lights_buf: lights_buffer(device, lights.len()),
             scene_gpu: err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, &mut scene))??,
             bounds: scene.bounds(),
             accel: Default::default(),
@@ -207,6 +215,7 @@ impl Shared {
             triangles: Default::default(),
             lights,
             scene,
+            uploads: 1,
         })
     }
 
@@ -339,7 +348,8 @@ impl Executor {
     /// unchanged resources are kept, the camera becomes the new scene's; on failure the old
     /// scene and Plan keep rendering.
     pub fn replace_scene(&mut self, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<ReloadReport> {
-        let shared = Shared::new(gpu, scene.clone())?;
+        let mut shared = Shared::new(gpu, scene.clone())?;
+        shared.uploads += self.shared.uploads;
         let mut params = self.inputs.params.clone();
         let dropped = params.retain_applicable(&exe.plan.params);
         let old = (&self.state.pool, self.alias);
@@ -375,6 +385,12 @@ impl Executor {
 
     pub fn scene(&self) -> &Scene {
         &self.shared.scene
+    }
+
+    /// How many times a scene's geometry and textures were uploaded to this executor: 1 when
+    /// made, one more per `replace_scene` (`replace` and `replace_lights` keep them).
+    pub fn scene_uploads(&self) -> u32 {
+        self.shared.uploads
     }
 
     /// Inputs for a frame at `time`: the last camera (or the scene's animated camera at

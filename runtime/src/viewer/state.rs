@@ -141,8 +141,10 @@ impl Viewer {
         })
     }
 
-    /// The Plan again for the current scene and variants, swapped in at this frame boundary.
-    fn rebuild(&mut self, gpu: &Gpu, scene_changed: bool) -> Result<()> {
+    /// The Plan again for the current scene and variants, swapped in at this frame boundary;
+    /// with `lights_changed`, the executor takes the scene's lights and effects as they are
+    /// now (its geometry stays on the GPU: nothing else of the scene can change here).
+    fn rebuild(&mut self, gpu: &Gpu, lights_changed: bool) -> Result<()> {
         let exe = compile(
             &self.ws,
             (&self.pipeline, self.shaders.as_deref()),
@@ -150,11 +152,13 @@ impl Viewer {
             &self.scene,
             &self.variants,
         )?;
-        match scene_changed {
-            true => self.ex.replace_scene(gpu, &exe, &self.scene)?,
+        match lights_changed {
+            true => self
+                .ex
+                .replace_lights(gpu, &exe, (self.scene.lights.clone(), self.scene.effects.clone()))?,
             false => self.ex.replace(gpu, &exe)?,
         };
-        if scene_changed {
+        if lights_changed {
             self.restart_traced(gpu)?;
         }
         if let Some(r) = self.reloader.as_mut() {

@@ -1,6 +1,8 @@
 //! The viewer's light edits (drag, rotate, the panel's fields): a change the running Plan can
 //! take is a frame input — no new Plan, no scene upload — so the next frame re-runs only what
-//! depends on the light, and it shows what a viewer opened on the edited scene shows.
+//! depends on the light, and it shows what a viewer opened on the edited scene shows. Adding
+//! or removing a light, or calling for an effect, takes a new Plan but keeps the scene on the
+//! GPU.
 
 use crate::gpu_common;
 
@@ -58,4 +60,38 @@ fn moving_a_light_reruns_only_what_depends_on_it() {
         v.ex.plan().passes.iter().all(|p| p.name != "shadow_cube_classic"),
         "no light casts: culled"
     );
+}
+
+/// Adding a light, calling for an effect and removing the light again: each a new Plan, the
+/// scene's geometry and textures uploaded once in all (`Executor::scene_uploads`), and each
+/// frame what a viewer opened on the edited scene shows.
+#[test]
+fn adding_a_light_or_an_effect_keeps_the_scene_on_the_gpu() {
+    use lightbench_compiler::ir::{Effect, LightKind};
+    let g = gpu();
+    let mut scene = lightbench::scene::builtin::cornell();
+    scene.size = (48, 48);
+    let mut v = viewer(&g, scene);
+    v.frame(&g).unwrap();
+    let fresh_agrees = |v: &Viewer, what: &str| {
+        let mut fresh = viewer(&g, v.scene.clone());
+        fresh.frame(&g).unwrap();
+        let e = rmse(&output(&g, &v.ex), &output(&g, &fresh.ex)).unwrap();
+        assert!(e <= 1e-6, "{what}: edited vs opened with the edit: RMSE {e}");
+    };
+    v.apply(&g, Action::AddLight(LightKind::Spot)).unwrap();
+    v.frame(&g).unwrap();
+    assert_eq!(v.ex.scene().lights.len(), 2, "the executor has the new light");
+    fresh_agrees(&v, "a spot light added");
+    v.apply(&g, Action::Effect(Effect::Bloom, true)).unwrap();
+    v.frame(&g).unwrap();
+    assert!(
+        v.ex.plan().passes.iter().any(|p| p.name == "bloom_bright"),
+        "bloom called for: its passes planned"
+    );
+    fresh_agrees(&v, "bloom called for");
+    v.apply(&g, Action::RemoveLight).unwrap();
+    v.frame(&g).unwrap();
+    fresh_agrees(&v, "the spot light removed");
+    assert_eq!(v.ex.scene_uploads(), 1, "the scene stayed on the GPU");
 }
