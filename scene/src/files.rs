@@ -74,7 +74,11 @@ fn write(path: &Path, bytes: &[u8], before: Option<&Snapshot>) -> Result<()> {
         .ok_or_else(|| Error::io(path, "not a file path"))?;
     replaceable(&target).map_err(|e| Error::io(path, e))?;
     clean_stale(dir);
-    let tmp = dir.join(format!(".{name}{TMP_TAG}{}.tmp", std::process::id()));
+    // The process and a count: two threads writing one file (two loads keeping the same
+    // texture) each write their own temporary.
+    static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = dir.join(format!(".{name}{TMP_TAG}{}-{n}.tmp", std::process::id()));
     let mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
     let result = (|| {
         let mut f = std::fs::File::create(&tmp)?;
@@ -157,6 +161,7 @@ fn clean_stale(dir: &Path) {
             .filter(|f| f.starts_with('.'))
             .and_then(|f| f.rsplit_once(TMP_TAG))
             .and_then(|(_, r)| r.strip_suffix(".tmp"))
+            .map(|r| r.split_once('-').map_or(r, |(pid, _)| pid))
         else {
             continue;
         };
@@ -230,15 +235,34 @@ mod tests {
         let d = temp("stale");
         // PID 0 is never a user process: a run that no longer exists.
         let stale = d.join(format!(".out.png{TMP_TAG}0.tmp"));
-        let other_name = d.join(format!(".manifest.json{TMP_TAG}0.tmp"));
+        let other_name = d.join(format!(".manifest.json{TMP_TAG}0-7.tmp"));
         let foreign = d.join(".out.png.other.tmp");
-        let live = d.join(format!(".x.exr{TMP_TAG}{}.tmp", std::process::id()));
+        let live = d.join(format!(".x.exr{TMP_TAG}{}-3.tmp", std::process::id()));
         for f in [&stale, &other_name, &foreign, &live] {
             std::fs::write(f, "half").unwrap();
         }
         write_atomic(&d.join("out.png"), b"png").unwrap();
         assert!(!stale.exists() && !other_name.exists(), "a dead run's temporaries are cleaned");
         assert!(foreign.exists() && live.exists(), "files of other naming, and ours, are left alone");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// Threads of one process writing the same file at once each write their own temporary:
+    /// every write succeeds and the file is one of them, whole.
+    #[test]
+    fn threads_writing_one_file_each_succeed() {
+        let d = temp("threads");
+        let f = d.join("entry.bin");
+        let bodies: Vec<Vec<u8>> = (0..8u8).map(|k| vec![k; 1 << 16]).collect();
+        std::thread::scope(|s| {
+            for b in &bodies {
+                let f = &f;
+                s.spawn(move || write_atomic(f, b).unwrap());
+            }
+        });
+        let got = std::fs::read(&f).unwrap();
+        assert!(bodies.contains(&got), "one write, whole");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1, "no temporary left");
         let _ = std::fs::remove_dir_all(&d);
     }
 

@@ -160,18 +160,7 @@ fn a_hosts_own_meshes_are_a_scene() {
 fn a_host_supplies_external_inputs_from_memory_or_its_own_writes() {
     let g = gpu();
     let d = scene_dir("host-inputs", &[]);
-    std::fs::create_dir_all(d.join("shaders")).unwrap();
-    std::fs::write(
-        d.join("shaders/show.wgsl"),
-        "@group(2) @binding(0) var<storage, read> weights: array<vec4<f32>>;\n@group(2) @binding(1) var noise: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let n = textureLoad(noise, vec2<i32>(pos.xy), 0);\n    return select(weights[0], n, pos.x > 2.0);\n}\n",
-    )
-    .unwrap();
-    let pipeline = d.join("show.ron");
-    std::fs::write(
-        &pipeline,
-        "Pipeline(\n    name: \"show\",\n    resources: {\n        \"weights\": Buffer(size: 16, external: true),\n        \"noise\": Texture(format: Rgba8Unorm, size: Fixed(4, 4), external: true),\n        \"out\": Texture(format: Rgba16Float, size: Viewport),\n    },\n    passes: [Fullscreen(name: \"show\", shader: \"show.wgsl\", reads: [\"weights\", \"noise\"], color: [\"out\"])],\n    output: \"out\",\n)\n",
-    )
-    .unwrap();
+    let pipeline = external_inputs_pipeline(&d, &d.join("shaders"));
     let mut s = lightbench::scene::load("cornell").unwrap();
     s.size = (4, 4);
     let (exe, _) = lightbench::render::compile(&g, &pipeline, Some(&d.join("shaders")), &s, &[]).unwrap_or_else(|e| panic!("{e}"));

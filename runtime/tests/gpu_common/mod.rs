@@ -217,3 +217,22 @@ pub fn lamp_over_floor(
         effects: Default::default(),
     }
 }
+
+/// A pipeline with two external inputs, `weights` (a 16-byte buffer) and `noise` (a 4×4
+/// RGBA8 texture), shown side by side in `out`: `pipelines/show.ron`, its shader
+/// `shaders/show.wgsl`. The pipeline's path.
+pub fn external_inputs_pipeline(pipelines: &Path, shaders: &Path) -> PathBuf {
+    std::fs::create_dir_all(shaders).unwrap();
+    std::fs::write(
+        shaders.join("show.wgsl"),
+        "@group(2) @binding(0) var<storage, read> weights: array<vec4<f32>>;\n@group(2) @binding(1) var noise: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let n = textureLoad(noise, vec2<i32>(pos.xy), 0);\n    return select(weights[0], n, pos.x > 2.0);\n}\n",
+    )
+    .unwrap();
+    let pipeline = pipelines.join("show.ron");
+    std::fs::write(
+        &pipeline,
+        "Pipeline(\n    name: \"show\",\n    resources: {\n        \"weights\": Buffer(size: 16, external: true),\n        \"noise\": Texture(format: Rgba8Unorm, size: Fixed(4, 4), external: true),\n        \"out\": Texture(format: Rgba16Float, size: Viewport),\n    },\n    passes: [Fullscreen(name: \"show\", shader: \"show.wgsl\", reads: [\"weights\", \"noise\"], color: [\"out\"])],\n    output: \"out\",\n)\n",
+    )
+    .unwrap();
+    pipeline
+}

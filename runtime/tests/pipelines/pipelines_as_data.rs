@@ -176,17 +176,7 @@ fn a_half_size_pass_knows_its_target_size() {
 #[test]
 fn external_resources_come_from_inputs_or_the_render_stops() {
     let d = project("inputs");
-    std::fs::write(
-        d.join("shaders/show.wgsl"),
-        "@group(2) @binding(0) var<storage, read> weights: array<vec4<f32>>;\n@group(2) @binding(1) var noise: texture_2d<f32>;\n\n@fragment\nfn fs_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {\n    let n = textureLoad(noise, vec2<i32>(pos.xy), 0);\n    return select(weights[0], n, pos.x > 2.0);\n}\n",
-    )
-    .unwrap();
-    let pipeline = d.join("pipelines/show.ron");
-    std::fs::write(
-        &pipeline,
-        "Pipeline(\n    name: \"show\",\n    resources: {\n        \"weights\": Buffer(size: 16, external: true),\n        \"noise\": Texture(format: Rgba8Unorm, size: Fixed(4, 4), external: true),\n        \"out\": Texture(format: Rgba16Float, size: Viewport),\n    },\n    passes: [Fullscreen(name: \"show\", shader: \"show.wgsl\", reads: [\"weights\", \"noise\"], color: [\"out\"])],\n    output: \"out\",\n)\n",
-    )
-    .unwrap();
+    let pipeline = external_inputs_pipeline(&d.join("pipelines"), &d.join("shaders"));
     std::fs::write(d.join("w.json"), "[0.25, 0.5, 0.75, 1.0]").unwrap();
     image::RgbaImage::from_pixel(4, 4, image::Rgba([0, 128, 255, 255]))
         .save(d.join("noise.png"))
