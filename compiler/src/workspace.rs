@@ -370,6 +370,7 @@ impl Session {
     /// The pipeline a tree means: itself, or the pipeline it uses (composed in turn) with its
     /// items merged in. `chain`: the files being composed, for cycles and the depth limit.
     fn compose(&mut self, name: &str, tree: &Node, chain: &mut Vec<PathBuf>) -> Option<Node> {
+        crate::syntax::compose::reject_second_use(tree, &mut self.diags);
         let Some((used, at)) = crate::syntax::compose::used(tree) else {
             crate::syntax::compose::reject_composing(tree, &mut self.diags);
             return Some(tree.clone());
@@ -384,11 +385,14 @@ impl Session {
                 format!("`{used}`: a used pipeline is a file in this pipeline's directory (or below it)"),
             ))
         } else if chain.contains(&path) || path == normalize(here) {
-            let names: Vec<String> = chain.iter().chain([&path]).map(|p| p.display().to_string()).collect();
-            Some((
-                Code::IncludeCycle,
-                format!("pipelines use each other: {} -> {}", here.display(), names.join(" -> ")),
-            ))
+            // In the order they are written: the first file's `use` first.
+            let names: Vec<String> = chain
+                .iter()
+                .map(|p| p.as_path())
+                .chain([here, path.as_path()])
+                .map(|p| p.display().to_string())
+                .collect();
+            Some((Code::IncludeCycle, format!("pipelines use each other: {}", names.join(" -> "))))
         } else if chain.len() >= MAX_USE_DEPTH {
             Some((Code::NestingTooDeep, format!("pipelines use others more than {MAX_USE_DEPTH} deep")))
         } else {

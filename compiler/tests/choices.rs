@@ -306,6 +306,24 @@ fn an_option_in_two_arms_is_located_at_the_second() {
     );
 }
 
+/// Two catch-all arms: the second could never be chosen (the Plan silently took it before).
+#[test]
+fn two_catch_all_arms_overlap() {
+    let o = lbp("fragment match(quality) { _: fs_main, _: fs_low }");
+    let (d, _) = first(&o);
+    assert_eq!(
+        d,
+        (
+            "choice-overlap".into(),
+            "two catch-all arms `_`: the second is never chosen".into(),
+            14,
+            43
+        ),
+        "{}",
+        o.dump()
+    );
+}
+
 /// An unknown option, in a choice's arm or among a condition's options, is located where it
 /// is written, with a suggestion.
 #[test]

@@ -195,6 +195,31 @@ fn used_files_that_cannot_be_used_are_errors_at_the_use() {
         o.dump()
     );
     assert!(d.1.contains("pipelines use each other"), "{}", d.1);
+    // Named in the order written: a uses b, which uses a.
+    let names: Vec<&str> = d.1.split(": ").nth(1).unwrap().split(" -> ").collect();
+    let files: Vec<&str> = names.iter().map(|n| n.rsplit('/').next().unwrap()).collect();
+    assert_eq!(files, ["a.lbp", "b.lbp", "a.lbp"], "{}", d.1);
+}
+
+/// A second `use` is a located error (it was dropped without a word), pointing at the first.
+#[test]
+fn a_second_use_is_an_error_at_it() {
+    let text = "pipeline two\nuse \"a.lbp\"\nuse \"deferred.lbp\"\n";
+    let dir = beside_deferred("use-twice", &[("a.lbp", "pipeline a\nuse \"deferred.lbp\"\n"), ("t.lbp", text)]);
+    let o = check(&dir, "t.lbp");
+    let d = &o.located()[0];
+    assert_eq!(
+        (d.0.as_str(), d.1.as_str(), d.3, d.4),
+        ("duplicate-key", "`use` is given twice: a pipeline uses one other", 3, 1),
+        "{}",
+        o.dump()
+    );
+    // The same in a RON pipeline.
+    let ron = "Pipeline(\n    name: \"two\",\n    use: \"a.lbp\",\n    use: \"deferred.lbp\",\n)\n";
+    let dir = beside_deferred("use-twice-ron", &[("a.lbp", "pipeline a\nuse \"deferred.lbp\"\n"), ("t.ron", ron)]);
+    let o = check(&dir, "t.ron");
+    let d = &o.located()[0];
+    assert_eq!((d.0.as_str(), d.3, d.4), ("duplicate-key", 4, 5), "{}", o.dump());
 }
 
 #[test]

@@ -35,6 +35,20 @@ pub fn used(root: &Node) -> Option<(String, Span)> {
     get(fields(root), "use").and_then(|n| n.text().map(|t| (t.to_string(), n.span)))
 }
 
+/// A second `use` (a pipeline builds on one other; a chain of `use`s composes more) is a
+/// located error, not a silent choice of one.
+pub fn reject_second_use(root: &Node, diags: &mut Diagnostics) {
+    let mut uses = fields(root).iter().filter(|f| f.0 == "use");
+    let Some((_, first, _)) = uses.next() else { return };
+    for (_, again, _) in uses {
+        diags.push(
+            Diagnostic::error(Code::DuplicateKey, "`use` is given twice: a pipeline uses one other", *again)
+                .with_secondary(*first, "the first `use`")
+                .with_note("to build on two pipelines, let one of them `use` the other"),
+        );
+    }
+}
+
 /// A pass node's name.
 fn pass_name(p: &Node) -> Option<&str> {
     get(fields(p), "name").and_then(Node::text)

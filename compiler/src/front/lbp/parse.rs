@@ -443,7 +443,7 @@ impl Builder<'_> {
     fn composing(&mut self, it: &P, c: &mut Composing, maps: &mut [MapField; 4], passes: &mut Vec<Node>) -> bool {
         let at = self.span(it);
         match it.as_rule() {
-            Rule::use_decl => c.used = kids(it.clone()).next().and_then(|s| self.string(s)).map(|s| (at, s)),
+            Rule::use_decl => c.used.extend(kids(it.clone()).next().and_then(|s| self.string(s)).map(|s| (at, s))),
             Rule::fix => {
                 let mut k = kids(it.clone());
                 let pair = (k.next().and_then(|n| self.name(n)), k.next().and_then(|n| self.name(n)));
@@ -862,7 +862,8 @@ impl Builder<'_> {
 /// A pipeline's `use`, `fix` and `remove`, gathered from their lines.
 #[derive(Default)]
 struct Composing {
-    used: Option<(Span, Node)>,
+    /// Every `use` line (composition reports a second one).
+    used: Vec<(Span, Node)>,
     fix: Vec<(Node, Node)>,
     fix_span: Option<Span>,
     remove: Vec<Node>,
@@ -871,7 +872,7 @@ struct Composing {
 
 impl Composing {
     fn put(self, root: &mut Fields) {
-        if let Some((at, u)) = self.used {
+        for (at, u) in self.used {
             root.put("use", at, u);
         }
         if let Some(at) = self.fix_span {

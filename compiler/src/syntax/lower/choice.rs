@@ -262,6 +262,12 @@ impl Lowerer<'_> {
         let before = self.diags.error_count();
         for (key, value) in written {
             if key.value.trim() == "_" {
+                if let Some((first, _)) = &default {
+                    self.err(
+                        Diagnostic::error(Code::ChoiceOverlap, "two catch-all arms `_`: the second is never chosen", key.span)
+                            .with_secondary(*first, "the first `_`"),
+                    );
+                }
                 default = Some((key.span, value));
                 continue;
             }
