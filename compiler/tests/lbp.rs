@@ -230,6 +230,13 @@ const BAD: &[(&str, &str, &str, usize, usize)] = &[
         2,
         20,
     ),
+    (
+        "pipeline p\ntexture d: Depth32Float viewport\nfullscreen f \"f.wgsl\" {\n    depth d clear(2)\n}\noutput d\n",
+        "value-out-of-range",
+        "depth clear value `2` is outside 0..1",
+        4,
+        19,
+    ),
     ("", "lbp-syntax", "expected `pipeline NAME`", 1, 1),
 ];
 

@@ -396,7 +396,7 @@ impl Lowerer<'_> {
 
     fn depth_target(&mut self, n: &Node) -> Res<DepthTarget> {
         let (resource, mut o) = self.target_obj(n, "Depth", "depth target")?;
-        let load = self.load(&mut o, |l, n| l.f64(n));
+        let load = self.load(&mut o, Self::depth_clear);
         let compare = o
             .get("compare")
             .and_then(|c| self.ident(&c, "compare function", &CompareFn::NAMES, CompareFn::from_name));
@@ -414,6 +414,20 @@ impl Lowerer<'_> {
             mip: mip?,
             span,
         })
+    }
+
+    /// A depth target's clear value: depth lies in 0..1, and wgpu refuses any other (at
+    /// render time, and only where the pass runs), so it is refused here, where it is written.
+    fn depth_clear(&mut self, n: &Node) -> Res<f64> {
+        let v = self.f64(n)?;
+        if (0.0..=1.0).contains(&v) {
+            return Some(v);
+        }
+        self.err(
+            Diagnostic::error(Code::ValueOutOfRange, format!("depth clear value `{v}` is outside 0..1"), n.span)
+                .with_note("depth lies in 0..1: clear to 1 (the far plane), or 0 with reversed depth"),
+        );
+        None
     }
 
     /// `clear: value` or `load: Load` (`load: Clear` means the default clear value).
