@@ -329,6 +329,11 @@ mod generated {
         prop_oneof![-1e6..1e6f64, Just(0.0), Just(1.0), (-1000i32..1000).prop_map(|i| i as f64 / 8.0)]
     }
 
+    /// A depth clear value: depth lies in 0..1 (others are refused where written).
+    fn depth_value() -> impl Strategy<Value = f64> {
+        prop_oneof![Just(0.0), Just(1.0), (0i32..=64).prop_map(|i| i as f64 / 64.0), 0.0..=1.0f64]
+    }
+
     /// A preset's value as written: whole numbers stay whole, others stay floats.
     fn literal() -> impl Strategy<Value = Literal> {
         prop_oneof![
@@ -521,7 +526,7 @@ mod generated {
         let depth = proptest::option::of(
             (
                 name(),
-                prop_oneof![Just(Load::Load), float().prop_map(Load::Clear)],
+                prop_oneof![Just(Load::Load), depth_value().prop_map(Load::Clear)],
                 proptest::sample::select(CompareFn::ALL.to_vec()),
                 any::<bool>(),
                 layer(),
