@@ -15,6 +15,8 @@ use std::path::{Path, PathBuf};
 const VERSION: u32 = 1;
 const MAGIC: &[u8; 8] = b"LBTEX\0\0\x01";
 const HEADER: usize = 8 + 4 + 4 + 8;
+/// The largest entry read: a 32768² RGBA8 image.
+const MAX_ENTRY_BYTES: u64 = HEADER as u64 + (4 << 30);
 /// Where the cache goes instead of the user's cache folder; empty: no cache.
 pub const CACHE_ENV: &str = "LIGHTBENCH_CACHE_DIR";
 
@@ -123,10 +125,12 @@ fn encode_entry(t: &Texels) -> Vec<u8> {
     out
 }
 
-/// A whole entry's texels; `None` for a missing, short, long or damaged one. The texels are
-/// read straight into their own buffer (no copy of a whole file).
+/// A whole entry's texels; `None` for a missing, short, long or damaged one, or for anything
+/// but a regular file (a pipe there would wait forever). The texels are read straight into
+/// their own buffer (no copy of a whole file).
 fn read_entry(path: &Path) -> Option<Texels> {
     use std::io::Read;
+    lightbench_compiler::vfs::regular_file(path, MAX_ENTRY_BYTES).ok()?;
     let mut file = std::fs::File::open(path).ok()?;
     let mut head = [0u8; HEADER];
     file.read_exact(&mut head).ok()?;
@@ -145,6 +149,8 @@ fn read_entry(path: &Path) -> Option<Texels> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(unix)]
+    use std::os::unix::fs::FileTypeExt;
 
     fn texels() -> Texels {
         Texels {
@@ -180,6 +186,19 @@ mod tests {
         let (_, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
         assert!(matches!(got, Got::Decoded) && decodes.get() == 3);
         assert_eq!(read_entry(&entry), Some(texels()), "rewritten whole");
+        // A pipe where the entry goes: not read (it would wait for a writer), not replaced.
+        #[cfg(unix)]
+        {
+            let key = Key::of("png", b"piped");
+            let pipe = cache.entry(key).unwrap();
+            assert!(std::process::Command::new("mkfifo").arg(&pipe).status().unwrap().success());
+            let (t, got) = cache.get(key, decode).unwrap();
+            assert!(matches!(got, Got::NotKept(_)) && t == texels());
+            assert!(
+                std::fs::metadata(&pipe).unwrap().file_type().is_fifo(),
+                "the pipe is left as it was"
+            );
+        }
         // Other bytes or another declared kind, another entry.
         assert_ne!(cache.entry(Key::of("png", b"encoded!")), Some(entry.clone()));
         assert_ne!(cache.entry(Key::of("jpeg", b"encoded")), Some(entry));
