@@ -4,7 +4,8 @@
 //! it and drops each decoded texture once uploaded (`Executor::with_scene`, what `render`
 //! uses), against the bytes the GPU holds (textures with mips + mesh). Goal: peak ≤ 1.5×
 //! those bytes. Needs a GPU adapter (lavapipe is enough: there "GPU" memory is this
-//! process's memory too, so the goal is strict). Not a test. Then the model's load with its
+//! process's memory too, so the goal is strict). Not a test; `tests/scenes/scale.rs` runs it at
+//! its smallest (`Size::Smoke`: a 16² grid, 64² textures, one round). Then the model's load with its
 //! textures decoded (an empty texture cache) against read from the cache a first load kept,
 //! interleaved rounds: the cached load's share of the decoding one (goal ≤ 0.10). The
 //! executor runs load through an empty cache of their own each time, so both decode.
@@ -16,16 +17,34 @@ use lightbench::scene;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-const GRID: u32 = 224; // 224² quads = 100,352 triangles
-const TEXTURE: u32 = 2048;
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+pub use common::Size;
+
+impl Size {
+    /// Quads along the grid's side (224² quads: 100,352 triangles).
+    fn grid(self) -> u32 {
+        self.pick(224, 16)
+    }
+    /// The textures' side.
+    fn texture(self) -> u32 {
+        self.pick(2048, 64)
+    }
+    /// Rounds of the cached-against-decoded comparison.
+    fn rounds(self) -> usize {
+        self.pick(7, 1)
+    }
+}
 
 /// A height-field grid with four textures (base colour, metallic-roughness, normal, occlusion).
-fn write_model(dir: &Path) -> (PathBuf, u64) {
-    let n = GRID + 1;
+fn write_model(dir: &Path, size: Size) -> (PathBuf, u64) {
+    let (grid, texture) = (size.grid(), size.texture());
+    let n = grid + 1;
     let mut bin: Vec<u8> = vec![];
     for j in 0..n {
         for i in 0..n {
-            let (u, v) = (i as f32 / GRID as f32, j as f32 / GRID as f32);
+            let (u, v) = (i as f32 / grid as f32, j as f32 / grid as f32);
             let h = 0.05 * ((u * 20.0).sin() + (v * 17.0).cos());
             bin.extend([u * 2.0 - 1.0, h, v * 2.0 - 1.0].iter().flat_map(|x| x.to_le_bytes()));
         }
@@ -34,15 +53,15 @@ fn write_model(dir: &Path) -> (PathBuf, u64) {
     for j in 0..n {
         for i in 0..n {
             bin.extend(
-                [i as f32 / GRID as f32, j as f32 / GRID as f32]
+                [i as f32 / grid as f32, j as f32 / grid as f32]
                     .iter()
                     .flat_map(|x| x.to_le_bytes()),
             );
         }
     }
     let idx_at = bin.len();
-    for j in 0..GRID {
-        for i in 0..GRID {
+    for j in 0..grid {
+        for i in 0..grid {
             let a = j * n + i;
             for k in [a, a + n, a + 1, a + 1, a + n, a + n + 1] {
                 bin.extend(k.to_le_bytes());
@@ -52,14 +71,14 @@ fn write_model(dir: &Path) -> (PathBuf, u64) {
     std::fs::write(dir.join("grid.bin"), &bin).expect("write buffer");
     for (k, name) in ["base", "mr", "normal", "ao"].iter().enumerate() {
         // Gradients with grain, as a photographed texture has: PNG keeps about half of it.
-        let img = image::RgbImage::from_fn(TEXTURE, TEXTURE, |x, y| {
+        let img = image::RgbImage::from_fn(texture, texture, |x, y| {
             let grain = (x.wrapping_mul(374_761_393) ^ y.wrapping_mul(668_265_263)).wrapping_mul(1_274_126_177) >> 28;
             image::Rgb([((x >> 3) + grain) as u8, ((y >> 3) + grain) as u8, (k as u32 * 60 + grain) as u8])
         });
         img.save(dir.join(format!("{name}.png"))).expect("write texture");
         img.save(dir.join(format!("{name}.jpg"))).expect("write texture");
     }
-    let (verts, indices) = ((n * n) as usize, (GRID * GRID * 6) as usize);
+    let (verts, indices) = ((n * n) as usize, (grid * grid * 6) as usize);
     let doc = serde_json::json!({
         "asset": {"version": "2.0"},
         "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
@@ -96,19 +115,22 @@ fn write_model(dir: &Path) -> (PathBuf, u64) {
     bare["materials"] = serde_json::json!([{}]);
     std::fs::write(dir.join("bare.gltf"), serde_json::to_vec(&bare).expect("json")).expect("write model");
     // What the GPU holds: four RGBA8 textures with full mip chains, and the mesh.
-    let tex = 4 * (TEXTURE as u64 * TEXTURE as u64 * 4) * 4 / 3;
+    let tex = 4 * (texture as u64 * texture as u64 * 4) * 4 / 3;
     let mesh = verts as u64 * std::mem::size_of::<lightbench::blocks::Vertex>() as u64 + indices as u64 * 4;
     (path, tex + mesh)
 }
 
 /// Load, compile and render once: load ms, and the peak bytes above the resident set at the
 /// start while loading and over the whole run.
-fn run(gpu: &Gpu, model: &Path, root: &Path, take: bool) -> (f64, u64, u64) {
+fn load_and_render(gpu: &Gpu, model: &Path, root: &Path, take: bool) -> (f64, u64, u64) {
     reset_peak();
     let base = resident().unwrap_or(0);
     let t = Instant::now();
     let s = scene::load(model.to_str().expect("utf-8 path")).expect("model loads");
-    let _ = std::fs::remove_dir_all(std::env::var_os(scene::texture_cache::CACHE_ENV).expect("set by main"));
+    // Each run decodes: the cache `main` points the runs at is emptied.
+    if let Some(cache) = std::env::var_os(scene::texture_cache::CACHE_ENV) {
+        let _ = std::fs::remove_dir_all(cache);
+    }
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let load_peak = peak_resident().unwrap_or(0).saturating_sub(base);
     let (exe, _) = compile(gpu, &root.join("pipelines/deferred.ron"), None, &s, &[]).expect("compiles");
@@ -123,28 +145,36 @@ fn run(gpu: &Gpu, model: &Path, root: &Path, take: bool) -> (f64, u64, u64) {
     (load_ms, load_peak, peak)
 }
 
+#[allow(dead_code)]
 fn main() {
+    // The executor runs decode their textures: an empty cache of their own each time.
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-assets-run-cache");
+    std::env::set_var(scene::texture_cache::CACHE_ENV, &dir);
+    run(Size::Full);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+pub fn run(size: Size) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .expect("repository root")
         .to_path_buf();
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-assets");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("bench-assets-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("bench directory");
-    let (model, gpu_bytes) = write_model(&dir);
+    let (model, gpu_bytes) = write_model(&dir, size);
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     if !reset_peak() {
         println!("note: the peak cannot be reset here; figures include earlier allocations");
     }
     println!(
-        "model: {} triangles, 4 textures of {TEXTURE}², GPU-resident {}",
-        GRID * GRID * 2,
+        "model: {} triangles, 4 textures of {}², GPU-resident {}",
+        size.grid() * size.grid() * 2,
+        size.texture(),
         mib(Some(gpu_bytes))
     );
-    // The executor runs decode their textures (an empty cache each time, removed after).
-    std::env::set_var(scene::texture_cache::CACHE_ENV, dir.join("run-cache"));
     for (name, take) in [("copying executor (before)", false), ("taking executor (after)", true)] {
-        let (load_ms, load_peak, peak) = run(&gpu, &model, &root, take);
+        let (load_ms, load_peak, peak) = load_and_render(&gpu, &model, &root, take);
         println!(
             "{name:<28} load {load_ms:>6.1} ms (peak +{})   run peak +{}   {:.2}× GPU-resident (goal ≤ 1.5×)",
             mib(Some(load_peak)),
@@ -152,18 +182,18 @@ fn main() {
             peak as f64 / gpu_bytes as f64
         );
     }
-    decoded_once(&model, &dir, "PNG");
-    decoded_once(&dir.join("grid_jpeg.gltf"), &dir, "JPEG");
+    decoded_once(&model, &dir, ("PNG", size.rounds()));
+    decoded_once(&dir.join("grid_jpeg.gltf"), &dir, ("JPEG", size.rounds()));
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Load ms of the model with an empty texture cache (every image decoded, in parallel, and
 /// kept) against with the cache that load filled, in interleaved rounds; the texture time is
 /// the load's beyond the same model without textures (`bare.gltf`), timed in each round too,
 /// as is the load decoding without a cache (what it cost before there was one).
-fn decoded_once(model: &Path, dir: &Path, format: &str) {
+fn decoded_once(model: &Path, dir: &Path, (format, rounds): (&str, usize)) {
     use scene::gltf_load::load_with;
     use scene::texture_cache::TextureCache;
-    const ROUNDS: usize = 7;
     let root = dir.join("texture-cache");
     let cache = TextureCache::at(Some(&root));
     let time = |model: &Path, c: &TextureCache| {
@@ -172,7 +202,7 @@ fn decoded_once(model: &Path, dir: &Path, format: &str) {
         t.elapsed().as_secs_f64() * 1e3
     };
     let (mut cold, mut warm, mut bare, mut uncached, mut ratios) = (vec![], vec![], vec![], vec![], vec![]);
-    for round in 0..ROUNDS {
+    for round in 0..rounds {
         let b = time(&dir.join("bare.gltf"), &TextureCache::at(None));
         uncached.push(time(model, &TextureCache::at(None)));
         // Odd rounds time the cached load first, on the cache the round before filled.
@@ -195,7 +225,7 @@ fn decoded_once(model: &Path, dir: &Path, format: &str) {
         v[((v.len() - 1) as f64 * f).round() as usize]
     };
     println!(
-        "textures decoded once ({format}): load {:.1} ms decoding and keeping (empty cache), {:.1} ms cached, {:.1} ms decoding without a cache, {:.1} ms without textures; texture time cached / decoding and keeping {:.3} [{:.3}, {:.3}] (median [quartiles] of {ROUNDS} rounds; goal ≤ 0.10)",
+        "textures decoded once ({format}): load {:.1} ms decoding and keeping (empty cache), {:.1} ms cached, {:.1} ms decoding without a cache, {:.1} ms without textures; texture time cached / decoding and keeping {:.3} [{:.3}, {:.3}] (median [quartiles] of {rounds} rounds; goal ≤ 0.10)",
         q(&mut cold, 0.5),
         q(&mut warm, 0.5),
         q(&mut uncached, 0.5),
