@@ -4,7 +4,7 @@
 //! it and drops each decoded texture once uploaded (`Executor::with_scene`, what `render`
 //! uses), against the bytes the GPU holds (textures with mips + mesh). Goal: peak ≤ 1.5×
 //! those bytes. Needs a GPU adapter (lavapipe is enough: there "GPU" memory is this
-//! process's memory too, so the goal is strict). Not a test; `tests/scenes/scale.rs` runs it at
+//! process's memory too, so the goal is strict). Not a test; `tests/executor/assets.rs` runs it at
 //! its smallest (`Size::Smoke`: a 16² grid, 64² textures, one round). Then the model's load with its
 //! textures decoded (an empty texture cache) against read from the cache a first load kept,
 //! interleaved rounds: the cached load's share of the decoding one (goal ≤ 0.10). The
