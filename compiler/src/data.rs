@@ -65,20 +65,27 @@ pub fn check_buffer_size(len: usize, size: u64) -> Result<(), String> {
     Ok(())
 }
 
+/// Whether `len` bytes are exactly a texture's raw texels (mip 0 of every layer, tightly
+/// packed), or why not.
+pub fn check_texels_size(len: usize, shape: TextureShape) -> Result<(), String> {
+    let (w, h) = shape.extent;
+    let want = w as u64 * h as u64 * shape.layers as u64 * shape.format.bytes() as u64;
+    if len as u64 != want {
+        return Err(format!(
+            "has {len} bytes; {w}×{h} × {} layer(s) of {} is {want} bytes",
+            shape.layers,
+            shape.format.name()
+        ));
+    }
+    Ok(())
+}
+
 /// A texture's texels from a file: a PNG or EXR of exactly its size (one layer), or raw
 /// bytes of exactly mip 0 of every layer.
 pub fn texture_from_file(path: &Path, raw: Vec<u8>, shape: TextureShape) -> Result<Vec<u8>, String> {
     let (w, h) = shape.extent;
     if !is_image(path) {
-        let want = w as u64 * h as u64 * shape.layers as u64 * shape.format.bytes() as u64;
-        if raw.len() as u64 != want {
-            return Err(format!(
-                "has {} bytes; {w}×{h} × {} layer(s) of {} is {want} bytes",
-                raw.len(),
-                shape.layers,
-                shape.format.name()
-            ));
-        }
+        check_texels_size(raw.len(), shape)?;
         return Ok(raw);
     }
     if shape.layers != 1 {

@@ -36,23 +36,19 @@ impl Executor {
 
     /// Fill external resource `name` with the host's `bytes`: a buffer's, or a texture's
     /// texels row by row, layer after layer, tightly packed in its format — exactly the size
-    /// the Plan declares (an error names both sizes).
+    /// the Plan declares (an error names both sizes, as `--input` does).
     pub fn supply_input(&mut self, gpu: &Gpu, name: &str, bytes: &[u8]) -> Result<()> {
         let what = "supply_input";
         let res = self.external(name, what)?;
-        let want = match res.shape {
-            ResourceShape::Buffer { size, .. } => size,
+        // The compiler's rules for a resource's bytes, as for `--input` and `data`.
+        let fits = match res.shape {
+            ResourceShape::Buffer { size, .. } => data::check_buffer_size(bytes.len(), size),
             ResourceShape::Texture {
                 format, extent, layers, ..
-            } => extent.0 as u64 * extent.1 as u64 * layers as u64 * format.bytes() as u64,
+            } => data::check_texels_size(bytes.len(), TextureShape { format, extent, layers }),
             ResourceShape::AccelerationStructure => return Err(built_from_the_scene(what, name)),
         };
-        if bytes.len() as u64 != want {
-            return Err(Error::Input(format!(
-                "{what} `{name}`: {} bytes given, the resource holds {want}",
-                bytes.len()
-            )));
-        }
+        fits.map_err(|e| Error::Input(format!("{what} `{name}`: the input {e}")))?;
         self.fill(gpu, &res, bytes)?;
         self.supplied_now(name);
         Ok(())

@@ -170,7 +170,12 @@ fn a_host_supplies_external_inputs_from_memory_or_its_own_writes() {
     let weights: Vec<u8> = [0.25f32, 0.5, 0.75, 1.0].iter().flat_map(|f| f.to_le_bytes()).collect();
     let err = ex.supply_input(&g, "weights", &weights[..8]).unwrap_err().to_string();
     assert!(
-        err.contains("supply_input `weights`: 8 bytes given, the resource holds 16"),
+        err.contains("supply_input `weights`: the input has 8 bytes, the buffer is declared with 16"),
+        "{err}"
+    );
+    let err = ex.supply_input(&g, "noise", &[0; 60]).unwrap_err().to_string();
+    assert!(
+        err.contains("supply_input `noise`: the input has 60 bytes; 4×4 × 1 layer(s) of Rgba8Unorm is 64 bytes"),
         "{err}"
     );
     let err = ex.supply_input(&g, "out", &[0; 16]).unwrap_err().to_string();
