@@ -5,7 +5,8 @@
 //! a ratio. Needs an adapter (lavapipe is
 //! enough; there "the GPU" is the same CPU cores, so overlap gains little, where a real GPU
 //! would hide the encoding). Then the same with GPU timestamps on: each timed frame waited
-//! for (what measurements do) against timestamps read late (what the viewer does). Not a test.
+//! for (what measurements do) against timestamps read late (what the viewer does). Not a test;
+//! `tests/executor/in_flight.rs` runs it at its smallest (`Size::Smoke`: 2 frames, one round).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
@@ -13,12 +14,24 @@ use lightbench::scene::Scene;
 use std::path::Path;
 use std::time::Instant;
 
-const FRAMES: u32 = 200;
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+pub use common::Size;
 
-fn run(gpu: &Gpu, ex: &mut Executor, in_flight: u32) -> f64 {
+impl Size {
+    fn frames(self) -> u32 {
+        self.pick(200, 2)
+    }
+    fn rounds(self) -> u32 {
+        self.pick(2, 1)
+    }
+}
+
+fn frames(gpu: &Gpu, ex: &mut Executor, (in_flight, count): (u32, u32)) -> f64 {
     ex.set_frames_in_flight(in_flight);
     let t = Instant::now();
-    for f in 0..FRAMES {
+    for f in 0..count {
         let inputs = ex.inputs(f as f32 / 60.0);
         ex.render_frame(gpu, &inputs).expect("frame");
     }
@@ -26,7 +39,13 @@ fn run(gpu: &Gpu, ex: &mut Executor, in_flight: u32) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
+#[allow(dead_code)]
 fn main() {
+    run(Size::Full);
+}
+
+pub fn run(size: Size) {
+    let (count, rounds) = (size.frames(), size.rounds());
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     println!("{}", gpu.describe());
     let mut scene: Scene = lightbench::scene::load("many_lights").expect("scene");
@@ -36,15 +55,15 @@ fn main() {
     let mut ex = Executor::new(&gpu, &exe, &scene).expect("executor");
     ex.set_reuse(false);
     ex.set_timing(false);
-    run(&gpu, &mut ex, 2); // warm up
+    frames(&gpu, &mut ex, (2, count)); // warm up
     let (mut waiting, mut overlapped) = (0.0, 0.0);
-    for _ in 0..2 {
-        waiting += run(&gpu, &mut ex, 0);
-        overlapped += run(&gpu, &mut ex, 2);
+    for _ in 0..rounds {
+        waiting += frames(&gpu, &mut ex, (0, count));
+        overlapped += frames(&gpu, &mut ex, (2, count));
     }
-    println!("deferred.lbp, many_lights at 256×192, {FRAMES} frames (2 rounds, interleaved)");
-    println!("  waiting for each frame (0 in flight): {:9.1} ms", waiting / 2.0);
-    println!("  2 frames in flight     : {:9.1} ms", overlapped / 2.0);
+    println!("deferred.lbp, many_lights at 256×192, {count} frames ({rounds} rounds, interleaved)");
+    println!("  waiting for each frame (0 in flight): {:9.1} ms", waiting / rounds as f64);
+    println!("  2 frames in flight     : {:9.1} ms", overlapped / rounds as f64);
     println!("  ratio in flight / waiting: {:.3}", overlapped / waiting);
     if !gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
         println!("no timestamp queries on this adapter: timed frames not compared");
@@ -52,14 +71,14 @@ fn main() {
     }
     ex.set_timing(true);
     let (mut waited, mut late) = (0.0, 0.0);
-    for _ in 0..2 {
+    for _ in 0..rounds {
         ex.set_late_timestamps(false);
-        waited += run(&gpu, &mut ex, 2);
+        waited += frames(&gpu, &mut ex, (2, count));
         ex.set_late_timestamps(true);
-        late += run(&gpu, &mut ex, 2);
+        late += frames(&gpu, &mut ex, (2, count));
     }
     println!("timed frames (timestamps on), 2 frames in flight:");
-    println!("  each timed frame waited: {:9.1} ms", waited / 2.0);
-    println!("  timestamps read late   : {:9.1} ms", late / 2.0);
+    println!("  each timed frame waited: {:9.1} ms", waited / rounds as f64);
+    println!("  timestamps read late   : {:9.1} ms", late / rounds as f64);
     println!("  ratio late / waited: {:.3}", late / waited);
 }

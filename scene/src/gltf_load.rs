@@ -134,7 +134,9 @@ fn encoded(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> 
     }
 }
 
-/// An image decoded as glTF's importer decodes it, then made 8-bit RGBA.
+/// An image decoded as glTF's importer decodes it (by its own reading of the file: on a cache
+/// miss a file is read twice, once to hash it; the decoding, not the reading, is the cost),
+/// then made 8-bit RGBA.
 fn decode(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> std::result::Result<Texels, String> {
     let img = gltf::image::Data::from_source(image.source(), Some(base), buffers).map_err(|e| match e {
         gltf::Error::Image(e) => format!("cannot be decoded: {e}"),

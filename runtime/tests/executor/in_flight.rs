@@ -1,6 +1,7 @@
 //! Frames in flight (`Executor::set_frames_in_flight`): `render_frame` returns before the GPU
 //! is done, yet a read-back right after it sees that frame, and the images are those of
-//! waiting for every frame; 0, 1 and 2 are told apart by what is left on the GPU.
+//! waiting for every frame; 0, 1 and 2 are told apart by what is left on the GPU; and
+//! `--bench inflight` runs at its smallest.
 
 use crate::gpu_common;
 
@@ -113,4 +114,18 @@ fn late_timestamps_fill_every_frame_by_the_end() {
     for (t, logged) in last.iter().zip(&log[7]) {
         assert_eq!(t.gpu_ms, logged.gpu_ms, "{}", t.pass);
     }
+}
+
+// Each bench brings its own copy of `benches/common` (a bench is a crate of its own); here
+// this one's sits beside the assets bench's, each used through its own bench.
+#[path = "../../benches/inflight.rs"]
+#[allow(clippy::duplicate_mod)]
+mod inflight_bench;
+
+/// `cargo bench --bench inflight` runs: its smallest round (its figures are the bench's to
+/// print, not asserted here).
+#[test]
+fn the_inflight_bench_runs() {
+    let _g = gpu();
+    inflight_bench::run(inflight_bench::Size::Smoke);
 }
