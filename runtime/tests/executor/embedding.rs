@@ -155,7 +155,8 @@ fn a_hosts_own_meshes_are_a_scene() {
 /// External inputs from the host (docs/embedding.md): bytes in memory (`supply_input`,
 /// exactly the declared size), or what the host wrote into the resource's own storage with
 /// its queue (`mark_supplied`); before either, the frame is refused and names the resource;
-/// what is not an external resource is refused by name.
+/// what is not an external resource is refused by name; a reload that recreates the
+/// resource needs it supplied again, one that keeps it does not.
 #[test]
 fn a_host_supplies_external_inputs_from_memory_or_its_own_writes() {
     let g = gpu();
@@ -214,4 +215,16 @@ fn a_host_supplies_external_inputs_from_memory_or_its_own_writes() {
     ex.supply_input(&g, "noise", &[255u8, 0, 0, 255].repeat(16)).unwrap();
     ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
     assert_eq!(output(&g, &ex).pixel(3, 0), [1.0, 0.0, 0.0, 1.0]);
+    // A reload that keeps the resources keeps what was supplied; one that recreates `noise`
+    // (another size) needs it supplied again.
+    ex.replace(&g, &exe).unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap_or_else(|e| panic!("{e}"));
+    let text = std::fs::read_to_string(&pipeline).unwrap().replace("Fixed(4, 4)", "Fixed(8, 8)");
+    std::fs::write(&pipeline, text).unwrap();
+    let (bigger, _) = lightbench::render::compile(&g, &pipeline, Some(&d.join("shaders")), &s, &[]).unwrap_or_else(|e| panic!("{e}"));
+    ex.replace(&g, &bigger).unwrap();
+    let err = ex.render_frame(&g, &ex.inputs(0.0)).unwrap_err().to_string();
+    assert!(err.contains("resource `noise` is external"), "{err}");
+    ex.supply_input(&g, "noise", &[0u8; 256]).unwrap();
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap_or_else(|e| panic!("{e}"));
 }
