@@ -1,6 +1,9 @@
-//! `cargo bench -p lightbench-compiler`: time `check` over every bundled pipeline against
-//! naga alone parsing and validating the same shader files, in one run, and print the ratio
-//! (goal: <= 1.10×). Not a test: figures depend on the machine.
+//! `cargo bench -p lightbench-compiler --bench check`: time `check` over every bundled
+//! pipeline against naga alone parsing and validating the same shader files, in interleaved
+//! rounds, and print the per-round ratio's median and quartiles (goal: ≤ 1.0× naga over the
+//! distinct files); then, where valgrind is installed, the same two by instructions
+//! (callgrind: the bench run again in a child process, each side alone), a figure the host's
+//! load does not move. `cargo test` runs it at its smallest (one round, no callgrind).
 
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::shader::include::{self, ShaderFs};
@@ -9,6 +12,11 @@ use lightbench_compiler::vfs::DiskVfs;
 use lightbench_compiler::{pipeline_files, shader_root_for, Session, Workspace};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
+
+#[path = "../../runtime/benches/common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::{load_line, Paired, Size};
 
 fn median(mut v: Vec<Duration>) -> Duration {
     v.sort();
@@ -66,7 +74,8 @@ fn naga_alone(root: &Path, shaders: &[String]) {
         } else {
             naga::front::wgsl::parse_str(&src).unwrap()
         };
-        let caps = naga::valid::Capabilities::default() | naga::valid::Capabilities::MULTIVIEW | naga::valid::Capabilities::CLIP_DISTANCES;
+        // The capabilities `check` validates with for the profile (ray queries included).
+        let caps = lightbench_compiler::shader::capabilities(&Profile::vulkan().features);
         naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps)
             .validate(&module)
             .unwrap();
@@ -91,7 +100,8 @@ fn main() {
     let per_pipeline: Vec<Vec<String>> = files.iter().map(|f| shader_files(std::slice::from_ref(f))).collect();
     let distinct = shader_files(&files);
     let profile = Profile::vulkan();
-    let rounds = 40;
+    let size = Size::from_args();
+    let rounds = size.pick(40, 1);
     // `LB_CHECK_ONLY=1`: only `check`, 100 times or `LB_CHECK_ROUNDS` (for a profiler).
     if std::env::var("LB_CHECK_ONLY").is_ok() {
         let n = std::env::var("LB_CHECK_ROUNDS").ok().and_then(|n| n.parse().ok()).unwrap_or(100);
@@ -109,7 +119,7 @@ fn main() {
         return;
     }
     let naga_per_pipeline = |root: &Path| per_pipeline.iter().for_each(|list| naga_alone(root, list));
-    for _ in 0..5 {
+    for _ in 0..size.pick(5, 1) {
         naga_per_pipeline(&shader_root);
         naga_alone(&shader_root, &distinct);
         check_all(&files, &profile);
@@ -154,26 +164,58 @@ fn main() {
     }
     // Each round's ratio: the host's load drifts between rounds (naga alone ran 50–83 ms
     // here from one run to the next), and the sides of one round share its load.
-    let mut per_round: Vec<f64> = b.iter().zip(&d).map(|(c, n)| c.as_secs_f64() / n.as_secs_f64()).collect();
-    per_round.sort_by(f64::total_cmp);
-    let quartile = |q: usize| per_round[(per_round.len() - 1) * q / 4];
+    let secs = |v: &[Duration]| v.iter().map(Duration::as_secs_f64).collect::<Vec<f64>>();
+    let per_round = Paired { a: secs(&d), b: secs(&b) }.ratio();
     let (na, nd, ch) = (median(a), median(d), median(b));
     let ms = |t: Duration| t.as_secs_f64() * 1e3;
     println!(
-        "pipelines: {}, shader files per pipeline: {:?}, distinct: {}, rounds: {rounds}",
+        "pipelines: {}, shader files per pipeline: {:?}, distinct: {}, rounds: {rounds} ({})",
         files.len(),
         per_pipeline.iter().map(|l| l.len()).collect::<Vec<_>>(),
-        distinct.len()
+        distinct.len(),
+        load_line()
     );
     println!("naga alone, each pipeline's shaders: {:>8.3} ms (median)", ms(na));
     println!("naga alone, distinct shaders:        {:>8.3} ms (median)", ms(nd));
     println!("lightbench check (shared cache):     {:>8.3} ms (median)", ms(ch));
     println!("ratio check / naga per pipeline:     {:>8.3}x (goal <= 1.10x)", ms(ch) / ms(na));
-    println!("ratio check / naga distinct files:   {:>8.3}x", ms(ch) / ms(nd));
     println!(
-        "  per round (median, quartiles):      {:>8.3}x ({:.3}-{:.3}) (goal <= 1.00x)",
-        quartile(2),
-        quartile(1),
-        quartile(3)
+        "ratio check / naga distinct files, per round: {:.3}x (quartiles {:.3}-{:.3}; goal <= 1.00x)",
+        per_round.1, per_round.0, per_round.2
     );
+    if size == Size::Full {
+        instructions();
+    }
+}
+
+/// Instructions of `rounds` rounds of one side, counted by callgrind in a child process
+/// running this bench in that side's mode (`LB_CHECK_ONLY` or `LB_NAGA_ONLY`).
+fn counted(mode: &str, rounds: u32) -> Result<u64, String> {
+    let out = std::process::Command::new("valgrind")
+        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
+        .arg(std::env::current_exe().map_err(|e| e.to_string())?)
+        .env(mode, "1")
+        .env("LB_CHECK_ROUNDS", rounds.to_string())
+        .output()
+        .map_err(|e| format!("valgrind: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stderr);
+    text.lines()
+        .find_map(|l| l.split("Collected :").nth(1))
+        .and_then(|n| n.trim().parse().ok())
+        .ok_or_else(|| format!("no count in callgrind's output ({})", out.status))
+}
+
+/// Instructions per round of each side: the count of 3 rounds less that of 1, halved, so
+/// that the process's start (reading the pipeline list, the first allocations) cancels.
+fn instructions() {
+    let per_round = |mode: &str| -> Result<f64, String> { Ok((counted(mode, 3)? as f64 - counted(mode, 1)? as f64) / 2.0) };
+    match (per_round("LB_CHECK_ONLY"), per_round("LB_NAGA_ONLY")) {
+        (Ok(check), Ok(naga)) => println!(
+            "instructions per round (callgrind): check {:.1} M, naga distinct files {:.1} M, ratio {:.3}x (goal <= 1.00x)",
+            check / 1e6,
+            naga / 1e6,
+            check / naga
+        ),
+        (Err(e), _) | (_, Err(e)) => println!("instructions not counted: {e}"),
+    }
 }

@@ -1,4 +1,5 @@
-//! `cargo bench -p lightbench-compiler --bench memory`: memory of the bundled pipelines at
+//! `cargo bench -p lightbench-compiler --bench memory` (and `cargo test`, as it is: it is
+//! quick): memory of the bundled pipelines at
 //! 1920×1080 with every effect called for and every light kind, each resource its own
 //! (logical) against transient resources aliased (physical, stage `alias`); goal for
 //! `deferred_gi`: ≤ 0.7×. A figure of the Plan, not a timing: the same on every machine.

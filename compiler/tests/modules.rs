@@ -262,3 +262,41 @@ fn library_crates_document_without_warnings() {
     let out = cmd.env("RUSTDOCFLAGS", "-D warnings").current_dir(root).output().unwrap();
     assert!(out.status.success(), "cargo doc: {}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// Every bench of every crate is declared `test = true`, so that `cargo test` runs its smoke
+/// run (a bench is run without `--bench` there) and a stale bench fails the tests, not a
+/// reader.
+#[test]
+fn every_bench_runs_in_the_tests() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut missing = vec![];
+    for krate in ["compiler", "scene", "reference", "executor", "runtime"] {
+        let Ok(dir) = std::fs::read_dir(root.join(krate).join("benches")) else {
+            continue;
+        };
+        let manifest = std::fs::read_to_string(root.join(krate).join("Cargo.toml")).unwrap();
+        // Each `[[bench]]` table up to the next table.
+        let tables: Vec<&str> = manifest
+            .split("[[bench]]")
+            .skip(1)
+            .map(|t| t.split("\n[").next().unwrap_or(t))
+            .collect();
+        for e in dir {
+            let p = e.unwrap().path();
+            if p.extension().and_then(|e| e.to_str()) != Some("rs") {
+                continue;
+            }
+            let name = p.file_stem().unwrap().to_string_lossy().into_owned();
+            let declared = tables
+                .iter()
+                .find(|t| t.lines().any(|l| l.replace(' ', "") == format!("name=\"{name}\"")));
+            if !declared.is_some_and(|t| t.lines().any(|l| l.replace(' ', "") == "test=true")) {
+                missing.push(format!("{krate}/benches/{name}.rs"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "benches without `test = true` in their crate's [[bench]] table: {missing:?}"
+    );
+}

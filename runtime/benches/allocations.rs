@@ -3,13 +3,19 @@
 //! (7 passes) and on `many_lights` (100 point lights, per-light repetitions), every pass every
 //! frame and with unchanged work reused, GPU timestamps off (on, the read-back's mapping adds
 //! its own). What wgpu allocates to record and submit a frame is included: the figure is the
-//! whole cost a frame puts on the allocator. Needs an adapter (lavapipe is enough). Not a test.
+//! whole cost a frame puts on the allocator. Needs an adapter (lavapipe is enough);
+//! `cargo test` runs it at its smallest.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
+
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::Size;
 
 struct Counting;
 
@@ -32,19 +38,22 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-const FRAMES: u32 = 50;
+/// Steady frames counted: 50 (2 in the smoke run).
+fn frames() -> u32 {
+    Size::from_args().pick(50, 2)
+}
 
-/// Allocations per frame over `FRAMES` steady frames (after 5 to settle).
+/// Allocations per frame over `frames()` steady frames (after 5 to settle).
 fn per_frame(gpu: &Gpu, ex: &mut Executor) -> f64 {
     let inputs = ex.inputs(0.0);
     for _ in 0..5 {
         ex.render_frame(gpu, &inputs).expect("frame");
     }
     let before = ALLOCATIONS.load(Ordering::Relaxed);
-    for _ in 0..FRAMES {
+    for _ in 0..frames() {
         ex.render_frame(gpu, &inputs).expect("frame");
     }
-    (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / FRAMES as f64
+    (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / frames() as f64
 }
 
 /// The floor: allocations of an empty frame's wgpu calls alone (an encoder, an error scope,
@@ -60,15 +69,15 @@ fn empty_submission(gpu: &Gpu) -> f64 {
     };
     (0..5).for_each(|_| submit());
     let before = ALLOCATIONS.load(Ordering::Relaxed);
-    (0..FRAMES).for_each(|_| submit());
-    (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / FRAMES as f64
+    (0..frames()).for_each(|_| submit());
+    (ALLOCATIONS.load(Ordering::Relaxed) - before) as f64 / frames() as f64
 }
 
 fn main() {
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     println!("{}", gpu.describe());
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.lbp");
-    println!("allocations per steady frame, deferred.lbp, {FRAMES} frames (timestamps off):");
+    println!("allocations per steady frame, deferred.lbp, {} frames (timestamps off):", frames());
     println!(
         "  wgpu alone, an empty frame (encoder, error scope, submit, poll): {:.1}",
         empty_submission(&gpu)

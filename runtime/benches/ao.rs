@@ -5,14 +5,26 @@
 //! (seed 000 §6.3.2): its passes with 0 to 3 directional or spot lights beyond the camera.
 //! `pipelines/deferred_gi.ron` on the Cornell box; GPU time from timestamp queries, the mean
 //! over the frames after a warm-up, every pass every frame. Needs a GPU adapter (lavapipe is
-//! enough). Not a test.
+//! enough); `cargo test` runs it at its smallest (32×24, one frame).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
 use std::path::{Path, PathBuf};
 
-const FRAMES: u32 = 4;
-const RESOLUTIONS: [(u32, u32); 3] = [(128, 96), (256, 192), (512, 384)];
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::Size;
+
+/// Frames measured after the warm-up: 4 (1 in the smoke run).
+fn frames() -> u32 {
+    Size::from_args().pick(4, 1)
+}
+
+/// The tables' resolutions (one small one in the smoke run).
+fn resolutions() -> Vec<(u32, u32)> {
+    Size::from_args().pick(vec![(128, 96), (256, 192), (512, 384)], vec![(32, 24)])
+}
 
 /// Mean GPU ms per frame of the passes `pick` selects.
 fn gpu_ms(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], pick: impl Fn(&str) -> bool) -> f64 {
@@ -33,7 +45,7 @@ fn gpu_ms_with(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], params: &[(&s
     }
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
     let mut total = 0.0;
-    for f in 1..=FRAMES {
+    for f in 1..=frames() {
         ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
         total += ex
             .last_timings
@@ -42,7 +54,7 @@ fn gpu_ms_with(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], params: &[(&s
             .filter_map(|t| t.gpu_ms)
             .sum::<f64>();
     }
-    total / FRAMES as f64
+    total / frames() as f64
 }
 
 fn is_ao_pass(name: &str) -> bool {
@@ -60,12 +72,12 @@ fn scene(dir: &Path, (w, h): (u32, u32), lights: &str) -> PathBuf {
 fn presets(gpu: &Gpu, dir: &Path) {
     println!("Tables 6.6 and 6.7: AO GPU ms per frame (all AO passes / the SSAO buffer alone), × SSAO1 in brackets");
     print!("  {:<7}", "preset");
-    for (w, h) in RESOLUTIONS {
+    for (w, h) in resolutions() {
         print!(" {:>28}", format!("{w}×{h}"));
     }
     println!();
     let light = "Point(position: (0.0, 1.8, 0.0), intensity: 4.0, range: 6.0)";
-    let scenes: Vec<PathBuf> = RESOLUTIONS.iter().map(|&r| scene(dir, r, light)).collect();
+    let scenes: Vec<PathBuf> = resolutions().into_iter().map(|r| scene(dir, r, light)).collect();
     // SSAO1 first: its times are the baseline of every ratio at that resolution.
     let mut base: Vec<f64> = vec![];
     for p in ["ssao1", "ssao2", "ssao3", "ssao4", "ssao5"] {
@@ -128,4 +140,5 @@ fn main() {
     std::fs::create_dir_all(&dir).expect("temp dir");
     presets(&gpu, &dir);
     views(&gpu, &dir);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -4,7 +4,7 @@
 //! it and drops each decoded texture once uploaded (`Executor::with_scene`, what `render`
 //! uses), against the bytes the GPU holds (textures with mips + mesh). Goal: peak ≤ 1.5×
 //! those bytes. Needs a GPU adapter (lavapipe is enough: there "GPU" memory is this
-//! process's memory too, so the goal is strict). Not a test; `tests/executor/assets.rs` runs it at
+//! process's memory too, so the goal is strict). `cargo test` runs it at
 //! its smallest (`Size::Smoke`: a 16² grid, 64² textures, one round). Then the model's load with its
 //! textures decoded (an empty texture cache) against read from the cache a first load kept,
 //! interleaved rounds: the cached load's share of the decoding one (goal ≤ 0.10). The
@@ -20,7 +20,7 @@ use std::time::Instant;
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-pub use common::Size;
+use common::Size;
 
 impl Size {
     /// Quads along the grid's side (224² quads: 100,352 triangles).
@@ -145,16 +145,15 @@ fn load_and_render(gpu: &Gpu, model: &Path, root: &Path, take: bool) -> (f64, u6
     (load_ms, load_peak, peak)
 }
 
-#[allow(dead_code)]
 fn main() {
     // The executor runs decode their textures: an empty cache of their own each time.
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("bench-assets-run-cache");
     std::env::set_var(scene::texture_cache::CACHE_ENV, &dir);
-    run(Size::Full);
+    run(Size::from_args());
     let _ = std::fs::remove_dir_all(dir);
 }
 
-pub fn run(size: Size) {
+fn run(size: Size) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .expect("repository root")

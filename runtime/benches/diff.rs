@@ -2,23 +2,27 @@
 //! two sides — reading back, metrics (RMSE, FLIP, SSIM), heat-maps, side-by-side PNGs and the
 //! reports — for `deferred.ron` on the Cornell box at 512×512 (the output and 12 more resource
 //! slices: G-buffer, depth, six cube faces, HDR, luminance). Goal: under 20% of the two
-//! renders' time. Not a test; needs a GPU adapter (lavapipe is enough).
+//! renders' time, as the median and quartiles of the per-round ratio from interleaved rounds.
+//! Needs a GPU adapter (lavapipe is enough); `cargo test` runs it at its smallest.
 
 use lightbench::diff::{self, report, spec, Options, Planned};
 use lightbench::gpu::{DeviceOptions, Gpu};
 use lightbench::scene::builtin;
 use std::path::Path;
-use std::time::Instant;
 
-/// `lightbench diff`'s default.
-const FRAMES: u32 = 8;
-const ROUNDS: u32 = 3;
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::{interleaved, ms, Size};
 
 fn main() {
+    let size = Size::from_args();
+    // `lightbench diff`'s default frames; the smoke run: one frame, one round, 64×64.
+    let (frames, rounds, side_px) = (size.pick(8, 1), size.pick(8, 1), size.pick(512, 64));
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     println!("{}", gpu.describe());
     let mut scene = builtin::cornell();
-    scene.size = (512, 512);
+    scene.size = (side_px, side_px);
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
     let side = |config: &str| {
         let variants = vec![("cube_shadow".to_string(), config.to_string())];
@@ -33,34 +37,43 @@ fn main() {
     let (a, b) = (side("classic"), side("multiview"));
     let out = std::env::temp_dir().join(format!("lightbench-bench-diff-{}", std::process::id()));
     let opts = Options {
-        frames: FRAMES,
+        frames,
         resources: None,
         out: out.clone(),
         fail_above: vec![],
     };
-    let (mut t_render, mut t_diff, mut slices) = (0.0, 0.0, 0);
-    for _ in 0..ROUNDS {
-        let start = Instant::now();
-        diff::render(&gpu, (&a, &b), &scene, FRAMES).expect("render");
-        t_render += start.elapsed().as_secs_f64();
-        let start = Instant::now();
-        let r = diff::run(&gpu, (&a, &b), &scene, &opts).expect("diff");
-        let md = report::markdown(&r);
-        let html = report::html(&r, &out).expect("html");
-        t_diff += start.elapsed().as_secs_f64();
-        slices = r.images.len();
-        assert!(!md.is_empty() && !html.is_empty());
-    }
-    let (render_ms, diff_ms) = (t_render * 1e3 / ROUNDS as f64, t_diff * 1e3 / ROUNDS as f64);
-    println!(
-        "diff of deferred.ron (cube_shadow classic vs multiview), Cornell box 512×512, {FRAMES} frames a side, {slices} slices compared:"
+    let mut slices = 0;
+    let p = interleaved(
+        rounds,
+        // Rendering alone, both sides' frames waited for (the diff waits for them too: it
+        // reads them back).
+        || {
+            ms(|| {
+                let (mut ea, mut eb, _) = diff::render(&gpu, (&a, &b), &scene, frames).expect("render");
+                ea.wait_idle(&gpu).expect("idle");
+                eb.wait_idle(&gpu).expect("idle");
+            })
+        },
+        || {
+            ms(|| {
+                let r = diff::run(&gpu, (&a, &b), &scene, &opts).expect("diff");
+                let md = report::markdown(&r);
+                let html = report::html(&r, &out).expect("html");
+                slices = r.images.len();
+                assert!(!md.is_empty() && !html.is_empty());
+            })
+        },
     );
-    println!("  rendering both sides       {render_ms:>8.1} ms");
-    println!("  the whole diff             {diff_ms:>8.1} ms");
     println!(
-        "  overhead beyond rendering  {:>8.1} ms = {:.0}% of the renders (goal < 20%)",
-        diff_ms - render_ms,
-        100.0 * (diff_ms - render_ms) / render_ms
+        "diff of deferred.ron (cube_shadow classic vs multiview), Cornell box {side_px}×{side_px}, {frames} frames a side, {slices} slices compared, ms:"
+    );
+    println!("{}", p.report(("rendering both sides", "the whole diff"), "ms"));
+    let (q1, m, q3) = p.ratio();
+    println!(
+        "  beyond rendering: {:.0}% of the renders (quartiles {:.0}–{:.0}%; goal < 20%)",
+        100.0 * (m - 1.0),
+        100.0 * (q1 - 1.0),
+        100.0 * (q3 - 1.0)
     );
     let _ = std::fs::remove_dir_all(&out);
 }

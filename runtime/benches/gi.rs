@@ -6,13 +6,18 @@
 //! technique) and AO volumes; then `fixed` against `temporal` indirect diffuse: time
 //! per frame, ratio, and the temporal result's error to `fixed` after 32 frames. The Cornell
 //! box with a spot light at 128×128, every pass every frame. Needs a GPU adapter (lavapipe is
-//! enough). Not a test.
+//! enough); `cargo test` runs it at its smallest (32×32, a frame each).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
 use lightbench::scene::Scene;
 use std::path::Path;
 use std::time::Instant;
+
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::Size;
 
 const SCENE: &str = "Scene(
     name: \"gi\",
@@ -47,6 +52,7 @@ fn run(gpu: &Gpu, exe: &lightbench_compiler::Executable, scene: &Scene, frames: 
     for f in 1..=frames {
         ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
     }
+    ex.wait_idle(gpu).expect("idle"); // the frames' cost, not their submission's
     (t.elapsed().as_secs_f64() * 1e3 / frames as f64, ex)
 }
 
@@ -64,14 +70,18 @@ fn main() {
     println!("{}", gpu.describe());
     let dir = std::env::temp_dir().join(format!("lightbench-bench-gi-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(dir.join("gi.ron"), SCENE).expect("scene");
+    let size = Size::from_args();
+    // The smoke run: 32×32, one frame a configuration.
+    let (n, side) = (size.pick(8, 1), size.pick(128, 32));
+    let scene_text = SCENE.replace("size: (128, 128)", &format!("size: ({side}, {side})"));
+    std::fs::write(dir.join("gi.ron"), &scene_text).expect("scene");
     let scene = lightbench::scene::load(dir.join("gi.ron").to_str().expect("path")).expect("scene");
-    let (none, _) = frames(&gpu, &scene, "off", 8);
-    let (fixed, fx) = frames(&gpu, &scene, "fixed", 8);
-    let (temporal, _) = frames(&gpu, &scene, "temporal", 8);
+    let (none, _) = frames(&gpu, &scene, "off", n);
+    let (fixed, fx) = frames(&gpu, &scene, "fixed", n);
+    let (temporal, _) = frames(&gpu, &scene, "temporal", n);
     // The other rows: the same scene calling for SSR (IS) and/or ambient occlusion (AO) too.
     let with = |effects: &str, tag: &str| {
-        let text = SCENE.replace(
+        let text = scene_text.replace(
             "effects: [Shadows, IndirectDiffuse]",
             &format!("effects: [Shadows, IndirectDiffuse, {effects}]"),
         );
@@ -83,16 +93,16 @@ fn main() {
         with("AmbientOcclusion", "ao"),
         with("Ssr, AmbientOcclusion", "isao"),
     );
-    let (is, _) = frames(&gpu, &is_scene, "off", 8);
-    let (is_id, _) = frames(&gpu, &is_scene, "fixed", 8);
-    let (ao, _) = frames(&gpu, &ao_scene, "off", 8);
-    let (ao_id, _) = frames(&gpu, &ao_scene, "fixed", 8);
-    let (is_ao, _) = frames(&gpu, &is_ao_scene, "off", 8);
-    let (is_ao_id, _) = frames(&gpu, &is_ao_scene, "fixed", 8);
-    let (mvao, _) = frames_ao(&gpu, &ao_scene, ("off", "mvao"), 8);
-    let (mvao_id, _) = frames_ao(&gpu, &ao_scene, ("fixed", "mvao"), 8);
-    let (aov, _) = frames_ao(&gpu, &ao_scene, ("off", "aov"), 8);
-    println!("Table 7.1, 128×128, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur unless named)");
+    let (is, _) = frames(&gpu, &is_scene, "off", n);
+    let (is_id, _) = frames(&gpu, &is_scene, "fixed", n);
+    let (ao, _) = frames(&gpu, &ao_scene, "off", n);
+    let (ao_id, _) = frames(&gpu, &ao_scene, "fixed", n);
+    let (is_ao, _) = frames(&gpu, &is_ao_scene, "off", n);
+    let (is_ao_id, _) = frames(&gpu, &is_ao_scene, "fixed", n);
+    let (mvao, _) = frames_ao(&gpu, &ao_scene, ("off", "mvao"), n);
+    let (mvao_id, _) = frames_ao(&gpu, &ao_scene, ("fixed", "mvao"), n);
+    let (aov, _) = frames_ao(&gpu, &ao_scene, ("off", "aov"), n);
+    println!("Table 7.1, {side}×{side}, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur unless named)");
     println!("  {:<14} {:>9} {:>10}", "", "ms/frame", "× None");
     let rows = [
         ("None", none),
@@ -113,7 +123,7 @@ fn main() {
     }
     println!("  (the seed, on a GPU: ID ≈ 2.5× None)");
     let reference = fx.read_texture(&gpu, "gi.indirect", 0, 0).expect("read fixed");
-    let (_, tx) = frames(&gpu, &scene, "temporal", 32);
+    let (_, tx) = frames(&gpu, &scene, "temporal", size.pick(32, 2));
     let acc = tx.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
     let (_, one) = frames(&gpu, &scene, "temporal", 0);
     let first = one.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
@@ -129,8 +139,10 @@ fn main() {
         (fixed - none) / (temporal - none).max(1e-6)
     );
     println!(
-        "  RMSE to fixed: temporal after 1 frame {:.4}, after 32 frames {:.4}",
+        "  RMSE to fixed: temporal after 1 frame {:.4}, after {} frames {:.4}",
         rmse(&first.rgba, &reference.rgba),
+        size.pick(32, 2),
         rmse(&acc.rgba, &reference.rgba)
     );
+    let _ = std::fs::remove_dir_all(&dir);
 }

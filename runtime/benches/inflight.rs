@@ -5,8 +5,8 @@
 //! a ratio. Needs an adapter (lavapipe is
 //! enough; there "the GPU" is the same CPU cores, so overlap gains little, where a real GPU
 //! would hide the encoding). Then the same with GPU timestamps on: each timed frame waited
-//! for (what measurements do) against timestamps read late (what the viewer does). Not a test;
-//! `tests/executor/in_flight.rs` runs it at its smallest (`Size::Smoke`: 2 frames, one round).
+//! for (what measurements do) against timestamps read late (what the viewer does);
+//! `cargo test` runs it at its smallest (`Size::Smoke`: 2 frames, one round).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
@@ -17,7 +17,7 @@ use std::time::Instant;
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-pub use common::Size;
+use common::Size;
 
 impl Size {
     fn frames(self) -> u32 {
@@ -39,12 +39,11 @@ fn frames(gpu: &Gpu, ex: &mut Executor, (in_flight, count): (u32, u32)) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-#[allow(dead_code)]
 fn main() {
-    run(Size::Full);
+    run(Size::from_args());
 }
 
-pub fn run(size: Size) {
+fn run(size: Size) {
     let (count, rounds) = (size.frames(), size.rounds());
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
     println!("{}", gpu.describe());

@@ -1,6 +1,6 @@
 //! `cargo bench -p lightbench --bench lighting`: what the shadow and lighting variants of
-//! `pipelines/deferred.ron` cost on the adapter at hand. Not a test; needs a GPU adapter
-//! (lavapipe is enough).
+//! `pipelines/deferred.ron` cost on the adapter at hand. Needs a GPU adapter (lavapipe is
+//! enough); `cargo test` runs all four parts at their smallest.
 //!
 //! 1. Point-light shadows, seed 004 §4.5 style: the four `cube_shadow` options on the Cornell
 //!    box and the colonnade (with a point light among its columns) at cube resolutions 256,
@@ -12,15 +12,17 @@
 //!    overtakes forward.
 //! 3. Merged repetitions (`-- merge`): the deferred models with 100 and 1000 lights at 512×384,
 //!    a light pass's repetitions sharing one render pass (the default) against a render pass
-//!    each (`Executor::set_merge(false)`): frame GPU and wall ms, light-pass encode µs, ratios;
-//!    and untimed, where the light pass also continues ambient's render pass (`continues`):
-//!    frame wall ms merged vs apart.
+//!    each (`Executor::set_merge(false)`), in interleaved rounds: the per-round ratios of frame
+//!    GPU and wall ms and of the light passes' GPU ms (median and quartiles); and untimed,
+//!    where the light pass also continues ambient's render pass (`continues`): frame wall ms
+//!    merged vs apart.
 //! 4. Area lights (`-- area`): the `area_light` pass (`area_lights = ltc`; the same with the
 //!    fit's residual off, `area.residual` 0, as the baseline; and `ltc_shadowed`) on the Cornell
 //!    box with 2, 32 and 512 emissive triangles (a grid of small lamps under the ceiling) at
 //!    128×128, 256×256 and 512×512: pass GPU ms and µs per triangle.
 //!
-//! Every pass runs every frame (no reuse); figures are means over the frames after a warm-up.
+//! Every pass runs every frame (no reuse), each frame waited for; figures are means over the
+//! frames after a warm-up.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::{builtin, Scene};
@@ -31,6 +33,16 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::{load_line, quartiles, Size};
+
+/// The bench, or its smoke run under `cargo test` (small sizes, one of each).
+fn full() -> bool {
+    Size::from_args() == Size::Full
+}
+
 /// Means over one frame's passes.
 #[derive(Clone, Copy, Default)]
 struct Cost {
@@ -40,7 +52,8 @@ struct Cost {
     picked_encode_us: f64,
     /// GPU ms of every pass.
     frame_gpu_ms: f64,
-    /// Wall-clock ms of `render_frame` (encode, submit, wait, timestamp read-back).
+    /// Wall-clock ms of `render_frame`, each frame waited for (encode, submit, wait,
+    /// timestamp read-back).
     frame_wall_ms: f64,
 }
 
@@ -77,10 +90,16 @@ fn measure_with(
     gpu: &Gpu,
     ws: &Workspace,
     scene: &Scene,
-    (variants, params, merge, timed): (&[(&str, &str)], &Set, bool, bool),
+    setup: (&[(&str, &str)], &Set, bool, bool),
     frames: u32,
     pick: impl Fn(&str) -> bool,
 ) -> Cost {
+    let mut ex = executor(gpu, ws, scene, setup);
+    cost(gpu, &mut ex, (1, frames), &pick)
+}
+
+/// An executor for these variants, parameters, merging and timing, warmed by one frame.
+fn executor(gpu: &Gpu, ws: &Workspace, scene: &Scene, (variants, params, merge, timed): (&[(&str, &str)], &Set, bool, bool)) -> Executor {
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let pipeline = Path::new("mem/pipelines/deferred.ron");
     let (exe, _) = lightbench::render::compile_in(ws, gpu, pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
@@ -96,9 +115,16 @@ fn measure_with(
     ex.set_reuse(false);
     ex.set_merge(merge);
     ex.set_timing(timed);
+    // Each frame waited for: a frame's wall time is its cost, timed or not.
+    ex.set_frames_in_flight(0);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
+    ex
+}
+
+/// Means over frames `first..first + frames`.
+fn cost(gpu: &Gpu, ex: &mut Executor, (first, frames): (u32, u32), pick: &dyn Fn(&str) -> bool) -> Cost {
     let mut sum = Cost::default();
-    for f in 1..=frames {
+    for f in first..first + frames {
         let inputs = ex.inputs(f as f32 / 60.0);
         let start = Instant::now();
         ex.render_frame(gpu, &inputs).expect("frame");
@@ -138,22 +164,26 @@ fn with_cube_size(n: u32) -> impl Fn(String) -> String {
 fn cube_shadows(gpu: &Gpu) {
     println!("Point-light shadows (seed 004 §4.5): shadow passes GPU ms / their CPU encode µs / frame wall ms, × classic in brackets");
     let mut colonnade = builtin::colonnade();
-    colonnade.size = (256, 128);
+    colonnade.size = if full() { (256, 128) } else { (64, 32) };
     colonnade.lights.push(lightbench::scene::Light::point(
         glam::Vec3::new(0.0, 2.0, 0.0),
         glam::Vec3::ONE,
         20.0,
         12.0,
     ));
-    let scenes = [builtin::cornell(), colonnade];
+    let mut cornell = builtin::cornell();
+    if !full() {
+        cornell.size = (64, 64);
+    }
+    let scenes = [cornell, colonnade];
     let is_shadow = |p: &str| p.starts_with("shadow_cube") || p.starts_with("shadow_paraboloid");
     for scene in &scenes {
-        for n in [256, 512, 1024] {
+        for n in if full() { vec![256, 512, 1024] } else { vec![64] } {
             let ws = project(with_cube_size(n));
             println!("  {} ({}×{}), cube {n}²:", scene.name, scene.size.0, scene.size.1);
             let mut base = None;
             for option in CUBE_OPTIONS {
-                let c = measure(gpu, &ws, scene, &[("cube_shadow", option)], 6, is_shadow);
+                let c = measure(gpu, &ws, scene, &[("cube_shadow", option)], if full() { 6 } else { 1 }, is_shadow);
                 let b = *base.get_or_insert(c);
                 println!(
                     "    {option:<16} {:>8.3} ms ({:>5.2}×)  {:>8.1} µs ({:>5.2}×)  {:>8.2} ms ({:>5.2}×)",
@@ -177,11 +207,16 @@ const MODELS: [&str; 4] = ["forward_single", "forward_multi", "deferred_fullscre
 fn lighting_models(gpu: &Gpu) {
     println!("Lighting models (seed 003 Fig. 6.1): frame GPU ms on many_lights (point lights, no shadows)");
     let ws = project(|t| t);
-    for (w, h) in [(128, 96), (256, 192), (512, 384)] {
+    let sizes = if full() {
+        vec![(128, 96), (256, 192), (512, 384)]
+    } else {
+        vec![(32, 24)]
+    };
+    for (w, h) in sizes {
         println!("  {w}×{h}:");
         print!("    {:<20}", "lights");
-        let counts = [1usize, 10, 100, 1000];
-        for n in counts {
+        let counts = if full() { vec![1usize, 10, 100, 1000] } else { vec![1, 10] };
+        for &n in &counts {
             print!(" {n:>10}");
         }
         println!();
@@ -189,10 +224,16 @@ fn lighting_models(gpu: &Gpu) {
         for model in MODELS {
             print!("    {model:<20}");
             let mut row = vec![];
-            for n in counts {
+            for &n in &counts {
                 let mut scene = builtin::many_lights(n);
                 scene.size = (w, h);
-                let frames = if n >= 1000 { 2 } else { 4 };
+                let frames = if !full() {
+                    1
+                } else if n >= 1000 {
+                    2
+                } else {
+                    4
+                };
                 let c = measure(gpu, &ws, &scene, &[("lighting", model)], frames, |_| false);
                 print!(" {:>10.2}", c.frame_gpu_ms);
                 row.push(c.frame_gpu_ms);
@@ -213,36 +254,60 @@ fn lighting_models(gpu: &Gpu) {
 }
 
 fn merged_repetitions(gpu: &Gpu) {
-    println!("Merged repetitions: light passes sharing one render pass vs one render pass per light (512×384, many_lights)");
+    let (side, counts, rounds) = if full() {
+        ((512, 384), vec![100usize, 1000], 12)
+    } else {
+        ((64, 48), vec![100], 2)
+    };
     println!(
-        "    {:<20} {:>6} {:>22} {:>22} {:>24} {:>28}",
-        "model", "lights", "frame GPU ms (m / a)", "frame wall ms (m / a)", "light encode µs (m / a)", "untimed wall ms (m+c / a)"
+        "Merged repetitions: light passes sharing one render pass (m) vs one render pass per light (a), {}×{}, many_lights;",
+        side.0, side.1
+    );
+    println!("  each figure the median [quartiles] of the per-round ratio m / a over {rounds} interleaved rounds of a frame each, frames waited for ({})", load_line());
+    println!(
+        "    {:<20} {:>6} {:>24} {:>24} {:>24} {:>24}",
+        "model", "lights", "frame GPU ms", "frame wall ms", "light-pass GPU ms", "untimed wall (m+c / a)"
     );
     let ws = project(|t| t);
+    let lights = |p: &str| p.starts_with("light_") || p.starts_with("volume_");
     for model in ["deferred_fullscreen", "deferred_volumes"] {
-        for n in [100usize, 1000] {
+        for &n in &counts {
             let mut scene = builtin::many_lights(n);
-            scene.size = (512, 384);
-            let lights = |p: &str| p.starts_with("light_") || p.starts_with("volume_");
-            let m = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], true, true), 3, lights);
-            let a = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], false, true), 3, lights);
-            // Untimed, merging also lets the light pass continue ambient's render pass.
-            let mc = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], true, false), 3, lights);
-            let au = measure_with(gpu, &ws, &scene, (&[("lighting", model)], &[], false, false), 3, lights);
+            scene.size = side;
+            let v = [("lighting", model)];
+            // Timed; and untimed, where merging also lets the light pass continue ambient's
+            // render pass (`continues`).
+            let mut m = executor(gpu, &ws, &scene, (&v, &[], true, true));
+            let mut a = executor(gpu, &ws, &scene, (&v, &[], false, true));
+            let mut mc = executor(gpu, &ws, &scene, (&v, &[], true, false));
+            let mut au = executor(gpu, &ws, &scene, (&v, &[], false, false));
+            let mut ratios: [Vec<f64>; 4] = Default::default();
+            for round in 0..rounds {
+                let f = (1 + round, 1);
+                // Alternating which side goes first, so that neither is always second.
+                let (cm, ca, cmc, cau) = if round % 2 == 0 {
+                    let (cm, ca) = (cost(gpu, &mut m, f, &lights), cost(gpu, &mut a, f, &lights));
+                    (cm, ca, cost(gpu, &mut mc, f, &lights), cost(gpu, &mut au, f, &lights))
+                } else {
+                    let (ca, cm) = (cost(gpu, &mut a, f, &lights), cost(gpu, &mut m, f, &lights));
+                    let cau = cost(gpu, &mut au, f, &lights);
+                    (cm, ca, cost(gpu, &mut mc, f, &lights), cau)
+                };
+                ratios[0].push(cm.frame_gpu_ms / ca.frame_gpu_ms);
+                ratios[1].push(cm.frame_wall_ms / ca.frame_wall_ms);
+                ratios[2].push(cm.picked_ms / ca.picked_ms);
+                ratios[3].push(cmc.frame_wall_ms / cau.frame_wall_ms);
+            }
+            let cell = |v: &Vec<f64>| {
+                let (q1, m, q3) = quartiles(v.clone());
+                format!("{m:.2}× [{q1:.2}–{q3:.2}]")
+            };
             println!(
-                "    {model:<20} {n:>6} {:>9.1} / {:>7.1} {:.2}× {:>8.1} / {:>7.1} {:.2}× {:>9.0} / {:>7.0} {:.2}× {:>11.1} / {:>7.1} {:.2}×",
-                m.frame_gpu_ms,
-                a.frame_gpu_ms,
-                m.frame_gpu_ms / a.frame_gpu_ms,
-                m.frame_wall_ms,
-                a.frame_wall_ms,
-                m.frame_wall_ms / a.frame_wall_ms,
-                m.picked_encode_us,
-                a.picked_encode_us,
-                m.picked_encode_us / a.picked_encode_us,
-                mc.frame_wall_ms,
-                au.frame_wall_ms,
-                mc.frame_wall_ms / au.frame_wall_ms
+                "    {model:<20} {n:>6} {:>24} {:>24} {:>24} {:>24}",
+                cell(&ratios[0]),
+                cell(&ratios[1]),
+                cell(&ratios[2]),
+                cell(&ratios[3])
             );
         }
     }
@@ -284,11 +349,12 @@ fn area_lights(gpu: &Gpu) {
         ("ltc_shadowed", "ltc_shadowed", &[], 16),
     ];
     for (label, option, params, most) in runs {
-        for size in [128u32, 256, 512] {
-            for quads in [1usize, 16, 256].into_iter().filter(|q| *q <= most) {
+        for size in if full() { vec![128u32, 256, 512] } else { vec![32] } {
+            let counts = if full() { vec![1usize, 16, 256] } else { vec![1] };
+            for quads in counts.into_iter().filter(|q| *q <= most) {
                 let scene = lamps(quads, size);
                 let setup = (&[("area_lights", option)][..], params, true, true);
-                let c = measure_with(gpu, &ws, &scene, setup, 3, |p| p == "area_light");
+                let c = measure_with(gpu, &ws, &scene, setup, if full() { 3 } else { 1 }, |p| p == "area_light");
                 let per = c.picked_ms * 1e3 / (2 * quads) as f64;
                 println!(
                     "    {label:<16} {:<10} {:>10} {:>14.2} {per:>18.1}",

@@ -28,7 +28,15 @@ mod common;
 use common::{interleaved, ms, Size};
 
 /// The passes of `deferred.ron` at its defaults, which the hand-written renderer mirrors.
-const PASSES: [&str; 7] = ["gbuffer", "shadow_cube_classic", "ambient", "light_point", "luminance_tiles", "luminance", "tonemap"];
+const PASSES: [&str; 7] = [
+    "gbuffer",
+    "shadow_cube_classic",
+    "ambient",
+    "light_point",
+    "luminance_tiles",
+    "luminance",
+    "tonemap",
+];
 const SIZE: (u32, u32) = (128, 128);
 const CUBE: u32 = 512;
 
@@ -274,7 +282,13 @@ impl Hand {
         let ldr_texture = texture(gpu, "ldr", (w, h, 1), F::Rgba8UnormSrgb, rt | U::COPY_SRC);
         // `texture lum.tiles: Rgba32Float viewport*0.0625`, `buffer lum: 28 bytes`.
         let tiles = (w.div_ceil(16), h.div_ceil(16));
-        let lum_tiles = texture(gpu, "lum.tiles", (tiles.0, tiles.1, 1), F::Rgba32Float, U::STORAGE_BINDING | U::TEXTURE_BINDING);
+        let lum_tiles = texture(
+            gpu,
+            "lum.tiles",
+            (tiles.0, tiles.1, 1),
+            F::Rgba32Float,
+            U::STORAGE_BINDING | U::TEXTURE_BINDING,
+        );
         let lum = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("lum"),
             size: 28,

@@ -5,7 +5,7 @@
 //! is the median and quartiles of the per-round ratio of paths per second. Both sides'
 //! seconds are whole renders, setup included (the CPU's BVH; the GPU's pipeline compile and
 //! acceleration structure). Needs an adapter with ray queries (lavapipe is enough; there both
-//! sides run on the same CPU cores). Not a test; `tests/reference/gpu_reference.rs` runs it
+//! sides run on the same CPU cores). `cargo test` runs it
 //! once at its smallest (`Size::Smoke`).
 
 use lightbench::gpu::{DeviceOptions, Gpu};
@@ -15,9 +15,10 @@ use lightbench::scene::Scene;
 use std::path::{Path, PathBuf};
 
 #[path = "common/mod.rs"]
+#[allow(dead_code)]
 mod common;
-use common::quartiles;
-pub use common::Size;
+use common::Size;
+use common::{load_line, quartiles};
 
 impl Size {
     fn rounds(self) -> usize {
@@ -75,16 +76,15 @@ fn case(gpu: &Gpu, size: Size, (spec, term): (&str, Term)) {
     );
 }
 
-pub fn run(size: Size) {
+fn run(size: Size) {
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
-    println!("{}", gpu.describe());
+    println!("{}\n{}", gpu.describe(), load_line());
     println!("CPU: {} threads", rayon::current_num_threads());
     for c in [("cornell", Term::Full), ("cornell_lamp", Term::Full), ("cornell", Term::Ao)] {
         case(&gpu, size, c);
     }
 }
 
-#[allow(dead_code)]
 fn main() {
-    run(Size::Full);
+    run(Size::from_args());
 }

@@ -11,11 +11,21 @@
 //! and a 1024-spp one with BRDF sampling alone (the same run's baseline), each predicting from its worst,
 //! 99th-percentile and median pixel the time to a 2% relative standard error, and the 99th
 //! percentile rendered to 2% with `Budget::Error` to check the prediction. `-- speed` runs the
-//! third alone. Not a test.
+//! third alone. `cargo test` runs it at its smallest (16², a few samples).
 
 use lightbench::reference::{self, Budget, Reference, Settings, Term};
 use lightbench::scene::builtin;
 use std::time::Instant;
+
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::Size;
+
+/// The bench's figure, or its smoke run's (16², few samples) under `cargo test`.
+fn pick<T>(full: T, smoke: T) -> T {
+    Size::from_args().pick(full, smoke)
+}
 
 const GOAL_SECONDS: f64 = 60.0;
 const TARGET: f64 = 0.02;
@@ -58,15 +68,16 @@ fn errors(r: &Reference, percentiles: &[f64]) -> Vec<f64> {
 }
 
 fn full_speed() {
+    let (side, spp) = (pick(128, 16), pick(256, 4));
     let mut scene = builtin::cornell();
-    scene.size = (128, 128);
+    scene.size = (side, side);
     // The best of three (the first run also starts rayon's threads).
     let s = (0..3)
-        .map(|_| reference::render(&scene, &settings(&[Term::Full], 256), false).seconds)
+        .map(|_| reference::render(&scene, &settings(&[Term::Full], spp), false).seconds)
         .fold(f64::INFINITY, f64::min);
-    let rate = 128.0 * 128.0 * 256.0 / s;
+    let rate = (side * side * spp) as f64 / s;
     println!(
-        "full, Cornell box 128x128, 256 spp: {s:.2} s (best of 3), {:.2} M paths/s",
+        "full, Cornell box {side}x{side}, {spp} spp: {s:.2} s (best of 3), {:.2} M paths/s",
         rate / 1e6
     );
     println!(
@@ -77,14 +88,15 @@ fn full_speed() {
 }
 
 fn emitters() {
+    let side = pick(128, 16);
     let mut scene = builtin::cornell_lamp();
-    scene.size = (128, 128);
-    println!("Emitter-lit Cornell box 128x128 (full): seconds to a 2% relative standard error, predicted from a pilot");
+    scene.size = (side, side);
+    println!("Emitter-lit Cornell box {side}x{side} (full): seconds to a 2% relative standard error, predicted from a pilot");
     let percentiles = [100.0, 99.0, 50.0];
     let mut predicted_p99 = 0.0;
     // BRDF sampling alone needs a longer pilot: at 64 spp most pixels have met the lamp once
     // or never, and every error reads ~1.
-    for (sample_emitters, pilot) in [(false, 1024), (true, 64)] {
+    for (sample_emitters, pilot) in [(false, pick(1024, 16)), (true, pick(64, 4))] {
         let s = Settings {
             sample_emitters,
             ..settings(&[Term::Full], pilot)
@@ -109,9 +121,9 @@ fn emitters() {
         budget: Budget::Error {
             target: TARGET,
             percentile: 99.0,
-            max_spp: 1 << 20,
+            max_spp: pick(1 << 20, 16),
         },
-        ..settings(&[Term::Full], 64)
+        ..settings(&[Term::Full], pick(64, 4))
     };
     let r = reference::render(&scene, &s, false);
     let reached = r.reached.expect("an error budget");
@@ -128,30 +140,34 @@ fn main() {
         return;
     }
     emitters();
+    let (side, spp) = (pick(128, 16), pick(64, 4));
     let mut scene = builtin::cornell();
-    scene.size = (128, 128);
-    let pixels = 128.0 * 128.0;
+    scene.size = (side, side);
+    let pixels = (side * side) as f64;
     println!(
-        "Cornell box 128x128, 64 spp ({} triangles)",
+        "Cornell box {side}x{side}, {spp} spp ({} triangles)",
         reference::world::World::new(&scene).triangles()
     );
     let all = [Term::Direct, Term::Ao, Term::IndirectDiffuse, Term::IndirectSpecular, Term::Full];
     let mut ao_seconds = 0.0;
     for terms in all.iter().map(|t| vec![*t]).chain([all.to_vec()]) {
         let start = Instant::now();
-        let r = reference::render(&scene, &settings(&terms, 64), false);
+        let r = reference::render(&scene, &settings(&terms, spp), false);
         let s = start.elapsed().as_secs_f64();
-        let samples: f64 = terms.iter().map(|t| if *t == Term::Direct { pixels } else { pixels * 64.0 }).sum();
+        let samples: f64 = terms
+            .iter()
+            .map(|t| if *t == Term::Direct { pixels } else { pixels * spp as f64 })
+            .sum();
         let names: Vec<&str> = terms.iter().map(|t| t.name()).collect();
         println!("  {:<55} {s:>7.3} s  {:>6.2} M samples/s", names.join("+"), samples / s / 1e6);
         if terms == [Term::Ao] {
             ao_seconds = s;
         }
-        assert_eq!(r.spp, 64);
+        assert_eq!(r.spp, spp);
     }
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool");
     let start = Instant::now();
-    one.install(|| reference::render(&scene, &settings(&[Term::Ao], 64), false));
+    one.install(|| reference::render(&scene, &settings(&[Term::Ao], spp), false));
     let single = start.elapsed().as_secs_f64();
     println!(
         "  ao on 1 thread (baseline): {single:.3} s; {} threads: {ao_seconds:.3} s, {:.2}x faster",
@@ -159,18 +175,22 @@ fn main() {
         single / ao_seconds
     );
 
-    println!("Converged AO at 128x128, radius 0.5 (goal: relative standard error <= 2% per pixel in < {GOAL_SECONDS} s)");
+    println!("Converged AO at {side}x{side}, radius 0.5 (goal: relative standard error <= 2% per pixel in < {GOAL_SECONDS} s)");
     let start = Instant::now();
-    let pilot = reference::render(&scene, &settings(&[Term::Ao], 64), false);
+    let pilot = reference::render(&scene, &settings(&[Term::Ao], spp), false);
     let (w, dark) = worst(&pilot);
-    let need = ((64.0 * (w / TARGET).powi(2)).ceil() as u32).next_multiple_of(4).max(64);
+    // The smoke run stops at 16 spp (its figure is not the goal's).
+    let need = ((spp as f64 * (w / TARGET).powi(2)).ceil() as u32)
+        .next_multiple_of(4)
+        .max(spp)
+        .min(pick(u32::MAX, 16));
     let final_start = Instant::now();
     let r = reference::render(&scene, &settings(&[Term::Ao], need), false);
     let final_seconds = final_start.elapsed().as_secs_f64();
     let total = start.elapsed().as_secs_f64();
     let (got, _) = worst(&r);
     println!(
-        "  pilot 64 spp: worst relative standard error {:.4} ({dark} pixels darker than {DARK} not held to it)",
+        "  pilot {spp} spp: worst relative standard error {:.4} ({dark} pixels darker than {DARK} not held to it)",
         w
     );
     println!(

@@ -1,7 +1,8 @@
 //! `cargo bench -p lightbench --bench reload`: the cost of a hot reload after a one-shader
 //! edit against building from scratch, measured in one run, interleaved so that drift in
 //! the machine's speed hits both sides alike. Prints medians and ratios (goal: replace /
-//! fresh executor <= 0.2×). Needs a GPU adapter (lavapipe is enough). Not a test.
+//! fresh executor <= 0.2×). Needs a GPU adapter (lavapipe is enough);
+//! `cargo test` runs it at its smallest.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile_in;
@@ -11,6 +12,11 @@ use lightbench_compiler::Workspace;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::{Paired, Size};
 
 const PIPELINE: &str = "mem/pipelines/deferred.ron";
 const TONEMAP: &str = "mem/shaders/tonemap.wgsl";
@@ -52,7 +58,7 @@ fn main() {
     };
     let exe = compile(&ws);
     let mut ex = Executor::new(&gpu, &exe, &scene).expect("executor");
-    let rounds = 12;
+    let rounds = Size::from_args().pick(12, 1);
     let (mut replace, mut fresh, mut recompile, mut full_compile) = (vec![], vec![], vec![], vec![]);
     let mut built = vec![];
     for round in 0..rounds + 2 {
@@ -82,6 +88,11 @@ fn main() {
             built.push(report.pipelines_built.len());
         }
     }
+    let ms = |v: &[Duration]| v.iter().map(|d| d.as_secs_f64() * 1e3).collect::<Vec<f64>>();
+    let swap = Paired {
+        a: ms(&fresh),
+        b: ms(&replace),
+    };
     let (r, f, rc, fc) = (median(replace), median(fresh), median(recompile), median(full_compile));
     println!("adapter: {} ({:?})", gpu.info.name, gpu.info.backend);
     println!(
@@ -91,7 +102,8 @@ fn main() {
     );
     println!("Executor::replace after a one-shader edit: {r:>9.3} ms (median)");
     println!("Executor::new from scratch:                {f:>9.3} ms (median)");
-    println!("ratio replace / new:                       {:>9.3}x (goal <= 0.2x)", r / f);
+    let (q1, m, q3) = swap.ratio();
+    println!("ratio replace / new, per round:            {m:>9.3}x (quartiles {q1:.3}-{q3:.3}; goal <= 0.2x)");
     println!("workspace recompile of the edited pipeline:{rc:>9.3} ms (median)");
     println!("compile in a fresh workspace:              {fc:>9.3} ms (median)");
     println!("ratio recompile / fresh compile:           {:>9.3}x", rc / fc);

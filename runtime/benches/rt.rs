@@ -7,16 +7,17 @@
 //! build time against the triangle count. GPU time from timestamp queries: rounds interleave the two
 //! sides (each renders a frame and waits for it), and the figure is the median and quartiles
 //! of the per-round ratio. Needs a GPU adapter with ray queries (lavapipe is enough). Not a
-//! test; `tests/effects/ray_traced.rs` runs it once at its smallest (`Size::Smoke`).
+//! test; `cargo test` runs it once at its smallest (`Size::Smoke`).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
 use std::path::{Path, PathBuf};
 
 #[path = "common/mod.rs"]
+#[allow(dead_code)]
 mod common;
-use common::quartiles;
-pub use common::Size;
+use common::Size;
+use common::{load_line, quartiles};
 
 impl Size {
     fn rounds(self) -> usize {
@@ -206,9 +207,9 @@ fn builds(gpu: &Gpu, size: Size) {
     }
 }
 
-pub fn run(size: Size) {
+fn run(size: Size) {
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter (lavapipe is enough)");
-    println!("{}", gpu.describe());
+    println!("{}\n{}", gpu.describe(), load_line());
     assert!(
         gpu.profile.has(lightbench_compiler::profile::Feature::ExperimentalRayQuery),
         "this adapter has no ray queries"
@@ -219,7 +220,6 @@ pub fn run(size: Size) {
     builds(&gpu, size);
 }
 
-#[allow(dead_code)]
 fn main() {
-    run(Size::Full);
+    run(Size::from_args());
 }

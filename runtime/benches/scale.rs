@@ -9,7 +9,7 @@
 //! the rest; `reference` into its BVH build with tracing (what it reports) and the rest (loading).
 //! Goals: render ≤ 150 B and reference ≤ 300 B per triangle, exponents ≤ 1.05, plan flat (its
 //! memory does not grow with triangles). Linux only (wait4, /proc). Needs an adapter (lavapipe
-//! is enough). Not a test; `tests/scenes/scale.rs` runs it at its smallest (`Size::Smoke`).
+//! is enough); `cargo test` runs it at its smallest (`Size::Smoke`).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -19,7 +19,7 @@ use std::time::Instant;
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-pub use common::Size;
+use common::Size;
 
 impl Size {
     /// (triangles, meshes) per point; the first is the baseline.
@@ -225,7 +225,7 @@ fn exponent(points: &[(f64, f64)]) -> f64 {
     sxy / sxx
 }
 
-pub fn run(size: Size) {
+fn run(size: Size) {
     let dir = std::env::temp_dir().join(format!("lightbench-bench-scale-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let figures: Vec<Figures> = size.points().into_iter().map(|(t, m)| measure(&dir, t, m)).collect();
@@ -296,7 +296,6 @@ pub fn run(size: Size) {
     }
 }
 
-#[allow(dead_code)]
 fn main() {
-    run(Size::Full);
+    run(Size::from_args());
 }

@@ -2,13 +2,18 @@
 //! compositing blended surfaces costs, drawn far to near by object (`transparency = sorted`),
 //! peeled in 4 and 8 layers (`depth_peeling`) and from per-pixel fragment lists
 //! (`fragment_lists`: clear, append, sort and blend), on the built-in panes scene at the
-//! seed's three resolutions. Not a test; needs a GPU adapter
-//! (lavapipe is enough). Every pass runs every frame; figures are GPU-ms means over 5 frames
+//! seed's three resolutions. Needs a GPU adapter (lavapipe is enough); `cargo test` runs it at
+//! its smallest (64², a frame). Every pass runs every frame; figures are GPU-ms means over 5 frames
 //! after a warm-up, of the passes that composite blended surfaces, and of the whole frame.
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::builtin;
 use std::path::Path;
+
+#[path = "common/mod.rs"]
+#[allow(dead_code)]
+mod common;
+use common::Size;
 
 const PASSES: [&str; 6] = ["transparent", "oit_clear", "oit_append", "oit_resolve", "peel", "peel_resolve"];
 
@@ -43,18 +48,23 @@ fn measure(gpu: &Gpu, size: (u32, u32), transparency: &str, layers: u32, frames:
 }
 
 fn main() {
+    let run = Size::from_args();
+    let (sizes, frames) = (
+        run.pick(vec![(800, 600), (1280, 720), (1920, 1080)], vec![(64, 64)]),
+        run.pick(5, 1),
+    );
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter");
     println!("{}", gpu.describe());
-    println!("blended surfaces on the panes scene, GPU ms per frame (mean of 5 after a warm-up)");
+    println!("blended surfaces on the panes scene, GPU ms per frame (mean of {frames} after a warm-up)");
     println!(
         "{:>11} {:>10} {:>10} {:>10} {:>10} {:>14} {:>15}",
         "size", "sorted ms", "peel 4 ms", "peel 8 ms", "lists ms", "peel 4 / lists", "frame ms (l/p8)"
     );
-    for size in [(800, 600), (1280, 720), (1920, 1080)] {
-        let (sorted, _) = measure(&gpu, size, "sorted", 4, 5);
-        let (peel4, _) = measure(&gpu, size, "depth_peeling", 4, 5);
-        let (peel8, peel8_frame) = measure(&gpu, size, "depth_peeling", 8, 5);
-        let (lists, lists_frame) = measure(&gpu, size, "fragment_lists", 4, 5);
+    for &size in &sizes {
+        let (sorted, _) = measure(&gpu, size, "sorted", 4, frames);
+        let (peel4, _) = measure(&gpu, size, "depth_peeling", 4, frames);
+        let (peel8, peel8_frame) = measure(&gpu, size, "depth_peeling", 8, frames);
+        let (lists, lists_frame) = measure(&gpu, size, "fragment_lists", 4, frames);
         println!(
             "{:>11} {sorted:>10.3} {peel4:>10.3} {peel8:>10.3} {lists:>10.3} {:>13.2}× {:>7.1}/{peel8_frame:.1}",
             format!("{}x{}", size.0, size.1),

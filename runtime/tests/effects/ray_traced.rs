@@ -487,14 +487,3 @@ fn ray_traced_area_lights_match_the_reference_direct_light() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
-
-#[path = "../../benches/rt.rs"]
-mod rt_bench;
-
-/// `cargo bench --bench rt` runs: one small round of every comparison and build (its figures
-/// are the bench's to print, not asserted here).
-#[test]
-fn the_rt_bench_runs() {
-    let _g = gpu_common::gpu();
-    rt_bench::run(rt_bench::Size::Smoke);
-}

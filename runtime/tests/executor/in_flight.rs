@@ -115,17 +115,3 @@ fn late_timestamps_fill_every_frame_by_the_end() {
         assert_eq!(t.gpu_ms, logged.gpu_ms, "{}", t.pass);
     }
 }
-
-// Each bench brings its own copy of `benches/common` (a bench is a crate of its own); here
-// this one's sits beside the assets bench's, each used through its own bench.
-#[path = "../../benches/inflight.rs"]
-#[allow(clippy::duplicate_mod)]
-mod inflight_bench;
-
-/// `cargo bench --bench inflight` runs: its smallest round (its figures are the bench's to
-/// print, not asserted here).
-#[test]
-fn the_inflight_bench_runs() {
-    let _g = gpu();
-    inflight_bench::run(inflight_bench::Size::Smoke);
-}

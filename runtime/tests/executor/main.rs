@@ -6,7 +6,6 @@
 mod gpu_common;
 
 mod aliasing;
-mod assets;
 mod embedding;
 mod hot_reload;
 mod in_flight;

@@ -12,14 +12,3 @@ mod gpu_reference_cli;
 mod gpu_reference_viewer;
 mod reference;
 mod reference_emitters;
-
-#[path = "../../benches/pathtrace.rs"]
-mod pathtrace_bench;
-
-/// `cargo bench --bench pathtrace` runs: one small round of each case (its figures are the
-/// bench's to print, not asserted here).
-#[test]
-fn the_pathtrace_bench_runs() {
-    let _g = gpu_common::gpu();
-    pathtrace_bench::run(pathtrace_bench::Size::Smoke);
-}

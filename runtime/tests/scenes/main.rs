@@ -10,6 +10,5 @@ mod mutate;
 
 mod gltf_coverage;
 mod real_assets;
-mod scale;
 mod scene_files;
 mod scenes_gltf;
