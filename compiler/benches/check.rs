@@ -30,13 +30,15 @@ fn shader_files(files: &[PathBuf]) -> Vec<String> {
     let mut todo: Vec<PathBuf> = files.to_vec();
     while let Some(f) = todo.pop() {
         let text = std::fs::read_to_string(&f).unwrap();
-        let quoted: Vec<&str> = text.split('"').skip(1).step_by(2).collect();
+        // Outside and inside quotes in turn: piece 2i + 1 is the i-th quoted string.
+        let pieces: Vec<&str> = text.split('"').collect();
+        let quoted: Vec<&str> = pieces.iter().skip(1).step_by(2).copied().collect();
         for (i, cap) in quoted.iter().enumerate() {
             if cap.ends_with(".wgsl") || cap.ends_with(".frag") || cap.ends_with(".vert") || cap.ends_with(".comp") {
                 names.insert(cap.to_string());
             }
             // `use "x.lbp"` / `use: "x.ron"`: the string after the word `use`.
-            let before = text.split('"').nth(2 * i).unwrap_or("");
+            let before = pieces[2 * i];
             let word = before
                 .trim_end()
                 .trim_end_matches(':')
@@ -189,10 +191,12 @@ fn main() {
 }
 
 /// Instructions of `rounds` rounds of one side, counted by callgrind in a child process
-/// running this bench in that side's mode (`LB_CHECK_ONLY` or `LB_NAGA_ONLY`).
-fn counted(mode: &str, rounds: u32) -> Result<u64, String> {
+/// running this bench in that side's mode (`LB_CHECK_ONLY` or `LB_NAGA_ONLY`); with `inside`,
+/// only those executed within the functions it names (callgrind's `--toggle-collect`).
+fn counted(mode: &str, rounds: u32, inside: Option<&str>) -> Result<u64, String> {
     let out = std::process::Command::new("valgrind")
         .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
+        .args(inside.map(|f| format!("--toggle-collect={f}")))
         .arg(std::env::current_exe().map_err(|e| e.to_string())?)
         .env(mode, "1")
         .env("LB_CHECK_ROUNDS", rounds.to_string())
@@ -206,16 +210,35 @@ fn counted(mode: &str, rounds: u32) -> Result<u64, String> {
 }
 
 /// Instructions per round of each side: the count of 3 rounds less that of 1, halved, so
-/// that the process's start (reading the pipeline list, the first allocations) cancels.
+/// that the process's start (reading the pipeline list, the first allocations) cancels. Then
+/// what dominates `check`'s: its shader compilation (naga's parse and validation, and the
+/// cache around them) against the rest (pipelines parsed, lowered and checked, every
+/// configuration planned).
 fn instructions() {
-    let per_round = |mode: &str| -> Result<f64, String> { Ok((counted(mode, 3)? as f64 - counted(mode, 1)? as f64) / 2.0) };
-    match (per_round("LB_CHECK_ONLY"), per_round("LB_NAGA_ONLY")) {
-        (Ok(check), Ok(naga)) => println!(
-            "instructions per round (callgrind): check {:.1} M, naga distinct files {:.1} M, ratio {:.3}x (goal <= 1.00x)",
-            check / 1e6,
-            naga / 1e6,
-            check / naga
-        ),
-        (Err(e), _) | (_, Err(e)) => println!("instructions not counted: {e}"),
+    let per_round = |mode: &str, inside: Option<&str>| -> Result<f64, String> {
+        Ok((counted(mode, 3, inside)? as f64 - counted(mode, 1, inside)? as f64) / 2.0)
+    };
+    let compile = Some("*lightbench_compiler::shader::compile*");
+    match (
+        per_round("LB_CHECK_ONLY", None),
+        per_round("LB_NAGA_ONLY", None),
+        per_round("LB_CHECK_ONLY", compile),
+    ) {
+        (Ok(check), Ok(naga), Ok(shaders)) => {
+            println!(
+                "instructions per round (callgrind): check {:.1} M, naga distinct files {:.1} M, ratio {:.3}x (goal <= 1.00x)",
+                check / 1e6,
+                naga / 1e6,
+                check / naga
+            );
+            println!(
+                "  of check's: shader compilation {:.1} M ({:.3}x naga alone), the rest {:.1} M ({:.0}%: pipelines parsed and checked, configurations planned)",
+                shaders / 1e6,
+                shaders / naga,
+                (check - shaders) / 1e6,
+                100.0 * (check - shaders) / check
+            );
+        }
+        (Err(e), _, _) | (_, Err(e), _) | (_, _, Err(e)) => println!("instructions not counted: {e}"),
     }
 }

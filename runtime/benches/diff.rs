@@ -13,7 +13,7 @@ use std::path::Path;
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-use common::{interleaved, ms, Size};
+use common::{interleaved, ms, quartiles, Size};
 
 fn main() {
     let size = Size::from_args();
@@ -75,5 +75,36 @@ fn main() {
         100.0 * (q1 - 1.0),
         100.0 * (q3 - 1.0)
     );
+    breakdown(&gpu, (&a, &b), &scene, (&opts, rounds));
     let _ = std::fs::remove_dir_all(&out);
+}
+
+/// What dominates the diff beyond rendering: its stages timed apart (medians over `rounds`),
+/// the rendering first (frames waited for).
+fn breakdown(gpu: &Gpu, (a, b): (&Planned, &Planned), scene: &lightbench::scene::Scene, (opts, rounds): (&Options, usize)) {
+    let (pa, pb) = (&a.exe.plan, &b.exe.plan);
+    let (names, _) = diff::pairs(pa, pb, None).expect("pairs");
+    let mut stages: [Vec<f64>; 3] = Default::default();
+    for _ in 0..rounds {
+        let t = std::time::Instant::now();
+        let (mut ea, mut eb, _) = diff::render(gpu, (a, b), scene, opts.frames).expect("render");
+        ea.wait_idle(gpu).expect("idle");
+        eb.wait_idle(gpu).expect("idle");
+        stages[0].push(t.elapsed().as_secs_f64() * 1e3);
+        let t = std::time::Instant::now();
+        let images = diff::compare_all(gpu, (&ea, &eb), &names, &opts.out).expect("compare");
+        stages[1].push(t.elapsed().as_secs_f64() * 1e3);
+        let mut r = diff::structure(a, b, &scene.name, scene.size);
+        r.images = images;
+        stages[2].push(ms(|| {
+            let _ = report::markdown(&r);
+            report::html(&r, &opts.out).expect("html");
+        }));
+    }
+    let [render, compare, reports] = stages.map(|v| quartiles(v).1);
+    println!(
+        "  by stage (medians): rendering {render:.1} ms; reading back and comparing {} resources (metrics, heat-maps, PNGs on rayon's threads) {compare:.1} ms = {:.0}% of the renders; reports {reports:.1} ms",
+        names.len(),
+        100.0 * compare / render
+    );
 }

@@ -1,8 +1,8 @@
-//! `cargo bench -p lightbench --bench inflight`: wall time of 200 frames of `deferred.lbp`
+//! `cargo bench -p lightbench --bench inflight`: wall time of 20 frames of `deferred.lbp`
 //! on `many_lights` (100 point lights, every pass every frame, no timestamps) with two frames
 //! in flight (the default: the CPU encodes a frame while the GPU runs the one before) against
-//! waiting for each frame as it is submitted (0 in flight: serial), interleaved in one run, as
-//! a ratio. Needs an adapter (lavapipe is
+//! waiting for each frame as it is submitted (0 in flight: serial), in 10 interleaved rounds:
+//! the per-round ratio's median and quartiles. Needs an adapter (lavapipe is
 //! enough; there "the GPU" is the same CPU cores, so overlap gains little, where a real GPU
 //! would hide the encoding). Then the same with GPU timestamps on: each timed frame waited
 //! for (what measurements do) against timestamps read late (what the viewer does);
@@ -17,14 +17,14 @@ use std::time::Instant;
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-use common::Size;
+use common::{interleaved, Size};
 
 impl Size {
     fn frames(self) -> u32 {
-        self.pick(200, 2)
+        self.pick(20, 2)
     }
-    fn rounds(self) -> u32 {
-        self.pick(2, 1)
+    fn rounds(self) -> usize {
+        self.pick(10, 1)
     }
 }
 
@@ -55,29 +55,23 @@ fn run(size: Size) {
     ex.set_reuse(false);
     ex.set_timing(false);
     frames(&gpu, &mut ex, (2, count)); // warm up
-    let (mut waiting, mut overlapped) = (0.0, 0.0);
-    for _ in 0..rounds {
-        waiting += frames(&gpu, &mut ex, (0, count));
-        overlapped += frames(&gpu, &mut ex, (2, count));
-    }
-    println!("deferred.lbp, many_lights at 256×192, {count} frames ({rounds} rounds, interleaved)");
-    println!("  waiting for each frame (0 in flight): {:9.1} ms", waiting / rounds as f64);
-    println!("  2 frames in flight     : {:9.1} ms", overlapped / rounds as f64);
-    println!("  ratio in flight / waiting: {:.3}", overlapped / waiting);
+                                       // Both sides use the one executor in turn.
+    let ex = std::cell::RefCell::new(ex);
+    let run = |in_flight: u32| frames(&gpu, &mut ex.borrow_mut(), (in_flight, count));
+    println!("deferred.lbp, many_lights at 256×192, {count} frames a round, ms:");
+    let p = interleaved(rounds, || run(0), || run(2));
+    println!("{}", p.report(("waiting for each frame (0 in flight)", "2 frames in flight"), "ms"));
     if !gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
         println!("no timestamp queries on this adapter: timed frames not compared");
         return;
     }
-    ex.set_timing(true);
-    let (mut waited, mut late) = (0.0, 0.0);
-    for _ in 0..rounds {
-        ex.set_late_timestamps(false);
-        waited += frames(&gpu, &mut ex, (2, count));
-        ex.set_late_timestamps(true);
-        late += frames(&gpu, &mut ex, (2, count));
-    }
     println!("timed frames (timestamps on), 2 frames in flight:");
-    println!("  each timed frame waited: {:9.1} ms", waited / rounds as f64);
-    println!("  timestamps read late   : {:9.1} ms", late / rounds as f64);
-    println!("  ratio late / waited: {:.3}", late / waited);
+    let timed = |late: bool| {
+        let mut ex = ex.borrow_mut();
+        ex.set_timing(true);
+        ex.set_late_timestamps(late);
+        frames(&gpu, &mut ex, (2, count))
+    };
+    let p = interleaved(rounds, || timed(false), || timed(true));
+    println!("{}", p.report(("each timed frame waited", "timestamps read late"), "ms"));
 }

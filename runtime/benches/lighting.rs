@@ -282,6 +282,7 @@ fn merged_repetitions(gpu: &Gpu) {
             let mut mc = executor(gpu, &ws, &scene, (&v, &[], true, false));
             let mut au = executor(gpu, &ws, &scene, (&v, &[], false, false));
             let mut ratios: [Vec<f64>; 4] = Default::default();
+            let mut per_light = vec![];
             for round in 0..rounds {
                 let f = (1 + round, 1);
                 // Alternating which side goes first, so that neither is always second.
@@ -297,6 +298,7 @@ fn merged_repetitions(gpu: &Gpu) {
                 ratios[1].push(cm.frame_wall_ms / ca.frame_wall_ms);
                 ratios[2].push(cm.picked_ms / ca.picked_ms);
                 ratios[3].push(cmc.frame_wall_ms / cau.frame_wall_ms);
+                per_light.push((cm.picked_ms / n as f64, ca.picked_ms / n as f64));
             }
             let cell = |v: &Vec<f64>| {
                 let (q1, m, q3) = quartiles(v.clone());
@@ -309,6 +311,12 @@ fn merged_repetitions(gpu: &Gpu) {
                 cell(&ratios[2]),
                 cell(&ratios[3])
             );
+            // What dominates: each light's shading, the same work merged or not.
+            let (m, a) = (
+                quartiles(per_light.iter().map(|p| p.0).collect()).1,
+                quartiles(per_light.iter().map(|p| p.1).collect()).1,
+            );
+            println!("      a light's pass: {m:.3} GPU ms merged, {a:.3} apart (medians): its shading, which merging does not change");
         }
     }
 }

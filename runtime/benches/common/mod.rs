@@ -84,7 +84,7 @@ impl Paired {
     pub fn report(&self, (name_a, name_b): (&str, &str), unit: &str) -> String {
         let side = |name: &str, v: &[f64]| {
             let (q1, m, q3) = quartiles(v.to_vec());
-            format!("  {name:<34} {m:>10.3} {unit} (quartiles {q1:.3}–{q3:.3})")
+            format!("  {name:<38} {m:>10.3} {unit} (quartiles {q1:.3}–{q3:.3})")
         };
         let (q1, m, q3) = self.ratio();
         format!(

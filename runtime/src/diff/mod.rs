@@ -219,11 +219,11 @@ fn incomparable(a: &PlanResource, b: &PlanResource) -> Option<String> {
 }
 
 /// Resources left out of the comparison: (name, why).
-type Skipped = Vec<(String, String)>;
+pub type Skipped = Vec<(String, String)>;
 
 /// Pairs of resources to compare, (A's name, B's name): the outputs first, whatever their
 /// names, then the resources of the same name; and those left out with the reason.
-fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<(&'p str, &'p str)>, Skipped)> {
+pub fn pairs<'p>(a: &'p Plan, b: &'p Plan, only: Option<&[String]>) -> Result<(Vec<(&'p str, &'p str)>, Skipped)> {
     let (oa, ob) = (a.output_resource(), b.output_resource());
     if let Some(list) = only {
         if let Some(bad) = list.iter().find(|n| a.resource(n).is_none() && b.resource(n).is_none()) {
@@ -352,7 +352,7 @@ fn analyze(s: Slice, out: &Path) -> Result<ImageDiff> {
 /// Read back and compare every slice of `names`: each resource's slices are analysed on
 /// rayon's threads while the next resource is read back (FLIP alone takes ~0.1 s at 512² on
 /// one core). Results keep the order of `names`.
-fn compare_all(gpu: &Gpu, sides: (&Executor, &Executor), names: &[(&str, &str)], out: &Path) -> Result<Vec<ImageDiff>> {
+pub fn compare_all(gpu: &Gpu, sides: (&Executor, &Executor), names: &[(&str, &str)], out: &Path) -> Result<Vec<ImageDiff>> {
     let results = std::sync::Mutex::new(vec![]);
     let mut read_error = None;
     rayon::scope(|sc| {
