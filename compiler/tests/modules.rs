@@ -300,3 +300,38 @@ fn every_bench_runs_in_the_tests() {
         "benches without `test = true` in their crate's [[bench]] table: {missing:?}"
     );
 }
+
+/// `scripts/bench-figures.sh` as docs/benchmarks.md tells a reader to run it, in its test mode
+/// (each bench's smoke run): every bench named has its output under its name, after the machine
+/// and the load; a bench that does not exist is a usage error that leaves the file as it was.
+/// In a target folder of its own, so that it does not wait on the build running the tests.
+#[test]
+fn the_bench_figures_script_writes_each_bench_under_its_name() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let dir = std::env::temp_dir().join(format!("lightbench-bench-figures-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("figures.md");
+    let run = |benches: &[&str]| {
+        std::process::Command::new("bash")
+            .arg(root.join("scripts/bench-figures.sh"))
+            .args(benches)
+            .env("LB_BENCH_MODE", "test")
+            .env("LB_BENCH_OUT", &out)
+            .env("CARGO_TARGET_DIR", root.join("target/bench-figures-check"))
+            .output()
+            .unwrap()
+    };
+    let done = run(&["memory"]);
+    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.starts_with("# Benchmark figures\n"), "{text}");
+    assert!(text.contains("Machine: ") && text.contains(" cores, "), "{text}");
+    let section = text.split("## memory\n").nth(1).expect("the memory bench's section");
+    assert!(section.contains("load average before: "), "{section}");
+    assert!(section.contains("deferred_gi.lbp  1920×1080, every effect: logical"), "{section}");
+    let bad = run(&["no_such_bench"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("no bench 'no_such_bench'"));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "left as it was");
+    let _ = std::fs::remove_dir_all(&dir);
+}
