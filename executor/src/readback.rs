@@ -43,52 +43,65 @@ fn small_float(bits: u32, m: u32) -> f32 {
     }
 }
 
-fn decode(f: wgpu::TextureFormat, t: &[u8]) -> [f32; 4] {
+/// Rows of `w` texels of `N` bytes each, `row` bytes apart, each decoded by `texel`: one loop
+/// per format (monomorphised), so that nothing is decided per texel but its values.
+fn texels<const N: usize>(data: &[u8], row: usize, (w, h): (usize, usize), texel: impl Fn(&[u8; N]) -> [f32; 4]) -> Vec<f32> {
+    let mut rgba = Vec::with_capacity(w * h * 4);
+    for y in 0..h {
+        for t in data[y * row..y * row + w * N].chunks_exact(N) {
+            rgba.extend_from_slice(&texel(t.try_into().expect("chunks of N bytes")));
+        }
+    }
+    rgba
+}
+
+/// A level's texels (rows `row` bytes apart) as RGBA f32: normalized formats scaled to 0..1,
+/// integers as their values, missing channels 0 and alpha 1.
+fn decode(f: wgpu::TextureFormat, data: &[u8], row: u32, (w, h): (u32, u32)) -> Result<Vec<f32>> {
     use wgpu::TextureFormat as F;
-    let u8n = |i: usize| t[i] as f32 / 255.0;
-    let h = |i: usize| half::f16::from_le_bytes([t[2 * i], t[2 * i + 1]]).to_f32();
-    let f32_at = |i: usize| f32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
-    let u32_at = |i: usize| u32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
-    match f {
-        F::R8Unorm => [u8n(0), 0.0, 0.0, 1.0],
-        F::Rg8Unorm => [u8n(0), u8n(1), 0.0, 1.0],
-        F::Rgba8Unorm | F::Rgba8UnormSrgb => [u8n(0), u8n(1), u8n(2), u8n(3)],
-        F::Bgra8Unorm | F::Bgra8UnormSrgb => [u8n(2), u8n(1), u8n(0), u8n(3)],
-        F::Rgb10a2Unorm => {
-            let v = u32_at(0);
+    let u8n = |v: u8| v as f32 / 255.0;
+    let h16 = |t: &[u8], i: usize| half::f16::from_le_bytes([t[2 * i], t[2 * i + 1]]).to_f32();
+    let u16_at = |t: &[u8], i: usize| u16::from_le_bytes([t[2 * i], t[2 * i + 1]]) as f32;
+    let f32_at = |t: &[u8], i: usize| f32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
+    let u32_at = |t: &[u8], i: usize| u32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
+    let (d, r, s) = (data, row as usize, (w as usize, h as usize));
+    Ok(match f {
+        F::R8Unorm => texels::<1>(d, r, s, |t| [u8n(t[0]), 0.0, 0.0, 1.0]),
+        F::Rg8Unorm => texels::<2>(d, r, s, |t| [u8n(t[0]), u8n(t[1]), 0.0, 1.0]),
+        F::Rgba8Unorm | F::Rgba8UnormSrgb => texels::<4>(d, r, s, |t| t.map(u8n)),
+        F::Bgra8Unorm | F::Bgra8UnormSrgb => texels::<4>(d, r, s, |t| [u8n(t[2]), u8n(t[1]), u8n(t[0]), u8n(t[3])]),
+        F::Rgb10a2Unorm => texels::<4>(d, r, s, |t| {
+            let v = u32_at(t, 0);
             [
                 (v & 1023) as f32 / 1023.0,
                 ((v >> 10) & 1023) as f32 / 1023.0,
                 ((v >> 20) & 1023) as f32 / 1023.0,
                 (v >> 30) as f32 / 3.0,
             ]
-        }
-        F::Rg11b10Ufloat => {
-            let v = u32_at(0);
+        }),
+        F::Rg11b10Ufloat => texels::<4>(d, r, s, |t| {
+            let v = u32_at(t, 0);
             [
                 small_float(v & 0x7ff, 6),
                 small_float((v >> 11) & 0x7ff, 6),
                 small_float(v >> 22, 5),
                 1.0,
             ]
-        }
-        F::R16Float => [h(0), 0.0, 0.0, 1.0],
-        F::Rg16Float => [h(0), h(1), 0.0, 1.0],
-        F::Rgba16Float => [h(0), h(1), h(2), h(3)],
-        F::R32Float | F::Depth32Float => [f32_at(0), 0.0, 0.0, 1.0],
-        F::Depth16Unorm => [u16::from_le_bytes([t[0], t[1]]) as f32 / 65535.0, 0.0, 0.0, 1.0],
-        F::Rg32Float => [f32_at(0), f32_at(1), 0.0, 1.0],
-        F::Rgba32Float => [f32_at(0), f32_at(1), f32_at(2), f32_at(3)],
-        F::R32Uint => [u32_at(0) as f32, 0.0, 0.0, 1.0],
-        F::R32Sint => [u32_at(0) as i32 as f32, 0.0, 0.0, 1.0],
-        F::Rg32Uint => [u32_at(0) as f32, u32_at(1) as f32, 0.0, 1.0],
-        F::Rgba32Uint => [u32_at(0) as f32, u32_at(1) as f32, u32_at(2) as f32, u32_at(3) as f32],
-        F::Rgba16Uint => {
-            let u = |i: usize| u16::from_le_bytes([t[2 * i], t[2 * i + 1]]) as f32;
-            [u(0), u(1), u(2), u(3)]
-        }
-        _ => [f32::NAN; 4],
-    }
+        }),
+        F::R16Float => texels::<2>(d, r, s, |t| [h16(t, 0), 0.0, 0.0, 1.0]),
+        F::Rg16Float => texels::<4>(d, r, s, |t| [h16(t, 0), h16(t, 1), 0.0, 1.0]),
+        F::Rgba16Float => texels::<8>(d, r, s, |t| [h16(t, 0), h16(t, 1), h16(t, 2), h16(t, 3)]),
+        F::R32Float | F::Depth32Float => texels::<4>(d, r, s, |t| [f32_at(t, 0), 0.0, 0.0, 1.0]),
+        F::Depth16Unorm => texels::<2>(d, r, s, |t| [u16_at(t, 0) / 65535.0, 0.0, 0.0, 1.0]),
+        F::Rg32Float => texels::<8>(d, r, s, |t| [f32_at(t, 0), f32_at(t, 1), 0.0, 1.0]),
+        F::Rgba32Float => texels::<16>(d, r, s, |t| [f32_at(t, 0), f32_at(t, 1), f32_at(t, 2), f32_at(t, 3)]),
+        F::R32Uint => texels::<4>(d, r, s, |t| [u32_at(t, 0) as f32, 0.0, 0.0, 1.0]),
+        F::R32Sint => texels::<4>(d, r, s, |t| [u32_at(t, 0) as i32 as f32, 0.0, 0.0, 1.0]),
+        F::Rg32Uint => texels::<8>(d, r, s, |t| [u32_at(t, 0) as f32, u32_at(t, 1) as f32, 0.0, 1.0]),
+        F::Rgba32Uint => texels::<16>(d, r, s, |t| [0, 1, 2, 3].map(|i| u32_at(t, i) as f32)),
+        F::Rgba16Uint => texels::<8>(d, r, s, |t| [0, 1, 2, 3].map(|i| u16_at(t, i))),
+        other => return Err(Error::Resource(format!("reading back {other:?} is not supported"))),
+    })
 }
 
 /// Mip 0 of one array layer.
@@ -97,7 +110,9 @@ pub fn read_texture(gpu: &Gpu, tex: &wgpu::Texture, layer: u32) -> Result<Image>
 }
 
 /// A layer's texels as copied from the GPU, not yet decoded (decoding can then run on
-/// another thread: `lightbench diff` decodes while it reads the next resource).
+/// another thread: `lightbench diff` decodes while it reads the next resource). Equal when
+/// their bytes are: `diff` decodes and measures two equal slices once.
+#[derive(PartialEq)]
 pub struct Raw {
     format: wgpu::TextureFormat,
     bytes: Vec<u8>,
@@ -107,21 +122,12 @@ pub struct Raw {
 
 impl Raw {
     pub fn decode(&self) -> Result<Image> {
-        let f = self.format;
-        let bpp = texel_bytes(f)?;
         let (w, h) = self.size;
-        let mut rgba = Vec::with_capacity((w * h * 4) as usize);
-        for y in 0..h {
-            for x in 0..w {
-                let o = (y * self.row + x * bpp) as usize;
-                rgba.extend_from_slice(&decode(f, &self.bytes[o..o + bpp as usize]));
-            }
-        }
         Ok(Image {
             width: w,
             height: h,
-            rgba,
-            srgb: f.is_srgb(),
+            rgba: decode(self.format, &self.bytes, self.row, self.size)?,
+            srgb: self.format.is_srgb(),
         })
     }
 }
@@ -140,21 +146,11 @@ pub fn read_texture_raw(gpu: &Gpu, tex: &wgpu::Texture, layer: u32, mip: u32) ->
 /// One layer of one mip level.
 pub fn read_texture_mip(gpu: &Gpu, tex: &wgpu::Texture, layer: u32, mip: u32) -> Result<Image> {
     let f = tex.format();
-    let bpp = texel_bytes(f)?;
-    let (w, h, rgba) = with_texels(gpu, tex, (layer, mip), |data, row, (w, h)| {
-        let mut rgba = Vec::with_capacity((w * h * 4) as usize);
-        for y in 0..h {
-            for x in 0..w {
-                let o = (y * row + x * bpp) as usize;
-                rgba.extend_from_slice(&decode(f, &data[o..o + bpp as usize]));
-            }
-        }
-        rgba
-    })?;
+    let (w, h, rgba) = with_texels(gpu, tex, (layer, mip), |data, row, size| decode(f, data, row, size))?;
     Ok(Image {
         width: w,
         height: h,
-        rgba,
+        rgba: rgba?,
         srgb: f.is_srgb(),
     })
 }
@@ -292,7 +288,46 @@ pub fn read_buffer(gpu: &Gpu, src: &wgpu::Buffer) -> Result<Vec<f32>> {
 
 #[cfg(test)]
 mod tests {
-    use super::small_float;
+    use super::{decode, small_float};
+
+    /// Rows padded beyond their texels (as copies to buffers are) decode to the texels alone,
+    /// channel by channel as each format stores them.
+    #[test]
+    fn padded_rows_decode_by_format() {
+        use wgpu::TextureFormat as F;
+        // 2×2 texels, 4 bytes each, rows 12 bytes apart (4 of padding).
+        let rows = [
+            [0u8, 51, 255, 102, 255, 0, 0, 255, 9, 9, 9, 9],
+            [1, 2, 3, 4, 5, 6, 7, 8, 9, 9, 9, 9],
+        ];
+        let data: Vec<u8> = rows.concat();
+        let rgba = decode(F::Rgba8Unorm, &data, 12, (2, 2)).unwrap();
+        assert_eq!(rgba.len(), 16);
+        assert_eq!(&rgba[..8], &[0.0, 0.2, 1.0, 0.4, 1.0, 0.0, 0.0, 1.0]);
+        assert_eq!(rgba[8], 1.0 / 255.0);
+        let bgra = decode(F::Bgra8Unorm, &data, 12, (2, 2)).unwrap();
+        assert_eq!(&bgra[..4], &[1.0, 0.2, 0.0, 0.4]);
+        let depth: Vec<u8> = [0.25f32, -1.5].iter().flat_map(|v| v.to_le_bytes()).collect();
+        assert_eq!(
+            decode(F::Depth32Float, &depth, 8, (2, 1)).unwrap(),
+            [0.25, 0.0, 0.0, 1.0, -1.5, 0.0, 0.0, 1.0]
+        );
+        let half: Vec<u8> = [1.0f32, -2.0, 0.5, 65504.0]
+            .iter()
+            .flat_map(|v| half::f16::from_f32(*v).to_le_bytes())
+            .collect();
+        assert_eq!(decode(F::Rgba16Float, &half, 8, (1, 1)).unwrap(), [1.0, -2.0, 0.5, 65504.0]);
+        assert!(decode(
+            F::Astc {
+                block: wgpu::AstcBlock::B4x4,
+                channel: wgpu::AstcChannel::Unorm
+            },
+            &data,
+            12,
+            (1, 1)
+        )
+        .is_err());
+    }
 
     #[test]
     fn eleven_bit_floats_decode() {

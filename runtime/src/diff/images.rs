@@ -9,23 +9,25 @@ use std::path::Path;
 /// sRGB-encoded, as PNG stores them); with `range`, data stretched from its lowest to its
 /// highest value; single-channel data as grey; non-finite values white.
 pub fn display_rgb8(img: &Image, channels: usize, range: Option<(f32, f32)>) -> Vec<u8> {
-    let encode = |v: f32| -> u8 {
-        let v = match range {
-            Some((lo, hi)) if v.is_finite() => (v - lo) / if hi > lo { hi - lo } else { 1.0 },
-            Some(_) => 1.0,
-            None if img.srgb => v,
-            None => crate::io::linear_to_srgb(v),
-        };
-        (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8
-    };
-    let mut out = Vec::with_capacity(img.rgba.len() / 4 * 3);
-    for p in img.rgba.chunks(4) {
+    let byte = |v: f32| (v.clamp(0.0, 1.0) * 255.0 + 0.5) as u8;
+    // The encoding chosen once, each a loop of its own.
+    match range {
+        Some((lo, hi)) => {
+            let span = if hi > lo { hi - lo } else { 1.0 };
+            rgb8(img, channels, |v| if v.is_finite() { byte((v - lo) / span) } else { 255 })
+        }
+        None if img.srgb => rgb8(img, channels, byte),
+        None => rgb8(img, channels, |v| byte(crate::io::linear_to_srgb(v))),
+    }
+}
+
+/// Each pixel's first three channels (or its first as grey) through `encode`.
+fn rgb8(img: &Image, channels: usize, encode: impl Fn(f32) -> u8) -> Vec<u8> {
+    let mut out = vec![0u8; img.rgba.len() / 4 * 3];
+    for (o, p) in out.chunks_exact_mut(3).zip(img.rgba.chunks_exact(4)) {
         match channels {
-            1 => {
-                let g = encode(p[0]);
-                out.extend([g, g, g]);
-            }
-            _ => out.extend([encode(p[0]), encode(p[1]), encode(p[2])]),
+            1 => o.fill(encode(p[0])),
+            _ => o.copy_from_slice(&[encode(p[0]), encode(p[1]), encode(p[2])]),
         }
     }
     out
@@ -34,12 +36,18 @@ pub fn display_rgb8(img: &Image, channels: usize, range: Option<(f32, f32)>) -> 
 /// Lowest and highest finite value of the first `channels` channels of both images.
 pub fn value_range(a: &Image, b: &Image, channels: usize) -> (f32, f32) {
     let n = channels.clamp(1, 3);
-    a.rgba
-        .chunks(4)
-        .chain(b.rgba.chunks(4))
-        .flat_map(|p| p[..n].iter().copied())
-        .filter(|v| v.is_finite())
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)))
+    let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+    // One image twice (equal sides) is scanned once.
+    let images: &[&Image] = if std::ptr::eq(a, b) { &[a] } else { &[a, b] };
+    for img in images {
+        for p in img.rgba.chunks_exact(4) {
+            for &v in p[..n].iter().filter(|v| v.is_finite()) {
+                lo = lo.min(v);
+                hi = hi.max(v);
+            }
+        }
+    }
+    (lo, hi)
 }
 
 /// The error map (0..1 per pixel) through the magma colour map (FLIP's), as 8-bit RGB.
@@ -47,12 +55,12 @@ fn heat_rgb(map: &[f32]) -> Vec<u8> {
     static LUT: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
     let lut = LUT.get_or_init(|| nv_flip::magma_lut().to_vec());
     let entries = (lut.len() / 3).max(1);
-    map.iter()
-        .flat_map(|&v| {
-            let i = ((v.clamp(0.0, 1.0) * (entries - 1) as f32).round() as usize).min(entries - 1) * 3;
-            [lut[i], lut[i + 1], lut[i + 2]]
-        })
-        .collect()
+    let mut out = vec![0u8; map.len() * 3];
+    for (o, &v) in out.chunks_exact_mut(3).zip(map) {
+        let i = ((v.clamp(0.0, 1.0) * (entries - 1) as f32).round() as usize).min(entries - 1) * 3;
+        o.copy_from_slice(&lut[i..i + 3]);
+    }
+    out
 }
 
 /// An 8-bit RGB image as a PNG file (atomic).
@@ -78,7 +86,14 @@ pub fn write(
     let (w, h) = (a.width, a.height);
     let range = stretch.then(|| value_range(a, b, channels));
     let heat = heat_rgb(map);
-    let panels = [display_rgb8(a, channels, range), display_rgb8(b, channels, range), heat.clone()];
+    let shown_a = display_rgb8(a, channels, range);
+    // Equal sides (`diff` passes one image twice) are shown from one conversion.
+    let shown_b = if std::ptr::eq(a, b) {
+        shown_a.clone()
+    } else {
+        display_rgb8(b, channels, range)
+    };
+    let panels = [shown_a, shown_b, heat.clone()];
     // Three panels side by side, 2 px apart on grey.
     let gap = 2u32;
     let sw = 3 * w + 2 * gap;

@@ -33,8 +33,13 @@ pub struct Compared {
 /// Mean FLIP of two colour images (as displayed: 8-bit sRGB) and its error map.
 pub fn flip(a: &Image, b: &Image) -> (f64, Vec<f32>) {
     let (ra, rb) = (display_rgb8(a, 3, None), display_rgb8(b, 3, None));
-    let fa = nv_flip::FlipImageRgb8::with_data(a.width, a.height, &ra);
-    let fb = nv_flip::FlipImageRgb8::with_data(b.width, b.height, &rb);
+    flip_rgb8((&ra, &rb), (a.width, a.height))
+}
+
+/// `flip` of images already as displayed.
+fn flip_rgb8((ra, rb): (&[u8], &[u8]), (w, h): (u32, u32)) -> (f64, Vec<f32>) {
+    let fa = nv_flip::FlipImageRgb8::with_data(w, h, ra);
+    let fb = nv_flip::FlipImageRgb8::with_data(w, h, rb);
     let map = nv_flip::flip(fa, fb, nv_flip::DEFAULT_PIXELS_PER_DEGREE);
     (nv_flip::FlipPool::from_image(&map).mean() as f64, map.to_vec())
 }
@@ -42,8 +47,8 @@ pub fn flip(a: &Image, b: &Image) -> (f64, Vec<f32>) {
 /// Mean FLIP and its error map; SSIM (both on 8-bit sRGB).
 fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
     // FLIP and SSIM take display images: 8-bit sRGB.
-    let (mean, map) = flip(a, b);
     let (ra, rb) = (display_rgb8(a, 3, None), display_rgb8(b, 3, None));
+    let (mean, map) = flip_rgb8((&ra, &rb), (a.width, a.height));
     let ssim = match (
         image::RgbImage::from_raw(a.width, a.height, ra),
         image::RgbImage::from_raw(b.width, b.height, rb),
@@ -59,11 +64,36 @@ fn perceptual(a: &Image, b: &Image) -> (f64, Vec<f32>, Option<f64>) {
     (mean, map, ssim)
 }
 
+/// Whether two images hold the same bits (a NaN equals the same NaN).
+pub fn same_bits(a: &Image, b: &Image) -> bool {
+    std::ptr::eq(a, b) || (a.rgba.len() == b.rgba.len() && a.rgba.iter().zip(&b.rgba).all(|(x, y)| x.to_bits() == y.to_bits()))
+}
+
+/// What two equal images measure: nothing apart anywhere; FLIP 0 and SSIM 1 for colour by
+/// their definitions (SSIM where the image holds one of its 8×8 windows).
+fn equal(a: &Image, n: usize, colour: bool) -> Compared {
+    let against = crate::regions::Against { mean: a, variance: None };
+    Compared {
+        metrics: Metrics {
+            rmse: 0.0,
+            max_abs: 0.0,
+            psnr_db: None,
+            flip_mean: colour.then_some(0.0),
+            ssim: (colour && a.width >= 8 && a.height >= 8).then_some(1.0),
+            blocks: crate::regions::block_ratios(&a.rgba, against, n.min(3)),
+        },
+        error_map: vec![0.0; (a.width * a.height) as usize],
+    }
+}
+
 /// Compare B against A (same size). `channels`: how many channels the format has;
 /// `colour`: an image meant for display (an sRGB format), which gets FLIP and SSIM — both
 /// measure what a viewer sees, which data such as normals or albedo are not.
 pub fn compare(a: &Image, b: &Image, channels: usize, colour: bool) -> Compared {
     let n = channels.clamp(1, 4);
+    if same_bits(a, b) {
+        return equal(a, n, colour);
+    }
     let (mut sum, mut max_abs, mut peak) = (0.0f64, 0.0f64, 1.0f64);
     let mut diff_map = Vec::with_capacity((a.width * a.height) as usize);
     for (pa, pb) in a.rgba.chunks(4).zip(b.rgba.chunks(4)) {
@@ -128,7 +158,13 @@ mod tests {
         let same = compare(&a, &a.clone(), 4, true);
         assert_eq!((same.metrics.rmse, same.metrics.max_abs, same.metrics.psnr_db), (0.0, 0.0, None));
         assert_eq!(same.metrics.flip_mean, Some(0.0));
-        assert!(same.metrics.ssim.unwrap() > 0.999);
+        assert_eq!(same.metrics.ssim, Some(1.0));
+        assert!(same.error_map.iter().all(|e| *e == 0.0));
+        // What equal images are said to measure is what FLIP and SSIM measure on them.
+        let (flip, map, ssim) = perceptual(&a, &a.clone());
+        assert_eq!(flip, 0.0);
+        assert!(map.iter().all(|e| *e == 0.0));
+        assert!((ssim.unwrap() - 1.0).abs() < 1e-9, "{ssim:?}");
         // A bright square in the top-left corner.
         let b = image(32, 32, |x, y| if x < 8 && y < 8 { [1.0, 1.0, 1.0, 1.0] } else { a.pixel(x, y) });
         let d = compare(&a, &b, 4, true);
