@@ -188,6 +188,46 @@ fn main() {
     if size == Size::Full {
         instructions();
     }
+    growth(&root, size.pick(&[5_000, 10_000, 20_000, 40_000][..], &[500, 1_000][..]));
+}
+
+/// `check` of `deferred.lbp` with `n` more parameters declared, for each `n`: CPU seconds
+/// and the growth exponent between the two largest (1: linear in the file's size).
+fn growth(root: &Path, counts: &[usize]) {
+    let text = std::fs::read_to_string(root.join("pipelines/deferred.lbp")).unwrap();
+    let dir = std::env::temp_dir().join(format!("lightbench-bench-growth-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // The data files the pipeline names, beside it.
+    for e in std::fs::read_dir(root.join("pipelines")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "json") {
+            std::fs::copy(&p, dir.join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let shaders = root.join("shaders");
+    let mut points = vec![];
+    for &n in counts {
+        let filler: String = (0..n).map(|i| format!("param filler.p{i}: Float = 1 in 0..2 \"f\"\n")).collect();
+        let file = dir.join(format!("deferred_{n}.lbp"));
+        std::fs::write(
+            &file,
+            text.replacen("param ambient.color", &format!("{filler}param ambient.color"), 1),
+        )
+        .unwrap();
+        let t = Instant::now();
+        for s in Workspace::disk().check_files(std::slice::from_ref(&file), Some(&shaders), &Profile::vulkan(), None) {
+            assert!(!s.diags.has_errors(), "{}", s.render());
+        }
+        points.push((n as f64, t.elapsed().as_secs_f64()));
+    }
+    let line: Vec<String> = points.iter().map(|(n, t)| format!("{n} {:.3} s", t)).collect();
+    let [.., (n0, t0), (n1, t1)] = points[..] else { return };
+    println!(
+        "check of deferred.lbp with more parameters: {}; growth exponent {:.2} (1: linear)",
+        line.join(", "),
+        (t1 / t0).ln() / (n1 / n0).ln()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Instructions of `rounds` rounds of one side, counted by callgrind in a child process

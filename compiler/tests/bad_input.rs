@@ -1726,3 +1726,23 @@ fn a_per_pixel_buffer_takes_no_data() {
         58,
     );
 }
+
+/// Two names that bind to one shader identifier (`.` becomes `_`) are ambiguous; the second
+/// declared is the one located, the first named beside it.
+#[test]
+fn names_binding_to_one_shader_identifier() {
+    expect(
+        Case {
+            pipeline: &[(
+                "\"linear\": Sampler(filter: Linear),",
+                "\"linear\": Sampler(filter: Linear),\n        \"post_exposure\": Sampler(filter: Linear),",
+            )],
+            ..BASE
+        },
+        "ambiguous-name",
+        "`post_exposure` and `post.exposure` both bind to the shader name `post_exposure`",
+        "pipelines/p.ron",
+        4,
+        9,
+    );
+}

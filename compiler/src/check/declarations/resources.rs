@@ -213,7 +213,8 @@ fn mips(r: &Resource, t: &TextureDesc, diags: &mut Diagnostics) {
 
 /// Two names that map to one shader identifier would make binding by name ambiguous.
 fn ambiguous(p: &Pipeline, diags: &mut Diagnostics) {
-    let mut seen: Vec<(String, &Spanned<String>)> = vec![];
+    // Names by shader identifier (by hash: linear in the declarations).
+    let mut seen: std::collections::HashMap<String, Vec<&Spanned<String>>> = Default::default();
     let names = p
         .resources
         .iter()
@@ -222,8 +223,9 @@ fn ambiguous(p: &Pipeline, diags: &mut Diagnostics) {
         .chain(p.params.iter().map(|s| &s.name));
     for n in names {
         let id = shader_ident(n);
+        let same_id = seen.entry(id.clone()).or_default();
         // Equal names are `duplicate-name`, reported once already.
-        if let Some((_, prev)) = seen.iter().find(|(i, prev)| *i == id && prev.value != n.value) {
+        if let Some(prev) = same_id.iter().find(|prev| prev.value != n.value) {
             diags.push(
                 Diagnostic::error(
                     Code::AmbiguousName,
@@ -233,6 +235,6 @@ fn ambiguous(p: &Pipeline, diags: &mut Diagnostics) {
                 .with_secondary(prev.span, "first here"),
             );
         }
-        seen.push((id, n));
+        same_id.push(n);
     }
 }

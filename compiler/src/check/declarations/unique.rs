@@ -7,14 +7,17 @@ use crate::ir::Pipeline;
 use crate::span::Spanned;
 
 fn duplicates<'a>(what: &str, names: impl IntoIterator<Item = &'a Spanned<String>>, diags: &mut Diagnostics) {
-    let mut seen: Vec<&Spanned<String>> = vec![];
+    // By hash: a file of tens of thousands of parameters is checked in linear time.
+    let mut seen: std::collections::HashMap<&str, &Spanned<String>> = Default::default();
     for n in names {
-        match seen.iter().find(|s| s.value == n.value) {
+        match seen.get(n.value.as_str()) {
             Some(first) => diags.push(
                 Diagnostic::error(Code::DuplicateName, format!("{what} `{}` is declared twice", n.value), n.span)
                     .with_secondary(first.span, "first declared here"),
             ),
-            None => seen.push(n),
+            None => {
+                seen.insert(&n.value, n);
+            }
         }
     }
 }
