@@ -1,6 +1,6 @@
 //! `lightbench check`: front end, shader validation and every check stage, no GPU.
 
-use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK};
+use super::{usage_error, Format, EXIT_ERRORS, EXIT_OK, EXIT_USAGE};
 use lightbench_compiler::diag::{Code, Diagnostic, Severity};
 use lightbench_compiler::scene::{file_kind, FileKind};
 use lightbench_compiler::{pipeline_files, Session, Workspace};
@@ -9,16 +9,16 @@ use std::path::{Path, PathBuf};
 pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>, shaders: Option<&Path>, params: &[String]) -> i32 {
     let profile = match super::profile(profile) {
         Ok(p) => p,
-        Err(e) => return usage_error(e),
+        Err(e) => return refuse(format, e.to_string()),
     };
     let files = match files_of(paths) {
         Ok(f) => f,
-        Err(e) => return usage_error(e),
+        Err(e) => return refuse(format, e),
     };
     // Pipelines in one run share compiled shaders.
     let ws = Workspace::disk();
     if let Err(e) = check_params(&ws, &files, (shaders, &profile), params) {
-        return usage_error(e);
+        return refuse(format, e.to_string());
     }
     let (mut errors, mut warnings, mut scenes, mut sweeps) = (0, 0, 0, 0);
     // What planning needs of the scene (its models' JSON, no geometry or texture), once for
@@ -99,12 +99,31 @@ pub fn run(paths: &[PathBuf], format: Format, profile: &str, scene: Option<&str>
     }
 }
 
+/// A usage error in the format asked for: under `--format json`, one object as a diagnostic's
+/// (`code` "usage", no file) on stdout, where a tool reading the output looks.
+fn refuse(format: Format, msg: String) -> i32 {
+    match format {
+        Format::Human => usage_error(msg),
+        Format::Json => {
+            let obj = serde_json::json!({"severity": "error", "code": "usage", "message": msg, "notes": [], "labels": [], "file": null});
+            println!("{obj}");
+            EXIT_USAGE
+        }
+    }
+}
+
 /// The files the paths name: each file, and the pipeline and scene files below each directory.
 fn files_of(paths: &[PathBuf]) -> std::result::Result<Vec<PathBuf>, String> {
     let mut files = vec![];
     for p in paths {
-        if !p.exists() {
+        let Ok(meta) = std::fs::metadata(p) else {
             return Err(format!("no such file or directory: {}", p.display()));
+        };
+        if !meta.is_file() && !meta.is_dir() {
+            return Err(format!(
+                "{} is not a regular file or a directory (a device, pipe or socket): nothing to check",
+                p.display()
+            ));
         }
         match pipeline_files(p) {
             Ok(f) if f.is_empty() => return Err(format!("no pipeline files (.ron, .lbp) in {}", p.display())),

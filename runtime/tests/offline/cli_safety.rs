@@ -256,6 +256,43 @@ fn render_refuses_to_replace_devices_and_fifos() {
     assert!(temporaries(&d).is_empty());
 }
 
+/// `check` of a FIFO (or a device) is refused in those words, exit 2, without opening it (a
+/// FIFO would wait for a writer); under `--format json` as one JSON object on stdout.
+#[cfg(unix)]
+#[test]
+fn check_refuses_fifos_in_the_format_asked_for() {
+    let d = temp("check-fifo");
+    let fifo = d.join("ff.lbp");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let (code, _, err) = lightbench(&["check", fifo.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("ff.lbp is not a regular file or a directory (a device, pipe or socket)"),
+        "{err}"
+    );
+    let (code, out, _) = lightbench(&["check", fifo.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 2);
+    let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap_or_else(|e| panic!("{e}: {out}"));
+    assert_eq!((v["severity"].as_str(), v["code"].as_str()), (Some("error"), Some("usage")));
+    assert!(v["message"].as_str().unwrap().contains("not a regular file or a directory"), "{v}");
+    let (code, out, _) = lightbench(&["check", d.join("none.lbp").to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 2);
+    assert!(
+        out.contains("\"code\":\"usage\"") && out.contains("no such file or directory"),
+        "{out}"
+    );
+    // The other usage errors of `check` alike: an unknown profile, a `--param` no pipeline has.
+    let deferred = root().join("pipelines/deferred.lbp");
+    for extra in [["--profile", "nope"], ["--param", "no.such=1"]] {
+        let mut args = vec!["check", deferred.to_str().unwrap(), "--format", "json"];
+        args.extend(extra);
+        let (code, out, _) = lightbench(&args);
+        assert_eq!(code, 2, "{out}");
+        let v: serde_json::Value = serde_json::from_str(out.trim()).unwrap_or_else(|e| panic!("{e}: {out}"));
+        assert_eq!(v["code"].as_str(), Some("usage"), "{v}");
+    }
+}
+
 /// `lightbench check . 2>&1 | head -1`: the reader goes away before the diagnostics are
 /// written. The run ends quietly (killed by SIGPIPE, as other tools are, or done first),
 /// never with a panic (exit 101).
