@@ -6,20 +6,7 @@
 // first frame (or a τ of 0) takes the measured value. Reads `frame.time`, so the pass runs
 // every frame.
 #include "lib/frame.wgsl"
-#include "lib/log_average.wgsl"
-
-struct Params {
-    key: f32,
-    automatic: u32,
-    ev: f32,
-    by_luminance: u32,
-    tau_brighter: f32,
-    tau_darker: f32,
-};
-
-@group(2) @binding(0) var lum_tiles: texture_2d<f32>;
-@group(2) @binding(1) var<storage, read_write> lum: Luminance;
-@group(2) @binding(2) var<uniform> params: Params;
+#include "lib/luminance_reduce.wgsl"
 
 @compute @workgroup_size(16, 16, 1)
 fn cs_main(@builtin(local_invocation_index) idx: u32) {
@@ -32,7 +19,6 @@ fn cs_main(@builtin(local_invocation_index) idx: u32) {
         let step = 1.0 - exp(-dt / max(tau, 1e-6));
         let fresh = !(previous > 0.0) || tau <= 0.0;
         let adapted = select(previous + (measured - previous) * step, measured, fresh);
-        let m = Metering(params.key, params.automatic, params.ev, params.by_luminance);
-        lum = luminance_record(r, adapted, frame.time, m);
+        lum = luminance_record(r, adapted, frame.time, metering());
     }
 }

@@ -179,18 +179,6 @@ fn io_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, na
     }
 }
 
-fn builtins_of(m: &naga::Module, ty: Handle<naga::Type>, binding: Option<&Binding>, out: &mut Vec<naga::BuiltIn>) {
-    match (&m.types[ty].inner, binding) {
-        (TypeInner::Struct { members, .. }, None) => {
-            for mem in members {
-                builtins_of(m, mem.ty, mem.binding.as_ref(), out);
-            }
-        }
-        (_, Some(Binding::BuiltIn(b))) => out.push(*b),
-        _ => {}
-    }
-}
-
 /// Location outputs of an entry point, sorted by location.
 pub fn outputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
     let f = &sm.module.entry_points[ep].function;
@@ -210,19 +198,6 @@ pub fn inputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
         io_of(&sm.module, a.ty, a.binding.as_ref(), a.name.as_deref(), &mut out);
     }
     out.sort_by_key(|v| v.location);
-    out
-}
-
-/// Built-ins an entry point reads or writes (e.g. `view_index`, `clip_distances`).
-pub fn builtins(sm: &ShaderModule, ep: usize) -> Vec<naga::BuiltIn> {
-    let f = &sm.module.entry_points[ep].function;
-    let mut out = vec![];
-    for a in &f.arguments {
-        builtins_of(&sm.module, a.ty, a.binding.as_ref(), &mut out);
-    }
-    if let Some(r) = &f.result {
-        builtins_of(&sm.module, r.ty, r.binding.as_ref(), &mut out);
-    }
     out
 }
 

@@ -287,6 +287,45 @@ fn replacing_the_plan_keeps_unchanged_resources() {
     assert!(e > 1e-4 && e < 0.25, "RMSE {e}");
 }
 
+/// docs/embedding.md: `replace` reuses textures and buffers *of the same name* whose
+/// descriptors did not change. The output renamed (`ldr` → `display`, the same descriptor)
+/// is made anew; the rest is reused; the image is the same.
+#[test]
+fn replacing_the_plan_reuses_resources_by_name_and_descriptor() {
+    use lightbench_compiler::vfs::Vfs;
+    use lightbench_compiler::workspace::Workspace;
+    let g = gpu();
+    let scene = builtin::cornell();
+    let vfs = memory_project();
+    let ws = Workspace::new(vfs.clone());
+    let path = std::path::Path::new("mem/pipelines/deferred.lbp");
+    let (exe, _) = lightbench::render::compile_in(&ws, &g, path, None, &scene, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let mut ex = lightbench::render::render(&g, &exe, &scene, 1).unwrap();
+    let before = output(&g, &ex);
+    let text = vfs.read(path).unwrap();
+    let renamed = text
+        .replace("texture ldr: Rgba8UnormSrgb viewport", "texture display: Rgba8UnormSrgb viewport")
+        .replace("color match(aa) { \"none\": ldr,", "color match(aa) { \"none\": display,")
+        .replace("    color ldr\n", "    color display\n")
+        .replace("    color ldr, taa.history", "    color display, taa.history")
+        .replace("\noutput ldr\n", "\noutput display\n");
+    assert!(
+        !renamed.contains(" ldr\n") && !renamed.contains(" ldr,"),
+        "every use of `ldr` renamed"
+    );
+    vfs.write(path, renamed);
+    let (exe, _) = lightbench::render::compile_in(&ws, &g, path, None, &scene, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let report = ex.replace(&g, &exe).unwrap();
+    assert!(report.resources_created.iter().any(|r| r == "display"), "{report:?}");
+    assert!(!report.resources_reused.iter().any(|r| r == "display" || r == "ldr"), "{report:?}");
+    for name in ["gbuf.normal", "gbuf.depth", "hdr"] {
+        assert!(report.resources_reused.iter().any(|r| r == name), "{name}: {report:?}");
+    }
+    ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
+    let after = ex.read_texture(&g, "display", 0, 0).unwrap();
+    assert_eq!(rmse(&before, &after).unwrap(), 0.0);
+}
+
 #[test]
 fn black_frame_tone_maps_to_black() {
     let g = gpu();

@@ -314,15 +314,6 @@ impl SceneFeatures {
         }
         out
     }
-
-    /// Set which of the lights cast shadows (kinds of the casting lights that are on).
-    pub fn with_casters(mut self, casters: impl IntoIterator<Item = LightKind>) -> Self {
-        self.casters.clear();
-        for k in casters {
-            *self.casters.entry(k).or_insert(0u32) += 1;
-        }
-        self
-    }
 }
 
 /// A scene file as written, lowered from the tree: what it sets, before it is merged with
