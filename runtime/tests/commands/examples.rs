@@ -9,16 +9,38 @@ use cli_common::{lightbench, root, scratch};
 use std::path::PathBuf;
 use std::process::Command;
 
-/// An example's binary: `cargo test --workspace` builds the examples beside the tests.
+/// An example's binary: `cargo test --workspace` builds the examples beside the tests; a run
+/// of this crate's tests alone (`cargo test -p lightbench`) builds the one asked for, once, in
+/// a target folder of its own (so that it does not wait on the build running the tests).
 fn example(name: &str) -> PathBuf {
     let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
     let exe = deps.parent().unwrap().join("examples").join(name);
+    if exe.is_file() {
+        return exe;
+    }
+    static BUILDING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    let _one_at_a_time = BUILDING.lock().unwrap_or_else(|e| e.into_inner());
+    let target = root().join("target/examples-check");
+    let built = target.join("debug/examples").join(name);
+    let krate = ["executor", "reference"]
+        .into_iter()
+        .find(|k| root().join(k).join("examples").join(format!("{name}.rs")).is_file())
+        .unwrap_or_else(|| panic!("no example `{name}` in executor/ or reference/"));
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.args(["build", "--example", name, "--target-dir"]).arg(&target);
+    cmd.args(["-p", &format!("lightbench-{krate}")]);
+    if krate == "executor" {
+        cmd.args(["--features", "reload"]);
+    }
+    let out = cmd.current_dir(root()).output().unwrap();
     assert!(
-        exe.is_file(),
-        "{} is missing: run the tests with `cargo test --workspace`, which builds the examples",
-        exe.display()
+        out.status.success(),
+        "building example {name}: {}",
+        String::from_utf8_lossy(&out.stderr)
     );
-    exe
+    assert!(built.is_file(), "{} is missing after building it", built.display());
+    built
 }
 
 #[test]
