@@ -333,5 +333,16 @@ fn the_bench_figures_script_writes_each_bench_under_its_name() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("no bench 'no_such_bench'"));
     assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "left as it was");
+    // A mode that is neither `bench` nor `test`: a usage error too, the file left.
+    let bad_mode = std::process::Command::new("bash")
+        .arg(root.join("scripts/bench-figures.sh"))
+        .arg("memory")
+        .env("LB_BENCH_MODE", "run")
+        .env("LB_BENCH_OUT", &out)
+        .output()
+        .unwrap();
+    assert_eq!(bad_mode.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad_mode.stderr).contains("LB_BENCH_MODE must be bench or test, not 'run'"));
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "left as it was");
     let _ = std::fs::remove_dir_all(&dir);
 }
