@@ -7,16 +7,19 @@
 //!
 //! The folders holding the files are watched, not the files: editors that write a temporary
 //! file and rename it over, or delete and create, replace the file's inode, which a watch on
-//! the file itself would lose.
+//! the file itself would lose. A folder can be replaced the same way (`git checkout`, an
+//! editor's project sync): each poll compares every watched folder's file id with the one
+//! watched, and watches a replaced folder anew, its files counting as changed.
 
 use crate::{Executor, Gpu, ReloadReport};
 use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::{Executable, Workspace};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::Scene;
+use notify_debouncer_full::file_id::{get_file_id, FileId};
 use notify_debouncer_full::notify::{RecommendedWatcher, RecursiveMode};
 use notify_debouncer_full::{new_debouncer, DebounceEventResult, Debouncer, RecommendedCache};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
@@ -44,7 +47,15 @@ struct Watch {
     debouncer: Debouncer<RecommendedWatcher, RecommendedCache>,
     rx: Receiver<DebounceEventResult>,
     files: BTreeSet<PathBuf>,
-    dirs: BTreeSet<PathBuf>,
+    /// Each folder with the id of the folder watched there (`None`: none is, it was missing).
+    dirs: BTreeMap<PathBuf, Option<FileId>>,
+    /// Files of a folder watched anew, reported as changed by the next `changed`.
+    pending: Option<(BTreeSet<PathBuf>, Instant)>,
+}
+
+/// A folder's id while it is one (`None` when it is gone or is no folder).
+fn folder_id(d: &Path) -> Option<FileId> {
+    d.is_dir().then(|| get_file_id(d).ok()).flatten()
 }
 
 impl Watch {
@@ -55,7 +66,8 @@ impl Watch {
             debouncer,
             rx,
             files: BTreeSet::new(),
-            dirs: BTreeSet::new(),
+            dirs: BTreeMap::new(),
+            pending: None,
         })
     }
 
@@ -63,22 +75,59 @@ impl Watch {
     fn set_files(&mut self, files: impl IntoIterator<Item = PathBuf>) -> Result<()> {
         self.files = files.into_iter().map(|f| absolute(&f)).collect();
         let dirs: BTreeSet<PathBuf> = self.files.iter().filter_map(|f| f.parent().map(Path::to_path_buf)).collect();
-        for d in dirs.difference(&self.dirs.clone()) {
-            if d.is_dir() {
-                self.debouncer
-                    .watch(d, RecursiveMode::NonRecursive)
-                    .map_err(|e| Error::io(d, format!("cannot watch: {e}")))?;
-                self.dirs.insert(d.clone());
+        for d in dirs {
+            if !self.dirs.contains_key(&d) {
+                let id = self.watch_dir(&d)?;
+                self.dirs.insert(d, id);
             }
         }
         Ok(())
     }
 
+    /// Watch the folder at `d` if there is one; its id.
+    fn watch_dir(&mut self, d: &Path) -> Result<Option<FileId>> {
+        let Some(id) = folder_id(d) else { return Ok(None) };
+        self.debouncer
+            .watch(d, RecursiveMode::NonRecursive)
+            .map_err(|e| Error::io(d, format!("cannot watch: {e}")))?;
+        Ok(Some(id))
+    }
+
+    /// Watch anew every folder that is no longer the one watched (moved away or deleted, and
+    /// made again); its watched files count as changed. The folders watched anew.
+    fn rewatch_replaced(&mut self) -> Result<Vec<PathBuf>> {
+        let replaced: Vec<PathBuf> = (self.dirs.iter())
+            .filter(|(d, id)| folder_id(d) != **id)
+            .map(|(d, _)| d.clone())
+            .collect();
+        let mut again = vec![];
+        for d in replaced {
+            if self.dirs[&d].is_some() {
+                // The old folder's watch (it may still exist elsewhere, or be gone already).
+                let _ = self.debouncer.unwatch(&d);
+            }
+            let id = self.watch_dir(&d)?;
+            self.dirs.insert(d.clone(), id);
+            if id.is_some() {
+                let files = self.files.iter().filter(|f| f.parent() == Some(d.as_path())).cloned();
+                let (pending, _) = self.pending.get_or_insert_with(|| (BTreeSet::new(), Instant::now()));
+                pending.extend(files);
+                again.push(d);
+            }
+        }
+        Ok(again)
+    }
+
     /// The watched files that changed, and when the first change happened; waits up to
     /// `timeout` for one.
     fn changed(&mut self, timeout: Duration) -> Option<(BTreeSet<PathBuf>, Instant)> {
-        let mut changed = BTreeSet::new();
-        let mut first: Option<Instant> = None;
+        let (mut changed, mut first) = match self.pending.take() {
+            Some((files, since)) => (files, Some(since)),
+            None => (BTreeSet::new(), None),
+        };
+        // A folder watched anew has changes already: take what else is there, without waiting.
+        let wait = if first.is_some() { Duration::ZERO } else { timeout };
+        let have_pending = first.is_some();
         let mut take = |r: DebounceEventResult, changed: &mut BTreeSet<PathBuf>| {
             // Reads and closes change nothing (an editor or the compiler reading the file).
             for ev in r.unwrap_or_default().into_iter().filter(|e| !e.event.kind.is_access()) {
@@ -91,9 +140,10 @@ impl Watch {
                 }
             }
         };
-        match self.rx.recv_timeout(timeout) {
+        match self.rx.recv_timeout(wait) {
             Ok(r) => take(r, &mut changed),
-            Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => return None,
+            Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) if !have_pending => return None,
+            Err(_) => {}
         }
         while let Ok(r) = self.rx.try_recv() {
             take(r, &mut changed);
@@ -116,6 +166,17 @@ pub enum Outcome {
     /// The last good Plan keeps rendering; `message` is the diagnostic (as `check` prints it)
     /// or the GPU's error.
     Failed { message: String, files: Vec<PathBuf> },
+    /// These watched folders were replaced (moved away or deleted, and made again) and are
+    /// watched anew; their files count as changed, so the next poll reloads from them.
+    Rewatched { folders: Vec<PathBuf> },
+}
+
+/// What `render --watch` and the viewer say when folders were watched anew (a line each).
+pub fn rewatched(folders: &[PathBuf]) -> String {
+    let lines: Vec<String> = (folders.iter())
+        .map(|f| format!("watching {} again: the folder was replaced; reloading from its files", f.display()))
+        .collect();
+    lines.join("\n")
 }
 
 /// What a running pipeline was compiled from, and the watch over it.
@@ -212,6 +273,11 @@ impl Reloader {
     /// Wait up to `timeout` for a change to what the running Plan was built from; on one,
     /// rebuild and swap it into `ex` (or keep the old and report why not).
     pub fn poll(&mut self, gpu: &Gpu, ex: &mut Executor, timeout: Duration) -> Option<Outcome> {
+        match self.watch.rewatch_replaced() {
+            Ok(folders) if !folders.is_empty() => return Some(Outcome::Rewatched { folders }),
+            Ok(_) => {}
+            Err(e) => return Some(self.failed(e.to_string(), vec![])),
+        }
         let (changed, since) = self.watch.changed(timeout)?;
         let files: Vec<PathBuf> = changed.iter().cloned().collect();
         let scene = match self.scene_file.as_ref().filter(|f| changed.contains(*f)) {

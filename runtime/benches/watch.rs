@@ -65,6 +65,7 @@ fn main() {
                     break;
                 }
                 Some(Outcome::Failed { message, .. }) => panic!("{message}"),
+                Some(Outcome::Rewatched { folders }) => panic!("no folder is replaced here: {folders:?}"),
                 None => frame(&mut ex),
             }
         }

@@ -258,9 +258,10 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
             frame(&mut ex)?;
             continue;
         };
-        reloads += 1;
         match outcome {
+            crate::reload::Outcome::Rewatched { folders } => eprintln!("{}", crate::reload::rewatched(&folders)),
             crate::reload::Outcome::Reloaded { latency, compile, .. } => {
+                reloads += 1;
                 let start = Instant::now();
                 frame(&mut ex)?;
                 let total = latency + start.elapsed();
@@ -274,6 +275,7 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
                 );
             }
             crate::reload::Outcome::Failed { message, .. } => {
+                reloads += 1;
                 eprint!("{message}");
                 eprintln!("reload failed: still rendering the last good pipeline");
             }

@@ -188,6 +188,7 @@ impl Viewer {
         match r.poll(gpu, &mut self.ex, std::time::Duration::ZERO) {
             Some(crate::reload::Outcome::Reloaded { .. }) => self.last_error = None,
             Some(crate::reload::Outcome::Failed { message, .. }) => self.last_error = Some(message),
+            Some(crate::reload::Outcome::Rewatched { folders }) => eprintln!("{}", crate::reload::rewatched(&folders)),
             None => {}
         }
     }

@@ -202,6 +202,21 @@ fn init_writes_the_bundled_project_and_overwrites_nothing() {
     assert!(!err.contains("bundled"), "the project's own files are used: {err}");
 }
 
+/// A `render --watch` child's output once it exits; killed (and the test failed) if it has not
+/// within `secs`, so a reload that never comes fails instead of hanging.
+fn finish_within(mut child: std::process::Child, secs: u64) -> std::process::Output {
+    let started = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed().as_secs() > secs {
+            child.kill().unwrap();
+            let out = child.wait_with_output().unwrap();
+            panic!("no reload within {secs} s: {}", String::from_utf8_lossy(&out.stderr));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
 /// `render --watch` as the README writes it: a running render reloads a saved shader edit,
 /// reports a broken save and keeps going, and rewrites `--out` after each reload.
 #[test]
@@ -228,7 +243,7 @@ fn render_watch_reloads_and_reports() {
     std::fs::write(&tonemap, text.replace("vec3<f32>(1.0)), 1.0);", "vec3<f32>(1.0)) * 0.5, 1.0);")).unwrap();
     std::thread::sleep(std::time::Duration::from_millis(500));
     std::fs::write(&tonemap, "fn broken(").unwrap();
-    let out = child.wait_with_output().unwrap();
+    let out = finish_within(child, 120);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{err}");
     assert!(
@@ -244,6 +259,49 @@ fn render_watch_reloads_and_reports() {
         first,
         "--out rewritten after the reload"
     );
+}
+
+/// `render --watch` after its shader folder is swapped for another (as a checkout does): it
+/// says it watches the folder again and reloads from the new files.
+#[test]
+fn render_watch_follows_a_replaced_folder() {
+    let d = temp("watch-replaced");
+    let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
+    assert_eq!(code, 0, "{err}");
+    let proj = d.join("proj");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["render", "--watch", "--watch-reloads", "1", "--size", "32x32", "--out", "w.png"])
+        .current_dir(&proj)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    while !proj.join("w.png").is_file() {
+        assert!(started.elapsed().as_secs() < 60, "no first frame");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let first = std::fs::read(proj.join("w.png")).unwrap();
+    // The new folder made beside, then swapped in.
+    let (shaders, new) = (proj.join("shaders"), proj.join("shaders.new"));
+    for d in ["", "lib"] {
+        std::fs::create_dir(new.join(d)).unwrap();
+        for e in std::fs::read_dir(shaders.join(d)).unwrap().map(Result::unwrap) {
+            if e.file_type().unwrap().is_file() {
+                std::fs::copy(e.path(), new.join(d).join(e.file_name())).unwrap();
+            }
+        }
+    }
+    let tonemap = new.join("tonemap.wgsl");
+    let text = std::fs::read_to_string(&tonemap).unwrap();
+    std::fs::write(&tonemap, text.replace("vec3<f32>(1.0)), 1.0);", "vec3<f32>(1.0)) * 0.5, 1.0);")).unwrap();
+    std::fs::rename(&shaders, proj.join("shaders.old")).unwrap();
+    std::fs::rename(&new, &shaders).unwrap();
+    let out = finish_within(child, 120);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("shaders again: the folder was replaced"), "{err}");
+    assert!(err.contains("reloaded: first new frame"), "{err}");
+    assert_ne!(std::fs::read(proj.join("w.png")).unwrap(), first, "rendered from the new folder");
 }
 
 /// `--watch` needs files on disk to watch, and `--watch-reloads` needs `--watch`: usage errors.

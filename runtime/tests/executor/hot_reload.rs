@@ -257,3 +257,60 @@ fn an_edit_of_a_used_pipeline_reloads_the_pipeline_that_uses_it() {
     let after = r.hdr_mean(&g);
     assert!(after > before * 1.5, "{before} -> {after}");
 }
+
+/// A copy of folder `from` at `to` (files and folders, recursively).
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &to.join(e.file_name()));
+        } else {
+            std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+        }
+    }
+}
+
+/// A watched folder replaced as `git checkout` and editors do (moved away and made again,
+/// deleted and made again): it is watched anew, said so, and its files reload — and edits
+/// in the new folder keep reloading.
+#[test]
+fn a_replaced_folder_is_watched_again() {
+    let g = gpu();
+    let dir = project("replaced");
+    let mut r = start(&g, &dir);
+    let before = r.frame(&g);
+    let (shaders, old) = (dir.join("shaders"), dir.join("shaders.old"));
+    // Moved away, and a copy with an edit made in its place.
+    std::fs::rename(&shaders, &old).unwrap();
+    copy_dir(&old, &shaders);
+    std::fs::write(shaders.join("tonemap.wgsl"), tonemap_scaled("0.5")).unwrap();
+    let seen = r.until(&g, |o| matches!(o, Outcome::Rewatched { .. }));
+    let Some(Outcome::Rewatched { folders }) = seen.last() else {
+        unreachable!()
+    };
+    assert!(folders.iter().any(|f| f.ends_with("shaders")), "{folders:?}");
+    r.until(&g, reloaded);
+    r.settle(&g);
+    assert!(r.reloader.last_error.is_none(), "{:?}", r.reloader.last_error);
+    let half = r.frame(&g);
+    assert!(half < before * 0.7, "moved away and made again: {before} -> {half}");
+    // An edit in the new folder is seen.
+    std::fs::write(shaders.join("tonemap.wgsl"), tonemap_scaled("0.25")).unwrap();
+    r.until(&g, reloaded);
+    let quarter = r.frame(&g);
+    assert!(quarter < half * 0.7, "an edit in the new folder: {half} -> {quarter}");
+    // Deleted, and made again a moment later from the original files.
+    std::fs::remove_dir_all(&shaders).unwrap();
+    r.frame(&g);
+    let _ = r.reloader.poll(&g, &mut r.ex, Duration::from_millis(20));
+    copy_dir(&old, &shaders);
+    r.until(&g, |o| matches!(o, Outcome::Rewatched { .. }));
+    r.until(&g, reloaded);
+    r.settle(&g);
+    assert!(r.reloader.last_error.is_none(), "{:?}", r.reloader.last_error);
+    assert_eq!(r.frame(&g), before, "deleted and made again from the original files");
+    std::fs::write(shaders.join("tonemap.wgsl"), tonemap_scaled("0.5")).unwrap();
+    r.until(&g, reloaded);
+    assert!(r.frame(&g) < before * 0.7, "an edit after the folder came back");
+}
