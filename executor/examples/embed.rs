@@ -203,6 +203,7 @@ impl Host {
         match self.reloader.poll(&self.gpu, &mut self.ex, Duration::ZERO) {
             Some(Outcome::Reloaded { latency, .. }) => eprintln!("reloaded in {latency:.1?}"),
             Some(Outcome::Failed { message, .. }) => eprintln!("{message}"),
+            Some(Outcome::Rewatched { folders }) => eprintln!("{}", lightbench_executor::reload::rewatched(&folders)),
             None => {}
         }
         let target = match self.surface.get_current_texture() {
