@@ -4,7 +4,7 @@
 
 use super::Scene;
 use crate::error::{Error, Result};
-use crate::io::write_atomic;
+use crate::files::write_atomic_all;
 use lightbench_compiler::ir::LightKind;
 use serde_json::{json, Value};
 use std::path::Path;
@@ -140,9 +140,9 @@ pub fn export(scene: &Scene, out: &Path) -> Result<()> {
         "buffers": [{"uri": bin_name, "byteLength": b.bin.len()}],
     });
     let dir = out.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    write_atomic(&dir.join(&bin_name), &b.bin)?;
     let text = serde_json::to_string_pretty(&doc).map_err(|e| Error::io(out, e))?;
-    write_atomic(out, text.as_bytes())
+    // Both or neither: a buffer left without its glTF file (a full disk) is litter.
+    write_atomic_all(&[(&dir.join(&bin_name), &b.bin), (out, text.as_bytes())])
 }
 
 /// The extensions a written file uses: punctual lights, emissive strength.

@@ -65,6 +65,31 @@ pub fn replace(path: &Path, bytes: &[u8], before: &Snapshot) -> Result<()> {
 }
 
 fn write(path: &Path, bytes: &[u8], before: Option<&Snapshot>) -> Result<()> {
+    let staged = stage(path, bytes)?;
+    staged.commit(before)
+}
+
+/// Write several files, all or none: every one is written to its temporary first, and only
+/// when all are written are they renamed into place (a glTF file and its buffer: a full disk
+/// leaves neither, not a buffer without its file).
+pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<()> {
+    let mut staged = Vec::with_capacity(files.len());
+    for (path, bytes) in files {
+        // A failure drops (removes) the temporaries staged so far.
+        staged.push(stage(path, bytes)?);
+    }
+    staged.into_iter().try_for_each(|s| s.commit(None))
+}
+
+/// A file written to its temporary beside the target, not yet renamed into place; dropped
+/// uncommitted, the temporary is removed.
+struct Staged {
+    path: PathBuf,
+    target: PathBuf,
+    tmp: PathBuf,
+}
+
+fn stage(path: &Path, bytes: &[u8]) -> Result<Staged> {
     let target = resolve_links(path)?;
     let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
@@ -78,29 +103,46 @@ fn write(path: &Path, bytes: &[u8], before: Option<&Snapshot>) -> Result<()> {
     // texture) each write their own temporary.
     static WRITES: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let n = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tmp = dir.join(format!(".{name}{TMP_TAG}{}-{n}.tmp", std::process::id()));
-    let mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
+    let staged = Staged {
+        tmp: dir.join(format!(".{name}{TMP_TAG}{}-{n}.tmp", std::process::id())),
+        path: path.to_path_buf(),
+        target,
+    };
+    let mode = std::fs::metadata(&staged.target).ok().map(|m| m.permissions());
+    let written = (|| {
+        let mut f = std::fs::File::create(&staged.tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
         if let Some(p) = mode {
-            std::fs::set_permissions(&tmp, p)?;
+            std::fs::set_permissions(&staged.tmp, p)?;
         }
+        Ok(())
+    })();
+    written.map_err(|e: std::io::Error| Error::io(path, format!("cannot write: {e}")))?;
+    Ok(staged)
+}
+
+impl Staged {
+    /// Rename the temporary into place; refused if the target was read as `before` and has
+    /// changed since.
+    fn commit(self, before: Option<&Snapshot>) -> Result<()> {
         if let Some(before) = before {
-            if Snapshot::of(&target).ok().as_ref() != Some(before) {
-                return Err(std::io::Error::other(
-                    "the file changed while lightbench worked on it; it was not replaced",
+            if Snapshot::of(&self.target).ok().as_ref() != Some(before) {
+                return Err(Error::io(
+                    &self.path,
+                    "cannot write: the file changed while lightbench worked on it; it was not replaced",
                 ));
             }
         }
-        std::fs::rename(&tmp, &target)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(Error::io(path, format!("cannot write: {e}")));
+        std::fs::rename(&self.tmp, &self.target).map_err(|e| Error::io(&self.path, format!("cannot write: {e}")))
     }
-    Ok(())
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        // Renamed: nothing there any more. Otherwise the temporary of a write that failed.
+        let _ = std::fs::remove_file(&self.tmp);
+    }
 }
 
 /// The file a path finally names, following symlinks (a dangling link's target is created).
@@ -148,6 +190,14 @@ pub fn lock_dir(dir: &Path) -> Result<DirLock> {
         }
     }
     Ok(DirLock { _file: file })
+}
+
+/// Remove the temporaries that dead runs left beside the file `path` names (following links),
+/// as a write there would: for a command that found nothing to write.
+pub fn clean_stale_beside(path: &Path) {
+    if let Ok(target) = resolve_links(path) {
+        clean_stale(target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new(".")));
+    }
 }
 
 /// Remove the temporaries in `dir` left by runs that no longer exist (killed mid-write),

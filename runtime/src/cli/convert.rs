@@ -97,6 +97,10 @@ pub fn fmt(file: &Path, check: bool) -> i32 {
     };
     let printed = lbp::print::print(&pipeline, Some(&text));
     if printed == text {
+        if !check {
+            // Nothing to write, but a killed run's temporary is cleaned as a write would.
+            files::clean_stale_beside(file);
+        }
         return EXIT_OK;
     }
     if check {

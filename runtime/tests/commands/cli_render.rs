@@ -157,6 +157,84 @@ fn scene_export_writes_gltf_and_bin() {
     );
 }
 
+/// A write that fails half-way (a file-size limit stands in for a full disk: the buffer fits,
+/// the glTF file does not) leaves neither file, no temporary, and an earlier export as it was.
+#[cfg(unix)]
+#[test]
+fn scene_export_that_cannot_finish_leaves_nothing() {
+    let d = temp("export-full");
+    let export = || {
+        // SIGXFSZ ignored: a write past the limit fails with EFBIG instead of killing.
+        std::process::Command::new("bash")
+            .arg("-c")
+            .arg(format!(
+                "trap '' XFSZ; ulimit -f 8; exec {} scene export cornell e.gltf",
+                env!("CARGO_BIN_EXE_lightbench")
+            ))
+            .current_dir(&d)
+            .output()
+            .unwrap()
+    };
+    let out = export();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("e.gltf: cannot write"), "{err}");
+    let left: Vec<_> = std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert!(left.is_empty(), "nothing left behind: {left:?}");
+    // Over earlier files: both stay as they were.
+    std::fs::write(d.join("e.gltf"), "earlier glTF").unwrap();
+    std::fs::write(d.join("e.bin"), "earlier buffer").unwrap();
+    assert_eq!(export().status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(d.join("e.gltf")).unwrap(), "earlier glTF");
+    assert_eq!(std::fs::read_to_string(d.join("e.bin")).unwrap(), "earlier buffer");
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2, "no temporary left");
+}
+
+/// A write killed before its rename leaves `.NAME.lightbench-PID.tmp`; the next run of any
+/// writing command in that folder removes it (its process is gone), for every command that
+/// writes files: fmt, scene export, render's EXR, reference.
+#[test]
+fn a_killed_writes_temporary_goes_at_the_next_run_in_its_folder() {
+    let dead = {
+        let mut c = std::process::Command::new("true").spawn().unwrap();
+        c.wait().unwrap();
+        c.id()
+    };
+    let d = temp("stale");
+    std::fs::copy(root().join("pipelines/deferred.lbp"), d.join("p.lbp")).unwrap();
+    let runs: [&[&str]; 4] = [
+        &["fmt", "p.lbp"],
+        &["scene", "export", "cornell", "e.gltf"],
+        &["render", "--size", "16x16", "--out", "r.exr"],
+        &[
+            "reference",
+            "--scene",
+            "cornell",
+            "--size",
+            "8x8",
+            "--spp",
+            "1",
+            "--terms",
+            "direct",
+            "--out",
+            ".",
+            "--quiet",
+        ],
+    ];
+    for args in runs {
+        let stale = d.join(format!(".killed.png.lightbench-{dead}-0.tmp"));
+        std::fs::write(&stale, "half a file").unwrap();
+        let (code, _, err) = lightbench_in(&d, args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(!stale.exists(), "{args:?} left a dead run's temporary");
+    }
+    let left: Vec<_> = (std::fs::read_dir(&d).unwrap())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
 /// README command 1 from a folder with no checkout: the bundled default pipeline renders.
 #[test]
 fn render_works_outside_a_checkout() {
