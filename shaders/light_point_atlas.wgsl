@@ -7,7 +7,7 @@
 fn lit(p: LitPixel) -> vec3<f32> {
     // A face's tile is a third of the atlas wide.
     let texel = cube_texel(p.s.world - p.l.position.xyz, f32(textureDimensions(shadow_atlas).x) / 3.0);
-    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias, params.normal_offset, texel);
+    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias_texels, params.normal_offset_texels, texel);
     let to_light = safe_normalize(p.l.position.xyz - at, p.ls.to_light);
     return shade(p.s, p.ls) * atlas_shadow(shadow_atlas, shadow_cmp, p.l, at, to_light, params.pcf != 0u);
 }

@@ -6,6 +6,6 @@
 
 fn lit(p: LitPixel) -> vec3<f32> {
     let texel = texel_width(p.l.view_proj, p.s.world, f32(textureDimensions(shadow_map).x));
-    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias, params.normal_offset, texel);
+    let at = shadow_lookup_point(p.s.world, p.s.n, p.ls.to_light, params.bias_texels, params.normal_offset_texels, texel);
     return shade(p.s, p.ls) * map_shadow(shadow_map, shadow_cmp, p.l, at, params.pcf != 0u);
 }

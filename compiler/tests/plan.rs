@@ -208,9 +208,9 @@ fn uniform_block_offsets_follow_the_shader_struct() {
     assert_eq!(
         fields,
         vec![
-            ("bias", "shadow.bias", 0, 4, "f32"),
+            ("bias_texels", "shadow.bias_texels", 0, 4, "f32"),
             ("pcf", "shadow.pcf", 4, 4, "u32"),
-            ("normal_offset", "shadow.normal_offset", 8, 4, "f32")
+            ("normal_offset_texels", "shadow.normal_offset_texels", 8, 4, "f32")
         ]
     );
     assert_eq!((b.size, b.align, b.group, b.binding), (12, 4, 2, 5));

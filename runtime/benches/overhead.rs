@@ -328,7 +328,7 @@ impl Hand {
         );
         // Parameter blocks at the pipeline's defaults.
         let ambient = uniform(gpu, &f32s(&[0.03, 0.03, 0.035, 0.0]));
-        // light_point: cube.bias, cube.pcf (off), cube.normal_offset.
+        // light_point: cube.bias_texels, cube.pcf (off), cube.normal_offset_texels.
         let mut cube_params = f32s(&[1.0]);
         cube_params.extend(0u32.to_le_bytes());
         cube_params.extend(f32s(&[2.0, 0.0]));

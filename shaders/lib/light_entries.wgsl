@@ -10,10 +10,10 @@
 // Against acne, in shadow-map texels at the receiver (lib/shadow.wgsl's shadow_lookup_point).
 struct Params {
     // receivers are looked up this many texels towards the light
-    bias: f32,
+    bias_texels: f32,
     pcf: u32,
     // and this many along their normal, at grazing light
-    normal_offset: f32,
+    normal_offset_texels: f32,
 };
 
 @group(2) @binding(4) var shadow_cmp: sampler_comparison;

@@ -273,11 +273,19 @@ impl Diagnostics {
     }
 }
 
-/// The closest candidate by edit distance, when close enough to be a plausible typo.
+/// The closest candidate by edit distance, when close enough to be a plausible typo. For a
+/// dotted name, one that is the input with a suffix (`cube.bias` → `cube.bias_texels`: a
+/// parameter renamed when its unit changed) comes first, however long the suffix; a keyword
+/// (`param` for `params`, not `param_block`) is a typo.
 pub fn did_you_mean<'a>(input: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let input = input.to_lowercase();
+    let extends = |c: &str| input.contains('.') && c.to_lowercase().strip_prefix(&input).is_some_and(|rest| rest.starts_with('_'));
     candidates
         .into_iter()
-        .map(|c| (strsim::normalized_damerau_levenshtein(&input.to_lowercase(), &c.to_lowercase()), c))
+        .map(|c| {
+            let score = strsim::normalized_damerau_levenshtein(&input, &c.to_lowercase());
+            (if extends(c) { 1.0 + score } else { score }, c)
+        })
         .filter(|(score, _)| *score >= 0.6)
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .map(|(_, c)| c)
@@ -303,5 +311,12 @@ mod tests {
     fn suggests_close_names_only() {
         assert_eq!(did_you_mean("pases", ["passes", "params", "output"]), Some("passes"));
         assert_eq!(did_you_mean("zzzz", ["passes", "params"]), None);
+        // A name renamed with its unit is found, before a closer typo.
+        assert_eq!(
+            did_you_mean("cube.bias", ["cube.size", "cube.bias_texels"]),
+            Some("cube.bias_texels")
+        );
+        assert_eq!(did_you_mean("cube.bia", ["cube.size", "cube.bias_texels"]), Some("cube.size"));
+        assert_eq!(did_you_mean("param", ["params", "param_block"]), Some("params"));
     }
 }

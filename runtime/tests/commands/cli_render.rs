@@ -122,6 +122,11 @@ fn render_exr_output_and_bad_arguments() {
         "{err}"
     );
     assert!(!d.join("x.png").exists(), "nothing is written when --dump is wrong");
+    // A parameter renamed when its unit changed (docs/effects.md): the old name is refused,
+    // the new one suggested.
+    let (code, _, err) = run(&["render", "--out", d.join("x.png").to_str().unwrap(), "--param", "cube.bias=0.002"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("did you mean `cube.bias_texels`?"), "{err}");
     // A --variant typo is a usage error, as a --param typo is.
     let (code, _, err) = run(&["render", "--out", d.join("x.png").to_str().unwrap(), "--variant", "tonemap=filmic"]);
     assert_eq!(code, 2, "{err}");

@@ -102,7 +102,7 @@ fn shadows_sweep_on_the_cornell_box_draws_its_pareto_front() {
     // The plot marks exactly those points (★), and labels every point with its settings.
     let svg = std::fs::read_to_string(out.join("pareto_cornell_64x64.svg")).unwrap();
     let texts = svg_texts(&svg);
-    let label = |r: &BTreeMap<String, String>| format!("{}, {}, {}", r["cube.size"], r["cube.pcf"], r["cube.bias"]);
+    let label = |r: &BTreeMap<String, String>| format!("{}, {}, {}", r["cube.size"], r["cube.pcf"], r["cube.bias_texels"]);
     let mut starred: Vec<String> = texts.iter().filter_map(|t| t.strip_prefix("★ ").map(String::from)).collect();
     let mut front: Vec<String> = rows.iter().filter(|r| r["pareto"] == "true").map(label).collect();
     starred.sort();
@@ -463,7 +463,7 @@ fn bad_specs_get_located_errors() {
         &format!("{:?}", root().join("pipelines/deferred.lbp").display().to_string()),
     );
     let huge = format!(
-        "\"cube.pcf\": [false, true], \"cube.normal_offset\": [{}]",
+        "\"cube.pcf\": [false, true], \"cube.normal_offset_texels\": [{}]",
         vec!["1.0"; 1_000_000].join(", ")
     );
     // (from, to, message, where the error points in the `to` line: the text it starts at).
@@ -502,22 +502,29 @@ fn bad_specs_get_located_errors() {
         ("\"cube.pcf\": [false, true]", huge.as_str(), "points (at most 100000)", ""),
         // Values: every point's checked before any reference renders, at the value.
         (
-            "\"cube.bias\": [0.5, 2.0]",
-            "\"cube.bias\": [0.5, NaN]",
+            "\"cube.bias_texels\": [0.5, 2.0]",
+            "\"cube.bias_texels\": [0.5, NaN]",
             "`NaN` is not a finite 32-bit number",
             "NaN",
         ),
         (
-            "\"cube.bias\": [0.5, 2.0]",
-            "\"cube.bias\": [0.5, 1e39]",
+            "\"cube.bias_texels\": [0.5, 2.0]",
+            "\"cube.bias_texels\": [0.5, 1e39]",
             "`1e39` is not a finite 32-bit number",
             "1e39",
         ),
         (
-            "\"cube.bias\": [0.5, 2.0]",
-            "\"cube.bias\": [0.5, 20.0]",
+            "\"cube.bias_texels\": [0.5, 2.0]",
+            "\"cube.bias_texels\": [0.5, 20.0]",
             "20 is above its max 16",
             "20.0",
+        ),
+        // A name from before its unit changed: refused, the new name suggested.
+        (
+            "\"cube.bias_texels\": [0.5, 2.0]",
+            "\"cube.bias\": [0.002, 0.005]",
+            "did you mean `cube.bias_texels`?",
+            "\"cube.bias\"",
         ),
         (
             "\"cube.pcf\": [false, true]",

@@ -591,7 +591,7 @@ fn a_light_without_shadows_gets_no_shadow_pass() {
 }
 
 /// Cube shadows with `cube.pcf` soften their edges the same way under every cube-shadow
-/// option; `cube.normal_offset` (2 texels by default) removes the acne that no bias leaves.
+/// option; `cube.normal_offset_texels` (2 texels by default) removes the acne that no bias leaves.
 #[test]
 fn cube_shadow_pcf_and_normal_offset() {
     let g = gpu();
@@ -626,8 +626,11 @@ fn cube_shadow_pcf_and_normal_offset() {
             .filter(|&i| img.rgba[4 * i] < hard.rgba[4 * i] * 0.9)
             .count()
     };
-    let unbiased = hdr_with("classic", &[("cube.bias", Float(0.0)), ("cube.normal_offset", Float(0.0))]);
-    let offset = hdr_with("classic", &[("cube.bias", Float(0.0))]);
+    let unbiased = hdr_with(
+        "classic",
+        &[("cube.bias_texels", Float(0.0)), ("cube.normal_offset_texels", Float(0.0))],
+    );
+    let offset = hdr_with("classic", &[("cube.bias_texels", Float(0.0))]);
     eprintln!(
         "pixels darker than the biased image by 10%: bias 0 {}, bias 0 + normal offset {}",
         acne(&unbiased),
