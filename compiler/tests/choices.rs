@@ -324,6 +324,31 @@ fn two_catch_all_arms_overlap() {
     );
 }
 
+/// `when` takes a condition, not a choice: in LBP too the documented `type-mismatch` at the
+/// choice, with the condition that says it (it was a bare `lbp-syntax`, and `true`/`false`
+/// arms dropped the pass without a word).
+#[test]
+fn a_choice_as_a_condition_is_a_type_mismatch_with_the_condition_to_write() {
+    let o = lbp("when match(quality) { high: true, _: false }");
+    let (d, notes) = first(&o);
+    assert_eq!(
+        d,
+        (
+            "type-mismatch".into(),
+            "a choice cannot stand inside a value of `when`".into(),
+            14,
+            10
+        ),
+        "{}",
+        o.dump()
+    );
+    assert!(notes.iter().any(|n| n.starts_with("`when` takes a condition")), "{notes:?}");
+    // Spelt as the file's language writes it.
+    assert!(o.dump().contains("`when` takes a condition: `variant(v, a | b)`"), "{}", o.dump());
+    let o = lbp("when match(quality) { high: variant(quality, high), _: reflective }");
+    assert_eq!(first(&o).0 .0, "type-mismatch", "{}", o.dump());
+}
+
 /// An unknown option, in a choice's arm or among a condition's options, is located where it
 /// is written, with a suggestion.
 #[test]

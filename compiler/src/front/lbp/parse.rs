@@ -492,7 +492,15 @@ impl Builder<'_> {
         for item in it {
             let at = self.span(&item);
             let key = pass_key(item.as_rule());
-            let node = self.pass_item(item, at)?;
+            let errors = self.diags.error_count();
+            let Some(node) = self.pass_item(item, at) else {
+                // Never drop a pass without a word: a form the grammar takes but this reader
+                // does not is an error at it.
+                if self.diags.error_count() == errors {
+                    self.err(Diagnostic::error(Code::LbpSyntax, format!("cannot read this `{key}`"), at));
+                }
+                return None;
+            };
             f.put(key, at, node);
         }
         // A pass is named by its name: messages about the pass as a whole point there.
@@ -552,7 +560,14 @@ impl Builder<'_> {
                 let pairs = parts.into_iter().map(|b| self.binding(b)).collect::<Option<Vec<_>>>()?;
                 Some(Node::map(pairs, at))
             }
-            Rule::when => self.cond(parts.pop()?),
+            // A choice's arm may be `true`/`false`: lowering says that `when` takes no choice.
+            Rule::when => {
+                let v = parts.pop()?;
+                match v.as_rule() {
+                    Rule::bool => Some(Node::bool(v.as_str() == "true", at)),
+                    _ => self.cond(v),
+                }
+            }
             Rule::per_mip => {
                 let (to, from) = (self.uint(&parts.pop()?)?, self.uint(&parts.pop()?)?);
                 Some(Node::tuple(vec![from, to], at))

@@ -211,19 +211,21 @@ impl Lowerer<'_> {
     }
 
     fn misplaced_choice<T>(&mut self, key: &str, m: &Node) -> Res<T> {
-        self.err(
-            Diagnostic::error(
-                Code::TypeMismatch,
-                format!("a choice cannot stand inside a value of `{key}`"),
-                m.span,
-            )
-            .with_label_text("a `Match` here")
-            .with_note(format!(
-                "a choice stands for a whole pass field ({}) or for elements of {}",
-                WHOLE.join(", "),
-                ELEMENTS.join(", ")
-            )),
-        );
+        let mut d = Diagnostic::error(
+            Code::TypeMismatch,
+            format!("a choice cannot stand inside a value of `{key}`"),
+            m.span,
+        )
+        .with_label_text("a `Match` here")
+        .with_note(format!(
+            "a choice stands for a whole pass field ({}) or for elements of {}",
+            WHOLE.join(", "),
+            ELEMENTS.join(", ")
+        ));
+        if key == "when" {
+            d = d.with_note("`when` takes a condition: `Variant(\"v\", \"a | b\")` holds while option a or b of v is chosen");
+        }
+        self.err(d);
         None
     }
 
