@@ -169,6 +169,32 @@ fn each_composition_mistake_is_located() {
     }
 }
 
+/// An `after` typo is one error, not one more for each pass placed after the mistyped one;
+/// the file's own passes are among the names suggested, and one declared later is said so.
+#[test]
+fn placing_after_reports_each_mistake_once_and_knows_the_files_own_passes() {
+    let text = using(
+        "fullscreen x \"ambient.wgsl\" {\n    after tonemapp\n    color hdr\n}\n\
+         fullscreen y \"ambient.wgsl\" {\n    after x\n    color hdr\n}\n\
+         fullscreen z \"ambient.wgsl\" {\n    after w\n    color hdr\n}\n\
+         fullscreen extra_pass \"ambient.wgsl\" {\n    after extra_pas\n    color hdr\n}\n\
+         fullscreen w \"ambient.wgsl\" {\n    color hdr\n}",
+    );
+    let dir = beside_deferred("after-once", &[("t.lbp", &text)]);
+    let o = check(&dir, "t.lbp");
+    let placing: Vec<_> = (o.session.diags.list.iter())
+        .filter(|d| d.message.contains("to place this pass after"))
+        .map(|d| (d.message.clone(), d.notes.join("; ")))
+        .collect();
+    assert_eq!(placing.len(), 3, "{placing:?}");
+    assert_eq!(placing[0].0, "no pass `tonemapp` to place this pass after");
+    assert_eq!(placing[0].1, "did you mean `tonemap`?");
+    assert!(placing[1].1.contains("`w` is declared later in this file"), "{placing:?}");
+    // The file's own passes are listed, not the pass being placed.
+    assert!(placing[2].1.contains("`taa`, `x`, `y`, `z`, `w`"), "{placing:?}");
+    assert!(!placing[2].1.contains("`extra_pass`"), "{placing:?}");
+}
+
 #[test]
 fn used_files_that_cannot_be_used_are_errors_at_the_use() {
     // Missing, outside the directory, and pipelines that use each other.

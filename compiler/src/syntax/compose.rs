@@ -260,6 +260,7 @@ fn merge_passes(out: &mut Vec<Field>, span: Span, own: &Node, diags: &mut Diagno
     let mut passes: Vec<Node> = get(out, "passes").map(list).unwrap_or(&[]).to_vec();
     // Where the next pass placed after each anchor goes.
     let mut cursor: Vec<(String, usize)> = vec![];
+    let own_names: Vec<&str> = list(own).iter().filter_map(pass_name).collect();
     for p in list(own) {
         let f = fields(p);
         let name = pass_name(p).unwrap_or("");
@@ -299,11 +300,13 @@ fn merge_passes(out: &mut Vec<Field>, span: Span, own: &Node, diags: &mut Diagno
             }
             (None, false) => None,
         };
+        // A pass that cannot be placed still joins (at the end), so that passes placed after
+        // it are not reported too.
         let index = match after {
-            Some(a) => match place_after(&passes, &mut cursor, a, diags) {
-                Some(i) => i,
-                None => continue,
-            },
+            Some(a) => {
+                let others: Vec<&str> = own_names.iter().copied().filter(|n| *n != name).collect();
+                place_after(&passes, &mut cursor, (a, &others), diags).unwrap_or(passes.len())
+            }
             None => at.unwrap_or(passes.len()),
         };
         cursor.iter_mut().filter(|(_, c)| *c >= index).for_each(|(_, c)| *c += 1);
@@ -312,8 +315,14 @@ fn merge_passes(out: &mut Vec<Field>, span: Span, own: &Node, diags: &mut Diagno
     set(out, "passes", span, Node::list(passes, span));
 }
 
-/// The index after `anchor` (and after what was placed after it before).
-fn place_after(passes: &[Node], cursor: &mut Vec<(String, usize)>, anchor: &Node, diags: &mut Diagnostics) -> Option<usize> {
+/// The index after `anchor` (and after what was placed after it before); `own`: this file's
+/// other passes (placed in the order written).
+fn place_after(
+    passes: &[Node],
+    cursor: &mut Vec<(String, usize)>,
+    (anchor, own): (&Node, &[&str]),
+    diags: &mut Diagnostics,
+) -> Option<usize> {
     let Some(a) = anchor.text().filter(|_| matches!(&*anchor.value, Value::Str(_))) else {
         diags.push(Diagnostic::error(
             Code::TypeMismatch,
@@ -327,11 +336,18 @@ fn place_after(passes: &[Node], cursor: &mut Vec<(String, usize)>, anchor: &Node
         return Some(*c);
     }
     let Some(i) = passes.iter().position(|b| pass_name(b) == Some(a)) else {
-        let names: Vec<&str> = passes.iter().filter_map(pass_name).collect();
-        diags.push(
-            Diagnostic::error(Code::UnknownPass, format!("no pass `{a}` to place this pass after"), anchor.span)
-                .with_note(suggestion_note(a, &names)),
-        );
+        let d = Diagnostic::error(Code::UnknownPass, format!("no pass `{a}` to place this pass after"), anchor.span);
+        let d = if own.contains(&a) {
+            d.with_note(format!(
+                "`{a}` is declared later in this file: passes are placed in the order written, so declare it first"
+            ))
+        } else {
+            let used = passes.iter().filter_map(pass_name);
+            let mut names: Vec<&str> = used.filter(|n| !own.contains(n)).collect();
+            names.extend(own);
+            d.with_note(suggestion_note(a, &names))
+        };
+        diags.push(d);
         return None;
     };
     cursor.push((a.to_string(), i + 1));
