@@ -792,6 +792,33 @@ mod generated {
     }
 }
 
+/// Several elements in an arm without parentheses: the syntax error says how to write them.
+#[test]
+fn an_arm_of_several_elements_without_parentheses_gets_a_hint() {
+    for (arms, col) in [("x: a, b, y: a", 29), ("x: a, b", 30)] {
+        let text = format!(
+            "pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {{\n    color out\n    reads match(v) {{ {arms} }}\n}}\noutput out\n"
+        );
+        let (_, s) = parse("p.lbp", &text);
+        let d = &s.diags.list[0];
+        assert_eq!(d.code, "lbp-syntax");
+        assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((5, col)), "{}", d.message);
+        assert!(d.message.starts_with("expected `:`"), "{}", d.message);
+        assert!(
+            d.notes.iter().any(|n| n.contains("in parentheses: `x: (a, b), y: c`")),
+            "{:?}",
+            d.notes
+        );
+    }
+    // Elsewhere a missing `:` gets no such hint.
+    let (_, s) = parse("p.lbp", "pipeline p\nparam a Float = 1\n");
+    assert!(
+        s.diags.list[0].notes.iter().all(|n| !n.contains("parentheses")),
+        "{:?}",
+        s.diags.list[0].notes
+    );
+}
+
 /// A misspelt keyword gets the nearest keyword allowed where it stands, and the list of what
 /// was expected names each thing once.
 #[test]

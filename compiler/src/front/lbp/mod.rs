@@ -138,6 +138,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
     };
     let mut suggestion = None;
     let mut wants_brace = false;
+    let mut wants_colon = false;
     let message = match &e.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } => {
             let mut words: Vec<&str> = vec![];
@@ -150,6 +151,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
             let token = text.get(start..end).unwrap_or("");
             let keywords: Vec<&str> = positives.iter().filter_map(keyword).collect();
             wants_brace = positives.contains(&Rule::close_brace);
+            wants_colon = positives.contains(&Rule::colon);
             suggestion = crate::diag::did_you_mean(token, keywords.iter().copied()).map(|k| format!("did you mean `{k}`?"));
             if words.is_empty() {
                 format!("unexpected {found}")
@@ -166,10 +168,23 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
             d = d.with_secondary(Span::new(file, at, at + 1), "this `{` is not closed");
         }
     }
+    // `x: a, b, y: c` inside a choice: `b` read as the next arm's option, its `:` missing.
+    if wants_colon && suggestion.is_none() && found != "`:`" && in_choice(&text[..start.min(text.len())]) {
+        suggestion = Some("an arm of several elements writes them in parentheses: `x: (a, b), y: c`".to_string());
+    }
     match suggestion {
         Some(s) => d.with_note(s),
         None => d,
     }
+}
+
+/// Whether `before` ends inside a choice's arms (its innermost open `{` follows `match(..)`).
+fn in_choice(before: &str) -> bool {
+    nesting::unclosed_brace(before).is_some_and(|at| {
+        let head = before[..at].trim_end();
+        let line = head.rsplit('\n').next().unwrap_or(head);
+        head.ends_with(')') && line.contains("match(")
+    })
 }
 
 /// The keyword that starts a rule (items, pass properties), for suggestions and tree keys.
