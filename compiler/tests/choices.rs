@@ -294,6 +294,32 @@ fn a_choice_missing_an_option_is_located_at_the_choice() {
     assert!(notes.iter().any(|n| n.contains("default arm `_`")), "{notes:?}");
 }
 
+/// Each incomplete choice of a pass is reported, not only the first.
+#[test]
+fn every_incomplete_choice_of_a_pass_is_reported() {
+    let o = lbp("fragment match(quality) { high: fs_main }\n    cull match(quality) { low: Back }");
+    let located: Vec<_> = o.located().into_iter().map(|(code, msg, _, l, c)| (code, msg, l, c)).collect();
+    assert_eq!(
+        located,
+        [
+            (
+                "choice-incomplete".into(),
+                "no arm for options `low`, `fancy` of `quality`".into(),
+                14,
+                14
+            ),
+            (
+                "choice-incomplete".into(),
+                "no arm for options `high`, `fancy` of `quality`".into(),
+                15,
+                10
+            ),
+        ],
+        "{}",
+        o.dump()
+    );
+}
+
 #[test]
 fn an_option_in_two_arms_is_located_at_the_second() {
     let o = lbp("fragment match(quality) { high | low: fs_main, low: fs_low, fancy: fs_main }");

@@ -46,7 +46,7 @@ struct Site {
 }
 
 /// A copy being built: its fields and, per variant, the options it serves.
-#[derive(Clone)]
+#[derive(Clone, Default)]
 struct Copy {
     fields: Vec<Field>,
     arms: Vec<(String, Vec<String>)>,
@@ -123,10 +123,21 @@ impl Lowerer<'_> {
             fields: vec![],
             arms: vec![],
         }];
+        let mut failed = false;
         for (key, kspan, value) in fields {
+            if failed {
+                // The copies are lost, but the other choices are still checked: every mistake
+                // of the pass is reported at once.
+                let _ = self.field_copies(key, value, &Copy::default(), variants);
+                continue;
+            }
             let mut next = vec![];
             for c in &copies {
-                for (value, c) in self.field_copies(key, value, c, variants)? {
+                let Some(values) = self.field_copies(key, value, c, variants) else {
+                    failed = true;
+                    break;
+                };
+                for (value, c) in values {
                     let mut c = c;
                     c.fields.push((key.clone(), *kspan, value));
                     next.push(c);
@@ -145,7 +156,7 @@ impl Lowerer<'_> {
                 return None;
             }
         }
-        Some(copies)
+        (!failed).then_some(copies)
     }
 
     /// The values one field takes in the copies made from `c` (with what each serves).
