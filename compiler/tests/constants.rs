@@ -134,6 +134,12 @@ fn an_override_without_a_default_needs_a_value() {
         "{}",
         o.dump()
     );
+    assert_eq!(o.session.diags.list[0].notes, ["in every configuration"], "no variant decides it");
+    // Missing in one option only: the note names that option, not every variant chosen then.
+    let dir = project("constants match(quality) { high: (FAST = true), low: (GAIN = 1) }");
+    let o = check(&dir);
+    assert_eq!(first(&o).0, "constant-missing", "{}", o.dump());
+    assert_eq!(o.session.diags.list[0].notes, ["whenever quality = low"], "{}", o.dump());
 }
 
 #[test]
@@ -177,7 +183,7 @@ fn values_that_break_a_shader_name_the_configuration() {
     assert_eq!((code.as_str(), line, col), ("constant-invalid", 10, 15), "{}", o.dump());
     assert!(msg.contains("make `reduce.wgsl#cs_main` invalid"), "{msg}");
     assert!(
-        o.session.diags.list[0].notes.iter().any(|n| n == "configuration: quality = broken"),
+        o.session.diags.list[0].notes.iter().any(|n| n == "whenever quality = broken"),
         "{}",
         o.dump()
     );

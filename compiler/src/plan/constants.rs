@@ -6,7 +6,7 @@
 use super::*;
 use crate::check::StageShader;
 use crate::diag::{Code, Diagnostic, Diagnostics};
-use crate::ir::{Constant, Pass, Pipeline};
+use crate::ir::{Condition, Constant, Pass, Pipeline};
 use naga::back::pipeline_constants::{process_overrides, PipelineConstantError};
 
 /// A constant's value in this configuration.
@@ -65,7 +65,7 @@ pub(super) fn value_kept(p: &Pipeline, cfg: &Config, kept: &Kept, diags: &mut Di
         let mut stages = vec![];
         for st in &version.stages {
             let constants = stage_constants(p, cfg, pass, st);
-            if let Err(d) = check_stage(pass, st, &constants, cfg) {
+            if let Err(d) = check_stage((p, pass), st, &constants, cfg) {
                 diags.push(d);
             }
             stages.push(constants);
@@ -76,7 +76,7 @@ pub(super) fn value_kept(p: &Pipeline, cfg: &Config, kept: &Kept, diags: &mut Di
 }
 
 /// naga's override processing for the stage's entry point, as the GPU will do it.
-fn check_stage(pass: &Pass, st: &StageShader, constants: &[(String, f64)], cfg: &Config) -> Result<(), Diagnostic> {
+fn check_stage((p, pass): (&Pipeline, &Pass), st: &StageShader, constants: &[(String, f64)], cfg: &Config) -> Result<(), Diagnostic> {
     let m = &st.module;
     if m.module.overrides.is_empty() {
         return Ok(());
@@ -123,7 +123,7 @@ fn check_stage(pass: &Pass, st: &StageShader, constants: &[(String, f64)], cfg: 
             format!("the constants of pass `{}` make {shader} invalid: {e}", pass.name.value),
         ),
     };
-    let mut d = Diagnostic::error(code, what, at).with_note(format!("configuration: {}", configuration(cfg)));
+    let mut d = Diagnostic::error(code, what, at).with_note(configuration(cfg, p, pass));
     if let PipelineConstantError::ValidationError(v) = &e {
         for (span, label) in v.spans() {
             if let Some(s) = m.map_span(*span) {
@@ -134,12 +134,49 @@ fn check_stage(pass: &Pass, st: &StageShader, constants: &[(String, f64)], cfg: 
     Err(d)
 }
 
-/// `cube_shadow = classic, gbuffer = fat`: the options this Plan was made with.
-fn configuration(cfg: &Config) -> String {
-    let chosen: Vec<String> = cfg.selection.chosen.iter().map(|(v, o)| format!("{v} = {o}")).collect();
+/// `whenever contact = full`: the options this Plan was made with, of the variants that decide
+/// what the pass gets: named by it (its condition, its choices' arms, its constants), or whose
+/// chosen option sets a parameter its constants read or substitutes its shader. The other
+/// variants' choices do not matter here.
+fn configuration(cfg: &Config, p: &Pipeline, pass: &Pass) -> String {
+    let mut named = std::collections::BTreeSet::new();
+    if let Some(w) = &pass.when {
+        condition_variants(&w.value, &mut named);
+    }
+    let mut read = std::collections::BTreeSet::new();
+    for (_, c) in &pass.constants {
+        match &c.value {
+            Constant::Variant(v, _) => _ = named.insert(v.as_str()),
+            Constant::Param(name) => _ = read.insert(name.as_str()),
+            _ => {}
+        }
+    }
+    let decides = |v: &str, o: &str| {
+        let option = p.variants.iter().find(|x| x.name.value == v).and_then(|x| x.option(o));
+        named.contains(v)
+            || option.is_some_and(|o| {
+                o.params.iter().any(|(n, _)| read.contains(n.value.as_str())) || o.shaders.iter().any(|(n, _)| n.value == pass.name.value)
+            })
+    };
+    let chosen: Vec<String> = (cfg.selection.chosen.iter())
+        .filter(|(v, o)| decides(v, o))
+        .map(|(v, o)| format!("{v} = {o}"))
+        .collect();
     if chosen.is_empty() {
-        "no variants".into()
+        "in every configuration".into()
     } else {
-        chosen.join(", ")
+        format!("whenever {}", chosen.join(", "))
+    }
+}
+
+/// The variants a condition names.
+fn condition_variants<'a>(c: &'a Condition, out: &mut std::collections::BTreeSet<&'a str>) {
+    match c {
+        Condition::Variant(v, _) => {
+            out.insert(v.value.as_str());
+        }
+        Condition::Not(c) => condition_variants(&c.value, out),
+        Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| condition_variants(&c.value, out)),
+        _ => {}
     }
 }
