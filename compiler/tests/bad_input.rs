@@ -309,6 +309,69 @@ fn wgsl_validation_error() {
     );
 }
 
+/// Two globals at one binding, one of them in an included file: the error names both and
+/// points at the other's declaration in the lib file (naga says only "Bindings for [n]").
+#[test]
+fn binding_collision_names_both_globals() {
+    let c = Case {
+        post: &[
+            ("struct Params {", "#include \"lib/extra.wgsl\"\nstruct Params {"),
+            ("* params.exposure", "* params.exposure * textureLoad(extra_tex, vec2<i32>(0), 0).x"),
+        ],
+        files: &[("shaders/lib/extra.wgsl", "@group(0) @binding(1) var extra_tex: texture_2d<f32>;\n")],
+        ..BASE
+    };
+    let out = run(&c);
+    let d = &out.session.diags.list[0];
+    assert_eq!(d.code, "shader-validation", "{}", out.dump());
+    assert!(
+        d.message == "`linear` and `extra_tex` both use @group(0) @binding(1)"
+            || d.message == "`extra_tex` and `linear` both use @group(0) @binding(1)",
+        "{}",
+        out.dump()
+    );
+    let dump = out.dump();
+    assert!(dump.contains("lib/extra.wgsl:1") || dump.contains("lib/extra.wgsl"), "{dump}");
+    assert!(d.labels.iter().any(|l| l.message.ends_with("too")), "{dump}");
+    assert!(d.notes.iter().all(|n| !n.starts_with("Bindings for")), "{:?}", d.notes);
+}
+
+/// docs/pipelines.md's table of the bindings each lib file takes is what the files declare,
+/// and group 2 from binding 8 up is free, as it says.
+#[test]
+fn the_lib_files_bindings_are_as_documented() {
+    let root = repo_root();
+    let docs = std::fs::read_to_string(root.join("docs/pipelines.md")).unwrap();
+    let mut files: Vec<_> = (std::fs::read_dir(root.join("shaders/lib")).unwrap())
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+        .collect();
+    files.sort();
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        let mut cells = vec![];
+        for line in text.lines().map(str::trim).filter(|l| l.starts_with("@group(")) {
+            let num = |key: &str| line.split(key).nth(1).and_then(|r| r.split(')').next()).unwrap().to_string();
+            let (group, binding) = (num("@group("), num("@binding("));
+            let after_var = line.split(" var").nth(1).unwrap();
+            let after_var = after_var
+                .split_once('>')
+                .filter(|_| after_var.starts_with('<'))
+                .map_or(after_var, |(_, r)| r);
+            let name = after_var.trim().split(':').next().unwrap().trim();
+            if group == "2" {
+                assert!(binding.parse::<u32>().unwrap() < 8, "{}: group 2 binding {binding}", f.display());
+            }
+            cells.push(format!("{group}/{binding} `{name}`"));
+        }
+        if cells.is_empty() {
+            continue;
+        }
+        let row = format!("| `lib/{}` | {} |", f.file_name().unwrap().to_str().unwrap(), cells.join(", "));
+        assert!(docs.contains(&row), "docs/pipelines.md lacks the row\n{row}");
+    }
+}
+
 #[test]
 fn glsl_error() {
     let frag = "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";

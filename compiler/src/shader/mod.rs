@@ -635,7 +635,40 @@ fn validation_error(
         let note = feature_note(&d.notes);
         d = d.with_note(note);
     }
+    if let naga::valid::ValidationError::EntryPoint {
+        source: naga::valid::EntryPointError::BindingCollision(h),
+        ..
+    } = e.as_inner()
+    {
+        d = binding_collision(d, *h, module, map);
+    }
     d
+}
+
+/// naga names one global of a binding collision (`Bindings for [19] conflict`): the headline
+/// names both and where the other one is declared (often in an included lib file).
+fn binding_collision(
+    mut d: Diagnostic,
+    h: naga::Handle<naga::GlobalVariable>,
+    module: &naga::Module,
+    map: &dyn Fn(naga::Span) -> Span,
+) -> Diagnostic {
+    let var = &module.global_variables[h];
+    let Some(binding) = &var.binding else { return d };
+    let other = (module.global_variables.iter())
+        .find(|(o, g)| *o != h && g.binding.as_ref() == Some(binding))
+        .map(|(o, g)| (o, g.name.clone().unwrap_or_default()));
+    let Some((o, other_name)) = other else { return d };
+    let name = var.name.clone().unwrap_or_default();
+    let at = format!("@group({}) @binding({})", binding.group, binding.binding);
+    let headline = std::mem::replace(&mut d.message, format!("`{name}` and `{other_name}` both use {at}"));
+    d = d.with_secondary(map(module.global_variables.get_span(o)), format!("`{other_name}` uses {at} too"));
+    d.notes.retain(|n| !n.starts_with("Bindings for"));
+    d.notes.insert(0, headline);
+    d.with_note(
+        "give one of them a binding that no other global of the shader or of the files it includes uses \
+         (docs/pipelines.md, \"Bindings the lib files take\": group 2 from binding 8 up is free)",
+    )
 }
 
 /// The wgpu feature a missing naga capability (named in `notes`, `Capabilities(NAME)`) needs,
