@@ -96,7 +96,7 @@ fn fs_main(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 // `ao = gtao_temporal`: the offsets turn by the golden ratio each frame, so that
-// ao_accumulate.wgsl's average over frames covers the slice angles and step positions evenly.
+// temporal_accumulate.wgsl's average over frames covers the slice angles and step positions evenly.
 @fragment
 fn fs_temporal(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     return occlusion(frag, fract(noise(frag.xy) + 0.618034 * f32(frame.frame_index % 4096u)));

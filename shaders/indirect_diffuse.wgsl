@@ -77,7 +77,7 @@ fn fs_filtered(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 }
 
 // The temporal variant (after Lambru et al., seed 000 §4.3.3): fewer samples, the pattern
-// rotated by an angle that differs per pixel and per frame; `indirect_accumulate.wgsl`
+// rotated by an angle that differs per pixel and per frame; `temporal_accumulate.wgsl`
 // averages the frames over a reprojected history.
 @fragment
 fn fs_rotated(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {

@@ -1,6 +1,6 @@
-// Temporal reuse (indirect_accumulate.wgsl, ao_accumulate.wgsl): where this frame's surface
-// lay in the previous frame's buffers, and whether it is the same surface there. Include after
-// lib/frame.wgsl and lib/gbuffer.wgsl.
+// Temporal reuse (temporal_accumulate.wgsl): where this frame's surface lay in the previous
+// frame's buffers, and whether it is the same surface there. Include after lib/frame.wgsl and
+// lib/gbuffer.wgsl.
 
 // World position of G-buffer pixel `p` of the previous frame at depth `d`.
 fn prev_world(p: vec2<i32>, d: f32) -> vec3<f32> {
