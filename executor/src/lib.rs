@@ -60,6 +60,8 @@ mod timing;
 
 pub use device::{DeviceOptions, Gpu, HostOptions};
 pub use executor::{halton_jitter, CameraMatrices, Executor, FrameInputs, Part, ReloadReport};
+/// A parameter value, for `Executor::set_param` (the compiler's type, re-exported for hosts).
+pub use lightbench_compiler::ir::ParamValue;
 pub use timing::PassTiming;
 
 pub use lightbench_scene::{self as scene, Error, Result};

@@ -76,6 +76,82 @@ fn headless_renders_what_lightbench_render_renders() {
     }
 }
 
+/// `host_loop` (docs/embedding.md, "A host program"): its own camera, a parameter set by name
+/// and a variant switched while running end on what `lightbench render` renders with that
+/// camera, parameter and variant; bad FRAMES is a usage error.
+#[test]
+fn host_loop_ends_where_lightbench_render_does() {
+    let d = scratch("example-host-loop");
+    let (first, last, theirs) = (d.join("first.png"), d.join("last.png"), d.join("render.png"));
+    let out = Command::new(example("host_loop"))
+        .arg(&first)
+        .arg(&last)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("frame 4: tonemap = simple"), "{stdout}");
+    let (code, _, err) = lightbench(&[
+        "render",
+        "--size",
+        "64x64",
+        "--variant",
+        "tonemap=simple",
+        "--param",
+        "exposure.automatic=false",
+        "--param",
+        "exposure.ev=1",
+        "--out",
+        theirs.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let load = |p: &PathBuf| lightbench::io::Image::load_png(p).unwrap();
+    let e = lightbench::io::rmse(&load(&last), &load(&theirs)).unwrap();
+    assert!(e <= 1e-3, "RMSE {e}");
+    let e = lightbench::io::rmse(&load(&first), &load(&theirs)).unwrap();
+    assert!(e > 0.01, "the first frame is another camera and tone mapping: RMSE {e}");
+    let out = Command::new(example("host_loop"))
+        .args(["a.png", "b.png", "1"])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+/// docs/embedding.md's host program: each line of its code is a line of `host_loop.rs`, in
+/// order, and its `Cargo.toml` asks for the versions this workspace builds with.
+#[test]
+fn the_host_program_in_the_docs_is_the_example() {
+    let docs = std::fs::read_to_string(root().join("docs/embedding.md")).unwrap();
+    let section = docs
+        .split("### A host program")
+        .nth(1)
+        .expect("docs/embedding.md: ### A host program");
+    let block = |fence: &str| {
+        let rest = section.split(fence).nth(1).unwrap_or_else(|| panic!("no {fence} block"));
+        rest.split("```").next().unwrap().to_string()
+    };
+    let example = std::fs::read_to_string(root().join("executor/examples/host_loop.rs")).unwrap();
+    let mut lines = example.lines().map(str::trim);
+    for want in block("```rust\n").lines().map(str::trim).filter(|l| !l.is_empty()) {
+        assert!(lines.any(|l| l == want), "not in host_loop.rs (in this order): {want}");
+    }
+    let workspace = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let toml = block("```toml\n");
+    let versions = toml.lines().filter_map(|l| l.split_once(" = ")).filter(|(_, v)| v.starts_with('"'));
+    for (krate, version) in versions {
+        let line = format!("{krate} = {version}");
+        let ours = (workspace.lines())
+            .find(|l| l.starts_with(&format!("{krate} = ")))
+            .unwrap_or_else(|| panic!("{krate} is no workspace dependency"));
+        assert!(
+            ours.contains(&format!("version = {version}")) || ours.ends_with(&format!("= {version}")),
+            "{line} vs {ours}"
+        );
+    }
+}
+
 /// `embed`'s options are checked before any window opens: exit 2, named.
 #[test]
 fn embed_refuses_bad_options() {

@@ -1,0 +1,90 @@
+//! A host program's frame loop around the executor (docs/embedding.md, "A host program"): its
+//! own device and camera, a parameter set from the host, and a variant changed while it runs
+//! (compiled again and swapped in with `Executor::replace`).
+//!
+//! ```sh
+//! cargo run -p lightbench-executor --example host_loop -- FIRST.png LAST.png [FRAMES]
+//! ```
+//! From the repository root: the Cornell box at 64×64 through `pipelines/deferred.lbp`, the
+//! camera turning about the box to end where the scene's own camera is, manual exposure; after
+//! half of FRAMES (8) frames the tone mapping switches from `reinhard` to `simple`. Writes the
+//! first and the last frame; the last equals `lightbench render --size 64x64 --variant
+//! tonemap=simple --param exposure.automatic=false --param exposure.ev=1` (a test checks it).
+
+use glam::Vec3;
+use lightbench_executor::render::compile;
+use lightbench_executor::scene::math::{look_to, perspective};
+use lightbench_executor::{device, CameraMatrices, Executor, Gpu, HostOptions, ParamValue, Result};
+use std::path::{Path, PathBuf};
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e}");
+        std::process::exit(if matches!(e, lightbench_executor::Error::Usage(_)) { 2 } else { 1 });
+    }
+}
+
+fn run() -> Result<()> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let (Some(first_png), Some(last_png)) = (args.first().map(PathBuf::from), args.get(1).map(PathBuf::from)) else {
+        return Err(lightbench_executor::Error::Usage(
+            "usage: host_loop FIRST.png LAST.png [FRAMES]".into(),
+        ));
+    };
+    let frames: u32 = match args.get(2) {
+        Some(n) => n
+            .parse()
+            .ok()
+            .filter(|n| *n >= 2)
+            .ok_or_else(|| lightbench_executor::Error::Usage(format!("FRAMES `{n}`: expected a whole number of at least 2")))?,
+        None => 8,
+    };
+    let scene = lightbench_executor::scene::load::load_sized("cornell", Some((64, 64)), &[])?;
+    let pipeline = Path::new("pipelines/deferred.lbp");
+
+    // The host's device, opened with the features lightbench's pipelines use.
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+        .map_err(|e| lightbench_executor::Error::Adapter(format!("no adapter: {e}")))?;
+    let (dev, queue) = pollster::block_on(adapter.request_device(&device::device_descriptor(&adapter)))
+        .map_err(|e| lightbench_executor::Error::Adapter(format!("no device: {e}")))?;
+    let gpu = Gpu::from_host(adapter, dev.clone(), queue, HostOptions { probe: true })?;
+
+    let (exe, _warnings) = compile(&gpu, pipeline, None, &scene, &[])?;
+    let mut ex = Executor::new(&gpu, &exe, &scene)?;
+    // Parameters are set by name, checked against their type and range.
+    ex.set_param("exposure.automatic", ParamValue::Bool(false))?;
+    ex.set_param("exposure.ev", ParamValue::Float(1.0))?;
+
+    let (w, h) = scene.size;
+    let proj = perspective(40f32.to_radians(), w as f32 / h as f32, 0.05, 20.0);
+    for frame in 0..frames {
+        if frame == frames / 2 {
+            // A variant changed at run time: compile with the new choice, swap the Plan in
+            // (resources and pipelines that did not change are kept, parameters too).
+            let variants = [("tonemap".to_string(), "simple".to_string())];
+            let (exe, _warnings) = compile(&gpu, pipeline, None, &scene, &variants)?;
+            let report = ex.replace(&gpu, &exe)?;
+            println!(
+                "frame {frame}: tonemap = simple, {} pipeline(s) built",
+                report.pipelines_built.len()
+            );
+        }
+        // The host's camera: turning about the box's centre, looking at it.
+        let angle = 0.3 * (1.0 - frame as f32 / (frames - 1) as f32);
+        let eye = Vec3::new(3.6 * angle.sin(), 1.0, 3.6 * angle.cos());
+        let view = look_to(eye, (Vec3::new(0.0, 1.0, 0.0) - eye).normalize(), Vec3::Y);
+        let mut inputs = ex.inputs(frame as f32 / 60.0);
+        inputs.matrices = Some(CameraMatrices { view, proj });
+        let mut encoder = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("host frame") });
+        ex.encode(&gpu, &mut encoder, &inputs)?;
+        ex.submit(&gpu, encoder)?;
+        if frame == 0 || frame == frames - 1 {
+            let out = if frame == 0 { &first_png } else { &last_png };
+            let output = ex.plan().output_resource().name.clone();
+            ex.read_texture(&gpu, &output, 0, 0)?.save(out)?;
+            println!("frame {frame}: wrote {}", out.display());
+        }
+    }
+    Ok(())
+}
