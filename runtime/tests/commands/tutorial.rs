@@ -4,7 +4,7 @@
 
 use crate::cli_common;
 
-use cli_common::{root, scratch};
+use cli_common::{lightbench_in, root, scratch};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -98,4 +98,13 @@ fn the_readmes_first_project_runs_as_written() {
     let section = section.split("\n## ").next().unwrap();
     assert_eq!(run_as_written(section, &d), 5);
     assert!(d.join("my-lighting/spot.png").is_file() && d.join("my-lighting/room.png").is_file());
+    // As it says: without `--effect` the room's indirect light and occlusion are culled (the
+    // image is shadows and direct light alone), with it they render.
+    let project = d.join("my-lighting");
+    let args = ["render", "--pipeline", "pipelines/deferred_gi.lbp", "--scene", "scenes/room.ron"];
+    let (code, _, err) = lightbench_in(&project, &[&args[..], &["--size", "128x128", "--out", "plain.png"]].concat());
+    assert_eq!(code, 0, "{err}");
+    let load = |f: &str| lightbench::io::Image::load_png(&project.join(f)).unwrap();
+    let e = lightbench::io::rmse(&load("room.png"), &load("plain.png")).unwrap();
+    assert!(e > 0.01, "--effect changes the room: RMSE {e}");
 }
