@@ -240,6 +240,11 @@ impl Reloader {
         self.variants = variants.to_vec();
     }
 
+    /// Plan with these values of parameters the Plan fixes from now on (a viewer set one).
+    pub fn set_params(&mut self, params: &ParamValues) {
+        self.params = params.clone();
+    }
+
     /// A reloaded scene file calls for these effects too (`--effect`).
     pub fn add_effects(&mut self, effects: &[lightbench_compiler::ir::Effect]) {
         self.added_effects.extend(effects.iter().copied());

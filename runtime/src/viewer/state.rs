@@ -64,6 +64,9 @@ pub struct Viewer {
     pub last_error: Option<String>,
     /// Each variant's options, with what the adapter lacks for those it cannot run.
     pub options: Vec<(String, Vec<OptionState>)>,
+    /// Values of parameters the Plan fixes (sizes, repeat counts, shader constants) set here:
+    /// each Plan is made with them.
+    plan_params: ParamValues,
     /// Hot reload of the pipeline and shader files (not for the bundled pipeline).
     reloader: Option<crate::reload::Reloader>,
     /// The path-traced view, while it is shown (`Action::Trace`).
@@ -73,16 +76,17 @@ pub struct Viewer {
 /// A variant option and, when the adapter cannot run it, what it needs.
 pub type OptionState = (String, Option<String>);
 
-/// Compile `pipeline` for `scene` with `variants`; `Err` holds the rendered diagnostics.
+/// Compile `pipeline` for `scene` with `variants` and the values of parameters the Plan fixes;
+/// `Err` holds the rendered diagnostics.
 fn compile(
     ws: &Workspace,
     (pipeline, shaders): (&Path, Option<&Path>),
     gpu: &Gpu,
     scene: &Scene,
-    variants: &[(String, String)],
+    (variants, params): (&[(String, String)], &ParamValues),
 ) -> Result<Executable> {
     let mut s = ws.session();
-    let exe = s.executable_with(pipeline, shaders, (&gpu.profile, &scene.features()), variants, &ParamValues::new());
+    let exe = s.executable_with(pipeline, shaders, (&gpu.profile, &scene.features()), variants, params);
     exe.ok_or_else(|| Error::Compile(s.render()))
 }
 
@@ -93,7 +97,7 @@ impl Viewer {
         scene: Scene,
         variants: &[(String, String)],
     ) -> Result<Viewer> {
-        let exe = compile(&ws, (pipeline, shaders), gpu, &scene, variants)?;
+        let exe = compile(&ws, (pipeline, shaders), gpu, &scene, (variants, &ParamValues::new()))?;
         let mut ex = Executor::new(gpu, &exe, &scene)?;
         // The panel's per-pass times may be a frame old; the frame is not waited for.
         ex.set_late_timestamps(true);
@@ -136,6 +140,7 @@ impl Viewer {
             frames: 0,
             last_error: None,
             options,
+            plan_params: ParamValues::new(),
             reloader: None,
             traced: None,
         })
@@ -150,7 +155,7 @@ impl Viewer {
             (&self.pipeline, self.shaders.as_deref()),
             gpu,
             &self.scene,
-            &self.variants,
+            (&self.variants, &self.plan_params),
         )?;
         match lights_changed {
             true => self
@@ -163,6 +168,7 @@ impl Viewer {
         }
         if let Some(r) = self.reloader.as_mut() {
             r.set_variants(&self.variants);
+            r.set_params(&self.plan_params);
             r.set_scene(&self.scene);
         }
         // The scene's camera would come back with a new scene: keep the viewer's.
@@ -304,6 +310,22 @@ impl Viewer {
         crate::diff::images::png(rgb, (w, h), path)
     }
 
+    /// A parameter's new value: a frame input, or, for one the Plan fixes (a size, a repeat
+    /// count, a shader constant), a new Plan made with it and swapped in (the camera and the
+    /// resources whose descriptors stay, history included, are kept).
+    fn set_param(&mut self, gpu: &Gpu, name: &str, value: ParamValue) -> Result<()> {
+        let plan = self.ex.plan();
+        let Some(fixed) = plan.params.iter().find(|p| p.name == name).and_then(|p| p.sizes.clone()) else {
+            return self.ex.set_param(name, value);
+        };
+        if fixed == value {
+            return Ok(());
+        }
+        let before = self.plan_params.clone();
+        self.plan_params.set(&plan.params, name, value)?;
+        self.rebuild(gpu, false).inspect_err(|_| self.plan_params = before)
+    }
+
     /// Apply an action; on failure the viewer keeps running as it was and says why.
     pub fn apply(&mut self, gpu: &Gpu, a: Action) -> Result<()> {
         let r = self.apply_inner(gpu, a);
@@ -356,7 +378,7 @@ impl Viewer {
                 self.camera.yaw += yaw;
                 self.camera.pitch = (self.camera.pitch + pitch).clamp(-89.0, 89.0);
             }
-            Action::Param(name, value) => self.ex.set_param(&name, value)?,
+            Action::Param(name, value) => self.set_param(gpu, &name, value)?,
             Action::Variant(k, o) => {
                 let before = self.variants.clone();
                 self.variants.retain(|(v, _)| *v != k);

@@ -95,3 +95,36 @@ fn adding_a_light_or_an_effect_keeps_the_scene_on_the_gpu() {
     fresh_agrees(&v, "the spot light removed");
     assert_eq!(v.ex.scene_uploads(), 1, "the scene stayed on the GPU");
 }
+
+/// A parameter the Plan fixes (here a shadow map's size) set in the viewer plans again with
+/// it, as docs/pipelines.md says, keeping the viewer's camera; setting it back gives the
+/// first image again. The executor alone refuses it (another Plan is needed).
+#[test]
+fn a_parameter_the_plan_fixes_plans_again_in_the_viewer() {
+    let g = gpu();
+    let mut scene = lightbench::scene::builtin::cornell();
+    scene.size = (48, 48);
+    let mut v = viewer(&g, scene);
+    v.apply(&g, Action::Move(glam::Vec3::new(0.1, 0.0, 0.2))).unwrap();
+    let camera = v.camera.clone();
+    v.frame(&g).unwrap();
+    let before = output(&g, &v.ex);
+    assert!(
+        v.ex.set_param("cube.size", ParamValue::Int(32)).is_err(),
+        "the executor alone refuses it"
+    );
+    v.apply(&g, Action::Param("cube.size".into(), ParamValue::Int(32)))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(v.ex.texture("shadow.cube").unwrap().width(), 32, "a new Plan with the new size");
+    assert_eq!(v.camera.position, camera.position, "the camera is kept");
+    v.frame(&g).unwrap();
+    let coarse = output(&g, &v.ex);
+    assert!(rmse(&before, &coarse).unwrap() > 1e-4, "a coarser shadow map shows");
+    v.apply(&g, Action::Param("cube.size".into(), ParamValue::Int(512))).unwrap();
+    v.frame(&g).unwrap();
+    let e = rmse(&before, &output(&g, &v.ex)).unwrap();
+    assert!(e <= 1e-6, "back to the first size: RMSE {e}");
+    // Out of its range: refused, the running Plan kept.
+    assert!(v.apply(&g, Action::Param("cube.size".into(), ParamValue::Int(8))).is_err());
+    assert_eq!(v.ex.texture("shadow.cube").unwrap().width(), 512);
+}
