@@ -60,6 +60,12 @@ fn cases() -> Vec<(Feature, String, &'static str)> {
             "var ts",
         ),
         (
+            // naga points at the whole struct holding the built-in: the `enable` comes first.
+            Feature::ClipDistances,
+            "enable clip_distances;\nstruct VsOut {\n    @builtin(position) pos: vec4<f32>,\n    @builtin(clip_distances) clip: array<f32, 1>,\n};\n@group(2) @binding(0) var<storage, read_write> b: array<u32>;\n@vertex\nfn vs_main() -> VsOut {\n    var o: VsOut;\n    o.pos = vec4<f32>(0.0, 0.0, 0.0, 1.0);\n    o.clip[0] = 1.0;\n    return o;\n}\n@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0);\n}\n@compute @workgroup_size(64)\nfn cs_main(@builtin(local_invocation_index) i: u32) {\n    b[i] = i;\n}\n".to_string(),
+            "enable clip_distances",
+        ),
+        (
             Feature::Immediates,
             frag("var<immediate> k: vec4<f32>;", "let c = k;"),
             "var<immediate>",

@@ -621,7 +621,20 @@ fn validation_error(
             .map(|(r, what)| (map(naga::Span::new(r.start as u32, r.end as u32)), what))
             .unwrap_or((map(naga::Span::UNDEFINED), String::new()))
     };
-    let (first, first_text) = spans.next().unwrap_or_else(fallback);
+    // A missing capability that naga locates at a whole declaration (a struct holding
+    // `@builtin(clip_distances)`): the shader's `enable` directive for it first, the
+    // declaration beside it. A span on one line (an expression using it) stays first.
+    let whole_declaration = (e.spans().next())
+        .and_then(|(s, _)| s.to_range())
+        .and_then(|r| text.get(r))
+        .is_some_and(|t| t.trim_end().contains('\n'));
+    let enable = (readable::capability_span(&chain, text))
+        .filter(|(_, what)| whole_declaration && what.starts_with("needs "))
+        .map(|(r, what)| (map(naga::Span::new(r.start as u32, r.end as u32)), what));
+    let (first, first_text) = match enable {
+        Some(directive) => directive,
+        None => spans.next().unwrap_or_else(fallback),
+    };
     let mut d = Diagnostic::error(Code::ShaderValidation, say(&e.as_inner().to_string()), first).with_label_text(first_text);
     for (s, t) in spans {
         d = d.with_secondary(s, t);
