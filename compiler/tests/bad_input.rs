@@ -372,6 +372,25 @@ fn the_lib_files_bindings_are_as_documented() {
     }
 }
 
+/// GLSL entry-point errors naga gives no span are located in the shader's own text, never at
+/// its `#version` line: two outputs at one location at the second, others at `void main`.
+#[test]
+fn glsl_entry_point_errors_are_located_in_the_shader() {
+    let frag = "#version 450\nlayout(location = 0) out vec4 o;\nlayout(location = 0) out vec4 p;\nvoid main() {\n    o = vec4(1.0);\n    p = vec4(0.5);\n}\n";
+    expect(
+        Case {
+            pipeline: &[("shader: \"post.wgsl\", reads: [\"color\"],", "shader: \"post.frag\",")],
+            files: &[("shaders/post.frag", frag)],
+            ..BASE
+        },
+        "shader-validation",
+        "Entry point main at Fragment is invalid",
+        "shaders/post.frag",
+        3,
+        1,
+    );
+}
+
 #[test]
 fn glsl_error() {
     let frag = "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";

@@ -222,18 +222,51 @@ pub fn signature_span(e: &naga::valid::ValidationError, text: &str) -> Option<(s
     let fn_at = declaration(text, name)?;
     let open = fn_at.end + text[fn_at.end..].find('(')?;
     let args = top_level_args(text, open)?;
-    match detail {
+    // Each arm may find nothing (a GLSL entry point has no `->`): then the function's name.
+    let specific = || match detail {
         Some(EP::Argument(i, _)) => args.get(*i as usize).map(|r| (r.clone(), format!("argument {i}"))),
-        Some(EP::Result(_)) => {
+        Some(EP::Result(v)) => {
             let close = args.last().map_or(open + 1, |r| r.end);
             let after = close + text[close..].find(')')? + 1;
-            let arrow = after + text[after..].find("->")?;
-            let end = arrow + text[arrow..].find('{')?;
-            Some((arrow..text[..end].trim_end().len(), "the result".into()))
+            match text[after..].find("->") {
+                Some(a) => {
+                    let arrow = after + a;
+                    let end = arrow + text[arrow..].find('{')?;
+                    Some((arrow..text[..end].trim_end().len(), "the result".into()))
+                }
+                None => glsl_output(text, v),
+            }
         }
         _ => None,
-    }
-    .or(Some((fn_at, format!("`{name}`"))))
+    };
+    specific().or(Some((fn_at, format!("`{name}`"))))
+}
+
+/// A GLSL entry point's result is its `out` globals: the one a varying error is about (the
+/// second at a location two share), else the first.
+fn glsl_output(text: &str, e: &naga::valid::VaryingError) -> Option<(std::ops::Range<usize>, String)> {
+    let outs: Vec<(usize, &str)> = (text.match_indices('\n').map(|(i, _)| i + 1))
+        .chain([0])
+        .filter_map(|i| {
+            let line = text[i..].lines().next()?;
+            (line.trim_start().starts_with("layout") && line.contains(") out ")).then_some((i, line))
+        })
+        .collect();
+    let location = |l: &str| {
+        let at = l.find("location")?;
+        let digits: String = l[at..]
+            .chars()
+            .skip_while(|c| !c.is_ascii_digit())
+            .take_while(char::is_ascii_digit)
+            .collect();
+        digits.parse::<u32>().ok()
+    };
+    let (i, line) = match e {
+        naga::valid::VaryingError::BindingCollision { location: at } => *outs.iter().filter(|(_, l)| location(l) == Some(*at)).nth(1)?,
+        _ => *outs.iter().min()?,
+    };
+    let start = i + (line.len() - line.trim_start().len());
+    Some((start..i + line.trim_end().len(), "an output of the entry point".into()))
 }
 
 /// The span of `fn NAME` (WGSL) or `void NAME` (GLSL) in `text` (the expanded source).
