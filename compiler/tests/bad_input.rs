@@ -480,6 +480,28 @@ fn texture_float_vs_depth() {
     );
 }
 
+/// A binding array is no mismatch with the resource: lightbench binds no such thing, and says
+/// so (it said "an unsupported binding … but `color` is a Rgba16Float texture").
+#[test]
+fn a_binding_array_is_said_to_be_unbindable() {
+    expect(
+        Case {
+            post: &[
+                ("struct Params {", "enable wgpu_binding_array;\nstruct Params {"),
+                ("var color: texture_2d<f32>;", "var color: binding_array<texture_2d<f32>, 2>;"),
+                ("textureSample(color, linear, uv)", "textureSample(color[0], linear, uv)"),
+            ],
+            profile: "vulkan",
+            ..BASE
+        },
+        "binding-type",
+        "`color` is a `binding_array<texture_2d<f32>, 2>`, which lightbench does not bind",
+        "shaders/post.wgsl",
+        6,
+        23,
+    );
+}
+
 #[test]
 fn texture_2d_vs_cube() {
     expect(

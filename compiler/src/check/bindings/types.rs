@@ -296,7 +296,17 @@ fn mismatch(u: &Used, res_name: &str, sty: &BindingTy, kind: &ResourceKind, decl
         BindingTy::Storage { .. } => "a storage buffer",
         BindingTy::Uniform { .. } => "a uniform buffer",
         BindingTy::AccelerationStructure => "an `acceleration_structure`",
-        _ => "an unsupported binding",
+        BindingTy::Sampler { .. } => "a sampler",
+        BindingTy::Unsupported => {
+            // Not a mismatch: no resource could be bound there.
+            let d = Diagnostic::error(
+                Code::BindingType,
+                format!("`{}` is a `{}`, which lightbench does not bind", u.g.name, u.g.type_name),
+                u.stage.module.global_span(u.g.handle),
+            )
+            .with_note("binding arrays and external textures are not supported: declare one global per texture or buffer");
+            return diags.push(d);
+        }
     };
     diags.push(
         Diagnostic::error(
