@@ -792,6 +792,19 @@ mod generated {
     }
 }
 
+/// A tuple wrong inside is not "expected a tuple, found `(`": it says what a tuple holds,
+/// over the whole tuple.
+#[test]
+fn a_malformed_tuple_says_what_it_must_hold() {
+    let text =
+        "pipeline p\ntexture out: Rgba8Unorm viewport\nfullscreen f \"fill.wgsl\" {\n    color out clear(0, 0, 0 1)\n}\noutput out\n";
+    let (_, s) = parse("p.lbp", text);
+    let d = &s.diags.list[0];
+    assert_eq!(d.message, "expected numbers separated by commas in this tuple, e.g. `(0, 0, 0, 1)`");
+    assert_eq!(d.location(&s.sources).map(|(_, l, c)| (l, c)), Some((4, 20)));
+    assert_eq!(&text[d.labels[0].span.range()], "(0, 0, 0 1)");
+}
+
 /// Several elements in an arm without parentheses: the syntax error says how to write them.
 #[test]
 fn an_arm_of_several_elements_without_parentheses_gets_a_hint() {

@@ -139,6 +139,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
     let mut suggestion = None;
     let mut wants_brace = false;
     let mut wants_colon = false;
+    let mut wants_tuple = false;
     let message = match &e.variant {
         pest::error::ErrorVariant::ParsingError { positives, .. } => {
             let mut words: Vec<&str> = vec![];
@@ -152,6 +153,7 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
             let keywords: Vec<&str> = positives.iter().filter_map(keyword).collect();
             wants_brace = positives.contains(&Rule::close_brace);
             wants_colon = positives.contains(&Rule::colon);
+            wants_tuple = positives.contains(&Rule::tuple);
             suggestion = crate::diag::did_you_mean(token, keywords.iter().copied()).map(|k| format!("did you mean `{k}`?"));
             if words.is_empty() {
                 format!("unexpected {found}")
@@ -160,6 +162,14 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
             }
         }
         pest::error::ErrorVariant::CustomError { message } => message.clone(),
+    };
+    // A tuple that went wrong inside is reported at its `(`: say what it must hold, over all of it.
+    let (message, end) = match malformed_tuple(text, start).filter(|_| wants_tuple) {
+        Some(close) => (
+            "expected numbers separated by commas in this tuple, e.g. `(0, 0, 0, 1)`".to_string(),
+            close,
+        ),
+        None => (message, end),
     };
     let mut d = Diagnostic::error(Code::LbpSyntax, message, Span::new(file, start, end.max(start)));
     // A `}` was expected: show the `{` it would close, which may be far above.
@@ -176,6 +186,13 @@ fn syntax_error(file: FileId, text: &str, e: pest::error::Error<Rule>) -> Diagno
         Some(s) => d.with_note(s),
         None => d,
     }
+}
+
+/// The end of the `( ... )` at `start` on its line (past its `)`), when there is one.
+fn malformed_tuple(text: &str, start: usize) -> Option<usize> {
+    let rest = text.get(start..)?.strip_prefix('(')?;
+    let line = rest.split('\n').next()?;
+    line.find(')').map(|i| start + 1 + i + 1)
 }
 
 /// Whether `before` ends inside a choice's arms (its innermost open `{` follows `match(..)`).
