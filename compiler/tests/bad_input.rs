@@ -391,6 +391,36 @@ fn glsl_entry_point_errors_are_located_in_the_shader() {
     );
 }
 
+/// An invalid type is named in WGSL and located where it is written (naga's headline was
+/// "Type [2] '' is invalid", at 1:1).
+#[test]
+fn an_invalid_type_is_named_and_located() {
+    let c = Case {
+        post: &[(
+            "@group(0) @binding(2) var<uniform> params: Params;",
+            "@group(0) @binding(2) var<uniform> params: Params;\n@group(0) @binding(3) var<storage, read> xs: array<array<f32>, 2>;",
+        )],
+        ..BASE
+    };
+    expect(
+        c,
+        "shader-validation",
+        "Type `array<array<f32>, 2>` is invalid",
+        "shaders/post.wgsl",
+        8,
+        46,
+    );
+    let out = run(&Case {
+        post: &[(
+            "@group(0) @binding(2) var<uniform> params: Params;",
+            "@group(0) @binding(2) var<uniform> params: Params;\n@group(0) @binding(3) var<storage, read> xs: array<array<f32>, 2>;",
+        )],
+        ..BASE
+    });
+    let d = &out.session.diags.list[0];
+    assert_eq!(d.notes, ["Base type `array<f32>` for the array is invalid"], "{}", out.dump());
+}
+
 #[test]
 fn glsl_error() {
     let frag = "#version 450\nlayout(location = 0) out vec4 o;\nvoid main() {\n    o = vec4(1.0) +;\n}\n";

@@ -617,6 +617,7 @@ fn validation_error(
             .filter(|(_, what)| what.starts_with("argument") || what == "the result");
         specific
             .or_else(|| readable::capability_span(&chain, text))
+            .or_else(|| readable::type_span(e.as_inner(), module, text))
             .or(signature)
             .map(|(r, what)| (map(naga::Span::new(r.start as u32, r.end as u32)), what))
             .unwrap_or((map(naga::Span::UNDEFINED), String::new()))

@@ -24,6 +24,16 @@ pub fn types(msg: &str, m: &Module) -> String {
 
 /// A type in Debug form at the start of `s`: its WGSL name and the length it spans.
 fn parse_type(s: &str, m: &Module) -> Option<(String, usize)> {
+    // A type by handle, as naga names it in headlines: `Type [2] ''` (no name), `type [1]`.
+    for prefix in ["Type [", "type ["] {
+        if let Some(r) = s.strip_prefix(prefix) {
+            let (index, after) = r.split_once(']')?;
+            let (h, _) = m.types.iter().nth(index.parse().ok()?)?;
+            let quoted = after.strip_prefix(" '").and_then(|q| q.find('\'')).map_or(0, |end| 2 + end + 1);
+            let len = prefix.len() + index.len() + 1 + quoted;
+            return Some((format!("{}ype `{}`", &prefix[..1], crate::shader::reflect::type_name(m, h)), len));
+        }
+    }
     if let Some(r) = s.strip_prefix("Scalar(") {
         let (name, n) = scalar(r)?;
         return r[n..].starts_with(')').then(|| (name, "Scalar(".len() + n + 1));
@@ -267,6 +277,20 @@ fn glsl_output(text: &str, e: &naga::valid::VaryingError) -> Option<(std::ops::R
     };
     let start = i + (line.len() - line.trim_start().len());
     Some((start..i + line.trim_end().len(), "an output of the entry point".into()))
+}
+
+/// Where an invalid type naga gives no span is written: the type's arena span, else its first
+/// spelling in the source (`array<array<f32>, 2>`).
+pub fn type_span(e: &naga::valid::ValidationError, m: &Module, text: &str) -> Option<(std::ops::Range<usize>, String)> {
+    let naga::valid::ValidationError::Type { handle, .. } = e else {
+        return None;
+    };
+    if let Some(r) = m.types.get_span(*handle).to_range().filter(|r| !r.is_empty()) {
+        return Some((r, "this type".into()));
+    }
+    let written = crate::shader::reflect::type_name(m, *handle);
+    let at = text.find(&written)?;
+    Some((at..at + written.len(), "this type".into()))
 }
 
 /// The span of `fn NAME` (WGSL) or `void NAME` (GLSL) in `text` (the expanded source).
