@@ -633,9 +633,15 @@ impl Session {
 
     /// Load and check a pipeline file across its configurations (what `lightbench check` does).
     pub fn check_file(&mut self, path: &Path, shader_root: Option<&Path>, profile: &Profile, scene: Option<&SceneFeatures>) {
-        let Some(checked) = self.load_checked(path, shader_root, profile) else {
+        let Some((p, root)) = self.load_for_check(path, shader_root, profile) else {
             return;
         };
+        let checked = self.check(p, &root, profile);
+        if self.diags.has_errors() {
+            // No configuration is planned, but what this profile cannot run is still said.
+            crate::plan::unsupported_options(&checked.pipeline, profile, &mut self.diags);
+            return;
+        }
         self.check_configurations(&checked, profile, scene);
     }
 

@@ -149,3 +149,22 @@ fn dual_source_blend_needs_the_second_source() {
     let out = check_project(&dir, "p.lbp", &Profile::vulkan(), None);
     assert!(out.errors().is_empty(), "{}", out.dump());
 }
+
+/// A binding error stops `check` before any configuration is planned; an option the profile
+/// cannot run is still reported beside it, not hidden by it.
+#[test]
+fn a_binding_error_does_not_hide_an_unsupported_option() {
+    let pipeline = "pipeline p\ntexture out: Rgba8Unorm viewport\n\
+        fullscreen f \"fill.wgsl\" {\n    color out\n    when variant(q, fast)\n}\n\
+        fullscreen g \"bad.wgsl\" {\n    color out\n    when variant(q, slow)\n}\n\
+        variant q = slow {\n    option slow\n    option fast requires(ShaderF16)\n}\noutput out\n";
+    let fill = "@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(1.0);\n}\n";
+    let bad = "@group(2) @binding(0) var nothing: texture_2d<f32>;\n@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return textureLoad(nothing, vec2<i32>(0), 0);\n}\n";
+    let dir = write_project(
+        "hidden-unsupported",
+        &[("p.lbp", pipeline), ("shaders/fill.wgsl", fill), ("shaders/bad.wgsl", bad)],
+    );
+    let o = check_project(&dir, "p.lbp", &profile(None), None);
+    let codes: Vec<&str> = o.errors().iter().map(|d| d.code.as_str()).collect();
+    assert_eq!(codes, ["binding-unsatisfied", "variant-unsupported"], "{}", o.dump());
+}

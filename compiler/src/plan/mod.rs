@@ -22,7 +22,7 @@ pub use cull::{schedule, Schedule};
 pub use diff::{diff, Change, PassChange, PlanDiff};
 pub use explain::{memory_text, mib_text, pass_facts, resource_fact, to_dot, to_text, work_word};
 pub use params::{declared_param, pass_value_params, plan_param, ParamError, ParamValues};
-pub use select::{select, Selection};
+pub use select::{select, unsupported_options, Selection};
 
 use crate::check::PassVersion;
 use crate::format::TextureFormat;

@@ -62,6 +62,17 @@ pub fn select(p: &Pipeline, profile: &Profile, requested: &[(String, String)], d
 }
 
 /// `multiview!`: the option, with fallbacks refused.
+/// Every option of every variant that `profile` cannot run and that has no usable fallback,
+/// reported as planning it would (`variant-unsupported`): for `check` when other errors stop
+/// it before planning, so that one kind of error does not hide the other.
+pub fn unsupported_options(p: &Pipeline, profile: &Profile, diags: &mut Diagnostics) {
+    for var in &p.variants {
+        for o in &var.options {
+            choose(var, (o.name.value.clone(), false), profile, diags);
+        }
+    }
+}
+
 fn strip_forced(v: &str) -> &str {
     v.strip_suffix('!').unwrap_or(v)
 }
