@@ -371,7 +371,9 @@ impl Binder<'_> {
             label: Some(name),
             dimension: Some(dim),
             usage: Some(wgpu::TextureUsages::RENDER_ATTACHMENT),
-            aspect: aspect(tex),
+            // An attachment is all of the texture's aspects (a depth-stencil format's stencil
+            // too); bindings read the depth alone.
+            aspect: wgpu::TextureAspect::All,
             base_mip_level: level,
             mip_level_count: Some(1),
             base_array_layer: range.0,

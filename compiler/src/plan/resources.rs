@@ -97,8 +97,10 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
         ResourceKind::Texture(t) => {
             let extent = cfg.extent(p, &t.size.value);
             let texel = t.format.value.bytes() as u64;
-            let per_layer: u64 = (0..t.mips.value)
-                .map(|m| ((extent.0 >> m).max(1) as u64) * ((extent.1 >> m).max(1) as u64) * texel)
+            // (A count past 32 levels is `mip-count`, reported below: no level beyond is summed.)
+            let level = |e: u32, m: u32| e.checked_shr(m).unwrap_or(0).max(1) as u64;
+            let per_layer: u64 = (0..t.mips.value.min(32))
+                .map(|m| level(extent.0, m) * level(extent.1, m) * texel)
                 .sum();
             let shape = ResourceShape::Texture {
                 format: t.format.value,

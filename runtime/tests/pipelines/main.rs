@@ -9,5 +9,6 @@ mod gpu_common;
 
 mod choices;
 mod constants;
+mod mutants;
 mod pipeline_language;
 mod pipelines_as_data;
