@@ -12,6 +12,7 @@ mod handlers;
 pub mod index;
 mod shader;
 pub mod text;
+mod transport;
 
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::scene::{file_kind, FileKind};
@@ -30,19 +31,22 @@ pub const DEBOUNCE: Duration = Duration::from_millis(150);
 
 /// `lightbench lsp`: serve on stdin/stdout until the client says `exit`.
 pub fn run() -> Result<(), String> {
-    let (connection, io_threads) = Connection::stdio();
+    let (connection, io_threads) = transport::stdio();
     let served = serve(&connection, DEBOUNCE);
     drop(connection);
-    let joined = io_threads.join().map_err(|e| e.to_string());
-    served.and(joined)
+    // The reader's protocol error, when there is one, is why serving stopped.
+    io_threads.join().and(served)
 }
 
-/// The whole conversation on one connection: the handshake, then messages until shutdown
-/// (or until the client goes away). Diagnostics wait for `debounce` without a message.
+/// The whole conversation on one connection: the handshake, then messages until `exit` (or
+/// until the client goes away). After `shutdown` every request is an error and `exit` ends
+/// it well; `exit` without `shutdown` is an error (exit code 1), as the protocol says.
+/// Diagnostics wait for `debounce` without a message.
 pub fn serve(connection: &Connection, debounce: Duration) -> Result<(), String> {
     let capabilities = serde_json::to_value(handlers::capabilities()).map_err(|e| e.to_string())?;
     let init = connection.initialize(capabilities).map_err(|e| e.to_string())?;
     let mut server = Server::new(roots(&init));
+    let mut shut_down = false;
     loop {
         let msg = if server.dirty.is_empty() {
             match connection.receiver.recv() {
@@ -60,12 +64,24 @@ pub fn serve(connection: &Connection, debounce: Duration) -> Result<(), String> 
             }
         };
         match msg {
+            Message::Request(req) if shut_down => {
+                let e = lsp_server::ErrorCode::InvalidRequest as i32;
+                let response = lsp_server::Response::new_err(req.id, e, "the server is shut down: only `exit` is expected".into());
+                let _ = connection.sender.send(response.into());
+            }
+            Message::Request(req) if req.method == "shutdown" => {
+                shut_down = true;
+                let _ = connection.sender.send(lsp_server::Response::new_ok(req.id, ()).into());
+            }
             Message::Request(req) => {
-                if connection.handle_shutdown(&req).map_err(|e| e.to_string())? {
-                    return Ok(());
-                }
                 let response = handlers::answer(&mut server, req);
                 let _ = connection.sender.send(response.into());
+            }
+            Message::Notification(n) if n.method == note::Exit::METHOD => {
+                return match shut_down {
+                    true => Ok(()),
+                    false => Err("`exit` came without `shutdown`".into()),
+                };
             }
             Message::Notification(n) => server.notified(n),
             Message::Response(_) => {}

@@ -397,6 +397,70 @@ fn malformed_requests_are_answered_and_bad_framing_ends_without_a_panic() {
     assert_eq!(code, 1);
 }
 
+/// `lightbench lsp` fed `input` raw and then closed: (exit code, stderr, stdout).
+fn raw_session(input: &[u8]) -> (i32, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .arg("lsp")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let input = input.to_vec();
+    let writer = std::thread::spawn(move || {
+        let _ = stdin.write_all(&input);
+    });
+    let out = child.wait_with_output().unwrap();
+    let _ = writer.join();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(!err.contains("panicked"), "{err}");
+    (
+        out.status.code().unwrap_or(-1),
+        err,
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+    )
+}
+
+fn framed(v: Value) -> Vec<u8> {
+    let body = v.to_string();
+    format!("Content-Length: {}\r\n\r\n{body}", body.len()).into_bytes()
+}
+
+/// The protocol's edges: lengths no one can allocate and endless header lines end the
+/// connection with a short error and exit code 1 (they aborted or panicked, or were echoed
+/// whole); `exit` without `shutdown` is exit code 1; after `shutdown` a request is an error
+/// and `exit` ends with 0.
+#[test]
+fn the_protocol_edges_end_cleanly_with_the_right_exit_codes() {
+    for length in ["1099511627776", "18446744073709551615"] {
+        let (code, err, _) = raw_session(format!("Content-Length: {length}\r\n\r\n").as_bytes());
+        assert_eq!(code, 1, "{err}");
+        assert!(err.contains("over the limit of 67108864 bytes"), "{err}");
+    }
+    let (code, err, _) = raw_session(&vec![b'x'; 10 << 20]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("a header line is longer than 1024 bytes") && err.len() < 300,
+        "{} bytes",
+        err.len()
+    );
+    let init = json!({"jsonrpc": "2.0", "id": 1, "method": "initialize", "params": {"capabilities": {}}});
+    let initialized = json!({"jsonrpc": "2.0", "method": "initialized", "params": {}});
+    let exit = json!({"jsonrpc": "2.0", "method": "exit"});
+    let (code, err, _) = raw_session(&[framed(init.clone()), framed(initialized.clone()), framed(exit.clone())].concat());
+    assert_eq!(code, 1, "exit without shutdown: {err}");
+    assert!(err.contains("`exit` came without `shutdown`"), "{err}");
+    let shutdown = json!({"jsonrpc": "2.0", "id": 2, "method": "shutdown"});
+    let hover = json!({"jsonrpc": "2.0", "id": 3, "method": "textDocument/hover", "params": {"textDocument": {"uri": "file:///x.lbp"}, "position": {"line": 0, "character": 0}}});
+    let (code, err, out) = raw_session(&[framed(init), framed(initialized), framed(shutdown), framed(hover), framed(exit)].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains(r#""id":3"#) && out.contains("-32600") && out.contains("shut down"),
+        "{out}"
+    );
+}
+
 /// Byte offset of a protocol position (UTF-16 columns).
 fn byte_at(text: &str, p: &Value) -> usize {
     let (line, col) = (p["line"].as_u64().unwrap() as usize, p["character"].as_u64().unwrap() as usize);
