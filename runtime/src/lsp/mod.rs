@@ -171,7 +171,13 @@ impl Server {
         if let Some((path, text)) = changed {
             match text {
                 Some(t) => self.overlay.set(&path, t),
-                None => self.overlay.close(&path),
+                None => {
+                    // Closed: its text and what was derived from it go (rebuilt from the file
+                    // on disk if something needs them again).
+                    self.overlay.close(&path);
+                    self.indexes.remove(&path);
+                    self.default_runs.remove(&path);
+                }
             }
             self.dirty.insert(path);
         }
