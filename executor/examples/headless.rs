@@ -8,16 +8,14 @@
 //! built-in Cornell box. The image equals `lightbench render --pipeline PIPELINE --scene
 //! SCENE --size WxH --out out.png` (a test checks it).
 
+mod common;
+
 use lightbench_executor::render::compile;
-use lightbench_executor::{device, Executor, Gpu, HostOptions, Result};
+use lightbench_executor::{Executor, Result};
 use std::path::PathBuf;
 
 fn main() {
-    if let Err(e) = run() {
-        eprintln!("error: {e}");
-        // Usage errors 2, everything else (bad input, the GPU) 1.
-        std::process::exit(if matches!(e, lightbench_executor::Error::Usage(_)) { 2 } else { 1 });
-    }
+    common::exit_on_error(run);
 }
 
 fn run() -> Result<()> {
@@ -30,13 +28,8 @@ fn run() -> Result<()> {
     let pipeline = PathBuf::from(args.get(2).map_or("pipelines/deferred.lbp", |s| s.as_str()));
     let scene = lightbench_executor::scene::load::load_sized(args.get(3).map_or("cornell", |s| s.as_str()), size, &[])?;
 
-    // The host's device: opened by this program, with the features lightbench's pipelines use.
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-        .map_err(|e| lightbench_executor::Error::Adapter(format!("no adapter: {e}")))?;
-    let (dev, queue) = pollster::block_on(adapter.request_device(&device::device_descriptor(&adapter)))
-        .map_err(|e| lightbench_executor::Error::Adapter(format!("no device: {e}")))?;
-    let gpu = Gpu::from_host(adapter, dev.clone(), queue.clone(), HostOptions { probe: true })?;
+    // The host's device, opened by this program (`common::host_device`).
+    let (gpu, dev) = common::host_device()?;
 
     // Compile the pipeline for this scene and device, then record a frame into our encoder.
     let (exe, warnings) = compile(&gpu, &pipeline, None, &scene, &[])?;

@@ -11,17 +11,16 @@
 //! first and the last frame; the last equals `lightbench render --size 64x64 --variant
 //! tonemap=simple --param exposure.automatic=false --param exposure.ev=1` (a test checks it).
 
+mod common;
+
 use glam::Vec3;
 use lightbench_executor::render::compile;
 use lightbench_executor::scene::math::{look_to, perspective};
-use lightbench_executor::{device, CameraMatrices, Executor, Gpu, HostOptions, ParamValue, Result};
+use lightbench_executor::{CameraMatrices, Executor, ParamValue, Result};
 use std::path::{Path, PathBuf};
 
 fn main() {
-    if let Err(e) = run() {
-        eprintln!("error: {e}");
-        std::process::exit(if matches!(e, lightbench_executor::Error::Usage(_)) { 2 } else { 1 });
-    }
+    common::exit_on_error(run);
 }
 
 fn run() -> Result<()> {
@@ -42,13 +41,8 @@ fn run() -> Result<()> {
     let scene = lightbench_executor::scene::load::load_sized("cornell", Some((64, 64)), &[])?;
     let pipeline = Path::new("pipelines/deferred.lbp");
 
-    // The host's device, opened with the features lightbench's pipelines use.
-    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
-        .map_err(|e| lightbench_executor::Error::Adapter(format!("no adapter: {e}")))?;
-    let (dev, queue) = pollster::block_on(adapter.request_device(&device::device_descriptor(&adapter)))
-        .map_err(|e| lightbench_executor::Error::Adapter(format!("no device: {e}")))?;
-    let gpu = Gpu::from_host(adapter, dev.clone(), queue, HostOptions { probe: true })?;
+    // The host's device, opened by this program (`common::host_device`).
+    let (gpu, dev) = common::host_device()?;
 
     let (exe, _warnings) = compile(&gpu, pipeline, None, &scene, &[])?;
     let mut ex = Executor::new(&gpu, &exe, &scene)?;

@@ -302,25 +302,32 @@ fn finish_within(mut child: std::process::Child, secs: u64) -> std::process::Out
 
 /// `render --watch` as the README writes it: a running render reloads a saved shader edit,
 /// reports a broken save and keeps going, and rewrites `--out` after each reload.
-#[test]
-fn render_watch_reloads_and_reports() {
-    let d = temp("watch");
+/// A project `init` writes under a folder named `tag`, and `render --watch` started in it to
+/// stop after `reloads` reloads: (the project, the child, its first frame's file bytes).
+fn watching(tag: &str, reloads: &str) -> (std::path::PathBuf, std::process::Child, Vec<u8>) {
+    let d = temp(tag);
     let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
     assert_eq!(code, 0, "{err}");
     let proj = d.join("proj");
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(["render", "--watch", "--watch-reloads", "2", "--size", "32x32", "--out", "w.png"])
+        .args(["render", "--watch", "--watch-reloads", reloads, "--size", "32x32", "--out", "w.png"])
         .current_dir(&proj)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    // Wait for the first frame, then save an edit and a broken file.
     let started = std::time::Instant::now();
     while !proj.join("w.png").is_file() {
         assert!(started.elapsed().as_secs() < 60, "no first frame");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     let first = std::fs::read(proj.join("w.png")).unwrap();
+    (proj, child, first)
+}
+
+#[test]
+fn render_watch_reloads_and_reports() {
+    // After the first frame, save an edit and a broken file.
+    let (proj, child, first) = watching("watch", "2");
     let tonemap = proj.join("shaders/tonemap.wgsl");
     let text = std::fs::read_to_string(&tonemap).unwrap();
     std::fs::write(&tonemap, text.replace("vec3<f32>(1.0)), 1.0);", "vec3<f32>(1.0)) * 0.5, 1.0);")).unwrap();
@@ -348,22 +355,7 @@ fn render_watch_reloads_and_reports() {
 /// says it watches the folder again and reloads from the new files.
 #[test]
 fn render_watch_follows_a_replaced_folder() {
-    let d = temp("watch-replaced");
-    let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
-    assert_eq!(code, 0, "{err}");
-    let proj = d.join("proj");
-    let child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(["render", "--watch", "--watch-reloads", "1", "--size", "32x32", "--out", "w.png"])
-        .current_dir(&proj)
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let started = std::time::Instant::now();
-    while !proj.join("w.png").is_file() {
-        assert!(started.elapsed().as_secs() < 60, "no first frame");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    let first = std::fs::read(proj.join("w.png")).unwrap();
+    let (proj, child, first) = watching("watch-replaced", "1");
     // The new folder made beside, then swapped in.
     let (shaders, new) = (proj.join("shaders"), proj.join("shaders.new"));
     for d in ["", "lib"] {

@@ -119,8 +119,9 @@ fn host_loop_ends_where_lightbench_render_does() {
     assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
-/// docs/embedding.md's host program: each line of its code is a line of `host_loop.rs`, in
-/// order, and its `Cargo.toml` asks for the versions this workspace builds with.
+/// docs/embedding.md's host program: each line of its code is a line of the examples' shared
+/// device code or of `host_loop.rs`, in order, and its `Cargo.toml` asks for the versions this
+/// workspace builds with.
 #[test]
 fn the_host_program_in_the_docs_is_the_example() {
     let docs = std::fs::read_to_string(root().join("docs/embedding.md")).unwrap();
@@ -132,10 +133,19 @@ fn the_host_program_in_the_docs_is_the_example() {
         let rest = section.split(fence).nth(1).unwrap_or_else(|| panic!("no {fence} block"));
         rest.split("```").next().unwrap().to_string()
     };
-    let example = std::fs::read_to_string(root().join("executor/examples/host_loop.rs")).unwrap();
-    let mut lines = example.lines().map(str::trim);
-    for want in block("```rust\n").lines().map(str::trim).filter(|l| !l.is_empty()) {
-        assert!(lines.any(|l| l == want), "not in host_loop.rs (in this order): {want}");
+    let read = |f: &str| std::fs::read_to_string(root().join("executor/examples").join(f)).unwrap();
+    let (common, example) = (read("common/mod.rs"), read("host_loop.rs"));
+    // The docs' lines in order, each in one of the two files: those of the device first.
+    let mut lines = common.lines().chain(example.lines()).map(str::trim);
+    for want in block("```rust\n")
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with("//"))
+    {
+        assert!(
+            lines.any(|l| l == want),
+            "not in common/mod.rs then host_loop.rs (in this order): {want}"
+        );
     }
     let workspace = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
     let toml = block("```toml\n");
