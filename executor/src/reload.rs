@@ -106,7 +106,8 @@ impl Watch {
                 // The old folder's watch (it may still exist elsewhere, or be gone already).
                 let _ = self.debouncer.unwatch(&d);
             }
-            let id = self.watch_dir(&d)?;
+            // A folder that cannot be watched is reported once, not at every poll.
+            let id = self.watch_dir(&d).inspect_err(|_| _ = self.dirs.insert(d.clone(), folder_id(&d)))?;
             self.dirs.insert(d.clone(), id);
             if id.is_some() {
                 let files = self.files.iter().filter(|f| f.parent() == Some(d.as_path())).cloned();
