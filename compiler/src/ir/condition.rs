@@ -132,13 +132,25 @@ impl Condition {
         }
     }
 
-    /// Every variant atom in the expression (used to tell "variant not chosen" from "condition false").
+    /// Does a variant atom occur in the expression (used to tell "variant not chosen" from
+    /// "condition false")?
     pub fn mentions_variant(&self) -> bool {
+        !self.variants().is_empty()
+    }
+
+    /// The variants the expression names, under `Not` too.
+    pub fn variants(&self) -> std::collections::BTreeSet<&str> {
+        let mut out = std::collections::BTreeSet::new();
+        self.collect_variants(&mut out);
+        out
+    }
+
+    fn collect_variants<'a>(&'a self, out: &mut std::collections::BTreeSet<&'a str>) {
         match self {
-            Condition::Variant(..) => true,
-            Condition::Not(c) => c.mentions_variant(),
-            Condition::All(cs) | Condition::Any(cs) => cs.iter().any(|c| c.mentions_variant()),
-            _ => false,
+            Condition::Variant(v, _) => _ = out.insert(v.value.as_str()),
+            Condition::Not(c) => c.collect_variants(out),
+            Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| c.collect_variants(out)),
+            _ => {}
         }
     }
 }

@@ -6,7 +6,7 @@
 use super::*;
 use crate::check::StageShader;
 use crate::diag::{Code, Diagnostic, Diagnostics};
-use crate::ir::{Condition, Constant, Pass, Pipeline};
+use crate::ir::{Constant, Pass, Pipeline};
 use naga::back::pipeline_constants::{process_overrides, PipelineConstantError};
 
 /// A constant's value in this configuration.
@@ -139,10 +139,7 @@ fn check_stage((p, pass): (&Pipeline, &Pass), st: &StageShader, constants: &[(St
 /// chosen option sets a parameter its constants read or substitutes its shader. The other
 /// variants' choices do not matter here.
 fn configuration(cfg: &Config, p: &Pipeline, pass: &Pass) -> String {
-    let mut named = std::collections::BTreeSet::new();
-    if let Some(w) = &pass.when {
-        condition_variants(&w.value, &mut named);
-    }
+    let mut named = pass.when.as_ref().map(|w| w.value.variants()).unwrap_or_default();
     let mut read = std::collections::BTreeSet::new();
     for (_, c) in &pass.constants {
         match &c.value {
@@ -166,17 +163,5 @@ fn configuration(cfg: &Config, p: &Pipeline, pass: &Pass) -> String {
         "in every configuration".into()
     } else {
         format!("whenever {}", chosen.join(", "))
-    }
-}
-
-/// The variants a condition names.
-fn condition_variants<'a>(c: &'a Condition, out: &mut std::collections::BTreeSet<&'a str>) {
-    match c {
-        Condition::Variant(v, _) => {
-            out.insert(v.value.as_str());
-        }
-        Condition::Not(c) => condition_variants(&c.value, out),
-        Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| condition_variants(&c.value, out)),
-        _ => {}
     }
 }
