@@ -408,17 +408,21 @@ impl Executor {
         }
     }
 
-    /// Override a parameter for the following frames (checked against the running Plan).
-    pub fn set_param(&mut self, name: &str, value: ParamValue) -> Result<()> {
-        // A parameter the Plan fixes (a size, a repeat count, a shader constant) needs a new Plan.
-        if let Some(sized) = self
-            .state
+    /// The value the running Plan was made with for a parameter it fixes (a size, a repeat
+    /// count, a shader constant); `None` for a parameter that is a frame input (or none).
+    pub fn fixed_param(&self, name: &str) -> Option<&ParamValue> {
+        self.state
             .plan
             .params
             .iter()
             .find(|p| p.name == name)
             .and_then(|p| p.sizes.as_ref())
-        {
+    }
+
+    /// Override a parameter for the following frames (checked against the running Plan).
+    pub fn set_param(&mut self, name: &str, value: ParamValue) -> Result<()> {
+        // A parameter the Plan fixes needs a new Plan.
+        if let Some(sized) = self.fixed_param(name) {
             if *sized != value {
                 return Err(Error::Usage(format!(
                     "parameter `{name}` is fixed by the Plan (it sizes resources, repeats a pass or sets a shader constant; this Plan uses {}): plan again with the new value (render --param, or Executor::replace with an Executable compiled for it)",

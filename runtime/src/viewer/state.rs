@@ -314,15 +314,13 @@ impl Viewer {
     /// count, a shader constant), a new Plan made with it and swapped in (the camera and the
     /// resources whose descriptors stay, history included, are kept).
     fn set_param(&mut self, gpu: &Gpu, name: &str, value: ParamValue) -> Result<()> {
-        let plan = self.ex.plan();
-        let Some(fixed) = plan.params.iter().find(|p| p.name == name).and_then(|p| p.sizes.clone()) else {
-            return self.ex.set_param(name, value);
-        };
-        if fixed == value {
-            return Ok(());
+        match self.ex.fixed_param(name) {
+            None => return self.ex.set_param(name, value),
+            Some(fixed) if *fixed == value => return Ok(()),
+            Some(_) => {}
         }
         let before = self.plan_params.clone();
-        self.plan_params.set(&plan.params, name, value)?;
+        self.plan_params.set(&self.ex.plan().params, name, value)?;
         self.rebuild(gpu, false).inspect_err(|_| self.plan_params = before)
     }
 
