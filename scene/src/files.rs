@@ -125,7 +125,7 @@ fn stage(path: &Path, bytes: &[u8]) -> Result<Staged> {
 impl Staged {
     /// Rename the temporary into place; refused if the target was read as `before` and has
     /// changed since.
-    fn commit(self, before: Option<&Snapshot>) -> Result<()> {
+    fn commit(mut self, before: Option<&Snapshot>) -> Result<()> {
         if let Some(before) = before {
             if Snapshot::of(&self.target).ok().as_ref() != Some(before) {
                 return Err(Error::io(
@@ -134,14 +134,18 @@ impl Staged {
                 ));
             }
         }
-        std::fs::rename(&self.tmp, &self.target).map_err(|e| Error::io(&self.path, format!("cannot write: {e}")))
+        std::fs::rename(&self.tmp, &self.target).map_err(|e| Error::io(&self.path, format!("cannot write: {e}")))?;
+        self.tmp = PathBuf::new(); // renamed: nothing left to remove
+        Ok(())
     }
 }
 
 impl Drop for Staged {
     fn drop(&mut self) {
-        // Renamed: nothing there any more. Otherwise the temporary of a write that failed.
-        let _ = std::fs::remove_file(&self.tmp);
+        // The temporary of a write that failed or was not committed.
+        if !self.tmp.as_os_str().is_empty() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
     }
 }
 
