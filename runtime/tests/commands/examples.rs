@@ -111,12 +111,19 @@ fn host_loop_ends_where_lightbench_render_does() {
     assert!(e <= 1e-3, "RMSE {e}");
     let e = lightbench::io::rmse(&load(&first), &load(&theirs)).unwrap();
     assert!(e > 0.01, "the first frame is another camera and tone mapping: RMSE {e}");
-    let out = Command::new(example("host_loop"))
-        .args(["a.png", "b.png", "1"])
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    // Too few frames, or no outputs named: usage errors, nothing written.
+    let (a, b) = (d.join("a.png"), d.join("b.png"));
+    let (a, b) = (a.to_str().unwrap(), b.to_str().unwrap());
+    for args in [vec![a, b, "1"], vec![a], vec![]] {
+        let out = Command::new(example("host_loop")).args(&args).current_dir(root()).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(if args.len() == 3 { "FRAMES `1`" } else { "usage: host_loop" }),
+            "{err}"
+        );
+        assert!(!d.join("a.png").exists() && !d.join("b.png").exists(), "{args:?}: nothing written");
+    }
 }
 
 /// docs/embedding.md's host program: each line of its code is a line of the examples' shared
