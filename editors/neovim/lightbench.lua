@@ -23,5 +23,9 @@ vim.api.nvim_create_autocmd({ 'BufReadPost', 'BufNewFile' }, {
       })
     end
     vim.lsp.buf_attach_client(args.buf, servers[dir])
+    -- In pipeline files a dotted name (`gbuf.albedo`) is one word: completion replaces it whole.
+    if args.file:match('%.lbp$') or args.file:match('%.ron$') then
+      vim.bo[args.buf].iskeyword = vim.bo[args.buf].iskeyword .. ',.'
+    end
   end,
 })

@@ -1,30 +1,57 @@
 //! Language server, completion: what may be written at the cursor of a pipeline document,
 //! by the key its line is filling (both front ends name keys alike): resource names after
-//! `reads`/`color`/`depth`/`writes`, parameters after `params`, variants and their options
-//! in conditions and choices, the entry points of the pass's shader after `vertex`,
-//! `fragment` or `entry`, and the keys of a pass kind (the syntax tree's own list) elsewhere;
-//! in a scene file, effects and light kinds.
+//! `reads`/`color`/`depth`/`writes`, parameters after `params`, passes after `after`,
+//! variants and their options in conditions and choices, the entry points of the pass's
+//! shader after `vertex`, `fragment` or `entry`, shader files in a pass's quotes, pipeline
+//! files after `use`, formats after `texture NAME:`, the grammar's top-level keywords
+//! between items and the keys of a pass kind (the syntax tree's own list) inside one; in a
+//! scene file, effects and light kinds. Each item replaces the whole word at the cursor.
 
 use super::index::{Index, Kind};
-use super::text::{offset, path_of};
+use super::text::{offset, path_of, range};
+use super::words::{name_char, path_char, word_around};
 use super::Server;
+use lightbench_compiler::front::lbp::grammar as lbp_grammar;
 use lightbench_compiler::scene::{file_kind, FileKind};
-use lsp_types::{CompletionItem, CompletionItemKind, CompletionResponse, TextDocumentPositionParams};
+use lsp_types::{CompletionItem, CompletionItemKind, CompletionResponse, CompletionTextEdit, TextDocumentPositionParams, TextEdit};
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 
 impl Server {
+    /// Every item replaces the whole word at the cursor (a dotted name, or a path), so that
+    /// `gbuf.alb` becomes `gbuf.albedo` whatever a client counts as a word.
     pub(super) fn complete(&mut self, pos: TextDocumentPositionParams) -> Option<CompletionResponse> {
         let path = path_of(&pos.text_document.uri)?;
         let text = self.text(&path)?;
         let cursor = offset(&text, pos.position)?;
         let line = &text[text[..cursor].rfind('\n').map_or(0, |i| i + 1)..cursor];
         let key = key_of(line);
-        if file_kind(&path, Some(&text)) == FileKind::Scene {
-            return Some(CompletionResponse::Array(scene_items(key.as_deref())));
-        }
-        self.index(&path)?;
-        let ix = &self.indexes.get(&path)?.1;
+        let (labels, part) = if file_kind(&path, Some(&text)) == FileKind::Scene {
+            (scene_items(key.as_deref()), name_char as WordChar)
+        } else {
+            self.pipeline_items(&path, &text, cursor, line, key.as_deref())?
+        };
+        let (a, b) = word_around(&text, cursor, part);
+        let replaced = range(&text, a, b);
+        let items = labels.into_iter().map(|(label, kind, detail)| CompletionItem {
+            kind: Some(kind),
+            detail,
+            filter_text: Some(label.clone()),
+            text_edit: Some(CompletionTextEdit::Edit(TextEdit::new(replaced, label.clone()))),
+            label,
+            ..Default::default()
+        });
+        Some(CompletionResponse::Array(items.collect()))
+    }
+
+    /// What may be written at the cursor of a pipeline document, and what a word is there.
+    fn pipeline_items(&mut self, path: &Path, text: &str, cursor: usize, line: &str, key: Option<&str>) -> Option<(Vec<Label>, WordChar)> {
+        self.index(path)?;
+        let ix = &self.indexes.get(path)?.1;
         let names = |k: Kind, what: CompletionItemKind| ix.names(k).into_iter().map(move |n| item(n, what));
-        let items: Vec<CompletionItem> = match key.as_deref() {
+        let first = line.trim_start().split(|c: char| !name_char(c)).next().unwrap_or("");
+        let in_quotes = line.matches('"').count() % 2 == 1;
+        let items: Vec<Label> = match key {
             Some("reads" | "color" | "depth" | "writes" | "output" | "hdr_output") => {
                 names(Kind::Resource, CompletionItemKind::VARIABLE).collect()
             }
@@ -32,22 +59,32 @@ impl Server {
                 .chain(names(Kind::Sampler, CompletionItemKind::VARIABLE))
                 .collect(),
             Some("params") => names(Kind::Param, CompletionItemKind::PROPERTY).collect(),
-            Some("vertex" | "fragment" | "entry") => self.entries_near(&path, ix, &text, cursor),
+            Some("after") => names(Kind::Pass, CompletionItemKind::FUNCTION).collect(),
+            Some("vertex" | "fragment" | "entry") => self.entries_near(path, ix, cursor),
+            Some("use") => return Some((self.files_beside(path, &["lbp", "ron"]), path_char)),
+            Some("shader") | Some("raster" | "fullscreen" | "compute") if in_quotes => return Some((self.shader_files(path), path_char)),
+            Some("format") => formats(),
+            _ if first == "texture" && at_format(line) => formats(),
             _ if line.contains("variant(") || line.contains("match(") => variant_items(ix, line),
-            _ => pass_keys(&text, cursor),
+            _ if depth_at(text, cursor) == 0 && !line.trim_start().contains(' ') && path.extension().is_some_and(|e| e == "lbp") => {
+                lbp_grammar::top_level_keywords()
+                    .into_iter()
+                    .map(|k| item(k, CompletionItemKind::KEYWORD))
+                    .collect()
+            }
+            _ => pass_keys(text, cursor),
         };
-        Some(CompletionResponse::Array(items))
+        Some((items, name_char))
     }
 
     /// Entry points of the shader of the pass around the cursor.
-    fn entries_near(&self, path: &std::path::Path, ix: &Index, text: &str, cursor: usize) -> Vec<CompletionItem> {
+    fn entries_near(&self, path: &Path, ix: &Index, cursor: usize) -> Vec<Label> {
         let file = ix.sources.find(&path.display().to_string());
         let pass = ix.symbols.iter().find(|s| {
             s.kind == Kind::Pass && Some(s.extent.file) == file && (s.extent.start as usize) <= cursor && cursor <= s.extent.end as usize
         });
         let Some(pass) = pass else { return vec![] };
-        let _ = text;
-        let files: std::collections::BTreeSet<&str> = ix
+        let files: BTreeSet<&str> = ix
             .shaders
             .iter()
             .filter(|u| u.pass == pass.name)
@@ -56,16 +93,85 @@ impl Server {
         files
             .into_iter()
             .flat_map(|f| self.shader_entries(path, f))
-            .map(|(n, stage, _)| CompletionItem {
-                detail: Some(stage.to_string()),
-                ..item(&n, CompletionItemKind::FUNCTION)
-            })
+            .map(|(n, stage, _)| (n, CompletionItemKind::FUNCTION, Some(stage.to_string())))
+            .collect()
+    }
+
+    /// Shader files below the pipeline's shader folder, as a pass names them.
+    fn shader_files(&self, pipeline: &Path) -> Vec<Label> {
+        let root = lightbench_compiler::shader_root_for(self.overlay.as_ref(), pipeline, None);
+        let mut out = vec![];
+        files_below(&root, &root, &["wgsl", "glsl", "vert", "frag", "comp"], 4, &mut out);
+        out.into_iter().map(|f| (f, CompletionItemKind::FILE, None)).collect()
+    }
+
+    /// Pipeline files beside this one (what `use` may name).
+    fn files_beside(&self, pipeline: &Path, extensions: &[&str]) -> Vec<Label> {
+        let Some(dir) = pipeline.parent() else { return vec![] };
+        let mut out = vec![];
+        files_below(dir, dir, extensions, 0, &mut out);
+        let own = pipeline.file_name().map(|n| n.to_string_lossy().into_owned());
+        out.into_iter()
+            .filter(|f| Some(f) != own.as_ref())
+            .map(|f| (f, CompletionItemKind::FILE, None))
             .collect()
     }
 }
 
+/// A completion's label (what is inserted), kind and detail.
+type Label = (String, CompletionItemKind, Option<String>);
+
+/// What a character of the word a completion replaces may be.
+type WordChar = fn(char) -> bool;
+
+/// Files with these extensions in `dir` and up to `levels` folders below it, relative to
+/// `root`, sorted.
+fn files_below(root: &Path, dir: &Path, extensions: &[&str], levels: usize, out: &mut Vec<String>) {
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let mut entries: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() && levels > 0 {
+            files_below(root, &p, extensions, levels - 1, out);
+        } else if p.extension().and_then(|e| e.to_str()).is_some_and(|e| extensions.contains(&e)) {
+            if let Ok(rel) = p.strip_prefix(root) {
+                out.push(rel.display().to_string());
+            }
+        }
+    }
+}
+
+/// Braces open at `cursor` (0: between top-level items), strings and comments skipped.
+fn depth_at(text: &str, cursor: usize) -> usize {
+    let mut depth = 0usize;
+    for line in text[..cursor].split('\n') {
+        let code = line.split("//").next().unwrap_or("");
+        let mut quoted = false;
+        for c in code.chars() {
+            match c {
+                '"' => quoted = !quoted,
+                '{' if !quoted => depth += 1,
+                '}' if !quoted => depth = depth.saturating_sub(1),
+                _ => {}
+            }
+        }
+    }
+    depth
+}
+
+/// Whether an LBP `texture NAME: ` line is at its format (the first word after the colon).
+fn at_format(line: &str) -> bool {
+    line.split_once(':').is_some_and(|(_, rest)| !rest.trim().contains(' '))
+}
+
+/// Every texture format.
+fn formats() -> Vec<Label> {
+    let names = lightbench_compiler::format::TextureFormat::NAMES;
+    names.iter().map(|n| item(n, CompletionItemKind::CONSTANT)).collect()
+}
+
 /// In a scene file: effects in `effects: [..]`, the light kinds a scene writes elsewhere.
-fn scene_items(key: Option<&str>) -> Vec<CompletionItem> {
+fn scene_items(key: Option<&str>) -> Vec<Label> {
     use lightbench_compiler::ir::{Effect, LightKind};
     if key == Some("effects") {
         return Effect::NAMES.iter().map(|e| item(e, CompletionItemKind::ENUM_MEMBER)).collect();
@@ -76,16 +182,12 @@ fn scene_items(key: Option<&str>) -> Vec<CompletionItem> {
         .collect()
 }
 
-fn item(label: &str, kind: CompletionItemKind) -> CompletionItem {
-    CompletionItem {
-        label: label.to_string(),
-        kind: Some(kind),
-        ..Default::default()
-    }
+fn item(label: &str, kind: CompletionItemKind) -> Label {
+    (label.to_string(), kind, None)
 }
 
 /// The key a line is filling: an LBP line's first word, or the last `key:` of a RON line.
-fn key_of(line: &str) -> Option<String> {
+pub(super) fn key_of(line: &str) -> Option<String> {
     let word = |s: &str| s.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>();
     if let Some(i) = line.rfind(':') {
         let before = line[..i].trim_end();
@@ -101,7 +203,7 @@ fn key_of(line: &str) -> Option<String> {
 }
 
 /// After `variant(` the variants; after `variant(v, ` or inside `match(v) {` v's options.
-fn variant_items(ix: &Index, line: &str) -> Vec<CompletionItem> {
+fn variant_items(ix: &Index, line: &str) -> Vec<Label> {
     let open = line
         .rfind("variant(")
         .map(|i| i + 8)
@@ -126,7 +228,7 @@ fn variant_items(ix: &Index, line: &str) -> Vec<CompletionItem> {
 }
 
 /// The keys of the pass kind the cursor is in (the nearest pass word before it).
-fn pass_keys(text: &str, cursor: usize) -> Vec<CompletionItem> {
+fn pass_keys(text: &str, cursor: usize) -> Vec<Label> {
     let before = &text[..cursor];
     let kinds = [
         ("raster", "Raster"),

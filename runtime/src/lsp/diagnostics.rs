@@ -12,7 +12,15 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// One pipeline's diagnostics, by the file each is located in.
-pub type ByFile = BTreeMap<PathBuf, Vec<lsp_types::Diagnostic>>;
+pub type ByFile = BTreeMap<PathBuf, Vec<Found>>;
+
+/// A diagnostic as one check found it: the protocol's form (message without notes) and the
+/// compiler's notes ("did you mean …"), which go into the message once copies are merged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Found {
+    pub d: lsp_types::Diagnostic,
+    pub notes: Vec<String>,
+}
 
 impl Server {
     /// The files to check again after these changed: a changed pipeline, scene or sweep
@@ -48,19 +56,33 @@ impl Server {
         touched.into_iter().filter_map(|file| self.params_for(&file)).collect()
     }
 
-    /// Every diagnostic located in `file`, from every pipeline checked (each once).
+    /// Every diagnostic located in `file`, one per mistake however many pipelines found it
+    /// (see [`super::merge`]).
     fn params_for(&self, file: &Path) -> Option<PublishDiagnosticsParams> {
-        let mut all: Vec<lsp_types::Diagnostic> = vec![];
-        for d in self.published.values().filter_map(|by| by.get(file)).flatten() {
-            if !all.contains(d) {
-                all.push(d.clone());
-            }
-        }
+        // The file's own check first, then the others by name: the order does not depend on
+        // which pipeline was checked when.
+        let mut checkers: Vec<&PathBuf> = self
+            .published
+            .iter()
+            .filter(|(_, by)| by.contains_key(file))
+            .map(|(c, _)| c)
+            .collect();
+        checkers.sort_by_key(|c| (c.as_path() != file, c.to_path_buf()));
+        let copies: Vec<(&Path, &Found)> = checkers
+            .into_iter()
+            .flat_map(|c| self.published[c][file].iter().map(move |f| (c.as_path(), f)))
+            .collect();
         Some(PublishDiagnosticsParams {
             uri: uri_of(file)?,
-            diagnostics: all,
+            diagnostics: super::merge::merge(file, &copies, |p| self.shown(p)),
             version: None,
         })
+    }
+
+    /// A path as `check` prints it: relative to the workspace folder it is in.
+    pub fn shown(&self, path: &Path) -> String {
+        let relative = self.roots.iter().find_map(|r| path.strip_prefix(r).ok());
+        relative.unwrap_or(path).display().to_string()
     }
 
     /// Check one file as `lightbench check` would, through the open documents.
@@ -91,12 +113,12 @@ impl Server {
         };
         let mut out = ByFile::new();
         for d in &s.diags.list {
-            let (file, mut d) = to_lsp(d, &s.sources, path);
-            d.code_description = self.manual.clone().map(|href| lsp_types::CodeDescription { href });
+            let (file, mut found) = to_lsp(d, &s.sources, path);
+            found.d.code_description = self.manual.clone().map(|href| lsp_types::CodeDescription { href });
             if file != path {
-                self.name_passes(path, &file, &mut d);
+                self.name_passes(path, &file, &mut found.d);
             }
-            out.entry(file).or_default().push(d);
+            out.entry(file).or_default().push(found);
         }
         if let Some(c) = checked {
             self.plan_default(path, &mut s, &c);
@@ -176,9 +198,9 @@ fn resource_facts(r: &lightbench_compiler::plan::PlanResource) -> String {
 }
 
 /// A compiler diagnostic as the protocol's, with the file it is located in (an unlocated one
-/// at the top of the file checked). Secondary labels and notes become related information;
-/// one located in another file (a shader) names the pipeline whose check found it.
-fn to_lsp(d: &Diagnostic, sources: &SourceMap, checked: &Path) -> (PathBuf, lsp_types::Diagnostic) {
+/// at the top of the file checked). Secondary labels become related information; notes stay
+/// apart until the copies of one mistake are merged.
+fn to_lsp(d: &Diagnostic, sources: &SourceMap, checked: &Path) -> (PathBuf, Found) {
     let d = d.presented(sources);
     let at = |span: lightbench_compiler::span::Span| {
         let f = sources.get(span.file);
@@ -199,12 +221,6 @@ fn to_lsp(d: &Diagnostic, sources: &SourceMap, checked: &Path) -> (PathBuf, lsp_
         let (f, r) = at(l.span);
         relate(&f, r, l.message.clone());
     }
-    for n in &d.notes {
-        relate(&file, primary, format!("note: {n}"));
-    }
-    if file != checked {
-        relate(checked, Default::default(), format!("found checking `{}`", checked.display()));
-    }
     let diagnostic = lsp_types::Diagnostic {
         range: primary,
         severity: Some(match d.severity {
@@ -217,5 +233,6 @@ fn to_lsp(d: &Diagnostic, sources: &SourceMap, checked: &Path) -> (PathBuf, lsp_
         related_information: (!related.is_empty()).then_some(related),
         ..Default::default()
     };
-    (file, diagnostic)
+    let notes = d.notes.clone();
+    (file, Found { d: diagnostic, notes })
 }

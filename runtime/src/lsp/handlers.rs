@@ -84,9 +84,9 @@ fn in_shader(at: &TextDocumentPositionParams) -> bool {
 }
 
 /// A position in a pipeline document, resolved against its index.
-struct At {
-    file: usize,
-    offset: usize,
+pub(super) struct At {
+    pub file: usize,
+    pub offset: usize,
 }
 
 impl Server {
@@ -115,15 +115,18 @@ impl Server {
     fn hover(&mut self, pos: TextDocumentPositionParams) -> Option<Hover> {
         let (path, at) = self.at(&pos)?;
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
-        let (text, span) = if let Some(sym) = ix.at(at.file, at.offset) {
+        let named = ix.at(at.file, at.offset).or_else(|| self.named_at(&path, &at));
+        let inside = |s: &Span| s.file == at.file && s.start as usize <= at.offset && at.offset <= s.end as usize;
+        let (text, span) = if let Some(sym) = named {
             let s = &ix.symbols[sym];
             let mut text = s.hover.clone();
             let key = format!("{}:{}", s.kind.word(), s.name);
             if let Some(facts) = self.default_runs.get(&path).and_then(|r| r.get(&key)) {
                 text += &format!("\n\nOn the default scene (`cornell` at its size, default options): {facts}");
             }
-            let here = |u: &Span| u.file == at.file && u.start as usize <= at.offset && at.offset <= u.end as usize;
-            (text, ix.uses_of(sym).find(here))
+            (text, ix.uses_of(sym).find(inside))
+        } else if let Some(f) = ix.formats.iter().find(|f| inside(&f.span)) {
+            (format_hover(f.value, &self.profile), Some(f.span))
         } else {
             let u = ix.shader_at(at.file, at.offset)?;
             let entries = self.shader_entries(&path, &u.file.value);
@@ -145,8 +148,21 @@ impl Server {
 
     fn definition(&mut self, pos: TextDocumentPositionParams) -> Option<GotoDefinitionResponse> {
         let (path, at) = self.at(&pos)?;
+        if let Some(file) = self.used_file_at(&path, &at) {
+            let uri = uri_of(&file)?;
+            return Some(GotoDefinitionResponse::Scalar(Location {
+                uri,
+                range: Range::default(),
+            }));
+        }
+        let named = self
+            .indexes
+            .get(&path)?
+            .1
+            .at(at.file, at.offset)
+            .or_else(|| self.named_at(&path, &at));
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
-        if let Some(sym) = ix.at(at.file, at.offset) {
+        if let Some(sym) = named {
             return Some(GotoDefinitionResponse::Scalar(ix.location(ix.symbols[sym].decl)?));
         }
         let u = ix.shader_at(at.file, at.offset)?;
@@ -165,8 +181,13 @@ impl Server {
 
     fn references(&mut self, pos: TextDocumentPositionParams) -> Option<Vec<Location>> {
         let (path, at) = self.at(&pos)?;
+        let sym = self
+            .indexes
+            .get(&path)?
+            .1
+            .at(at.file, at.offset)
+            .or_else(|| self.named_at(&path, &at))?;
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
-        let sym = ix.at(at.file, at.offset)?;
         Some(ix.uses_of(sym).filter_map(|s| ix.location(s)).collect())
     }
 
@@ -190,6 +211,15 @@ impl Server {
         let s = &ix.symbols[sym];
         if !matches!(s.kind, Kind::Resource | Kind::Param | Kind::Sampler | Kind::Pass) || s.decl.file != at.file {
             return refuse("only resources, parameters, samplers and passes declared in this file can be renamed");
+        }
+        let taken = |k: Kind| ix.find(k, &p.new_name).is_some_and(|other| other != sym);
+        // Resources and samplers are bound by one namespace of names.
+        let clashes = match s.kind {
+            Kind::Resource | Kind::Sampler => taken(Kind::Resource) || taken(Kind::Sampler),
+            k => taken(k),
+        };
+        if clashes {
+            return refuse(&format!("a {} named `{}` exists already", s.kind.word(), p.new_name));
         }
         let text = &ix.sources.get(at.file).text;
         let edits: Vec<TextEdit> = ix
@@ -267,6 +297,42 @@ impl Server {
         let shader = self.shader_path(pipeline, file);
         self.entries_in(&shader).into_iter().map(|(n, st, _, at)| (n, st, at)).collect()
     }
+}
+
+/// What a texture format holds and allows, on the profile the server checks for.
+fn format_hover(f: lightbench_compiler::format::TextureFormat, profile: &lightbench_compiler::profile::Profile) -> String {
+    use lightbench_compiler::format::ScalarKind;
+    let of = match f.kind() {
+        ScalarKind::Float => "float",
+        ScalarKind::Uint => "unsigned integer",
+        ScalarKind::Sint => "signed integer",
+        ScalarKind::Depth => "depth",
+    };
+    let mut can = vec![];
+    for (yes, word) in [
+        (f.renderable(profile), "a color target"),
+        (f.is_depth(), "a depth target"),
+        (f.filterable(profile), "filtered"),
+        (f.blendable(), "blended"),
+        (f.storage(), "a storage texture"),
+    ] {
+        if yes {
+            can.push(word);
+        }
+    }
+    let channels = if f.components() == 1 {
+        "1 channel".to_string()
+    } else {
+        format!("{} channels", f.components())
+    };
+    let srgb = if f.is_srgb() { " (sRGB-encoded)" } else { "" };
+    format!(
+        "**format** `{}`: {} bytes per texel, {channels} of {of}{srgb}\n\nCan be {} (on {}).",
+        f.name(),
+        f.bytes(),
+        can.join(", "),
+        profile.name
+    )
 }
 
 #[allow(deprecated)] // `deprecated` is a field the type still requires

@@ -3,7 +3,10 @@
 //! one IR the compiler lowers both front ends to, with the spans it carries. Hover,
 //! definition, references, rename, symbols and completion read it.
 
-use lightbench_compiler::ir::{Condition, Param, Pass, PassKind, Pipeline, Resource, ResourceKind, SamplerDecl, Variant};
+use lightbench_compiler::format::TextureFormat;
+use lightbench_compiler::ir::{
+    Condition, Constant, Param, Pass, PassKind, Pipeline, Repeat, Resource, ResourceKind, SamplerDecl, SizeSpec, Variant,
+};
 use lightbench_compiler::span::{SourceMap, Span, Spanned};
 use std::collections::BTreeSet;
 
@@ -55,6 +58,8 @@ pub struct Index {
     /// (span, symbol): every naming of a symbol, declarations included.
     pub uses: Vec<(Span, usize)>,
     pub shaders: Vec<ShaderUse>,
+    /// Every texture format written (hover describes it).
+    pub formats: Vec<Spanned<TextureFormat>>,
     /// The source map the spans point into.
     pub sources: SourceMap,
 }
@@ -65,6 +70,7 @@ impl Index {
             symbols: vec![],
             uses: vec![],
             shaders: vec![],
+            formats: vec![],
             sources,
         };
         p.params
@@ -145,6 +151,39 @@ impl Index {
         if let Some(h) = &p.hdr_output {
             self.name_use(Kind::Resource, h);
         }
+        for r in &p.resources {
+            if let ResourceKind::Texture(t) = &r.kind {
+                self.formats.push(t.format.clone());
+                if let SizeSpec::Param(n) | SizeSpec::ViewportParam(n) = &t.size.value {
+                    self.name_within(Kind::Param, t.size.span, n);
+                }
+            }
+        }
+    }
+
+    /// A name written inside a larger spanned value (`param(shadow.size)`, a constant's
+    /// `param(…)`): its first whole-word occurrence there.
+    fn name_within(&mut self, kind: Kind, within: Span, name: &str) {
+        let Some(i) = self.find(kind, name) else { return };
+        let text = &self.sources.get(within.file).text;
+        let Some(inner) = text.get(within.start as usize..within.end as usize) else {
+            return;
+        };
+        let is_word = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '.';
+        let found = inner.match_indices(name).find(|(at, _)| {
+            let before = inner[..*at].chars().next_back();
+            let after = inner[at + name.len()..].chars().next();
+            !before.is_some_and(is_word) && !after.is_some_and(is_word)
+        });
+        if let Some((at, _)) = found {
+            let start = within.start + at as u32;
+            let span = Span {
+                start,
+                end: start + name.len() as u32,
+                ..within
+            };
+            self.uses.push((span, i));
+        }
     }
 
     fn pass_uses(&mut self, pass: &Pass) {
@@ -167,12 +206,27 @@ impl Index {
         if let Some(w) = when {
             self.condition_uses(&w.value);
         }
+        for (_, c) in &pass.constants {
+            if let Constant::Param(n) = &c.value {
+                self.name_within(Kind::Param, c.span, n);
+            }
+        }
+        if let Some(Spanned {
+            value: Repeat::Param(n),
+            span,
+        }) = &pass.repeat
+        {
+            self.name_within(Kind::Param, *span, n);
+        }
         for (_, sref) in pass.stages() {
             // The built-in full-screen vertex stage is named by no text.
             if sref.file.span != pass.span {
                 // The entry point as written, or the default one the pass runs.
                 let entry = (sref.entry.span != pass.span).then(|| sref.entry.clone());
-                if !self.shaders.iter().any(|s| s.file.span == sref.file.span) {
+                // One file may serve several stages, each with its entry point.
+                let entry_span = entry.as_ref().map(|e| e.span);
+                let known = |s: &ShaderUse| s.file.span == sref.file.span && s.entry.as_ref().map(|e| e.span) == entry_span;
+                if !self.shaders.iter().any(known) {
                     self.shaders.push(ShaderUse {
                         file: sref.file.clone(),
                         entry,

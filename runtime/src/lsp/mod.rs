@@ -10,9 +10,11 @@ mod complete;
 mod diagnostics;
 mod handlers;
 pub mod index;
+mod merge;
 mod shader;
 pub mod text;
 mod transport;
+mod words;
 
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::scene::{file_kind, FileKind};

@@ -12,7 +12,7 @@ use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{channel, Receiver};
 use std::time::{Duration, Instant};
 
-struct Client {
+pub(crate) struct Client {
     child: Child,
     stdin: ChildStdin,
     rx: Receiver<Value>,
@@ -42,7 +42,7 @@ fn read_message(r: &mut impl BufRead) -> Option<Value> {
 }
 
 impl Client {
-    fn start(dir: &Path) -> Client {
+    pub(crate) fn start(dir: &Path) -> Client {
         let mut child = Command::new(env!("CARGO_BIN_EXE_lightbench"))
             .arg("lsp")
             .current_dir(dir)
@@ -90,7 +90,7 @@ impl Client {
     }
 
     /// The whole response (`result` or `error`) to a request.
-    fn call(&mut self, method: &str, params: Value) -> Value {
+    pub(crate) fn call(&mut self, method: &str, params: Value) -> Value {
         let id = self.next_id;
         self.next_id += 1;
         self.send(json!({"jsonrpc": "2.0", "id": id, "method": method, "params": params}));
@@ -107,14 +107,14 @@ impl Client {
         }
     }
 
-    fn request(&mut self, method: &str, params: Value) -> Value {
+    pub(crate) fn request(&mut self, method: &str, params: Value) -> Value {
         let r = self.call(method, params);
         assert!(r.get("error").is_none(), "{method}: {r}");
         r["result"].clone()
     }
 
     /// The next diagnostics published for `path` (waiting for the debounce and the check).
-    fn diagnostics(&mut self, path: &Path) -> Vec<Value> {
+    pub(crate) fn diagnostics(&mut self, path: &Path) -> Vec<Value> {
         let want = uri(path);
         let found = |m: &Value| m["method"] == "textDocument/publishDiagnostics" && m["params"]["uri"] == want;
         if let Some(i) = self.seen.iter().position(found) {
@@ -133,12 +133,12 @@ impl Client {
         }
     }
 
-    fn open(&mut self, path: &Path, text: &str) {
+    pub(crate) fn open(&mut self, path: &Path, text: &str) {
         let doc = json!({"uri": uri(path), "languageId": "lbp", "version": 1, "text": text});
         self.notify("textDocument/didOpen", json!({"textDocument": doc}));
     }
 
-    fn change(&mut self, path: &Path, version: i64, text: &str) {
+    pub(crate) fn change(&mut self, path: &Path, version: i64, text: &str) {
         let doc = json!({"uri": uri(path), "version": version});
         self.notify(
             "textDocument/didChange",
@@ -147,7 +147,7 @@ impl Client {
     }
 
     /// `shutdown`, `exit`, and the exit code.
-    fn finish(mut self) -> i32 {
+    pub(crate) fn finish(mut self) -> i32 {
         self.request("shutdown", Value::Null);
         self.notify("exit", Value::Null);
         wait(&mut self.child)
@@ -168,7 +168,7 @@ fn wait(child: &mut Child) -> i32 {
     }
 }
 
-fn uri(p: &Path) -> String {
+pub(crate) fn uri(p: &Path) -> String {
     let mut s = String::from("file://");
     for b in p.to_str().unwrap().bytes() {
         match b {
@@ -180,19 +180,19 @@ fn uri(p: &Path) -> String {
 }
 
 /// 0-based line and UTF-16 column of the first `needle` (plus `skip` characters) in `text`.
-fn pos(text: &str, needle: &str, skip: usize) -> Value {
+pub(crate) fn pos(text: &str, needle: &str, skip: usize) -> Value {
     let at = text.find(needle).unwrap_or_else(|| panic!("`{needle}` in the text")) + skip;
     let line = text[..at].matches('\n').count();
     let col = text[..at].rsplit('\n').next().unwrap().encode_utf16().count();
     json!({"line": line, "character": col})
 }
 
-fn at(path: &Path, text: &str, needle: &str, skip: usize) -> Value {
+pub(crate) fn at(path: &Path, text: &str, needle: &str, skip: usize) -> Value {
     json!({"textDocument": {"uri": uri(path)}, "position": pos(text, needle, skip)})
 }
 
 /// A project of its own: the bundled pipelines and shaders copied.
-fn project(tag: &str) -> PathBuf {
+pub(crate) fn project(tag: &str) -> PathBuf {
     let dir = scratch(tag);
     for sub in ["pipelines", "shaders"] {
         let ok = Command::new("cp").arg("-r").arg(root().join(sub)).arg(&dir).status().unwrap();
@@ -330,7 +330,10 @@ fn broken_copy_reports_what_check_reports_and_an_edit_clears_it() {
         assert_eq!(got.len(), expected.len(), "{got:?}\n{expected:?}");
         for (g, e) in got.iter().zip(&expected) {
             assert_eq!(g["code"], e["code"]);
-            assert_eq!(g["message"], e["message"]);
+            // The notes ("did you mean …") follow the message, where every client shows them.
+            let mut lines = vec![e["message"].as_str().unwrap()];
+            lines.extend(e["notes"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()));
+            assert_eq!(g["message"], json!(lines.join("\n")));
             // `check` counts from 1, the protocol from 0 (the lines are ASCII: columns agree).
             assert_eq!(g["range"]["start"]["line"].as_i64().unwrap() + 1, e["line"].as_i64().unwrap());
             assert_eq!(
@@ -462,7 +465,7 @@ fn the_protocol_edges_end_cleanly_with_the_right_exit_codes() {
 }
 
 /// Byte offset of a protocol position (UTF-16 columns).
-fn byte_at(text: &str, p: &Value) -> usize {
+pub(crate) fn byte_at(text: &str, p: &Value) -> usize {
     let (line, col) = (p["line"].as_u64().unwrap() as usize, p["character"].as_u64().unwrap() as usize);
     let start: usize = text.split_inclusive('\n').take(line).map(str::len).sum();
     let mut units = 0;
@@ -476,7 +479,7 @@ fn byte_at(text: &str, p: &Value) -> usize {
 }
 
 /// The text with a rename's edits applied (last first, so earlier offsets hold).
-fn apply(text: &str, edits: &[Value]) -> String {
+pub(crate) fn apply(text: &str, edits: &[Value]) -> String {
     let mut spans: Vec<(usize, usize, &str)> = edits
         .iter()
         .map(|e| {

@@ -11,6 +11,7 @@ mod mutate;
 mod cli;
 mod cli_safety;
 mod lsp;
+mod lsp_editing;
 mod lsp_mutants;
 mod lsp_neovim;
 mod manual;

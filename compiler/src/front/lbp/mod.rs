@@ -1,6 +1,7 @@
 //! The LBP front end: a small pipeline language (grammar in `lbp.pest`) parsed into the
 //! same syntax tree as RON, with every node's span; pest's errors become located diagnostics.
 
+pub mod grammar;
 mod nesting;
 mod parse;
 pub mod print;

@@ -1,0 +1,198 @@
+//! `lightbench lsp` while a user types: completion that replaces the whole dotted word (or
+//! path) in every context, hover and definition where the IR keeps no span (formats, entry
+//! points, `use`, `after`, `param(…)`), renames that would merge two names refused, and one
+//! diagnostic per mistake in a file two pipelines check.
+
+use crate::lsp::{apply, at, pos, project, uri, Client};
+use serde_json::{json, Value};
+use std::path::Path;
+
+/// The completion items at the end of the first `needle` in `text`.
+fn complete(c: &mut Client, path: &Path, text: &str, needle: &str) -> Vec<Value> {
+    let r = c.request("textDocument/completion", at(path, text, needle, needle.len()));
+    r.as_array().unwrap().clone()
+}
+
+/// The text after accepting the item labelled `label` (its text edit applied).
+fn accept(items: &[Value], text: &str, label: &str) -> String {
+    let labels: Vec<&str> = items.iter().map(|i| i["label"].as_str().unwrap()).collect();
+    let item = items
+        .iter()
+        .find(|i| i["label"] == label)
+        .unwrap_or_else(|| panic!("`{label}` among {labels:?}"));
+    assert_eq!(item["filterText"], json!(label), "{item}");
+    apply(text, &[item["textEdit"].clone()])
+}
+
+#[test]
+fn completion_replaces_the_whole_dotted_word_in_every_context() {
+    let dir = project("complete-words");
+    let path = dir.join("pipelines/deferred.lbp");
+    let good = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &good);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+
+    // Half-typed names: the whole dotted word is replaced, whatever the client calls a word.
+    let text = good
+        .replacen("reads gbuf.albedo, gbuf.emissive", "reads gbuf.alb, gbuf.emissive", 1)
+        .replacen("params ambient.color", "params shadow.p", 1);
+    c.change(&path, 2, &text);
+    let items = complete(&mut c, &path, &text, "reads gbuf.alb");
+    assert!(accept(&items, &text, "gbuf.albedo").contains("reads gbuf.albedo, gbuf.emissive"));
+    let items = complete(&mut c, &path, &text, "params shadow.p");
+    assert!(accept(&items, &text, "peel.layers").contains("\n    params peel.layers\n"));
+    assert!(accept(&items, &text, "shadow.pcf").contains("\n    params shadow.pcf\n"));
+
+    // Formats after `texture NAME:`, the word being the whole format.
+    let items = complete(&mut c, &path, &good, "texture gbuf.albedo: Rgba");
+    assert!(accept(&items, &good, "Rgba16Float").contains("texture gbuf.albedo: Rgba16Float viewport\n"));
+    // Shader files in a pass's quotes (below the shader folder, `lib/` too): the path.
+    let items = complete(&mut c, &path, &good, "fullscreen ambient \"amb");
+    assert!(accept(&items, &good, "taa.wgsl").contains("fullscreen ambient \"taa.wgsl\" {"));
+    assert!(items.iter().any(|i| i["label"] == "lib/material.wgsl"), "{items:?}");
+
+    // Between items: the grammar's top-level keywords.
+    let top = good.replacen("\nsampler shadow_cmp", "\ntex\nsampler shadow_cmp", 1);
+    c.change(&path, 3, &top);
+    let items = complete(&mut c, &path, &top, "\ntex");
+    assert!(accept(&items, &top, "texture").contains("\ntexture\nsampler shadow_cmp"));
+    assert!(items.iter().any(|i| i["label"] == "acceleration_structure"));
+    assert!(!items.iter().any(|i| i["label"] == "reads"), "{items:?}");
+    assert_eq!(c.finish(), 0);
+
+    // In a pipeline that uses another: passes after `after` (the used file's too), files
+    // beside it after `use` (not itself).
+    let gi = dir.join("pipelines/deferred_gi.lbp");
+    let gi_text = std::fs::read_to_string(&gi).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&gi, &gi_text);
+    assert_eq!(c.diagnostics(&gi), Vec::<Value>::new());
+    let items = complete(&mut c, &gi, &gi_text, "    after amb");
+    assert!(accept(&items, &gi_text, "light_point").contains("fullscreen ssao \"ssao.wgsl\" {\n    after light_point\n"));
+    let items = complete(&mut c, &gi, &gi_text, "use \"defe");
+    assert!(accept(&items, &gi_text, "deferred.ron").contains("use \"deferred.ron\"\n"));
+    assert!(!items.iter().any(|i| i["label"] == "deferred_gi.lbp"), "{items:?}");
+    assert_eq!(c.finish(), 0);
+}
+
+#[test]
+fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() {
+    let dir = project("definitions");
+    let path = dir.join("pipelines/deferred.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &text);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    let hover = |c: &mut Client, path: &Path, text: &str, needle: &str, skip: usize| {
+        let h = c.request("textDocument/hover", at(path, text, needle, skip));
+        h["contents"]["value"].as_str().unwrap_or_default().to_string()
+    };
+    let definition = |c: &mut Client, path: &Path, text: &str, needle: &str, skip: usize| {
+        c.request("textDocument/definition", at(path, text, needle, skip))
+    };
+
+    let f = hover(&mut c, &path, &text, "gbuf.albedo: Rgba8Unorm", 15);
+    assert!(
+        f.starts_with("**format** `Rgba8Unorm`: 4 bytes per texel, 4 channels of float"),
+        "{f}"
+    );
+    assert!(f.contains("Can be a color target, filtered, blended, a storage texture"), "{f}");
+    let d = hover(&mut c, &path, &text, "gbuf.depth: Depth32Float", 13);
+    assert!(d.contains("1 channel of depth") && d.contains("Can be a depth target"), "{d}");
+
+    // Entry points: of a single stage and of each arm of a choice.
+    let shader = dir.join("shaders/gbuffer.wgsl");
+    let shader_text = std::fs::read_to_string(&shader).unwrap();
+    for (needle, entry) in [("fragment fs_fat_position", "fs_fat_position("), ("fat: fs_fat }", "fs_fat(")] {
+        let skip = needle.find("fs_").unwrap() + 2;
+        let d = definition(&mut c, &path, &text, needle, skip);
+        assert_eq!(d["uri"], json!(uri(&shader)), "{needle}: {d}");
+        assert_eq!(d["range"]["start"], pos(&shader_text, &format!("fn {entry}"), 3), "{needle}");
+    }
+    // `repeat param(peel.layers)`: the parameter.
+    let d = definition(&mut c, &path, &text, "repeat param(peel.layers)", 15);
+    assert_eq!(d["range"]["start"], pos(&text, "param peel.layers", 6));
+    assert_eq!(c.finish(), 0);
+
+    let gi = dir.join("pipelines/deferred_gi.lbp");
+    let gi_text = std::fs::read_to_string(&gi).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&gi, &gi_text);
+    assert_eq!(c.diagnostics(&gi), Vec::<Value>::new());
+    // `use "deferred.lbp"`: the file.
+    let d = definition(&mut c, &gi, &gi_text, "use \"deferred.lbp\"", 7);
+    assert_eq!(d["uri"], json!(uri(&path)), "{d}");
+    // `after ambient`: the pass, declared in the used file; hover says what it is.
+    let d = definition(&mut c, &gi, &gi_text, "    after ambient", 12);
+    assert_eq!(d["uri"], json!(uri(&path)), "{d}");
+    assert_eq!(d["range"]["start"], pos(&text, "fullscreen ambient", 11));
+    let h = hover(&mut c, &gi, &gi_text, "    after ambient", 12);
+    assert!(h.starts_with("**fullscreen pass** `ambient`"), "{h}");
+    // `viewport*param(ao.scale)`: the parameter, and its references include the size.
+    let d = definition(&mut c, &gi, &gi_text, "viewport*param(ao.scale)", 17);
+    assert_eq!(d["range"]["start"], pos(&gi_text, "param ao.scale", 6));
+    assert_eq!(c.finish(), 0);
+}
+
+#[test]
+fn a_rename_to_a_name_in_use_is_refused() {
+    let dir = project("rename-clash");
+    let path = dir.join("pipelines/deferred.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&path, &text);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    // At the name after the declaring keyword.
+    let rename = |c: &mut Client, needle: &str, to: &str| {
+        let mut p = at(&path, &text, needle, needle.find(' ').unwrap() + 2);
+        p["newName"] = json!(to);
+        c.call("textDocument/rename", p)
+    };
+    for (needle, to, says) in [
+        (
+            "texture gbuf.albedo",
+            "gbuf.emissive",
+            "a resource named `gbuf.emissive` exists already",
+        ),
+        ("sampler taa_linear", "hdr", "a sampler named `hdr` exists already"),
+        ("param tonemap.key", "exposure.ev", "a parameter named `exposure.ev` exists already"),
+    ] {
+        let r = rename(&mut c, needle, to);
+        assert_eq!(r["error"]["message"], json!(says), "{needle}: {r}");
+    }
+    // A free name is accepted.
+    let ok = rename(&mut c, "texture gbuf.albedo", "gbuf.base_color");
+    assert!(ok["result"]["changes"].as_object().is_some_and(|c| !c.is_empty()), "{ok}");
+    assert_eq!(c.finish(), 0);
+}
+
+#[test]
+fn a_mistake_in_a_file_two_pipelines_check_is_one_diagnostic() {
+    let dir = project("one-per-mistake");
+    let (path, gi) = (dir.join("pipelines/deferred.lbp"), dir.join("pipelines/deferred_gi.lbp"));
+    let good = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(&dir);
+    c.open(&gi, &std::fs::read_to_string(&gi).unwrap());
+    assert_eq!(c.diagnostics(&gi), Vec::<Value>::new());
+    // deferred_gi.lbp uses deferred.lbp: both checks find the typo.
+    let broken = good.replacen("reads gbuf.albedo, gbuf.emissive", "reads gbuf.albdo, gbuf.emissive", 1);
+    c.open(&path, &broken);
+    let got = c.diagnostics(&path);
+    let typo: Vec<&Value> = got.iter().filter(|d| d["code"] == "unknown-resource").collect();
+    assert_eq!(typo.len(), 1, "{got:?}");
+    assert_eq!(
+        typo[0]["message"],
+        json!("no resource named `gbuf.albdo`\ndid you mean `gbuf.albedo`?")
+    );
+    // The shader's error (the read is missing) once too, naming both pipelines.
+    let shader = dir.join("shaders/ambient.wgsl");
+    let sd = c.diagnostics(&shader);
+    assert_eq!(sd.len(), 1, "{sd:?}");
+    let related = sd[0]["relatedInformation"].to_string();
+    assert!(
+        related.contains("found checking `pipelines/deferred.lbp`") && related.contains("found checking `pipelines/deferred_gi.lbp`"),
+        "{related}"
+    );
+    assert_eq!(c.finish(), 0);
+}
