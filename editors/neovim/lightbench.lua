@@ -20,6 +20,8 @@ vim.api.nvim_create_autocmd({ 'BufReadPost', 'BufNewFile' }, {
         cmd = { 'lightbench', 'lsp' },
         root_dir = dir,
         workspace_folders = { { uri = vim.uri_from_fname(dir), name = dir } },
+        -- Every edit at once: the server waits for a pause itself, as long as its checks take.
+        flags = { debounce_text_changes = 0 },
       })
     end
     vim.lsp.buf_attach_client(args.buf, servers[dir])

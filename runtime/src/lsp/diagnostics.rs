@@ -41,19 +41,28 @@ impl Server {
         out
     }
 
-    /// Check each file and publish the diagnostics of every file whose set changed.
-    pub fn publish(&mut self, files: &BTreeSet<PathBuf>) -> Vec<PublishDiagnosticsParams> {
-        let mut touched: BTreeSet<PathBuf> = BTreeSet::new();
+    /// Check each file in turn and publish, after each check, the diagnostics of every file
+    /// it changed. What the earlier checks of these files found is set aside first, so that
+    /// no publication mixes copies from before the edit with those after it.
+    pub fn publish(&mut self, files: &[PathBuf], mut send: impl FnMut(PublishDiagnosticsParams)) {
+        let mut stale: BTreeMap<PathBuf, ByFile> = files.iter().filter_map(|f| Some((f.clone(), self.published.remove(f)?))).collect();
+        let mut sent: BTreeMap<PathBuf, Vec<lsp_types::Diagnostic>> = BTreeMap::new();
         for f in files {
             let found = self.check(f);
             // The checked file too: an empty list clears what the client showed.
-            touched.insert(f.clone());
+            let mut touched: BTreeSet<PathBuf> = [f.clone()].into();
             touched.extend(found.keys().cloned());
-            if let Some(old) = self.published.insert(f.clone(), found) {
-                touched.extend(old.into_keys());
+            touched.extend(stale.remove(f).into_iter().flat_map(|old| old.into_keys()));
+            self.published.insert(f.clone(), found);
+            for file in touched {
+                let Some(params) = self.params_for(&file) else { continue };
+                // Published in this flush already, the same: not again.
+                if sent.get(&file) != Some(&params.diagnostics) {
+                    sent.insert(file, params.diagnostics.clone());
+                    send(params);
+                }
             }
         }
-        touched.into_iter().filter_map(|file| self.params_for(&file)).collect()
     }
 
     /// Every diagnostic located in `file`, one per mistake however many pipelines found it

@@ -3,8 +3,9 @@
 //! documents are an overlay on the disk, so unsaved text is what is checked.
 //!
 //! Protocol scaffolding is `lsp-server` (rust-analyzer's: synchronous, no async runtime).
-//! Edits are debounced: diagnostics are published once no message has come for
-//! [`DEBOUNCE`]; requests are answered at once, from the last text that lowered.
+//! Edits are debounced adaptively ([`Quiet`]): diagnostics are published once no edit has
+//! come for a quarter of the time the last check took (at most [`MAX_QUIET`]); requests are
+//! answered at once, from the last text that lowered, and do not move the deadline.
 
 mod complete;
 mod diagnostics;
@@ -25,16 +26,40 @@ use lsp_types::notification::{self as note, Notification as _};
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 use text::{path_of, Overlay};
 
-/// Quiet time after an edit before the files it touches are checked again.
-pub const DEBOUNCE: Duration = Duration::from_millis(150);
+/// The longest quiet time after an edit before the files it touches are checked again.
+pub const MAX_QUIET: Duration = Duration::from_millis(25);
+
+/// The shortest: edits that come together (one keystroke as several changes) are one check.
+pub const MIN_QUIET: Duration = Duration::from_millis(5);
+
+/// How long to wait after an edit: a quarter of the time the last check took, within
+/// [`MIN_QUIET`] and the most. Keystrokes closer together than that are checked once; a
+/// longer wait would only add latency, since edits that come while a check runs queue and
+/// are checked together after it (so the server never falls more than one check behind).
+pub struct Quiet {
+    most: Duration,
+    last_check: Duration,
+}
+
+impl Quiet {
+    pub fn new(most: Duration) -> Quiet {
+        Quiet { most, last_check: most }
+    }
+    pub fn wait(&self) -> Duration {
+        (self.last_check / 4).clamp(MIN_QUIET.min(self.most), self.most)
+    }
+    pub fn checked(&mut self, took: Duration) {
+        self.last_check = took;
+    }
+}
 
 /// `lightbench lsp`: serve on stdin/stdout until the client says `exit`.
 pub fn run() -> Result<(), String> {
     let (connection, io_threads) = transport::stdio();
-    let served = serve(&connection, DEBOUNCE);
+    let served = serve(&connection, MAX_QUIET);
     drop(connection);
     // The reader's protocol error, when there is one, is why serving stopped.
     io_threads.join().and(served)
@@ -43,27 +68,30 @@ pub fn run() -> Result<(), String> {
 /// The whole conversation on one connection: the handshake, then messages until `exit` (or
 /// until the client goes away). After `shutdown` every request is an error and `exit` ends
 /// it well; `exit` without `shutdown` is an error (exit code 1), as the protocol says.
-/// Diagnostics wait for `debounce` without a message.
-pub fn serve(connection: &Connection, debounce: Duration) -> Result<(), String> {
+/// Diagnostics wait for a quiet time after the last edit of at most `most_quiet` ([`Quiet`]).
+pub fn serve(connection: &Connection, most_quiet: Duration) -> Result<(), String> {
     let capabilities = serde_json::to_value(handlers::capabilities()).map_err(|e| e.to_string())?;
     let init = connection.initialize(capabilities).map_err(|e| e.to_string())?;
     let mut server = Server::new(roots(&init));
+    let mut quiet = Quiet::new(most_quiet);
+    // When the pending edits are checked: set by edits only, so requests do not delay it.
+    let mut due: Option<Instant> = None;
     let mut shut_down = false;
     loop {
-        let msg = if server.dirty.is_empty() {
-            match connection.receiver.recv() {
-                Ok(m) => m,
-                Err(_) => return Ok(()),
+        let received = match due {
+            None => connection.receiver.recv().map_err(|_| None),
+            Some(at) => connection.receiver.recv_deadline(at).map_err(|e| e.is_timeout().then_some(())),
+        };
+        let msg = match received {
+            Ok(m) => m,
+            Err(Some(())) => {
+                let started = Instant::now();
+                server.flush(connection);
+                quiet.checked(started.elapsed());
+                due = None;
+                continue;
             }
-        } else {
-            match connection.receiver.recv_timeout(debounce) {
-                Ok(m) => m,
-                Err(e) if e.is_timeout() => {
-                    server.flush(connection);
-                    continue;
-                }
-                Err(_) => return Ok(()),
-            }
+            Err(None) => return Ok(()),
         };
         match msg {
             Message::Request(req) if shut_down => {
@@ -85,7 +113,11 @@ pub fn serve(connection: &Connection, debounce: Duration) -> Result<(), String> 
                     false => Err("`exit` came without `shutdown`".into()),
                 };
             }
-            Message::Notification(n) => server.notified(n),
+            Message::Notification(n) => {
+                if server.notified(n) {
+                    due = Some(Instant::now() + quiet.wait());
+                }
+            }
             Message::Response(_) => {}
         }
     }
@@ -147,8 +179,9 @@ impl Server {
         }
     }
 
-    /// Document notifications update the overlay; anything malformed is ignored.
-    fn notified(&mut self, n: Notification) {
+    /// Document notifications update the overlay; anything malformed is ignored. Whether a
+    /// document changed (its files are to be checked again).
+    fn notified(&mut self, n: Notification) -> bool {
         let changed = match n.method.as_str() {
             note::DidOpenTextDocument::METHOD => serde_json::from_value::<lsp_types::DidOpenTextDocumentParams>(n.params)
                 .ok()
@@ -182,17 +215,22 @@ impl Server {
                 }
             }
             self.dirty.insert(path);
+            return true;
         }
+        false
     }
 
     /// Check what the pending edits touch and publish the diagnostics that changed.
+    /// The edited files are checked first, so their own diagnostics come before those of
+    /// the pipelines that use them.
     fn flush(&mut self, connection: &Connection) {
         let changed = std::mem::take(&mut self.dirty);
-        let files = self.to_check(&changed);
-        for params in self.publish(&files) {
+        let mut files: Vec<PathBuf> = self.to_check(&changed).into_iter().collect();
+        files.sort_by_key(|f| !changed.contains(f));
+        self.publish(&files, |params| {
             let n = Notification::new(note::PublishDiagnostics::METHOD.to_string(), params);
             let _ = connection.sender.send(n.into());
-        }
+        });
     }
 
     /// A document's text: the editor's, else the file's, read as every user file is (regular
