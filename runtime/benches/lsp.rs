@@ -4,8 +4,9 @@
 //! nothing compiled) and after an edit that touches no shader (modules cached). Then end to
 //! end from headless Neovim with the manual's snippet (`lsp_neovim.lua` types): last
 //! keystroke to the diagnostics shown, p50 and p95, for `deferred.lbp` (goal ≤ 50 ms) and
-//! an included shader (goal ≤ 100 ms), both checked by two pipelines. `cargo test` runs it
-//! at its smallest.
+//! an included shader (goal ≤ 100 ms), both checked by two pipelines. And how the time to
+//! diagnostics grows with a document's size (goal: linearly), and the resident memory over
+//! rounds of documents opened and closed (goal: flat). `cargo test` runs it at its smallest.
 
 use lightbench::lsp::{serve, text::uri_of};
 use lsp_server::{Connection, Message, Notification, Request, RequestId};
@@ -63,6 +64,12 @@ fn main() {
     }
     warm.sort();
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let sizes = Size::from_args().pick([10_000, 40_000], [500, 2_000]);
+    let by_size = scaling(&client, &root, &text, sizes, Size::from_args().pick(3, 1));
+    let cycles = Size::from_args().pick(500, 5);
+    let rss: Vec<String> = (0..3)
+        .map(|round| format!("{:.1}", open_close(&client, &root, &text, cycles, round)))
+        .collect();
     println!(
         "deferred_gi.lbp diagnostics after open (cold, nothing compiled): {:>8.1} ms",
         ms(cold)
@@ -73,6 +80,20 @@ fn main() {
         warm.len(),
         load_line()
     );
+    println!(
+        "deferred_gi.lbp and {} more parameters: {:>8.1} ms; and {}: {:>8.1} ms; ratio {:.2}x for {}x the text (goal: linear, <= {:.1}x)",
+        sizes[0],
+        by_size[0],
+        sizes[1],
+        by_size[1],
+        by_size[1] / by_size[0],
+        sizes[1] / sizes[0],
+        1.25 * (sizes[1] / sizes[0]) as f64
+    );
+    println!(
+        "resident memory after each of 3 rounds of {cycles} documents opened, checked and closed: {} MB (goal: flat after the first)",
+        rss.join(", ")
+    );
     client
         .sender
         .send(Request::new(RequestId::from(1), "shutdown".into(), json!(null)).into())
@@ -80,6 +101,56 @@ fn main() {
     client.sender.send(Notification::new("exit".into(), json!(null)).into()).unwrap();
     running.join().unwrap().unwrap();
     from_neovim(&root, Size::from_args().pick(20, 1));
+}
+
+/// Milliseconds from opening to diagnostics for `text` with each count of parameters more
+/// (median of `rounds`, the sizes interleaved), each a document of its own, closed after.
+fn scaling(client: &Connection, root: &Path, text: &str, sizes: [usize; 2], rounds: usize) -> [f64; 2] {
+    let mut took: [Vec<f64>; 2] = [vec![], vec![]];
+    for round in 0..rounds {
+        for (i, n) in sizes.into_iter().enumerate() {
+            let mut big = text.to_string();
+            for k in 0..n {
+                big += &format!("\nparam bench{k}.value: Float = 1 in 0..2 \"parameter {k}\"");
+            }
+            // Beside the bundled pipelines (never written: the editor's text is what is read).
+            let path = root.join(format!("pipelines/bench-{n}-{round}.lbp"));
+            let uri = uri_of(&path).unwrap().as_str().to_string();
+            let open = json!({"textDocument": {"uri": uri, "languageId": "lbp", "version": 1, "text": big}});
+            let t = until_published(client, Notification::new("textDocument/didOpen".into(), open), &uri);
+            took[i].push(t.as_secs_f64() * 1e3);
+            let close = json!({"textDocument": {"uri": uri}});
+            client
+                .sender
+                .send(Notification::new("textDocument/didClose".into(), close).into())
+                .unwrap();
+        }
+    }
+    took.map(|mut v| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    })
+}
+
+/// `count` documents (unsaved copies of `text`) opened, checked and closed; the process's
+/// resident memory after, in MB.
+fn open_close(client: &Connection, root: &Path, text: &str, count: usize, round: usize) -> f64 {
+    for k in 0..count {
+        let uri = uri_of(&root.join(format!("pipelines/cycle-{round}-{k}.lbp")))
+            .unwrap()
+            .as_str()
+            .to_string();
+        let open = json!({"textDocument": {"uri": uri, "languageId": "lbp", "version": 1, "text": text}});
+        until_published(client, Notification::new("textDocument/didOpen".into(), open), &uri);
+        let close = json!({"textDocument": {"uri": uri}});
+        until_published(client, Notification::new("textDocument/didClose".into(), close), &uri);
+    }
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let kb = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmRSS:"))
+        .and_then(|v| v.split_whitespace().next()?.parse::<f64>().ok());
+    kb.unwrap_or(f64::NAN) / 1024.0
 }
 
 /// Edit → diagnostics from Neovim: `rounds` typos into deferred.lbp and out again, and as

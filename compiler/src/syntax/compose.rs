@@ -6,6 +6,7 @@
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::span::Span;
 use crate::tree::{Field, Node, Value};
+use std::collections::HashMap;
 
 /// Keys only a pipeline that uses another may have (besides `use`), with what they do.
 const COMPOSING: [(&str, &str); 2] = [("remove", "remove its items"), ("fix", "fix its variants")];
@@ -225,9 +226,14 @@ fn unknown(kind: &str, name: &str, names: &[&str], span: Span) -> Diagnostic {
 /// replacing theirs in place; one of the same name without `Replace` is a conflict.
 fn merge_map(out: &mut Vec<Field>, key: &str, span: Span, own: &Node, diags: &mut Diagnostics) {
     let mut merged: Vec<(Node, Node)> = get(out, key).map(entries).unwrap_or(&[]).to_vec();
+    // Where each name is in `merged` (the first of a name), so a merge stays linear.
+    let mut index: HashMap<Option<String>, usize> = HashMap::new();
+    for (i, (b, _)) in merged.iter().enumerate() {
+        index.entry(b.text().map(str::to_string)).or_insert(i);
+    }
     let what = key.trim_end_matches('s');
     for (k, v) in entries(own) {
-        let at = merged.iter().position(|(b, _)| b.text() == k.text());
+        let at = index.get(&k.text().map(str::to_string)).copied();
         match (replacement(v), at) {
             (Some(r), Some(i)) => merged[i] = (k.clone(), r.clone()),
             (Some(_), None) => diags.push(
@@ -248,7 +254,10 @@ fn merge_map(out: &mut Vec<Field>, key: &str, span: Span, own: &Node, diags: &mu
                 .with_note("write `Replace(...)` (LBP `replace`) to change it, or `remove` it first"),
             ),
             (None, Some(i)) => merged[i] = (k.clone(), v.clone()),
-            (None, None) => merged.push((k.clone(), v.clone())),
+            (None, None) => {
+                index.insert(k.text().map(str::to_string), merged.len());
+                merged.push((k.clone(), v.clone()))
+            }
         }
     }
     set(out, key, span, Node::map(merged, span));

@@ -9,7 +9,7 @@
 
 use super::index::{Index, Kind};
 use super::text::{offset, path_of, range};
-use super::words::{name_char, path_char, word_around};
+use super::words::{key_of, name_char, path_char, word_around};
 use super::Server;
 use lightbench_compiler::front::lbp::grammar as lbp_grammar;
 use lightbench_compiler::scene::{file_kind, FileKind};
@@ -184,22 +184,6 @@ fn scene_items(key: Option<&str>) -> Vec<Label> {
 
 fn item(label: &str, kind: CompletionItemKind) -> Label {
     (label.to_string(), kind, None)
-}
-
-/// The key a line is filling: an LBP line's first word, or the last `key:` of a RON line.
-pub(super) fn key_of(line: &str) -> Option<String> {
-    let word = |s: &str| s.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>();
-    if let Some(i) = line.rfind(':') {
-        let before = line[..i].trim_end();
-        let start = before
-            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-            .map_or(0, |j| j + 1);
-        let k = word(&before[start..]);
-        if !k.is_empty() && !before[..start].trim_end().ends_with('"') {
-            return Some(k);
-        }
-    }
-    Some(word(line.trim_start())).filter(|w| !w.is_empty())
 }
 
 /// After `variant(` the variants; after `variant(v, ` or inside `match(v) {` v's options.

@@ -2,6 +2,7 @@
 //! itself, or every pipeline that uses the edited shader or pipeline file), its compiler
 //! diagnostics turned into the protocol's, per file, as `check --format json` locates them.
 
+use super::merge::Found;
 use super::text::{range, uri_of};
 use super::Server;
 use lightbench_compiler::diag::{Diagnostic, Severity};
@@ -13,14 +14,6 @@ use std::path::{Path, PathBuf};
 
 /// One pipeline's diagnostics, by the file each is located in.
 pub type ByFile = BTreeMap<PathBuf, Vec<Found>>;
-
-/// A diagnostic as one check found it: the protocol's form (message without notes) and the
-/// compiler's notes ("did you mean …"), which go into the message once copies are merged.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Found {
-    pub d: lsp_types::Diagnostic,
-    pub notes: Vec<String>,
-}
 
 impl Server {
     /// The files to check again after these changed: a changed pipeline, scene or sweep
@@ -48,7 +41,14 @@ impl Server {
         let mut stale: BTreeMap<PathBuf, ByFile> = files.iter().filter_map(|f| Some((f.clone(), self.published.remove(f)?))).collect();
         let mut sent: BTreeMap<PathBuf, Vec<lsp_types::Diagnostic>> = BTreeMap::new();
         for f in files {
-            let found = self.check(f);
+            // A document closed that is no file on disk (never saved, or deleted) is no
+            // longer checked: what it showed is cleared.
+            let found = if self.exists(f) {
+                self.check(f)
+            } else {
+                self.deps.remove(f);
+                ByFile::new()
+            };
             // The checked file too: an empty list clears what the client showed.
             let mut touched: BTreeSet<PathBuf> = [f.clone()].into();
             touched.extend(found.keys().cloned());

@@ -8,9 +8,9 @@ use lightbench_compiler::ir::{
     Condition, Constant, Param, Pass, PassKind, Pipeline, Repeat, Resource, ResourceKind, SamplerDecl, SizeSpec, Variant,
 };
 use lightbench_compiler::span::{SourceMap, Span, Spanned};
-use std::collections::BTreeSet;
+use std::collections::{BTreeSet, HashMap};
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Kind {
     Param,
     Sampler,
@@ -58,6 +58,8 @@ pub struct Index {
     /// (span, symbol): every naming of a symbol, declarations included.
     pub uses: Vec<(Span, usize)>,
     pub shaders: Vec<ShaderUse>,
+    /// Each symbol's index by kind and name (lookups stay linear in the document's size).
+    by_name: HashMap<(Kind, String), usize>,
     /// Every texture format written (hover describes it).
     pub formats: Vec<Spanned<TextureFormat>>,
     /// The source map the spans point into.
@@ -71,6 +73,7 @@ impl Index {
             uses: vec![],
             shaders: vec![],
             formats: vec![],
+            by_name: HashMap::new(),
             sources,
         };
         p.params
@@ -106,9 +109,10 @@ impl Index {
 
     fn declare(&mut self, kind: Kind, name: &Spanned<String>, extent: Span, hover: String) {
         // A pass written with choices has a copy per arm: declared once.
-        if self.symbols.iter().any(|s| s.kind == kind && s.name == name.value) {
+        if self.find(kind, &name.value).is_some() {
             return;
         }
+        self.by_name.insert((kind, name.value.clone()), self.symbols.len());
         self.symbols.push(Symbol {
             kind,
             name: name.value.clone(),
@@ -121,7 +125,7 @@ impl Index {
 
     /// The symbol of this kind and name.
     pub fn find(&self, kind: Kind, name: &str) -> Option<usize> {
-        self.symbols.iter().position(|s| s.kind == kind && s.name == name)
+        self.by_name.get(&(kind, name.to_string())).copied()
     }
 
     fn name_use(&mut self, kind: Kind, name: &Spanned<String>) {

@@ -4,23 +4,34 @@
 //! each pipeline found when they differ, and the notes ("did you mean …") are in the message,
 //! where every client shows them.
 
-use super::diagnostics::Found;
 use super::text::uri_of;
 use lsp_types::{Diagnostic, DiagnosticRelatedInformation, Location};
+use std::collections::HashMap;
 use std::path::Path;
+
+/// A diagnostic as one check found it: the protocol's form (message without notes) and the
+/// compiler's notes ("did you mean …"), which go into the message once copies are merged.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Found {
+    pub d: lsp_types::Diagnostic,
+    pub notes: Vec<String>,
+}
 
 /// One diagnostic per (place, code, severity) among `copies`, each tagged with the pipeline
 /// whose check found it, in the order first found.
 pub fn merge(file: &Path, copies: &[(&Path, &Found)], shown: impl Fn(&Path) -> String) -> Vec<Diagnostic> {
     let mut groups: Vec<Vec<(&Path, &Found)>> = vec![];
+    // Each group's index by its place, code and severity (linear in the copies).
+    let mut by_key: HashMap<String, usize> = HashMap::new();
     for &(checker, found) in copies {
-        let same = |g: &&mut Vec<(&Path, &Found)>| {
-            let d = &g[0].1.d;
-            d.range == found.d.range && d.code == found.d.code && d.severity == found.d.severity
-        };
-        match groups.iter_mut().find(same) {
-            Some(g) => g.push((checker, found)),
-            None => groups.push(vec![(checker, found)]),
+        let d = &found.d;
+        let key = format!("{:?} {:?} {:?}", d.range, d.code, d.severity);
+        match by_key.get(&key) {
+            Some(&g) => groups[g].push((checker, found)),
+            None => {
+                by_key.insert(key, groups.len());
+                groups.push(vec![(checker, found)]);
+            }
         }
     }
     groups.iter().map(|g| one(file, g, &shown)).collect()

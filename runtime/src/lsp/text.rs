@@ -39,10 +39,10 @@ impl Vfs for Overlay {
     fn read(&self, path: &Path) -> io::Result<String> {
         match self.get(path) {
             // The same limit as a file on disk: an editor can hold more than a check reads.
-            Some(t) if t.len() as u64 > MAX_FILE_BYTES => Err(io::Error::other(format!(
-                "larger than {} MiB (open in the editor)",
-                MAX_FILE_BYTES >> 20
-            ))),
+            Some(t) if t.len() as u64 > MAX_FILE_BYTES => Err(io::Error::new(
+                io::ErrorKind::FileTooLarge,
+                format!("larger than the {} MiB limit (the editor's text)", MAX_FILE_BYTES >> 20),
+            )),
             Some(t) => Ok(t),
             None => DiskVfs.read(path),
         }

@@ -24,13 +24,29 @@ pub fn word_around(text: &str, cursor: usize, part: fn(char) -> bool) -> (usize,
     (start, end)
 }
 
+/// The key a line is filling: an LBP line's first word, or the last `key:` of a RON line.
+pub fn key_of(line: &str) -> Option<String> {
+    let word = |s: &str| s.chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect::<String>();
+    if let Some(i) = line.rfind(':') {
+        let before = line[..i].trim_end();
+        let start = before
+            .rfind(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+            .map_or(0, |j| j + 1);
+        let k = word(&before[start..]);
+        if !k.is_empty() && !before[..start].trim_end().ends_with('"') {
+            return Some(k);
+        }
+    }
+    Some(word(line.trim_start())).filter(|w| !w.is_empty())
+}
+
 /// The line around a byte offset, and its key: an LBP line's first word, or the last
 /// `key:` of a RON line.
 pub fn line_key(text: &str, at: usize) -> (&str, Option<String>) {
     let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
     let end = text[at..].find('\n').map_or(text.len(), |i| at + i);
     let line = &text[start..end];
-    (line, super::complete::key_of(&text[start..at]))
+    (line, key_of(&text[start..at]))
 }
 
 impl Server {

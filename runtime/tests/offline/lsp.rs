@@ -85,7 +85,7 @@ impl Client {
         self.send_raw(v.to_string().as_bytes());
     }
 
-    fn notify(&mut self, method: &str, params: Value) {
+    pub(crate) fn notify(&mut self, method: &str, params: Value) {
         self.send(json!({"jsonrpc": "2.0", "method": method, "params": params}));
     }
 

@@ -204,3 +204,36 @@ fn a_mistake_in_a_file_two_pipelines_check_is_one_diagnostic() {
     );
     assert_eq!(c.finish(), 0);
 }
+
+/// A document that is no file (never saved): checked while open, cleared when closed (a
+/// saved one closed is checked again as the disk holds it).
+#[test]
+fn closing_an_unsaved_document_clears_its_diagnostics() {
+    let dir = project("unsaved");
+    let path = dir.join("pipelines/draft.lbp");
+    let good = std::fs::read_to_string(dir.join("pipelines/deferred.lbp")).unwrap();
+    let broken = good.replacen("reads gbuf.albedo, gbuf.emissive", "reads gbuf.albdo, gbuf.emissive", 1);
+    let mut c = Client::start(&dir);
+    c.open(&path, &broken);
+    assert!(c.diagnostics(&path).iter().any(|d| d["code"] == "unknown-resource"));
+    c.notify("textDocument/didClose", json!({"textDocument": {"uri": uri(&path)}}));
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    assert!(!path.exists());
+    assert_eq!(c.finish(), 0);
+}
+
+/// The editor's text is held to the limit a file on disk is: over 16 MiB, `file-too-large`
+/// (as `check` says of such a file), located at the top.
+#[test]
+fn a_document_over_16_mib_is_file_too_large() {
+    let dir = project("too-large");
+    let path = dir.join("pipelines/huge.lbp");
+    let mut c = Client::start(&dir);
+    c.open(&path, &format!("pipeline huge\n// {}\n", "x".repeat(17 << 20)));
+    let d = c.diagnostics(&path);
+    assert_eq!(d.len(), 1, "{d:?}");
+    assert_eq!(d[0]["code"], "file-too-large");
+    assert!(d[0]["message"].as_str().unwrap().contains("larger than the 16 MiB limit"), "{d:?}");
+    assert_eq!(d[0]["range"]["start"], json!({"line": 0, "character": 0}));
+    assert_eq!(c.finish(), 0);
+}
