@@ -81,11 +81,28 @@ impl Server {
             .into_iter()
             .flat_map(|c| self.published[c][file].iter().map(move |f| (c.as_path(), f)))
             .collect();
+        let mut diagnostics = super::merge::merge(file, &copies, |p| self.shown(p));
+        for d in &mut diagnostics {
+            d.message = self.relative_paths(&d.message);
+            d.related_information
+                .iter_mut()
+                .flatten()
+                .for_each(|r| r.message = self.relative_paths(&r.message));
+        }
         Some(PublishDiagnosticsParams {
             uri: uri_of(file)?,
-            diagnostics: super::merge::merge(file, &copies, |p| self.shown(p)),
+            diagnostics,
             version: None,
         })
+    }
+
+    /// Paths in a message as `check` run in the workspace folder prints them: relative.
+    fn relative_paths(&self, text: &str) -> String {
+        let mut out = text.to_string();
+        for r in &self.roots {
+            out = out.replace(&format!("{}/", r.display()), "");
+        }
+        out
     }
 
     /// A path as `check` prints it: relative to the workspace folder it is in.
