@@ -51,6 +51,13 @@ impl Server {
         let names = |k: Kind, what: CompletionItemKind| ix.names(k).into_iter().map(move |n| item(n, what));
         let first = line.trim_start().split(|c: char| !name_char(c)).next().unwrap_or("");
         let in_quotes = line.matches('"').count() % 2 == 1;
+        // In an LBP choice (`fragment match(v) { a: fs_a, b: fs_| }`) an arm's value is the
+        // line's key's; its options are the variant's.
+        let key = match line.contains("match(") {
+            true if line.rsplit(['{', ',']).next().is_some_and(|arm| arm.contains(':')) => Some(first),
+            true => None,
+            false => key,
+        };
         let items: Vec<Label> = match key {
             Some("reads" | "color" | "depth" | "writes" | "output" | "hdr_output") => {
                 names(Kind::Resource, CompletionItemKind::VARIABLE).collect()

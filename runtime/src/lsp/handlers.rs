@@ -114,6 +114,9 @@ impl Server {
 
     fn hover(&mut self, pos: TextDocumentPositionParams) -> Option<Hover> {
         let (path, at) = self.at(&pos)?;
+        if let Some(used) = self.used_file_at(&path, &at) {
+            return self.use_hover(&path, &used);
+        }
         let ix = self.indexes.get(&path).map(|(_, ix)| ix)?;
         let named = ix.at(at.file, at.offset).or_else(|| self.named_at(&path, &at));
         let inside = |s: &Span| s.file == at.file && s.start as usize <= at.offset && at.offset <= s.end as usize;
@@ -143,6 +146,28 @@ impl Server {
                 value: text,
             }),
             range: span.map(|s| range(&ix.sources.get(s.file).text, s.start as usize, s.end as usize)),
+        })
+    }
+
+    /// A `use`d pipeline: what it declares that this one takes.
+    fn use_hover(&self, path: &Path, used: &Path) -> Option<Hover> {
+        let ix = &self.indexes.get(path)?.1;
+        let file = ix.sources.find(&used.display().to_string())?;
+        let count = |k: Kind| ix.symbols.iter().filter(|s| s.kind == k && s.decl.file == file).count();
+        let value = format!(
+            "**uses** `{}`: {} parameters, {} resources, {} passes and {} variants declared there are this pipeline's too",
+            self.shown(used),
+            count(Kind::Param),
+            count(Kind::Resource),
+            count(Kind::Pass),
+            count(Kind::Variant)
+        );
+        Some(Hover {
+            contents: HoverContents::Markup(MarkupContent {
+                kind: MarkupKind::Markdown,
+                value,
+            }),
+            range: None,
         })
     }
 

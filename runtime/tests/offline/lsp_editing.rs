@@ -44,6 +44,14 @@ fn completion_replaces_the_whole_dotted_word_in_every_context() {
     assert!(accept(&items, &text, "peel.layers").contains("\n    params peel.layers\n"));
     assert!(accept(&items, &text, "shadow.pcf").contains("\n    params shadow.pcf\n"));
 
+    // In a choice: an arm's value is the key's (entry points, resources), its options the
+    // variant's.
+    let items = complete(&mut c, &path, &good, "fragment match(gbuffer) { packed: fs_main, fat: fs_");
+    assert!(accept(&items, &good, "fs_fat_position").contains("{ packed: fs_main, fat: fs_fat_position }"));
+    let items = complete(&mut c, &path, &good, "color match(gbuffer) { packed: gbuf.normal, fat: gbuf.f");
+    assert!(accept(&items, &good, "gbuf.fat_normal").contains("fat: gbuf.fat_normal }, gbuf.albedo"));
+    let items = complete(&mut c, &path, &good, "fragment match(gbuffer) { pa");
+    assert!(accept(&items, &good, "fat").contains("fragment match(gbuffer) { fat: fs_main"));
     // Formats after `texture NAME:`, the word being the whole format.
     let items = complete(&mut c, &path, &good, "texture gbuf.albedo: Rgba");
     assert!(accept(&items, &good, "Rgba16Float").contains("texture gbuf.albedo: Rgba16Float viewport\n"));
@@ -123,6 +131,23 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
     // `use "deferred.lbp"`: the file.
     let d = definition(&mut c, &gi, &gi_text, "use \"deferred.lbp\"", 7);
     assert_eq!(d["uri"], json!(uri(&path)), "{d}");
+    let h = hover(&mut c, &gi, &gi_text, "use \"deferred.lbp\"", 7);
+    // What the composed pipeline keeps of the used file's declarations (some are replaced,
+    // removed or fixed by this one): as many as it declares at most, and some.
+    let declared = |word: &str| text.lines().filter(|l| l.starts_with(word)).count();
+    let passes = declared("raster ") + declared("fullscreen ") + declared("compute ");
+    let counts: Vec<usize> = h.split([' ', ',']).filter_map(|w| w.parse().ok()).collect();
+    assert!(h.starts_with("**uses** `pipelines/deferred.lbp`: "), "{h}");
+    let most = [
+        declared("param "),
+        declared("texture ") + declared("buffer ") + declared("acceleration_structure "),
+        passes,
+        declared("variant "),
+    ];
+    assert!(
+        counts.len() == 4 && counts.iter().zip(most).all(|(&c, m)| 0 < c && c <= m),
+        "{h} {most:?}"
+    );
     // `after ambient`: the pass, declared in the used file; hover says what it is.
     let d = definition(&mut c, &gi, &gi_text, "    after ambient", 12);
     assert_eq!(d["uri"], json!(uri(&path)), "{d}");
