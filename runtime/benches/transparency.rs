@@ -55,7 +55,10 @@ fn frame(gpu: &Gpu, ex: &mut Executor, f: u32) -> (f64, f64) {
 
 fn main() {
     let run = Size::from_args();
-    let (sizes, rounds) = (run.pick(vec![(800, 600), (1280, 720), (1920, 1080)], vec![(64, 64)]), run.pick(9, 1));
+    let (sizes, rounds) = (
+        run.pick(vec![(800, 600), (1280, 720), (1920, 1080)], vec![(64, 64)]),
+        run.pick(9, 1),
+    );
     let gpu = Gpu::new(&DeviceOptions::default()).expect("a GPU adapter");
     println!("{}", gpu.describe());
     println!(

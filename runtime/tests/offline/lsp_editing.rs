@@ -5,7 +5,25 @@
 
 use crate::lsp::{apply, at, pos, project, uri, Client};
 use serde_json::{json, Value};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// A project of its own with its pipeline `file` open in a server, which finds it clean: the
+/// project, the file, its text and the client.
+fn opened(tag: &str, file: &str) -> (PathBuf, PathBuf, String, Client) {
+    let dir = project(tag);
+    let (path, text, c) = open_in(&dir, file);
+    (dir, path, text, c)
+}
+
+/// `opened` in a project already made (a server of its own).
+fn open_in(dir: &Path, file: &str) -> (PathBuf, String, Client) {
+    let path = dir.join(file);
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut c = Client::start(dir);
+    c.open(&path, &text);
+    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    (path, text, c)
+}
 
 /// The completion items at the end of the first `needle` in `text`.
 fn complete(c: &mut Client, path: &Path, text: &str, needle: &str) -> Vec<Value> {
@@ -26,12 +44,7 @@ fn accept(items: &[Value], text: &str, label: &str) -> String {
 
 #[test]
 fn completion_replaces_the_whole_dotted_word_in_every_context() {
-    let dir = project("complete-words");
-    let path = dir.join("pipelines/deferred.lbp");
-    let good = std::fs::read_to_string(&path).unwrap();
-    let mut c = Client::start(&dir);
-    c.open(&path, &good);
-    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    let (dir, path, good, mut c) = opened("complete-words", "pipelines/deferred.lbp");
 
     // Half-typed names: the whole dotted word is replaced, whatever the client calls a word.
     let text = good
@@ -71,11 +84,7 @@ fn completion_replaces_the_whole_dotted_word_in_every_context() {
 
     // In a pipeline that uses another: passes after `after` (the used file's too), files
     // beside it after `use` (not itself).
-    let gi = dir.join("pipelines/deferred_gi.lbp");
-    let gi_text = std::fs::read_to_string(&gi).unwrap();
-    let mut c = Client::start(&dir);
-    c.open(&gi, &gi_text);
-    assert_eq!(c.diagnostics(&gi), Vec::<Value>::new());
+    let (gi, gi_text, mut c) = open_in(&dir, "pipelines/deferred_gi.lbp");
     let items = complete(&mut c, &gi, &gi_text, "    after amb");
     assert!(accept(&items, &gi_text, "light_point").contains("fullscreen ssao \"ssao.wgsl\" {\n    after light_point\n"));
     let items = complete(&mut c, &gi, &gi_text, "use \"defe");
@@ -86,12 +95,7 @@ fn completion_replaces_the_whole_dotted_word_in_every_context() {
 
 #[test]
 fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() {
-    let dir = project("definitions");
-    let path = dir.join("pipelines/deferred.lbp");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let mut c = Client::start(&dir);
-    c.open(&path, &text);
-    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    let (dir, path, text, mut c) = opened("definitions", "pipelines/deferred.lbp");
     let hover = |c: &mut Client, path: &Path, text: &str, needle: &str, skip: usize| {
         let h = c.request("textDocument/hover", at(path, text, needle, skip));
         h["contents"]["value"].as_str().unwrap_or_default().to_string()
@@ -123,11 +127,7 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
     assert_eq!(d["range"]["start"], pos(&text, "param peel.layers", 6));
     assert_eq!(c.finish(), 0);
 
-    let gi = dir.join("pipelines/deferred_gi.lbp");
-    let gi_text = std::fs::read_to_string(&gi).unwrap();
-    let mut c = Client::start(&dir);
-    c.open(&gi, &gi_text);
-    assert_eq!(c.diagnostics(&gi), Vec::<Value>::new());
+    let (gi, gi_text, mut c) = open_in(&dir, "pipelines/deferred_gi.lbp");
     // `use "deferred.lbp"`: the file.
     let d = definition(&mut c, &gi, &gi_text, "use \"deferred.lbp\"", 7);
     assert_eq!(d["uri"], json!(uri(&path)), "{d}");
@@ -154,7 +154,7 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
     assert_eq!(d["range"]["start"], pos(&text, "fullscreen ambient", 11));
     let h = hover(&mut c, &gi, &gi_text, "    after ambient", 12);
     assert!(h.starts_with("**fullscreen pass** `ambient`"), "{h}");
-    // `viewport*param(ao.scale)`: the parameter, and its references include the size.
+    // `viewport*param(ao.scale)`: the parameter.
     let d = definition(&mut c, &gi, &gi_text, "viewport*param(ao.scale)", 17);
     assert_eq!(d["range"]["start"], pos(&gi_text, "param ao.scale", 6));
     assert_eq!(c.finish(), 0);
@@ -162,12 +162,7 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
 
 #[test]
 fn a_rename_to_a_name_in_use_is_refused() {
-    let dir = project("rename-clash");
-    let path = dir.join("pipelines/deferred.lbp");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let mut c = Client::start(&dir);
-    c.open(&path, &text);
-    assert_eq!(c.diagnostics(&path), Vec::<Value>::new());
+    let (_, path, text, mut c) = opened("rename-clash", "pipelines/deferred.lbp");
     // At the name after the declaring keyword.
     let rename = |c: &mut Client, needle: &str, to: &str| {
         let mut p = at(&path, &text, needle, needle.find(' ').unwrap() + 2);
