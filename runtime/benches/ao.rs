@@ -3,9 +3,11 @@
 //! preset at three resolutions, with ratios to SSAO1, and GTAO (the modern baseline) at its
 //! defaults and at 2 slices × 8 steps beside them — and multi-view AO's cost per light
 //! (seed 000 §6.3.2): its passes with 0 to 3 directional or spot lights beyond the camera.
-//! `pipelines/deferred_gi.ron` on the Cornell box; GPU time from timestamp queries, the mean
-//! over the frames after a warm-up, every pass every frame. Needs a GPU adapter (lavapipe is
-//! enough); `cargo test` runs it at its smallest (32×24, one frame).
+//! `pipelines/deferred_gi.ron` on the Cornell box; GPU time from timestamp queries, every pass
+//! every frame. The setups of a table run in interleaved rounds of a frame each, the order
+//! rotating, after a warm-up: figures are medians, ratios the median and quartiles of the
+//! per-round ratio. Needs a GPU adapter (lavapipe is enough); `cargo test` runs it at its
+//! smallest (32×24, one round).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
@@ -14,11 +16,11 @@ use std::path::{Path, PathBuf};
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-use common::Size;
+use common::{quartiles, Size};
 
-/// Frames measured after the warm-up: 4 (1 in the smoke run).
-fn frames() -> u32 {
-    Size::from_args().pick(4, 1)
+/// Interleaved rounds, a frame of each setup per round: 6 (1 in the smoke run).
+fn rounds() -> usize {
+    Size::from_args().pick(6, 1)
 }
 
 /// The tables' resolutions (one small one in the smoke run).
@@ -26,13 +28,9 @@ fn resolutions() -> Vec<(u32, u32)> {
     Size::from_args().pick(vec![(128, 96), (256, 192), (512, 384)], vec![(32, 24)])
 }
 
-/// Mean GPU ms per frame of the passes `pick` selects.
-fn gpu_ms(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], pick: impl Fn(&str) -> bool) -> f64 {
-    gpu_ms_with(gpu, scene, variants, &[], pick)
-}
-
-/// `gpu_ms` with parameter overrides.
-fn gpu_ms_with(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], params: &[(&str, &str)], pick: impl Fn(&str) -> bool) -> f64 {
+/// An executor of `deferred_gi.ron` for the scene file, with these variants and parameters,
+/// every pass every frame, after a warm-up frame.
+fn executor(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], params: &[(&str, &str)]) -> Executor {
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred_gi.ron");
     let scene = lightbench::scene::load(scene.to_str().expect("path")).expect("scene");
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
@@ -44,17 +42,40 @@ fn gpu_ms_with(gpu: &Gpu, scene: &Path, variants: &[(&str, &str)], params: &[(&s
         ex.set_param(&name, value).expect("param");
     }
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
-    let mut total = 0.0;
-    for f in 1..=frames() {
-        ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
-        total += ex
-            .last_timings
-            .iter()
-            .filter(|t| pick(&t.pass))
-            .filter_map(|t| t.gpu_ms)
-            .sum::<f64>();
+    ex
+}
+
+/// Per setup, per round, the GPU ms of the passes of each of `picks`: the setups in
+/// interleaved rounds of a frame each, the order rotating from round to round.
+fn interleaved(gpu: &Gpu, setups: &mut [Executor], picks: &[&dyn Fn(&str) -> bool]) -> Vec<Vec<Vec<f64>>> {
+    let mut got = vec![vec![]; setups.len()];
+    for r in 0..rounds() {
+        for k in 0..setups.len() {
+            let i = (k + r) % setups.len();
+            let ex = &mut setups[i];
+            ex.render_frame(gpu, &ex.inputs((r + 1) as f32 / 60.0)).expect("frame");
+            let sum = |pick: &&dyn Fn(&str) -> bool| {
+                ex.last_timings
+                    .iter()
+                    .filter(|t| pick(&t.pass))
+                    .filter_map(|t| t.gpu_ms)
+                    .sum::<f64>()
+            };
+            got[i].push(picks.iter().map(sum).collect());
+        }
     }
-    total / frames() as f64
+    got
+}
+
+/// The median of one pick's figures over the rounds.
+fn median(rounds: &[Vec<f64>], pick: usize) -> f64 {
+    quartiles(rounds.iter().map(|r| r[pick]).collect()).1
+}
+
+/// The per-round ratio of one pick's figures, `of` over `to`: "median× [quartiles]".
+fn ratio(of: &[Vec<f64>], to: &[Vec<f64>], pick: usize) -> String {
+    let (q1, m, q3) = quartiles(of.iter().zip(to).map(|(a, b)| a[pick] / b[pick]).collect());
+    format!("{m:.2}× [{q1:.2}–{q3:.2}]")
 }
 
 fn is_ao_pass(name: &str) -> bool {
@@ -70,67 +91,66 @@ fn scene(dir: &Path, (w, h): (u32, u32), lights: &str) -> PathBuf {
 }
 
 fn presets(gpu: &Gpu, dir: &Path) {
-    println!("Tables 6.6 and 6.7: AO GPU ms per frame (all AO passes / the SSAO buffer alone), × SSAO1 in brackets");
-    print!("  {:<7}", "preset");
-    for (w, h) in resolutions() {
-        print!(" {:>28}", format!("{w}×{h}"));
-    }
-    println!();
+    println!(
+        "Tables 6.6 and 6.7: AO GPU ms per frame, all AO passes (the SSAO buffer alone), medians of {} interleaved rounds of a frame per preset; × SSAO1: median [quartiles] of the per-round ratio ({})",
+        rounds(),
+        common::load_line()
+    );
     let light = "Point(position: (0.0, 1.8, 0.0), intensity: 4.0, range: 6.0)";
-    let scenes: Vec<PathBuf> = resolutions().into_iter().map(|r| scene(dir, r, light)).collect();
-    // SSAO1 first: its times are the baseline of every ratio at that resolution.
-    let mut base: Vec<f64> = vec![];
-    for p in ["ssao1", "ssao2", "ssao3", "ssao4", "ssao5"] {
-        print!("  {p:<7}");
-        for (i, s) in scenes.iter().enumerate() {
-            let all = gpu_ms(gpu, s, &[("ao", "ssao"), ("ao_preset", p)], is_ao_pass);
-            let buffer = gpu_ms(gpu, s, &[("ao", "ssao"), ("ao_preset", p)], |n| n == "ssao");
-            if p == "ssao1" {
-                base.push(all);
-            }
-            print!(" {:>28}", format!("{all:.2} / {buffer:.2} [{:.2}×]", all / base[i]));
-        }
-        println!();
-    }
-    for p in ["aov1", "aov2", "aov3"] {
-        print!("  {p:<7}");
-        for (s, b) in scenes.iter().zip(&base) {
-            let all = gpu_ms(gpu, s, &[("ao", "aov"), ("aov_preset", p)], is_ao_pass);
-            print!(" {:>28}", format!("{all:.2} [{:.2}×]", all / b));
-        }
-        println!();
-    }
+    let ssao = ["ssao1", "ssao2", "ssao3", "ssao4", "ssao5"].map(|p| (p, vec![("ao", "ssao"), ("ao_preset", p)], vec![]));
+    let aov = ["aov1", "aov2", "aov3"].map(|p| (p, vec![("ao", "aov"), ("aov_preset", p)], vec![]));
     // GTAO: defaults (4 slices × 16 steps), then 2 × 8 (per-pass values of its pass).
-    for (label, extra) in [("gtao", vec![]), ("gtao2x8", vec![("ao.gtao.slices", "2"), ("ao.gtao.steps", "8")])] {
-        print!("  {label:<7}");
-        for (s, b) in scenes.iter().zip(&base) {
-            let all = gpu_ms_with(gpu, s, &[("ao", "gtao")], &extra, is_ao_pass);
-            print!(" {:>28}", format!("{all:.2} [{:.2}×]", all / b));
+    let gtao = [
+        ("gtao", vec![("ao", "gtao")], vec![]),
+        (
+            "gtao2x8",
+            vec![("ao", "gtao")],
+            vec![("ao.gtao.slices", "2"), ("ao.gtao.steps", "8")],
+        ),
+    ];
+    let setups: Vec<(&str, Vec<(&str, &str)>, Vec<(&str, &str)>)> = ssao.into_iter().chain(aov).chain(gtao).collect();
+    for (w, h) in resolutions() {
+        let s = scene(dir, (w, h), light);
+        let mut ex: Vec<Executor> = setups.iter().map(|(_, v, p)| executor(gpu, &s, v, p)).collect();
+        let buffer = |n: &str| n == "ssao";
+        let got = interleaved(gpu, &mut ex, &[&is_ao_pass, &buffer]);
+        println!("  {w}×{h}:");
+        for (i, (label, _, _)) in setups.iter().enumerate() {
+            let alone = match label.starts_with("ssao") {
+                true => format!(" ({:.2})", median(&got[i], 1)),
+                false => String::new(),
+            };
+            let x = if i == 0 { "1.00×".to_string() } else { ratio(&got[i], &got[0], 0) };
+            println!("    {label:<8} {:>8.2}{alone:<9} {x:>22}", median(&got[i], 0));
         }
-        println!();
     }
     println!("  (the seed, GeForce 560 Ti, 800×600: SSAO1 5.95 ms … SSAO5 12.06 ms; AOV1 5.8–192 ms by scene)");
 }
 
 fn views(gpu: &Gpu, dir: &Path) {
-    println!("Multi-view AO cost per light (256×192; mvao passes and the RSMs they need):");
+    println!(
+        "Multi-view AO cost per light (256×192; mvao passes and the RSMs they need; medians of {} interleaved rounds):",
+        rounds()
+    );
     let spot = |x: f32| {
         format!("Spot(position: ({x}, 1.9, 0.3), direction: (0.0, -1.0, -0.1), inner: 40.0, outer: 60.0, intensity: 1.0, range: 8.0)")
     };
-    let mut first = None;
-    let mut last = 0.0;
-    for n in 0..=3usize {
-        let lights: Vec<String> = (0..n).map(|i| spot(-0.5 + 0.5 * i as f32)).collect();
-        let s = scene(dir, (256, 192), &lights.join(", "));
-        let ms = gpu_ms(gpu, &s, &[("ao", "mvao")], |p| p.starts_with("mvao_") || p == "rsm");
-        let b = *first.get_or_insert(ms);
+    let mut ex: Vec<Executor> = (0..=3usize)
+        .map(|n| {
+            let lights: Vec<String> = (0..n).map(|i| spot(-0.5 + 0.5 * i as f32)).collect();
+            executor(gpu, &scene(dir, (256, 192), &lights.join(", ")), &[("ao", "mvao")], &[])
+        })
+        .collect();
+    let got = interleaved(gpu, &mut ex, &[&|p: &str| p.starts_with("mvao_") || p == "rsm"]);
+    let camera = median(&got[0], 0);
+    for (n, g) in got.iter().enumerate() {
+        let ms = median(g, 0);
         println!(
             "  camera + {n} light view(s): {ms:>7.2} ms, +{:.2} ms over the camera alone",
-            ms - b
+            ms - camera
         );
-        last = ms;
     }
-    println!("  per additional light: {:.2} ms on average", (last - first.unwrap_or(0.0)) / 3.0);
+    println!("  per additional light: {:.2} ms on average", (median(&got[3], 0) - camera) / 3.0);
 }
 
 fn main() {
