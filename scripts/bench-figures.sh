@@ -21,9 +21,9 @@ bench | test) ;;
     exit 2
     ;;
 esac
-# The long ones (reference, scale, lighting, gi, rt, pathtrace and assets) are left to be
-# named: each takes from minutes to most of an hour here.
-quick=(check memory overhead reuse verify viewer reload diff watch inflight allocations lsp tonemap transparency ao)
+# The long ones (reference, scale, lighting, rt, pathtrace and assets) are left to be named:
+# each takes from minutes to most of an hour here.
+quick=(check memory overhead reuse verify viewer reload diff watch inflight allocations lsp tonemap transparency ao gi)
 if (($# > 0)); then benches=("$@"); else benches=("${quick[@]}"); fi
 
 crate_of() {

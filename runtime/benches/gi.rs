@@ -5,8 +5,10 @@
 //! None beside the seed's published ratio, and the AO rows again with multi-view AO (the seed's
 //! technique) and AO volumes; then `fixed` against `temporal` indirect diffuse: time
 //! per frame, ratio, and the temporal result's error to `fixed` after 32 frames. The Cornell
-//! box with a spot light at 128×128, every pass every frame. Needs a GPU adapter (lavapipe is
-//! enough); `cargo test` runs it at its smallest (32×32, a frame each).
+//! box with a spot light at 128×128, every pass every frame; the rows run in interleaved
+//! rounds of a frame each (waited for), the order rotating: figures are medians, ratios the
+//! median and quartiles of the per-round ratio. Needs a GPU adapter (lavapipe is enough);
+//! `cargo test` runs it at its smallest (32×32, a round).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::render::compile;
@@ -17,7 +19,7 @@ use std::time::Instant;
 #[path = "common/mod.rs"]
 #[allow(dead_code)]
 mod common;
-use common::Size;
+use common::{quartiles, Size};
 
 const SCENE: &str = "Scene(
     name: \"gi\",
@@ -28,32 +30,34 @@ const SCENE: &str = "Scene(
 )
 ";
 
-/// Mean ms per frame over `frames` frames, and the executor after them.
-fn frames(gpu: &Gpu, scene: &Scene, option: &str, frames: u32) -> (f64, Executor) {
-    frames_ao(gpu, scene, (option, "ssao"), frames)
-}
-
-/// `frames` with the AO technique chosen too.
-fn frames_ao(gpu: &Gpu, scene: &Scene, (option, ao): (&str, &str), frames: u32) -> (f64, Executor) {
+/// An executor of `deferred_gi.ron` with this indirect diffuse option and AO technique, after
+/// a warm-up frame.
+fn executor(gpu: &Gpu, scene: &Scene, (option, ao): (&str, &str)) -> Executor {
     let pipeline = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred_gi.ron");
     let v = [
         ("indirect_diffuse".to_string(), option.to_string()),
         ("ao".to_string(), ao.to_string()),
     ];
     let (exe, _) = compile(gpu, &pipeline, None, scene, &v).expect("compile");
-    run(gpu, &exe, scene, frames)
-}
-
-fn run(gpu: &Gpu, exe: &lightbench_compiler::Executable, scene: &Scene, frames: u32) -> (f64, Executor) {
-    let mut ex = Executor::new(gpu, exe, scene).expect("executor");
+    let mut ex = Executor::new(gpu, &exe, scene).expect("executor");
     ex.set_reuse(false);
     ex.render_frame(gpu, &ex.inputs(0.0)).expect("warm-up frame");
+    ex
+}
+
+/// Wall ms of frame `f`, waited for: the frame's cost, not its submission's.
+fn frame_ms(gpu: &Gpu, ex: &mut Executor, f: usize) -> f64 {
     let t = Instant::now();
+    ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
+    ex.wait_idle(gpu).expect("idle");
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+/// `frames` frames more of an executor (an accumulation run).
+fn run(gpu: &Gpu, ex: &mut Executor, frames: usize) {
     for f in 1..=frames {
-        ex.render_frame(gpu, &ex.inputs(f as f32 / 60.0)).expect("frame");
+        frame_ms(gpu, ex, f);
     }
-    ex.wait_idle(gpu).expect("idle"); // the frames' cost, not their submission's
-    (t.elapsed().as_secs_f64() * 1e3 / frames as f64, ex)
 }
 
 fn rmse(a: &[f32], b: &[f32]) -> f64 {
@@ -76,9 +80,6 @@ fn main() {
     let scene_text = SCENE.replace("size: (128, 128)", &format!("size: ({side}, {side})"));
     std::fs::write(dir.join("gi.ron"), &scene_text).expect("scene");
     let scene = lightbench::scene::load(dir.join("gi.ron").to_str().expect("path")).expect("scene");
-    let (none, _) = frames(&gpu, &scene, "off", n);
-    let (fixed, fx) = frames(&gpu, &scene, "fixed", n);
-    let (temporal, _) = frames(&gpu, &scene, "temporal", n);
     // The other rows: the same scene calling for SSR (IS) and/or ambient occlusion (AO) too.
     let with = |effects: &str, tag: &str| {
         let text = scene_text.replace(
@@ -93,47 +94,55 @@ fn main() {
         with("AmbientOcclusion", "ao"),
         with("Ssr, AmbientOcclusion", "isao"),
     );
-    let (is, _) = frames(&gpu, &is_scene, "off", n);
-    let (is_id, _) = frames(&gpu, &is_scene, "fixed", n);
-    let (ao, _) = frames(&gpu, &ao_scene, "off", n);
-    let (ao_id, _) = frames(&gpu, &ao_scene, "fixed", n);
-    let (is_ao, _) = frames(&gpu, &is_ao_scene, "off", n);
-    let (is_ao_id, _) = frames(&gpu, &is_ao_scene, "fixed", n);
-    let (mvao, _) = frames_ao(&gpu, &ao_scene, ("off", "mvao"), n);
-    let (mvao_id, _) = frames_ao(&gpu, &ao_scene, ("fixed", "mvao"), n);
-    let (aov, _) = frames_ao(&gpu, &ao_scene, ("off", "aov"), n);
-    println!("Table 7.1, {side}×{side}, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur unless named)");
-    println!("  {:<14} {:>9} {:>10}", "", "ms/frame", "× None");
-    let rows = [
-        ("None", none),
-        ("IS", is),
-        ("AO", ao),
-        ("ID", fixed),
-        ("IS+AO", is_ao),
-        ("IS+ID", is_id),
-        ("AO+ID", ao_id),
-        ("IS+AO+ID", is_ao_id),
-        ("ID (temporal)", temporal),
-        ("AO (mvao)", mvao),
-        ("AO (mvao)+ID", mvao_id),
-        ("AO (aov)", aov),
+    let rows: [(&str, &Scene, (&str, &str)); 12] = [
+        ("None", &scene, ("off", "ssao")),
+        ("IS", &is_scene, ("off", "ssao")),
+        ("AO", &ao_scene, ("off", "ssao")),
+        ("ID", &scene, ("fixed", "ssao")),
+        ("IS+AO", &is_ao_scene, ("off", "ssao")),
+        ("IS+ID", &is_scene, ("fixed", "ssao")),
+        ("AO+ID", &ao_scene, ("fixed", "ssao")),
+        ("IS+AO+ID", &is_ao_scene, ("fixed", "ssao")),
+        ("ID (temporal)", &scene, ("temporal", "ssao")),
+        ("AO (mvao)", &ao_scene, ("off", "mvao")),
+        ("AO (mvao)+ID", &ao_scene, ("fixed", "mvao")),
+        ("AO (aov)", &ao_scene, ("off", "aov")),
     ];
-    for (name, ms) in rows {
-        println!("  {name:<14} {ms:>9.2} {:>10.2}", ms / none);
+    let mut ex: Vec<Executor> = rows.iter().map(|(_, sc, o)| executor(&gpu, sc, *o)).collect();
+    // Interleaved rounds of a frame of each row, the order rotating from round to round.
+    let mut ms: Vec<Vec<f64>> = vec![vec![]; rows.len()];
+    for r in 0..n {
+        for k in 0..rows.len() {
+            let i = (k + r) % rows.len();
+            ms[i].push(frame_ms(&gpu, &mut ex[i], r + 1));
+        }
+    }
+    let median = |i: usize| quartiles(ms[i].clone()).1;
+    let ratio = |i: usize, to: usize| quartiles(ms[i].iter().zip(&ms[to]).map(|(a, b)| a / b).collect());
+    println!(
+        "Table 7.1, {side}×{side}, Cornell box + spot light (ID: fixed 200 samples; AO: SSAO + bilateral blur unless named); wall ms per frame waited for, medians of {n} interleaved rounds of a frame per row; × None: median [quartiles] of the per-round ratio ({})",
+        common::load_line()
+    );
+    println!("  {:<14} {:>9} {:>22}", "", "ms/frame", "× None");
+    for (i, (name, _, _)) in rows.iter().enumerate() {
+        let (q1, m, q3) = ratio(i, 0);
+        println!("  {name:<14} {:>9.2} {:>22}", median(i), format!("{m:.2} [{q1:.2}–{q3:.2}]"));
     }
     println!("  (the seed, on a GPU: ID ≈ 2.5× None)");
-    let reference = fx.read_texture(&gpu, "gi.indirect", 0, 0).expect("read fixed");
-    let (_, tx) = frames(&gpu, &scene, "temporal", size.pick(32, 2));
+    let (none, fixed, temporal) = (median(0), median(3), median(8));
+    let reference = ex[3].read_texture(&gpu, "gi.indirect", 0, 0).expect("read fixed");
+    let mut tx = executor(&gpu, &scene, ("temporal", "ssao"));
+    run(&gpu, &mut tx, size.pick(32, 2));
     let acc = tx.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
-    let (_, one) = frames(&gpu, &scene, "temporal", 0);
+    let one = executor(&gpu, &scene, ("temporal", "ssao"));
     let first = one.read_texture(&gpu, "gi.history", 0, 0).expect("read temporal");
+    let (q1, m, q3) = ratio(3, 8);
     println!("fixed vs temporal indirect diffuse:");
     println!(
-        "  time per frame: fixed {fixed:.2} ms, temporal {temporal:.2} ms, temporal is {:.2}× cheaper in total frame time",
-        fixed / temporal
+        "  time per frame: fixed {fixed:.2} ms, temporal {temporal:.2} ms, temporal is {m:.2}× [{q1:.2}–{q3:.2}] cheaper in total frame time"
     );
     println!(
-        "  the indirect diffuse part alone (frame time minus None): fixed {:.2} ms, temporal {:.2} ms, {:.1}× cheaper (goal: 10×)",
+        "  the indirect diffuse part alone (frame time minus None, medians): fixed {:.2} ms, temporal {:.2} ms, {:.1}× cheaper (goal: 10×)",
         fixed - none,
         temporal - none,
         (fixed - none) / (temporal - none).max(1e-6)
