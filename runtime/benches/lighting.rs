@@ -80,24 +80,8 @@ fn project(edit: impl Fn(String) -> String) -> Workspace {
     Workspace::new(vfs)
 }
 
-fn measure(gpu: &Gpu, ws: &Workspace, scene: &Scene, variants: &[(&str, &str)], frames: u32, pick: impl Fn(&str) -> bool) -> Cost {
-    measure_with(gpu, ws, scene, (variants, &[], true, true), frames, pick)
-}
-
 /// Parameters set on the executor before a measurement (`Executor::set_param`).
 type Set<'a> = [(&'a str, ParamValue)];
-
-fn measure_with(
-    gpu: &Gpu,
-    ws: &Workspace,
-    scene: &Scene,
-    setup: (&[(&str, &str)], &Set, bool, bool),
-    frames: u32,
-    pick: impl Fn(&str) -> bool,
-) -> Cost {
-    let mut ex = executor(gpu, ws, scene, setup);
-    cost(gpu, &mut ex, (1, frames), &pick)
-}
 
 /// An executor for these variants, parameters, merging and timing, warmed by one frame.
 fn executor(gpu: &Gpu, ws: &Workspace, scene: &Scene, (variants, params, merge, timed): (&[(&str, &str)], &Set, bool, bool)) -> Executor {
@@ -223,7 +207,11 @@ fn cube_shadows(gpu: &Gpu) {
 const MODELS: [&str; 4] = ["forward_single", "forward_multi", "deferred_fullscreen", "deferred_volumes"];
 
 fn lighting_models(gpu: &Gpu) {
-    println!("Lighting models (seed 003 Fig. 6.1): frame GPU ms on many_lights (point lights, no shadows)");
+    println!(
+        "Lighting models (seed 003 Fig. 6.1): frame GPU ms on many_lights (point lights, no shadows); per light count, the four models in interleaved rounds of a frame each ({}), the order rotating: medians ({})",
+        if full() { "4 rounds, 2 at 1000 lights" } else { "1 round" },
+        load_line()
+    );
     let ws = project(|t| t);
     let sizes = if full() {
         vec![(128, 96), (256, 192), (512, 384)]
@@ -238,26 +226,40 @@ fn lighting_models(gpu: &Gpu) {
             print!(" {n:>10}");
         }
         println!();
-        let mut table: Vec<Vec<f64>> = vec![];
-        for model in MODELS {
-            print!("    {model:<20}");
-            let mut row = vec![];
-            for &n in &counts {
+        // Per light count, per model: the median frame GPU ms.
+        let columns: Vec<Vec<f64>> = counts
+            .iter()
+            .map(|&n| {
                 let mut scene = builtin::many_lights(n);
                 scene.size = (w, h);
-                let frames = if !full() {
+                let rounds = if !full() {
                     1
                 } else if n >= 1000 {
                     2
                 } else {
                     4
                 };
-                let c = measure(gpu, &ws, &scene, &[("lighting", model)], frames, |_| false);
-                print!(" {:>10.2}", c.frame_gpu_ms);
-                row.push(c.frame_gpu_ms);
+                let mut ex: Vec<Executor> = MODELS
+                    .iter()
+                    .map(|m| executor(gpu, &ws, &scene, (&[("lighting", m)], &[], true, true)))
+                    .collect();
+                let mut ms: Vec<Vec<f64>> = vec![vec![]; MODELS.len()];
+                for r in 0..rounds {
+                    for k in 0..MODELS.len() {
+                        let i = (k + r) % MODELS.len();
+                        ms[i].push(cost(gpu, &mut ex[i], (r as u32 + 1, 1), &|_| false).frame_gpu_ms);
+                    }
+                }
+                ms.into_iter().map(|v| quartiles(v).1).collect()
+            })
+            .collect();
+        let table: Vec<Vec<f64>> = (0..MODELS.len()).map(|m| columns.iter().map(|c| c[m]).collect()).collect();
+        for (model, row) in MODELS.iter().zip(&table) {
+            print!("    {model:<20}");
+            for ms in row {
+                print!(" {ms:>10.2}");
             }
             println!();
-            table.push(row);
         }
         // From where on the faster deferred model beats the faster forward one.
         let ahead: Vec<bool> = (0..counts.len())
@@ -360,7 +362,11 @@ fn lamps(quads: usize, size: u32) -> Scene {
 }
 
 fn area_lights(gpu: &Gpu) {
-    println!("Area lights: the area_light pass on the Cornell box with emissive triangles under the ceiling");
+    let rounds = if full() { 3 } else { 1 };
+    println!(
+        "Area lights: the area_light pass on the Cornell box with emissive triangles under the ceiling; per size and count, the options in interleaved rounds of a frame each ({rounds} rounds), the order rotating: medians ({})",
+        load_line()
+    );
     println!(
         "    {:<16} {:<10} {:>10} {:>14} {:>18}",
         "area_lights", "size", "triangles", "pass GPU ms", "µs per triangle"
@@ -374,19 +380,28 @@ fn area_lights(gpu: &Gpu) {
         // Screen-space shadows march 4 segments per triangle and pixel: not past 32 triangles here.
         ("ltc_shadowed", "ltc_shadowed", &[], 16),
     ];
-    for (label, option, params, most) in runs {
-        for size in if full() { vec![128u32, 256, 512] } else { vec![32] } {
-            let counts = if full() { vec![1usize, 16, 256] } else { vec![1] };
-            for quads in counts.into_iter().filter(|q| *q <= most) {
-                let scene = lamps(quads, size);
-                let setup = (&[("area_lights", option)][..], params, true, true);
-                let c = measure_with(gpu, &ws, &scene, setup, if full() { 3 } else { 1 }, |p| p == "area_light");
-                let per = c.picked_ms * 1e3 / (2 * quads) as f64;
+    for size in if full() { vec![128u32, 256, 512] } else { vec![32] } {
+        for quads in if full() { vec![1usize, 16, 256] } else { vec![1] } {
+            let scene = lamps(quads, size);
+            let here: Vec<_> = runs.iter().filter(|r| quads <= r.3).collect();
+            let mut ex: Vec<Executor> = here
+                .iter()
+                .map(|(_, option, params, _)| executor(gpu, &ws, &scene, (&[("area_lights", *option)][..], params, true, true)))
+                .collect();
+            let mut ms: Vec<Vec<f64>> = vec![vec![]; here.len()];
+            for r in 0..rounds {
+                for k in 0..here.len() {
+                    let i = (k + r) % here.len();
+                    ms[i].push(cost(gpu, &mut ex[i], (r as u32 + 1, 1), &|p| p == "area_light").picked_ms);
+                }
+            }
+            for ((label, ..), v) in here.iter().zip(ms) {
+                let pass = quartiles(v).1;
+                let per = pass * 1e3 / (2 * quads) as f64;
                 println!(
-                    "    {label:<16} {:<10} {:>10} {:>14.2} {per:>18.1}",
+                    "    {label:<16} {:<10} {:>10} {pass:>14.2} {per:>18.1}",
                     format!("{size}²"),
-                    2 * quads,
-                    c.picked_ms
+                    2 * quads
                 );
             }
         }
