@@ -90,6 +90,9 @@ fn scene(dir: &Path, (w, h): (u32, u32), lights: &str) -> PathBuf {
     path
 }
 
+/// A table row: its label, variants and parameters.
+type Setup<'a> = (&'a str, Vec<(&'a str, &'a str)>, Vec<(&'a str, &'a str)>);
+
 fn presets(gpu: &Gpu, dir: &Path) {
     println!(
         "Tables 6.6 and 6.7: AO GPU ms per frame, all AO passes (the SSAO buffer alone), medians of {} interleaved rounds of a frame per preset; × SSAO1: median [quartiles] of the per-round ratio ({})",
@@ -108,7 +111,7 @@ fn presets(gpu: &Gpu, dir: &Path) {
             vec![("ao.gtao.slices", "2"), ("ao.gtao.steps", "8")],
         ),
     ];
-    let setups: Vec<(&str, Vec<(&str, &str)>, Vec<(&str, &str)>)> = ssao.into_iter().chain(aov).chain(gtao).collect();
+    let setups: Vec<Setup> = ssao.into_iter().chain(aov).chain(gtao).collect();
     for (w, h) in resolutions() {
         let s = scene(dir, (w, h), light);
         let mut ex: Vec<Executor> = setups.iter().map(|(_, v, p)| executor(gpu, &s, v, p)).collect();
