@@ -29,4 +29,4 @@ pub mod tree;
 pub mod vfs;
 pub mod workspace;
 
-pub use workspace::{pipeline_files, shader_root_for, Executable, Session, Workspace};
+pub use workspace::{files_below, pipeline_files, shader_root_for, Executable, Session, Workspace};

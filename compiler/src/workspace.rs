@@ -223,12 +223,18 @@ fn shader_root_note(vfs: &dyn Vfs, pipeline: &Path, root: &Path) -> String {
 }
 
 /// Pipeline files under a path on disk: the file itself, or every `.ron`/`.lbp` file below a
-/// directory (hidden directories such as `.git` are skipped). Symlinks are followed, but each directory and each file (by its canonical
-/// path) is visited once, so symlink loops end and a linked file is checked once.
+/// directory (see [`files_below`]).
 pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
     if path.is_file() {
         return Ok(vec![path.to_path_buf()]);
     }
+    files_below(path, |p| matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")))
+}
+
+/// Every file below a directory that `keep` accepts, sorted (hidden directories such as `.git`
+/// are skipped). Symlinks are followed, but each directory and each file (by its canonical
+/// path) is visited once, so symlink loops end and a linked file is listed once.
+pub fn files_below(path: &Path, keep: impl Fn(&Path) -> bool) -> std::io::Result<Vec<PathBuf>> {
     let mut out = vec![];
     let mut seen_dirs = BTreeSet::new();
     let mut seen_files = BTreeSet::new();
@@ -245,7 +251,7 @@ pub fn pipeline_files(path: &Path) -> std::io::Result<Vec<PathBuf>> {
             let hidden = p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('.'));
             if p.is_dir() && !hidden {
                 dirs.push(p);
-            } else if p.is_file() && matches!(p.extension().and_then(|e| e.to_str()), Some("ron" | "lbp")) {
+            } else if p.is_file() && keep(&p) {
                 if let Ok(c) = std::fs::canonicalize(&p) {
                     if seen_files.insert(c) {
                         out.push(p);

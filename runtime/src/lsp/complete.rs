@@ -8,8 +8,9 @@
 //! scene file, effects and light kinds. Each item replaces the whole word at the cursor.
 
 use super::index::{Index, Kind};
-use super::text::{offset, path_of, range};
-use super::words::{key_of, name_char, path_char, word_around};
+use super::shader::is_shader;
+use super::text::{name_char, offset, path_char, path_of, range, word_around};
+use super::words::key_of;
 use super::Server;
 use lightbench_compiler::front::lbp::grammar as lbp_grammar;
 use lightbench_compiler::scene::{file_kind, FileKind};
@@ -68,7 +69,7 @@ impl Server {
             Some("params") => names(Kind::Param, CompletionItemKind::PROPERTY).collect(),
             Some("after") => names(Kind::Pass, CompletionItemKind::FUNCTION).collect(),
             Some("vertex" | "fragment" | "entry") => self.entries_near(path, ix, cursor),
-            Some("use") => return Some((self.files_beside(path, &["lbp", "ron"]), path_char)),
+            Some("use") => return Some((self.files_beside(path), path_char)),
             Some("shader") | Some("raster" | "fullscreen" | "compute") if in_quotes => return Some((self.shader_files(path), path_char)),
             Some("format") => formats(),
             _ if first == "texture" && at_format(line) => formats(),
@@ -107,22 +108,26 @@ impl Server {
     /// Shader files below the pipeline's shader folder, as a pass names them.
     fn shader_files(&self, pipeline: &Path) -> Vec<Label> {
         let root = lightbench_compiler::shader_root_for(self.overlay.as_ref(), pipeline, None);
-        let mut out = vec![];
-        files_below(&root, &root, &["wgsl", "glsl", "vert", "frag", "comp"], 4, &mut out);
-        out.into_iter().map(|f| (f, CompletionItemKind::FILE, None)).collect()
+        let found = lightbench_compiler::files_below(&root, is_shader).unwrap_or_default();
+        relative(&root, found)
     }
 
-    /// Pipeline files beside this one (what `use` may name).
-    fn files_beside(&self, pipeline: &Path, extensions: &[&str]) -> Vec<Label> {
+    /// Pipeline files beside this one and below (what `use` may name), not itself.
+    fn files_beside(&self, pipeline: &Path) -> Vec<Label> {
         let Some(dir) = pipeline.parent() else { return vec![] };
-        let mut out = vec![];
-        files_below(dir, dir, extensions, 0, &mut out);
-        let own = pipeline.file_name().map(|n| n.to_string_lossy().into_owned());
-        out.into_iter()
-            .filter(|f| Some(f) != own.as_ref())
-            .map(|f| (f, CompletionItemKind::FILE, None))
-            .collect()
+        let found = lightbench_compiler::pipeline_files(dir).unwrap_or_default();
+        let others = found.into_iter().filter(|p| {
+            let text = self.text(p);
+            p != pipeline && file_kind(p, text.as_deref()) == FileKind::Pipeline
+        });
+        relative(dir, others.collect())
     }
+}
+
+/// Files as completions, named relative to `root`.
+fn relative(root: &Path, files: Vec<PathBuf>) -> Vec<Label> {
+    let named = files.iter().filter_map(|f| f.strip_prefix(root).ok());
+    named.map(|f| (f.display().to_string(), CompletionItemKind::FILE, None)).collect()
 }
 
 /// A completion's label (what is inserted), kind and detail.
@@ -130,23 +135,6 @@ type Label = (String, CompletionItemKind, Option<String>);
 
 /// What a character of the word a completion replaces may be.
 type WordChar = fn(char) -> bool;
-
-/// Files with these extensions in `dir` and up to `levels` folders below it, relative to
-/// `root`, sorted.
-fn files_below(root: &Path, dir: &Path, extensions: &[&str], levels: usize, out: &mut Vec<String>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
-    let mut entries: Vec<PathBuf> = entries.filter_map(|e| e.ok().map(|e| e.path())).collect();
-    entries.sort();
-    for p in entries {
-        if p.is_dir() && levels > 0 {
-            files_below(root, &p, extensions, levels - 1, out);
-        } else if p.extension().and_then(|e| e.to_str()).is_some_and(|e| extensions.contains(&e)) {
-            if let Ok(rel) = p.strip_prefix(root) {
-                out.push(rel.display().to_string());
-            }
-        }
-    }
-}
 
 /// Braces open at `cursor` (0: between top-level items), strings and comments skipped.
 fn depth_at(text: &str, cursor: usize) -> usize {

@@ -3,7 +3,7 @@
 //! it binds to, by the binding rule), and definition from such a global to that declaration.
 
 use super::index::{Index, Kind};
-use super::text::{offset, path_of, range};
+use super::text::{offset, path_of, range, word_around};
 use super::Server;
 use lightbench_compiler::shader::include;
 use lightbench_compiler::vfs::Vfs;
@@ -16,9 +16,7 @@ pub fn is_shader(path: &Path) -> bool {
 
 /// The identifier at a byte offset, with where it starts.
 fn word_at(text: &str, at: usize) -> Option<(usize, &str)> {
-    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_';
-    let start = text[..at].rfind(|c: char| !ident(c)).map_or(0, |i| i + 1);
-    let end = text[at..].find(|c: char| !ident(c)).map_or(text.len(), |i| at + i);
+    let (start, end) = word_around(text, at, |c| c.is_ascii_alphanumeric() || c == '_');
     (start < end).then(|| (start, &text[start..end]))
 }
 

@@ -1,6 +1,6 @@
 //! Language server, documents: open documents over the disk (the overlay the compiler reads
-//! through), URIs as paths, and positions as the protocol counts them (0-based lines,
-//! UTF-16 code units) against byte offsets as spans count them.
+//! through), URIs as paths, positions as the protocol counts them (0-based lines, UTF-16
+//! code units) against byte offsets as spans count them, and the word around an offset.
 
 use lightbench_compiler::vfs::{normalize, within_on_disk, DiskVfs, Vfs, MAX_FILE_BYTES};
 use lsp_types::{Position, Range, Uri};
@@ -138,6 +138,23 @@ pub fn offset(text: &str, pos: Position) -> Option<usize> {
         units += c.len_utf16();
     }
     Some(line_end)
+}
+
+/// A character of a dotted name (`gbuf.albedo`).
+pub fn name_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_' || c == '.'
+}
+
+/// A character of a file path as pipelines write them (`lib/brdf.wgsl#fs_main`).
+pub fn path_char(c: char) -> bool {
+    name_char(c) || matches!(c, '/' | '-' | '#')
+}
+
+/// The byte range of the word around `cursor` made of `part` characters.
+pub fn word_around(text: &str, cursor: usize, part: fn(char) -> bool) -> (usize, usize) {
+    let start = text[..cursor].rfind(|c: char| !part(c)).map_or(0, |i| i + 1);
+    let end = text[cursor..].find(|c: char| !part(c)).map_or(text.len(), |i| cursor + i);
+    (start, end)
 }
 
 #[cfg(test)]

@@ -1,28 +1,12 @@
-//! Language server, words under the cursor: the dotted name or path being written (what a
-//! completion replaces), and names the IR keeps no place for — a pass named by `after` or
-//! `replace`, a file named by `use` — read from the line they are written on.
+//! Language server, words under the cursor: the key a line is filling, and names the IR
+//! keeps no place for — a pass named by `after` or `replace`, a file named by `use` — read
+//! from the line they are written on.
 
 use super::handlers::At;
 use super::index::Kind;
+use super::text::{name_char, word_around};
 use super::Server;
 use std::path::{Path, PathBuf};
-
-/// A character of a dotted name (`gbuf.albedo`).
-pub fn name_char(c: char) -> bool {
-    c.is_ascii_alphanumeric() || c == '_' || c == '.'
-}
-
-/// A character of a file path as pipelines write them (`lib/brdf.wgsl#fs_main`).
-pub fn path_char(c: char) -> bool {
-    name_char(c) || matches!(c, '/' | '-' | '#')
-}
-
-/// The byte range of the word around `cursor` made of `part` characters.
-pub fn word_around(text: &str, cursor: usize, part: fn(char) -> bool) -> (usize, usize) {
-    let start = text[..cursor].rfind(|c: char| !part(c)).map_or(0, |i| i + 1);
-    let end = text[cursor..].find(|c: char| !part(c)).map_or(text.len(), |i| cursor + i);
-    (start, end)
-}
 
 /// The key a line is filling: an LBP line's first word, or the last `key:` of a RON line.
 pub fn key_of(line: &str) -> Option<String> {
