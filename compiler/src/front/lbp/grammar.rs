@@ -13,17 +13,27 @@ pub fn top_level_keywords() -> Vec<&'static str> {
 
 /// A rule's body: the text between its first `{` and the `}` that closes it.
 fn body(rule: &str) -> Option<&'static str> {
-    let start = GRAMMAR.lines().find_map(|l| {
-        let (name, rest) = l.split_once('=')?;
-        (name.trim() == rule).then_some(rest)
-    })?;
-    let at = GRAMMAR.find(start)? + start.find('{')? + 1;
-    let mut depth = 1;
+    // The offset of the `{` that opens the rule's line `NAME = … {`.
+    let mut line_start = 0;
+    let mut at = None;
+    for line in GRAMMAR.split_inclusive('\n') {
+        if let Some((name, rest)) = line.split_once('=') {
+            if name.trim() == rule {
+                at = Some(line_start + name.len() + 1 + rest.find('{')? + 1);
+                break;
+            }
+        }
+        line_start += line.len();
+    }
+    let at = at?;
+    // Braces in quotes (`open_brace = { "{" }`) are the language's, not the grammar's.
+    let (mut depth, mut quoted) = (1, false);
     for (i, c) in GRAMMAR[at..].char_indices() {
         match c {
-            '{' => depth += 1,
-            '}' if depth == 1 => return Some(&GRAMMAR[at..at + i]),
-            '}' => depth -= 1,
+            '"' => quoted = !quoted,
+            '{' if !quoted => depth += 1,
+            '}' if !quoted && depth == 1 => return Some(&GRAMMAR[at..at + i]),
+            '}' if !quoted => depth -= 1,
             _ => {}
         }
     }
