@@ -261,3 +261,25 @@ impl Server {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Quiet, MAX_QUIET};
+    use std::time::Duration;
+
+    #[test]
+    fn the_quiet_time_is_a_quarter_of_the_last_check_within_its_bounds() {
+        let ms = Duration::from_millis;
+        let mut q = Quiet::new(MAX_QUIET);
+        // Before any check: a quarter of the most.
+        assert_eq!(q.wait(), MAX_QUIET / 4);
+        for (took, wait) in [(ms(4), ms(5)), (ms(40), ms(10)), (ms(400), ms(25))] {
+            q.checked(took);
+            assert_eq!(q.wait(), wait, "after a check of {took:?}");
+        }
+        // No quiet time at all (benches, generated streams).
+        let mut none = Quiet::new(Duration::ZERO);
+        none.checked(ms(40));
+        assert_eq!(none.wait(), Duration::ZERO);
+    }
+}

@@ -261,3 +261,45 @@ fn a_document_over_16_mib_is_file_too_large() {
     assert_eq!(d[0]["range"]["start"], json!({"line": 0, "character": 0}));
     assert_eq!(c.finish(), 0);
 }
+
+/// Requests do not put the check off: with a quiet time of at most 1.5 s (before any check
+/// has been timed, a quarter of that: 375 ms) and a hover every 100 ms after the edit, the
+/// diagnostics still come while the hovers go on. (When every message restarted the wait, they came only after the
+/// requests stopped.) In process, the server's own loop.
+#[test]
+fn requests_do_not_delay_the_check_after_an_edit() {
+    use lsp_server::{Connection, Message, Notification, Request, RequestId};
+    let dir = project("quiet");
+    let path = dir.join("pipelines/deferred.lbp");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (server, client) = Connection::memory();
+    let running = std::thread::spawn(move || lightbench::lsp::serve(&server, std::time::Duration::from_millis(1500)));
+    let send = |m: Message| client.sender.send(m).unwrap();
+    send(Request::new(RequestId::from(0), "initialize".into(), json!({"capabilities": {}})).into());
+    send(Notification::new("initialized".into(), json!({})).into());
+    let doc = json!({"uri": uri(&path), "languageId": "lbp", "version": 1, "text": text});
+    send(Notification::new("textDocument/didOpen".into(), json!({"textDocument": doc})).into());
+    let (mut answered, mut published) = (0, false);
+    for id in 1..=200 {
+        let hover = at(&path, &text, "params ambient.color", 8);
+        send(Request::new(RequestId::from(id), "textDocument/hover".into(), hover).into());
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        for m in client.receiver.try_iter() {
+            match m {
+                Message::Response(r) if r.id != RequestId::from(0) => answered += 1,
+                Message::Notification(n) if n.method == "textDocument/publishDiagnostics" && n.params["uri"] == json!(uri(&path)) => {
+                    published = true
+                }
+                _ => {}
+            }
+        }
+        if published {
+            break;
+        }
+    }
+    assert!(published, "no diagnostics while requests kept coming ({answered} hovers answered)");
+    assert!(answered >= 5, "the hovers were answered meanwhile: {answered}");
+    send(Request::new(RequestId::from(9999), "shutdown".into(), json!(null)).into());
+    send(Notification::new("exit".into(), json!(null)).into());
+    assert_eq!(running.join().unwrap(), Ok(()));
+}
