@@ -1,6 +1,7 @@
 //! A host program's frame loop around the executor (docs/embedding.md, "A host program"): its
-//! own device and camera, a parameter set from the host, and a variant changed while it runs
-//! (compiled again and swapped in with `Executor::replace`).
+//! own device and camera, a parameter set from the host, a variant changed while it runs
+//! (compiled again and swapped in with `Executor::replace`), frames recorded into the host's
+//! encoder and submitted by the host, and the last frame's GPU time per pass.
 //!
 //! ```sh
 //! cargo run -p lightbench-executor --example host_loop -- FIRST.png LAST.png [FRAMES]
@@ -71,14 +72,21 @@ fn run() -> Result<()> {
         let mut inputs = ex.inputs(frame as f32 / 60.0);
         inputs.matrices = Some(CameraMatrices { view, proj });
         let mut encoder = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("host frame") });
+        // Recorded into the host's encoder, GPU timestamps included; the host submits it.
         ex.encode(&gpu, &mut encoder, &inputs)?;
-        ex.submit(&gpu, encoder)?;
+        gpu.queue.submit([encoder.finish()]);
         if frame == 0 || frame == frames - 1 {
             let out = if frame == 0 { &first_png } else { &last_png };
             let output = ex.plan().output_resource().name.clone();
             ex.read_texture(&gpu, &output, 0, 0)?.save(out)?;
             println!("frame {frame}: wrote {}", out.display());
         }
+    }
+    // The last frame's per-pass GPU times, once the GPU has run it.
+    ex.wait_idle(&gpu)?;
+    for t in ex.last_timings.iter().filter(|t| !t.reused) {
+        let gpu_ms = t.gpu_ms.map_or("no timestamps".into(), |ms| format!("{ms:.3} ms"));
+        println!("pass {:<28} GPU {gpu_ms}, recorded in {:.0} µs", t.pass, t.cpu_encode_us);
     }
     Ok(())
 }

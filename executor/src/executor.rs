@@ -4,19 +4,25 @@
 //!
 //! Stages of building a Plan's GPU state: `pool` (resources, shared with the previous Plan
 //! where unchanged), samplers and parameter blocks, `pipelines` (cached across Plans),
-//! `bind_groups` (per repetition). A frame: inputs (camera, time, parameters) are written,
-//! each pass is recorded by `encode`, and `timing` reads back per-pass GPU time.
+//! `bind_groups` (per repetition). A frame, in steps: `begin` (inputs checked and written,
+//! repetitions decided), `frame` (every pass recorded into an encoder — the executor's own
+//! in `render_frame`, the host's in `embed` — and submitted), `timings` (per-pass CPU and GPU
+//! time); `read` reads any resource back.
 
+mod begin;
 mod embed;
+mod frame;
+mod read;
 mod relight;
+mod timings;
 
 use super::accel::{Accel, HitData, HitMaps};
 use super::bind_groups::{Binder, SLOT};
-use super::encode::{encode, PassGpu};
+use super::encode::PassGpu;
 use super::pipelines::{Built, PipelineCache, PipelineKey};
 use super::pool::Pool;
-use super::reuse::{hash_bytes, FrameKeys, Graph, PassInputs, Reuse};
-use super::scene_gpu::{DrawOrder, SceneGpu};
+use super::reuse::{Graph, Reuse};
+use super::scene_gpu::SceneGpu;
 use super::timing::{PassTiming, Timer};
 use super::{convert, err_scope, Gpu};
 use lightbench_compiler::abi::{FrameBlock, LightBlock};
@@ -24,10 +30,8 @@ use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::plan::{ParamValues, Plan, PlanSampler};
 use lightbench_compiler::Executable;
 use lightbench_scene::error::{Error, Result};
-use lightbench_scene::io::Image;
 use lightbench_scene::{Camera, Light, Scene};
 use std::sync::Arc;
-use std::time::Instant;
 
 /// One part of a resource: a light instance, array layer, mip level and history copy.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -165,8 +169,11 @@ pub struct Executor {
     frames_in_flight: usize,
     /// Transient resources share memory where the Plan allows (`set_aliasing`).
     alias: bool,
-    /// The frame `encode` recorded into a host's encoder, until `submit`.
-    recorded: Option<embed::Recorded>,
+    /// The frame `encode` recorded into a host's encoder, until it is known to be submitted.
+    recorded: Option<frame::Recorded>,
+    /// Frames whose timings were taken: `last_timings` (and the log's last entry) is frame
+    /// `logged - 1`.
+    logged: u64,
     /// GPU timestamps read late (`set_late_timestamps`): the frames whose read is on its way
     /// with which passes ran in them, and the latest figure per pass.
     late_timestamps: bool,
@@ -308,6 +315,7 @@ impl Executor {
             in_flight: Default::default(),
             frames_in_flight: 2,
             recorded: None,
+            logged: 0,
             late_timestamps: false,
             late_runs: Default::default(),
             late_ms: vec![],
@@ -327,6 +335,7 @@ impl Executor {
     /// textures, buffers and pipelines whose descriptors did not change are reused, and
     /// parameter overrides that still apply are kept.
     pub fn replace(&mut self, gpu: &Gpu, exe: &Executable) -> Result<ReloadReport> {
+        self.finish_pending(gpu)?;
         let mut params = self.inputs.params.clone();
         let dropped = params.retain_applicable(&exe.plan.params);
         let old = (&self.state.pool, self.alias);
@@ -348,6 +357,7 @@ impl Executor {
     /// unchanged resources are kept, the camera becomes the new scene's; on failure the old
     /// scene and Plan keep rendering.
     pub fn replace_scene(&mut self, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<ReloadReport> {
+        self.finish_pending(gpu)?;
         let mut shared = Shared::new(gpu, scene.clone())?;
         shared.uploads += self.shared.uploads;
         let mut params = self.inputs.params.clone();
@@ -508,488 +518,6 @@ impl Executor {
             .filter(|(_, e)| e.alias_of.is_none())
             .map(|(r, _)| r.bytes)
             .sum()
-    }
-
-    /// Write the frame and light blocks; returns what changed-detection compares.
-    fn write_frame_blocks(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> FrameKeys {
-        let (w, h) = self.state.plan.resolution;
-        let (view, proj) = inputs.view_proj(w as f32 / h.max(1) as f32);
-        let eye = inputs.eye();
-        let jitter = if self.state.plan.jitter {
-            halton_jitter(self.frame_index)
-        } else {
-            [0.0, 0.0]
-        };
-        // A pixel offset in NDC: x right, y up (pixels count down).
-        let shift = glam::Mat4::from_translation(glam::Vec3::new(2.0 * jitter[0] / w as f32, -2.0 * jitter[1] / h as f32, 0.0));
-        let proj = shift * proj;
-        let vp = proj * view;
-        let (prev_vp, prev_jitter) = self.previous.unwrap_or((vp, jitter));
-        self.previous = Some((vp, jitter));
-        let frame = FrameBlock {
-            view: view.to_cols_array_2d(),
-            proj: proj.to_cols_array_2d(),
-            view_proj: vp.to_cols_array_2d(),
-            inv_view_proj: vp.inverse().to_cols_array_2d(),
-            prev_view_proj: prev_vp.to_cols_array_2d(),
-            prev_inv_view_proj: prev_vp.inverse().to_cols_array_2d(),
-            camera_pos: [eye.x, eye.y, eye.z, 1.0],
-            resolution: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
-            jitter: [jitter[0], jitter[1], prev_jitter[0], prev_jitter[1]],
-            time: inputs.time,
-            frame_index: self.frame_index as u32,
-            light_count: self.shared.punctual().len() as u32,
-            scene_radius: ((self.shared.bounds.1 - self.shared.bounds.0).length() * 0.5).max(1e-6),
-        };
-        gpu.queue.write_buffer(&self.shared.frame_buf, 0, bytemuck::bytes_of(&frame));
-        let punctual = inputs.lights.as_deref().unwrap_or(self.shared.punctual());
-        let emitters = &self.shared.lights[self.shared.punctual().len()..];
-        let blocks: Vec<LightBlock> = punctual
-            .iter()
-            .chain(emitters)
-            .map(|l| l.at(inputs.time).block(self.shared.bounds))
-            .collect();
-        if !blocks.is_empty() {
-            gpu.queue.write_buffer(&self.shared.lights_buf, 0, bytemuck::cast_slice(&blocks));
-        }
-        let camera = [frame.view, frame.proj, frame.prev_view_proj];
-        FrameKeys {
-            camera: hash_bytes(bytemuck::cast_slice(
-                &[bytemuck::cast::<_, [f32; 48]>(camera).as_slice(), &frame.camera_pos, &frame.jitter].concat(),
-            )),
-            time: inputs.time.to_bits() as u64,
-            frame_index: self.frame_index,
-            lights: hash_bytes(bytemuck::cast_slice(&blocks)),
-            light: blocks.iter().map(|b| hash_bytes(bytemuck::bytes_of(b))).collect(),
-        }
-    }
-
-    /// Checks and per-frame blocks before a frame's passes; returns which repetitions run.
-    fn begin_frame(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> Result<Vec<Vec<bool>>> {
-        // External resources are the caller's to fill: never render them as zeros.
-        if let Some(r) = self
-            .state
-            .plan
-            .resources
-            .iter()
-            .find(|r| r.external && !self.supplied.contains(&r.name))
-        {
-            let n = &r.name;
-            return Err(Error::Usage(format!(
-                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input, supply_input or mark_supplied)"
-            )));
-        }
-        if let Some(lights) = &inputs.lights {
-            self.check_lights(lights)?;
-        }
-        self.apply_params(gpu, &inputs.params)?;
-        self.inputs = inputs.clone();
-        let keys = self.write_frame_blocks(gpu, inputs);
-        Ok(self.decide_runs(&keys))
-    }
-
-    /// Frame lights must be the scene's in number, kind and shadow casting (the Plan's
-    /// repetitions and shadow resources were made for those).
-    fn check_lights(&self, lights: &[Light]) -> Result<()> {
-        let scene = self.shared.punctual();
-        if lights.len() != scene.len() {
-            return Err(Error::Usage(format!(
-                "FrameInputs::lights has {} lights; the Plan was compiled for the scene's {}: compile for a scene with these lights (Executor::replace_scene)",
-                lights.len(),
-                scene.len()
-            )));
-        }
-        for (i, (l, s)) in lights.iter().zip(scene).enumerate() {
-            if l.kind != s.kind || l.shadows != s.shadows {
-                return Err(Error::Usage(format!(
-                    "FrameInputs::lights[{i}] is a {:?} light{} where the Plan was compiled for a {:?} light{}: compile for a scene with these lights (Executor::replace_scene)",
-                    l.kind,
-                    if l.shadows { " with shadows" } else { "" },
-                    s.kind,
-                    if s.shadows { " with shadows" } else { "" },
-                )));
-            }
-        }
-        Ok(())
-    }
-
-    /// Render one frame pass by pass, waiting for each and calling `after(self, pass index)`
-    /// once it is done, so its results can be read back (`verify` names the first pass that
-    /// produced a non-finite value this way). `after` returning `true` stops the frame there.
-    /// Slower than `render_frame` (one submission per pass) and untimed.
-    pub fn render_frame_probed(
-        &mut self,
-        gpu: &Gpu,
-        inputs: &FrameInputs,
-        after: &mut dyn FnMut(&Executor, usize) -> Result<bool>,
-    ) -> Result<bool> {
-        let run = self.begin_frame(gpu, inputs)?;
-        let parity = (self.frame_index & 1) as usize;
-        // Counted as rendered from the start, so that reads in `after` see this frame's copies.
-        self.frame_index += 1;
-        let order = self.shared.scene_gpu.draw_order(inputs.eye());
-        let mut stopped = false;
-        for (pi, run) in run.iter().enumerate() {
-            let pass = &self.state.passes[pi];
-            let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some(&pass.plan.name),
-            });
-            encode(
-                &mut enc,
-                (pass, pi, run),
-                (parity, self.merge),
-                None,
-                (&self.shared.scene_gpu, &order),
-                None,
-            );
-            gpu.queue.submit([enc.finish()]);
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));
-            }
-            gpu.device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| Error::gpu("waiting for the GPU", e))?;
-            if after(self, pi)? {
-                stopped = true;
-                break;
-            }
-        }
-        Ok(stopped)
-    }
-
-    /// The first pass whose encoding raises a validation error, as that error (nothing is
-    /// submitted: encoding alone raises it).
-    fn blame(&self, gpu: &Gpu, (run, parity): (&[Vec<bool>], usize), order: &DrawOrder) -> Option<Error> {
-        for (pi, pass) in self.state.passes.iter().enumerate() {
-            let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-            let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                label: Some(&pass.plan.name),
-            });
-            encode(
-                &mut enc,
-                (pass, pi, &run[pi]),
-                (parity, self.merge),
-                None,
-                (&self.shared.scene_gpu, order),
-                None,
-            );
-            drop(enc.finish());
-            if let Some(e) = pollster::block_on(scope.pop()) {
-                return Some(Error::gpu(format!("pass `{}`", pass.plan.name), e));
-            }
-        }
-        None
-    }
-
-    /// Which repetitions of each pass run this frame (see `reuse`).
-    fn decide_runs(&mut self, keys: &FrameKeys) -> Vec<Vec<bool>> {
-        let state = &self.state;
-        let inputs: Vec<PassInputs> = state
-            .passes
-            .iter()
-            .zip(&state.params)
-            .map(|(p, blocks)| PassInputs {
-                plan: &p.plan,
-                params: {
-                    let mut h = std::collections::hash_map::DefaultHasher::new();
-                    blocks.iter().for_each(|(_, b)| std::hash::Hash::hash(b, &mut h));
-                    std::hash::Hasher::finish(&h)
-                },
-                rep_lights: p.reps.iter().map(|r| r.light).collect(),
-            })
-            .collect();
-        self.reuse.decide(&state.graph, keys, &inputs)
-    }
-
-    /// How many frames may still be on the GPU when `render_frame` returns: 0 waits for the
-    /// frame just submitted (serial); 1 lets it run while the caller records the next, and
-    /// waits for the one before; 2 (the default) waits for the frame two back. A frame timed
-    /// with timestamp queries is waited for (its timings are read at once) unless they are
-    /// read late (`set_late_timestamps`). Read-backs wait for every frame.
-    pub fn set_frames_in_flight(&mut self, n: u32) {
-        self.frames_in_flight = n as usize;
-    }
-
-    /// How many submitted frames `render_frame` has not waited for (at most the bound set by
-    /// `set_frames_in_flight`; some may have finished already).
-    pub fn frames_in_flight(&self) -> usize {
-        self.in_flight.len()
-    }
-
-    /// Wait until the GPU has run every submitted frame (late timestamps included: the
-    /// timing log is complete after it).
-    pub fn wait_idle(&mut self, gpu: &Gpu) -> Result<()> {
-        self.in_flight.clear();
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| Error::gpu("waiting for the GPU", e))?;
-        self.collect_late()
-    }
-
-    /// After a submission: wait for it if it is timed, else for the frames beyond the bound.
-    fn bound_in_flight(&mut self, gpu: &Gpu, submitted: wgpu::SubmissionIndex, timed: bool) -> Result<()> {
-        if timed {
-            return self.wait_idle(gpu);
-        }
-        self.in_flight.push_back(submitted);
-        while self.in_flight.len() > self.frames_in_flight {
-            let oldest = self.in_flight.pop_front();
-            let wait = wgpu::PollType::Wait {
-                submission_index: oldest,
-                timeout: None,
-            };
-            gpu.device.poll(wait).map_err(|e| Error::gpu("waiting for the GPU", e))?;
-        }
-        Ok(())
-    }
-
-    /// Render one frame. GPU errors come back as values naming the pass.
-    pub fn render_frame(&mut self, gpu: &Gpu, inputs: &FrameInputs) -> Result<()> {
-        let run = self.begin_frame(gpu, inputs)?;
-        let parity = (self.frame_index & 1) as usize;
-        let (state, scene) = (&self.state, &self.shared.scene_gpu);
-        let timer = state.timer.as_ref().filter(|_| self.timing);
-        let order = scene.draw_order(inputs.eye());
-        // One error scope for the frame: a scope per pass costs more than encoding a pass.
-        // Should it catch an error, the frame is encoded again pass by pass to name the pass.
-        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let mut enc = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-        let mut cpu_us = vec![];
-        // A render pass the next pass may continue (consecutive passes into the same targets).
-        let mut open = None;
-        for (pi, pass) in state.passes.iter().enumerate() {
-            let start = Instant::now();
-            let next = (scene, &order);
-            encode(&mut enc, (pass, pi, &run[pi]), (parity, self.merge), timer, next, Some(&mut open));
-            cpu_us.push(start.elapsed().as_secs_f64() * 1e6);
-        }
-        drop(open);
-        let mut buffers = vec![enc.finish()];
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(self
-                .blame(gpu, (&run, parity), &order)
-                .unwrap_or_else(|| Error::gpu("encoding the frame", e)));
-        }
-        let timer = self.state.timer.as_ref().filter(|_| self.timing);
-        let waited = timer.is_some() && !self.late_timestamps;
-        let late = timer.filter(|_| self.late_timestamps).and_then(|t| t.resolve_late(gpu));
-        buffers.extend(timer.filter(|_| waited).map(|t| t.resolve(gpu)));
-        let late_slot = late.map(|(commands, slot)| {
-            buffers.push(commands);
-            slot
-        });
-        let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let submitted = gpu.queue.submit(buffers);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(Error::gpu("submitting the frame", e));
-        }
-        self.bound_in_flight(gpu, submitted, waited)?;
-        let gpu_ms = self.frame_gpu_ms(gpu, waited, late_slot, &run)?;
-        self.record_timings(&run, &gpu_ms, &cpu_us);
-        if self.log_timings {
-            self.timing_log.push(self.last_timings.clone());
-        }
-        let errors = gpu.take_uncaptured();
-        if !errors.is_empty() {
-            return Err(Error::gpu("rendering", errors.join("; ")));
-        }
-        self.frame_index += 1;
-        Ok(())
-    }
-
-    /// This frame's `last_timings`, written over last frame's (no allocation while the
-    /// passes stay the same).
-    fn record_timings(&mut self, run: &[Vec<bool>], gpu_ms: &[Option<f64>], cpu_us: &[f64]) {
-        let passes = &self.state.passes;
-        let same = self.last_timings.len() == passes.len() && self.last_timings.iter().zip(passes).all(|(t, p)| t.pass == p.plan.name);
-        if !same {
-            self.last_timings = passes
-                .iter()
-                .map(|p| PassTiming {
-                    pass: p.plan.name.clone(),
-                    repetitions: 0,
-                    repetitions_run: 0,
-                    reused: false,
-                    gpu_ms: None,
-                    cpu_encode_us: 0.0,
-                })
-                .collect();
-        }
-        for (i, (t, p)) in self.last_timings.iter_mut().zip(passes).enumerate() {
-            let ran = run[i].iter().filter(|r| **r).count() as u32;
-            t.repetitions = p.reps.len() as u32;
-            t.repetitions_run = ran;
-            t.reused = ran == 0;
-            t.gpu_ms = gpu_ms[i].filter(|_| ran > 0);
-            t.cpu_encode_us = cpu_us[i];
-        }
-    }
-
-    /// GPU ms per pass for the frame just submitted: read at once when `waited`; else, with
-    /// late timestamps, the latest that have arrived (a frame or two back) after arming this
-    /// frame's read; else none.
-    fn frame_gpu_ms(&mut self, gpu: &Gpu, waited: bool, late_slot: Option<usize>, run: &[Vec<bool>]) -> Result<Vec<Option<f64>>> {
-        let Some(timer) = self.state.timer.as_ref() else {
-            return Ok(vec![None; run.len()]);
-        };
-        if waited {
-            return Ok(timer.read(gpu)?.into_iter().map(Some).collect());
-        }
-        if let Some(slot) = late_slot {
-            timer.arm(slot, self.frame_index);
-            let ran = run.iter().map(|r| r.iter().any(|x| *x)).collect();
-            self.late_runs.push_back((self.frame_index, ran));
-        }
-        if self.late_timestamps {
-            let _ = gpu.device.poll(wgpu::PollType::Poll);
-            self.collect_late()?;
-        }
-        Ok((0..run.len()).map(|i| self.late_ms.get(i).copied().flatten()).collect())
-    }
-
-    /// Take the late timestamps that have arrived: the latest per pass, and the timing log's
-    /// entries of their frames filled in.
-    fn collect_late(&mut self) -> Result<()> {
-        let Some(timer) = self.state.timer.as_ref() else { return Ok(()) };
-        for (frame, ms) in timer.collect()? {
-            let Some(at) = self.late_runs.iter().position(|(f, _)| *f == frame) else {
-                continue;
-            };
-            let (_, ran) = self.late_runs.remove(at).unwrap_or_default();
-            self.late_ms.resize(ms.len(), None);
-            // The log's last entry is frame `frame_index - 1`.
-            let back = (self.frame_index - frame) as usize;
-            let logged = self.timing_log.len().checked_sub(back).and_then(|i| self.timing_log.get_mut(i));
-            let mut entries: Vec<&mut Vec<PassTiming>> = logged.into_iter().collect();
-            if back == 1 {
-                entries.push(&mut self.last_timings);
-            }
-            for (i, v) in ms.iter().enumerate().filter(|(i, _)| ran.get(*i) == Some(&true)) {
-                self.late_ms[i] = Some(*v);
-                for e in entries.iter_mut() {
-                    if let Some(t) = e.get_mut(i) {
-                        t.gpu_ms = Some(*v);
-                    }
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Read GPU timestamps a frame or two late instead of waiting for each timed frame
-    /// (off by default: measurements want each frame's own figures at once). Late, a frame's
-    /// `PassTiming::gpu_ms` are the latest that have arrived; the timing log's entries are
-    /// filled in as they arrive, and all of them by `wait_idle`.
-    pub fn set_late_timestamps(&mut self, on: bool) {
-        self.late_timestamps = on;
-    }
-
-    fn entry(&self, name: &str) -> Result<&super::pool::Entry> {
-        self.state.pool.by_name(name).ok_or_else(|| {
-            let names: Vec<&str> = self.state.plan.resources.iter().map(|r| r.name.as_str()).collect();
-            Error::Resource(format!("`{name}` is not a resource of this plan (resources: {})", names.join(", ")))
-        })
-    }
-
-    /// Every (instance, layer) of a resource, for dumps: per light and per face.
-    pub fn slices(&self, name: &str) -> Result<Vec<(u32, u32)>> {
-        let e = self.entry(name)?;
-        let layers = e.key.layers();
-        Ok((0..e.key.instances).flat_map(|i| (0..layers).map(move |l| (i, l))).collect())
-    }
-
-    /// The parity of the frame that was just rendered.
-    fn last_parity(&self) -> u32 {
-        (self.frame_index.wrapping_sub(1) & 1) as u32
-    }
-
-    /// The current (last rendered) value of a texture slice.
-    pub fn read_texture(&self, gpu: &Gpu, name: &str, instance: u32, layer: u32) -> Result<Image> {
-        let tex = self
-            .entry(name)?
-            .texture(instance, false, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer")))?;
-        super::readback::read_texture(gpu, tex, layer)
-    }
-
-    /// One mip level of a texture slice, not decoded (see `readback::Raw`).
-    pub fn read_texture_raw(&self, gpu: &Gpu, name: &str, (instance, layer): (u32, u32), mip: u32) -> Result<super::readback::Raw> {
-        let tex = self
-            .entry(name)?
-            .texture(instance, false, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer")))?;
-        super::readback::read_texture_raw(gpu, tex, layer, mip)
-    }
-
-    /// How many mip levels a resource has (1 for buffers and single-level textures).
-    pub fn mips(&self, name: &str) -> Result<u32> {
-        Ok(match self.entry(name)?.key.shape {
-            lightbench_compiler::plan::ResourceShape::Texture { mips, .. } => mips.max(1),
-            _ => 1,
-        })
-    }
-
-    /// Every part of a resource that holds values: each light instance, layer, mip level
-    /// and, for history resources, both copies (`previous`: the one the last frame read).
-    pub fn parts(&self, name: &str) -> Result<Vec<Part>> {
-        let e = self.entry(name)?;
-        let mips = match e.key.shape {
-            lightbench_compiler::plan::ResourceShape::Texture { mips, .. } => mips.max(1),
-            _ => 1,
-        };
-        let mut out = vec![];
-        for instance in 0..e.key.instances {
-            for previous in (0..e.key.copies).map(|c| c == 1) {
-                for layer in 0..e.key.layers() {
-                    out.extend((0..mips).map(|mip| Part {
-                        instance,
-                        layer,
-                        mip,
-                        previous,
-                    }));
-                }
-            }
-        }
-        Ok(out)
-    }
-
-    /// One part of a texture as it is now (see `parts`).
-    pub fn read_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Image> {
-        let tex = self
-            .entry(name)?
-            .texture(p.instance, p.previous, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer_part")))?;
-        super::readback::read_texture_mip(gpu, tex, p.layer, p.mip)
-    }
-
-    /// Non-finite values of one part of a texture (see `readback::scan_texture`).
-    pub fn scan_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Option<super::readback::NonFinite>> {
-        let tex = self
-            .entry(name)?
-            .texture(p.instance, p.previous, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer")))?;
-        super::readback::scan_texture(gpu, tex, p.layer, p.mip)
-    }
-
-    /// One instance (and copy) of a buffer as it is now, as f32 words.
-    pub fn read_buffer_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Vec<f32>> {
-        let buf = self
-            .entry(name)?
-            .buffer(p.instance, p.previous, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a texture")))?;
-        super::readback::read_buffer(gpu, buf)
-    }
-
-    /// The current value of a buffer resource as f32 words.
-    pub fn read_buffer(&self, gpu: &Gpu, name: &str, instance: u32) -> Result<Vec<f32>> {
-        let buf = self
-            .entry(name)?
-            .buffer(instance, false, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a texture")))?;
-        super::readback::read_buffer(gpu, buf)
     }
 }
 

@@ -92,14 +92,11 @@ impl Timer {
         (begin.is_some() || end.is_some()).then_some((begin, end))
     }
 
-    /// Commands that copy this frame's timestamps where `read` finds them.
-    pub fn resolve(&self, gpu: &Gpu) -> wgpu::CommandBuffer {
-        let mut enc = gpu
-            .device
-            .create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("timestamps") });
+    /// Record, after the frame's passes in `enc`, the copy of its timestamps to where `read`
+    /// finds them.
+    pub fn resolve_into(&self, enc: &mut wgpu::CommandEncoder) {
         enc.resolve_query_set(&self.set, 0..self.passes * 2, &self.resolve, 0);
         enc.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, self.resolve.size());
-        enc.finish()
     }
 
     /// Milliseconds per pass of the frame just submitted.
@@ -126,20 +123,18 @@ impl Timer {
             .collect())
     }
 
-    /// Commands that copy this frame's timestamps into a free late slot, and the slot; `None`
-    /// when every slot still waits for the GPU (the frame then goes untimed).
-    pub fn resolve_late(&self, gpu: &Gpu) -> Option<(wgpu::CommandBuffer, usize)> {
+    /// Record, after the frame's passes in `enc`, the copy of its timestamps into a free
+    /// late slot, and return the slot; `None` when every slot still waits for the GPU (the
+    /// frame then goes untimed).
+    pub fn resolve_late_into(&self, enc: &mut wgpu::CommandEncoder) -> Option<usize> {
         let slots = self.late.lock().ok()?;
         let slot = slots.iter().position(|s| s.frame.is_none())?;
-        let mut enc = gpu.device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-            label: Some("timestamps, late"),
-        });
         enc.resolve_query_set(&self.set, 0..self.passes * 2, &self.resolve, 0);
         enc.copy_buffer_to_buffer(&self.resolve, 0, &slots[slot].buffer, 0, self.resolve.size());
-        Some((enc.finish(), slot))
+        Some(slot)
     }
 
-    /// After the submission holding `resolve_late`'s commands: map the slot when the GPU is
+    /// After the submission holding `resolve_late_into`'s commands: map the slot when the GPU is
     /// done with it (no wait), for frame `frame`.
     pub fn arm(&self, slot: usize, frame: u64) {
         let Ok(mut slots) = self.late.lock() else { return };

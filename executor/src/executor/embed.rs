@@ -1,43 +1,25 @@
-//! Embedding: a frame recorded into a host renderer's command encoder, submitted when the
-//! host says, and the Plan's textures handed to the host's own passes.
+//! Embedding: a frame recorded into a host renderer's command encoder (the recording
+//! `render_frame` does, `frame`), submitted when the host says, and the Plan's textures
+//! handed to the host's own passes.
 
-use super::{encode, Executor, FrameInputs};
+use super::{Executor, FrameInputs};
 use crate::Gpu;
 use lightbench_scene::error::{Error, Result};
 
-/// What `encode` recorded, kept for `submit` to name the pass an error came from.
-pub(super) struct Recorded {
-    run: Vec<Vec<bool>>,
-    parity: usize,
-    eye: glam::Vec3,
-}
-
 impl Executor {
-    /// Record one frame into the host's `encoder`: the frame and light blocks and parameter
-    /// blocks are written with `queue.write_buffer` (so submit each frame before encoding the
-    /// next, as [`Executor::submit`] does), then every pass is recorded. Untimed (GPU timings
-    /// come from `render_frame`). Validation errors in the recorded commands surface when the
-    /// encoder is finished: [`Executor::submit`] returns them naming the pass.
+    /// Record one frame into the host's `encoder`, by the code `render_frame` records with:
+    /// the frame, light and parameter blocks are written with `queue.write_buffer` (so the
+    /// host submits each frame before encoding the next), then every pass is recorded, with
+    /// GPU timestamps where timing is on (`set_timing`) and their resolve after the passes.
+    /// Nothing is submitted here: the host submits the encoder, with its own `queue.submit`
+    /// or with [`Executor::submit`], which also names the pass a validation error comes from.
+    /// The frame's GPU timings arrive late, as with `set_late_timestamps`: its read starts
+    /// when the executor learns the frame was submitted (`submit`, else the next `encode`,
+    /// `render_frame`, `replace` or `wait_idle`), and `wait_idle` waits for all of them
+    /// (`last_timings`, and the timing log when `log_timings` is set).
     pub fn encode(&mut self, gpu: &Gpu, encoder: &mut wgpu::CommandEncoder, inputs: &FrameInputs) -> Result<()> {
-        let run = self.begin_frame(gpu, inputs)?;
-        let parity = (self.frame_index & 1) as usize;
-        let eye = inputs.eye();
-        let scene = &self.shared.scene_gpu;
-        let order = scene.draw_order(eye);
-        let mut open = None;
-        for (pi, pass) in self.state.passes.iter().enumerate() {
-            encode(
-                encoder,
-                (pass, pi, &run[pi]),
-                (parity, self.merge),
-                None,
-                (scene, &order),
-                Some(&mut open),
-            );
-        }
-        drop(open);
-        self.recorded = Some(Recorded { run, parity, eye });
-        self.frame_index += 1;
+        let rec = self.record(gpu, encoder, inputs, false)?;
+        self.recorded = Some(rec);
         Ok(())
     }
 
@@ -47,21 +29,18 @@ impl Executor {
     pub fn submit(&mut self, gpu: &Gpu, encoder: wgpu::CommandEncoder) -> Result<wgpu::SubmissionIndex> {
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let buffer = encoder.finish();
-        let finished = pollster::block_on(scope.pop());
-        if let Some(e) = finished {
-            let blamed = self.recorded.take().and_then(|r| {
-                let order = self.shared.scene_gpu.draw_order(r.eye);
-                self.blame(gpu, (&r.run, r.parity), &order)
-            });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            let blamed = self.recorded.take().and_then(|r| self.blame_recorded(gpu, &r));
             return Err(blamed.unwrap_or_else(|| Error::gpu("finishing the encoder", e)));
         }
-        self.recorded = None;
         let scope = gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let index = gpu.queue.submit([buffer]);
-        match pollster::block_on(scope.pop()) {
-            Some(e) => Err(Error::gpu("submitting the encoder", e)),
-            None => Ok(index),
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            self.recorded = None;
+            return Err(Error::gpu("submitting the encoder", e));
         }
+        self.finish_pending(gpu)?;
+        Ok(index)
     }
 
     /// The texture of resource `name` as the last recorded frame left it (instance 0; a

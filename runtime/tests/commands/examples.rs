@@ -78,7 +78,8 @@ fn headless_renders_what_lightbench_render_renders() {
 
 /// `host_loop` (docs/embedding.md, "A host program"): its own camera, a parameter set by name
 /// and a variant switched while running end on what `lightbench render` renders with that
-/// camera, parameter and variant; bad FRAMES is a usage error.
+/// camera, parameter and variant; the host's own submit gets GPU timings; bad FRAMES is a
+/// usage error.
 #[test]
 fn host_loop_ends_where_lightbench_render_does() {
     let d = scratch("example-host-loop");
@@ -92,6 +93,18 @@ fn host_loop_ends_where_lightbench_render_does() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("frame 4: tonemap = simple"), "{stdout}");
+    // The last frame, recorded into the host's encoder and submitted by the host, is timed.
+    let gbuffer = stdout
+        .lines()
+        .find(|l| l.starts_with("pass gbuffer "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let ms: f64 = gbuffer
+        .split("GPU ")
+        .nth(1)
+        .and_then(|r| r.split(" ms").next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{gbuffer}"));
+    assert!(ms > 0.0 && ms.is_finite(), "{gbuffer}");
     let (code, _, err) = lightbench(&[
         "render",
         "--size",

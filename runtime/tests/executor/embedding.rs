@@ -64,6 +64,63 @@ fn a_host_device_keeps_its_error_handler_and_renders_through_its_own_encoder() {
     assert!(gpu.take_uncaptured().is_empty(), "the executor did not take it");
 }
 
+/// One recording path (issue 55): `encode` records the frame `render_frame` records, GPU
+/// timestamps included, into the host's encoder and submits nothing; the host submits it
+/// with its own `queue.submit`, and the frame's timings arrive late, all of them by
+/// `wait_idle`.
+#[test]
+fn a_frame_in_the_hosts_encoder_is_timed_and_submitted_only_by_the_host() {
+    let (adapter, dev, queue) = host_device();
+    assert!(
+        dev.features().contains(wgpu::Features::TIMESTAMP_QUERY),
+        "lavapipe has timestamp queries"
+    );
+    let gpu = Gpu::from_host(adapter, dev.clone(), queue.clone(), HostOptions { probe: false }).unwrap();
+    let mut s = lightbench::scene::load("cornell").unwrap();
+    s.size = (32, 32);
+    let (exe, _) =
+        lightbench::render::compile(&gpu, &root().join("pipelines/deferred.lbp"), None, &s, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let mut ex = Executor::new(&gpu, &exe, &s).unwrap();
+    ex.log_timings = true;
+    // Every pass runs every frame (nothing would change between these frames).
+    ex.set_reuse(false);
+    for frame in 0..3 {
+        let mut enc = dev.create_command_encoder(&Default::default());
+        let inputs = ex.inputs(frame as f32 / 60.0);
+        ex.encode(&gpu, &mut enc, &inputs).unwrap_or_else(|e| panic!("{e}"));
+        if frame == 0 {
+            // Recorded, not submitted: the output is still the cleared texture.
+            let before = output(&gpu, &ex);
+            assert!(before.rgba.iter().all(|v| *v == 0.0), "encode submitted nothing");
+        }
+        queue.submit([enc.finish()]);
+    }
+    ex.wait_idle(&gpu).unwrap();
+    assert_eq!(ex.timing_log.len(), 3, "every frame's timings taken once the host submitted it");
+    for (frame, timings) in ex.timing_log.iter().enumerate() {
+        let ran: Vec<_> = timings.iter().filter(|t| t.repetitions_run > 0).collect();
+        assert!(!ran.is_empty(), "frame {frame} ran passes");
+        for t in &ran {
+            let ms = t
+                .gpu_ms
+                .unwrap_or_else(|| panic!("frame {frame}: pass `{}` has no GPU time", t.pass));
+            assert!(ms.is_finite() && ms >= 0.0, "frame {frame}: pass `{}` took {ms} ms", t.pass);
+            assert!(t.cpu_encode_us > 0.0, "frame {frame}: pass `{}` encode time", t.pass);
+        }
+    }
+    let gbuffer: f64 = ex.timing_log[0].iter().filter_map(|t| t.gpu_ms).sum();
+    assert!(gbuffer > 0.0, "the first frame took GPU time: {gbuffer} ms");
+    assert!(
+        output(&gpu, &ex).rgba.iter().any(|v| *v > 0.0),
+        "the host's submit rendered the frame"
+    );
+
+    // The executor's own frame is timed by the same code, at once.
+    ex.render_frame(&gpu, &ex.inputs(0.1)).unwrap();
+    assert_eq!(ex.timing_log.len(), 4);
+    assert!(ex.last_timings.iter().filter(|t| t.repetitions_run > 0).all(|t| t.gpu_ms.is_some()));
+}
+
 #[test]
 fn host_matrices_and_lights_drive_the_frame_and_lights_must_fit_the_plan() {
     let g = gpu();
