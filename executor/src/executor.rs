@@ -473,7 +473,7 @@ impl Executor {
 
     /// Let repetitions of a pass that render into the same loaded attachments share one
     /// render pass (`true`, the default), or give each its own. Images are the same. Untimed
-    /// (`set_timing(false)`, and `encode`), a pass the Plan lets continue the one before
+    /// (`set_timing(false)`; `render_frame` and `encode` alike), a pass the Plan lets continue the one before
     /// (`PlanPass::continues`: ambient, then the lights) is recorded inside its render pass
     /// too; timed, each pass keeps its own for its timestamps.
     pub fn set_merge(&mut self, on: bool) {
