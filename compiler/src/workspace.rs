@@ -35,8 +35,6 @@ pub struct Executable {
     /// Every file the compilation read or tried to read (pipeline, shaders, includes):
     /// what a watcher watches and a manifest hashes.
     pub files: BTreeSet<PathBuf>,
-    /// Resources' initial content (`data:`), decoded and checked; uploaded once.
-    pub data: crate::check::data::ResourceData,
 }
 
 /// What a long-running process keeps between compilations.
@@ -633,7 +631,6 @@ impl Session {
             plan,
             modules,
             files: self.dependencies.clone(),
-            data: checked.data.clone(),
         })
     }
 

@@ -517,6 +517,48 @@ fn repetitions_name_the_scene_lights_by_index() {
     }
 }
 
+/// Each repetition names the copy of every per-light resource it uses (`copies`): a light's
+/// rank among the lights the resource has copies for, the casting ones for a shadow map; a
+/// light that casts no shadow binds copy 0, unread.
+#[test]
+fn repetitions_name_the_copy_of_each_per_light_resource() {
+    use lightbench_compiler::ir::LightKind::*;
+    let scene = lightbench_compiler::scene::SceneFeatures::everything().with_order([
+        (Point, true),
+        (Spot, false),
+        (Point, false),
+        (Directional, true),
+        (Point, true),
+    ]);
+    let mut s = lightbench_compiler::Session::new();
+    let path = repo_root().join("pipelines/deferred.lbp");
+    let plan = s
+        .plan_file(&path, None, &lightbench_compiler::profile::Profile::vulkan(), &scene, &[])
+        .unwrap_or_else(|| panic!("{}", s.render()));
+    let cube = plan.resource_id("shadow.cube").unwrap();
+    assert_eq!(plan.res(cube).instances, 2, "two casting point lights");
+    let copies = |pass: &str| -> Vec<(Option<u32>, u32)> {
+        let p = plan.passes.iter().find(|p| p.name == pass).unwrap();
+        p.reps.iter().map(|r| (r.light, r.copy_of(cube))).collect()
+    };
+    // The lighting pass reads the cube map of its light: the third point light has the second.
+    assert_eq!(copies("light_point"), [(Some(0), 0), (Some(2), 0), (Some(4), 1)]);
+    // The shadow pass renders into it, six faces per casting light.
+    let shadow = copies("shadow_cube_classic");
+    assert_eq!(shadow.len(), 12);
+    assert!(
+        shadow[..6].iter().all(|c| *c == (Some(0), 0)) && shadow[6..].iter().all(|c| *c == (Some(4), 1)),
+        "{shadow:?}"
+    );
+    // A run without a light names no copies; every copy named exists.
+    for p in &plan.passes {
+        for r in &p.reps {
+            assert!(r.light.is_some() || r.copies.is_empty(), "{}", p.name);
+            assert!(r.copies.iter().all(|c| c.instance < plan.res(c.resource).instances), "{}", p.name);
+        }
+    }
+}
+
 /// The Plan carries the text of every shader file its stages name, once each, as the compiler
 /// read it: `#include`s spliced in (an executor needs no shader files), the built-in
 /// full-screen vertex shader too.

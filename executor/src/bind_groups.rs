@@ -6,9 +6,9 @@ use super::pool::Pool;
 use super::scene_gpu::SceneGpu;
 use super::{convert, Gpu};
 use lightbench_compiler::abi::InstanceBlock;
-use lightbench_compiler::ir::{LayerSel, LightKind, MipSel};
+use lightbench_compiler::ir::{LayerSel, MipSel};
 use lightbench_compiler::layout::{BindSource, BindingType, DrawSlot};
-use lightbench_compiler::plan::{Plan, PlanBindGroup, PlanPass, ResourceId};
+use lightbench_compiler::plan::{Plan, PlanBindGroup, PlanPass, PlanRep, ResourceId};
 use lightbench_scene::error::{Error, Result};
 use lightbench_scene::Light;
 
@@ -33,16 +33,6 @@ pub struct Rep {
 
 /// One attachment's subresource: resource, instance, first layer, layer count, mip level.
 pub type TargetKey = (ResourceId, u32, u32, u32, u32);
-
-/// Light indices (into the active light array) a per-light list of kinds iterates, in order.
-pub fn lights_of(lights: &[Light], kinds: &[LightKind]) -> Vec<u32> {
-    lights
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| kinds.contains(&l.kind))
-        .map(|(i, _)| i as u32)
-        .collect()
-}
 
 /// The part of a texture a read binds: one mip level and/or one layer (else all).
 #[derive(Clone, Copy, Default)]
@@ -83,21 +73,6 @@ enum Held<'a> {
 }
 
 impl Binder<'_> {
-    /// Index of a per-light resource's instance for light `light` (its rank among the lights
-    /// the resource has instances for).
-    fn instance_of(&self, res: ResourceId, light: Option<u32>) -> u32 {
-        let r = self.plan.res(res);
-        match (r.per_light.is_empty(), light) {
-            // A light that casts no shadows binds instance 0 of a casters-only map (unread).
-            (false, Some(l)) => lights_of(self.lights, &r.per_light)
-                .into_iter()
-                .filter(|&i| !r.casters_only || self.lights[i as usize].shadows)
-                .position(|i| i == l)
-                .unwrap_or(0) as u32,
-            _ => 0,
-        }
-    }
-
     fn accel(&self) -> Result<&super::accel::Accel> {
         self.accel
             .ok_or_else(|| Error::Plan("the scene's acceleration structure was not built for this Plan".into()))
@@ -153,7 +128,6 @@ impl Binder<'_> {
         let parities = if self.pool.has_history() { 2 } else { 1 };
         let mut reps = vec![];
         // The Plan's runs, made for this scene's lights (their order in the light array).
-        let combos: Vec<(Option<u32>, u32, Option<u32>, u32)> = pp.reps.iter().map(|r| (r.light, r.face, r.mip, r.run)).collect();
         let fits = |l: u32| {
             self.lights
                 .get(l as usize)
@@ -166,15 +140,17 @@ impl Binder<'_> {
                 self.lights.len()
             )));
         }
-        for (light, face, mip, repetition) in combos {
+        self.check_copies(pp)?;
+        for r in &pp.reps {
+            let (light, mip) = (r.light, r.mip);
             let (w, h) = self.target_size(pp, mip);
             let inst = InstanceBlock {
                 light: light.unwrap_or(0),
-                face,
+                face: r.face,
                 view_count: pp.work.multiview().unwrap_or(1),
                 mip: mip.unwrap_or(0),
                 target_size: [w as f32, h as f32, 1.0 / w.max(1) as f32, 1.0 / h.max(1) as f32],
-                repetition,
+                repetition: r.run,
                 _pad: [0; 3],
             };
             self.gpu.queue.write_buffer(self.instance, *slot * SLOT, bytemuck::bytes_of(&inst));
@@ -188,7 +164,7 @@ impl Binder<'_> {
                 targets: vec![],
             };
             for parity in 0..parities {
-                self.fill(&mut rep, pp, layouts, params, (light, (face, repetition), mip, *slot, parity))?;
+                self.fill(&mut rep, pp, layouts, params, (r, *slot, parity))?;
             }
             if parities == 1 {
                 rep.groups[1] = rep.groups[0].clone();
@@ -201,32 +177,53 @@ impl Binder<'_> {
         Ok(reps)
     }
 
+    /// Every copy a run names is one its resource has (a Plan is read from JSON too).
+    fn check_copies(&self, pp: &PlanPass) -> Result<()> {
+        for c in pp.reps.iter().flat_map(|r| &r.copies) {
+            let r = self.plan.resources.get(c.resource.0 as usize);
+            if r.is_some_and(|r| c.instance < r.instances) {
+                continue;
+            }
+            return Err(Error::Plan(format!(
+                "pass `{}` binds copy {} of resource #{}{}: the Plan is inconsistent",
+                pp.name,
+                c.instance,
+                c.resource.0,
+                r.map_or(", which does not exist".into(), |r| format!(
+                    " `{}`, which has {}",
+                    r.name, r.instances
+                ))
+            )));
+        }
+        Ok(())
+    }
+
     fn fill(
         &self,
         rep: &mut Rep,
         pp: &PlanPass,
         layouts: &[wgpu::BindGroupLayout],
         params: &[wgpu::Buffer],
-        (light, (face, repetition), mip, slot, parity): (Option<u32>, (u32, u32), Option<u32>, u64, u32),
+        (r, slot, parity): (&PlanRep, u64, u32),
     ) -> Result<()> {
         let p = parity as usize;
         for g in pp.bind_groups.iter().filter(|g| !g.is_per_draw()) {
             let layout = layouts
                 .get(g.group as usize)
                 .ok_or_else(|| Error::Plan(format!("no layout for group {}", g.group)))?;
-            rep.groups[p].push((g.group, self.group(pp, g, layout, params, (light, mip, repetition), slot, parity)?));
+            rep.groups[p].push((g.group, self.group(pp, g, layout, params, r, slot, parity)?));
         }
-        let level = |sel: MipSel| sel.level(mip.unwrap_or(0)).unwrap_or(0);
+        let level = |sel: MipSel| sel.level(r.mip.unwrap_or(0)).unwrap_or(0);
         if let Some(t) = pp.work.targets() {
             for c in &t.color {
-                let (view, key) = self.attachment(c.resource, (c.layer, level(c.mip)), light, (face, repetition), parity)?;
+                let (view, key) = self.attachment(c.resource, (c.layer, level(c.mip)), r, parity)?;
                 rep.color[p].push(view);
                 if p == 0 {
                     rep.targets.push(key);
                 }
             }
             if let Some(d) = &t.depth {
-                let (view, key) = self.attachment(d.resource, (d.layer, level(d.mip)), light, (face, repetition), parity)?;
+                let (view, key) = self.attachment(d.resource, (d.layer, level(d.mip)), r, parity)?;
                 rep.depth[p] = Some(view);
                 if p == 0 {
                     rep.targets.push(key);
@@ -243,7 +240,7 @@ impl Binder<'_> {
         g: &PlanBindGroup,
         layout: &wgpu::BindGroupLayout,
         params: &[wgpu::Buffer],
-        (light, mip, repetition): (Option<u32>, Option<u32>, u32),
+        rep: &PlanRep,
         slot: u64,
         parity: u32,
     ) -> Result<wgpu::BindGroup> {
@@ -282,13 +279,13 @@ impl Binder<'_> {
                     // A `Mip(..)` read binds one level: the one it selects at this repetition.
                     // A `Layer(..)` read binds one layer: a fixed one, or this repetition's.
                     let read = pp.reads.iter().find(|r| r.resource == *id && !r.prev);
-                    let level = read.and_then(|r| r.mip).map(|sel| sel.level(mip.unwrap_or(0)).unwrap_or(0));
+                    let level = read.and_then(|r| r.mip).map(|sel| sel.level(rep.mip.unwrap_or(0)).unwrap_or(0));
                     let layers = self.entry(*id)?.key.layers();
                     let sub = Sub {
                         level,
-                        layer: read.and_then(|r| r.layer).and_then(|l| l.at(repetition, layers)),
+                        layer: read.and_then(|r| r.layer).and_then(|l| l.at(rep.run, layers)),
                     };
-                    self.resource(*id, &e.ty, (light, sub), prev, parity)?
+                    self.resource(*id, &e.ty, (rep.copy_of(*id), sub), prev, parity)?
                 }
                 BindSource::Draw(_) => return Err(Error::Plan("per-draw binding outside the per-draw group".into())),
             };
@@ -313,9 +310,9 @@ impl Binder<'_> {
         }))
     }
 
-    fn resource(&self, id: ResourceId, ty: &BindingType, (light, sub): (Option<u32>, Sub), prev: bool, parity: u32) -> Result<Held<'_>> {
+    /// Copy `inst` of resource `id` as binding type `ty` binds it (the part `sub` of a texture).
+    fn resource(&self, id: ResourceId, ty: &BindingType, (inst, sub): (u32, Sub), prev: bool, parity: u32) -> Result<Held<'_>> {
         let entry = self.entry(id)?;
-        let inst = self.instance_of(id, light);
         let name = &self.plan.res(id).name;
         Ok(match ty {
             BindingType::AccelerationStructure => Held::Tlas(&self.accel()?.tlas),
@@ -348,21 +345,17 @@ impl Binder<'_> {
         &self,
         res: ResourceId,
         (layer, level): (LayerSel, u32),
-        light: Option<u32>,
-        (face, repetition): (u32, u32),
+        rep: &PlanRep,
         parity: u32,
     ) -> Result<(wgpu::TextureView, TargetKey)> {
         let e = self.entry(res)?;
         let (dim, range) = match layer {
             LayerSel::All => (wgpu::TextureViewDimension::D2Array, (0, e.key.layers())),
-            LayerSel::Face => (wgpu::TextureViewDimension::D2, (face, 1)),
-            fixed => (
-                wgpu::TextureViewDimension::D2,
-                (fixed.at(repetition, e.key.layers()).unwrap_or(0), 1),
-            ),
+            LayerSel::Face => (wgpu::TextureViewDimension::D2, (rep.face, 1)),
+            fixed => (wgpu::TextureViewDimension::D2, (fixed.at(rep.run, e.key.layers()).unwrap_or(0), 1)),
         };
         let name = &self.plan.res(res).name;
-        let instance = self.instance_of(res, light);
+        let instance = rep.copy_of(res);
         let tex = e
             .texture(instance, false, parity)
             .ok_or_else(|| Error::Plan(format!("`{name}` is not a texture")))?;

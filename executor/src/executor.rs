@@ -321,7 +321,7 @@ impl Executor {
             late_ms: vec![],
             pack_scratch: vec![],
         };
-        ex.upload_data(gpu, &exe.data)?;
+        ex.upload_data(gpu)?;
         Ok(ex)
     }
 
@@ -348,7 +348,7 @@ impl Executor {
         self.inputs.params = params;
         // A recreated external resource lost what was supplied: it must be supplied again.
         self.supplied.retain(|n| !report.resources_created.contains(n));
-        self.upload_data(gpu, &exe.data)?;
+        self.upload_data(gpu)?;
         self.reuse.reset();
         Ok(report)
     }
@@ -375,7 +375,7 @@ impl Executor {
         self.inputs.camera = scene.camera.clone();
         // Frame lights were checked against the old scene's.
         self.inputs.lights = None;
-        self.upload_data(gpu, &exe.data)?;
+        self.upload_data(gpu)?;
         self.reuse.reset();
         Ok(report)
     }

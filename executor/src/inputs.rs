@@ -91,13 +91,17 @@ impl Executor {
         self.reuse.reset();
     }
 
-    /// Upload every resource's `data` (checked and decoded by the compiler): on creation
-    /// and after a reload, so an edited data file takes effect.
-    pub(super) fn upload_data(&self, gpu: &Gpu, data: &lightbench_compiler::check::data::ResourceData) -> Result<()> {
+    /// Upload every data resource's `contents` (decoded and checked by the compiler, carried
+    /// by the Plan): on creation and after a reload, so an edited data file takes effect.
+    pub(super) fn upload_data(&self, gpu: &Gpu) -> Result<()> {
         for r in self.plan().resources.iter().filter(|r| r.data) {
-            if let Some(bytes) = data.get(&r.name) {
-                self.fill(gpu, r, bytes)?;
-            }
+            let bytes = r.contents.as_ref().ok_or_else(|| {
+                Error::Plan(format!(
+                    "resource `{}` is filled from data, but the Plan carries no `contents`",
+                    r.name
+                ))
+            })?;
+            self.fill(gpu, r, bytes)?;
         }
         Ok(())
     }

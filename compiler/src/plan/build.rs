@@ -2,7 +2,8 @@
 //! `RenderGraph::bake()`): select variants (`select`, done by the caller) -> evaluate
 //! conditions and cull -> order -> derive resources and usages -> lay out passes, bindings
 //! and parameter blocks -> lift per-pass values to parameters -> value shader constants ->
-//! estimate memory -> alias transient memory -> merge render passes.
+//! estimate memory -> data resources' bytes -> per-light copies of each repetition -> alias
+//! transient memory -> merge render passes.
 
 use super::*;
 use crate::check::Checked;
@@ -52,6 +53,12 @@ pub fn build_plan(checked: &Checked, cfg: &Config, diags: &mut Diagnostics) -> O
         jitter: jitters(p, &cfg.selection.chosen),
         shaders: shaders(&kept),
     };
+    // Data resources carry their bytes.
+    for r in plan.resources.iter_mut().filter(|r| r.data) {
+        r.contents = checked.data.get(&r.name).cloned();
+    }
+    // Each repetition's copy of the per-light resources it uses.
+    copies::assign(&mut plan, &cfg.scene.light_order());
     // Transient resources with disjoint lifetimes may share memory.
     alias::assign(&mut plan);
     // Consecutive passes into the same attachments may share a render pass.

@@ -4,7 +4,9 @@
 
 pub mod alias;
 mod build;
+mod bytes;
 mod constants;
+mod copies;
 mod cull;
 mod deps;
 mod diff;
@@ -260,12 +262,30 @@ pub struct PlanPass {
 /// One run of a pass: for which light (its index in the light array the frame binds, the
 /// scene's lights that are on, in order), cube face, mip level and run of a `repeat`; what
 /// the per-repetition block (`instance`) tells the shader.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PlanRep {
     pub light: Option<u32>,
     pub face: u32,
     pub mip: Option<u32>,
     pub run: u32,
+    /// Which copy of each per-light resource the pass uses this run binds or renders into
+    /// (stage `copies`); empty for a run with no light. A resource not listed: copy 0.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub copies: Vec<PlanCopy>,
+}
+
+impl PlanRep {
+    /// The copy (instance) of `resource` this run uses: 0 unless `copies` says otherwise.
+    pub fn copy_of(&self, resource: ResourceId) -> u32 {
+        self.copies.iter().find(|c| c.resource == resource).map_or(0, |c| c.instance)
+    }
+}
+
+/// One per-light resource's copy a repetition uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PlanCopy {
+    pub resource: ResourceId,
+    pub instance: u32,
 }
 
 /// What a pass's result depends on besides the resources it reads and its parameter block:
@@ -292,6 +312,23 @@ impl PlanPass {
     pub fn stage(&self, s: Stage) -> Option<&PlanStage> {
         self.stages.iter().find(|x| x.stage == s)
     }
+    /// Every resource the pass uses: what it writes, reads, binds or is sized from, once each.
+    pub fn used(&self) -> Vec<ResourceId> {
+        let bound = self.bind_groups.iter().flat_map(|g| &g.entries).filter_map(|e| match e.source {
+            PlanSource::Resource(r) | PlanSource::Prev(r) => Some(r),
+            _ => None,
+        });
+        let sized = match &self.work {
+            Work::Compute { sized_from, .. } => *sized_from,
+            _ => None,
+        };
+        let mut used: Vec<ResourceId> = self.written();
+        used.extend(self.reads.iter().map(|r| r.resource).chain(bound).chain(sized));
+        let mut seen = std::collections::BTreeSet::new();
+        used.retain(|r| seen.insert(r.0));
+        used
+    }
+
     /// Every resource the pass writes: color and depth attachments, then storage writes.
     pub fn written(&self) -> Vec<ResourceId> {
         let t = self.work.targets();
@@ -391,8 +428,12 @@ pub struct PlanResource {
     pub instances: u32,
     pub history: bool,
     pub external: bool,
-    /// Filled once from the pipeline's `data` (see `Executable::data`).
+    /// Filled once from the pipeline's `data`: `contents`.
     pub data: bool,
+    /// The bytes a `data` resource is filled with (mip 0 of each layer, rows tightly packed,
+    /// in its format), so that a Plan runs without the pipeline's files; base64 in JSON.
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "bytes")]
+    pub contents: Option<std::sync::Arc<Vec<u8>>>,
     /// The range every value must lie in (`lightbench verify`).
     pub valid: Option<(f64, f64)>,
     pub usage: BTreeSet<Usage>,

@@ -114,7 +114,13 @@ fn reps(cfg: &Config, pass: &Pass, repeat: u32) -> Vec<PlanRep> {
     for &light in &lights {
         for face in 0..faces {
             for &mip in &mips {
-                out.extend((0..repeat.max(1)).map(|run| PlanRep { light, face, mip, run }));
+                out.extend((0..repeat.max(1)).map(|run| PlanRep {
+                    light,
+                    face,
+                    mip,
+                    run,
+                    copies: vec![],
+                }));
             }
         }
     }

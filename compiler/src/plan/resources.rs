@@ -129,6 +129,8 @@ fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage
         history: r.history(),
         external: r.external(),
         data: r.data().is_some(),
+        // Stage `contents`, from the decoded data.
+        contents: None,
         valid: r.valid.as_ref().map(|v| v.value),
         usage,
         bytes: one * instances as u64 * copies,

@@ -1,13 +1,15 @@
 //! A second executor, deliberately small: it runs `lightbench plan --json` output with the
 //! scene's data and nothing else (no pipeline file, no shader file), and must render what the
 //! real executor renders. It proves the Plan is enough to run (`docs/plan.md`). It covers
-//! what the default pipeline uses on the Cornell box and `many_lights` — scene and full-screen
-//! draws, compute, per-light and per-face repetitions, parameter blocks — and refuses the
-//! rest by name. From the executor crate it borrows only what reads no Plan: the mapping of
-//! the Plan's enums to wgpu's (`convert`) and texture read-back.
+//! what the default pipeline uses on the Cornell box and `many_lights`, LTC area lights and
+//! `deferred_gi`'s SSAO — scene and full-screen draws, compute, per-light and per-face
+//! repetitions with the copies the Plan names, parameter blocks, data resources from the
+//! Plan's `contents` — and refuses the rest by name. From the executor crate it borrows only what reads no Plan: the mapping of
+//! the Plan's enums to wgpu's (`convert`), texture read-back and the scene's emissive
+//! triangles (`scene_gpu::area_lights`).
 
 use crate::gpu_common::{gpu, render_with, root};
-use lightbench::gpu::{convert, readback, Gpu};
+use lightbench::gpu::{convert, readback, scene_gpu, Gpu};
 use lightbench::io::Image;
 use lightbench::scene::{AlphaMode, Scene};
 use lightbench_compiler::abi::{FrameBlock, InstanceBlock, MaterialBlock, MeshBlock, Vertex};
@@ -41,12 +43,12 @@ struct MeshGpu {
 struct Small<'a> {
     gpu: &'a Gpu,
     plan: &'a Plan,
-    /// The lights that are on, in scene order: the light array the Plan's reps index.
-    lights: Vec<lightbench::scene::Light>,
     held: Vec<Held>,
     samplers: Vec<wgpu::Sampler>,
     frame: wgpu::Buffer,
     lights_buf: wgpu::Buffer,
+    /// The scene's emissive triangles (`area_lights`), at least one entry.
+    area_lights: wgpu::Buffer,
     meshes: Vec<MeshGpu>,
     /// The per-draw textures of an untextured material (white, flat normal) and its sampler.
     white: [wgpu::TextureView; 3],
@@ -59,13 +61,17 @@ impl<'a> Small<'a> {
             return unsupported("jitter or textured scenes");
         }
         let d = &gpu.device;
-        let held = plan.resources.iter().map(|r| resource(d, r)).collect::<Res<_>>()?;
+        let held = plan.resources.iter().map(|r| resource(gpu, r)).collect::<Res<_>>()?;
         let samplers = plan.samplers.iter().map(|s| d.create_sampler(&convert::sampler(s)));
         let lights: Vec<_> = scene.active_lights().into_iter().map(|l| l.at(0.0)).collect();
         let bounds = scene.bounds();
         let mut blocks: Vec<_> = lights.iter().map(|l| l.block(bounds)).collect();
         if blocks.is_empty() {
             blocks.push(bytemuck::Zeroable::zeroed());
+        }
+        let (mut area_lights, _) = scene_gpu::area_lights(scene);
+        if area_lights.is_empty() {
+            area_lights.push(bytemuck::Zeroable::zeroed());
         }
         let (w, h) = plan.resolution;
         let (view, proj) = (scene.camera.view(), scene.camera.proj(w as f32 / h as f32));
@@ -97,7 +103,7 @@ impl<'a> Small<'a> {
             samplers: samplers.collect(),
             frame: init(d, bytemuck::bytes_of(&frame), wgpu::BufferUsages::UNIFORM),
             lights_buf: init(d, bytemuck::cast_slice(&blocks), wgpu::BufferUsages::STORAGE),
-            lights,
+            area_lights: init(d, bytemuck::cast_slice(&area_lights), wgpu::BufferUsages::STORAGE),
             meshes: meshes(d, scene),
             white: [
                 texel([255; 4], wgpu::TextureFormat::Rgba8UnormSrgb),
@@ -225,6 +231,7 @@ impl<'a> Small<'a> {
                 let resource = match (&e.source, view) {
                     (BindSource::Frame, _) => self.frame.as_entire_binding(),
                     (BindSource::Lights, _) => self.lights_buf.as_entire_binding(),
+                    (BindSource::AreaLights, _) => self.area_lights.as_entire_binding(),
                     (BindSource::Instance, _) => instance.as_entire_binding(),
                     (BindSource::Params, _) => match pass.uniform_blocks.iter().position(|b| b.global == e.name) {
                         Some(i) => params[i].as_entire_binding(),
@@ -233,7 +240,7 @@ impl<'a> Small<'a> {
                     (BindSource::Sampler(s), _) => wgpu::BindingResource::Sampler(&self.samplers[s.0 as usize]),
                     (BindSource::Resource(_), Some(v)) => wgpu::BindingResource::TextureView(v),
                     (BindSource::Resource(id), None) => match &self.held[id.0 as usize] {
-                        Held::Buffers(b) => b[self.instance_of(*id, rep.light)].as_entire_binding(),
+                        Held::Buffers(b) => b[rep.copy_of(*id) as usize].as_entire_binding(),
                         Held::Textures(_) => return Err(format!("`{}` bound as a buffer", e.name)),
                     },
                     (other, _) => return unsupported(format!("binding {other:?} in pass `{}`", pass.name)),
@@ -266,7 +273,7 @@ impl<'a> Small<'a> {
         let read = pass.reads.iter().find(|r| r.resource == id && !r.prev);
         let level = read.and_then(|r| r.mip).and_then(|m| m.level(0));
         let layer = read.and_then(|r| r.layer).and_then(|l| l.at(rep.run, self.plan.res(id).layers()));
-        Some(view(&t[self.instance_of(id, rep.light)], convert::view_dim(*dim), level, layer))
+        Some(view(&t[rep.copy_of(id) as usize], convert::view_dim(*dim), level, layer))
     }
 
     /// The layer and level of a texture a repetition renders into.
@@ -280,7 +287,7 @@ impl<'a> Small<'a> {
             other => other.at(rep.run, self.plan.res(r).layers()).unwrap_or(0),
         };
         Ok(view(
-            &t[self.instance_of(r, rep.light)],
+            &t[rep.copy_of(r) as usize],
             wgpu::TextureViewDimension::D2,
             mip.level(0),
             Some(layer),
@@ -331,22 +338,6 @@ impl<'a> Small<'a> {
             _ => return unsupported(format!("the draw of pass `{}`", pass.name)),
         }
         Ok(())
-    }
-
-    /// A per-light resource's instance for a light: its rank among the lights the resource
-    /// has instances for (casting ones for `casters_only`).
-    fn instance_of(&self, id: ResourceId, light: Option<u32>) -> usize {
-        let r = self.plan.res(id);
-        let has = |l: &lightbench::scene::Light| r.per_light.contains(&l.kind) && (!r.casters_only || l.shadows);
-        let Some(light) = light.filter(|_| !r.per_light.is_empty()) else {
-            return 0;
-        };
-        self.lights
-            .iter()
-            .enumerate()
-            .filter(|(_, l)| has(l))
-            .position(|(i, _)| i as u32 == light)
-            .unwrap_or(0)
     }
 
     /// The per-repetition block: its light, face, run, and the size the pass renders at.
@@ -573,11 +564,18 @@ fn texture_desc(
     }
 }
 
-/// A resource's instances as the Plan describes them.
-fn resource(d: &wgpu::Device, r: &lightbench_compiler::plan::PlanResource) -> Res<Held> {
-    if r.history || r.external || r.data {
-        return unsupported(format!("resource `{}` (history, external or data)", r.name));
+/// A resource's instances as the Plan describes them; a data resource's filled with the
+/// Plan's `contents`.
+fn resource(gpu: &Gpu, r: &lightbench_compiler::plan::PlanResource) -> Res<Held> {
+    if r.history || r.external {
+        return unsupported(format!("resource `{}` (history or external)", r.name));
     }
+    let d = &gpu.device;
+    let contents = match (r.data, &r.contents) {
+        (true, Some(bytes)) => Some(bytes.as_slice()),
+        (true, None) => return Err(format!("data resource `{}` without contents", r.name)),
+        (false, _) => None,
+    };
     let n = r.instances.max(1) as usize;
     Ok(match &r.shape {
         ResourceShape::Texture {
@@ -589,18 +587,26 @@ fn resource(d: &wgpu::Device, r: &lightbench_compiler::plan::PlanResource) -> Re
         } => {
             let usage = convert::usage(&r.usage) | wgpu::TextureUsages::COPY_SRC;
             let desc = texture_desc((extent.0, extent.1, *layers, *mips), convert::format(*format), usage);
-            Held::Textures((0..n).map(|_| d.create_texture(&desc)).collect())
+            let textures: Vec<_> = (0..n).map(|_| d.create_texture(&desc)).collect();
+            if let Some(bytes) = contents {
+                let layout = wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(extent.0 * format.bytes()),
+                    rows_per_image: Some(extent.1),
+                };
+                for t in &textures {
+                    gpu.queue.write_texture(t.as_image_copy(), bytes, layout, desc.size);
+                }
+            }
+            Held::Textures(textures)
         }
         ResourceShape::Buffer { size, .. } => Held::Buffers(
             (0..n)
                 .map(|_| {
                     let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
-                    d.create_buffer(&wgpu::BufferDescriptor {
-                        label: None,
-                        size: size.max(&4).div_ceil(4) * 4,
-                        usage,
-                        mapped_at_creation: false,
-                    })
+                    let mut bytes = contents.map(<[u8]>::to_vec).unwrap_or_default();
+                    bytes.resize((size.max(&4).div_ceil(4) * 4) as usize, 0);
+                    init(d, &bytes, usage)
                 })
                 .collect(),
         ),
@@ -678,11 +684,14 @@ fn rmse(a: &Image, b: &Image) -> f64 {
     (sum / a.rgba.len() as f64).sqrt()
 }
 
-/// The default pipeline's Plan for a built-in scene at 64², from `plan --json` only, rendered
-/// by the small executor: its linear image and its output equal the real executor's.
-fn renders_as_the_executor_does(scene_name: &str) {
+/// `pipeline`'s Plan with `variants` for a built-in scene at 64², from `plan --json` only,
+/// rendered by the small executor: its linear image and its output equal the real executor's.
+fn renders_as_the_executor_does(pipeline: &str, scene_name: &str, variants: &[(&str, &str)]) -> Plan {
+    let mut args = vec!["plan", pipeline, "--scene", scene_name, "--size", "64x64", "--json"];
+    let chosen: Vec<String> = variants.iter().map(|(v, o)| format!("{v}={o}")).collect();
+    chosen.iter().for_each(|c| args.extend(["--variant", c.as_str()]));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
-        .args(["plan", "pipelines/deferred.ron", "--scene", scene_name, "--size", "64x64", "--json"])
+        .args(&args)
         .current_dir(root())
         .output()
         .unwrap();
@@ -693,24 +702,91 @@ fn renders_as_the_executor_does(scene_name: &str) {
     let gpu = gpu();
     let small = Small::new(&gpu, &plan, &scene).unwrap_or_else(|e| panic!("{e}"));
     small.frame().unwrap_or_else(|e| panic!("{e}"));
-    let real = render_with(&gpu, &root().join("pipelines/deferred.ron"), &scene, &[], 1);
+    let real = render_with(&gpu, &root().join(pipeline), &scene, variants, 1);
     let hdr = rmse(&small.read("hdr"), &real.read_texture(&gpu, "hdr", 0, 0).unwrap());
     let output = rmse(&small.read(&plan.output_resource().name), &crate::gpu_common::output(&gpu, &real));
-    eprintln!("{scene_name}: {} passes, RMSE hdr {hdr:e}, output {output:e}", plan.passes.len());
+    eprintln!(
+        "{pipeline} {variants:?} on {scene_name}: {} passes, RMSE hdr {hdr:e}, output {output:e}",
+        plan.passes.len()
+    );
     assert!(hdr <= 1e-6 && output <= 1e-6, "{scene_name}: hdr {hdr}, output {output}");
     let lit = small.read("hdr").rgba.iter().filter(|v| **v > 0.01).count();
     assert!(
         lit > 1000,
         "{scene_name}: the image is lit ({lit} values), not two blank images agreeing"
     );
+    plan
+}
+
+/// The names of the Plan's data resources that carry their bytes.
+fn carried(plan: &Plan) -> Vec<&str> {
+    plan.resources
+        .iter()
+        .filter(|r| r.data && r.contents.as_ref().is_some_and(|c| c.len() as u64 == r.bytes))
+        .map(|r| r.name.as_str())
+        .collect()
 }
 
 #[test]
 fn a_plan_alone_renders_the_cornell_box_as_the_executor_does() {
-    renders_as_the_executor_does("cornell");
+    renders_as_the_executor_does("pipelines/deferred.ron", "cornell", &[]);
 }
 
 #[test]
 fn a_plan_alone_renders_many_lights_as_the_executor_does() {
-    renders_as_the_executor_does("many_lights");
+    renders_as_the_executor_does("pipelines/deferred.ron", "many_lights", &[]);
+}
+
+/// The LTC table (a `data` buffer) travels in the Plan: area lights render from the JSON.
+#[test]
+fn a_plan_alone_renders_area_lights_from_the_data_it_carries() {
+    let plan = renders_as_the_executor_does("pipelines/deferred.ron", "cornell_lamp", &[("area_lights", "ltc")]);
+    assert_eq!(carried(&plan), ["ltc"]);
+}
+
+/// SSAO's kernel and noise (`data` buffers) travel in the Plan.
+#[test]
+fn a_plan_alone_renders_ssao_from_the_data_it_carries() {
+    let step = root().join("scenes/step.ron");
+    let plan = renders_as_the_executor_does("pipelines/deferred_gi.ron", step.to_str().unwrap(), &[("ao", "ssao")]);
+    assert!(plan.pass("ssao").is_some(), "the scene calls for AO");
+    let carried = carried(&plan);
+    assert!(carried.contains(&"ssao.kernel") && carried.contains(&"ssao.noise"), "{carried:?}");
+}
+
+/// The executor runs the copies and data the Plan names, so a Plan whose copies name one its
+/// resource does not have, or whose data resource carries no bytes, is refused by name.
+#[test]
+fn a_plan_with_a_missing_copy_or_missing_data_is_refused_by_name() {
+    let gpu = gpu();
+    let compile = |scene: &lightbench::scene::Scene, variants: &[(String, String)]| {
+        lightbench::render::compile(&gpu, &root().join("pipelines/deferred.lbp"), None, scene, variants)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .0
+    };
+    let refusal = |exe, scene| lightbench::gpu::Executor::new(&gpu, exe, scene).err().expect("refused").to_string();
+
+    // The Cornell box's light casts shadows: its lighting pass binds copy 0 of its cube map.
+    let cornell = lightbench::scene::load::load_sized("cornell", Some((32, 32)), &[]).unwrap();
+    let mut exe = compile(&cornell, &[]);
+    let pass = exe.plan.passes.iter_mut().find(|p| p.name == "light_point").unwrap();
+    let copy = &mut pass.reps[0].copies[0];
+    copy.instance = 7;
+    let resource = exe.plan.resources[copy.resource.0 as usize].name.clone();
+    let err = refusal(&exe, &cornell);
+    assert!(
+        err.contains("pass `light_point` binds copy 7 of resource") && err.contains(&format!("`{resource}`, which has 1")),
+        "{err}"
+    );
+
+    let lamp = lightbench::scene::load::load_sized("cornell_lamp", Some((32, 32)), &[]).unwrap();
+    let mut exe = compile(&lamp, &[("area_lights".into(), "ltc".into())]);
+    let ltc = exe.plan.resources.iter_mut().find(|r| r.name == "ltc").unwrap();
+    assert!(ltc.contents.is_some());
+    ltc.contents = None;
+    let err = refusal(&exe, &lamp);
+    assert!(
+        err.contains("resource `ltc` is filled from data, but the Plan carries no `contents`"),
+        "{err}"
+    );
 }
