@@ -11,5 +11,6 @@ fn main() {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = lightbench::cli::Cli::parse();
+    lightbench::cli::progress::show_texture_progress();
     std::process::exit(lightbench::cli::run(cli));
 }

@@ -4,7 +4,7 @@
 use super::geometry::compute_normals;
 use super::{AlphaMode, ImageData, Light, Material, Mesh, SamplerDesc, Wrap, IDENTITY_UV};
 use crate::error::{Error, Result};
-use crate::texture_cache::{Got, Key, Texels, TextureCache};
+use crate::texture_cache::{Got, Key, Progress, Texels, TextureCache};
 use glam::{Mat4, Vec3};
 use lightbench_compiler::abi::Vertex;
 use std::path::Path;
@@ -83,11 +83,13 @@ fn decode_images(
         .collect::<std::result::Result<Vec<_>, _>>()?;
     let mut first = std::collections::HashMap::new();
     let firsts: Vec<usize> = keys.iter().enumerate().map(|(i, k)| *first.entry(*k).or_insert(i)).collect();
+    let progress = Counted::new(firsts.iter().enumerate().filter(|(i, f)| i == *f).count());
     let mut decoded: Vec<Option<(Texels, Got)>> = (0..images.len())
         .into_par_iter()
         .map(|i| {
             let decode = || decode(&images[i], base, buffers);
             let got = (firsts[i] == i).then(|| cache.get(keys[i], decode));
+            progress.count(got.as_ref());
             got.transpose().map_err(|e| format!("image {i}{}{e}", image_name(&images[i])))
         })
         .collect::<std::result::Result<Vec<_>, _>>()?;
@@ -112,6 +114,45 @@ fn decode_images(
         .collect::<Option<Vec<_>>>()
         .ok_or("an image was not decoded")?;
     Ok((texels, warnings))
+}
+
+/// Images done and decoded so far, told to the progress observer (`texture_cache::on_progress`).
+struct Counted {
+    total: usize,
+    done: std::sync::atomic::AtomicUsize,
+    decoded: std::sync::atomic::AtomicUsize,
+}
+
+impl Counted {
+    fn new(total: usize) -> Counted {
+        if total > 0 {
+            crate::texture_cache::report(Progress {
+                done: 0,
+                total,
+                decoded: 0,
+            });
+        }
+        let zero = || std::sync::atomic::AtomicUsize::new(0);
+        Counted {
+            total,
+            done: zero(),
+            decoded: zero(),
+        }
+    }
+
+    /// One image's outcome (`None`: a copy of another, not counted).
+    fn count(&self, got: Option<&std::result::Result<(Texels, Got), String>>) {
+        use std::sync::atomic::Ordering::SeqCst;
+        let Some(got) = got else { return };
+        let now = matches!(got, Ok((_, Got::Decoded | Got::NotKept(_))));
+        let decoded = self.decoded.fetch_add(now as usize, SeqCst) + now as usize;
+        let done = self.done.fetch_add(1, SeqCst) + 1;
+        crate::texture_cache::report(Progress {
+            done,
+            total: self.total,
+            decoded,
+        });
+    }
 }
 
 /// An image's encoded bytes and what chooses its decoder (its declared MIME type, else its

@@ -28,6 +28,32 @@ pub struct Texels {
     pub rgba: Vec<u8>,
 }
 
+/// How far a model's images have got: `done` of its `total` distinct images, `decoded` of
+/// them decoded now (the others read from the cache).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    pub done: usize,
+    pub total: usize,
+    pub decoded: usize,
+}
+
+/// Who is told of decoding progress: the application's, set once (a library draws nothing).
+static PROGRESS: std::sync::OnceLock<Box<dyn Fn(Progress) + Send + Sync>> = std::sync::OnceLock::new();
+
+/// Have `report` told how a model's image decoding goes — once with `done` 0, then after each
+/// image, from the decoding threads (so in any order) — to show progress. Set once per
+/// process; `false` if it was set already.
+pub fn on_progress(report: impl Fn(Progress) + Send + Sync + 'static) -> bool {
+    PROGRESS.set(Box::new(report)).is_ok()
+}
+
+/// Tell the progress observer, if there is one.
+pub(crate) fn report(p: Progress) {
+    if let Some(f) = PROGRESS.get() {
+        f(p);
+    }
+}
+
 /// Where decoded textures are kept, if anywhere.
 #[derive(Clone, Debug)]
 pub struct TextureCache {

@@ -4,6 +4,7 @@ mod check;
 mod convert;
 mod diff;
 pub mod plan;
+pub mod progress;
 mod reference;
 mod render;
 mod sweep;

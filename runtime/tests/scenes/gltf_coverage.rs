@@ -282,6 +282,53 @@ fn render_keeps_decoded_textures_where_the_environment_says() {
     assert!(err.contains("decoded textures are not kept for the next run"), "{err}");
 }
 
+/// The first run of a scene shows its texture decoding on a terminal (docs/scenes.md): a
+/// `textures` bar with what was decoded and what came from the cache; piped, nothing.
+#[test]
+fn texture_decoding_shows_progress_on_a_terminal_only() {
+    let d = scratch("texture-progress");
+    two_texels(&d, 255);
+    write_model(&d, &[(4, &[0, 1, 2, 0, 2, 3])], Some("two.png"));
+    let scene_path = scene_file(&d, "model.gltf");
+    let cache = d.join("cache");
+    let _ = std::fs::remove_dir_all(&cache);
+    let render = format!(
+        "'{}' render --pipeline pipelines/deferred.ron --scene '{}' --out '{}'",
+        env!("CARGO_BIN_EXE_lightbench"),
+        scene_path.display(),
+        d.join("frame.png").display()
+    );
+    // `script` runs the command on a pseudo-terminal and copies what it shows to stdout.
+    let on_terminal = || {
+        let out = std::process::Command::new("script")
+            .args(["-qec", &render, "/dev/null"])
+            .env("LIGHTBENCH_CACHE_DIR", &cache)
+            .current_dir(cli_common::root())
+            .output()
+            .expect("script (util-linux) runs a command on a terminal");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stdout));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let first = on_terminal();
+    assert!(
+        first.contains("textures") && first.contains("1/1 (1 decoded, 0 from the cache"),
+        "{first}"
+    );
+    let second = on_terminal();
+    assert!(second.contains("1/1 (0 decoded, 1 from the cache"), "{second}");
+    let piped = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
+        .args(["render", "--pipeline", "pipelines/deferred.ron", "--scene"])
+        .arg(&scene_path)
+        .arg("--out")
+        .arg(d.join("frame.png"))
+        .env("LIGHTBENCH_CACHE_DIR", d.join("another cache"))
+        .current_dir(cli_common::root())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&piped.stderr);
+    assert!(piped.status.success() && !err.contains("textures"), "{err}");
+}
+
 /// What planning reads of a scene (`features_in`: models' JSON only) is what it reads of the
 /// loaded scene: for every bundled scene file, built-in scene and model, a model whose pane
 /// blends, and an emissive one whose points are skipped (the same warnings and emitter lights).
