@@ -1,6 +1,7 @@
 //! Stage `reload`: hot reload while rendering. The pipeline file, every shader and include
-//! the compiler read for it, and the scene file are watched (`notify`, debounced); after a
-//! change the pipeline is compiled again (unchanged shader modules come from the workspace's
+//! the compiler read for it, and the scene file with its models and the files they refer to
+//! (buffers, images) are watched (`notify`, debounced); after a change the pipeline is
+//! compiled again (unchanged shader modules come from the workspace's
 //! cache) and the new Plan replaces the running one at a frame boundary. A compile error, or a
 //! shader wgpu rejects when building pipelines, leaves the last good Plan rendering and is
 //! reported; the next good save recovers.
@@ -188,6 +189,9 @@ pub struct Reloader {
     variants: Vec<(String, String)>,
     params: ParamValues,
     scene_file: Option<PathBuf>,
+    /// Every file the scene is read from (`scene_file`, its models and the files they refer
+    /// to): a change to any reloads the scene.
+    scene_files: Vec<PathBuf>,
     /// The size rendered at: a reloaded scene file keeps it (it may come from `--size`).
     size: (u32, u32),
     features: lightbench_compiler::scene::SceneFeatures,
@@ -225,6 +229,7 @@ impl Reloader {
             variants: variants.to_vec(),
             params: ParamValues::new(),
             scene_file: scene_file.map(absolute),
+            scene_files: vec![],
             size: scene.size,
             features: scene.features(),
             added_effects: vec![],
@@ -232,6 +237,7 @@ impl Reloader {
             last_error: None,
         };
         let exe = r.compile(gpu).map_err(Error::Compile)?;
+        r.scene_files = r.read_scene_files();
         r.watch_files(&exe)?;
         Ok((r, exe))
     }
@@ -259,8 +265,21 @@ impl Reloader {
     fn watch_files(&mut self, exe: &Executable) -> Result<()> {
         let mut files: Vec<PathBuf> = exe.files.iter().cloned().collect();
         files.push(self.pipeline.clone());
-        files.extend(self.scene_file.clone());
+        files.extend(self.scene_files.iter().cloned());
         self.watch.set_files(files)
+    }
+
+    /// The files the scene file is read from now (its models may have changed).
+    fn read_scene_files(&self) -> Vec<PathBuf> {
+        let Some(f) = &self.scene_file else { return vec![] };
+        let mut files: Vec<PathBuf> = lightbench_scene::load::files_of(&f.display().to_string())
+            .iter()
+            .map(|p| absolute(p))
+            .collect();
+        if !files.contains(f) {
+            files.insert(0, f.clone());
+        }
+        files
     }
 
     /// Compile and plan again; `Err` holds the diagnostics as `check` renders them.
@@ -286,7 +305,8 @@ impl Reloader {
         }
         let (changed, since) = self.watch.changed(timeout)?;
         let files: Vec<PathBuf> = changed.iter().cloned().collect();
-        let scene = match self.scene_file.as_ref().filter(|f| changed.contains(*f)) {
+        let scene_changed = self.scene_files.iter().any(|f| changed.contains(f));
+        let scene = match self.scene_file.as_ref().filter(|_| scene_changed) {
             Some(f) => match lightbench_scene::load(&f.display().to_string()) {
                 Ok(mut s) => {
                     s.size = self.size;
@@ -299,6 +319,8 @@ impl Reloader {
         };
         if let Some(s) = &scene {
             self.features = s.features();
+            // The scene may name other models now.
+            self.scene_files = self.read_scene_files();
         }
         let start = Instant::now();
         let exe = match self.compile(gpu) {

@@ -603,9 +603,19 @@ fn unreadable(path: &Path, e: std::io::Error) -> String {
     format!("`{}`: {e}", path.display())
 }
 
-/// Buffers and images named by file URI (not `data:`), checked before the importer opens
-/// them, so that a missing or special file is named (the importer says only "not found").
-fn referenced_files(gltf: &gltf::Gltf, path: &Path) -> std::result::Result<(), String> {
+/// The model file and the files it refers to (external buffers and images): what a watcher
+/// watches for it. A model whose JSON cannot be read is its file alone (loading it says why).
+pub fn files(path: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = vec![path.to_path_buf()];
+    let Ok(bytes) = json_bytes(path) else { return out };
+    if let Ok(gltf) = gltf::Gltf::from_slice_without_validation(&bytes) {
+        out.extend(referenced(&gltf, path).into_iter().map(|(_, _, file)| file));
+    }
+    out
+}
+
+/// Buffers and images named by file URI (not `data:`): what each is, its index, its file.
+fn referenced(gltf: &gltf::Gltf, path: &Path) -> Vec<(&'static str, usize, std::path::PathBuf)> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let buffers = gltf.buffers().filter_map(|b| match b.source() {
         gltf::buffer::Source::Uri(u) => Some(("buffer", b.index(), u)),
@@ -615,8 +625,17 @@ fn referenced_files(gltf: &gltf::Gltf, path: &Path) -> std::result::Result<(), S
         gltf::image::Source::Uri { uri, .. } => Some(("image", i.index(), uri)),
         gltf::image::Source::View { .. } => None,
     });
-    for (what, index, uri) in buffers.chain(images).filter(|(_, _, u)| !u.starts_with("data:")) {
-        let file = dir.join(percent_decode(uri));
+    buffers
+        .chain(images)
+        .filter(|(_, _, u)| !u.starts_with("data:"))
+        .map(|(what, index, uri)| (what, index, dir.join(percent_decode(uri))))
+        .collect()
+}
+
+/// Buffers and images named by file URI (not `data:`), checked before the importer opens
+/// them, so that a missing or special file is named (the importer says only "not found").
+fn referenced_files(gltf: &gltf::Gltf, path: &Path) -> std::result::Result<(), String> {
+    for (what, index, file) in referenced(gltf, path) {
         if !file.exists() {
             return Err(format!("{what} {index} refers to `{}`, which does not exist", file.display()));
         }

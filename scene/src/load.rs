@@ -42,6 +42,26 @@ pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> R
     Ok(scene)
 }
 
+/// Every file the scene `spec` is read from: a scene file, each of its models and the files
+/// they refer to (external buffers and images) — what `--watch` and the viewer watch. A
+/// built-in scene has none; a description that does not load lists what it can.
+pub fn files_of(spec: &str) -> Vec<std::path::PathBuf> {
+    let mut out: Vec<std::path::PathBuf> = vec![];
+    let path = std::path::Path::new(spec);
+    if path.is_file() {
+        out.push(path.to_path_buf());
+    }
+    let mut s = Session::new();
+    if let Some(desc) = s.load_scene(spec) {
+        for f in desc.models.iter().flat_map(|m| gltf_load::files(&m.file)) {
+            if !out.contains(&f) {
+                out.push(f);
+            }
+        }
+    }
+    out
+}
+
 /// What planning needs of the scene `spec` names — its features — read without its geometry
 /// or textures: the description, its built-in meshes (small) and each model's JSON
 /// (`gltf_load::outline`). `check --scene` and `plan --scene` read scenes so; a model that

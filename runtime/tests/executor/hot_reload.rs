@@ -235,6 +235,45 @@ fn an_edited_scene_file_reloads_the_scene() {
     assert_eq!(r.hdr_mean(&g), after);
 }
 
+/// A scene's models are watched too, and the files they refer to: a model edited in place
+/// (here the ground's colour, darker) reloads the scene, and a model's external buffer is
+/// among the files watched.
+#[test]
+fn an_edited_model_reloads_the_scene() {
+    let g = gpu();
+    let dir = project("model");
+    let file = dir.join("scenes/sun_only.ron");
+    let watched = lightbench::scene::load::files_of(file.to_str().unwrap());
+    let names: Vec<_> = watched.iter().filter_map(|f| f.file_name()?.to_str()).collect();
+    assert_eq!(names, ["sun_only.ron", "ground.gltf", "chair.gltf"], "{watched:?}");
+    let mut scene = lightbench::scene::load(file.to_str().unwrap()).unwrap();
+    scene.size = (32, 32);
+    let (reloader, exe) = Reloader::new(&g, (&dir.join("pipelines/deferred.ron"), None), (&scene, Some(file.as_path())), &[]).unwrap();
+    let ex = Executor::new(&g, &exe, &scene).unwrap();
+    let mut r = Running { reloader, ex };
+    let before = r.hdr_mean(&g);
+    let ground = dir.join("scenes/ground.gltf");
+    let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&ground).unwrap()).unwrap();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = serde_json::json!([0.05, 0.05, 0.05, 1.0]);
+    std::fs::write(&ground, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+    r.until(&g, reloaded);
+    assert_eq!(r.ex.scene_uploads(), 2, "the scene was loaded and uploaded again");
+    let after = r.hdr_mean(&g);
+    assert!(after < before * 0.9, "{before} -> {after}");
+
+    // A model whose buffer is a file of its own: that file is watched too.
+    use base64::Engine;
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(uri.split_once(',').unwrap().1)
+        .unwrap();
+    std::fs::write(dir.join("scenes/ground.bin"), bytes).unwrap();
+    doc["buffers"][0]["uri"] = serde_json::json!("ground.bin");
+    std::fs::write(&ground, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+    let watched = lightbench::scene::load::files_of(file.to_str().unwrap());
+    assert!(watched.iter().any(|f| f.ends_with("scenes/ground.bin")), "{watched:?}");
+}
+
 /// A pipeline that uses another reloads when the used file is edited: `deferred_gi.ron` uses
 /// `deferred.ron`, whose ambient light is made ten times brighter.
 #[test]
