@@ -346,3 +346,46 @@ fn the_bench_figures_script_writes_each_bench_under_its_name() {
     assert_eq!(std::fs::read_to_string(&out).unwrap(), text, "left as it was");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Errors by crate: each library crate defines its own error type (`src/error.rs`, re-exported
+/// from its root) and re-exports no other crate's as its own; none of them says how a program
+/// exits or what a usage error is — that mapping is the application's alone
+/// (`runtime/src/error.rs`, `Error::exit_code`).
+#[test]
+fn each_library_crate_has_its_own_error_type_and_no_exit_codes() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    for krate in ["scene", "executor", "reference"] {
+        let src = root.join(krate).join("src");
+        let error = std::fs::read_to_string(src.join("error.rs")).unwrap();
+        assert!(error.contains("pub enum Error {"), "{krate}: no error type of its own");
+        let lib = std::fs::read_to_string(src.join("lib.rs")).unwrap();
+        assert!(
+            lib.contains("pub use error::{Error, Result};"),
+            "{krate}: its root does not export its error type"
+        );
+        for line in lib.lines().filter(|l| l.starts_with("pub use lightbench_")) {
+            assert!(!line.contains("Error"), "{krate} re-exports another crate's error type: {line}");
+        }
+        for (m, file) in modules(&src) {
+            let text = std::fs::read_to_string(&file).unwrap();
+            for (i, line) in text.lines().enumerate() {
+                let l = line.to_lowercase();
+                let said = ["exit code", "usage error", "exit 1", "exit 2", "(exit "]
+                    .iter()
+                    .find(|w| l.contains(*w));
+                assert!(
+                    said.is_none(),
+                    "{krate}::{}:{}: `{}` is the application's to say: {line}",
+                    m.join("::"),
+                    i + 1,
+                    said.unwrap()
+                );
+            }
+        }
+    }
+    let app = std::fs::read_to_string(root.join("runtime/src/error.rs")).unwrap();
+    assert!(
+        app.contains("pub fn exit_code(&self) -> i32"),
+        "the application maps errors to exit codes"
+    );
+}

@@ -8,8 +8,11 @@
 //! From the repository root; default `pipelines/deferred.lbp` on the built-in Cornell box.
 //! `--frames N` closes after N frames; `--screenshot` writes the last swap-chain image.
 
+mod common;
+
+use common::{HostError, Result};
 use lightbench_executor::reload::{Outcome, Reloader};
-use lightbench_executor::{device, Error, Executor, Gpu, HostOptions, Result};
+use lightbench_executor::{device, Error, Executor, Gpu, HostOptions};
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -73,7 +76,7 @@ fn main() {
         result: Ok(()),
     };
     if let Err(e) = event_loop.run_app(&mut app) {
-        app.result = Err(Error::Usage(format!("event loop: {e}")));
+        app.result = Err(HostError::Host(format!("event loop: {e}")));
     }
     if let Err(e) = app.result {
         eprintln!("error: {e}");
@@ -89,14 +92,14 @@ fn options() -> Result<Options> {
     };
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
-        let mut value = |what: &str| args.next().ok_or_else(|| Error::Usage(format!("{a} needs {what}")));
+        let mut value = |what: &str| args.next().ok_or_else(|| HostError::Usage(format!("{a} needs {what}")));
         match a.as_str() {
             "--frames" => {
                 let n = value("a count")?;
-                opts.frames = Some(n.parse().map_err(|_| Error::Usage(format!("--frames {n}: not a count")))?);
+                opts.frames = Some(n.parse().map_err(|_| HostError::Usage(format!("--frames {n}: not a count")))?);
             }
             "--screenshot" => opts.screenshot = Some(PathBuf::from(value("a file")?)),
-            _ if a.starts_with('-') => return Err(Error::Usage(format!("unknown option {a}"))),
+            _ if a.starts_with('-') => return Err(HostError::Usage(format!("unknown option {a}"))),
             _ => opts.pipeline = PathBuf::from(a),
         }
     }
@@ -149,20 +152,20 @@ impl Host {
         let attrs = Window::default_attributes()
             .with_title("lightbench embedded")
             .with_inner_size(winit::dpi::PhysicalSize::new(w, h));
-        let window = Arc::new(el.create_window(attrs).map_err(|e| Error::Usage(format!("window: {e}")))?);
+        let window = Arc::new(el.create_window(attrs).map_err(|e| HostError::Host(format!("window: {e}")))?);
 
         // The host's instance, surface, adapter and device.
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
         let surface = instance
             .create_surface(window.clone())
-            .map_err(|e| Error::Adapter(format!("surface: {e}")))?;
+            .map_err(|e| HostError::Host(format!("surface: {e}")))?;
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             compatible_surface: Some(&surface),
             ..Default::default()
         }))
-        .map_err(|e| Error::Adapter(format!("no adapter for the window: {e}")))?;
+        .map_err(|e| HostError::Host(format!("no adapter for the window: {e}")))?;
         let (dev, queue) = pollster::block_on(adapter.request_device(&device::device_descriptor(&adapter)))
-            .map_err(|e| Error::Adapter(format!("no device: {e}")))?;
+            .map_err(|e| HostError::Host(format!("no device: {e}")))?;
         let config = surface_config(&surface, &adapter, (w, h))?;
         surface.configure(&dev, &config);
         let gpu = Gpu::from_host(adapter, dev, queue, HostOptions { probe: true })?;
@@ -257,7 +260,7 @@ impl Host {
 fn surface_config(surface: &wgpu::Surface, adapter: &wgpu::Adapter, (w, h): (u32, u32)) -> Result<wgpu::SurfaceConfiguration> {
     let mut config = surface
         .get_default_config(adapter, w, h)
-        .ok_or_else(|| Error::Adapter("the surface is not supported by the adapter".into()))?;
+        .ok_or_else(|| HostError::Host("the surface is not supported by the adapter".into()))?;
     let caps = surface.get_capabilities(adapter);
     if let Some(srgb) = caps.formats.iter().copied().find(|f| f.is_srgb()) {
         config.format = srgb;
@@ -366,5 +369,5 @@ fn save_png(dev: &wgpu::Device, buffer: &wgpu::Buffer, tex: &wgpu::Texture, path
         rgba,
         srgb: true,
     };
-    image.save(path)
+    Ok(image.save(path)?)
 }

@@ -10,8 +10,9 @@
 
 mod common;
 
+use common::{HostError, Result};
 use lightbench_executor::render::compile;
-use lightbench_executor::{Executor, Result};
+use lightbench_executor::Executor;
 use std::path::PathBuf;
 
 fn main() {
@@ -50,7 +51,7 @@ fn run() -> Result<()> {
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32)> {
-    let bad = || lightbench_executor::Error::Usage(format!("size `{s}`: expected WxH, e.g. 128x128"));
+    let bad = || HostError::Usage(format!("size `{s}`: expected WxH, e.g. 128x128"));
     let (w, h) = s.split_once('x').ok_or_else(bad)?;
     Ok((w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?))
 }

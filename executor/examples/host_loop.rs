@@ -14,10 +14,11 @@
 
 mod common;
 
+use common::{HostError, Result};
 use glam::Vec3;
 use lightbench_executor::render::compile;
 use lightbench_executor::scene::math::{look_to, perspective};
-use lightbench_executor::{CameraMatrices, Executor, ParamValue, Result};
+use lightbench_executor::{CameraMatrices, Executor, ParamValue};
 use std::path::{Path, PathBuf};
 
 fn main() {
@@ -27,16 +28,14 @@ fn main() {
 fn run() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (Some(first_png), Some(last_png)) = (args.first().map(PathBuf::from), args.get(1).map(PathBuf::from)) else {
-        return Err(lightbench_executor::Error::Usage(
-            "usage: host_loop FIRST.png LAST.png [FRAMES]".into(),
-        ));
+        return Err(HostError::Usage("usage: host_loop FIRST.png LAST.png [FRAMES]".into()));
     };
     let frames: u32 = match args.get(2) {
         Some(n) => n
             .parse()
             .ok()
             .filter(|n| *n >= 2)
-            .ok_or_else(|| lightbench_executor::Error::Usage(format!("FRAMES `{n}`: expected a whole number of at least 2")))?,
+            .ok_or_else(|| HostError::Usage(format!("FRAMES `{n}`: expected a whole number of at least 2")))?,
         None => 8,
     };
     let scene = lightbench_executor::scene::load::load_sized("cornell", Some((64, 64)), &[])?;

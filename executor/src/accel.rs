@@ -6,9 +6,9 @@
 //! own).
 
 use super::scene_gpu::{check_buffer, MeshGpu};
+use crate::error::{Error, Result};
 use bytemuck::Zeroable;
 use lightbench_compiler::abi::{HitCorners, HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::{Mesh, Scene};
 use wgpu::util::DeviceExt;
 
@@ -100,28 +100,28 @@ fn first_triangles(meshes: &[MeshGpu], list: &[usize]) -> Vec<u64> {
 /// traced meshes' names and triangle counts.
 fn check_limits(limits: &wgpu::Limits, scene: &str, meshes: &[(&str, u64)]) -> Result<()> {
     if meshes.is_empty() {
-        return Err(Error::Scene(format!(
+        return Err(Error::scene(format!(
             "scene `{scene}` has no triangles to trace rays against (the pipeline reads an acceleration structure; choose its raster option)"
         )));
     }
     let mut first = 0u64;
     for (name, tris) in meshes {
         if first >= MAX_FIRST_TRIANGLE {
-            return Err(Error::Scene(format!(
+            return Err(Error::scene(format!(
                 "mesh `{name}` of scene `{scene}` begins at traced triangle {first}, beyond the {MAX_FIRST_TRIANGLE} a ray hit can name (24-bit instance index)"
             )));
         }
         first += tris;
     }
     if meshes.len() as u64 > limits.max_tlas_instance_count as u64 {
-        return Err(Error::Scene(format!(
+        return Err(Error::scene(format!(
             "scene `{scene}` has {} meshes to trace, over this device's limit of {} acceleration-structure instances (max_tlas_instance_count)",
             meshes.len(),
             limits.max_tlas_instance_count
         )));
     }
     if let Some((name, tris)) = meshes.iter().find(|m| m.1 > limits.max_blas_primitive_count as u64) {
-        return Err(Error::Scene(format!(
+        return Err(Error::scene(format!(
             "mesh `{name}` of scene `{scene}` has {tris} triangles, over this device's limit of {} per acceleration structure (max_blas_primitive_count)",
             limits.max_blas_primitive_count
         )));

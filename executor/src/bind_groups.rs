@@ -5,11 +5,11 @@
 use super::pool::Pool;
 use super::scene_gpu::SceneGpu;
 use super::{convert, Gpu};
+use crate::error::{Error, Result};
 use lightbench_compiler::abi::InstanceBlock;
 use lightbench_compiler::ir::{LayerSel, MipSel};
 use lightbench_compiler::layout::{BindSource, BindingType, DrawSlot};
 use lightbench_compiler::plan::{Plan, PlanBindGroup, PlanPass, PlanRep, ResourceId};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::Light;
 
 /// Instance slots are 256 bytes apart (the uniform offset alignment).

@@ -1,8 +1,8 @@
 //! Adapter and device: pick an adapter, request the features the pipelines can use, and
 //! derive the capability profile the compiler checks variants against.
 
+use crate::error::{Error, Result};
 use lightbench_compiler::profile::{Feature, Limits, Profile};
-use lightbench_scene::error::{Error, Result};
 use std::sync::{Arc, Mutex};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -25,11 +25,11 @@ use super::reuse::{Graph, Reuse};
 use super::scene_gpu::SceneGpu;
 use super::timing::{PassTiming, Timer};
 use super::{convert, err_scope, Gpu};
+use crate::error::{Error, Result};
 use lightbench_compiler::abi::{FrameBlock, LightBlock};
 use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::plan::{ParamValues, Plan, PlanSampler};
 use lightbench_compiler::Executable;
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::{Camera, Light, Scene};
 use std::sync::Arc;
 
@@ -434,7 +434,7 @@ impl Executor {
         // A parameter the Plan fixes needs a new Plan.
         if let Some(sized) = self.fixed_param(name) {
             if *sized != value {
-                return Err(Error::Usage(format!(
+                return Err(Error::Request(format!(
                     "parameter `{name}` is fixed by the Plan (it sizes resources, repeats a pass or sets a shader constant; this Plan uses {}): plan again with the new value (render --param, or Executor::replace with an Executable compiled for it)",
                     sized.describe()
                 )));

@@ -6,17 +6,17 @@
 //! (`lightbench_compiler::data`), so `check` accepts exactly what is uploaded here.
 
 use super::Executor;
+use crate::error::{Error, Result};
 use crate::Gpu;
 use lightbench_compiler::data::{self, TextureShape};
 use lightbench_compiler::plan::{PlanResource, ResourceShape};
-use lightbench_scene::error::{Error, Result};
 use std::path::Path;
 
 impl Executor {
     /// Fill external resource `name` from `file`.
     pub fn load_input(&mut self, gpu: &Gpu, name: &str, file: &Path) -> Result<()> {
         let res = self.external(name, "--input")?;
-        // The file's content (wrong size, format, a number beyond f32): bad input, exit 1.
+        // The file's content (wrong size, format, a number beyond f32): bad input.
         let bad = |e: String| Error::Input(format!("--input `{name}`: {} {e}", file.display()));
         let raw = lightbench_compiler::vfs::read_bytes(file, lightbench_compiler::vfs::MAX_FILE_BYTES).map_err(|e| Error::io(file, e))?;
         let bytes = match res.shape {
@@ -70,12 +70,12 @@ impl Executor {
         let res = self
             .plan()
             .resource(name)
-            .ok_or_else(|| Error::Usage(format!("{what} `{name}`: no such resource")))?;
+            .ok_or_else(|| Error::Request(format!("{what} `{name}`: no such resource")))?;
         if !res.external {
-            return Err(Error::Usage(format!("{what} `{name}`: the resource is not `external: true`")));
+            return Err(Error::Request(format!("{what} `{name}`: the resource is not `external: true`")));
         }
         if !res.per_light.is_empty() {
-            return Err(Error::Usage(format!(
+            return Err(Error::Request(format!(
                 "{what} `{name}`: per-light external resources cannot be supplied yet"
             )));
         }
@@ -137,7 +137,7 @@ impl Executor {
 }
 
 fn built_from_the_scene(what: &str, name: &str) -> Error {
-    Error::Usage(format!("{what} `{name}`: an acceleration structure is built from the scene"))
+    Error::Request(format!("{what} `{name}`: an acceleration structure is built from the scene"))
 }
 
 fn write_texture(gpu: &Gpu, t: &wgpu::Texture, bytes: &[u8], texel: u32, (w, h): (u32, u32), layers: u32) {

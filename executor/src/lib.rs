@@ -43,6 +43,7 @@ mod bind_groups;
 pub mod convert;
 pub mod device;
 mod encode;
+pub mod error;
 pub mod executor;
 mod inputs;
 pub mod light_volumes;
@@ -64,7 +65,8 @@ pub use executor::{halton_jitter, CameraMatrices, Executor, FrameInputs, Part, R
 pub use lightbench_compiler::ir::ParamValue;
 pub use timing::PassTiming;
 
-pub use lightbench_scene::{self as scene, Error, Result};
+pub use error::{Error, Result};
+pub use lightbench_scene as scene;
 
 /// Run `f` inside error scopes for every error kind and report the first error with `what`.
 pub(crate) fn err_scope<T>(gpu: &Gpu, what: &str, f: impl FnOnce() -> T) -> Result<T> {

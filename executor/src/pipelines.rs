@@ -3,13 +3,13 @@
 //! fixed-function state are all unchanged, so a hot reload rebuilds only what an edit touched.
 
 use super::convert;
+use crate::error::{Error, Result};
 use lightbench_compiler::abi::Vertex;
 use lightbench_compiler::format::TextureFormat;
 use lightbench_compiler::ir::{Blend, CompareFn, CullMode, Draw, Stage};
 use lightbench_compiler::layout::BindingType;
 use lightbench_compiler::plan::{PlanPass, Work};
 use lightbench_compiler::shader::ShaderModule;
-use lightbench_scene::error::{Error, Result};
 use std::collections::HashMap;
 use std::num::NonZeroU32;
 use std::sync::Arc;

@@ -1,7 +1,7 @@
 //! Reading textures and buffers back to the CPU as f32 values.
 
 use super::Gpu;
-use lightbench_scene::error::{Error, Result};
+use crate::error::{Error, Result};
 use lightbench_scene::io::Image;
 
 fn texel_bytes(f: wgpu::TextureFormat) -> Result<u32> {

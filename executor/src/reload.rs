@@ -12,10 +12,10 @@
 //! editor's project sync): each poll compares every watched folder's file id with the one
 //! watched, and watches a replaced folder anew, its files counting as changed.
 
+use crate::error::{Error, Result};
 use crate::{Executor, Gpu, ReloadReport};
 use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::{Executable, Workspace};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::Scene;
 use notify_debouncer_full::file_id::{get_file_id, FileId};
 use notify_debouncer_full::notify::{RecommendedWatcher, RecursiveMode};
@@ -62,7 +62,7 @@ fn folder_id(d: &Path) -> Option<FileId> {
 impl Watch {
     fn new() -> Result<Watch> {
         let (tx, rx) = std::sync::mpsc::channel();
-        let debouncer = new_debouncer(DEBOUNCE, Some(TICK), tx).map_err(|e| Error::Usage(format!("cannot watch files: {e}")))?;
+        let debouncer = new_debouncer(DEBOUNCE, Some(TICK), tx).map_err(|e| Error::Request(format!("cannot watch files: {e}")))?;
         Ok(Watch {
             debouncer,
             rx,

@@ -1,11 +1,11 @@
 //! Compile a pipeline for a scene on a live device and render it: the path every command
 //! and test that draws goes through.
 
+use crate::error::{Error, Result};
 use crate::{Executor, Gpu};
 use lightbench_compiler::ir::ParamValue;
 use lightbench_compiler::plan::ParamValues;
 use lightbench_compiler::{Executable, Workspace};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::Scene;
 use std::path::Path;
 
@@ -43,8 +43,8 @@ pub fn compile_with(
     }
 }
 
-/// A compilation that failed only because a `--variant` asked for a variant or option the
-/// pipeline does not have: a usage error (exit 2, as a `--param` typo is), one line each.
+/// A compilation that failed only because variants or options were asked for that the
+/// pipeline does not have: `Error::Variant`, a message each.
 pub fn request_error(s: &lightbench_compiler::Session) -> Option<Error> {
     use lightbench_compiler::diag::{Code, Severity};
     let errors: Vec<_> = s.diags.list.iter().filter(|d| d.severity == Severity::Error).collect();
@@ -57,13 +57,13 @@ pub fn request_error(s: &lightbench_compiler::Session) -> Option<Error> {
     let lines: Vec<String> = errors
         .iter()
         .map(|d| {
-            std::iter::once(format!("--variant: {}", d.message))
+            std::iter::once(d.message.clone())
                 .chain(d.notes.iter().cloned())
                 .collect::<Vec<_>>()
                 .join("; ")
         })
         .collect();
-    Some(Error::Usage(lines.join("\n")))
+    Some(Error::Variant(lines))
 }
 
 /// `compile_in` a workspace of its own, reading the disk.
@@ -159,7 +159,7 @@ pub fn render_scene(
     Ok(ex)
 }
 
-/// Parsed `--param` values as overrides (for planning: sizes may depend on them).
+/// Parsed parameter values as overrides (for planning: sizes may depend on them).
 pub fn param_values(plan: &lightbench_compiler::plan::Plan, parsed: &[(String, ParamValue)]) -> Result<ParamValues> {
     let mut v = ParamValues::new();
     for (name, value) in parsed {
@@ -168,53 +168,13 @@ pub fn param_values(plan: &lightbench_compiler::plan::Plan, parsed: &[(String, P
     Ok(v)
 }
 
-/// `--param NAME=VALUE` texts as typed values of the Plan's parameters (unknown names get a
-/// suggestion; ranges are checked when they are set).
+/// Parameter values written as text (`NAME`, `VALUE`) as typed values of the Plan's
+/// parameters: `Error::Param` for an unknown name (with the nearest one) or a value of the
+/// wrong type or outside the range.
 pub fn parse_params(plan: &lightbench_compiler::plan::Plan, args: &[(String, String)]) -> Result<Vec<(String, ParamValue)>> {
-    use lightbench_compiler::plan::{ParamError, ParamValues};
     let mut out = vec![];
     for (name, text) in args {
-        let value = ParamValues::parse_text(&plan.params, name, text).map_err(|e| match e {
-            ParamError::Unknown { suggestion, .. } => {
-                let hint = suggestion.map(|m| format!(" (did you mean `{m}`?)")).unwrap_or_default();
-                Error::Usage(format!("--param `{name}`: the pipeline has no such parameter{hint}"))
-            }
-            e => Error::Usage(format!("--param: {e}")),
-        })?;
-        out.push((name.clone(), value));
+        out.push((name.clone(), ParamValues::parse_text(&plan.params, name, text)?));
     }
     Ok(out)
-}
-
-/// What a command says once about a Plan's effects: those the pipeline serves that the scene
-/// does not call for, and how to ask for them (a model rendered on its own otherwise silently
-/// does no GI); and those the scene calls for that no kept pass serves, with why.
-pub fn effect_notes(plan: &lightbench_compiler::plan::Plan) -> Vec<String> {
-    let unserved = plan.unserved_effects.iter().map(|u| {
-        format!(
-            "note: {}: the scene `{}` calls for {}, but every pass serving it is culled: `{}` {}",
-            plan.pipeline,
-            plan.scene,
-            u.effect.name(),
-            u.pass,
-            u.reason
-        )
-    });
-    uncalled_effects_note(plan).into_iter().chain(unserved).collect()
-}
-
-fn uncalled_effects_note(plan: &lightbench_compiler::plan::Plan) -> Option<String> {
-    if plan.uncalled_effects.is_empty() {
-        return None;
-    }
-    let names: Vec<&str> = plan.uncalled_effects.iter().map(|e| e.name()).collect();
-    let flags: Vec<String> = names.iter().map(|n| format!("--effect {n}")).collect();
-    Some(format!(
-        "note: {}: the passes for {} are culled: the scene `{}` does not call for {}; add {} to run them",
-        plan.pipeline,
-        names.join(", "),
-        plan.scene,
-        if names.len() == 1 { "it" } else { "them" },
-        flags.join(" ")
-    ))
 }

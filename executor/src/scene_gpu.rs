@@ -1,8 +1,8 @@
 //! The scene on the GPU: vertex and index buffers, per-mesh and per-material blocks and
 //! textures, ready to be bound in `draw: Scene` passes.
 
+use crate::error::{Error, Result};
 use lightbench_compiler::abi::{AreaLightBlock, HitMaterial, MaterialBlock, MeshBlock, NO_MAP};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::io::{linear_to_srgb, srgb_to_linear};
 use lightbench_scene::{AlphaMode, Material, SamplerDesc, Scene, Wrap};
 use wgpu::util::DeviceExt;
@@ -180,7 +180,7 @@ fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<light
     let (mut textures, mut means) = (vec![], vec![]);
     for (i, t) in images.into_iter().enumerate() {
         if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
-            return Err(Error::Scene(format!(
+            return Err(Error::scene(format!(
                 "texture {i} has {} bytes for {}×{}",
                 t.rgba.len(),
                 t.width,
@@ -257,7 +257,7 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
     let mut out = vec![];
     for (index, m) in scene.meshes.iter().enumerate() {
         let Some(material) = scene.materials.get(m.material) else {
-            return Err(Error::Scene(format!(
+            return Err(Error::scene(format!(
                 "mesh `{}` uses material {} of {}",
                 m.name,
                 m.material,
@@ -318,7 +318,7 @@ pub fn check_buffer(device: &wgpu::Device, what: impl FnOnce() -> String, bytes:
         return Ok(());
     }
     let mib = |b: u64| b as f64 / (1024.0 * 1024.0);
-    Err(Error::Scene(format!(
+    Err(Error::scene(format!(
         "{} needs {:.1} MiB ({bytes} bytes), over this device's {limit} of {:.1} MiB",
         what(),
         mib(bytes),
@@ -545,7 +545,7 @@ impl SceneGpu {
         let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
         let meshes = meshes(device, scene)?;
         let triangle_count = u32::try_from(triangle_count(scene))
-            .map_err(|_| Error::Scene(format!("scene `{}` draws more than 2³² triangles", scene.name)))?;
+            .map_err(|_| Error::scene(format!("scene `{}` draws more than 2³² triangles", scene.name)))?;
         let mut samplers: Vec<wgpu::Sampler> = sampler_descs.iter().map(|d| sampler(device, d)).collect();
         if samplers.is_empty() {
             samplers.push(sampler(device, &SamplerDesc::default()));

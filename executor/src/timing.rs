@@ -5,7 +5,7 @@
 //! figures arrive a frame or two later — for interactive use).
 
 use super::Gpu;
-use lightbench_scene::error::{Error, Result};
+use crate::error::{Error, Result};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 

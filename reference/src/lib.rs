@@ -7,6 +7,8 @@
 
 mod bvh;
 pub mod emitters;
+pub mod error;
+pub use error::{Error, Result};
 pub mod integrate;
 pub mod ltc;
 pub mod sample;

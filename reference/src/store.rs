@@ -4,8 +4,8 @@
 //! a hash of the scene and the settings, so that a rerun, or a sweep asking again, reuses it.
 
 use super::{Reference, Settings, Term, TermImage};
+use crate::error::{Error, Result};
 use lightbench_compiler::vfs;
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::io::Image;
 use lightbench_scene::Scene;
 use serde::{Deserialize, Serialize};
@@ -121,7 +121,7 @@ pub fn write_on(r: &Reference, scene: &Scene, (s, device): (&Settings, &Device),
         reached: r.reached,
     };
     let text = serde_json::to_string_pretty(&m).map_err(|e| Error::io(dir, e))?;
-    lightbench_scene::io::write_atomic(&dir.join(MANIFEST), text.as_bytes())
+    Ok(lightbench_scene::io::write_atomic(&dir.join(MANIFEST), text.as_bytes())?)
 }
 
 /// A PNG to look at: radiance mapped by L/(1+L) (AO as it is).
@@ -208,14 +208,15 @@ pub fn cached(scene: &Scene, s: &Settings, dir: &Path, progress: bool) -> Result
     cached_on(scene, (s, &Device::Cpu), dir, || render_cpu(scene, s, progress))
 }
 
-/// The reference for `scene` and `s` made on `device` from `dir`, else made by `render` and
-/// written there; `true` with it: it was rendered now.
-pub fn cached_on(
+/// The reference for `scene` and `s` made on `device` from `dir`, else made by `render`
+/// (whose errors are the caller's type, which takes this crate's) and written there; `true`
+/// with it: it was rendered now.
+pub fn cached_on<E: From<Error>>(
     scene: &Scene,
     (s, device): (&Settings, &Device),
     dir: &Path,
-    render: impl FnOnce() -> Result<Reference>,
-) -> Result<(Reference, bool)> {
+    render: impl FnOnce() -> std::result::Result<Reference, E>,
+) -> std::result::Result<(Reference, bool), E> {
     if let Some(r) = load_on(scene, (s, device), dir)? {
         return Ok((r, false));
     }
@@ -228,7 +229,7 @@ pub fn cached_on(
 fn render_cpu(scene: &Scene, s: &Settings, progress: bool) -> Result<Reference> {
     let need = super::memory_bytes(scene.size, s.terms.len());
     if need > MAX_BYTES {
-        return Err(Error::Usage(format!(
+        return Err(Error::TooLarge(format!(
             "a reference of {} term(s) at {}x{} needs {:.1} GiB of sums and images (at most {} GiB): render it smaller or with fewer terms",
             s.terms.len(),
             scene.size.0,

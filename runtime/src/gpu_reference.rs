@@ -51,7 +51,7 @@ pub fn check(scene: &Scene, s: &Settings) -> Result<()> {
         ));
     }
     if scene.meshes.iter().all(|m| m.drawn_indices() < 3) {
-        return Err(Error::Scene(format!(
+        return Err(Error::scene(format!(
             "scene `{}` has no triangles for the GPU path tracer to trace (its reference is black, and AO 1 everywhere); the CPU reference renders it",
             scene.name
         )));
@@ -77,7 +77,7 @@ fn per_frame((w, h): (u32, u32)) -> u32 {
 pub fn render(gpu: &Gpu, tracer: &Tracer, scene: &Scene, s: &Settings, progress: bool) -> Result<Reference> {
     check(scene, s)?;
     if !gpu.device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
-        return Err(Error::Adapter(format!(
+        return Err(Error::adapter(format!(
             "adapter `{}` ({:?}) has no ray queries (wgpu feature EXPERIMENTAL_RAY_QUERY), which the GPU path tracer needs; use --device cpu, or a Vulkan adapter that has them",
             gpu.info.name, gpu.info.backend
         )));
@@ -185,7 +185,7 @@ impl Run {
             self.done += k;
             self.bar.inc(k as u64);
         }
-        self.ex.wait_idle(gpu)
+        Ok(self.ex.wait_idle(gpu)?)
     }
 
     /// Render until the budget is spent; with an error target, what was reached.
@@ -230,7 +230,7 @@ impl Run {
         let n = self.done as f64;
         for (m, v) in mean.rgba.chunks_exact_mut(4).zip(variance.rgba.chunks_exact_mut(4)) {
             if m[3] as f64 != n {
-                return Err(Error::Resource(format!(
+                return Err(Error::resource(format!(
                     "the path tracer's accumulation holds {} paths in a pixel, not the {n} rendered",
                     m[3]
                 )));

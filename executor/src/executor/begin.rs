@@ -2,10 +2,10 @@
 //! written, and which repetitions of each pass run decided (reuse of unchanged work).
 
 use super::{halton_jitter, Executor, FrameInputs};
+use crate::error::{Error, Result};
 use crate::reuse::{hash_bytes, FrameKeys, PassInputs};
 use crate::Gpu;
 use lightbench_compiler::abi::{FrameBlock, LightBlock};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::Light;
 
 impl Executor {
@@ -81,7 +81,7 @@ impl Executor {
             .find(|r| r.external && !self.supplied.contains(&r.name))
         {
             let n = &r.name;
-            return Err(Error::Usage(format!(
+            return Err(Error::Request(format!(
                 "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input, supply_input or mark_supplied)"
             )));
         }
@@ -99,7 +99,7 @@ impl Executor {
     fn check_lights(&self, lights: &[Light]) -> Result<()> {
         let scene = self.shared.punctual();
         if lights.len() != scene.len() {
-            return Err(Error::Usage(format!(
+            return Err(Error::Request(format!(
                 "FrameInputs::lights has {} lights; the Plan was compiled for the scene's {}: compile for a scene with these lights (Executor::replace_scene)",
                 lights.len(),
                 scene.len()
@@ -107,7 +107,7 @@ impl Executor {
         }
         for (i, (l, s)) in lights.iter().zip(scene).enumerate() {
             if l.kind != s.kind || l.shadows != s.shadows {
-                return Err(Error::Usage(format!(
+                return Err(Error::Request(format!(
                     "FrameInputs::lights[{i}] is a {:?} light{} where the Plan was compiled for a {:?} light{}: compile for a scene with these lights (Executor::replace_scene)",
                     l.kind,
                     if l.shadows { " with shadows" } else { "" },

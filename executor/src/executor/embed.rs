@@ -3,8 +3,8 @@
 //! handed to the host's own passes.
 
 use super::{Executor, FrameInputs};
+use crate::error::{Error, Result};
 use crate::Gpu;
-use lightbench_scene::error::{Error, Result};
 
 impl Executor {
     /// Record one frame into the host's `encoder`, by the code `render_frame` records with:

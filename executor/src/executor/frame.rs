@@ -5,9 +5,9 @@
 
 use super::{Executor, FrameInputs};
 use crate::encode::encode;
+use crate::error::{Error, Result};
 use crate::scene_gpu::DrawOrder;
 use crate::Gpu;
-use lightbench_scene::error::{Error, Result};
 use std::time::Instant;
 
 /// How a recorded frame's timestamps are read.
@@ -189,13 +189,14 @@ impl Executor {
     /// Render one frame pass by pass, waiting for each and calling `after(self, pass index)`
     /// once it is done, so its results can be read back (`verify` names the first pass that
     /// produced a non-finite value this way). `after` returning `true` stops the frame there.
-    /// Slower than `render_frame` (one submission per pass) and untimed.
-    pub fn render_frame_probed(
+    /// Slower than `render_frame` (one submission per pass) and untimed. `after`'s errors
+    /// are the caller's type, which takes the executor's.
+    pub fn render_frame_probed<E: From<Error>>(
         &mut self,
         gpu: &Gpu,
         inputs: &FrameInputs,
-        after: &mut dyn FnMut(&Executor, usize) -> Result<bool>,
-    ) -> Result<bool> {
+        after: &mut dyn FnMut(&Executor, usize) -> std::result::Result<bool, E>,
+    ) -> std::result::Result<bool, E> {
         self.finish_pending(gpu)?;
         let run = self.begin_frame(gpu, inputs)?;
         let parity = (self.frame_index & 1) as usize;
@@ -219,7 +220,7 @@ impl Executor {
             );
             gpu.queue.submit([enc.finish()]);
             if let Some(e) = pollster::block_on(scope.pop()) {
-                return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e));
+                return Err(Error::gpu(format!("pass `{}`", pass.plan.name), e).into());
             }
             gpu.device
                 .poll(wgpu::PollType::wait_indefinitely())

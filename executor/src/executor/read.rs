@@ -2,9 +2,9 @@
 //! frame left them, for dumps, `verify` and tests.
 
 use super::{Executor, Part};
+use crate::error::{Error, Result};
 use crate::readback::{self, NonFinite, Raw};
 use crate::{pool, Gpu};
-use lightbench_scene::error::{Error, Result};
 use lightbench_scene::io::Image;
 
 impl Executor {

@@ -4,10 +4,10 @@
 //! made again.
 
 use super::{lights_buffer, Executor};
+use crate::error::Result;
 use crate::Gpu;
 use lightbench_compiler::ir::Effect;
 use lightbench_compiler::Executable;
-use lightbench_scene::error::Result;
 use lightbench_scene::Light;
 
 impl Executor {

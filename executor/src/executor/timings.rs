@@ -4,9 +4,9 @@
 
 use super::frame::{Recorded, Timestamps};
 use super::Executor;
+use crate::error::Result;
 use crate::timing::PassTiming;
 use crate::Gpu;
-use lightbench_scene::error::Result;
 
 impl Executor {
     /// This frame's `last_timings`, written over last frame's (no allocation while the

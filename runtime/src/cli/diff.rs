@@ -89,7 +89,8 @@ fn plan_side(ws: &Workspace, side: spec::Side, a: &Args, (profile, scene): (&Pro
     if !side.pipeline.is_file() {
         return Err(Error::Usage(format!("no such pipeline file: {}", side.pipeline.display())));
     }
-    match crate::render::plan_configured(ws, (&side.pipeline, a.shaders.as_deref()), (profile, scene), &side.settings) {
+    match crate::render::plan_configured(ws, (&side.pipeline, a.shaders.as_deref()), (profile, scene), &side.settings).map_err(Error::from)
+    {
         Ok(c) => {
             eprint!("{}", c.warnings);
             Ok(Planned {
@@ -98,9 +99,9 @@ fn plan_side(ws: &Workspace, side: spec::Side, a: &Args, (profile, scene): (&Pro
                 params: c.params,
             })
         }
-        Err(Error::Compile(report)) => {
+        Err(Error::Executor(crate::gpu::Error::Compile(report))) => {
             eprint!("{report}");
-            Err(Error::Compile(String::new()))
+            Err(Error::compile(String::new()))
         }
         Err(e) => Err(e),
     }
@@ -170,9 +171,9 @@ pub fn run(a: Args) -> i32 {
             eprintln!("error: a --fail-above limit was crossed");
             EXIT_ERRORS
         }
-        Err(Error::Usage(msg)) => usage_error(msg),
+        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         // Compile and scene diagnostics were printed as they came.
-        Err(Error::Compile(_) | Error::Scene(_)) => EXIT_ERRORS,
+        Err(Error::Executor(crate::gpu::Error::Compile(_)) | Error::Scene(crate::scene::Error::Scene(_))) => EXIT_ERRORS,
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS

@@ -17,8 +17,7 @@ use lightbench_compiler::profile::Profile;
 use std::path::PathBuf;
 
 pub const EXIT_OK: i32 = 0;
-pub const EXIT_ERRORS: i32 = 1;
-pub const EXIT_USAGE: i32 = 2;
+pub use crate::error::{EXIT_ERRORS, EXIT_USAGE};
 
 #[derive(Parser, Debug)]
 #[command(name = "lightbench", version, about = "Build, run and measure real-time lighting pipelines")]
@@ -147,7 +146,7 @@ pub fn run(cli: Cli) -> i32 {
                 );
                 EXIT_OK
             }
-            Err(Error::Usage(msg)) => usage_error(msg),
+            Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
             Err(e) => {
                 eprintln!("error: {e}");
                 EXIT_ERRORS

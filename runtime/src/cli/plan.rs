@@ -117,8 +117,8 @@ pub fn run(a: Args) -> i32 {
     let plan = s.plan_file(&a.file, a.shaders.as_deref(), &profile, &scene, &variants);
     if plan.is_none() {
         // A --variant typo is a usage error (exit 2), as a --param typo is.
-        if let Some(crate::error::Error::Usage(m)) = crate::render::request_error(&s) {
-            return usage_error(m);
+        if let Some(e) = crate::render::request_error(&s) {
+            return usage_error(Error::from(e));
         }
     }
     super::check::emit(&s, Format::Human);
@@ -127,7 +127,7 @@ pub fn run(a: Args) -> i32 {
     if !params.is_empty() {
         let values = match crate::render::parse_params(&plan, &params).and_then(|p| crate::render::param_values(&plan, &p)) {
             Ok(v) => v,
-            Err(e) => return usage_error(e),
+            Err(e) => return usage_error(Error::from(e)),
         };
         let mut s2 = ws.session();
         let exe = s2.executable_with(&a.file, a.shaders.as_deref(), (&profile, &scene), &variants, &values);

@@ -200,13 +200,13 @@ fn on_gpu(a: &Args, scene: &crate::scene::Scene, s: &Settings) -> Result<(crate:
 pub fn run(a: Args) -> i32 {
     match execute(&a) {
         Ok(()) => EXIT_OK,
-        Err(Error::Usage(msg)) => usage_error(msg),
+        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         // Compile diagnostics are rendered already, and so are a scene's that did not load.
-        Err(Error::Compile(report)) => {
+        Err(Error::Executor(crate::gpu::Error::Compile(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
-        Err(Error::Scene(msg)) if msg.is_empty() => EXIT_ERRORS,
+        Err(Error::Scene(crate::scene::Error::Scene(msg))) if msg.is_empty() => EXIT_ERRORS,
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS

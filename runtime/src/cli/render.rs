@@ -114,11 +114,11 @@ pub fn run(a: Args) -> i32 {
     match execute(&a, (&pipeline, &ws), (&variants, &params), &inputs, size) {
         Ok(()) => EXIT_OK,
         // Compile and scene errors are rendered diagnostics already.
-        Err(Error::Compile(report) | Error::Scene(report)) => {
+        Err(Error::Executor(crate::gpu::Error::Compile(report)) | Error::Scene(crate::scene::Error::Scene(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
-        Err(Error::Usage(msg)) => usage_error(msg),
+        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS
@@ -181,7 +181,7 @@ fn execute(
             eprintln!("variant {} = {} ({r})", v.variant, v.option);
         }
     }
-    for note in crate::render::effect_notes(&exe.plan) {
+    for note in crate::notes::effect_notes(&exe.plan) {
         eprintln!("{note}");
     }
     if let Some(note) = area_lights_note(&exe.plan, &scene) {
@@ -246,7 +246,7 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
     }
     let frame = |ex: &mut Executor| -> Result<()> {
         let inputs = ex.inputs(ex.frame_index as f32 / 60.0);
-        ex.render_frame(gpu, &inputs)
+        Ok(ex.render_frame(gpu, &inputs)?)
     };
     frame(&mut ex)?;
     ex.read_texture(gpu, &ex.plan().output_resource().name.clone(), 0, 0)?
@@ -379,7 +379,7 @@ fn manifest(p: &Path, (a, pipeline): (&Args, &Path), gpu: &Gpu, ex: &Executor, e
         "output": a.out.display().to_string(),
     });
     let text = serde_json::to_string_pretty(&m).map_err(|e| Error::io(p, e))?;
-    write_atomic(p, text.as_bytes())
+    Ok(write_atomic(p, text.as_bytes())?)
 }
 
 /// The `--dump` list, each name a resource of the Plan (with a suggestion when not).
@@ -455,7 +455,7 @@ fn dump(gpu: &Gpu, ex: &Executor, names: &[String], dir: &Path, format: super::D
         let res = ex
             .plan()
             .resource(name)
-            .ok_or_else(|| Error::Resource(format!("--dump: `{name}` vanished from the plan")))?;
+            .ok_or_else(|| Error::resource(format!("--dump: `{name}` vanished from the plan")))?;
         for (inst, layer) in ex.slices(name)? {
             let file = crate::io::slice_stem(name, res, (inst, layer), 0);
             if res.is_buffer() {

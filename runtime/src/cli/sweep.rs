@@ -96,12 +96,12 @@ pub fn run(a: Args) -> i32 {
     };
     match result {
         Ok(()) => EXIT_OK,
-        Err(Error::Usage(msg)) => usage_error(msg),
-        Err(Error::Compile(report)) => {
+        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
+        Err(Error::Executor(crate::gpu::Error::Compile(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
-        Err(Error::Scene(_)) => EXIT_ERRORS,
+        Err(Error::Scene(crate::scene::Error::Scene(_))) => EXIT_ERRORS,
         Err(e) => {
             eprintln!("error: {e}");
             EXIT_ERRORS

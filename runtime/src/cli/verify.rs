@@ -113,7 +113,7 @@ fn execute(a: &Args, pipelines: &[PathBuf], scenes: &[String], opts: &Options) -
     let add = |found: Vec<Report>, reports: &mut Vec<Report>| -> Result<()> {
         if a.format == Format::Json {
             for r in &found {
-                println!("{}", serde_json::to_string(r).map_err(|e| Error::Resource(e.to_string()))?);
+                println!("{}", serde_json::to_string(r).map_err(|e| Error::resource(e.to_string()))?);
             }
         }
         reports.extend(found);

@@ -75,8 +75,8 @@ fn execute(a: &Args) -> Result<()> {
 pub fn run(a: Args) -> i32 {
     match execute(&a) {
         Ok(()) => EXIT_OK,
-        Err(Error::Usage(msg)) => usage_error(msg),
-        Err(Error::Compile(report) | Error::Scene(report)) => {
+        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
+        Err(Error::Executor(crate::gpu::Error::Compile(report)) | Error::Scene(crate::scene::Error::Scene(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }

@@ -71,7 +71,7 @@ pub fn png(rgb: Vec<u8>, (w, h): (u32, u32), path: &Path) -> Result<()> {
     let mut bytes = vec![];
     img.write_with_encoder(PngEncoder::new_with_quality(&mut bytes, CompressionType::Fast, FilterType::Sub))
         .map_err(|e| crate::error::Error::io(path, e))?;
-    write_atomic(path, &bytes)
+    Ok(write_atomic(path, &bytes)?)
 }
 
 /// Write `<stem>.heat.png` and `<stem>.side.png` (A | B | heat-map) into `dir`; returns their

@@ -288,7 +288,7 @@ impl Values {
 
     fn image(self) -> Result<crate::io::Image> {
         match self {
-            Values::Texels(raw) => raw.decode(),
+            Values::Texels(raw) => Ok(raw.decode()?),
             Values::Words(img) => Ok(img),
         }
     }

@@ -84,7 +84,7 @@ pub fn run(gpu: &Gpu, l: &Loaded, opts: &Options) -> Result<Summary> {
         // The names the spec uses do not depend on the point: checked once, planned as it is.
         let scene = scene(&mut inputs, l, first)?.clone();
         let plan = check_up_front(&ws, &gpu.profile, l, &scene, &points)?;
-        for note in crate::render::effect_notes(&plan) {
+        for note in crate::notes::effect_notes(&plan) {
             eprintln!("{note}");
         }
     }
@@ -119,8 +119,8 @@ pub fn check_up_front(
 ) -> Result<lightbench_compiler::plan::Plan> {
     // A pipeline that cannot be read is said at the spec's `pipeline`; one that does not
     // compile brings its own located diagnostics.
-    let plan = crate::render::plan_configured(ws, (&l.pipeline(), None), (profile, scene), &[]).map_err(|e| match e {
-        Error::Io { .. } | Error::Usage(_) => l.error_at("pipeline:", e),
+    let plan = crate::render::plan_configured(ws, (&l.pipeline(), None), (profile, scene), &[]).map_err(|e| match Error::from(e) {
+        e @ (Error::Scene(crate::scene::Error::Io { .. }) | Error::Usage(_) | Error::Param(_)) => l.error_at("pipeline:", e),
         e => e,
     })?;
     let checked = ws.session().load_checked(&l.pipeline(), None, profile);
@@ -151,10 +151,8 @@ fn scene<'a>(inputs: &'a mut Inputs, l: &Loaded, p: &Point) -> Result<&'a Scene>
 
 /// A point's scene at its size; a scene that does not load is said at its name in `scenes`.
 pub fn load_scene(l: &Loaded, p: &Point) -> Result<Scene> {
-    crate::scene::load::load_sized(&l.scene(&p.scene), p.size, &l.effects).map_err(|e| match e {
-        Error::Scene(_) | Error::Io { .. } | Error::Usage(_) => l.error_in("scenes", &format!("\"{}\"", p.scene), e),
-        e => e,
-    })
+    crate::scene::load::load_sized(&l.scene(&p.scene), p.size, &l.effects)
+        .map_err(|e| l.error_in("scenes", &format!("\"{}\"", p.scene), Error::from(e)))
 }
 
 fn reference_for(gpu: &Gpu, inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &Options) -> Result<()> {

@@ -87,7 +87,7 @@ pub fn save(dir: &Path, rows: &[Row]) -> Result<()> {
         text.push('\n');
     }
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    crate::io::write_atomic(&dir.join(FILE), text.as_bytes())
+    Ok(crate::io::write_atomic(&dir.join(FILE), text.as_bytes())?)
 }
 
 /// Add `row` to the rows in `dir` under the folder's lock, re-reading them first: runs that

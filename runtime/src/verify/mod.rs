@@ -136,6 +136,7 @@ pub fn pipeline_on_scene(gpu: &Gpu, pipeline: &Path, (label, scene): (&str, &Sce
             continue;
         }
         let problem = match crate::render::parse_params(&exe.plan, &opts.params)
+            .map_err(crate::error::Error::from)
             .and_then(|p| configuration(gpu, &exe, scene, (opts.frames, &mut cache), &p))
         {
             Ok(p) => p,

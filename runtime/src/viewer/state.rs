@@ -87,7 +87,7 @@ fn compile(
 ) -> Result<Executable> {
     let mut s = ws.session();
     let exe = s.executable_with(pipeline, shaders, (&gpu.profile, &scene.features()), variants, params);
-    exe.ok_or_else(|| Error::Compile(s.render()))
+    exe.ok_or_else(|| Error::compile(s.render()))
 }
 
 impl Viewer {
@@ -263,7 +263,7 @@ impl Viewer {
         let (inst, layer) = slices[self.slice % slices.len().max(1)];
         let format = match &self.ex.plan().resource(&name).map(|r| r.shape.clone()) {
             Some(ResourceShape::Texture { format, .. }) => *format,
-            _ => return Err(Error::Resource(format!("`{name}` is not a texture"))),
+            _ => return Err(Error::resource(format!("`{name}` is not a texture"))),
         };
         let mut caption = format!("{name} ({})", format.name());
         if slices.len() > 1 {
@@ -315,7 +315,7 @@ impl Viewer {
     /// resources whose descriptors stay, history included, are kept).
     fn set_param(&mut self, gpu: &Gpu, name: &str, value: ParamValue) -> Result<()> {
         match self.ex.fixed_param(name) {
-            None => return self.ex.set_param(name, value),
+            None => return Ok(self.ex.set_param(name, value)?),
             Some(fixed) if *fixed == value => return Ok(()),
             Some(_) => {}
         }

@@ -33,7 +33,7 @@ impl Traced {
     /// The path tracer on `scene`; refused by name on an adapter without ray queries.
     pub fn new(gpu: &Gpu, scene: &Scene) -> Result<Traced> {
         if !gpu.device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
-            return Err(Error::Adapter(format!(
+            return Err(Error::adapter(format!(
                 "the path-traced view needs ray queries (wgpu feature EXPERIMENTAL_RAY_QUERY), which `{}` lacks",
                 gpu.info.name
             )));

@@ -40,7 +40,7 @@ fn cornell_with(mesh: lightbench::scene::Mesh) -> lightbench::scene::Scene {
     s
 }
 
-fn executor(gpu: &Gpu, pipeline: &str, variants: &[(&str, &str)], s: &lightbench::scene::Scene) -> lightbench::Result<Executor> {
+fn executor(gpu: &Gpu, pipeline: &str, variants: &[(&str, &str)], s: &lightbench::scene::Scene) -> lightbench::gpu::Result<Executor> {
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let (exe, _) =
         lightbench::render::compile(gpu, &root().join("pipelines").join(pipeline), None, s, &v).unwrap_or_else(|e| panic!("{e}"));
