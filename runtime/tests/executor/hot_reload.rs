@@ -210,17 +210,22 @@ fn a_hostile_burst_of_edits_ends_with_the_last_valid_content() {
     assert!((now - fresh).abs() < 1e-6, "running {now}, fresh {fresh}");
 }
 
+/// `start`, for the project's scene file `file` (watched with the pipeline).
+fn start_scene(g: &Gpu, dir: &Path, file: &Path) -> Running {
+    let mut scene = lightbench::scene::load(file.to_str().unwrap()).unwrap();
+    scene.size = (32, 32);
+    let (reloader, exe) = Reloader::new(g, (&dir.join("pipelines/deferred.ron"), None), (&scene, Some(file)), &[]).unwrap();
+    let ex = Executor::new(g, &exe, &scene).unwrap();
+    Running { reloader, ex }
+}
+
 /// The scene file is watched too: an edited light relights the running scene.
 #[test]
 fn an_edited_scene_file_reloads_the_scene() {
     let g = gpu();
     let dir = project("scene");
     let file = dir.join("scenes/sun_only.ron");
-    let mut scene = lightbench::scene::load(file.to_str().unwrap()).unwrap();
-    scene.size = (32, 32);
-    let (reloader, exe) = Reloader::new(&g, (&dir.join("pipelines/deferred.ron"), None), (&scene, Some(file.as_path())), &[]).unwrap();
-    let ex = Executor::new(&g, &exe, &scene).unwrap();
-    let mut r = Running { reloader, ex };
+    let mut r = start_scene(&g, &dir, &file);
     let before = r.hdr_mean(&g);
     let text = std::fs::read_to_string(&file).unwrap();
     let brighter = text.replace("intensity: 3.0, shadows: true", "intensity: 9.0, shadows: true");
@@ -246,11 +251,7 @@ fn an_edited_model_reloads_the_scene() {
     let watched = lightbench::scene::load::files_of(file.to_str().unwrap());
     let names: Vec<_> = watched.iter().filter_map(|f| f.file_name()?.to_str()).collect();
     assert_eq!(names, ["sun_only.ron", "ground.gltf", "chair.gltf"], "{watched:?}");
-    let mut scene = lightbench::scene::load(file.to_str().unwrap()).unwrap();
-    scene.size = (32, 32);
-    let (reloader, exe) = Reloader::new(&g, (&dir.join("pipelines/deferred.ron"), None), (&scene, Some(file.as_path())), &[]).unwrap();
-    let ex = Executor::new(&g, &exe, &scene).unwrap();
-    let mut r = Running { reloader, ex };
+    let mut r = start_scene(&g, &dir, &file);
     let before = r.hdr_mean(&g);
     let ground = dir.join("scenes/ground.gltf");
     let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&ground).unwrap()).unwrap();
