@@ -2,7 +2,7 @@
 //! `--no-render`), run `crate::diff`, write the report, and exit by `--fail-above`.
 
 use super::plan::parse_size;
-use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use super::{failed, EXIT_ERRORS, EXIT_OK};
 use crate::diff::{self, report, spec, Metric, Options, Planned};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Gpu};
@@ -171,12 +171,8 @@ pub fn run(a: Args) -> i32 {
             eprintln!("error: a --fail-above limit was crossed");
             EXIT_ERRORS
         }
-        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         // Compile and scene diagnostics were printed as they came.
         Err(Error::Executor(crate::gpu::Error::Compile(_)) | Error::Scene(crate::scene::Error::Scene(_))) => EXIT_ERRORS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            EXIT_ERRORS
-        }
+        Err(e) => failed(e),
     }
 }

@@ -146,11 +146,7 @@ pub fn run(cli: Cli) -> i32 {
                 );
                 EXIT_OK
             }
-            Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
-            Err(e) => {
-                eprintln!("error: {e}");
-                EXIT_ERRORS
-            }
+            Err(e) => failed(e),
         },
         Command::Convert { input, to, out } => convert::convert(&input, &to, out.as_deref()),
         Command::Fmt { file, check } => convert::fmt(&file, check),
@@ -205,6 +201,12 @@ pub fn parse_assignments(flag: &str, form: &str, args: &[String]) -> Result<Vec<
         out.push((k, val));
     }
     Ok(out)
+}
+
+/// Say a command's error and end with its category's exit code (`Error::exit_code`).
+pub fn failed(e: Error) -> i32 {
+    eprintln!("error: {e}");
+    e.exit_code()
 }
 
 pub fn usage_error(msg: impl std::fmt::Display) -> i32 {

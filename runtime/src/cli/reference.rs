@@ -2,7 +2,7 @@
 //! the reference terms and report where they are.
 
 use super::plan::parse_size;
-use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use super::{failed, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::reference::{store, Brdf, Budget, Settings, Term};
 use std::path::PathBuf;
@@ -200,16 +200,12 @@ fn on_gpu(a: &Args, scene: &crate::scene::Scene, s: &Settings) -> Result<(crate:
 pub fn run(a: Args) -> i32 {
     match execute(&a) {
         Ok(()) => EXIT_OK,
-        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         // Compile diagnostics are rendered already, and so are a scene's that did not load.
         Err(Error::Executor(crate::gpu::Error::Compile(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
         Err(Error::Scene(crate::scene::Error::Scene(msg))) if msg.is_empty() => EXIT_ERRORS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            EXIT_ERRORS
-        }
+        Err(e) => failed(e),
     }
 }

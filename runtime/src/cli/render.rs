@@ -1,7 +1,7 @@
 //! `lightbench render`: compile, run headless, save the output and optional dumps, timings
 //! and a manifest.
 
-use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use super::{failed, usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Executor, Gpu};
 use crate::io::fnv1a;
@@ -118,11 +118,7 @@ pub fn run(a: Args) -> i32 {
             eprint!("{report}");
             EXIT_ERRORS
         }
-        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
-        Err(e) => {
-            eprintln!("error: {e}");
-            EXIT_ERRORS
-        }
+        Err(e) => failed(e),
     }
 }
 

@@ -1,7 +1,7 @@
 //! `lightbench sweep SPEC` and `lightbench sweep merge DIR...`: parse the options, run or
 //! merge, and say where the results are.
 
-use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use super::{failed, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::gpu::{DeviceOptions, Gpu};
 use crate::sweep::{self, report, rows, spec};
@@ -96,15 +96,11 @@ pub fn run(a: Args) -> i32 {
     };
     match result {
         Ok(()) => EXIT_OK,
-        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         Err(Error::Executor(crate::gpu::Error::Compile(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
         Err(Error::Scene(crate::scene::Error::Scene(_))) => EXIT_ERRORS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            EXIT_ERRORS
-        }
+        Err(e) => failed(e),
     }
 }

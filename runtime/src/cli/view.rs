@@ -1,6 +1,6 @@
 //! `lightbench view`: open the viewer on a pipeline and a scene (optionally scripted).
 
-use super::{usage_error, EXIT_ERRORS, EXIT_OK};
+use super::{failed, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
 use crate::viewer::{Options, Step};
 use lightbench_compiler::vfs;
@@ -75,14 +75,10 @@ fn execute(a: &Args) -> Result<()> {
 pub fn run(a: Args) -> i32 {
     match execute(&a) {
         Ok(()) => EXIT_OK,
-        Err(e @ (Error::Usage(_) | Error::Param(_))) => usage_error(e),
         Err(Error::Executor(crate::gpu::Error::Compile(report)) | Error::Scene(crate::scene::Error::Scene(report))) => {
             eprint!("{report}");
             EXIT_ERRORS
         }
-        Err(e) => {
-            eprintln!("error: {e}");
-            EXIT_ERRORS
-        }
+        Err(e) => failed(e),
     }
 }
