@@ -1,18 +1,19 @@
 //! A second executor, deliberately small: it runs `lightbench plan --json` output with the
 //! scene's data and nothing else (no pipeline file, no shader file), and must render what the
 //! real executor renders. It proves the Plan is enough to run (`docs/plan.md`). It renders a
-//! first frame of every option of both bundled pipelines but the ray-traced ones — scene,
+//! first frame of every option of both bundled pipelines — scene,
 //! full-screen, vertex-pulling and light-volume draws, compute, per-light, per-face and per-mip
 //! repetitions with the copies the Plan names, multiview, parameter blocks, data resources from
 //! the Plan's `contents`, history (the previous frame's copy still cleared), jitter, WGSL and
-//! GLSL stages compiled from the Plan's text — and refuses the rest by name (acceleration
-//! structures, textured scenes, external resources). From the executor crate it borrows only what reads no Plan: the mapping of
-//! the Plan's enums to wgpu's (`convert`), texture read-back, the scene's triangles
-//! (`scene_gpu::area_lights` for the emissive ones, `scene_gpu::triangles` for all) and the
-//! light-volume meshes (`light_volumes`).
+//! GLSL stages compiled from the Plan's text, ray queries — and refuses the rest by name
+//! (textured scenes, external resources). From the executor crate it borrows only what reads
+//! no Plan: the mapping of the Plan's enums to wgpu's (`convert`), texture read-back, the
+//! scene's triangles (`scene_gpu::area_lights` for the emissive ones, `scene_gpu::triangles`
+//! for all), the light-volume meshes (`light_volumes`) and the scene's acceleration structure
+//! with its hit data (`accel`).
 
 use crate::gpu_common::{gpu, render_with, root};
-use lightbench::gpu::{convert, light_volumes, readback, scene_gpu, Gpu};
+use lightbench::gpu::{accel, convert, light_volumes, readback, scene_gpu, Gpu};
 use lightbench::io::Image;
 use lightbench::scene::{AlphaMode, Scene};
 use lightbench_compiler::abi::{FrameBlock, InstanceBlock, MaterialBlock, MeshBlock, Vertex};
@@ -32,6 +33,8 @@ fn unsupported<T>(what: impl std::fmt::Display) -> Res<T> {
 enum Held {
     Textures(Vec<wgpu::Texture>),
     Buffers(Vec<wgpu::Buffer>),
+    /// The scene's acceleration structure (`Traced`).
+    Scene,
 }
 
 /// A scene mesh ready to draw with its per-draw bind-group contents.
@@ -41,6 +44,9 @@ struct MeshGpu {
     count: u32,
     mesh: wgpu::Buffer,
     material: wgpu::Buffer,
+    /// Blended (`draw: Transparent` draws it), and how far its bounds' centre is from the eye.
+    blend: bool,
+    distance: f32,
 }
 
 struct Small<'a> {
@@ -54,7 +60,8 @@ struct Small<'a> {
     area_lights: wgpu::Buffer,
     /// The scene's drawn triangles in world space (`triangles`).
     triangles: wgpu::Buffer,
-    /// The lights that are on, in scene order (the light array the Plan's runs index), and
+    /// The scene's light array (the lights that are on, in scene order, then the emitter
+    /// lights: what the Plan's runs index), and
     /// the volumes a light-volume draw takes for them (`light_volumes`).
     lights: Vec<lightbench::scene::Light>,
     volumes: light_volumes::LightVolumes,
@@ -63,6 +70,35 @@ struct Small<'a> {
     /// The per-draw textures of an untextured material (white, flat normal) and its sampler.
     white: [wgpu::TextureView; 3],
     material_sampler: wgpu::Sampler,
+    /// What rays are traced against and hits shaded with, where the Plan traces rays.
+    traced: Option<Traced>,
+}
+
+/// The scene's acceleration structure and hit data, built from the scene alone (the
+/// executor crate's `accel`, which reads no Plan) for a Plan that binds them.
+struct Traced {
+    accel: accel::Accel,
+    hits: accel::HitData,
+    maps: accel::HitMaps,
+}
+
+impl Traced {
+    fn build(gpu: &Gpu, plan: &Plan, scene: &Scene) -> Res<Option<Traced>> {
+        let traces = plan
+            .resources
+            .iter()
+            .any(|r| matches!(r.shape, ResourceShape::AccelerationStructure));
+        if !traces {
+            return Ok(None);
+        }
+        let (d, q) = (&gpu.device, &gpu.queue);
+        let scene_gpu = scene_gpu::SceneGpu::new(d, q, &mut scene.clone()).map_err(|e| e.to_string())?;
+        Ok(Some(Traced {
+            accel: accel::Accel::build(d, q, &scene_gpu.meshes, scene).map_err(|e| e.to_string())?,
+            hits: accel::HitData::build(d, &scene_gpu, scene).map_err(|e| e.to_string())?,
+            maps: accel::HitMaps::build((d, q), &scene_gpu, scene).map_err(|e| e.to_string())?,
+        }))
+    }
 }
 
 impl<'a> Small<'a> {
@@ -73,7 +109,8 @@ impl<'a> Small<'a> {
         let d = &gpu.device;
         let held = plan.resources.iter().map(|r| resource(gpu, r)).collect::<Res<_>>()?;
         let samplers = plan.samplers.iter().map(|s| d.create_sampler(&convert::sampler(s)));
-        let lights: Vec<_> = scene.active_lights().into_iter().map(|l| l.at(0.0)).collect();
+        // The light array: the lights that are on, then the emitter lights.
+        let lights: Vec<_> = scene.light_array().iter().map(|l| l.at(0.0)).collect();
         let bounds = scene.bounds();
         let mut blocks: Vec<_> = lights.iter().map(|l| l.block(bounds)).collect();
         if blocks.is_empty() {
@@ -102,7 +139,7 @@ impl<'a> Small<'a> {
             jitter: [j[0], j[1], j[0], j[1]],
             time: 0.0,
             frame_index: 0,
-            light_count: lights.len() as u32,
+            light_count: scene.active_lights().len() as u32,
             scene_radius: ((bounds.1 - bounds.0).length() * 0.5).max(1e-6),
         };
         let texel = |rgba: [u8; 4], format| {
@@ -129,16 +166,15 @@ impl<'a> Small<'a> {
                 texel([128, 128, 255, 255], wgpu::TextureFormat::Rgba8Unorm),
             ],
             material_sampler: d.create_sampler(&Default::default()),
+            traced: Traced::build(gpu, plan, scene)?,
         })
     }
 
     /// One frame: every pass, every repetition, each its own GPU pass.
     fn frame(&self) -> Res<()> {
+        let scope = self.gpu.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut enc = self.gpu.device.create_command_encoder(&Default::default());
         for pass in &self.plan.passes {
-            if pass.per_mip.is_some() || pass.work.multiview().is_some() {
-                return unsupported(format!("pass `{}` (per_mip or multiview)", pass.name));
-            }
             let pipeline = self.pipeline(pass)?;
             let params: Vec<wgpu::Buffer> = pass.uniform_blocks.iter().map(|b| self.block(b)).collect();
             for rep in &pass.reps {
@@ -146,7 +182,10 @@ impl<'a> Small<'a> {
             }
         }
         self.gpu.queue.submit([enc.finish()]);
-        Ok(())
+        match pollster::block_on(scope.pop()) {
+            Some(e) => Err(format!("the small executor's frame: {e}")),
+            None => Ok(()),
+        }
     }
 
     fn record(
@@ -164,10 +203,25 @@ impl<'a> Small<'a> {
         );
         let groups = self.groups(pass, pipeline, (params, &instance), rep)?;
         match (&pass.work, &pipeline.kind) {
-            (Work::Compute { groups: n, .. }, Kind::Compute(p)) => {
+            (
+                Work::Compute {
+                    groups: n,
+                    workgroup_size: size,
+                    sized_from,
+                },
+                Kind::Compute(p),
+            ) => {
                 let mut cp = enc.begin_compute_pass(&Default::default());
                 cp.set_pipeline(p);
                 groups.iter().for_each(|(i, g)| cp.set_bind_group(*i, g, &[]));
+                // A per-mip pass sized from a texture covers the repetition's level.
+                let n = match (rep.mip, sized_from) {
+                    (Some(_), Some(_)) => {
+                        let [w, h, ..] = self.instance(pass, rep).target_size;
+                        [(w as u32).div_ceil(size[0].max(1)), (h as u32).div_ceil(size[1].max(1)), 1]
+                    }
+                    _ => *n,
+                };
                 cp.dispatch_workgroups(n[0], n[1], n[2]);
             }
             (work, Kind::Render(p)) => {
@@ -221,6 +275,7 @@ impl<'a> Small<'a> {
                 let desc = wgpu::RenderPassDescriptor {
                     color_attachments: &color_attachments,
                     depth_stencil_attachment,
+                    multiview_mask: multiview_mask(work),
                     ..Default::default()
                 };
                 let mut rp = enc.begin_render_pass(&desc);
@@ -252,6 +307,16 @@ impl<'a> Small<'a> {
                     (BindSource::AreaLights, _) => self.area_lights.as_entire_binding(),
                     (BindSource::Triangles, _) => self.triangles.as_entire_binding(),
                     (BindSource::LightVolumes, _) => self.volumes_buf.as_entire_binding(),
+                    (hit @ (BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters), _) => {
+                        let h = &self.traced()?.hits;
+                        match hit {
+                            BindSource::HitTriangles => h.triangles.as_entire_binding(),
+                            BindSource::HitMaterials => h.materials.as_entire_binding(),
+                            _ => h.emitters.as_entire_binding(),
+                        }
+                    }
+                    (BindSource::HitCorners, _) => self.traced()?.maps.corners.as_entire_binding(),
+                    (BindSource::HitMaps, _) => self.traced()?.maps.maps.as_entire_binding(),
                     (BindSource::Instance, _) => instance.as_entire_binding(),
                     (BindSource::Params, _) => match pass.uniform_blocks.iter().position(|b| b.global == e.name) {
                         Some(i) => params[i].as_entire_binding(),
@@ -262,6 +327,7 @@ impl<'a> Small<'a> {
                     (BindSource::Resource(id) | BindSource::Prev(id), None) => match &self.held[id.0 as usize] {
                         Held::Buffers(b) => b[self.slot(*id, rep, matches!(e.source, BindSource::Prev(_)))].as_entire_binding(),
                         Held::Textures(_) => return Err(format!("`{}` bound as a buffer", e.name)),
+                        Held::Scene => wgpu::BindingResource::AccelerationStructure(&self.traced()?.accel.tlas),
                     },
                     (other, _) => return unsupported(format!("binding {other:?} in pass `{}`", pass.name)),
                 };
@@ -280,6 +346,12 @@ impl<'a> Small<'a> {
         Ok(out)
     }
 
+    fn traced(&self) -> Res<&Traced> {
+        self.traced
+            .as_ref()
+            .ok_or_else(|| "hit data bound by a Plan without an acceleration structure".into())
+    }
+
     /// The view a texture binding reads: the repetition's instance, the level and layer the
     /// pass's read selects (else all).
     fn read_view(&self, pass: &PlanPass, e: &lightbench_compiler::plan::PlanBinding, rep: &PlanRep) -> Option<wgpu::TextureView> {
@@ -295,7 +367,7 @@ impl<'a> Small<'a> {
             return None;
         };
         let read = pass.reads.iter().find(|r| r.resource == id && !r.prev);
-        let level = read.and_then(|r| r.mip).and_then(|m| m.level(0));
+        let level = read.and_then(|r| r.mip).and_then(|m| m.level(rep.mip.unwrap_or(0)));
         let layer = read.and_then(|r| r.layer).and_then(|l| l.at(rep.run, self.plan.res(id).layers()));
         Some(view(&t[self.slot(id, rep, prev)], convert::view_dim(*dim), level, layer))
     }
@@ -312,29 +384,32 @@ impl<'a> Small<'a> {
         let Held::Textures(t) = &self.held[r.0 as usize] else {
             return unsupported("a buffer attachment");
         };
+        let level = mip.level(rep.mip.unwrap_or(0));
+        let t = &t[self.slot(r, rep, false)];
         let layer = match layer {
             LayerSel::Face => rep.face,
-            LayerSel::All => return unsupported("multiview attachments"),
+            // Multiview renders every layer at once.
+            LayerSel::All => return Ok(view(t, wgpu::TextureViewDimension::D2Array, level, None)),
             other => other.at(rep.run, self.plan.res(r).layers()).unwrap_or(0),
         };
-        Ok(view(
-            &t[self.slot(r, rep, false)],
-            wgpu::TextureViewDimension::D2,
-            mip.level(0),
-            Some(layer),
-        ))
+        Ok(view(t, wgpu::TextureViewDimension::D2, level, Some(layer)))
     }
 
     fn draw(&self, rp: &mut wgpu::RenderPass, (pass, rep): (&PlanPass, &PlanRep), work: &Work, pipeline: &Pipeline) -> Res<()> {
         match work {
             Work::Fullscreen { .. } => rp.draw(0..3, 0..1),
             Work::Raster {
-                draw: Draw::Scene,
+                draw: draw @ (Draw::Scene | Draw::Transparent),
                 instances,
                 ..
             } => {
                 let per_draw = pass.bind_groups.iter().find(|g| g.is_per_draw());
-                for m in &self.meshes {
+                let blend = *draw == Draw::Transparent;
+                let mut meshes: Vec<&MeshGpu> = self.meshes.iter().filter(|m| m.blend == blend).collect();
+                if blend {
+                    meshes.sort_by(|a, b| b.distance.total_cmp(&a.distance));
+                }
+                for m in meshes {
                     if let Some(g) = per_draw {
                         let entries = g.entries.iter().map(|e| {
                             let resource = match e.source {
@@ -390,23 +465,26 @@ impl<'a> Small<'a> {
         Ok(())
     }
 
-    /// The per-repetition block: its light, face, run, and the size the pass renders at.
+    /// The per-repetition block: its light, face, level, run, and the size the pass renders at
+    /// (its first target's, or the texture it is sized from, at the level it renders).
     fn instance(&self, pass: &PlanPass, rep: &PlanRep) -> InstanceBlock {
         let sized = match &pass.work {
-            Work::Compute { sized_from, .. } => *sized_from,
-            w => w
-                .targets()
-                .and_then(|t| t.color.first().map(|c| c.resource).or(t.depth.as_ref().map(|d| d.resource))),
+            Work::Compute { sized_from, .. } => sized_from.map(|r| (r, MipSel::Rep(0))),
+            w => w.targets().and_then(|t| {
+                let color = t.color.first().map(|c| (c.resource, c.mip));
+                color.or(t.depth.as_ref().map(|d| (d.resource, d.mip)))
+            }),
         };
-        let (w, h) = match sized.map(|r| &self.plan.res(r).shape) {
-            Some(ResourceShape::Texture { extent, .. }) => *extent,
+        let level = sized.and_then(|(_, m)| m.level(rep.mip.unwrap_or(0))).unwrap_or(0);
+        let (w, h) = match sized.map(|(r, _)| &self.plan.res(r).shape) {
+            Some(ResourceShape::Texture { extent, .. }) => ((extent.0 >> level).max(1), (extent.1 >> level).max(1)),
             _ => self.plan.resolution,
         };
         InstanceBlock {
             light: rep.light.unwrap_or(0),
             face: rep.face,
-            view_count: 1,
-            mip: 0,
+            view_count: pass.work.multiview().unwrap_or(1),
+            mip: rep.mip.unwrap_or(0),
             target_size: [w as f32, h as f32, 1.0 / w as f32, 1.0 / h as f32],
             repetition: rep.run,
             _pad: [0; 3],
@@ -600,9 +678,14 @@ fn render_pipeline(d: &wgpu::Device, work: &Work, layout: &wgpu::PipelineLayout,
         }),
         multisample: Default::default(),
         fragment,
-        multiview_mask: None,
+        multiview_mask: multiview_mask(work),
         cache: None,
     })
+}
+
+/// The views a multiview pass renders, one bit each.
+fn multiview_mask(work: &Work) -> Option<std::num::NonZeroU32> {
+    work.multiview().and_then(|n| std::num::NonZeroU32::new((1u32 << n) - 1))
 }
 
 fn texture_desc(
@@ -673,7 +756,7 @@ fn resource(gpu: &Gpu, r: &lightbench_compiler::plan::PlanResource) -> Res<Held>
                 })
                 .collect(),
         ),
-        ResourceShape::AccelerationStructure => return unsupported(format!("acceleration structure `{}`", r.name)),
+        ResourceShape::AccelerationStructure => Held::Scene,
     })
 }
 
@@ -702,12 +785,10 @@ fn init(d: &wgpu::Device, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::B
     })
 }
 
-/// The meshes `draw: Scene` draws (opaque and masked, in scene order) with their blocks.
+/// The meshes drawn, in scene order, with their blocks: `draw: Scene` draws the opaque and
+/// masked ones, `draw: Transparent` the blended ones from far to near the eye.
 fn meshes(d: &wgpu::Device, scene: &Scene) -> Vec<MeshGpu> {
-    let drawn = scene
-        .meshes
-        .iter()
-        .filter(|m| !m.indices.is_empty() && scene.materials[m.material].alpha != AlphaMode::Blend);
+    let drawn = scene.meshes.iter().filter(|m| !m.indices.is_empty());
     drawn
         .map(|m| {
             let mat = &scene.materials[m.material];
@@ -736,9 +817,18 @@ fn meshes(d: &wgpu::Device, scene: &Scene) -> Vec<MeshGpu> {
                 count: m.drawn_indices(),
                 mesh: init(d, bytemuck::bytes_of(&mesh), wgpu::BufferUsages::UNIFORM),
                 material: init(d, bytemuck::bytes_of(&material), wgpu::BufferUsages::UNIFORM),
+                blend: mat.alpha == AlphaMode::Blend,
+                distance: centre(m).distance(scene.camera.position),
             }
         })
         .collect()
+}
+
+/// The world-space centre of a mesh's bounding box.
+fn centre(m: &lightbench::scene::Mesh) -> glam::Vec3 {
+    let points = m.vertices.iter().map(|v| glam::Vec3::from(v.position));
+    let (lo, hi) = points.fold((glam::Vec3::MAX, glam::Vec3::MIN), |(lo, hi), p| (lo.min(p), hi.max(p)));
+    m.transform.transform_point3((lo + hi) * 0.5)
 }
 
 fn rmse(a: &Image, b: &Image) -> f64 {
@@ -855,51 +945,63 @@ fn a_plan_with_a_missing_copy_or_missing_data_is_refused_by_name() {
 }
 
 /// Every option of both bundled pipelines (each variant in turn, the others at their
-/// defaults), planned for a scene calling for shadows, AO and indirect light: the Plan, through
-/// its JSON, is rendered by the small executor as the executor renders its first frame (RMSE
-/// ≤ 1e-6), or the small executor refuses it naming what it does not carry out — it never
-/// renders one differently. The configurations rendered are counted (71 of 77 today: the six
-/// ray-traced options are refused), so coverage cannot shrink unnoticed.
-const MIN_RENDERED: usize = 71;
+/// defaults), planned for a scene calling for every pass (`every_light.ron`: point, spot and
+/// sun shadows, emissive blended panes, every effect): the Plan, through its JSON, is rendered
+/// by the small executor as the executor renders its first frame (RMSE 0), or the small
+/// executor refuses it naming what it does not carry out — it never renders one differently.
+/// With the two pairs of options that call for passes no single option does (`PAIRS`), every
+/// pass of both pipelines runs in one of them; the configurations rendered are counted (all
+/// 79 today, the ray-traced ones among them), so coverage cannot shrink unnoticed.
+const MIN_RENDERED: usize = 77 + PAIRS.len();
+
+/// The ray-traced shadows of forward and light-volume lighting (`deferred` only: `deferred_gi`
+/// has no `lighting` variant).
+const PAIRS: [[(&str, &str); 2]; 2] = [
+    [("lighting", "forward_multi"), ("shadows", "rt")],
+    [("lighting", "deferred_volumes"), ("shadows", "rt")],
+];
 
 #[test]
 fn every_bundled_option_renders_from_the_plan_alone_or_is_refused_by_name() {
     let gpu = gpu();
-    let scene = lightbench::scene::load::load_sized(root().join("scenes/cornell_sun.ron").to_str().unwrap(), Some((48, 48)), &[]).unwrap();
+    let spec = root().join("runtime/tests/executor/every_light.ron");
+    let scene = lightbench::scene::load::load_sized(spec.to_str().unwrap(), None, &[]).unwrap();
     let (mut rendered, mut refused) = (vec![], std::collections::BTreeMap::<String, Vec<String>>::new());
+    let mut never_run = std::collections::BTreeSet::new();
     for pipeline in ["pipelines/deferred.ron", "pipelines/deferred_gi.ron"] {
         let path = root().join(pipeline);
         let checked = lightbench_compiler::Workspace::disk()
             .session()
             .load_checked(&path, None, &gpu.profile)
             .expect("the bundled pipeline checks");
+        let mut unseen: std::collections::BTreeSet<String> = checked.pipeline.passes.iter().map(|p| p.name.value.clone()).collect();
         let options = checked
             .pipeline
             .variants
             .iter()
-            .flat_map(|v| v.options.iter().map(move |o| (v.name.value.clone(), o.name.value.clone())));
-        for (variant, option) in options.collect::<Vec<_>>() {
-            let chosen = [(variant.clone(), option.clone())];
-            let (exe, _) =
-                lightbench::render::compile(&gpu, &path, None, &scene, &chosen).unwrap_or_else(|e| panic!("{variant}={option}: {e}"));
-            let config = format!("{pipeline} {variant}={option}");
-            // Only what `plan --json` prints reaches the small executor.
-            let plan: Plan = serde_json::from_str(&serde_json::to_string(&exe.plan).unwrap()).unwrap();
-            let small = Small::new(&gpu, &plan, &scene).and_then(|s| s.frame().map(|_| s));
-            let small = match small {
-                Ok(s) => s,
-                Err(e) if e.starts_with("the small executor does not support") => {
-                    refused.entry(e).or_default().push(config);
-                    continue;
+            .flat_map(|v| v.options.iter().map(move |o| vec![(v.name.value.clone(), o.name.value.clone())]));
+        // Passes only two options together call for (`when all(…)`), where the pipeline has both.
+        let has = |v: &str| checked.pipeline.variants.iter().any(|x| x.name.value == v);
+        let pairs = PAIRS
+            .iter()
+            .filter(|pair| pair.iter().all(|(v, _)| has(v)))
+            .map(|pair| pair.iter().map(|(v, o)| (v.to_string(), o.to_string())).collect());
+        for chosen in options.chain(pairs).collect::<Vec<Vec<_>>>() {
+            let config = format!(
+                "{pipeline} {}",
+                chosen.iter().map(|(v, o)| format!("{v}={o}")).collect::<Vec<_>>().join(" ")
+            );
+            match renders_alone(&gpu, (&path, &scene), &chosen) {
+                Ok(plan) => {
+                    plan.passes.iter().for_each(|p| {
+                        unseen.remove(&p.name);
+                    });
+                    rendered.push(config);
                 }
-                Err(e) => panic!("{config}: {e}"),
-            };
-            let real = lightbench::render::render(&gpu, &exe, &scene, 1).unwrap_or_else(|e| panic!("{config}: {e}"));
-            let output = plan.output_resource().name.clone();
-            let e = rmse(&small.read(&output), &crate::gpu_common::output(&gpu, &real));
-            assert!(e <= 1e-6, "{config}: the small executor's output is {e} RMSE from the executor's");
-            rendered.push(config);
+                Err(e) => refused.entry(e).or_default().push(config),
+            }
         }
+        never_run.extend(unseen.into_iter().map(|p| format!("{pipeline}: {p}")));
     }
     eprintln!("rendered from the Plan alone: {}", rendered.join(", "));
     for (why, configs) in &refused {
@@ -910,4 +1012,44 @@ fn every_bundled_option_renders_from_the_plan_alone_or_is_refused_by_name() {
         "{} configurations rendered, fewer than {MIN_RENDERED}",
         rendered.len()
     );
+    assert!(never_run.is_empty(), "passes no rendered configuration ran: {never_run:?}");
+}
+
+/// One configuration's Plan through its JSON, rendered by the small executor and compared with the
+/// executor's first frame; `Err` where the small executor refuses it by name.
+fn renders_alone(gpu: &Gpu, (path, scene): (&std::path::Path, &Scene), chosen: &[(String, String)]) -> Result<Plan, String> {
+    let config = format!("{} {chosen:?}", path.display());
+    let (exe, _) = lightbench::render::compile(gpu, path, None, scene, chosen).unwrap_or_else(|e| panic!("{config}: {e}"));
+    // Only what `plan --json` prints reaches the small executor.
+    let plan: Plan = serde_json::from_str(&serde_json::to_string(&exe.plan).unwrap()).unwrap();
+    let small = match Small::new(gpu, &plan, scene).and_then(|s| s.frame().map(|_| s)) {
+        Ok(s) => s,
+        Err(e) if e.starts_with("the small executor does not support") => return Err(e),
+        Err(e) => panic!("{config}: {e}"),
+    };
+    let real = lightbench::render::render(gpu, &exe, scene, 1).unwrap_or_else(|e| panic!("{config}: {e}"));
+    let output = plan.output_resource().name.clone();
+    let e = rmse(&small.read(&output), &crate::gpu_common::output(gpu, &real));
+    assert!(
+        e == 0.0,
+        "{config}: the small executor's output is {e} RMSE from the executor's; first texture apart: {:?}",
+        first_apart(gpu, &small, &real)
+    );
+    Ok(plan)
+}
+
+/// The first texture, in the Plan's order, whose first copy's first layer differs between the
+/// two executors (RMSE over 0): where to look when their outputs differ.
+fn first_apart(gpu: &Gpu, small: &Small, real: &lightbench::gpu::Executor) -> Option<(String, f64)> {
+    small.plan.resources.iter().find_map(|r| {
+        let ResourceShape::Texture { format, .. } = r.shape else {
+            return None;
+        };
+        if format.is_depth() {
+            return None;
+        }
+        let theirs = real.read_texture(gpu, &r.name, 0, 0).ok()?;
+        let e = rmse(&small.read(&r.name), &theirs);
+        (e > 0.0).then(|| (r.name.clone(), e))
+    })
 }
