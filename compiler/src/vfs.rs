@@ -245,6 +245,59 @@ impl Vfs for MemoryVfs {
     }
 }
 
+/// Files held in memory over the disk: an editor's unsaved documents, or a host program's
+/// own pipeline and shaders beside the bundled ones (a pipeline in memory may `use` one on
+/// disk). A path held here is read from memory (at most [`MAX_FILE_BYTES`], as on disk);
+/// every other path, and whether a path leaves its root, from the disk.
+#[derive(Debug, Default)]
+pub struct Overlay {
+    open: RwLock<BTreeMap<PathBuf, String>>,
+}
+
+impl Overlay {
+    /// Hold `text` at `path`, in place of what the disk has there.
+    pub fn set(&self, path: &Path, text: String) {
+        if let Ok(mut o) = self.open.write() {
+            o.insert(normalize(path), text);
+        }
+    }
+    /// Stop holding `path`: the disk's file is read again.
+    pub fn close(&self, path: &Path) {
+        if let Ok(mut o) = self.open.write() {
+            o.remove(&normalize(path));
+        }
+    }
+    pub fn get(&self, path: &Path) -> Option<String> {
+        self.open.read().ok()?.get(&normalize(path)).cloned()
+    }
+    pub fn open_paths(&self) -> Vec<PathBuf> {
+        self.open.read().map(|o| o.keys().cloned().collect()).unwrap_or_default()
+    }
+}
+
+impl Vfs for Overlay {
+    fn read(&self, path: &Path) -> io::Result<String> {
+        match self.get(path) {
+            // The same limit as a file on disk: an editor can hold more than a check reads.
+            Some(t) if t.len() as u64 > MAX_FILE_BYTES => Err(io::Error::new(
+                io::ErrorKind::FileTooLarge,
+                format!("larger than the {} MiB limit (the text held in memory)", MAX_FILE_BYTES >> 20),
+            )),
+            Some(t) => Ok(t),
+            None => DiskVfs.read(path),
+        }
+    }
+    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
+        self.read(path).map(String::into_bytes).or_else(|_| DiskVfs.read_bytes(path))
+    }
+    fn is_dir(&self, path: &Path) -> bool {
+        DiskVfs.is_dir(path)
+    }
+    fn within(&self, root: &Path, path: &Path) -> io::Result<()> {
+        within_on_disk(root, path)
+    }
+}
+
 /// Remove `.` and `dir/..` pairs lexically so diagnostics show `shaders/x.wgsl`, not
 /// `pipelines/../shaders/x.wgsl` (no file system access, symlinks untouched).
 pub fn normalize(p: &Path) -> PathBuf {
@@ -277,5 +330,24 @@ mod tests {
         assert!(!m.is_dir(Path::new("shaders/a.wgsl")));
         m.remove("shaders/a.wgsl");
         assert!(m.read(Path::new("shaders/a.wgsl")).is_err());
+    }
+
+    #[test]
+    fn an_overlay_reads_what_it_holds_and_the_disk_for_the_rest() {
+        let dir = std::env::temp_dir().join(format!("lightbench-overlay-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("a.lbp");
+        std::fs::write(&file, "on disk").unwrap();
+        let o = Overlay::default();
+        assert_eq!(o.read(&file).unwrap(), "on disk");
+        o.set(&dir.join("./a.lbp"), "in memory".into());
+        o.set(&dir.join("b.lbp"), "only in memory".into());
+        assert_eq!(o.read(&file).unwrap(), "in memory");
+        assert_eq!(o.read(&dir.join("b.lbp")).unwrap(), "only in memory");
+        o.close(&file);
+        assert_eq!(o.read(&file).unwrap(), "on disk");
+        o.set(&file, "x".repeat(MAX_FILE_BYTES as usize + 1));
+        assert_eq!(o.read(&file).unwrap_err().kind(), io::ErrorKind::FileTooLarge);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -19,6 +19,7 @@ mod words;
 
 use lightbench_compiler::profile::Profile;
 use lightbench_compiler::scene::{file_kind, FileKind};
+use lightbench_compiler::vfs::Overlay;
 use lightbench_compiler::vfs::Vfs;
 use lightbench_compiler::Workspace;
 use lsp_server::{Connection, Message, Notification};
@@ -27,7 +28,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-use text::{path_of, Overlay};
+use text::path_of;
 
 /// The longest quiet time after an edit before the files it touches are checked again.
 pub const MAX_QUIET: Duration = Duration::from_millis(25);

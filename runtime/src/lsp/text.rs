@@ -1,62 +1,11 @@
-//! Language server, documents: open documents over the disk (the overlay the compiler reads
-//! through), URIs as paths, positions as the protocol counts them (0-based lines, UTF-16
+//! Language server, documents: URIs as paths (open documents are held over the disk in the
+//! compiler's `vfs::Overlay`, which checks read through), positions as the protocol counts them (0-based lines, UTF-16
 //! code units) against byte offsets as spans count them, and the word around an offset.
 
-use lightbench_compiler::vfs::{normalize, within_on_disk, DiskVfs, Vfs, MAX_FILE_BYTES};
+use lightbench_compiler::vfs::normalize;
 use lsp_types::{Position, Range, Uri};
-use std::collections::HashMap;
-use std::io;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
-use std::sync::RwLock;
-
-/// The editor's unsaved text of open documents, read in place of the files on disk.
-#[derive(Default)]
-pub struct Overlay {
-    open: RwLock<HashMap<PathBuf, String>>,
-}
-
-impl Overlay {
-    pub fn set(&self, path: &Path, text: String) {
-        if let Ok(mut o) = self.open.write() {
-            o.insert(normalize(path), text);
-        }
-    }
-    pub fn close(&self, path: &Path) {
-        if let Ok(mut o) = self.open.write() {
-            o.remove(&normalize(path));
-        }
-    }
-    pub fn get(&self, path: &Path) -> Option<String> {
-        self.open.read().ok()?.get(&normalize(path)).cloned()
-    }
-    pub fn open_paths(&self) -> Vec<PathBuf> {
-        self.open.read().map(|o| o.keys().cloned().collect()).unwrap_or_default()
-    }
-}
-
-impl Vfs for Overlay {
-    fn read(&self, path: &Path) -> io::Result<String> {
-        match self.get(path) {
-            // The same limit as a file on disk: an editor can hold more than a check reads.
-            Some(t) if t.len() as u64 > MAX_FILE_BYTES => Err(io::Error::new(
-                io::ErrorKind::FileTooLarge,
-                format!("larger than the {} MiB limit (the editor's text)", MAX_FILE_BYTES >> 20),
-            )),
-            Some(t) => Ok(t),
-            None => DiskVfs.read(path),
-        }
-    }
-    fn read_bytes(&self, path: &Path) -> io::Result<Vec<u8>> {
-        self.read(path).map(String::into_bytes).or_else(|_| DiskVfs.read_bytes(path))
-    }
-    fn is_dir(&self, path: &Path) -> bool {
-        DiskVfs.is_dir(path)
-    }
-    fn within(&self, root: &Path, path: &Path) -> io::Result<()> {
-        within_on_disk(root, path)
-    }
-}
 
 /// The local path a `file:` URI names (percent-escapes decoded); `None` for other schemes.
 pub fn path_of(uri: &Uri) -> Option<PathBuf> {

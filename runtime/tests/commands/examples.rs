@@ -78,8 +78,9 @@ fn headless_renders_what_lightbench_render_renders() {
 
 /// `host_loop` (docs/embedding.md, "A host program"): its own camera, a parameter set by name
 /// and a variant switched while running end on what `lightbench render` renders with that
-/// camera, parameter and variant; the host's own submit gets GPU timings; bad FRAMES is a
-/// usage error.
+/// camera, parameter and variant, but where the host's pass draws the picture the host wrote
+/// into its external texture (a progress bar, one eighth long on the first frame, full on the
+/// last); the host's own submit gets GPU timings; bad FRAMES is a usage error.
 #[test]
 fn host_loop_ends_where_lightbench_render_does() {
     let d = scratch("example-host-loop");
@@ -120,9 +121,26 @@ fn host_loop_ends_where_lightbench_render_does() {
     ]);
     assert_eq!(code, 0, "{err}");
     let load = |p: &PathBuf| lightbench::io::Image::load_png(p).unwrap();
-    let e = lightbench::io::rmse(&load(&last), &load(&theirs)).unwrap();
-    assert!(e <= 1e-3, "RMSE {e}");
-    let e = lightbench::io::rmse(&load(&first), &load(&theirs)).unwrap();
+    let (ours, first, theirs) = (load(&last), load(&first), load(&theirs));
+    // The bar: the bottom 6 rows, as long as the share of frames rendered.
+    let (bar, w) = (58, 64);
+    let bar_color = [32.0 / 255.0, 200.0 / 255.0, 1.0, 1.0];
+    let mut above = 0.0;
+    for y in 0..64 {
+        for x in 0..w {
+            let (a, b) = (ours.pixel(x, y), theirs.pixel(x, y));
+            if y >= bar {
+                assert_eq!(a, bar_color, "the host's bar at ({x}, {y}) on the last frame");
+                let in_first = first.pixel(x, y) == bar_color;
+                assert_eq!(in_first, x < w / 8, "the first frame's bar is 1/8 long: ({x}, {y})");
+            } else {
+                above += (0..3).map(|c| ((a[c] - b[c]) as f64).powi(2)).sum::<f64>();
+            }
+        }
+    }
+    let e = (above / (3.0 * 64.0 * bar as f64)).sqrt();
+    assert!(e <= 1e-3, "above the bar, RMSE {e} to lightbench render");
+    let e = lightbench::io::rmse(&first, &theirs).unwrap();
     assert!(e > 0.01, "the first frame is another camera and tone mapping: RMSE {e}");
     // Too few frames, or no outputs named: usage errors, nothing written.
     let (a, b) = (d.join("a.png"), d.join("b.png"));

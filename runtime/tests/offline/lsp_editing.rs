@@ -256,7 +256,7 @@ fn a_document_over_16_mib_is_file_too_large() {
     // Paths as `check` run in the project prints them: relative to the workspace folder.
     assert_eq!(
         d[0]["message"],
-        "cannot read pipeline `pipelines/huge.lbp`: larger than the 16 MiB limit (the editor's text)"
+        "cannot read pipeline `pipelines/huge.lbp`: larger than the 16 MiB limit (the text held in memory)"
     );
     assert_eq!(d[0]["range"]["start"], json!({"line": 0, "character": 0}));
     assert_eq!(c.finish(), 0);
