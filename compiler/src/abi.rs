@@ -29,6 +29,100 @@ pub struct FrameBlock {
     pub scene_radius: f32,
 }
 
+/// A field of the frame block, named as `shaders/lib/frame.wgsl` names it. What a pass reads
+/// of the block is found by the bytes it reads (`FrameField::overlapping`), so a shader whose
+/// own struct names the members otherwise still depends on what it reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameField {
+    View,
+    Proj,
+    ViewProj,
+    InvViewProj,
+    PrevViewProj,
+    PrevInvViewProj,
+    CameraPos,
+    Resolution,
+    Jitter,
+    Time,
+    FrameIndex,
+    LightCount,
+    SceneRadius,
+}
+
+impl FrameField {
+    pub const ALL: [FrameField; 13] = [
+        FrameField::View,
+        FrameField::Proj,
+        FrameField::ViewProj,
+        FrameField::InvViewProj,
+        FrameField::PrevViewProj,
+        FrameField::PrevInvViewProj,
+        FrameField::CameraPos,
+        FrameField::Resolution,
+        FrameField::Jitter,
+        FrameField::Time,
+        FrameField::FrameIndex,
+        FrameField::LightCount,
+        FrameField::SceneRadius,
+    ];
+
+    /// Its bytes in `FrameBlock`: offset and size.
+    pub fn bytes(self) -> (usize, usize) {
+        use std::mem::{offset_of, size_of};
+        let (mat, vec) = (size_of::<[[f32; 4]; 4]>(), size_of::<[f32; 4]>());
+        match self {
+            FrameField::View => (offset_of!(FrameBlock, view), mat),
+            FrameField::Proj => (offset_of!(FrameBlock, proj), mat),
+            FrameField::ViewProj => (offset_of!(FrameBlock, view_proj), mat),
+            FrameField::InvViewProj => (offset_of!(FrameBlock, inv_view_proj), mat),
+            FrameField::PrevViewProj => (offset_of!(FrameBlock, prev_view_proj), mat),
+            FrameField::PrevInvViewProj => (offset_of!(FrameBlock, prev_inv_view_proj), mat),
+            FrameField::CameraPos => (offset_of!(FrameBlock, camera_pos), vec),
+            FrameField::Resolution => (offset_of!(FrameBlock, resolution), vec),
+            FrameField::Jitter => (offset_of!(FrameBlock, jitter), vec),
+            FrameField::Time => (offset_of!(FrameBlock, time), 4),
+            FrameField::FrameIndex => (offset_of!(FrameBlock, frame_index), 4),
+            FrameField::LightCount => (offset_of!(FrameBlock, light_count), 4),
+            FrameField::SceneRadius => (offset_of!(FrameBlock, scene_radius), 4),
+        }
+    }
+
+    /// The fields whose bytes `offset..offset + size` of the block touch.
+    pub fn overlapping(offset: usize, size: usize) -> impl Iterator<Item = FrameField> {
+        FrameField::ALL.into_iter().filter(move |f| {
+            let (at, n) = f.bytes();
+            at < offset + size && offset < at + n
+        })
+    }
+
+    /// Its name in `shaders/lib/frame.wgsl` (and in the Plan's JSON).
+    pub fn name(self) -> &'static str {
+        const NAMES: [&str; 13] = [
+            "view",
+            "proj",
+            "view_proj",
+            "inv_view_proj",
+            "prev_view_proj",
+            "prev_inv_view_proj",
+            "camera_pos",
+            "resolution",
+            "jitter",
+            "time",
+            "frame_index",
+            "light_count",
+            "scene_radius",
+        ];
+        NAMES[self as usize]
+    }
+}
+
+impl std::fmt::Display for FrameField {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct LightBlock {
@@ -245,5 +339,30 @@ mod tests {
         };
         let offsets: Vec<u32> = members.iter().map(|m| m.offset).collect();
         assert_eq!(offsets, vec![0, 16, 32, 48, 64, 68, 72, 76, 80, 144]);
+        // The frame block's fields: each member of `Frame`, by name and offset, in order.
+        let (_, frame) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("Frame")).unwrap();
+        let naga::TypeInner::Struct { members, .. } = &frame.inner else {
+            panic!()
+        };
+        let wgsl: Vec<(&str, usize)> = members.iter().map(|m| (m.name.as_deref().unwrap(), m.offset as usize)).collect();
+        let ours: Vec<(&str, usize)> = FrameField::ALL.iter().map(|f| (f.name(), f.bytes().0)).collect();
+        assert_eq!(wgsl, ours);
+        assert_eq!(
+            serde_json::to_string(&FrameField::PrevInvViewProj).unwrap(),
+            "\"prev_inv_view_proj\""
+        );
+    }
+
+    /// The bytes a member spans name the fields under them: one, several, or none past the end.
+    #[test]
+    fn frame_fields_are_found_by_the_bytes_read() {
+        let time = FrameField::Time.bytes().0;
+        assert_eq!(FrameField::overlapping(time, 4).collect::<Vec<_>>(), [FrameField::Time]);
+        assert_eq!(
+            FrameField::overlapping(time, 8).collect::<Vec<_>>(),
+            [FrameField::Time, FrameField::FrameIndex]
+        );
+        assert_eq!(FrameField::overlapping(0, 1).collect::<Vec<_>>(), [FrameField::View]);
+        assert_eq!(FrameField::overlapping(std::mem::size_of::<FrameBlock>(), 16).count(), 0);
     }
 }

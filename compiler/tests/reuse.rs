@@ -105,3 +105,24 @@ fn a_change_late_in_a_load_chain_reruns_the_chain_from_its_start_and_what_reads_
     // whose last writer (`cam`) left it in place.
     assert_eq!(frame(&plan, &graph, &mut reuse, &moved), ["mid", "late", "show"]);
 }
+
+/// What a pass reads of the frame block is found by the bytes it reads, not the members'
+/// names: a shader declaring the block with its own names (time as `seconds`, the rest
+/// skipped over) depends on the time, and the Plan says `time`.
+#[test]
+fn a_frame_block_with_other_member_names_is_read_by_offset() {
+    const OWN: &str = "struct Own {\n    skipped: array<vec4<f32>, 27>,\n    seconds: f32,\n    rest: vec3<u32>,\n};\n\
+@group(0) @binding(0) var<uniform> frame: Own;\n\
+@fragment\nfn fs_main() -> @location(0) vec4<f32> {\n    return vec4<f32>(fract(frame.seconds));\n}\n";
+    let pipeline = "pipeline own\n\ntexture out: Rgba8Unorm 8x8\n\nfullscreen clock \"own.wgsl\" {\n    color out\n}\n\noutput out\n";
+    let dir = write_project("reuse-own-frame", &[("pipelines/own.lbp", pipeline), ("shaders/own.wgsl", OWN)]);
+    let mut s = Session::new();
+    let profile = Profile::offline("vulkan").unwrap();
+    let plan = s.plan_file(&dir.join("pipelines/own.lbp"), None, &profile, &SceneFeatures::everything(), &[]);
+    let plan = plan.unwrap_or_else(|| panic!("{}", s.render()));
+    let d = &plan.passes[0].depends;
+    assert!(d.time && !d.camera && !d.frame_index, "{d:?}");
+    assert_eq!(d.frame_fields, [lightbench_compiler::abi::FrameField::Time]);
+    let json = serde_json::to_string(d).unwrap();
+    assert!(json.contains(r#""frame_fields":["time"]"#), "{json}");
+}

@@ -12,6 +12,7 @@ pub mod limits;
 mod reflect_facts;
 pub mod scene;
 
+use crate::abi::FrameField;
 use crate::diag::Diagnostics;
 use crate::ir::*;
 use crate::layout::BindSource;
@@ -41,7 +42,7 @@ pub struct PassVersion {
     pub resolved: bindings::Resolved,
     /// Fields of the frame block its entry points read, through every function they call
     /// (reflection, worked out once here rather than for every Plan).
-    pub frame_fields: BTreeSet<String>,
+    pub frame_fields: BTreeSet<FrameField>,
     /// Per declared resource bound as a buffer, the scalar kinds of the globals bound to it
     /// (what its 32-bit words hold).
     pub buffer_scalars: BTreeMap<String, BTreeSet<naga::ScalarKind>>,
@@ -241,8 +242,9 @@ fn check_version(
     })
 }
 
-/// The frame-block fields a pass version's entry points read (of every stage).
-fn frame_fields(stages: &[StageShader], resolved: &bindings::Resolved) -> BTreeSet<String> {
+/// The frame-block fields a pass version's entry points read (of every stage), by the bytes
+/// they read.
+fn frame_fields(stages: &[StageShader], resolved: &bindings::Resolved) -> BTreeSet<FrameField> {
     let frame = resolved
         .groups
         .iter()
@@ -253,7 +255,8 @@ fn frame_fields(stages: &[StageShader], resolved: &bindings::Resolved) -> BTreeS
         for st in stages {
             let m = &st.module.module;
             if let Some((h, _)) = m.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(e.name.as_str())) {
-                fields.extend(crate::shader::reflect::members_read(m, st.entry, h));
+                let read = crate::shader::reflect::members_read(m, st.entry, h);
+                fields.extend(read.into_iter().flat_map(|(at, n)| FrameField::overlapping(at, n)));
             }
         }
     }

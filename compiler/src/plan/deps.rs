@@ -3,35 +3,36 @@
 //! meshes — and which passes must run every frame. The runtime's reuse rule reads this.
 
 use super::Depends;
+use crate::abi::FrameField;
 use crate::check::PassVersion;
 use crate::ir::{Draw, Pass, PassKind, Pipeline, Read};
 use crate::layout::BindSource;
 
 /// Frame-block fields that move with the camera (`jitter` moves the projection).
-pub const CAMERA_FIELDS: [&str; 8] = [
-    "view",
-    "proj",
-    "view_proj",
-    "inv_view_proj",
-    "prev_view_proj",
-    "prev_inv_view_proj",
-    "camera_pos",
-    "jitter",
+pub const CAMERA_FIELDS: [FrameField; 8] = [
+    FrameField::View,
+    FrameField::Proj,
+    FrameField::ViewProj,
+    FrameField::InvViewProj,
+    FrameField::PrevViewProj,
+    FrameField::PrevInvViewProj,
+    FrameField::CameraPos,
+    FrameField::Jitter,
 ];
 
 pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depends {
     let entries = || version.resolved.groups.iter().flat_map(|g| &g.entries);
     // The frame-block fields its entry points read (the check's reflection).
     let fields = &version.frame_fields;
-    let has = |f: &str| fields.contains(f);
+    let has = |f: FrameField| fields.contains(&f);
     let draw = match &pass.kind {
         PassKind::Raster(r) => Some(&r.draw),
         _ => None,
     };
     Depends {
-        camera: CAMERA_FIELDS.iter().any(|f| has(f)) || draw == Some(&Draw::Transparent),
-        time: has("time"),
-        frame_index: has("frame_index"),
+        camera: CAMERA_FIELDS.into_iter().any(has) || draw == Some(&Draw::Transparent),
+        time: has(FrameField::Time),
+        frame_index: has(FrameField::FrameIndex),
         lights: pass.per_light.is_none() && entries().any(|e| matches!(e.source, BindSource::Lights)),
         scene: draw.is_some_and(Draw::uses_scene)
             || entries().any(|e| {
@@ -48,7 +49,7 @@ pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depen
             })
             || pass.reads.iter().any(|r| p.resource(&r.name().value).is_some_and(|d| d.is_accel())),
         always: always(p, pass),
-        frame_fields: fields.iter().filter(|f| !f.starts_with('_')).cloned().collect(),
+        frame_fields: fields.iter().copied().collect(),
     }
 }
 

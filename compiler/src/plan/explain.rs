@@ -251,7 +251,8 @@ fn reuse_word(p: &PlanPass) -> String {
     let fields = if d.frame_fields.is_empty() {
         String::new()
     } else {
-        format!(" (frame: {})", d.frame_fields.join(", "))
+        let names: Vec<&str> = d.frame_fields.iter().map(|f| f.name()).collect();
+        format!(" (frame: {})", names.join(", "))
     };
     format!("runs when changed: {}{fields}", on.join(", "))
 }

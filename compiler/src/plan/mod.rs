@@ -294,8 +294,8 @@ pub struct PlanCopy {
 /// last ran.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Depends {
-    /// Frame-block fields its shaders read.
-    pub frame_fields: Vec<String>,
+    /// Frame-block fields its shaders read (found by the bytes they read).
+    pub frame_fields: Vec<crate::abi::FrameField>,
     /// The camera: view and projection fields (and jitter), or a back-to-front draw order.
     pub camera: bool,
     pub time: bool,

@@ -201,11 +201,11 @@ pub fn inputs(sm: &ShaderModule, ep: usize) -> Vec<IoVar> {
     out
 }
 
-/// Names of the members of struct global `global` that entry point `entry` reads, through
-/// every function it calls; every member when the struct is loaded whole. (A uniform
-/// struct can only be reached by member access or a whole load: WGSL passes no pointers
-/// to uniform memory into functions.)
-pub fn members_read(m: &naga::Module, entry: usize, global: Handle<naga::GlobalVariable>) -> std::collections::BTreeSet<String> {
+/// The bytes (offset, size) of the members of struct global `global` that entry point `entry`
+/// reads, through every function it calls; every member when the struct is loaded whole. (A
+/// uniform struct can only be reached by member access or a whole load: WGSL passes no
+/// pointers to uniform memory into functions.)
+pub fn members_read(m: &naga::Module, entry: usize, global: Handle<naga::GlobalVariable>) -> Vec<(usize, usize)> {
     let mut functions = vec![&m.entry_points[entry].function];
     let mut seen = std::collections::BTreeSet::new();
     let mut used = std::collections::BTreeSet::new();
@@ -230,14 +230,20 @@ pub fn members_read(m: &naga::Module, entry: usize, global: Handle<naga::GlobalV
         }
     }
     let ty = &m.types[m.global_variables[global].ty].inner;
-    let TypeInner::Struct { members, .. } = ty else {
+    let TypeInner::Struct { members, span } = ty else {
         return Default::default();
     };
+    let ends = members.iter().skip(1).map(|mem| mem.offset).chain([*span]);
     members
         .iter()
+        .zip(ends)
         .enumerate()
         .filter(|(i, _)| whole || used.contains(&(*i as u32)))
-        .filter_map(|(_, mem)| mem.name.clone())
+        .map(|(_, (mem, end))| {
+            // Its type's size, padding after it left out (never past the next member).
+            let size = m.types[mem.ty].inner.size(m.to_ctx()).min(end.saturating_sub(mem.offset));
+            (mem.offset as usize, size as usize)
+        })
         .collect()
 }
 
