@@ -352,7 +352,7 @@ fn the_bench_figures_script_writes_each_bench_under_its_name() {
 /// exits or what a usage error is — that mapping is the application's alone
 /// (`runtime/src/error.rs`, `Error::exit_code`).
 #[test]
-fn each_library_crate_has_its_own_error_type_and_no_exit_codes() {
+fn each_library_crate_has_its_own_error_type_and_no_cli_wording() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     for krate in ["scene", "executor", "reference"] {
         let src = root.join(krate).join("src");
@@ -373,6 +373,17 @@ fn each_library_crate_has_its_own_error_type_and_no_exit_codes() {
                 let said = ["exit code", "usage error", "exit 1", "exit 2", "(exit "]
                     .iter()
                     .find(|w| l.contains(*w));
+                // Messages say the library's calls, not the command line's options.
+                let code = l.split("//").next().unwrap_or("");
+                let option = ["\"--", " --", "(--", "`--"]
+                    .iter()
+                    .find(|w| code.contains(*w) && code.contains('"'));
+                assert!(
+                    option.is_none(),
+                    "{krate}::{}:{}: a command-line option in a message is the application's to say: {line}",
+                    m.join("::"),
+                    i + 1
+                );
                 assert!(
                     said.is_none(),
                     "{krate}::{}:{}: `{}` is the application's to say: {line}",

@@ -32,6 +32,18 @@ pub enum Error {
     /// format.
     #[error("{0}")]
     Input(String),
+    /// External resource `name` cannot be supplied through `call` (`load_input`,
+    /// `supply_input`, `mark_supplied`): `error` says why (a `Request` — no such resource, not
+    /// external — or an `Input` — contents of the wrong size or format).
+    #[error("{call} `{name}`: {error}")]
+    Supply {
+        call: &'static str,
+        name: String,
+        error: Box<Error>,
+    },
+    /// A frame reads external resource `0`, whose contents nothing has supplied yet.
+    #[error("resource `{0}` is external: supply its contents (Executor::load_input, supply_input or mark_supplied)")]
+    Unsupplied(String),
     /// A scene that cannot be loaded or used, or a file that cannot be read or written.
     #[error(transparent)]
     Scene(#[from] lightbench_scene::Error),

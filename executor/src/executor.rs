@@ -435,7 +435,7 @@ impl Executor {
         if let Some(sized) = self.fixed_param(name) {
             if *sized != value {
                 return Err(Error::Request(format!(
-                    "parameter `{name}` is fixed by the Plan (it sizes resources, repeats a pass or sets a shader constant; this Plan uses {}): plan again with the new value (render --param, or Executor::replace with an Executable compiled for it)",
+                    "parameter `{name}` is fixed by the Plan (it sizes resources, repeats a pass or sets a shader constant; this Plan uses {}): plan again with the new value (Executor::replace with an Executable compiled for it)",
                     sized.describe()
                 )));
             }

@@ -15,9 +15,10 @@ use std::path::Path;
 impl Executor {
     /// Fill external resource `name` from `file`.
     pub fn load_input(&mut self, gpu: &Gpu, name: &str, file: &Path) -> Result<()> {
-        let res = self.external(name, "--input")?;
+        let supply = |error| supply_error("load_input", name, error);
+        let res = self.external(name).map_err(supply)?;
         // The file's content (wrong size, format, a number beyond f32): bad input.
-        let bad = |e: String| Error::Input(format!("--input `{name}`: {} {e}", file.display()));
+        let bad = |e: String| supply(Error::Input(format!("{} {e}", file.display())));
         let raw = lightbench_compiler::vfs::read_bytes(file, lightbench_compiler::vfs::MAX_FILE_BYTES).map_err(|e| Error::io(file, e))?;
         let bytes = match res.shape {
             ResourceShape::Buffer { size, .. } => {
@@ -27,7 +28,7 @@ impl Executor {
             ResourceShape::Texture {
                 format, extent, layers, ..
             } => data::texture_from_file(file, raw, TextureShape { format, extent, layers }).map_err(bad)?,
-            ResourceShape::AccelerationStructure => return Err(built_from_the_scene("--input", name)),
+            ResourceShape::AccelerationStructure => return Err(supply(built_from_the_scene())),
         };
         self.fill(gpu, &res, &bytes)?;
         self.supplied_now(name);
@@ -36,19 +37,19 @@ impl Executor {
 
     /// Fill external resource `name` with the host's `bytes`: a buffer's, or a texture's
     /// texels row by row, layer after layer, tightly packed in its format — exactly the size
-    /// the Plan declares (an error names both sizes, as `--input` does).
+    /// the Plan declares (an error names both sizes, as `load_input` does).
     pub fn supply_input(&mut self, gpu: &Gpu, name: &str, bytes: &[u8]) -> Result<()> {
-        let what = "supply_input";
-        let res = self.external(name, what)?;
-        // The compiler's rules for a resource's bytes, as for `--input` and `data`.
+        let supply = |error| supply_error("supply_input", name, error);
+        let res = self.external(name).map_err(supply)?;
+        // The compiler's rules for a resource's bytes, as for `load_input` and `data`.
         let fits = match res.shape {
             ResourceShape::Buffer { size, .. } => data::check_buffer_size(bytes.len(), size),
             ResourceShape::Texture {
                 format, extent, layers, ..
             } => data::check_texels_size(bytes.len(), TextureShape { format, extent, layers }),
-            ResourceShape::AccelerationStructure => return Err(built_from_the_scene(what, name)),
+            ResourceShape::AccelerationStructure => return Err(supply(built_from_the_scene())),
         };
-        fits.map_err(|e| Error::Input(format!("{what} `{name}`: the input {e}")))?;
+        fits.map_err(|e| supply(Error::Input(format!("the input {e}"))))?;
         self.fill(gpu, &res, bytes)?;
         self.supplied_now(name);
         Ok(())
@@ -59,28 +60,26 @@ impl Executor {
     /// frames may read it. Its format, size and usages are the Plan's, which wgpu holds the
     /// host's writes to. Storage recreated by a reload must be written and marked again.
     pub fn mark_supplied(&mut self, name: &str) -> Result<()> {
-        self.external(name, "mark_supplied")?;
+        self.external(name).map_err(|e| supply_error("mark_supplied", name, e))?;
         self.supplied_now(name);
         Ok(())
     }
 
     /// The Plan's external resource `name`, which a caller may supply: one copy (not per
-    /// light), a texture or a buffer. `what` names the caller's way in errors.
-    fn external(&self, name: &str, what: &str) -> Result<PlanResource> {
+    /// light), a texture or a buffer.
+    fn external(&self, name: &str) -> Result<PlanResource> {
         let res = self
             .plan()
             .resource(name)
-            .ok_or_else(|| Error::Request(format!("{what} `{name}`: no such resource")))?;
+            .ok_or_else(|| Error::Request("no such resource".into()))?;
         if !res.external {
-            return Err(Error::Request(format!("{what} `{name}`: the resource is not `external: true`")));
+            return Err(Error::Request("the resource is not `external: true`".into()));
         }
         if !res.per_light.is_empty() {
-            return Err(Error::Request(format!(
-                "{what} `{name}`: per-light external resources cannot be supplied yet"
-            )));
+            return Err(Error::Request("per-light external resources cannot be supplied yet".into()));
         }
         if matches!(res.shape, ResourceShape::AccelerationStructure) {
-            return Err(built_from_the_scene(what, name));
+            return Err(built_from_the_scene());
         }
         Ok(res.clone())
     }
@@ -136,8 +135,17 @@ impl Executor {
     }
 }
 
-fn built_from_the_scene(what: &str, name: &str) -> Error {
-    Error::Request(format!("{what} `{name}`: an acceleration structure is built from the scene"))
+fn built_from_the_scene() -> Error {
+    Error::Request("an acceleration structure is built from the scene".into())
+}
+
+/// `error` from supplying external resource `name` through `call`.
+fn supply_error(call: &'static str, name: &str, error: Error) -> Error {
+    Error::Supply {
+        call,
+        name: name.to_string(),
+        error: Box::new(error),
+    }
 }
 
 fn write_texture(gpu: &Gpu, t: &wgpu::Texture, bytes: &[u8], texel: u32, (w, h): (u32, u32), layers: u32) {

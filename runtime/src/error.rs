@@ -46,6 +46,15 @@ impl From<executor::Error> for Error {
             executor::Error::Request(m) => Error::Usage(m),
             executor::Error::Variant(lines) => Error::Usage(lines.iter().map(|l| format!("--variant: {l}")).collect::<Vec<_>>().join("\n")),
             executor::Error::Input(m) => Error::Input(m),
+            // The command line supplies external resources with `--input NAME=FILE`.
+            executor::Error::Supply { name, error, .. } => match Error::from(*error) {
+                Error::Input(m) => Error::Input(format!("--input `{name}`: {m}")),
+                Error::Usage(m) => Error::Usage(format!("--input `{name}`: {m}")),
+                e => e,
+            },
+            executor::Error::Unsupplied(n) => {
+                Error::Usage(format!("resource `{n}` is external: supply its contents (render --input {n}=FILE)"))
+            }
             executor::Error::Param(p) => Error::Param(p),
             executor::Error::Scene(s) => Error::Scene(s),
             e => Error::Executor(e),

@@ -80,10 +80,7 @@ impl Executor {
             .iter()
             .find(|r| r.external && !self.supplied.contains(&r.name))
         {
-            let n = &r.name;
-            return Err(Error::Request(format!(
-                "resource `{n}` is external: supply its contents (render --input {n}=FILE, or Executor::load_input, supply_input or mark_supplied)"
-            )));
+            return Err(Error::Unsupplied(r.name.clone()));
         }
         if let Some(lights) = &inputs.lights {
             self.check_lights(lights)?;
