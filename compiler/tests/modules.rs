@@ -373,14 +373,16 @@ fn each_library_crate_has_its_own_error_type_and_no_cli_wording() {
                 let said = ["exit code", "usage error", "exit 1", "exit 2", "(exit "]
                     .iter()
                     .find(|w| l.contains(*w));
-                // Messages say the library's calls, not the command line's options.
-                let code = l.split("//").next().unwrap_or("");
-                let option = ["\"--", " --", "(--", "`--"]
-                    .iter()
-                    .find(|w| code.contains(*w) && code.contains('"'));
+                // Messages and docs say the library's calls, not the command line's options.
+                let (code, doc) = l.split_once("//").unwrap_or((&l, ""));
+                let doc = if doc.starts_with('/') || doc.starts_with('!') { doc } else { "" };
+                let option = |text: &str| {
+                    text.match_indices("--")
+                        .any(|(at, _)| text[at + 2..].starts_with(|c: char| c.is_ascii_lowercase()))
+                };
                 assert!(
-                    option.is_none(),
-                    "{krate}::{}:{}: a command-line option in a message is the application's to say: {line}",
+                    !(code.contains('"') && option(code)) && !option(doc),
+                    "{krate}::{}:{}: a command-line option is the application's to say: {line}",
                     m.join("::"),
                     i + 1
                 );

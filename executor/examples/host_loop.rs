@@ -1,7 +1,7 @@
 //! A host program's frame loop around the executor (docs/embedding.md, "A host program"): its
 //! own device and camera, the bundled pipeline extended in memory by a pass of the host's (its
-//! own picture over the finished image, an `external` texture the host writes every frame), a
-//! parameter set from the host, a variant changed while it runs (compiled again and swapped in
+//! own picture over the finished image, an `external` texture the host writes every frame),
+//! parameters set from the host and one changed while it runs, a variant changed too (compiled again and swapped in
 //! with `Executor::replace`), frames recorded into the host's encoder and submitted by the
 //! host, and the last frame's GPU time per pass.
 //!
@@ -11,7 +11,8 @@
 //! From the repository root: the Cornell box at 64×64 through `pipelines/deferred.lbp`, the
 //! camera turning about the box to end where the scene's own camera is, manual exposure, and
 //! the host's progress bar along the bottom `BAR` rows, full on the last frame; after half of
-//! FRAMES (8) frames the tone mapping switches from `reinhard` to `simple`. Writes the first
+//! FRAMES (8) frames the tone mapping switches from `reinhard` to `simple` and the exposure
+//! from 0.5 EV to 1. Writes the first
 //! and the last frame; above the bar the last equals `lightbench render --size 64x64 --variant
 //! tonemap=simple --param exposure.automatic=false --param exposure.ev=1` (a test checks it).
 
@@ -85,7 +86,7 @@ fn run() -> Result<()> {
     let mut ex = Executor::new(&gpu, &exe, &scene)?;
     // Parameters are set by name, checked against their type and range.
     ex.set_param("exposure.automatic", ParamValue::Bool(false))?;
-    ex.set_param("exposure.ev", ParamValue::Float(1.0))?;
+    ex.set_param("exposure.ev", ParamValue::Float(0.5))?;
 
     let (w, h) = scene.size;
     let proj = perspective(40f32.to_radians(), w as f32 / h as f32, 0.05, 20.0);
@@ -96,8 +97,10 @@ fn run() -> Result<()> {
             let variants = [("tonemap".to_string(), "simple".to_string())];
             let (exe, _warnings) = compile_in(&ws, &gpu, pipeline, None, &scene, &variants)?;
             let report = ex.replace(&gpu, &exe)?;
+            // A parameter changed between frames: a frame input, no new Plan.
+            ex.set_param("exposure.ev", ParamValue::Float(1.0))?;
             println!(
-                "frame {frame}: tonemap = simple, {} pipeline(s) built",
+                "frame {frame}: tonemap = simple, {} pipeline(s) built; exposure.ev = 1",
                 report.pipelines_built.len()
             );
         }
@@ -113,8 +116,8 @@ fn run() -> Result<()> {
             height: h,
             depth_or_array_layers: 1,
         };
-        gpu.queue
-            .write_texture(ex.texture("overlay")?.as_image_copy(), &texels, layout, size);
+        let overlay = ex.texture("overlay")?;
+        gpu.queue.write_texture(overlay.as_image_copy(), &texels, layout, size);
         ex.mark_supplied("overlay")?;
         // The host's camera: turning about the box's centre, looking at it.
         let angle = 0.3 * (1.0 - frame as f32 / (frames - 1) as f32);

@@ -487,8 +487,8 @@ impl Executor {
         self.reuse = Reuse::new(on && !self.alias);
     }
 
-    /// Let transient resources share memory where the Plan allows (`PlanResource::shares`,
-    /// `plan --memory`), or give each its own (the default). The resources are made again, as
+    /// Let transient resources share memory where the Plan allows (`PlanResource::shares`),
+    /// or give each its own (the default). The resources are made again, as
     /// `replace` with `exe` (the executable running) does. While on, every pass runs every
     /// frame (a skipped pass's result could be overwritten by another resource), and a
     /// transient resource read after the frame holds whatever last lived in its memory: read

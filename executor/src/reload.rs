@@ -173,7 +173,7 @@ pub enum Outcome {
     Rewatched { folders: Vec<PathBuf> },
 }
 
-/// What `render --watch` and the viewer say when folders were watched anew (a line each).
+/// What a watcher says when folders were watched anew (a line each).
 pub fn rewatched(folders: &[PathBuf]) -> String {
     let lines: Vec<String> = (folders.iter())
         .map(|f| format!("watching {} again: the folder was replaced; reloading from its files", f.display()))
@@ -192,10 +192,11 @@ pub struct Reloader {
     /// Every file the scene is read from (`scene_file`, its models and the files they refer
     /// to): a change to any reloads the scene.
     scene_files: Vec<PathBuf>,
-    /// The size rendered at: a reloaded scene file keeps it (it may come from `--size`).
+    /// The size rendered at: a reloaded scene file keeps it (it may be the caller's, not the
+    /// file's).
     size: (u32, u32),
     features: lightbench_compiler::scene::SceneFeatures,
-    /// Effects a reloaded scene file calls for besides its own (`--effect`).
+    /// Effects a reloaded scene file calls for besides its own (the caller's, `add_effects`).
     added_effects: Vec<lightbench_compiler::ir::Effect>,
     watch: Watch,
     /// The last failure, until a reload succeeds.
@@ -252,7 +253,7 @@ impl Reloader {
         self.params = params.clone();
     }
 
-    /// A reloaded scene file calls for these effects too (`--effect`).
+    /// A reloaded scene file calls for these effects too (the caller's, besides its own).
     pub fn add_effects(&mut self, effects: &[lightbench_compiler::ir::Effect]) {
         self.added_effects.extend(effects.iter().copied());
     }

@@ -1,4 +1,4 @@
-//! A model rendered on its own (`--scene model.glb`): the camera that frames its bounds and
+//! A model rendered on its own (a glTF file as the scene): the camera that frames its bounds and
 //! the default light rig, both derived from the bounds so that a model in millimetres and
 //! one in kilometres come out alike.
 //!

@@ -26,7 +26,7 @@ pub fn load_in(s: &mut Session, spec: &str) -> Option<Scene> {
 /// What a command loads: the scene `spec` names (built-in name, scene file or glTF model) at
 /// the `size` asked for; its warnings are shown, its errors stop (rendered already:
 /// `Error::Scene` is empty). A model shown on its own is framed for the size it is rendered at.
-/// `effects` (`--effect`) are added to those the scene calls for.
+/// `effects` are added to those the scene calls for.
 pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> Result<Scene> {
     let mut s = Session::new();
     let loaded = load_in(&mut s, spec);
@@ -43,7 +43,7 @@ pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> R
 }
 
 /// Every file the scene `spec` is read from: a scene file, each of its models and the files
-/// they refer to (external buffers and images) — what `--watch` and the viewer watch. A
+/// they refer to (external buffers and images) — what a watcher of the scene watches. A
 /// built-in scene has none; a description that does not load lists what it can.
 pub fn files_of(spec: &str) -> Vec<std::path::PathBuf> {
     let mut out: Vec<std::path::PathBuf> = vec![];
@@ -64,7 +64,7 @@ pub fn files_of(spec: &str) -> Vec<std::path::PathBuf> {
 
 /// What planning needs of the scene `spec` names — its features — read without its geometry
 /// or textures: the description, its built-in meshes (small) and each model's JSON
-/// (`gltf_load::outline`). `check --scene` and `plan --scene` read scenes so; a model that
+/// (`gltf_load::outline`). Checking and planning read scenes so; a model that
 /// cannot be read is an error at its path, as in `load_in`.
 pub fn features_in(s: &mut Session, spec: &str) -> Option<SceneFeatures> {
     let desc = s.load_scene(spec)?;

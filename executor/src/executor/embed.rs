@@ -60,7 +60,7 @@ impl Executor {
             .ok_or_else(|| Error::Resource(format!("`{name}` is a texture; use texture")))
     }
 
-    /// The Plan's output image (what `render --out` writes): the texture to show. Every
+    /// The Plan's output image (`Plan::output_resource`): the texture to show. Every
     /// texture of the Plan can be copied from (`COPY_SRC`); it can be sampled where the Plan
     /// itself samples it, so a host that wants to sample the output copies it first (as
     /// `examples/embed.rs` does).

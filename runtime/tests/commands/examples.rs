@@ -76,8 +76,8 @@ fn headless_renders_what_lightbench_render_renders() {
     }
 }
 
-/// `host_loop` (docs/embedding.md, "A host program"): its own camera, a parameter set by name
-/// and a variant switched while running end on what `lightbench render` renders with that
+/// `host_loop` (docs/embedding.md, "A host program"): its own camera, a parameter and a
+/// variant switched while running end on what `lightbench render` renders with that
 /// camera, parameter and variant, but where the host's pass draws the picture the host wrote
 /// into its external texture (a progress bar, one eighth long on the first frame, full on the
 /// last); the host's own submit gets GPU timings; bad FRAMES is a usage error.
@@ -94,6 +94,7 @@ fn host_loop_ends_where_lightbench_render_does() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("frame 4: tonemap = simple"), "{stdout}");
+    assert!(stdout.contains("exposure.ev = 1"), "{stdout}");
     // The last frame, recorded into the host's encoder and submitted by the host, is timed.
     let gbuffer = stdout
         .lines()
