@@ -26,9 +26,21 @@ const MAX_FIRST_TRIANGLE: u64 = 1 << 24;
 /// the bundled passes meet them as the reference does, as stochastic transparency).
 pub struct Accel {
     pub tlas: wgpu::Tlas,
-    /// The bottom levels, one per traced mesh (the TLAS's instances keep them alive too).
-    pub blas: Vec<wgpu::Blas>,
+    /// The bottom levels, one per traced mesh (the TLAS's instances keep them alive too),
+    /// each with what it was built from (a new scene's build keeps those it has unchanged).
+    pub blas: Vec<(BlasKey, wgpu::Blas)>,
     pub triangles: u64,
+    /// How many bottom levels were taken over from the previous scene's, unbuilt.
+    pub kept: usize,
+}
+
+/// What a BLAS was built from: its mesh's vertices and indices (`MeshGpu::key`, whose
+/// buffers a new scene keeps with them), the triangles drawn and whether they are opaque.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BlasKey {
+    mesh: u128,
+    index_count: u32,
+    opaque: bool,
 }
 
 /// The standard bindings hits are shaded with, in the order the TLAS's custom indices address.
@@ -58,10 +70,7 @@ type Corners = [[f32; 3]; 3];
 /// masked or blended one's are offered to the shader (`shaders/lib/ray.wgsl`), each once, so
 /// that a blended surface's transmittance is counted once per ray.
 fn size_of(m: &MeshGpu, scene: &Scene) -> wgpu::BlasTriangleGeometrySizeDescriptor {
-    let opaque = scene
-        .materials
-        .get(m.material)
-        .is_none_or(|mat| mat.alpha == lightbench_scene::AlphaMode::Opaque);
+    let opaque = blas_key(m, scene).opaque;
     wgpu::BlasTriangleGeometrySizeDescriptor {
         vertex_format: wgpu::VertexFormat::Float32x3,
         vertex_count: m.vertex_count,
@@ -71,6 +80,18 @@ fn size_of(m: &MeshGpu, scene: &Scene) -> wgpu::BlasTriangleGeometrySizeDescript
             true => wgpu::AccelerationStructureGeometryFlags::OPAQUE,
             false => wgpu::AccelerationStructureGeometryFlags::NO_DUPLICATE_ANY_HIT_INVOCATION,
         },
+    }
+}
+
+fn blas_key(m: &MeshGpu, scene: &Scene) -> BlasKey {
+    let opaque = scene
+        .materials
+        .get(m.material)
+        .is_none_or(|mat| mat.alpha == lightbench_scene::AlphaMode::Opaque);
+    BlasKey {
+        mesh: m.key,
+        index_count: m.index_count,
+        opaque,
     }
 }
 
@@ -347,8 +368,15 @@ impl HitMaps {
 }
 
 impl Accel {
-    /// Build the BLAS of every traced mesh and the TLAS over them, and wait for the build.
-    pub fn build(device: &wgpu::Device, queue: &wgpu::Queue, meshes: &[MeshGpu], scene: &Scene) -> Result<Accel> {
+    /// Build the BLAS of every traced mesh and the TLAS over them, and wait for the build. A
+    /// mesh whose BLAS `previous` (the scene's before it) holds unchanged keeps it, unbuilt.
+    pub fn build(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        meshes: &[MeshGpu],
+        scene: &Scene,
+        previous: &[(BlasKey, wgpu::Blas)],
+    ) -> Result<Accel> {
         if !device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
             return Err(Error::Adapter(
                 "this device has no ray queries (EXPERIMENTAL_RAY_QUERY): the pipeline's acceleration structure cannot be built".into(),
@@ -361,46 +389,42 @@ impl Accel {
             .collect();
         check_limits(&device.limits(), &scene.name, &sizes_of)?;
         let first = first_triangles(meshes, &list);
-        let sizes: Vec<_> = list.iter().map(|&i| size_of(&meshes[i], scene)).collect();
-        let blas: Vec<wgpu::Blas> = list
-            .iter()
-            .zip(&sizes)
-            .map(|(&i, size)| {
-                device.create_blas(
-                    &wgpu::CreateBlasDescriptor {
-                        label: Some(&meshes[i].name),
-                        flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
-                        update_mode: wgpu::AccelerationStructureUpdateMode::Build,
-                    },
-                    wgpu::BlasGeometrySizeDescriptors::Triangles {
-                        descriptors: vec![size.clone()],
-                    },
-                )
-            })
-            .collect();
+        // Each traced mesh's BLAS: the previous scene's where it has one built from the same
+        // buffers, else a new one to build (with its geometry's size).
+        let mut blas = vec![];
+        let mut to_build = vec![];
+        for &i in &list {
+            let key = blas_key(&meshes[i], scene);
+            match previous.iter().find(|(k, _)| *k == key) {
+                Some((_, b)) => blas.push((key, b.clone())),
+                None => {
+                    let size = size_of(&meshes[i], scene);
+                    blas.push((key, new_blas(device, &meshes[i].name, &size)));
+                    to_build.push((i, blas.len() - 1, size));
+                }
+            }
+        }
         let mut tlas = device.create_tlas(&wgpu::CreateTlasDescriptor {
             label: Some("scene TLAS"),
             max_instances: list.len() as u32,
             flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
             update_mode: wgpu::AccelerationStructureUpdateMode::Build,
         });
-        for (k, (&i, b)) in list.iter().zip(&blas).enumerate() {
+        for (k, (&i, (_, b))) in list.iter().zip(&blas).enumerate() {
             // The custom index is where the mesh's hit data begins (checked to fit 24 bits).
             let mask = if meshes[i].blend { BLENDED_MESHES } else { OPAQUE_MESHES };
             tlas[k] = Some(wgpu::TlasInstance::new(b, rows(&meshes[i].transform), first[k] as u32, mask as u8));
         }
-        let entries: Vec<wgpu::BlasBuildEntry> = list
+        let entries: Vec<wgpu::BlasBuildEntry> = to_build
             .iter()
-            .zip(&blas)
-            .zip(&sizes)
-            .map(|((&i, b), size)| wgpu::BlasBuildEntry {
-                blas: b,
+            .map(|(i, at, size)| wgpu::BlasBuildEntry {
+                blas: &blas[*at].1,
                 geometry: wgpu::BlasGeometries::TriangleGeometries(vec![wgpu::BlasTriangleGeometry {
                     size,
-                    vertex_buffer: &meshes[i].vertices,
+                    vertex_buffer: &meshes[*i].vertices,
                     first_vertex: 0,
                     vertex_stride: std::mem::size_of::<Vertex>() as u64,
-                    index_buffer: Some(&meshes[i].indices),
+                    index_buffer: Some(&meshes[*i].indices),
                     first_index: Some(0),
                     transform_buffer: None,
                     transform_buffer_offset: None,
@@ -416,8 +440,28 @@ impl Accel {
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("building the acceleration structure", e))?;
         let triangles = sizes_of.iter().map(|m| m.1).sum();
-        Ok(Accel { tlas, blas, triangles })
+        let kept = list.len() - to_build.len();
+        Ok(Accel {
+            tlas,
+            blas,
+            triangles,
+            kept,
+        })
     }
+}
+
+/// A BLAS for one triangle geometry of `size`, not yet built.
+fn new_blas(device: &wgpu::Device, label: &str, size: &wgpu::BlasTriangleGeometrySizeDescriptor) -> wgpu::Blas {
+    device.create_blas(
+        &wgpu::CreateBlasDescriptor {
+            label: Some(label),
+            flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+            update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+        },
+        wgpu::BlasGeometrySizeDescriptors::Triangles {
+            descriptors: vec![size.clone()],
+        },
+    )
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ mod read;
 mod relight;
 mod timings;
 
-use super::accel::{Accel, HitData, HitMaps};
+use super::accel::{Accel, BlasKey, HitData, HitMaps};
 use super::bind_groups::{Binder, SLOT};
 use super::encode::PassGpu;
 use super::pipelines::{Built, PipelineCache, PipelineKey};
@@ -100,6 +100,8 @@ pub struct ReloadReport {
     pub resources_reused: Vec<String>,
     /// Parameter overrides that no longer apply to the new Plan, with why.
     pub params_dropped: Vec<(String, String)>,
+    /// A new scene (`replace_scene`): what of the old one's stayed resident, unchanged.
+    pub scene_kept: Option<crate::scene_gpu::Kept>,
 }
 
 /// What one Plan needs on the GPU: built on the side, swapped in whole. (Samplers and the
@@ -122,6 +124,9 @@ struct Shared {
     scene_gpu: SceneGpu,
     /// The scene's acceleration structure, built the first time a Plan traces rays.
     accel: std::sync::OnceLock<Accel>,
+    /// The bottom levels of the scene's before this one (`replace_scene`), which the first
+    /// build takes over where they are unchanged.
+    previous_blas: std::sync::Mutex<Vec<(BlasKey, wgpu::Blas)>>,
     /// What ray hits are shaded with, built the first time a Plan binds it.
     hits: std::sync::OnceLock<HitData>,
     /// What maps are looked up at hits with, built the first time a Plan binds it.
@@ -207,16 +212,19 @@ fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer
 }
 
 impl Shared {
-    /// The scene is taken: its textures go to the GPU and are dropped on the CPU.
-    fn new(gpu: &Gpu, mut scene: Scene) -> Result<Shared> {
+    /// The scene is taken: its textures go to the GPU and are dropped on the CPU. What
+    /// `previous` (the scene on the GPU before it) holds unchanged stays resident.
+    fn new(gpu: &Gpu, mut scene: Scene, previous: Option<&Shared>) -> Result<Shared> {
         let device = &gpu.device;
         let lights = scene.light_array();
+        let upload = || SceneGpu::reusing(device, &gpu.queue, &mut scene, previous.map(|p| &p.scene_gpu));
         Ok(Shared {
             frame_buf: uniform_buffer(device, "frame", std::mem::size_of::<FrameBlock>() as u64),
             lights_buf: lights_buffer(device, lights.len()),
-            scene_gpu: err_scope(gpu, "uploading the scene", || SceneGpu::new(device, &gpu.queue, &mut scene))??,
+            scene_gpu: err_scope(gpu, "uploading the scene", upload)??,
             bounds: scene.bounds(),
             accel: Default::default(),
+            previous_blas: std::sync::Mutex::new(previous.map(Shared::blas).unwrap_or_default()),
             hits: Default::default(),
             hit_maps: Default::default(),
             triangles: Default::default(),
@@ -238,8 +246,18 @@ impl Shared {
         if let Some(a) = self.accel.get() {
             return Ok(a);
         }
-        let built = Accel::build(&gpu.device, &gpu.queue, &self.scene_gpu.meshes, &self.scene)?;
+        let previous = self.previous_blas.lock().map(|mut p| std::mem::take(&mut *p)).unwrap_or_default();
+        let built = Accel::build(&gpu.device, &gpu.queue, &self.scene_gpu.meshes, &self.scene, &previous)?;
         Ok(self.accel.get_or_init(|| built))
+    }
+
+    /// The bottom levels a next scene may take over: this scene's, or those it was handed
+    /// and has not built with yet.
+    fn blas(&self) -> Vec<(BlasKey, wgpu::Blas)> {
+        match self.accel.get() {
+            Some(a) => a.blas.clone(),
+            None => self.previous_blas.lock().map(|p| p.clone()).unwrap_or_default(),
+        }
     }
 
     /// What ray hits are shaded with, built on first use.
@@ -286,7 +304,7 @@ impl Executor {
     /// (`take_cache`): a run over many configurations compiles each pass pipeline once.
     pub fn with_cache(gpu: &Gpu, exe: &Executable, scene: Scene, mut cache: PipelineCache) -> Result<Executor> {
         let camera = scene.camera.clone();
-        let shared = Shared::new(gpu, scene)?;
+        let shared = Shared::new(gpu, scene, None)?;
         let inputs = FrameInputs {
             time: 0.0,
             camera,
@@ -358,13 +376,16 @@ impl Executor {
     /// scene and Plan keep rendering.
     pub fn replace_scene(&mut self, gpu: &Gpu, exe: &Executable, scene: &Scene) -> Result<ReloadReport> {
         self.finish_pending(gpu)?;
-        let mut shared = Shared::new(gpu, scene.clone())?;
+        let mut shared = Shared::new(gpu, scene.clone(), Some(&self.shared))?;
         shared.uploads += self.shared.uploads;
         let mut params = self.inputs.params.clone();
         let dropped = params.retain_applicable(&exe.plan.params);
         let old = (&self.state.pool, self.alias);
         let (state, fresh, mut report) = build_state(gpu, exe, &shared, old, &mut self.cache, &params)?;
         report.params_dropped = dropped;
+        let mut kept = shared.scene_gpu.kept;
+        kept.blas = shared.accel.get().map(|a| (a.kept, a.blas.len()));
+        report.scene_kept = Some(kept);
         self.cache.insert(fresh, state.passes.len());
         self.state = state;
         // Late timestamps on their way belong to the old Plan's passes.

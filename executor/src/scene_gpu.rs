@@ -10,6 +10,9 @@ use wgpu::util::DeviceExt;
 pub struct MeshGpu {
     /// Its index in the scene's meshes.
     pub source: usize,
+    /// Its vertices' and indices' content (`content_key`): an upload of a new scene keeps
+    /// the buffers of a mesh with the same key.
+    pub key: u128,
     pub name: String,
     pub vertices: wgpu::Buffer,
     pub indices: wgpu::Buffer,
@@ -60,8 +63,33 @@ pub struct SceneGpu {
     pub volumes: super::light_volumes::LightVolumes,
     /// Each material as ray hits shade it (`hit_materials` of the acceleration structure).
     pub hit_materials: Vec<HitMaterial>,
-    /// The scene's textures, in the scene's order (what `hit_maps` copies level 0 of).
+    /// The scene's textures, in the scene's order (what `hit_maps` copies level 0 of), each
+    /// with its content key and its mean (linear).
     pub textures: Vec<wgpu::Texture>,
+    texture_keys: Vec<u128>,
+    means: Vec<[f32; 4]>,
+    /// What this upload took over from the scene uploaded before it (`SceneGpu::reusing`).
+    pub kept: Kept,
+}
+
+/// What an upload took over, unchanged, from the scene on the GPU before it: the meshes whose
+/// vertex and index buffers stayed resident, the textures (with their mips), and — where the
+/// acceleration structure was built — its bottom levels, each as (kept, of how many).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Kept {
+    pub meshes: (usize, usize),
+    pub textures: (usize, usize),
+    pub blas: Option<(usize, usize)>,
+}
+
+/// A content key: XXH3-128 over the parts, each with its length.
+pub fn content_key(parts: &[&[u8]]) -> u128 {
+    let mut h = xxhash_rust::xxh3::Xxh3::new();
+    for p in parts {
+        h.update(&(p.len() as u64).to_le_bytes());
+        h.update(p);
+    }
+    h.digest128()
 }
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
@@ -174,10 +202,28 @@ fn sampler(device: &wgpu::Device, d: &SamplerDesc) -> wgpu::Sampler {
     })
 }
 
-/// Every texture with its mip chain, each dropped on the CPU once uploaded, and each one's mean.
-type Uploaded = (Vec<wgpu::TextureView>, Vec<[f32; 4]>);
-fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<lightbench_scene::ImageData>) -> Result<Uploaded> {
-    let (mut textures, mut means) = (vec![], vec![]);
+/// Every texture with its mip chain, each dropped on the CPU once uploaded (or taken over
+/// from `previous` where it holds the same texels), each one's content key and mean, and how
+/// many were taken over.
+struct Uploaded {
+    views: Vec<wgpu::TextureView>,
+    keys: Vec<u128>,
+    means: Vec<[f32; 4]>,
+    kept: usize,
+}
+
+fn upload_textures(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    images: Vec<lightbench_scene::ImageData>,
+    previous: Option<&SceneGpu>,
+) -> Result<Uploaded> {
+    let mut up = Uploaded {
+        views: vec![],
+        keys: vec![],
+        means: vec![],
+        kept: 0,
+    };
     for (i, t) in images.into_iter().enumerate() {
         if t.rgba.len() != (t.width * t.height * 4) as usize || t.width == 0 || t.height == 0 {
             return Err(Error::scene(format!(
@@ -187,9 +233,18 @@ fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<light
                 t.height
             )));
         }
+        let header = [t.width.to_le_bytes(), t.height.to_le_bytes(), (t.srgb as u32).to_le_bytes()].concat();
+        let key = content_key(&[&header, &t.rgba]);
+        up.keys.push(key);
+        if let Some((tex, mean)) = previous.and_then(|p| p.texture_with(key)) {
+            up.views.push(tex.create_view(&wgpu::TextureViewDescriptor::default()));
+            up.means.push(mean);
+            up.kept += 1;
+            continue;
+        }
         let (view, mean) = texture_2d(device, queue, &format!("scene_texture_{i}"), t.width, t.height, t.rgba, t.srgb);
-        textures.push(view);
-        means.push(mean);
+        up.views.push(view);
+        up.means.push(mean);
         // Flush the upload's staging copy before the next texture, so that staging for every
         // texture is never held at once.
         queue.submit(std::iter::empty());
@@ -197,7 +252,7 @@ fn upload_textures(device: &wgpu::Device, queue: &wgpu::Queue, images: Vec<light
             .poll(wgpu::PollType::wait_indefinitely())
             .map_err(|e| Error::gpu("uploading scene textures", e))?;
     }
-    Ok((textures, means))
+    Ok(up)
 }
 
 /// Material blocks and texture views (defaults for absent maps), and the distinct samplers
@@ -241,8 +296,9 @@ fn materials(
 }
 
 /// Vertex, index and mesh-block buffers of every non-empty mesh (inputs of the acceleration
-/// structure's build too, where the device traces rays).
-fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
+/// structure's build too, where the device traces rays); a mesh `previous` holds with the same
+/// vertices and indices keeps its buffers there. Also how many were kept so.
+fn meshes(device: &wgpu::Device, scene: &Scene, previous: Option<&SceneGpu>) -> Result<(Vec<MeshGpu>, usize)> {
     let traced = match device.features().contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
         true => wgpu::BufferUsages::BLAS_INPUT,
         false => wgpu::BufferUsages::empty(),
@@ -254,7 +310,7 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
             usage,
         })
     };
-    let mut out = vec![];
+    let (mut out, mut kept) = (vec![], 0);
     for (index, m) in scene.meshes.iter().enumerate() {
         let Some(material) = scene.materials.get(m.material) else {
             return Err(Error::scene(format!(
@@ -274,11 +330,22 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
             model: m.transform.to_cols_array_2d(),
             normal_matrix: m.transform.inverse().transpose().to_cols_array_2d(),
         };
+        let key = content_key(&[bytemuck::cast_slice(&m.vertices), bytemuck::cast_slice(&m.indices)]);
+        let resident = previous.and_then(|p| p.meshes.iter().find(|g| g.key == key));
+        kept += resident.is_some() as usize;
+        let (vertices, indices) = match resident {
+            Some(g) => (g.vertices.clone(), g.indices.clone()),
+            None => (
+                buffer(&m.name, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX | traced),
+                buffer(&m.name, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX | traced),
+            ),
+        };
         out.push(MeshGpu {
             source: index,
+            key,
             name: m.name.clone(),
-            vertices: buffer(&m.name, bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX | traced),
-            indices: buffer(&m.name, bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX | traced),
+            vertices,
+            indices,
             index_count: m.drawn_indices(),
             vertex_count: m.vertices.len() as u32,
             transform: m.transform,
@@ -288,7 +355,7 @@ fn meshes(device: &wgpu::Device, scene: &Scene) -> Result<Vec<MeshGpu>> {
             centre: mesh_centre(m),
         });
     }
-    Ok(out)
+    Ok((out, kept))
 }
 
 /// The drawn triangles of the meshes `draw: Scene` draws (opaque and masked ones).
@@ -538,12 +605,24 @@ impl SceneGpu {
     /// Upload the scene. Its textures are moved out and dropped one by one as they reach the
     /// GPU, so the upload never holds a second CPU copy of them.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &mut Scene) -> Result<SceneGpu> {
+        Self::reusing(device, queue, scene, None)
+    }
+
+    /// Upload the scene, keeping resident what `previous` (the scene on the GPU before it)
+    /// already holds unchanged: meshes with the same vertices and indices keep their buffers,
+    /// textures with the same texels their texture and mips. What was kept is in `kept`.
+    pub fn reusing(device: &wgpu::Device, queue: &wgpu::Queue, scene: &mut Scene, previous: Option<&SceneGpu>) -> Result<SceneGpu> {
         // Before the textures are handed to the GPU: emissive maps set the area lights' radiance.
         let (mut areas, area_lights_dropped) = area_lights(scene);
-        let (textures, means) = upload_textures(device, queue, std::mem::take(&mut scene.textures))?;
-        let hit_materials = scene.materials.iter().map(|m| hit_material(m, &means)).collect();
-        let (materials, sampler_descs) = materials(device, queue, &scene.materials, &textures);
-        let meshes = meshes(device, scene)?;
+        let up = upload_textures(device, queue, std::mem::take(&mut scene.textures), previous)?;
+        let hit_materials = scene.materials.iter().map(|m| hit_material(m, &up.means)).collect();
+        let (materials, sampler_descs) = materials(device, queue, &scene.materials, &up.views);
+        let (meshes, meshes_kept) = meshes(device, scene, previous)?;
+        let kept = Kept {
+            meshes: (meshes_kept, meshes.len()),
+            textures: (up.kept, up.views.len()),
+            blas: None,
+        };
         let triangle_count = u32::try_from(triangle_count(scene))
             .map_err(|_| Error::scene(format!("scene `{}` draws more than 2³² triangles", scene.name)))?;
         let mut samplers: Vec<wgpu::Sampler> = sampler_descs.iter().map(|d| sampler(device, d)).collect();
@@ -574,8 +653,17 @@ impl SceneGpu {
             light_volumes,
             volumes,
             hit_materials,
-            textures: textures.iter().map(|v| v.texture().clone()).collect(),
+            textures: up.views.iter().map(|v| v.texture().clone()).collect(),
+            texture_keys: up.keys,
+            means: up.means,
+            kept,
         })
+    }
+
+    /// The texture holding the texels with content key `key`, and its mean.
+    fn texture_with(&self, key: u128) -> Option<(&wgpu::Texture, [f32; 4])> {
+        let i = self.texture_keys.iter().position(|k| *k == key)?;
+        Some((&self.textures[i], self.means[i]))
     }
 }
 

@@ -8,7 +8,9 @@
 //! its smallest (`Size::Smoke`: a 16² grid, 64² textures, one round). Then the model's load with its
 //! textures decoded (an empty texture cache) against read from the cache a first load kept,
 //! interleaved rounds: the cached load's share of the decoding one (goal ≤ 0.10). The
-//! executor runs load through an empty cache of their own each time, so both decode.
+//! executor runs load through an empty cache of their own each time, so both decode. Last,
+//! a scene reload after a material edit keeping the unchanged meshes and textures resident
+//! against uploading everything again (interleaved rounds).
 
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::memory::{mib, peak_resident, reset_peak, resident};
@@ -183,7 +185,32 @@ fn run(size: Size) {
     }
     decoded_once(&model, &dir, ("PNG", size.rounds()));
     decoded_once(&dir.join("grid_jpeg.gltf"), &dir, ("JPEG", size.rounds()));
+    scene_reload(&gpu, &model, size.rounds());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A scene reload as `render --watch` does one after a model's material colour changed: the
+/// model loaded again (textures from the cache a first load kept) and uploaded, keeping
+/// resident what the scene on the GPU already holds (`SceneGpu::reusing`), against uploading
+/// all of it (`SceneGpu::new`, what a reload did before), in interleaved rounds, each side
+/// waiting for the GPU.
+fn scene_reload(gpu: &Gpu, model: &Path, rounds: usize) {
+    use lightbench::gpu::scene_gpu::SceneGpu;
+    let load = || scene::load(model.to_str().expect("utf-8 path")).expect("model loads");
+    let running = SceneGpu::new(&gpu.device, &gpu.queue, &mut load()).expect("upload");
+    let reload = |keep: bool| {
+        common::ms(|| {
+            let mut s = load();
+            s.materials[0].base_color[0] *= 0.5;
+            let previous = keep.then_some(&running);
+            let up = SceneGpu::reusing(&gpu.device, &gpu.queue, &mut s, previous).expect("upload");
+            gpu.device.poll(wgpu::PollType::wait_indefinitely()).expect("the GPU");
+            assert_eq!(up.kept.textures.0, if keep { up.kept.textures.1 } else { 0 });
+        })
+    };
+    let paired = common::interleaved(rounds.max(2), || reload(true), || reload(false));
+    println!("scene reload after a material edit (load from the texture cache, then upload):");
+    println!("{}", paired.report(("keeping what is resident", "uploading everything"), "ms"));
 }
 
 /// Load ms of the model with an empty texture cache (every image decoded, in parallel, and

@@ -196,7 +196,7 @@ fn builds(gpu: &Gpu, size: Size) {
             let mut scene = s.clone();
             let gpu_scene = lightbench::gpu::scene_gpu::SceneGpu::new(&gpu.device, &gpu.queue, &mut scene).expect("upload");
             let start = std::time::Instant::now();
-            lightbench::gpu::accel::Accel::build(&gpu.device, &gpu.queue, &gpu_scene.meshes, &scene).expect("build");
+            lightbench::gpu::accel::Accel::build(&gpu.device, &gpu.queue, &gpu_scene.meshes, &scene, &[]).expect("build");
             times.push(start.elapsed().as_secs_f64() * 1e3);
         }
         let (q1, m, q3) = quartiles(times);

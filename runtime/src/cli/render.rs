@@ -256,7 +256,9 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
         };
         match outcome {
             crate::reload::Outcome::Rewatched { folders } => eprintln!("{}", crate::reload::rewatched(&folders)),
-            crate::reload::Outcome::Reloaded { latency, compile, .. } => {
+            crate::reload::Outcome::Reloaded {
+                latency, compile, report, ..
+            } => {
                 reloads += 1;
                 let start = Instant::now();
                 frame(&mut ex)?;
@@ -264,10 +266,11 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
                 ex.read_texture(gpu, &ex.plan().output_resource().name.clone(), 0, 0)?
                     .save(&a.out)?;
                 eprintln!(
-                    "reloaded: first new frame {:.1} ms after the change (compiling {:.1} ms); wrote {}",
+                    "reloaded: first new frame {:.1} ms after the change (compiling {:.1} ms); wrote {}{}",
                     total.as_secs_f64() * 1e3,
                     compile.as_secs_f64() * 1e3,
-                    a.out.display()
+                    a.out.display(),
+                    report.scene_kept.map(kept_line).unwrap_or_default()
                 );
             }
             crate::reload::Outcome::Failed { message, .. } => {
@@ -278,6 +281,15 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
         }
     }
     Ok(())
+}
+
+/// What a reloaded scene kept resident on the GPU, unchanged.
+fn kept_line(k: crate::gpu::scene_gpu::Kept) -> String {
+    let blas = k.blas.map(|(n, of)| format!(", {n} of {of} BLAS")).unwrap_or_default();
+    format!(
+        "; scene reloaded, kept resident: {} of {} meshes, {} of {} textures{blas}",
+        k.meshes.0, k.meshes.1, k.textures.0, k.textures.1
+    )
 }
 
 /// `--out`: the output, or for an .exr the pipeline's linear `hdr_output` when it names one.

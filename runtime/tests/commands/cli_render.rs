@@ -305,12 +305,18 @@ fn finish_within(mut child: std::process::Child, secs: u64) -> std::process::Out
 /// A project `init` writes under a folder named `tag`, and `render --watch` started in it to
 /// stop after `reloads` reloads: (the project, the child, its first frame's file bytes).
 fn watching(tag: &str, reloads: &str) -> (std::path::PathBuf, std::process::Child, Vec<u8>) {
+    watching_with(tag, reloads, &[])
+}
+
+/// `watching`, `render` given `more` arguments too.
+fn watching_with(tag: &str, reloads: &str, more: &[&str]) -> (std::path::PathBuf, std::process::Child, Vec<u8>) {
     let d = temp(tag);
     let (code, _, err) = lightbench_in(&d, &["init", "proj"]);
     assert_eq!(code, 0, "{err}");
     let proj = d.join("proj");
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_lightbench"))
         .args(["render", "--watch", "--watch-reloads", reloads, "--size", "32x32", "--out", "w.png"])
+        .args(more)
         .current_dir(&proj)
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -377,6 +383,34 @@ fn render_watch_follows_a_replaced_folder() {
     assert!(err.contains("shaders again: the folder was replaced"), "{err}");
     assert!(err.contains("reloaded: first new frame"), "{err}");
     assert_ne!(std::fs::read(proj.join("w.png")).unwrap(), first, "rendered from the new folder");
+}
+
+/// `render --watch` of a scene file: an edit of one of its models (the ground's colour) reloads
+/// the scene and says what stayed on the GPU — every mesh, since no geometry changed.
+#[test]
+fn render_watch_reloads_an_edited_model_keeping_its_meshes_resident() {
+    let (proj, child, first) = watching_with("watch-model", "1", &["--scene", "scenes/sun_only.ron"]);
+    let ground = proj.join("scenes/ground.gltf");
+    let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&ground).unwrap()).unwrap();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = serde_json::json!([0.05, 0.05, 0.05, 1.0]);
+    std::fs::write(&ground, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+    let out = finish_within(child, 120);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.contains("scene reloaded, kept resident: "))
+        .unwrap_or_else(|| panic!("{err}"));
+    let counts: Vec<u32> = line
+        .split("kept resident: ")
+        .nth(1)
+        .unwrap()
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|n| n.parse().ok())
+        .collect();
+    assert!(counts.len() >= 2 && counts[0] == counts[1] && counts[0] >= 2, "{line}");
+    assert!(line.contains(" meshes, 0 of 0 textures"), "{line}");
+    assert_ne!(std::fs::read(proj.join("w.png")).unwrap(), first, "the darker ground rendered");
 }
 
 /// `--watch` needs files on disk to watch, and `--watch-reloads` needs `--watch`: usage errors.

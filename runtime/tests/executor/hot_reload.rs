@@ -241,8 +241,8 @@ fn an_edited_scene_file_reloads_the_scene() {
 }
 
 /// A scene's models are watched too, and the files they refer to: a model edited in place
-/// (here the ground's colour, darker) reloads the scene, and a model's external buffer is
-/// among the files watched.
+/// (here the ground's colour, darker) reloads the scene, keeping its unchanged meshes on the
+/// GPU, and a model's external buffer is among the files watched.
 #[test]
 fn an_edited_model_reloads_the_scene() {
     let g = gpu();
@@ -257,8 +257,14 @@ fn an_edited_model_reloads_the_scene() {
     let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&ground).unwrap()).unwrap();
     doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = serde_json::json!([0.05, 0.05, 0.05, 1.0]);
     std::fs::write(&ground, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
-    r.until(&g, reloaded);
+    let seen = r.until(&g, reloaded);
     assert_eq!(r.ex.scene_uploads(), 2, "the scene was loaded and uploaded again");
+    // A material's colour changed, no geometry: every mesh's buffers stayed resident.
+    let Some(Outcome::Reloaded { report, .. }) = seen.last() else {
+        panic!()
+    };
+    let kept = report.scene_kept.expect("a scene reload says what it kept");
+    assert!(kept.meshes.1 >= 2 && kept.meshes.0 == kept.meshes.1, "{kept:?}");
     let after = r.hdr_mean(&g);
     assert!(after < before * 0.9, "{before} -> {after}");
 

@@ -94,7 +94,7 @@ impl Traced {
         let (d, q) = (&gpu.device, &gpu.queue);
         let scene_gpu = scene_gpu::SceneGpu::new(d, q, &mut scene.clone()).map_err(|e| e.to_string())?;
         Ok(Some(Traced {
-            accel: accel::Accel::build(d, q, &scene_gpu.meshes, scene).map_err(|e| e.to_string())?,
+            accel: accel::Accel::build(d, q, &scene_gpu.meshes, scene, &[]).map_err(|e| e.to_string())?,
             hits: accel::HitData::build(d, &scene_gpu, scene).map_err(|e| e.to_string())?,
             maps: accel::HitMaps::build((d, q), &scene_gpu, scene).map_err(|e| e.to_string())?,
         }))

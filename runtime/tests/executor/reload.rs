@@ -208,3 +208,68 @@ fn frames_take_the_camera_they_are_given() {
     // The executor keeps the last camera for the next frame's default inputs.
     assert_eq!(ex.inputs(1.0).camera.yaw, inputs.camera.yaw);
 }
+
+/// A textured Cornell box: the tall box's material takes a 4×4 map.
+fn textured_cornell() -> Scene {
+    let mut scene = builtin::cornell();
+    let texels: Vec<u8> = (0..16u8).flat_map(|i| [40 + 12 * i, 200 - 8 * i, 90, 255]).collect();
+    scene.textures.push(lightbench::scene::ImageData {
+        width: 4,
+        height: 4,
+        rgba: texels,
+        srgb: true,
+    });
+    let tall = scene.meshes.iter().position(|m| m.name.contains("tall")).expect("a tall box");
+    let material = scene.meshes[tall].material;
+    scene.materials[material].base_color_texture = Some(0);
+    scene.size = (32, 32);
+    scene
+}
+
+/// A new scene keeps on the GPU what it shares with the old one: an edit that moves one mesh
+/// keeps every other mesh's buffers, the texture and (ray-traced shadows) the other meshes'
+/// BLAS resident, and renders exactly what an executor made for the new scene renders.
+#[test]
+fn a_new_scene_keeps_what_did_not_change_resident_and_renders_as_a_fresh_one() {
+    let g = gpu();
+    let shadows = [("shadows".to_string(), "rt".to_string())];
+    let path = root().join("pipelines/deferred.lbp");
+    let compile = |s: &Scene| {
+        lightbench::render::compile(&g, &path, None, s, &shadows)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .0
+    };
+    let before = textured_cornell();
+    let mut ex = Executor::new(&g, &compile(&before), &before).unwrap();
+    let first = frame(&g, &mut ex);
+    // The short box moved up a little: its vertices change, nothing else.
+    let mut after = textured_cornell();
+    let short = after.meshes.iter().position(|m| m.name.contains("short")).expect("a short box");
+    for v in &mut after.meshes[short].vertices {
+        v.position[1] += 0.05;
+    }
+    let exe = compile(&after);
+    let report = ex.replace_scene(&g, &exe, &after).unwrap();
+    let kept = report.scene_kept.expect("a new scene reports what it kept");
+    let meshes = kept.meshes.1;
+    assert!(meshes >= 5, "{kept:?}");
+    assert_eq!(kept.meshes, (meshes - 1, meshes), "every mesh but the moved one kept");
+    assert_eq!(kept.textures, (1, 1), "the texture kept");
+    assert_eq!(kept.blas, Some((meshes - 1, meshes)), "every BLAS but the moved mesh's kept");
+    let ours = frame(&g, &mut ex);
+    let mut fresh = Executor::new(&g, &exe, &after).unwrap();
+    let theirs = frame(&g, &mut fresh);
+    assert_eq!(
+        rmse(&ours, &theirs),
+        Some(0.0),
+        "the same image as an executor made for the new scene"
+    );
+    assert!(rmse(&ours, &first).unwrap() > 0.0, "the moved box shows");
+    // Nothing changed: everything kept; a changed texel: the texture uploaded again.
+    let report = ex.replace_scene(&g, &exe, &after).unwrap();
+    assert_eq!(report.scene_kept.unwrap().meshes, (meshes, meshes));
+    let mut recoloured = after.clone();
+    recoloured.textures[0].rgba[0] = 255;
+    let report = ex.replace_scene(&g, &exe, &recoloured).unwrap();
+    assert_eq!(report.scene_kept.unwrap().textures, (0, 1));
+}
