@@ -164,6 +164,10 @@ pub enum Outcome {
         latency: Duration,
         compile: Duration,
         files: Vec<PathBuf>,
+        /// The scene loaded again, where its file or a model changed (what the executor now
+        /// renders, with its textures still on the CPU: a viewer's path-traced view needs
+        /// them).
+        scene: Option<Box<Scene>>,
     },
     /// The last good Plan keeps rendering; `message` is the diagnostic (as `check` prints it)
     /// or the GPU's error.
@@ -345,6 +349,7 @@ impl Reloader {
                     latency: since.elapsed(),
                     compile,
                     files,
+                    scene: scene.map(Box::new),
                 })
             }
             Err(e) => Some(self.failed(e.to_string(), files)),

@@ -65,6 +65,8 @@ fn execute(a: &Args) -> Result<()> {
         pipeline,
         shaders: a.shaders.clone(),
         scene,
+        scene_file: Some(std::path::PathBuf::from(&a.scene)).filter(|f| f.is_file()),
+        effects: a.effects.effects.clone(),
         variants,
         // A script, even one of comments only, ends the viewer when it is done.
         scripted: a.script.is_some() || a.screenshot_after.is_some(),

@@ -25,6 +25,11 @@ pub struct Options {
     pub pipeline: PathBuf,
     pub shaders: Option<PathBuf>,
     pub scene: Scene,
+    /// The scene file the scene was loaded from, watched with the pipeline (none for a
+    /// built-in scene).
+    pub scene_file: Option<PathBuf>,
+    /// Effects asked for besides the scene's own (`--effect`), kept when it reloads.
+    pub effects: Vec<lightbench_compiler::ir::Effect>,
     pub variants: Vec<(String, String)>,
     /// Close the window when the script is over.
     pub scripted: bool,

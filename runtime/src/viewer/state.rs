@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{Executor, Gpu};
 use crate::scene::{Camera, Scene};
 use lightbench_compiler::format::TextureFormat;
-use lightbench_compiler::ir::ParamValue;
+use lightbench_compiler::ir::{Effect, ParamValue};
 use lightbench_compiler::plan::{ParamValues, ResourceShape};
 use lightbench_compiler::{Executable, Workspace};
 use std::path::{Path, PathBuf};
@@ -175,28 +175,42 @@ impl Viewer {
         Ok(())
     }
 
-    /// Watch the pipeline's files and reload on a change (see `crate::reload`).
-    pub fn watch(&mut self, gpu: &Gpu) -> Result<()> {
-        let (r, _) = crate::reload::Reloader::in_workspace(
+    /// Watch the pipeline's files, and the scene file with its models where there is one
+    /// (`effects`: asked for besides the file's own), and reload on a change (see
+    /// `crate::reload`).
+    pub fn watch(&mut self, gpu: &Gpu, (scene_file, effects): (Option<&Path>, &[Effect])) -> Result<()> {
+        let (mut r, _) = crate::reload::Reloader::in_workspace(
             self.ws.clone(),
             gpu,
             (&self.pipeline, self.shaders.as_deref()),
-            (&self.scene, None),
+            (&self.scene, scene_file),
             &self.variants,
         )?;
+        r.add_effects(effects);
+        r.set_params(&self.plan_params);
         self.reloader = Some(r);
         Ok(())
     }
 
     /// Apply a reload if a watched file changed; its failure stays shown until one succeeds.
-    pub fn poll_reload(&mut self, gpu: &Gpu) {
-        let Some(r) = self.reloader.as_mut() else { return };
+    /// A scene loaded again replaces the viewer's (its lights as the file says; the camera
+    /// stays where the viewer has it).
+    pub fn poll_reload(&mut self, gpu: &Gpu) -> Result<()> {
+        let Some(r) = self.reloader.as_mut() else { return Ok(()) };
         match r.poll(gpu, &mut self.ex, std::time::Duration::ZERO) {
-            Some(crate::reload::Outcome::Reloaded { .. }) => self.last_error = None,
+            Some(crate::reload::Outcome::Reloaded { scene, .. }) => {
+                self.last_error = None;
+                if let Some(s) = scene {
+                    self.scene = *s;
+                    self.light = self.light.min(self.scene.lights.len().saturating_sub(1));
+                    self.restart_traced(gpu)?;
+                }
+            }
             Some(crate::reload::Outcome::Failed { message, .. }) => self.last_error = Some(message),
             Some(crate::reload::Outcome::Rewatched { folders }) => eprintln!("{}", crate::reload::rewatched(&folders)),
             None => {}
         }
+        Ok(())
     }
 
     /// Lights edited: a change the running Plan can take (the lights that are on keep their

@@ -79,7 +79,7 @@ impl App {
             &self.opts.variants,
         )?;
         if !self.opts.pipeline.starts_with(crate::bundled::ROOT) {
-            viewer.watch(&gpu)?;
+            viewer.watch(&gpu, (self.opts.scene_file.as_deref(), &self.opts.effects))?;
         }
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(egui.clone(), egui::ViewportId::ROOT, &window, None, None, None);
@@ -179,7 +179,7 @@ impl Running {
             super::script::run_line(&mut self.viewer, &self.gpu, &l, &at)?;
         }
         self.camera_keys();
-        self.viewer.poll_reload(&self.gpu);
+        self.viewer.poll_reload(&self.gpu)?;
         self.viewer.frame(&self.gpu)?;
         let (id, (w, h), caption) = self.shown_image()?;
         let input = self.egui_state.take_egui_input(&self.window);

@@ -128,3 +128,39 @@ fn a_parameter_the_plan_fixes_plans_again_in_the_viewer() {
     assert!(v.apply(&g, Action::Param("cube.size".into(), ParamValue::Int(8))).is_err());
     assert_eq!(v.ex.texture("shadow.cube").unwrap().width(), 512);
 }
+
+/// The viewer watches the scene file and its models too: a model's colour edited on disk
+/// reloads the scene (its meshes kept on the GPU), the viewer shows the new colour and takes
+/// the reloaded scene as its own; the camera stays where the viewer has it.
+#[test]
+fn the_viewer_reloads_an_edited_model() {
+    let g = gpu();
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("viewer-model-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    lightbench::bundled::init(&dir).unwrap();
+    let file = dir.join("scenes/sun_only.ron");
+    let scene = lightbench::scene::load::load_sized(file.to_str().unwrap(), Some((32, 32)), &[]).unwrap();
+    let pipeline = dir.join("pipelines/deferred.lbp");
+    let mut v = Viewer::new(&g, (Workspace::disk(), &pipeline, None), scene, &[]).unwrap_or_else(|e| panic!("{e}"));
+    v.watch(&g, (Some(&file), &[])).unwrap();
+    v.camera.position.x += 0.25;
+    let camera = v.camera.clone();
+    v.frame(&g).unwrap();
+    let before = output(&g, &v.ex);
+    let ground = dir.join("scenes/ground.gltf");
+    let mut doc: serde_json::Value = serde_json::from_slice(&std::fs::read(&ground).unwrap()).unwrap();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = serde_json::json!([0.05, 0.05, 0.05, 1.0]);
+    std::fs::write(&ground, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(10);
+    while v.ex.scene_uploads() < 2 {
+        assert!(std::time::Instant::now() < deadline, "no reload: {:?}", v.last_error);
+        v.poll_reload(&g).unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    v.frame(&g).unwrap();
+    let after = output(&g, &v.ex);
+    assert!(rmse(&before, &after).unwrap() > 1e-3, "the ground darkened");
+    assert_eq!(v.camera.position, camera.position, "the viewer's camera stays");
+    let grey = v.scene.materials.iter().any(|m| m.base_color[..3] == [0.05, 0.05, 0.05]);
+    assert!(grey, "the viewer's scene is the reloaded one");
+}
