@@ -743,6 +743,7 @@ mod generated {
                     resources,
                     passes,
                     variants,
+                    lets: vec![],
                     // Some pipelines name their output as the HDR output too: both keys round-trip.
                     hdr_output: (out.len() % 2 == 0).then(|| sp(out.clone())),
                     output: sp(out.clone()),

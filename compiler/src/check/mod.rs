@@ -72,7 +72,7 @@ impl Checked {
 fn variant_atoms(c: &Condition, out: &mut Vec<(String, String)>) {
     match c {
         Condition::Variant(v, o) => out.push((v.value.clone(), o.value.clone())),
-        Condition::Not(c) => variant_atoms(c, out),
+        Condition::Not(c) | Condition::Named(_, c) => variant_atoms(c, out),
         Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| variant_atoms(c, out)),
         _ => {}
     }

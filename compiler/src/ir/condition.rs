@@ -70,6 +70,14 @@ impl Effect {
     }
 }
 
+/// A named condition: `let NAME = CONDITION` (RON `lets: {"NAME": CONDITION}`), used in any
+/// condition by its name (RON `Let("NAME")`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LetDecl {
+    pub name: Spanned<String>,
+    pub value: Spanned<Condition>,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Condition {
     /// At least one light of this kind is in the scene.
@@ -88,6 +96,9 @@ pub enum Condition {
     Not(Box<Spanned<Condition>>),
     All(Vec<Spanned<Condition>>),
     Any(Vec<Spanned<Condition>>),
+    /// A named condition (`let NAME = …`) where it is used: the name as written at the use,
+    /// and the condition it names (which decides; the name is kept for printing).
+    Named(Spanned<String>, Box<Spanned<Condition>>),
 }
 
 impl Condition {
@@ -103,6 +114,15 @@ impl Condition {
             Condition::Not(c) => format!("Not({})", c.describe()),
             Condition::All(cs) => format!("All({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
             Condition::Any(cs) => format!("Any({})", cs.iter().map(|c| c.describe()).collect::<Vec<_>>().join(", ")),
+            Condition::Named(_, c) => c.describe(),
+        }
+    }
+
+    /// The condition that decides: a named one's body (through names naming names).
+    pub fn decided(&self) -> &Condition {
+        match self {
+            Condition::Named(_, c) => c.value.decided(),
+            c => c,
         }
     }
 
@@ -118,6 +138,7 @@ impl Condition {
         match self {
             Condition::Effect(e) if !out.contains(e) => out.push(*e),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| c.collect_effects(out)),
+            Condition::Named(_, c) => c.collect_effects(out),
             _ => {}
         }
     }
@@ -126,7 +147,7 @@ impl Condition {
     pub fn mentions_scene_effects(&self) -> bool {
         match self {
             Condition::Effect(_) | Condition::Reflective | Condition::Blended => true,
-            Condition::Not(c) => c.mentions_scene_effects(),
+            Condition::Not(c) | Condition::Named(_, c) => c.mentions_scene_effects(),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().any(|c| c.mentions_scene_effects()),
             _ => false,
         }
@@ -148,7 +169,7 @@ impl Condition {
     fn collect_variants<'a>(&'a self, out: &mut std::collections::BTreeSet<&'a str>) {
         match self {
             Condition::Variant(v, _) => _ = out.insert(v.value.as_str()),
-            Condition::Not(c) => c.collect_variants(out),
+            Condition::Not(c) | Condition::Named(_, c) => c.collect_variants(out),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| c.collect_variants(out)),
             _ => {}
         }
@@ -171,6 +192,7 @@ impl Condition {
                 let first = sets.next().unwrap_or_default();
                 sets.fold(first, |acc, s| acc.intersection(&s).copied().collect())
             }
+            Condition::Named(_, c) => c.value.implied_features(p),
             _ => Default::default(),
         }
     }

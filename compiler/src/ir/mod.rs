@@ -11,7 +11,7 @@ mod stage;
 mod variant;
 
 pub use choice::{Choice, Source};
-pub use condition::{Condition, Effect, LightKind};
+pub use condition::{Condition, Effect, LetDecl, LightKind};
 pub use param::{out_of_range, Literal, Param, ParamType, ParamValue, ValueError};
 pub use pass::{
     default_entry, is_glsl, Blend, ColorTarget, CompareFn, Compute, Constant, CullMode, DepthTarget, Dispatch, Draw, Fullscreen, LayerSel,
@@ -34,6 +34,9 @@ pub struct Pipeline {
     pub resources: Vec<Resource>,
     pub passes: Vec<Pass>,
     pub variants: Vec<Variant>,
+    /// Named conditions (`let NAME = …`), as declared; each use is a `Condition::Named`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lets: Vec<LetDecl>,
     /// The resource presented or saved.
     pub output: Spanned<String>,
     /// The linear (HDR) image before tone mapping, saved when an `.exr` is asked for.

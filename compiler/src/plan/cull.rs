@@ -21,13 +21,14 @@ fn holds(c: &Condition, p: &Pipeline, cfg: &Config) -> bool {
         Condition::Not(inner) => !holds(inner, p, cfg),
         Condition::All(cs) => cs.iter().all(|c| holds(c, p, cfg)),
         Condition::Any(cs) => cs.iter().any(|c| holds(c, p, cfg)),
+        Condition::Named(_, c) => holds(c, p, cfg),
     }
 }
 
 /// `Ok(())` if true, else the reason it is false and whether a variant choice decided it
 /// (the truth is `holds`'s; this only words it).
 fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)> {
-    match c {
+    match c.decided() {
         Condition::All(cs) => cs.iter().try_for_each(|c| eval(c, p, cfg)),
         Condition::Any(cs) => {
             let mut reasons = vec![];
@@ -43,15 +44,15 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
             }
             Err((format!("none holds: {}", reasons.join("; ")), by_variant && !cs.is_empty()))
         }
-        _ if holds(c, p, cfg) => Ok(()),
-        _ => Err(why_false(c, cfg)),
+        c if holds(c, p, cfg) => Ok(()),
+        c => Err(why_false(c, cfg)),
     }
 }
 
 /// Why a condition other than `All`/`Any` that does not hold is false, and whether a
 /// variant choice decided it.
 fn why_false(c: &Condition, cfg: &Config) -> (String, bool) {
-    match c {
+    match c.decided() {
         Condition::Light(k) => (format!("the scene has no {} light", k.name()), false),
         Condition::Effect(e) => (format!("the scene does not call for {}", e.name()), false),
         Condition::Reflective => ("the scene has no reflective material".into(), false),
@@ -65,7 +66,7 @@ fn why_false(c: &Condition, cfg: &Config) -> (String, bool) {
             );
             (why, true)
         }
-        Condition::Not(inner) => match &inner.value {
+        Condition::Not(inner) => match inner.value.decided() {
             Condition::Variant(v, o) => {
                 let why = format!(
                     "variant not chosen: `{}` is `{}`, this pass serves the other options",
@@ -75,7 +76,7 @@ fn why_false(c: &Condition, cfg: &Config) -> (String, bool) {
             }
             _ => (format!("{} holds", inner.describe()), inner.mentions_variant()),
         },
-        Condition::All(_) | Condition::Any(_) => ("its condition is false".into(), c.mentions_variant()),
+        Condition::All(_) | Condition::Any(_) | Condition::Named(..) => ("its condition is false".into(), c.mentions_variant()),
     }
 }
 

@@ -12,12 +12,13 @@ use std::collections::HashMap;
 const COMPOSING: [(&str, &str); 2] = [("remove", "remove its items"), ("fix", "fix its variants")];
 
 /// Kinds `remove` takes, and the tree key holding each.
-const REMOVABLE: [(&str, &str); 5] = [
+const REMOVABLE: [(&str, &str); 6] = [
     ("Pass", "passes"),
     ("Resource", "resources"),
     ("Param", "params"),
     ("Sampler", "samplers"),
     ("Variant", "variants"),
+    ("Let", "lets"),
 ];
 
 fn fields(n: &Node) -> &[Field] {
@@ -93,7 +94,7 @@ pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
     }
     for (_, _, m) in fields(root)
         .iter()
-        .filter(|f| matches!(f.0.as_str(), "params" | "samplers" | "resources" | "variants"))
+        .filter(|f| matches!(f.0.as_str(), "params" | "samplers" | "resources" | "variants" | "lets"))
     {
         for (k, v) in entries(m) {
             if replacement(v).is_some() {
@@ -129,10 +130,10 @@ pub fn merge(base: &Node, own: &Node, diags: &mut Diagnostics) -> Node {
         match key.as_str() {
             "use" | "remove" => {}
             // Not a map: left as written, for the lowering to say what it should be.
-            "params" | "samplers" | "resources" | "variants" | "fix" if !matches!(&*value.value, Value::Map(_)) => {
+            "params" | "samplers" | "resources" | "variants" | "lets" | "fix" if !matches!(&*value.value, Value::Map(_)) => {
                 set(&mut out, key, *span, value.clone())
             }
-            "params" | "samplers" | "resources" | "variants" | "fix" => merge_map(&mut out, key, *span, value, diags),
+            "params" | "samplers" | "resources" | "variants" | "lets" | "fix" => merge_map(&mut out, key, *span, value, diags),
             "passes" if !matches!(&*value.value, Value::List(_)) => set(&mut out, key, *span, value.clone()),
             "passes" => merge_passes(&mut out, *span, value, diags),
             _ => set(&mut out, key, *span, value.clone()),
@@ -175,7 +176,7 @@ fn removals(own: &Node, out: &mut [Field], diags: &mut Diagnostics) {
         let (Some((_, key)), Some(name)) = (REMOVABLE.iter().find(|(k, _)| *k == kind), name) else {
             diags.push(Diagnostic::error(
                 Code::TypeMismatch,
-                "expected `Pass(\"name\")`, `Resource(..)`, `Param(..)`, `Sampler(..)` or `Variant(..)`",
+                "expected `Pass(\"name\")`, `Resource(..)`, `Param(..)`, `Sampler(..)`, `Variant(..)` or `Let(..)`",
                 item.span,
             ));
             continue;

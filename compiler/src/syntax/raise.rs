@@ -44,6 +44,8 @@ pub fn pipeline(p: &Pipeline) -> Node {
     f.opt("params", nonempty(named_map(&p.params, |x| &x.name, param, p.span)));
     f.opt("samplers", nonempty(named_map(&p.samplers, |x| &x.name, sampler, p.span)));
     f.opt("resources", nonempty(named_map(&p.resources, |x| &x.name, resource, p.span)));
+    let named = |l: &crate::ir::LetDecl| condition(&l.value.value, l.value.span);
+    f.opt("lets", nonempty(named_map(&p.lets, |x| &x.name, named, p.span)));
     f.put("passes", Node::list(p.written_passes().map(written_pass).collect(), p.span));
     f.opt("variants", nonempty(named_map(&p.variants, |x| &x.name, variant, p.span)));
     f.opt("hdr_output", p.hdr_output.as_ref().map(|h| Node::str(&h.value, h.span)));
@@ -423,6 +425,7 @@ pub fn condition(c: &Condition, span: Span) -> Node {
         Condition::Toggle(p) => Node::call("Toggle", vec![Node::str(&p.value, p.span)], span),
         Condition::Variant(v, o) => Node::call("Variant", vec![Node::str(&v.value, v.span), Node::str(&o.value, o.span)], span),
         Condition::Not(c) => Node::call("Not", vec![condition(&c.value, c.span)], span),
+        Condition::Named(name, _) => Node::call("Let", vec![Node::str(&name.value, name.span)], span),
         Condition::All(cs) => Node::call(
             "All",
             vec![Node::list(cs.iter().map(|c| condition(&c.value, c.span)).collect(), span)],

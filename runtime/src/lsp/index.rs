@@ -250,7 +250,7 @@ impl Index {
                     self.name_use(Kind::Option(vi), o);
                 }
             }
-            Condition::Not(inner) => self.condition_uses(&inner.value),
+            Condition::Not(inner) | Condition::Named(_, inner) => self.condition_uses(&inner.value),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| self.condition_uses(&c.value)),
             _ => {}
         }

@@ -44,7 +44,7 @@ fn condition_refs(p: &Pipeline, c: &Spanned<Condition>, diags: &mut Diagnostics)
             ),
             _ => {}
         },
-        Condition::Not(c) => condition_refs(p, c, diags),
+        Condition::Not(c) | Condition::Named(_, c) => condition_refs(p, c, diags),
         Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| condition_refs(p, c, diags)),
         _ => {}
     }

@@ -103,6 +103,7 @@ mod tests {
                 "texture",
                 "buffer",
                 "acceleration_structure",
+                "let",
                 "raster",
                 "fullscreen",
                 "compute",

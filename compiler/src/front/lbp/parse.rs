@@ -236,11 +236,12 @@ impl Builder<'_> {
         let mut root = Fields::default();
         let name = self.name(kids(decl.clone()).next()?)?;
         root.put("name", self.span(&decl), name);
-        let mut maps: [MapField; 4] = [
+        let mut maps: [MapField; 5] = [
             ("params", vec![], span),
             ("samplers", vec![], span),
             ("resources", vec![], span),
             ("variants", vec![], span),
+            ("lets", vec![], span),
         ];
         let mut passes = vec![];
         let mut outputs = Fields::default();
@@ -251,7 +252,7 @@ impl Builder<'_> {
                 continue;
             }
             match it.as_rule() {
-                Rule::param | Rule::sampler | Rule::texture | Rule::buffer | Rule::accel | Rule::variant => {
+                Rule::param | Rule::sampler | Rule::texture | Rule::buffer | Rule::accel | Rule::variant | Rule::let_decl => {
                     self.map_item(it, &mut maps, |v| v);
                 }
                 Rule::pass => {
@@ -425,7 +426,7 @@ impl Builder<'_> {
     }
 
     /// A parameter, sampler, resource or variant line into its map, its value through `wrap`.
-    fn map_item(&mut self, it: P, maps: &mut [MapField; 4], wrap: impl FnOnce(Node) -> Node) {
+    fn map_item(&mut self, it: P, maps: &mut [MapField; 5], wrap: impl FnOnce(Node) -> Node) {
         let at = self.span(&it);
         let (slot, entry) = match it.as_rule() {
             Rule::param => (0, self.param(it)),
@@ -433,6 +434,7 @@ impl Builder<'_> {
             Rule::texture => (2, self.texture(it)),
             Rule::buffer => (2, self.buffer(it)),
             Rule::accel => (2, self.accel(it)),
+            Rule::let_decl => (4, self.let_decl(it)),
             _ => (3, self.variant(it)),
         };
         maps[slot].1.extend(entry.map(|(k, v)| (k, wrap(v))));
@@ -440,7 +442,7 @@ impl Builder<'_> {
     }
 
     /// `use`, `fix`, `remove` and `replace` items (false for any other item).
-    fn composing(&mut self, it: &P, c: &mut Composing, maps: &mut [MapField; 4], passes: &mut Vec<Node>) -> bool {
+    fn composing(&mut self, it: &P, c: &mut Composing, maps: &mut [MapField; 5], passes: &mut Vec<Node>) -> bool {
         let at = self.span(it);
         match it.as_rule() {
             Rule::use_decl => c.used.extend(kids(it.clone()).next().and_then(|s| self.string(s)).map(|s| (at, s))),
@@ -749,7 +751,11 @@ impl Builder<'_> {
         match inner.as_rule() {
             Rule::reflective => Some(Node::ident("Reflective", span)),
             Rule::blended => Some(Node::ident("Blended", span)),
-            Rule::not_cond => Some(Node::call("Not", vec![self.cond(kids(inner).next()?)?], span)),
+            Rule::let_ref => Some(Node::call("Let", vec![Node::str(inner.as_str(), span)], span)),
+            Rule::not_cond => {
+                let negated = kids(inner).find(|k| k.as_rule() == Rule::cond)?;
+                Some(Node::call("Not", vec![self.cond(negated)?], span))
+            }
             Rule::all_cond | Rule::any_cond => {
                 let name = if inner.as_rule() == Rule::all_cond { "All" } else { "Any" };
                 let cs = kids(inner).map(|c| self.cond(c)).collect::<Option<Vec<_>>>()?;
@@ -802,6 +808,14 @@ impl Builder<'_> {
             })
             .collect::<Option<Vec<_>>>()?;
         Some(Node::call(name, args, span))
+    }
+
+    /// `let NAME = CONDITION`.
+    fn let_decl(&mut self, p: P) -> Option<(Node, Node)> {
+        let mut it = kids(p);
+        let name = self.name(it.next()?)?;
+        let cond = self.cond(it.next()?)?;
+        Some((name, cond))
     }
 
     fn variant(&mut self, p: P) -> Option<(Node, Node)> {

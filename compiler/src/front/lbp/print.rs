@@ -97,6 +97,7 @@ impl Printer {
             ("params", param as fn(&Node, &Node) -> String),
             ("samplers", sampler),
             ("resources", resource),
+            ("lets", let_line),
         ] {
             let Some(map) = get(f, key) else { continue };
             self.out.text.push('\n');
@@ -453,9 +454,15 @@ fn target(n: &Node) -> String {
     t
 }
 
+/// `let NAME = CONDITION`.
+fn let_line(k: &Node, v: &Node) -> String {
+    format!("let {} = {}", name(text(k)), cond(v))
+}
+
 fn cond(n: &Node) -> String {
     let args = items(n);
     match n.name().unwrap_or("") {
+        "Let" => args.first().map(|a| name(text(a))).unwrap_or_default(),
         "Reflective" => "reflective".into(),
         "Blended" => "blended".into(),
         "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),

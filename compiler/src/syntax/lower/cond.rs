@@ -2,11 +2,22 @@
 
 use super::{Lowerer, Res};
 use crate::diag::{suggestion_note, Code, Diagnostic};
-use crate::ir::{Condition, Effect, LightKind};
+use crate::ir::{Condition, Effect, LetDecl, LightKind};
 use crate::span::Spanned;
 use crate::tree::{Node, Value};
 
-pub const KINDS: [&str; 9] = ["Light", "Effect", "Reflective", "Blended", "Toggle", "Variant", "Not", "All", "Any"];
+pub const KINDS: [&str; 10] = [
+    "Light",
+    "Effect",
+    "Reflective",
+    "Blended",
+    "Toggle",
+    "Variant",
+    "Not",
+    "All",
+    "Any",
+    "Let",
+];
 
 impl Lowerer<'_> {
     pub(super) fn condition(&mut self, n: &Node) -> Res<Spanned<Condition>> {
@@ -22,9 +33,16 @@ impl Lowerer<'_> {
                 ("Toggle", [p]) => Condition::Toggle(self.string(p)?),
                 ("Variant", [v, o]) => variant_options(self.string(v)?, self.string(o)?),
                 ("Not", [c]) => Condition::Not(Box::new(self.condition(c)?)),
+                ("Let", [name]) => {
+                    let name = self.string(name)?;
+                    let body = self.named(&name)?;
+                    Condition::Named(name, Box::new(body))
+                }
                 ("All" | "Any", [l]) => {
                     let items = self.list(l)?.to_vec();
-                    let cs = items.iter().map(|i| self.condition(i)).collect::<Option<Vec<_>>>()?;
+                    // Every part lowered, so that each part's problems are said at once.
+                    let parts: Vec<_> = items.iter().map(|i| self.condition(i)).collect();
+                    let cs = parts.into_iter().collect::<Option<Vec<_>>>()?;
                     if nm == "All" {
                         Condition::All(cs)
                     } else {
@@ -33,7 +51,7 @@ impl Lowerer<'_> {
                 }
                 (k, _) if KINDS.contains(&k) => {
                     self.err(Diagnostic::error(Code::TypeMismatch, format!("wrong arguments for condition `{k}`"), n.span).with_note(
-                        "forms: Light(Point), Effect(Ssr), Reflective, Blended, Toggle(\"param\"), Variant(\"name\", \"option\" or \"a | b\"), Not(c), All([..]), Any([..])",
+                        "forms: Light(Point), Effect(Ssr), Reflective, Blended, Toggle(\"param\"), Variant(\"name\", \"option\" or \"a | b\"), Not(c), All([..]), Any([..]), Let(\"name\")",
                     ));
                     return None;
                 }
@@ -80,5 +98,65 @@ impl Lowerer<'_> {
                 None
             }
         }
+    }
+}
+
+impl Lowerer<'_> {
+    /// The condition `let` named `name` declares, lowered where it is used (so that its
+    /// problems point at the `let`); unknown names and names that lead back to themselves are
+    /// located errors at the use.
+    fn named(&mut self, name: &Spanned<String>) -> Res<Spanned<Condition>> {
+        let Some(node) = self
+            .lets
+            .written
+            .iter()
+            .find(|(n, _)| n.value == name.value)
+            .map(|(_, v)| v.clone())
+        else {
+            let names: Vec<&str> = self.lets.written.iter().map(|(n, _)| n.value.as_str()).collect();
+            let d = Diagnostic::error(
+                Code::UnknownLet,
+                format!("no `let` declares the condition `{}`", name.value),
+                name.span,
+            )
+            .with_note(suggestion_note(&name.value, &names));
+            self.err(d);
+            return None;
+        };
+        if let Some(at) = self.lets.open.iter().position(|n| *n == name.value) {
+            let mut chain = self.lets.open[at..].to_vec();
+            chain.push(name.value.clone());
+            let d = Diagnostic::error(
+                Code::LetCycle,
+                format!("named conditions lead back to themselves: {}", chain.join(" -> ")),
+                name.span,
+            );
+            self.err(d);
+            return None;
+        }
+        if let Some(done) = self.lets.lowered.get(&name.value) {
+            return done.clone();
+        }
+        self.lets.open.push(name.value.clone());
+        let body = self.condition(&node);
+        self.lets.open.pop();
+        self.lets.lowered.insert(name.value.clone(), body.clone());
+        body
+    }
+
+    /// The declared named conditions (what a printer writes back), each lowered where it was
+    /// used or else here; one no condition uses is warned about, at its name.
+    pub(super) fn lets_declared(&mut self) -> Vec<LetDecl> {
+        let written = self.lets.written.clone();
+        let mut out = vec![];
+        for (name, _) in &written {
+            if !self.lets.lowered.contains_key(&name.value) {
+                let d = Diagnostic::warning(Code::UnusedLet, format!("no condition uses `{}`", name.value), name.span);
+                self.err(d);
+            }
+            let value = self.named(name);
+            out.extend(value.map(|value| LetDecl { name: name.clone(), value }));
+        }
+        out
     }
 }

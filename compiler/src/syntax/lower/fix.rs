@@ -24,6 +24,9 @@ fn decide(c: &Spanned<Condition>, v: &str, o: &str) -> Decided {
                 Decided::False
             }
         }
+        // Fixing decides the named condition itself (its name is for printing the file as
+        // written, which a fixed pipeline keeps apart).
+        Condition::Named(_, inner) => decide(inner, v, o),
         Condition::Not(inner) => match decide(inner, v, o) {
             Decided::True => Decided::False,
             Decided::False => Decided::True,

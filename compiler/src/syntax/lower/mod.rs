@@ -26,7 +26,7 @@ type Res<T> = Option<T>;
 /// Lower a pipeline tree. Problems go to `diags`; `None` when the tree cannot become IR.
 pub fn pipeline(root: &Node, diags: &mut Diagnostics) -> Option<Pipeline> {
     let before = diags.error_count();
-    let p = Lowerer { diags }.pipeline(root);
+    let p = Lowerer::new(diags).pipeline(root);
     if diags.error_count() > before {
         return None;
     }
@@ -37,11 +37,32 @@ pub fn pipeline(root: &Node, diags: &mut Diagnostics) -> Option<Pipeline> {
 /// checks that do not depend on the left-out items (each pass's shaders), so that one bad
 /// value does not hide every other problem of the file.
 pub fn pipeline_partial(root: &Node, diags: &mut Diagnostics) -> Option<Pipeline> {
-    Lowerer { diags }.pipeline(root)
+    Lowerer::new(diags).pipeline(root)
 }
 
 pub(crate) struct Lowerer<'d> {
     pub diags: &'d mut Diagnostics,
+    /// The pipeline's named conditions (`lets`), as written, and the names being lowered
+    /// (a name among them used again is a cycle).
+    lets: Lets,
+}
+
+/// Named conditions as written, by name; the names being lowered, in order; each one lowered
+/// (once: its problems are reported once), by name.
+#[derive(Default)]
+struct Lets {
+    written: Vec<(Spanned<String>, Node)>,
+    open: Vec<String>,
+    lowered: std::collections::BTreeMap<String, Option<crate::span::Spanned<crate::ir::Condition>>>,
+}
+
+impl<'d> Lowerer<'d> {
+    pub(crate) fn new(diags: &'d mut Diagnostics) -> Self {
+        Lowerer {
+            diags,
+            lets: Lets::default(),
+        }
+    }
 }
 
 impl Lowerer<'_> {
@@ -71,6 +92,10 @@ impl Lowerer<'_> {
         let resources = o.take("resources").and_then(|n| self.resources(&n)).unwrap_or_default();
         // Variants first: choices inside passes are checked against them.
         let variants = o.take("variants").and_then(|n| self.variants(&n)).unwrap_or_default();
+        // Named conditions before the passes that use them.
+        if let Some(n) = o.take("lets") {
+            self.lets.written = self.string_map(&n).unwrap_or_default();
+        }
         let passes = self
             .required(&mut o, "passes")
             .and_then(|n| self.passes(&n, &variants))
@@ -99,8 +124,10 @@ impl Lowerer<'_> {
             "always",
             "jitter",
             "fix",
+            "lets",
         ];
         self.finish(o, &keys, &[]);
+        let lets = self.lets_declared();
         let mut p = Pipeline {
             name: name?,
             params,
@@ -108,6 +135,7 @@ impl Lowerer<'_> {
             resources,
             passes,
             variants,
+            lets,
             output: output?,
             hdr_output,
             always: always?,

@@ -13,7 +13,7 @@ use std::path::Path;
 /// Lower a scene tree; model paths resolve against `dir`. `None` when it cannot be lowered.
 pub fn scene(root: &Node, dir: &Path, diags: &mut Diagnostics) -> Option<SceneFile> {
     let before = diags.error_count();
-    let s = Lowerer { diags }.scene(root, dir);
+    let s = Lowerer::new(diags).scene(root, dir);
     if diags.error_count() > before {
         return None;
     }
