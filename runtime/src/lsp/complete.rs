@@ -68,6 +68,10 @@ impl Server {
                 .collect(),
             Some("params") => names(Kind::Param, CompletionItemKind::PROPERTY).collect(),
             Some("after") => names(Kind::Pass, CompletionItemKind::FUNCTION).collect(),
+            // A condition: a named one, or the start of one written out.
+            Some("when" | "let") if matches!(open_call(line), None | Some("all" | "any")) => names(Kind::Let, CompletionItemKind::CONSTANT)
+                .chain(CONDITION_WORDS.iter().map(|w| item(w, CompletionItemKind::KEYWORD)))
+                .collect(),
             Some("vertex" | "fragment" | "entry") => self.entries_near(path, ix, cursor),
             Some("use") => return Some((self.files_beside(path), path_char)),
             Some("shader") | Some("raster" | "fullscreen" | "compute") if in_quotes => return Some((self.shader_files(path), path_char)),
@@ -152,6 +156,22 @@ fn depth_at(text: &str, cursor: usize) -> usize {
         }
     }
     depth
+}
+
+/// Conditions' words (a name of a `let` stands beside them).
+const CONDITION_WORDS: [&str; 9] = ["all", "any", "not", "variant", "effect", "light", "toggle", "reflective", "blended"];
+
+/// The call whose parentheses the end of `line` is inside (`all`, `variant`…), if any.
+fn open_call(line: &str) -> Option<&str> {
+    let mut open: Vec<&str> = vec![];
+    for (i, c) in line.char_indices() {
+        match c {
+            '(' => open.push(line[..i].rsplit(|c: char| !name_char(c)).next().unwrap_or("")),
+            ')' => _ = open.pop(),
+            _ => {}
+        }
+    }
+    open.pop()
 }
 
 /// Whether an LBP `texture NAME: ` line is at its format (the first word after the colon).

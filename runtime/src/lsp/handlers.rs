@@ -234,8 +234,8 @@ impl Server {
             return refuse("nothing to rename here");
         };
         let s = &ix.symbols[sym];
-        if !matches!(s.kind, Kind::Resource | Kind::Param | Kind::Sampler | Kind::Pass) || s.decl.file != at.file {
-            return refuse("only resources, parameters, samplers and passes declared in this file can be renamed");
+        if !matches!(s.kind, Kind::Resource | Kind::Param | Kind::Sampler | Kind::Pass | Kind::Let) || s.decl.file != at.file {
+            return refuse("only resources, parameters, samplers, passes and named conditions declared in this file can be renamed");
         }
         let taken = |k: Kind| ix.find(k, &p.new_name).is_some_and(|other| other != sym);
         // Resources and samplers are bound by one namespace of names.
@@ -275,6 +275,7 @@ impl Server {
                 Kind::Sampler | Kind::Resource => SymbolKind::VARIABLE,
                 Kind::Pass => SymbolKind::FUNCTION,
                 Kind::Variant => SymbolKind::ENUM,
+                Kind::Let => SymbolKind::CONSTANT,
                 Kind::Option(_) => continue,
             };
             let children: Vec<DocumentSymbol> = ix

@@ -19,6 +19,8 @@ pub enum Kind {
     Variant,
     /// An option of the variant at this index of `symbols`.
     Option(usize),
+    /// A named condition (`let`).
+    Let,
 }
 
 impl Kind {
@@ -30,6 +32,7 @@ impl Kind {
             Kind::Pass => "pass",
             Kind::Variant => "variant",
             Kind::Option(_) => "option",
+            Kind::Let => "named condition",
         }
     }
 }
@@ -101,6 +104,10 @@ impl Index {
                 ix.declare(Kind::Option(vi), &o.name, o.span, hover);
             }
         }
+        for l in &p.lets {
+            let hover = format!("**let** `{}` = `{}`", l.name.value, l.value.value.describe());
+            ix.declare(Kind::Let, &l.name, l.name.span.to(l.value.span), hover);
+        }
         ix.name_uses(p);
         ix.uses.sort_by_key(|(s, i)| (s.file, s.start, s.end, *i));
         ix.uses.dedup();
@@ -137,6 +144,9 @@ impl Index {
     fn name_uses(&mut self, p: &Pipeline) {
         for pass in &p.passes {
             self.pass_uses(pass);
+        }
+        for l in &p.lets {
+            self.condition_uses(&l.value.value);
         }
         for v in &p.variants {
             let vi = self.find(Kind::Variant, &v.name.value);
@@ -250,7 +260,9 @@ impl Index {
                     self.name_use(Kind::Option(vi), o);
                 }
             }
-            Condition::Not(inner) | Condition::Named(_, inner) => self.condition_uses(&inner.value),
+            Condition::Not(inner) => self.condition_uses(&inner.value),
+            // The use of the name; what it names is indexed with its declaration.
+            Condition::Named(name, _) => self.name_use(Kind::Let, name),
             Condition::All(cs) | Condition::Any(cs) => cs.iter().for_each(|c| self.condition_uses(&c.value)),
             _ => {}
         }

@@ -44,7 +44,7 @@ impl Server {
         let word = &text[a..b];
         match key.as_deref()? {
             "after" => ix.find(Kind::Pass, word),
-            "replace" => [Kind::Pass, Kind::Param, Kind::Resource, Kind::Sampler, Kind::Variant]
+            "replace" => [Kind::Pass, Kind::Param, Kind::Resource, Kind::Sampler, Kind::Variant, Kind::Let]
                 .into_iter()
                 .find_map(|k| ix.find(k, word)),
             _ => None,

@@ -303,3 +303,40 @@ fn requests_do_not_delay_the_check_after_an_edit() {
     send(Notification::new("exit".into(), json!(null)).into());
     assert_eq!(running.join().unwrap(), Ok(()));
 }
+
+/// Named conditions in the editor: hover on a use shows the condition, definition goes to the
+/// `let`, completion in a `when` offers the names (and the conditions' words), and a rename
+/// renames every use.
+#[test]
+fn named_conditions_hover_define_complete_and_rename() {
+    let (_, path, text, mut c) = opened("lets", "pipelines/deferred.lbp");
+    let h = c.request("textDocument/hover", at(&path, &text, "when deferred", 7));
+    let shown = h["contents"]["value"].as_str().unwrap_or_default();
+    assert!(
+        shown.starts_with("**let** `deferred` = `Any(Variant(\"lighting\", \"deferred_fullscreen\")"),
+        "{shown}"
+    );
+    let d = c.request(
+        "textDocument/definition",
+        at(&path, &text, "when all(deferred, variant(gbuffer, fat))", 12),
+    );
+    assert_eq!(d["range"]["start"], pos(&text, "let deferred", 4), "{d}");
+
+    let typed = text.replacen("when all(deferred, variant(gbuffer, fat))", "when all(def", 1);
+    c.change(&path, 2, &typed);
+    let items = complete(&mut c, &path, &typed, "when all(def");
+    assert!(accept(&items, &typed, "deferred").contains("when all(deferred\n"));
+    let labels: Vec<&str> = items.iter().filter_map(|i| i["label"].as_str()).collect();
+    assert!(labels.contains(&"variant") && labels.contains(&"not"), "{labels:?}");
+    c.change(&path, 3, &text);
+
+    let mut p = at(&path, &text, "let deferred", 4);
+    p["newName"] = json!("reads_gbuffer");
+    let r = c.call("textDocument/rename", p);
+    let edits = r["result"]["changes"][uri(&path)].as_array().cloned().unwrap_or_default();
+    let uses = text.matches("deferred\n").count() + text.matches("deferred,").count() + text.matches("deferred)").count();
+    assert_eq!(edits.len(), uses, "{r}");
+    let renamed = apply(&text, &edits);
+    assert!(renamed.contains("let reads_gbuffer = variant(lighting") && renamed.contains("when all(reads_gbuffer, variant(gbuffer, fat))"));
+    assert_eq!(c.finish(), 0);
+}
