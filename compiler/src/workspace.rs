@@ -344,7 +344,9 @@ impl Session {
         let before = self.diags.error_count();
         let merged = self.compose(name, &tree, &mut vec![]);
         let mut p = merged.and_then(|m| crate::syntax::lower::pipeline_partial(&m, &mut self.diags));
-        if let Some(p) = p.as_mut().filter(|_| crate::syntax::compose::used(&tree).is_some()) {
+        // A pipeline that uses another, or groups passes, prints as written.
+        let as_written = crate::syntax::compose::used(&tree).is_some() || crate::syntax::groups::has_groups(&tree);
+        if let Some(p) = p.as_mut().filter(|_| as_written) {
             p.written = Some(crate::ir::Source(tree));
             for pass in p.passes.iter_mut().filter(|x| x.span.file != file) {
                 pass.from = Some(file_name(&self.sources.get(pass.span.file).name));
@@ -374,6 +376,8 @@ impl Session {
     /// The pipeline a tree means: itself, or the pipeline it uses (composed in turn) with its
     /// items merged in. `chain`: the files being composed, for cycles and the depth limit.
     fn compose(&mut self, name: &str, tree: &Node, chain: &mut Vec<PathBuf>) -> Option<Node> {
+        // Each file's groups become their passes before items merge by name.
+        let tree = &crate::syntax::groups::expand(tree, &mut self.diags);
         crate::syntax::compose::reject_second_use(tree, &mut self.diags);
         let Some((used, at)) = crate::syntax::compose::used(tree) else {
             crate::syntax::compose::reject_composing(tree, &mut self.diags);

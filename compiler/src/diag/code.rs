@@ -74,6 +74,7 @@ codes! {
     UnknownLet = "unknown-let": "a condition name no `let` declares",
     LetCycle = "let-cycle": "named conditions (`let`) that name each other",
     UnusedLet = "unused-let": "warning: a `let` no condition uses",
+    EmptyGroup = "empty-group": "warning: a group of passes without passes",
     ChoiceIncomplete = "choice-incomplete": "a choice (`Match`) with no arm for some option of its variant (or, warned, a default arm that serves none)",
     ChoiceOverlap = "choice-overlap": "one option served by two arms of a choice",
     ToggleNotBool = "toggle-not-bool": "a `Toggle` condition on a parameter that is not a Bool",

@@ -3,5 +3,6 @@
 
 pub mod compose;
 pub mod defaults;
+pub mod groups;
 pub mod lower;
 pub mod raise;

@@ -107,6 +107,7 @@ mod tests {
                 "raster",
                 "fullscreen",
                 "compute",
+                "group",
                 "variant",
                 "hdr_output",
                 "output",

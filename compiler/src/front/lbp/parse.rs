@@ -258,6 +258,9 @@ impl Builder<'_> {
                 Rule::pass => {
                     passes.extend(self.pass(it));
                 }
+                Rule::group => {
+                    passes.extend(self.group(it));
+                }
                 Rule::top_flag => outputs.0.push((it.as_str().to_string(), at, Node::bool(true, at))),
                 Rule::output | Rule::hdr_output => {
                     let key = if it.as_rule() == Rule::output { "output" } else { "hdr_output" };
@@ -268,12 +271,18 @@ impl Builder<'_> {
             }
         }
         composing.put(&mut root);
-        for (key, entries, mspan) in maps {
+        // In the order a Plan's items are printed in: declarations, passes, variants.
+        let [params, samplers, resources, variants, lets] = maps;
+        for (key, entries, mspan) in [params, samplers, resources, lets] {
             if !entries.is_empty() {
                 root.put(key, mspan, Node::map(entries, mspan));
             }
         }
         root.put("passes", span, Node::list(passes, span));
+        let (key, entries, mspan) = variants;
+        if !entries.is_empty() {
+            root.put(key, mspan, Node::map(entries, mspan));
+        }
         root.0.extend(outputs.0);
         // A missing key is reported where it would be added: at the end of the file.
         let end = Span::new(self.file, self.text_len, self.text_len);
@@ -507,6 +516,28 @@ impl Builder<'_> {
         }
         // A pass is named by its name: messages about the pass as a whole point there.
         Some(Node::structure(kind, name.span, f.0, span))
+    }
+
+    /// `group { … }`: its attributes as fields, its passes and groups in `passes`.
+    fn group(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let head = Span::new(span.file, span.start as usize, span.start as usize + "group".len());
+        let mut f = Fields::default();
+        let mut passes = vec![];
+        for item in kids(p) {
+            let at = self.span(&item);
+            match item.as_rule() {
+                Rule::pass => passes.push(self.pass(item)?),
+                Rule::group => passes.push(self.group(item)?),
+                rule => {
+                    let key = pass_key(rule);
+                    let node = self.pass_item(item, at)?;
+                    f.put(key, at, node);
+                }
+            }
+        }
+        f.put("passes", span, Node::list(passes, span));
+        Some(Node::structure("Group", head, f.0, span))
     }
 
     fn pass_item(&mut self, item: P, at: Span) -> Option<Node> {

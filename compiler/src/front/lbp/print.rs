@@ -111,7 +111,7 @@ impl Printer {
             }
         }
         for p in get(f, "passes").map(items).unwrap_or(&[]) {
-            self.pass(p);
+            self.pass_or_group(p, "");
         }
         for (k, v) in get(f, "variants").map(entries).unwrap_or(&[]) {
             self.variant(k, v);
@@ -133,9 +133,32 @@ impl Printer {
         }
     }
 
-    fn pass(&mut self, p: &Node) {
+    fn pass_or_group(&mut self, p: &Node, indent: &str) {
+        match p.name() {
+            Some("Group") => self.group(p, indent),
+            _ => self.pass(p, indent),
+        }
+    }
+
+    /// `group {`, its attributes, its passes and groups, `}`.
+    fn group(&mut self, g: &Node, indent: &str) {
         self.out.text.push('\n');
-        self.out.comments_before(p.span, "");
+        self.out.comments_before(g.span, indent);
+        let _ = writeln!(self.out.text, "{indent}group {{");
+        let inner = format!("{indent}    ");
+        for (k, _, v) in fields(g).iter().filter(|f| f.0 != "passes") {
+            self.out.comments_before(v.span, &inner);
+            let _ = writeln!(self.out.text, "{inner}{}", pass_line(k, v));
+        }
+        for p in get(fields(g), "passes").map(items).unwrap_or(&[]) {
+            self.pass_or_group(p, &inner);
+        }
+        let _ = writeln!(self.out.text, "{indent}}}");
+    }
+
+    fn pass(&mut self, p: &Node, indent: &str) {
+        self.out.text.push('\n');
+        self.out.comments_before(p.span, indent);
         let f = fields(p);
         let kind = p.name().unwrap_or("").to_lowercase();
         let replace = if get(f, "replace").is_some() { "replace " } else { "" };
@@ -147,19 +170,20 @@ impl Printer {
             .unwrap_or_default();
         let _ = writeln!(
             self.out.text,
-            "{replace}{kind} {}{shader} {{",
+            "{indent}{replace}{kind} {}{shader} {{",
             name(get(f, "name").map(text).unwrap_or(""))
         );
         // Comments inside the pass body come first in it.
+        let inner = format!("{indent}    ");
         self.out
-            .comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), "    ");
+            .comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), &inner);
         let body = f
             .iter()
             .filter(|(k, _, _)| k != "name" && k != "replace" && (k != "shader" || chosen_shader));
         for (k, _, v) in body {
-            let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
+            let _ = writeln!(self.out.text, "{inner}{}", pass_line(k, v));
         }
-        self.out.text.push_str("}\n");
+        let _ = writeln!(self.out.text, "{indent}}}");
     }
 
     /// `use "file"`, `fix v = o`, `remove kind name`.

@@ -76,7 +76,7 @@ impl Printer {
         let _ = writeln!(self.out.text, "{}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
         for (k, _, v) in fields {
             match (k.as_str(), &*v.value) {
-                ("passes", Value::List(items)) => self.passes(items),
+                ("passes", Value::List(items)) => self.passes(items, "    "),
                 (_, Value::Map(entries)) => self.map(k, entries),
                 _ => {
                     self.out.comments_before(v.span, "    ");
@@ -121,28 +121,44 @@ impl Printer {
         self.out.text.push_str("            },\n");
     }
 
-    /// Passes: one key per line.
-    fn passes(&mut self, items: &[Node]) {
-        self.out.text.push_str("    passes: [\n");
+    /// Passes: one key per line; a group's passes likewise, inside it.
+    fn passes(&mut self, items: &[Node], indent: &str) {
+        let _ = writeln!(self.out.text, "{indent}passes: [");
+        let inner = format!("{indent}    ");
         for p in items {
-            self.out.comments_before(p.span, "        ");
-            let inside = crate::span::Span::new(p.span.file, p.span.end as usize, p.span.end as usize);
-            match &*p.value {
-                Value::Struct { name, fields } => {
-                    let _ = writeln!(self.out.text, "        {}(", name.as_ref().map(|n| n.0.as_str()).unwrap_or(""));
-                    // Comments inside the pass body come first in it (as LBP prints them).
-                    self.out.comments_before(inside, "            ");
-                    for (k, _, v) in fields {
-                        let _ = writeln!(self.out.text, "            {k}: {},", inline(v));
-                    }
-                    self.out.text.push_str("        ),\n");
-                }
+            self.pass(p, &inner);
+        }
+        let _ = writeln!(self.out.text, "{indent}],");
+    }
+
+    fn pass(&mut self, p: &Node, indent: &str) {
+        self.out.comments_before(p.span, indent);
+        let inside = crate::span::Span::new(p.span.file, p.span.end as usize, p.span.end as usize);
+        let Value::Struct { name, fields } = &*p.value else {
+            self.out.comments_before(inside, indent);
+            let _ = writeln!(self.out.text, "{indent}{},", inline(p));
+            return;
+        };
+        let kind = name.as_ref().map(|n| n.0.as_str()).unwrap_or("");
+        let _ = writeln!(self.out.text, "{indent}{kind}(");
+        let inner = format!("{indent}    ");
+        let group = kind == "Group";
+        // Comments inside a pass body come first in it (as LBP prints them); a group's go
+        // before what they preceded.
+        if !group {
+            self.out.comments_before(inside, &inner);
+        }
+        for (k, _, v) in fields {
+            match (&*v.value, group) {
+                (Value::List(items), true) if k == "passes" => self.passes(items, &inner),
                 _ => {
-                    self.out.comments_before(inside, "        ");
-                    let _ = writeln!(self.out.text, "        {},", inline(p));
+                    if group {
+                        self.out.comments_before(v.span, &inner);
+                    }
+                    let _ = writeln!(self.out.text, "{inner}{k}: {},", inline(v));
                 }
             }
         }
-        self.out.text.push_str("    ],\n");
+        let _ = writeln!(self.out.text, "{indent}),");
     }
 }
