@@ -385,6 +385,11 @@ impl Executor {
         report.params_dropped = dropped;
         let mut kept = shared.scene_gpu.kept;
         kept.blas = shared.accel.get().map(|a| (a.kept, a.blas.len()));
+        // A Plan that traces no rays keeps no old bottom levels alive on the GPU (a later
+        // one that traces builds them all).
+        if shared.accel.get().is_none() {
+            shared.previous_blas = Default::default();
+        }
         report.scene_kept = Some(kept);
         self.cache.insert(fresh, state.passes.len());
         self.state = state;

@@ -8,17 +8,12 @@ use crate::check::PassVersion;
 use crate::ir::{Draw, Pass, PassKind, Pipeline, Read};
 use crate::layout::BindSource;
 
-/// Frame-block fields that move with the camera (`jitter` moves the projection).
-pub const CAMERA_FIELDS: [FrameField; 8] = [
-    FrameField::View,
-    FrameField::Proj,
-    FrameField::ViewProj,
-    FrameField::InvViewProj,
-    FrameField::PrevViewProj,
-    FrameField::PrevInvViewProj,
-    FrameField::CameraPos,
-    FrameField::Jitter,
-];
+/// Whether a frame-block field moves with the camera (`jitter` moves the projection): all
+/// but the resolution, the clock and the scene's counts.
+fn moves_with_camera(f: FrameField) -> bool {
+    use FrameField::*;
+    !matches!(f, Resolution | Time | FrameIndex | LightCount | SceneRadius)
+}
 
 pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depends {
     let entries = || version.resolved.groups.iter().flat_map(|g| &g.entries);
@@ -30,7 +25,7 @@ pub(super) fn depends(p: &Pipeline, pass: &Pass, version: &PassVersion) -> Depen
         _ => None,
     };
     Depends {
-        camera: CAMERA_FIELDS.into_iter().any(has) || draw == Some(&Draw::Transparent),
+        camera: fields.iter().any(|f| moves_with_camera(*f)) || draw == Some(&Draw::Transparent),
         time: has(FrameField::Time),
         frame_index: has(FrameField::FrameIndex),
         lights: pass.per_light.is_none() && entries().any(|e| matches!(e.source, BindSource::Lights)),
