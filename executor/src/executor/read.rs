@@ -79,20 +79,22 @@ impl Executor {
 
     /// One part of a texture as it is now (see `parts`).
     pub fn read_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Image> {
-        let tex = self
-            .entry(name)?
-            .texture(p.instance, p.previous, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer; use read_buffer_part")))?;
+        let tex = self.part_texture(name, p, "; use read_buffer_part")?;
         readback::read_texture_mip(gpu, tex, p.layer, p.mip)
     }
 
     /// Non-finite values of one part of a texture (see `readback::scan_texture`).
     pub fn scan_part(&self, gpu: &Gpu, name: &str, p: Part) -> Result<Option<NonFinite>> {
-        let tex = self
-            .entry(name)?
-            .texture(p.instance, p.previous, self.last_parity())
-            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer")))?;
+        let tex = self.part_texture(name, p, "")?;
         readback::scan_texture(gpu, tex, p.layer, p.mip)
+    }
+
+    /// The texture holding part `p` of resource `name`; a buffer is refused (`hint` ends the
+    /// message).
+    fn part_texture(&self, name: &str, p: Part, hint: &str) -> Result<&wgpu::Texture> {
+        self.entry(name)?
+            .texture(p.instance, p.previous, self.last_parity())
+            .ok_or_else(|| Error::Resource(format!("`{name}` is a buffer{hint}")))
     }
 
     /// One instance (and copy) of a buffer as it is now, as f32 words.

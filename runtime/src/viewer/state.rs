@@ -194,23 +194,26 @@ impl Viewer {
 
     /// Apply a reload if a watched file changed; its failure stays shown until one succeeds.
     /// A scene loaded again replaces the viewer's (its lights as the file says; the camera
-    /// stays where the viewer has it).
-    pub fn poll_reload(&mut self, gpu: &Gpu) -> Result<()> {
-        let Some(r) = self.reloader.as_mut() else { return Ok(()) };
+    /// stays where the viewer has it); a path-traced view that cannot start on it is closed,
+    /// saying why, as a failed reload is.
+    pub fn poll_reload(&mut self, gpu: &Gpu) {
+        let Some(r) = self.reloader.as_mut() else { return };
         match r.poll(gpu, &mut self.ex, std::time::Duration::ZERO) {
             Some(crate::reload::Outcome::Reloaded { scene, .. }) => {
                 self.last_error = None;
                 if let Some(s) = scene {
                     self.scene = *s;
                     self.light = self.light.min(self.scene.lights.len().saturating_sub(1));
-                    self.restart_traced(gpu)?;
+                    if let Err(e) = self.restart_traced(gpu) {
+                        self.traced = None;
+                        self.last_error = Some(e.to_string());
+                    }
                 }
             }
             Some(crate::reload::Outcome::Failed { message, .. }) => self.last_error = Some(message),
             Some(crate::reload::Outcome::Rewatched { folders }) => eprintln!("{}", crate::reload::rewatched(&folders)),
             None => {}
         }
-        Ok(())
     }
 
     /// Lights edited: a change the running Plan can take (the lights that are on keep their

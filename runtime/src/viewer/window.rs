@@ -179,7 +179,7 @@ impl Running {
             super::script::run_line(&mut self.viewer, &self.gpu, &l, &at)?;
         }
         self.camera_keys();
-        self.viewer.poll_reload(&self.gpu)?;
+        self.viewer.poll_reload(&self.gpu);
         self.viewer.frame(&self.gpu)?;
         let (id, (w, h), caption) = self.shown_image()?;
         let input = self.egui_state.take_egui_input(&self.window);
