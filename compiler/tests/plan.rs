@@ -61,6 +61,12 @@ fn snapshot_deferred_sun_only_scene_culls_passes() {
         "shadow_cube_multiview",
         "variant not chosen: `cube_shadow` is `classic`, this pass belongs to `multiview`"
     )));
+    // A condition naming several options of one variant (`variant(v, a | b)`, directly or
+    // through a `let`) is one reason naming them all.
+    assert!(culled.contains(&(
+        "area_rt",
+        "variant not chosen: `area_lights` is `off`, this pass belongs to `rt` or `rt_temporal`"
+    )));
     assert!(plan.pass("light_directional_spot").is_some_and(|p| p.repetitions == 1));
     assert!(
         plan.resource("shadow.cube").is_none(),

@@ -7,6 +7,7 @@ use super::Config;
 use crate::check::Checked;
 use crate::diag::{Code, Diagnostic, Diagnostics};
 use crate::ir::*;
+use crate::span::Spanned;
 use std::collections::BTreeMap;
 
 /// Whether a condition holds for the configuration (`eval` says why not, when asked).
@@ -31,6 +32,16 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
     match c.decided() {
         Condition::All(cs) => cs.iter().try_for_each(|c| eval(c, p, cfg)),
         Condition::Any(cs) => {
+            if let Some((v, options)) = options_of_one_variant(cs).filter(|_| !holds(c, p, cfg)) {
+                // `variant(v, a | b)`: one reason naming the options, not one per option.
+                let chosen = cfg.selection.chosen.get(v).map_or("", String::as_str);
+                let options: Vec<String> = options.iter().map(|o| format!("`{o}`")).collect();
+                let why = format!(
+                    "variant not chosen: `{v}` is `{chosen}`, this pass belongs to {}",
+                    options.join(" or ")
+                );
+                return Err((why, true));
+            }
             let mut reasons = vec![];
             let mut by_variant = true;
             for c in cs {
@@ -47,6 +58,21 @@ fn eval(c: &Condition, p: &Pipeline, cfg: &Config) -> Result<(), (String, bool)>
         c if holds(c, p, cfg) => Ok(()),
         c => Err(why_false(c, cfg)),
     }
+}
+
+/// The variant and its options when every condition of `cs` chooses an option of one variant.
+fn options_of_one_variant(cs: &[Spanned<Condition>]) -> Option<(&str, Vec<&str>)> {
+    let mut variant = None;
+    let mut options = vec![];
+    for c in cs {
+        let Condition::Variant(v, o) = c.value.decided() else { return None };
+        if variant.is_some_and(|name| name != v.value.as_str()) {
+            return None;
+        }
+        variant = Some(v.value.as_str());
+        options.push(o.value.as_str());
+    }
+    Some((variant?, options))
 }
 
 /// Why a condition other than `All`/`Any` that does not hold is false, and whether a

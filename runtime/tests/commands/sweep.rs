@@ -164,7 +164,7 @@ fn every_bundled_sweep_spec_runs() {
         ("ssr", "ssr.max_steps", 5),
         ("frame", "indirect_diffuse", 5),
         ("transparency", "transparency", 5),
-        ("area_lights", "area_lights", 3),
+        ("area_lights", "area_lights", 5),
         ("shadow_methods", "shadows", 18),
     ] {
         let out = scratch(spec);
@@ -200,6 +200,12 @@ fn every_bundled_sweep_spec_runs() {
             // in RMSE than the screen-space shadows (0.0053 against 0.0100 measured).
             let rt = at("rt");
             assert!(num(rt, "bias").abs() < 0.005 && num(rt, "rmse") < num(shadowed, "rmse"), "{rt:?}");
+            // Over frames the same points average out: unbiased and nearer still.
+            let temporal = at("rt_temporal");
+            assert!(
+                num(temporal, "bias").abs() < 0.005 && num(temporal, "rmse") < num(rt, "rmse"),
+                "{temporal:?} vs {rt:?}"
+            );
         }
         if spec == "frame" {
             // Indirect diffuse light brings the frame nearer full global illumination, at a
@@ -251,6 +257,12 @@ fn every_bundled_sweep_spec_runs() {
                         .unwrap()
                 };
                 traced_is_unbiased_and_nearer((rtao(""), rtao("16")), gtao, 0.02, scene);
+                // Over frames its 4 rays average out: unbiased, and nearer than one frame's.
+                let averaged = rows.iter().filter(at).find(|r| r["ao"] == "rtao_temporal").unwrap();
+                assert!(
+                    num(averaged, "bias").abs() < 0.02 && num(averaged, "rmse") < num(rtao(""), "rmse"),
+                    "{scene}: {averaged:?}"
+                );
                 // Over frames GTAO keeps its error (the blur already averages the slices' offsets).
                 let temporal = rows
                     .iter()
@@ -325,7 +337,7 @@ fn every_bundled_sweep_spec_runs() {
                 // and right region by region: its 8×8-block ratios' 10th and 90th percentiles
                 // within 0.75–1.25, where without its occlusion test they are not.
                 let filtered = of("filtered", "gi.filtered.samples", "64", "");
-                let rsm = |r: &&BTreeMap<String, String>| !["filtered", "rt"].contains(&r["indirect_diffuse"].as_str());
+                let rsm = |r: &&BTreeMap<String, String>| !["filtered", "rt", "rt_temporal"].contains(&r["indirect_diffuse"].as_str());
                 for r in rows.iter().filter(|r| r["scene"] == scene).filter(rsm) {
                     assert!(num(filtered, "bias").abs() < num(r, "bias").abs(), "{scene}: bias of {r:?}");
                     assert!(num(filtered, "rmse") < num(r, "rmse"), "{scene}: RMSE of {r:?}");
@@ -342,6 +354,12 @@ fn every_bundled_sweep_spec_runs() {
                 assert!(
                     num(many, "rmse") < num(few, "rmse") && num(many, "rmse") < num(filtered, "rmse"),
                     "{scene}: {many:?}"
+                );
+                // Its 4 rays over frames: unbiased, nearer than one frame's in RMSE.
+                let averaged = of("rt_temporal", "gi.rt.rays", "", "");
+                assert!(
+                    num(averaged, "bias").abs() < 0.005 && num(averaged, "rmse") < num(few, "rmse"),
+                    "{scene}: {averaged:?}"
                 );
             }
         }

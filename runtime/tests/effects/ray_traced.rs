@@ -487,3 +487,147 @@ fn ray_traced_area_lights_match_the_reference_direct_light() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// The ray-traced options over frames (`ao = rtao_temporal`, `indirect_diffuse = rt_temporal`,
+/// `area_lights = rt_temporal`) average each frame's rays over a reprojected history: after 16
+/// frames of a still camera their estimate is much nearer the reference than one frame's
+/// (RMSE over the surfaces below half of one frame's; 16 independent frames would make it a
+/// quarter, plus the reference's own noise), and keeps its mean (within 2% of the
+/// reference's). Each at its default rays, unblurred where a blur would hide the noise, at 64².
+#[test]
+fn ray_traced_options_over_frames_converge_towards_the_reference() {
+    use lightbench::reference::{Budget, Settings, Term};
+    let reference = |scene: &lightbench::scene::Scene, term: Term, ao_radius: f32| {
+        let settings = Settings {
+            budget: Budget::Spp(512),
+            terms: vec![term],
+            ao_radius,
+            ..Settings::default()
+        };
+        lightbench::reference::render(scene, &settings, false)
+            .term(term)
+            .unwrap()
+            .mean
+            .clone()
+    };
+    // AO: the occlusion before and after the history (one channel).
+    let ao_scene = cornell_ao(64);
+    let ao = over_frames(
+        &ao_scene,
+        "deferred_gi.lbp",
+        &[("ao", "rtao_temporal"), ("indirect_diffuse", "off")],
+        &[("ao.radius", "0.5"), ("lengths.world", "true"), ("ao.scale", "1")],
+        ("ao.raw", "ao.history"),
+    );
+    let mut failures = vec![];
+    failures.extend(judge_over_frames("rtao_temporal", ao, &reference(&ao_scene, Term::Ao, 0.5), 1));
+    // Indirect diffuse on the spot-lit box: the bounce light before and after the history.
+    let spot = lightbench::scene::load(gpu_common::root().join("scenes/cornell_spot.ron").to_str().unwrap()).unwrap();
+    let gi = over_frames(
+        &spot,
+        "deferred_gi.lbp",
+        &[("indirect_diffuse", "rt_temporal")],
+        &[],
+        ("gi.indirect", "gi.history"),
+    );
+    failures.extend(judge_over_frames(
+        "indirect rt_temporal",
+        gi,
+        &reference(&spot, Term::IndirectDiffuse, 0.0),
+        3,
+    ));
+    // A second bounce gathers the averaged first: what it adds comes on top of the history.
+    let (history, bounced) = over_frames(
+        &spot,
+        "deferred_gi.lbp",
+        &[("indirect_diffuse", "rt_temporal"), ("gi_bounces", "two")],
+        &[],
+        ("gi.history", "gi.bounced"),
+    );
+    let below = history
+        .rgba
+        .chunks(4)
+        .zip(bounced.rgba.chunks(4))
+        .filter(|(h, b)| (0..3).any(|c| b[c] < h[c] * 0.999 - 1e-4));
+    assert_eq!(below.count(), 0, "the second bounce adds to the averaged first");
+    let light = |img: &Image| img.rgba.chunks(4).map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>();
+    assert!(
+        light(&bounced) > 1.05 * light(&history),
+        "{} vs {}",
+        light(&bounced),
+        light(&history)
+    );
+    // Area lights on the lamp-lit box: the emitters' light before and after the history.
+    let lamp = scene_file(
+        "lamp_frames",
+        "Scene(name: \"lamp_frames\", size: (64, 64), builtin: \"cornell_lamp\")\n",
+    );
+    let area = over_frames(
+        &lamp,
+        "deferred.lbp",
+        &[("area_lights", "rt_temporal")],
+        &[],
+        ("area.rt", "area.history"),
+    );
+    // The lamp itself (its emission, which the option leaves to the G-buffer) is not judged.
+    let mut truth = reference(&lamp, Term::Direct, 0.0);
+    for (i, seen) in lightbench::reference::surfaces_seen(&lamp).into_iter().enumerate() {
+        if seen.is_some_and(|m| lamp.materials[lamp.meshes[m].material].emissive != [0.0; 3]) {
+            truth.rgba[i * 4..i * 4 + 3].fill(0.0);
+        }
+    }
+    failures.extend(judge_over_frames("area rt_temporal", area, &truth, 3));
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// `(one frame, accumulated)`: the resources `resources` names after 16 frames of a bundled
+/// pipeline with `variants` and `params` set, the camera still.
+fn over_frames(
+    scene: &lightbench::scene::Scene,
+    pipeline: &str,
+    variants: &[(&str, &str)],
+    params: &[(&str, &str)],
+    (raw, accumulated): (&str, &str),
+) -> (Image, Image) {
+    let g = gpu_common::gpu();
+    let pipeline = gpu_common::root().join("pipelines").join(pipeline);
+    let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    let (exe, _) = lightbench::render::compile(&g, &pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
+    let set: Vec<(String, String)> = params.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
+    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
+    let ex = lightbench::render::render_with(&g, &exe, scene, 16, &params).unwrap();
+    let read = |name: &str| ex.read_texture(&g, name, 0, 0).unwrap();
+    (read(raw), read(accumulated))
+}
+
+/// The verdict on one option over frames against the reference's `truth` (its first
+/// `channels` summed; the accumulated side's frame count, in its last channel, left out):
+/// RMSE over the surfaces (where the reference is not the background's 0, or AO's open 1
+/// everywhere) below half of one frame's, and the mean within 2% of the reference's.
+fn judge_over_frames(name: &str, (raw, accumulated): (Image, Image), truth: &Image, channels: usize) -> Option<String> {
+    let value = |img: &Image, i: usize| (0..channels).map(|c| img.rgba[i * 4 + c] as f64).sum::<f64>();
+    let n = truth.rgba.len() / 4;
+    let judged: Vec<usize> = (0..n)
+        .filter(|&i| raw.rgba[i * 4 + 3] > 0.5 || channels == 1)
+        .filter(|&i| value(truth, i) > 0.0 && !(channels == 1 && value(truth, i) >= 1.0 && value(&raw, i) >= 1.0))
+        .collect();
+    let stats = |img: &Image| {
+        let (mut se, mut sum) = (0.0, 0.0);
+        for &i in &judged {
+            let v = value(img, i);
+            assert!(v.is_finite() && v >= 0.0, "{name}: pixel {i} is {v}");
+            se += (v - value(truth, i)).powi(2);
+            sum += v;
+        }
+        ((se / judged.len() as f64).sqrt(), sum / judged.len() as f64)
+    };
+    let ((e_raw, m_raw), (e_acc, m_acc)) = (stats(&raw), stats(&accumulated));
+    let m_ref = judged.iter().map(|&i| value(truth, i)).sum::<f64>() / judged.len() as f64;
+    let frames = accumulated.rgba[judged[0] * 4 + if channels == 1 { 1 } else { 3 }];
+    eprintln!(
+        "{name}: {} pixels, RMSE one frame {e_raw:.4}, {frames} frames {e_acc:.4}; mean one frame {m_raw:.4}, accumulated {m_acc:.4}, reference {m_ref:.4}",
+        judged.len()
+    );
+    let bad = judged.len() < 2000 || e_acc >= 0.5 * e_raw || (m_acc / m_ref - 1.0).abs() > 0.02;
+    bad.then(|| format!("{name}: RMSE {e_acc} vs one frame {e_raw}, mean {m_acc} vs {m_ref} (one frame {m_raw})"))
+}

@@ -139,7 +139,7 @@ fn a_per_pixel_buffer_too_large_for_the_size_is_located() {
         "{err}"
     );
     assert!(
-        err.contains("pipelines/deferred.ron:72:35") && err.contains("limit: max_storage_buffer_binding_size"),
+        err.contains("pipelines/deferred.ron:74:35") && err.contains("limit: max_storage_buffer_binding_size"),
         "{err}"
     );
 }
@@ -607,6 +607,13 @@ fn ray_traced_options_fall_back_where_rays_are_missing() {
     let options = [
         ("pipelines/deferred.ron", "cornell", "shadows", "rt", "maps"),
         ("pipelines/deferred_gi.lbp", "scenes/step.ron", "ao", "rtao", "gtao"),
+        (
+            "pipelines/deferred.lbp",
+            "cornell_lamp",
+            "area_lights",
+            "rt_temporal",
+            "ltc_shadowed",
+        ),
     ];
     for (pipeline, scene, variant, option, fallback) in options {
         for profile in ["gl", "webgpu"] {
