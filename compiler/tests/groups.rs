@@ -18,10 +18,11 @@ fullscreen make \"clear.wgsl\" {\n    color src\n}\n\nfullscreen base \"clear.wg
 const TAIL: &str = "\nvariant look = a {\n    option a\n    option b\n    option c\n}\n\noutput out\n";
 
 /// The group's attributes given to each pass: the `when` joined with the pass's own, `reads`
-/// first, the rest unless the pass sets its own; a nested group inside.
+/// first, the rest unless the pass sets its own; a nested group inside, giving its pass the
+/// shader.
 const GROUPED: &str = "\n// Passes adding `src` to `out` while `look` is a or b.\ngroup {\n    reads src\n    color out load blend Add\n    when variant(look, a | b)\n\n    \
-fullscreen one \"fill.wgsl\" {\n        when not effect(Bloom)\n    }\n\n    group {\n        when variant(look, b)\n\n        \
-fullscreen two \"fill.wgsl\" {\n            color out load blend Alpha\n        }\n    }\n}\n";
+fullscreen one \"fill.wgsl\" {\n        when not effect(Bloom)\n    }\n\n    group {\n        shader \"fill.wgsl\"\n        when variant(look, b)\n\n        \
+fullscreen two {\n            color out load blend Alpha\n        }\n    }\n}\n";
 
 const WRITTEN: &str = "\nfullscreen one \"fill.wgsl\" {\n    reads src\n    color out load blend Add\n    when all(variant(look, a | b), not effect(Bloom))\n}\n\n\
 fullscreen two \"fill.wgsl\" {\n    reads src\n    color out load blend Alpha\n    when all(variant(look, a | b), variant(look, b))\n}\n";

@@ -1,6 +1,7 @@
 //! `lightbench convert` (RON <-> LBP, lossless) and `lightbench fmt` (canonical LBP). Both
 //! write through `files`: atomically, through symlinks, keeping the mode; `fmt` refuses to
-//! replace a file that changed while it ran, `convert` to overwrite its own input.
+//! replace a file that changed while it ran, `convert` to overwrite its own input, and both
+//! to write what does not read back as the same pipeline.
 
 use super::{usage_error, EXIT_ERRORS, EXIT_OK};
 use crate::files::{self, Snapshot};
@@ -33,6 +34,23 @@ fn load(path: &Path) -> Result<(Pipeline, String, Snapshot), i32> {
     }
 }
 
+/// The printed text read back as the same pipeline, or nothing is written: a printer that
+/// lost or garbled something (a bug of ours) must not damage the user's file.
+fn reads_back(pipeline: &Pipeline, printed: &str, ext: &str) -> Result<(), i32> {
+    let mut s = Session::new();
+    match s.parse_pipeline(&format!("printed.{ext}"), printed.to_string()) {
+        Some(p) if !s.diags.has_errors() && p.same_as(pipeline) => Ok(()),
+        _ => {
+            eprint!("{}", s.render());
+            eprintln!(
+                "error: the {ext} printed for this pipeline does not read back as the same pipeline \
+                 (a bug in lightbench's printer; please report it); nothing was written"
+            );
+            Err(EXIT_ERRORS)
+        }
+    }
+}
+
 pub fn convert(input: &Path, to: &str, out: Option<&Path>) -> i32 {
     if !matches!(to, "ron" | "lbp") {
         return usage_error(format!("--to {to}: expected `ron` or `lbp`"));
@@ -57,6 +75,9 @@ pub fn convert(input: &Path, to: &str, out: Option<&Path>) -> i32 {
         "ron" => ron::print::print(&pipeline, Some(&text)),
         _ => lbp::print::print(&pipeline, Some(&text)),
     };
+    if let Err(code) = reads_back(&pipeline, &printed, to) {
+        return code;
+    }
     let Some(o) = out else {
         print!("{printed}");
         return EXIT_OK;
@@ -102,6 +123,9 @@ pub fn fmt(file: &Path, check: bool) -> i32 {
             files::clean_stale_beside(file);
         }
         return EXIT_OK;
+    }
+    if let Err(code) = reads_back(&pipeline, &printed, "lbp") {
+        return code;
     }
     if check {
         eprint!("{}", unformatted(file, &text, &printed));

@@ -343,6 +343,8 @@ fn pass_line(key: &str, v: &Node) -> String {
             items(v).first().map(value).unwrap_or_default()
         ),
         "cull" => format!("cull {}", text(v)),
+        // A pass's shader is in its header; a group's is a line of its own.
+        "shader" => format!("shader {}", quote(text(v))),
         "per_light" => per_light(v),
         "per_face" => "per_face".into(),
         "shadow_casters" => "shadow_casters".into(),
