@@ -81,12 +81,12 @@ fn formatting_keeps_comments_and_is_idempotent() {
 fn comments_inside_a_pass_survive_conversion() {
     let src = std::fs::read_to_string(repo_root().join("pipelines/deferred.lbp")).unwrap();
     assert!(
-        src.contains("{\n    // Both faces: every surface blocks light"),
+        src.contains("{\n    // Both faces: the material says which are seen"),
         "the bundled pipeline has a comment in a pass body"
     );
     let as_ron = ron::print::print(&parse_ok("p.lbp", &src), Some(&src));
     assert!(
-        as_ron.contains("        Raster(\n            // Both faces: every surface blocks light"),
+        as_ron.contains("        Raster(\n            // Both faces: the material says which are seen"),
         "the comment is inside the RON pass:\n{as_ron}"
     );
     let back = lbp::print::print(&parse_ok("p.ron", &as_ron), Some(&as_ron));
