@@ -206,12 +206,12 @@ mod tests {
         let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pipelines/deferred.ron");
         let each = requests(&p, VariantMode::Each, &[]);
         // Defaults, then cube_shadow (4), shadows (2), gbuffer (2), lighting (4), tonemap (2),
-        // transparency (3), aa (3), luminance (3), area_lights (4).
-        assert_eq!(each.len(), 1 + 4 + 2 + 2 + 4 + 2 + 3 + 3 + 3 + 4, "{each:?}");
+        // transparency (3), aa (3), luminance (3), area_lights (5).
+        assert_eq!(each.len(), 1 + 4 + 2 + 2 + 4 + 2 + 3 + 3 + 3 + 5, "{each:?}");
         assert!(each[0].is_empty());
         assert!(each.contains(&vec![("cube_shadow".to_string(), "instanced".to_string())]));
         let all = requests(&p, VariantMode::All, &[]);
-        assert_eq!(all.len(), 4 * 2 * 2 * 4 * 2 * 3 * 3 * 3 * 4, "{all:?}");
+        assert_eq!(all.len(), 4 * 2 * 2 * 4 * 2 * 3 * 3 * 3 * 5, "{all:?}");
         assert!(all.iter().all(|r| r.len() == 9));
         assert!(all.contains(&vec![
             ("cube_shadow".to_string(), "multiview".to_string()),
