@@ -345,7 +345,9 @@ impl Session {
         let merged = self.compose(name, &tree, &mut vec![]);
         let mut p = merged.and_then(|m| crate::syntax::lower::pipeline_partial(&m, &mut self.diags));
         // A pipeline that uses another, or groups passes, prints as written.
-        let as_written = crate::syntax::compose::used(&tree).is_some() || crate::syntax::groups::has_groups(&tree);
+        let as_written = crate::syntax::compose::used(&tree).is_some()
+            || crate::syntax::groups::has_groups(&tree)
+            || crate::syntax::light_choices::has_light_choices(&tree);
         if let Some(p) = p.as_mut().filter(|_| as_written) {
             p.written = Some(crate::ir::Source(tree));
             for pass in p.passes.iter_mut().filter(|x| x.span.file != file) {
@@ -376,8 +378,10 @@ impl Session {
     /// The pipeline a tree means: itself, or the pipeline it uses (composed in turn) with its
     /// items merged in. `chain`: the files being composed, for cycles and the depth limit.
     fn compose(&mut self, name: &str, tree: &Node, chain: &mut Vec<PathBuf>) -> Option<Node> {
-        // Each file's groups become their passes before items merge by name.
+        // Each file's groups become their passes, and passes choosing by light kind one
+        // pass per kind they tell apart, before items merge by name.
         let tree = &crate::syntax::groups::expand(tree, &mut self.diags);
+        let tree = &crate::syntax::light_choices::expand(tree, &mut self.diags);
         crate::syntax::compose::reject_second_use(tree, &mut self.diags);
         let Some((used, at)) = crate::syntax::compose::used(tree) else {
             crate::syntax::compose::reject_composing(tree, &mut self.diags);

@@ -77,6 +77,7 @@ codes! {
     EmptyGroup = "empty-group": "warning: a group of passes without passes",
     ChoiceIncomplete = "choice-incomplete": "a choice (`Match`) with no arm for some option of its variant (or, warned, a default arm that serves none)",
     ChoiceOverlap = "choice-overlap": "one option served by two arms of a choice",
+    LightChoice = "light-choice": "a `match light` in a pass that does not run per light, or naming a light kind the pass does not run for",
     ToggleNotBool = "toggle-not-bool": "a `Toggle` condition on a parameter that is not a Bool",
     FallbackCycle = "fallback-cycle": "variant fallbacks that lead back to themselves",
     PresetOverlap = "preset-overlap": "one parameter set by the presets of two variants",

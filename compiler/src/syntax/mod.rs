@@ -4,5 +4,6 @@
 pub mod compose;
 pub mod defaults;
 pub mod groups;
+pub mod light_choices;
 pub mod lower;
 pub mod raise;

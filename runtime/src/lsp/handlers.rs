@@ -247,6 +247,11 @@ impl Server {
             return refuse(&format!("a {} named `{}` exists already", s.kind.word(), p.new_name));
         }
         let text = &ix.sources.get(at.file).text;
+        let written = text.get(s.decl.start as usize..s.decl.end as usize).unwrap_or("").trim_matches('"');
+        if written != s.name {
+            // `light` choosing by light kind makes `light_point` and others: their names follow it.
+            return refuse("this pass makes one pass per light kind it chooses by, named after it: rename it in the file");
+        }
         let edits: Vec<TextEdit> = ix
             .uses_of(sym)
             .filter(|u| u.file == at.file)

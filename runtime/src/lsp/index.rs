@@ -119,6 +119,12 @@ impl Index {
         if self.find(kind, &name.value).is_some() {
             return;
         }
+        // The passes one pass makes by choosing by light kind share its written name: the
+        // first one's hover there shows each of them.
+        let sibling = self.symbols.iter().position(|s| s.kind == kind && s.decl == name.span);
+        if let Some(first) = sibling {
+            self.symbols[first].hover.push_str(&format!("\n\n---\n\n{hover}"));
+        }
         self.by_name.insert((kind, name.value.clone()), self.symbols.len());
         self.symbols.push(Symbol {
             kind,
@@ -127,7 +133,9 @@ impl Index {
             extent,
             hover,
         });
-        self.uses.push((name.span, self.symbols.len() - 1));
+        if sibling.is_none() {
+            self.uses.push((name.span, self.symbols.len() - 1));
+        }
     }
 
     /// The symbol of this kind and name.

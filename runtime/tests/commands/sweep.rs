@@ -245,7 +245,11 @@ fn every_bundled_sweep_spec_runs() {
                     .find(|r| r["ao"] == "gtao" && r["ao.gtao.slices"].is_empty())
                     .unwrap();
                 assert!(num(gtao, "bias").abs() < bound, "{scene}: GTAO bias {}", gtao["bias"]);
-                for r in rows.iter().filter(at).filter(|r| !r["ao"].starts_with("gtao") && !r["ao"].starts_with("rtao")) {
+                for r in rows
+                    .iter()
+                    .filter(at)
+                    .filter(|r| !r["ao"].starts_with("gtao") && !r["ao"].starts_with("rtao"))
+                {
                     assert!(num(r, "bias") > 0.15 && num(gtao, "rmse") < num(r, "rmse"), "{scene}: {r:?}");
                 }
                 // Ray-traced AO estimates the reference's integral itself: unbiased (−0.003 and

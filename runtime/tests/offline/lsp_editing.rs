@@ -126,6 +126,27 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
     // `repeat param(peel.layers)`: the parameter.
     let d = definition(&mut c, &path, &text, "repeat param(peel.layers)", 15);
     assert_eq!(d["range"]["start"], pos(&text, "param peel.layers", 6));
+    // A pass choosing by light kind: hover shows each pass it makes; it is not renamed alone
+    // (its passes' names follow it).
+    let h = hover(&mut c, &path, &text, "fullscreen light {", 12);
+    assert!(
+        h.starts_with("**fullscreen pass** `light_directional_spot`") && h.contains("**fullscreen pass** `light_point`"),
+        "{h}"
+    );
+    assert!(
+        h.contains("runs per Directional or Spot light") && h.contains("runs per Point light"),
+        "{h}"
+    );
+    let mut rename = at(&path, &text, "fullscreen light {", 12);
+    rename["newName"] = json!("shade");
+    let refused = c.call("textDocument/rename", rename);
+    assert!(
+        refused["error"]["message"]
+            .as_str()
+            .unwrap_or_default()
+            .contains("one pass per light kind"),
+        "{refused}"
+    );
     assert_eq!(c.finish(), 0);
 
     let (gi, gi_text, mut c) = open_in(&dir, "pipelines/deferred_gi.lbp");

@@ -175,7 +175,9 @@ impl Builder<'_> {
         let mut it = parts.into_iter();
         let head = it.next()?;
         let head_span = self.span(&head);
-        let variant = self.name(kids(head).next()?)?;
+        let selector = kids(head).next()?;
+        let by_light = selector.as_rule() == Rule::by_light;
+        let variant = if by_light { None } else { Some(self.name(selector)?) };
         let mut arms = vec![];
         for arm in it {
             let arm_span = self.span(&arm);
@@ -191,10 +193,13 @@ impl Builder<'_> {
             };
             arms.push((Node::str(options.join(" | "), key_span), v));
         }
-        let fields = vec![
-            ("variant".to_string(), variant.span, variant),
-            ("arms".to_string(), at, Node::map(arms, at)),
-        ];
+        let fields = match variant {
+            Some(variant) => vec![
+                ("variant".to_string(), variant.span, variant),
+                ("arms".to_string(), at, Node::map(arms, at)),
+            ],
+            None => vec![("light".to_string(), head_span, Node::map(arms, at))],
+        };
         // From `match` on: messages about the choice as a whole point there.
         let span = Span::new(at.file, head_span.start as usize, at.end as usize);
         Some(Node::structure("Match", head_span, fields, span))

@@ -370,15 +370,22 @@ fn pass_line(key: &str, v: &Node) -> String {
 /// `match(VARIANT) { a | b: VALUE, _: VALUE }`.
 fn choice(n: &Node, value: impl Fn(&Node) -> String) -> String {
     let f = fields(n);
-    let arms: Vec<String> = get(f, "arms")
+    // By variant, `arms`; by the kind of light a pass runs per, `light`.
+    let by_light = get(f, "light");
+    let arms: Vec<String> = by_light
+        .or(get(f, "arms"))
         .map(entries)
         .unwrap_or(&[])
         .iter()
         .map(|(k, v)| format!("{}: {}", options(text(k)), value(v)))
         .collect();
+    let selector = match by_light {
+        Some(_) => "light".to_string(),
+        None => format!("({})", name(get(f, "variant").map(text).unwrap_or(""))),
+    };
     format!(
-        "match({}) {{ {} }}",
-        name(get(f, "variant").map(text).unwrap_or("")),
+        "match{}{selector} {{ {} }}",
+        if by_light.is_some() { " " } else { "" },
         arms.join(", ")
     )
 }

@@ -242,6 +242,13 @@ impl Lowerer<'_> {
 
     /// Parse and check a `Match`: its variant exists, every option is served by exactly one arm.
     fn site(&mut self, node: &Node, variants: &[Variant]) -> Res<Site> {
+        // Passes' choices by light kind are gone by now (syntax/light_choices): this one is
+        // somewhere else.
+        if crate::syntax::light_choices::is_light_choice(node) {
+            let msg = "`match light` chooses by the kind of light a pass runs per: it belongs in a pass";
+            self.err(Diagnostic::error(Code::LightChoice, msg, node.span));
+            return None;
+        }
         let mut o = self.obj(node, &["Match"], "choice")?;
         let variant = self.required(&mut o, "variant").and_then(|n| self.string(&n));
         let arms = self.required(&mut o, "arms").and_then(|n| self.string_map(&n));
