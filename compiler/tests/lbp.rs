@@ -75,6 +75,30 @@ fn formatting_keeps_comments_and_is_idempotent() {
     assert_eq!(once, twice);
 }
 
+/// A comment stays with the item it was written before when the printer puts that item
+/// elsewhere: a `let` written before the parameters is printed after the resources, in LBP and
+/// in RON's `lets`, its comment with it (it went to the first parameter).
+#[test]
+fn a_moved_items_comment_moves_with_it() {
+    let src = "pipeline t\n\n// The let's comment.\nlet fancy = variant(q, b)\n\n// The parameter's.\nparam x: Float = 1\n\n\
+texture out: Rgba8Unorm viewport\n\nfullscreen f \"f.wgsl\" {\n    color out\n    when fancy\n}\n\n\
+variant q = a {\n    option a\n    option b\n}\n\noutput out\n";
+    let p = parse_ok("t.lbp", src);
+    let printed = lbp::print::print(&p, Some(src));
+    assert!(
+        printed.contains("// The parameter's.\nparam x: Float = 1\n")
+            && printed.contains("\n// The let's comment.\nlet fancy = variant(q, b)\n"),
+        "{printed}"
+    );
+    let as_ron = ron::print::print(&p, Some(src));
+    assert!(
+        as_ron.contains("    lets: {\n        // The let's comment.\n        \"fancy\"")
+            && as_ron.contains("    params: {\n        // The parameter's.\n        \"x\""),
+        "{as_ron}"
+    );
+    assert_eq!(lbp::print::print(&parse_ok("t.lbp", &printed), Some(&printed)), printed);
+}
+
 /// A comment inside a pass body stays inside it through LBP -> RON -> LBP, and the text
 /// comes back identical.
 #[test]

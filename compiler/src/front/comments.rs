@@ -2,6 +2,7 @@
 //! re-emitted before the item that follows it in the source.
 
 use crate::span::Span;
+use crate::tree::{Node, Value};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Comment {
@@ -51,34 +52,70 @@ pub fn collect(src: &str) -> Vec<Comment> {
     out
 }
 
-/// Hands out comments in source order: `before(span)` takes every comment starting before
-/// the item, `rest()` whatever is left at the end.
+/// Where each declaration and pass of a pipeline tree starts (the top-level maps' entries and
+/// lists' items): a comment before one of them is that item's, wherever the printer puts it (a
+/// `let` written before the parameters is printed after the resources, its comment with it).
+pub fn anchors(root: &Node) -> Vec<usize> {
+    let Value::Struct { fields, .. } = &*root.value else {
+        return vec![];
+    };
+    let mut out = vec![];
+    for (_, _, v) in fields {
+        match &*v.value {
+            Value::Map(entries) => out.extend(entries.iter().map(|(k, v)| crate::front::item_start(k, v).start as usize)),
+            Value::List(items) => out.extend(items.iter().map(|i| i.span.start as usize)),
+            _ => {}
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+/// Hands out comments: `before(span)` takes every comment starting before the item that no
+/// other item's start (`anchors`) comes between, `rest()` whatever is left at the end.
 pub struct Comments {
     list: Vec<Comment>,
-    next: usize,
+    taken: Vec<bool>,
+    anchors: Vec<usize>,
 }
 
 impl Comments {
-    pub fn new(src: Option<&str>) -> Self {
+    pub fn new(src: Option<&str>, anchors: Vec<usize>) -> Self {
+        let list = src.map(collect).unwrap_or_default();
         Comments {
-            list: src.map(collect).unwrap_or_default(),
-            next: 0,
+            taken: vec![false; list.len()],
+            list,
+            anchors,
         }
     }
 
     pub fn before(&mut self, span: Span) -> Vec<Comment> {
+        let at = span.start as usize;
         let mut out = vec![];
-        while self.next < self.list.len() && self.list[self.next].start < span.start as usize {
-            out.push(self.list[self.next].clone());
-            self.next += 1;
+        for (c, taken) in self.list.iter().zip(self.taken.iter_mut()) {
+            if *taken || c.start >= at {
+                continue;
+            }
+            // Another item starts between the comment and this one: the comment is that one's.
+            if !self.anchors.iter().any(|&a| c.start < a && a < at) {
+                *taken = true;
+                out.push(c.clone());
+            }
         }
         out
     }
 
     pub fn rest(&mut self) -> Vec<Comment> {
-        let out = self.list[self.next..].to_vec();
-        self.next = self.list.len();
-        out
+        let rest = self
+            .list
+            .iter()
+            .zip(&self.taken)
+            .filter(|(_, t)| !**t)
+            .map(|(c, _)| c.clone())
+            .collect();
+        self.taken.fill(true);
+        rest
     }
 }
 
@@ -89,10 +126,11 @@ pub struct Out {
 }
 
 impl Out {
-    pub fn new(source: Option<&str>) -> Self {
+    /// For printing `root`, whose items' spans are in `source`.
+    pub fn new(source: Option<&str>, root: &Node) -> Self {
         Out {
             text: String::new(),
-            comments: Comments::new(source),
+            comments: Comments::new(source, anchors(root)),
         }
     }
 

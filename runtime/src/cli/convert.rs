@@ -36,9 +36,11 @@ fn load(path: &Path) -> Result<(Pipeline, String, Snapshot), i32> {
 
 /// The printed text read back as the same pipeline, or nothing is written: a printer that
 /// lost or garbled something (a bug of ours) must not damage the user's file.
-fn reads_back(pipeline: &Pipeline, printed: &str, ext: &str) -> Result<(), i32> {
+fn reads_back(pipeline: &Pipeline, printed: &str, input: &Path, ext: &str) -> Result<(), i32> {
     let mut s = Session::new();
-    match s.parse_pipeline(&format!("printed.{ext}"), printed.to_string()) {
+    // Named as beside the input (nothing is read there): a `use` finds the file it names.
+    let name = input.with_extension(ext).display().to_string();
+    match s.parse_pipeline(&name, printed.to_string()) {
         Some(p) if !s.diags.has_errors() && p.same_as(pipeline) => Ok(()),
         _ => {
             eprint!("{}", s.render());
@@ -75,7 +77,7 @@ pub fn convert(input: &Path, to: &str, out: Option<&Path>) -> i32 {
         "ron" => ron::print::print(&pipeline, Some(&text)),
         _ => lbp::print::print(&pipeline, Some(&text)),
     };
-    if let Err(code) = reads_back(&pipeline, &printed, to) {
+    if let Err(code) = reads_back(&pipeline, &printed, input, to) {
         return code;
     }
     let Some(o) = out else {
@@ -124,7 +126,7 @@ pub fn fmt(file: &Path, check: bool) -> i32 {
         }
         return EXIT_OK;
     }
-    if let Err(code) = reads_back(&pipeline, &printed, "lbp") {
+    if let Err(code) = reads_back(&pipeline, &printed, file, "lbp") {
         return code;
     }
     if check {

@@ -285,6 +285,12 @@ fn convert_and_fmt() {
         "{ron_out}"
     );
     assert_eq!(lightbench(&["fmt", "--check", "pipelines/deferred.lbp"]).0, 0);
+    // A pipeline that uses another converts too (what it prints is read back, `use` and all):
+    // the twin but for the file it uses.
+    let (code, gi, err) = lightbench(&["convert", "pipelines/deferred_gi.ron", "--to", "lbp"]);
+    assert_eq!(code, 0, "{err}");
+    let twin = std::fs::read_to_string(root().join("pipelines/deferred_gi.lbp")).unwrap();
+    assert_eq!(gi, twin.replace("use \"deferred.lbp\"", "use \"deferred.ron\""));
     // A messy file is rewritten, and then it is formatted.
     let messy = d.join("messy.lbp");
     std::fs::write(

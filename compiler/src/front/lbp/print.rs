@@ -77,7 +77,9 @@ fn join(ns: &[Node], f: impl Fn(&Node) -> String) -> String {
 }
 
 pub fn print_tree(root: &Node, source: Option<&str>) -> String {
-    let mut pr = Printer { out: Out::new(source) };
+    let mut pr = Printer {
+        out: Out::new(source, root),
+    };
     pr.root(fields(root));
     pr.out.finish()
 }

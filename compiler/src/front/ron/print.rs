@@ -13,7 +13,9 @@ pub fn print(p: &Pipeline, source: Option<&str>) -> String {
 }
 
 pub fn print_tree(root: &Node, source: Option<&str>) -> String {
-    let mut pr = Printer { out: Out::new(source) };
+    let mut pr = Printer {
+        out: Out::new(source, root),
+    };
     pr.root(root);
     pr.out.finish()
 }
