@@ -160,7 +160,8 @@ pub enum Outcome {
     /// The new Plan runs from the next frame. `latency`: from the first change to the swap;
     /// `compile`: of that, compiling and planning.
     Reloaded {
-        report: ReloadReport,
+        // Boxed: the report is the largest part of an outcome by far.
+        report: Box<ReloadReport>,
         latency: Duration,
         compile: Duration,
         files: Vec<PathBuf>,
@@ -203,6 +204,8 @@ pub struct Reloader {
     /// Effects a reloaded scene file calls for besides its own (the caller's, `add_effects`).
     added_effects: Vec<lightbench_compiler::ir::Effect>,
     watch: Watch,
+    /// The models of the scene's last load, kept for the next (`keep_models`).
+    models: lightbench_scene::model_cache::ModelCache,
     /// The last failure, until a reload succeeds.
     pub last_error: Option<String>,
 }
@@ -239,6 +242,7 @@ impl Reloader {
             features: scene.features(),
             added_effects: vec![],
             watch: Watch::new()?,
+            models: lightbench_scene::model_cache::ModelCache::keeping(),
             last_error: None,
         };
         let exe = r.compile(gpu).map_err(Error::Compile)?;
@@ -260,6 +264,12 @@ impl Reloader {
     /// A reloaded scene file calls for these effects too (the caller's, besides its own).
     pub fn add_effects(&mut self, effects: &[lightbench_compiler::ir::Effect]) {
         self.added_effects.extend(effects.iter().copied());
+    }
+
+    /// The models the caller loaded the scene with (`ModelCache::keeping`): a reload parses
+    /// again only those whose files change. Without them the first reload parses every model.
+    pub fn keep_models(&mut self, models: lightbench_scene::model_cache::ModelCache) {
+        self.models = models;
     }
 
     /// Plan for this scene from now on (a viewer toggled a light).
@@ -311,11 +321,13 @@ impl Reloader {
         let (changed, since) = self.watch.changed(timeout)?;
         let files: Vec<PathBuf> = changed.iter().cloned().collect();
         let scene_changed = self.scene_files.iter().any(|f| changed.contains(f));
+        let mut models_kept = None;
         let scene = match self.scene_file.as_ref().filter(|_| scene_changed) {
-            Some(f) => match lightbench_scene::load(&f.display().to_string()) {
-                Ok(mut s) => {
+            Some(f) => match lightbench_scene::load::load_again(&f.display().to_string(), &mut self.models) {
+                Ok((mut s, kept)) => {
                     s.size = self.size;
                     s.effects.extend(self.added_effects.iter().copied());
+                    models_kept = Some(kept);
                     Some(s)
                 }
                 Err(e) => return Some(self.failed(e.to_string(), files)),
@@ -342,10 +354,13 @@ impl Reloader {
             None => ex.replace(gpu, &exe),
         };
         match swapped {
-            Ok(report) => {
+            Ok(mut report) => {
                 self.last_error = None;
+                if let Some(k) = report.scene_kept.as_mut() {
+                    k.models = models_kept;
+                }
                 Some(Outcome::Reloaded {
-                    report,
+                    report: Box::new(report),
                     latency: since.elapsed(),
                     compile,
                     files,

@@ -74,12 +74,14 @@ pub struct SceneGpu {
 
 /// What an upload took over, unchanged, from the scene on the GPU before it: the meshes whose
 /// vertex and index buffers stayed resident, the textures (with their mips), and — where the
-/// acceleration structure was built — its bottom levels, each as (kept, of how many).
+/// acceleration structure was built — its bottom levels, each as (kept, of how many); and,
+/// where a reloader loaded the scene again, its models taken as the last load left them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct Kept {
     pub meshes: (usize, usize),
     pub textures: (usize, usize),
     pub blas: Option<(usize, usize)>,
+    pub models: Option<(usize, usize)>,
 }
 
 /// A content key: XXH3-128 over the parts, each with its length.
@@ -622,6 +624,7 @@ impl SceneGpu {
             meshes: (meshes_kept, meshes.len()),
             textures: (up.kept, up.views.len()),
             blas: None,
+            models: None,
         };
         let triangle_count = u32::try_from(triangle_count(scene))
             .map_err(|_| Error::scene(format!("scene `{}` draws more than 2³² triangles", scene.name)))?;

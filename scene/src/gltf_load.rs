@@ -12,6 +12,7 @@ use std::path::Path;
 /// Extensions we read; any other listed in `extensionsRequired` is an error.
 pub const SUPPORTED_EXTENSIONS: [&str; 3] = ["KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"];
 
+#[derive(Clone)]
 pub struct Loaded {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,

@@ -16,6 +16,7 @@ pub mod io;
 pub mod light;
 pub mod load;
 pub mod math;
+pub mod model_cache;
 pub mod texture_cache;
 
 pub use error::{Error, Result};

@@ -4,6 +4,7 @@
 
 use super::{builtin, framing, gltf_load, Animation, Camera, Light, Scene};
 use crate::error::{Error, Result};
+use crate::model_cache::ModelCache;
 use glam::{EulerRot, Mat4, Quat, Vec3};
 use lightbench_compiler::diag::{Code, Diagnostic, Diagnostics};
 use lightbench_compiler::ir::{Effect, LightKind};
@@ -28,8 +29,14 @@ pub fn load_in(s: &mut Session, spec: &str) -> Option<Scene> {
 /// `Error::Scene` is empty). A model shown on its own is framed for the size it is rendered at.
 /// `effects` are added to those the scene calls for.
 pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> Result<Scene> {
+    load_sized_with(spec, size, effects, &mut ModelCache::default())
+}
+
+/// `load_sized`, its models kept in `models` (`ModelCache::keeping`) for loading it again.
+pub fn load_sized_with(spec: &str, size: Option<(u32, u32)>, effects: &[Effect], models: &mut ModelCache) -> Result<Scene> {
     let mut s = Session::new();
-    let loaded = load_in(&mut s, spec);
+    let loaded = s.load_scene(spec).and_then(|desc| instantiate_with(&desc, &mut s.diags, models));
+    models.end();
     eprint!("{}", s.render());
     let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
     scene.effects.extend(effects.iter().copied());
@@ -112,10 +119,25 @@ pub fn features_in(s: &mut Session, spec: &str) -> Option<SceneFeatures> {
 
 /// The description with its geometry; a model that cannot be loaded is an error at its path.
 pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
+    instantiate_with(desc, diags, &mut ModelCache::default())
+}
+
+/// A scene loaded again, keeping from `models` (the last load's) each model none of whose
+/// files changed; returns the scene and how many of its models were kept, of all.
+pub fn load_again(spec: &str, models: &mut ModelCache) -> Result<(Scene, (usize, usize))> {
+    let mut s = Session::new();
+    let desc = s.load_scene(spec).ok_or_else(|| Error::Scene(s.render()))?;
+    let scene = instantiate_with(&desc, &mut s.diags, models).ok_or_else(|| Error::Scene(s.render()))?;
+    Ok((scene, models.end()))
+}
+
+/// `instantiate`, its models taken from `models` where their files did not change.
+pub fn instantiate_with(desc: &SceneDesc, diags: &mut Diagnostics, models: &mut ModelCache) -> Option<Scene> {
     let mut scene = Scene::from_desc(desc);
     let before = diags.error_count();
+    models.begin();
     for m in &desc.models {
-        match add_model(&mut scene, m) {
+        match models.model(&m.file).and_then(|loaded| add_model(&mut scene, m, loaded)) {
             Ok(warnings) => model_warnings(m, warnings, diags),
             Err(e) => {
                 let msg = format!("cannot load model `{}`: {e}", m.path.value);
@@ -192,11 +214,12 @@ impl Light {
     }
 }
 
-/// Load a glTF model and place its meshes, materials, textures and lights in the scene;
-/// returns what was skipped.
-fn add_model(scene: &mut Scene, m: &ModelDesc) -> Result<Vec<String>> {
+/// Place a loaded glTF model's meshes, materials, textures and lights in the scene as `m`
+/// says; returns what was skipped.
+fn add_model(scene: &mut Scene, m: &ModelDesc, loaded: std::sync::Arc<gltf_load::Loaded>) -> Result<Vec<String>> {
+    // Moved when the scene is its only user; copied when a model cache keeps it too.
+    let loaded = std::sync::Arc::try_unwrap(loaded).unwrap_or_else(|kept| (*kept).clone());
     let transform = model_transform(m);
-    let loaded = gltf_load::load(&m.file)?;
     let mat_base = scene.materials.len();
     let tex_base = scene.textures.len();
     scene.textures.extend(loaded.textures);

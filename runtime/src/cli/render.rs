@@ -153,7 +153,12 @@ fn execute(
     size: Option<(u32, u32)>,
 ) -> Result<()> {
     let started = Instant::now();
-    let scene = crate::scene::load::load_sized(&a.scene, size, &a.effects.effects)?;
+    // Watching, the models are kept: a change to one parses that one again.
+    let mut models = match a.watch {
+        true => crate::scene::model_cache::ModelCache::keeping(),
+        false => crate::scene::model_cache::ModelCache::default(),
+    };
+    let scene = crate::scene::load::load_sized_with(&a.scene, size, &a.effects.effects, &mut models)?;
     let loaded = started.elapsed();
     let gpu = Gpu::new(&DeviceOptions {
         backend: a.backend,
@@ -161,7 +166,7 @@ fn execute(
     })?;
     eprintln!("{}", gpu.describe());
     if a.watch {
-        return watch(a, &gpu, pipeline, scene, (variants, params));
+        return watch(a, &gpu, pipeline, (scene, models), (variants, params));
     }
     // One workspace: planning again with parameters reuses the compiled shaders.
     let (mut exe, warnings) = compile_in(ws, &gpu, pipeline, a.shaders.as_deref(), &scene, variants)?;
@@ -226,7 +231,13 @@ fn area_lights_note(plan: &lightbench_compiler::plan::Plan, scene: &Scene) -> Op
 }
 
 /// `--watch`: render continuously, reloading on changes (see `crate::reload`).
-fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params): (Settings, Settings)) -> Result<()> {
+fn watch(
+    a: &Args,
+    gpu: &Gpu,
+    pipeline: &Path,
+    (scene, models): (Scene, crate::scene::model_cache::ModelCache),
+    (variants, params): (Settings, Settings),
+) -> Result<()> {
     if pipeline.starts_with(crate::bundled::ROOT) {
         return Err(Error::Usage(
             "--watch needs pipeline files on disk to watch: `lightbench init DIR` writes the bundled ones out".into(),
@@ -236,6 +247,7 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
     let scene_file = scene_file.is_file().then_some(scene_file);
     let (mut reloader, exe) = crate::reload::Reloader::new(gpu, (pipeline, a.shaders.as_deref()), (&scene, scene_file), variants)?;
     reloader.add_effects(&a.effects.effects);
+    reloader.keep_models(models);
     let mut ex = Executor::with_scene(gpu, &exe, scene)?;
     for (name, value) in parse_params(&exe.plan, params)? {
         ex.set_param(&name, value)?;
@@ -283,11 +295,16 @@ fn watch(a: &Args, gpu: &Gpu, pipeline: &Path, scene: Scene, (variants, params):
     Ok(())
 }
 
-/// What a reloaded scene kept resident on the GPU, unchanged.
+/// What a reloaded scene kept: its models as they were (files unchanged, not parsed again)
+/// and what stayed resident on the GPU, unchanged.
 fn kept_line(k: crate::gpu::scene_gpu::Kept) -> String {
     let blas = k.blas.map(|(n, of)| format!(", {n} of {of} BLAS")).unwrap_or_default();
+    let models = k
+        .models
+        .map(|(n, of)| format!(" ({n} of {of} models as they were)"))
+        .unwrap_or_default();
     format!(
-        "; scene reloaded, kept resident: {} of {} meshes, {} of {} textures{blas}",
+        "; scene reloaded{models}, kept resident: {} of {} meshes, {} of {} textures{blas}",
         k.meshes.0, k.meshes.1, k.textures.0, k.textures.1
     )
 }

@@ -59,7 +59,8 @@ fn execute(a: &Args) -> Result<()> {
     let steps = script(a)?;
     let (pipeline, workspace) = super::render::resolve_pipeline(a.pipeline.as_deref())?;
     let size = a.size.as_deref().map(super::plan::parse_size).transpose()?;
-    let scene = crate::scene::load::load_sized(&a.scene, size, &a.effects.effects)?;
+    let mut models = crate::scene::model_cache::ModelCache::keeping();
+    let scene = crate::scene::load::load_sized_with(&a.scene, size, &a.effects.effects, &mut models)?;
     let opts = Options {
         workspace,
         pipeline,
@@ -67,6 +68,7 @@ fn execute(a: &Args) -> Result<()> {
         scene,
         scene_file: Some(std::path::PathBuf::from(&a.scene)).filter(|f| f.is_file()),
         effects: a.effects.effects.clone(),
+        models,
         variants,
         // A script, even one of comments only, ends the viewer when it is done.
         scripted: a.script.is_some() || a.screenshot_after.is_some(),

@@ -30,6 +30,9 @@ pub struct Options {
     pub scene_file: Option<PathBuf>,
     /// Effects asked for besides the scene's own (`--effect`), kept when it reloads.
     pub effects: Vec<lightbench_compiler::ir::Effect>,
+    /// The models the scene was loaded with (`ModelCache::keeping`): a reload parses again
+    /// only those whose files changed.
+    pub models: crate::scene::model_cache::ModelCache,
     pub variants: Vec<(String, String)>,
     /// Close the window when the script is over.
     pub scripted: bool,

@@ -192,6 +192,13 @@ impl Viewer {
         Ok(())
     }
 
+    /// The models the scene was loaded with, for the watch's reloads (see `Reloader::keep_models`).
+    pub fn keep_models(&mut self, models: crate::scene::model_cache::ModelCache) {
+        if let Some(r) = self.reloader.as_mut() {
+            r.keep_models(models);
+        }
+    }
+
     /// Apply a reload if a watched file changed; its failure stays shown until one succeeds.
     /// A scene loaded again replaces the viewer's (its lights as the file says; the camera
     /// stays where the viewer has it); a path-traced view that cannot start on it is closed,

@@ -80,6 +80,7 @@ impl App {
         )?;
         if !self.opts.pipeline.starts_with(crate::bundled::ROOT) {
             viewer.watch(&gpu, (self.opts.scene_file.as_deref(), &self.opts.effects))?;
+            viewer.keep_models(std::mem::take(&mut self.opts.models));
         }
         let egui = egui::Context::default();
         let egui_state = egui_winit::State::new(egui.clone(), egui::ViewportId::ROOT, &window, None, None, None);

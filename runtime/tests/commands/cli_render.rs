@@ -386,7 +386,8 @@ fn render_watch_follows_a_replaced_folder() {
 }
 
 /// `render --watch` of a scene file: an edit of one of its models (the ground's colour) reloads
-/// the scene and says what stayed on the GPU — every mesh, since no geometry changed.
+/// the scene — that model parsed again, the other (the chair) taken as it was — and says what
+/// stayed on the GPU: every mesh, since no geometry changed.
 #[test]
 fn render_watch_reloads_an_edited_model_keeping_its_meshes_resident() {
     let (proj, child, first) = watching_with("watch-model", "1", &["--scene", "scenes/sun_only.ron"]);
@@ -399,7 +400,7 @@ fn render_watch_reloads_an_edited_model_keeping_its_meshes_resident() {
     assert_eq!(out.status.code(), Some(0), "{err}");
     // The line docs/commands.md quotes: the ground and the chair, no textures.
     assert!(
-        err.contains("; scene reloaded, kept resident: 2 of 2 meshes, 0 of 0 textures\n"),
+        err.contains("; scene reloaded (1 of 2 models as they were), kept resident: 2 of 2 meshes, 0 of 0 textures\n"),
         "{err}"
     );
     assert_ne!(std::fs::read(proj.join("w.png")).unwrap(), first, "the darker ground rendered");
