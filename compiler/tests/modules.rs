@@ -302,8 +302,9 @@ fn every_bench_runs_in_the_tests() {
 }
 
 /// `scripts/bench-figures.sh` as docs/benchmarks.md tells a reader to run it, in its test mode
-/// (each bench's smoke run): every bench named has its output under its name, after the machine
-/// and the load; a bench that does not exist is a usage error that leaves the file as it was.
+/// (each bench's smoke run): every bench named has its output under its name, after the machine,
+/// the day and the load, the file's other sections kept; a bench that does not exist is a usage
+/// error that leaves the file as it was.
 /// In a target folder of its own, so that it does not wait on the build running the tests.
 #[test]
 fn the_bench_figures_script_writes_each_bench_under_its_name() {
@@ -325,10 +326,17 @@ fn the_bench_figures_script_writes_each_bench_under_its_name() {
     assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.starts_with("# Benchmark figures\n"), "{text}");
-    assert!(text.contains("Machine: ") && text.contains(" cores, "), "{text}");
     let section = text.split("## memory\n").nth(1).expect("the memory bench's section");
+    assert!(section.contains("Machine: ") && section.contains(" cores, "), "{section}");
     assert!(section.contains("load average before: "), "{section}");
     assert!(section.contains("deferred_gi.lbp  1920×1080, every effect: logical"), "{section}");
+    // Another bench named: its section added, the memory section kept as it was.
+    let more = run(&["tonemap"]);
+    assert!(more.status.success(), "{}", String::from_utf8_lossy(&more.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains(&format!("## memory\n{section}")), "{text}");
+    let tonemap = text.split("## tonemap\n").nth(1).expect("the tonemap bench's section");
+    assert!(tonemap.contains("run on 20") && tonemap.contains("load average before: "), "{tonemap}");
     let bad = run(&["no_such_bench"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("no bench 'no_such_bench'"));
