@@ -336,7 +336,10 @@ fn the_bench_figures_script_writes_each_bench_under_its_name() {
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains(&format!("## memory\n{section}")), "{text}");
     let tonemap = text.split("## tonemap\n").nth(1).expect("the tonemap bench's section");
-    assert!(tonemap.contains("run on 20") && tonemap.contains("load average before: "), "{tonemap}");
+    assert!(
+        tonemap.contains("run on 20") && tonemap.contains("load average before: "),
+        "{tonemap}"
+    );
     let bad = run(&["no_such_bench"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("no bench 'no_such_bench'"));

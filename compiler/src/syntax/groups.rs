@@ -16,30 +16,14 @@ pub fn has_groups(root: &Node) -> bool {
 
 /// The tree with every group replaced by its passes, in order.
 pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
-    let Value::Struct { name, fields } = &*root.value else {
-        return root.clone();
-    };
     if !has_groups(root) {
         return root.clone();
     }
-    let fields = fields
-        .iter()
-        .map(|(k, span, v)| match (k.as_str(), &*v.value) {
-            ("passes", Value::List(items)) => {
-                let mut out = vec![];
-                flatten(items, &[], &mut out, diags);
-                (k.clone(), *span, Node::list(out, v.span))
-            }
-            _ => (k.clone(), *span, v.clone()),
-        })
-        .collect();
-    Node::new(
-        Value::Struct {
-            name: name.clone(),
-            fields,
-        },
-        root.span,
-    )
+    super::with_passes(root, |items| {
+        let mut out = vec![];
+        flatten(items, &[], &mut out, diags);
+        out
+    })
 }
 
 fn passes(root: &Node) -> Option<&[Node]> {

@@ -37,29 +37,10 @@ fn children(n: &Node) -> Box<dyn Iterator<Item = &Node> + '_> {
 
 /// The tree with every pass that chooses by light kind split into its passes, in place.
 pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
-    let Value::Struct { name, fields } = &*root.value else {
-        return root.clone();
-    };
     if !has_light_choices(root) {
         return root.clone();
     }
-    let fields = fields
-        .iter()
-        .map(|(k, span, v)| match (k.as_str(), &*v.value) {
-            ("passes", Value::List(items)) => {
-                let out = items.iter().flat_map(|p| split(p, diags)).collect();
-                (k.clone(), *span, Node::list(out, v.span))
-            }
-            _ => (k.clone(), *span, v.clone()),
-        })
-        .collect();
-    Node::new(
-        Value::Struct {
-            name: name.clone(),
-            fields,
-        },
-        root.span,
-    )
+    super::with_passes(root, |items| items.iter().flat_map(|p| split(p, diags)).collect())
 }
 
 /// One choice's arms: for each light kind of the pass, which arm serves it.

@@ -318,13 +318,7 @@ fn two_frames_with(
     params: &[(&str, &str)],
     resource: &str,
 ) -> (Image, Image) {
-    let g = gpu_common::gpu();
-    let pipeline = gpu_common::root().join("pipelines").join(pipeline);
-    let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
-    let (exe, _) = lightbench::render::compile(&g, &pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
-    let set: Vec<(String, String)> = params.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
-    let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
-    let mut ex = lightbench::render::render_with(&g, &exe, scene, 1, &params).unwrap();
+    let (g, mut ex) = rendered(scene, pipeline, (variants, params), 1);
     let first = ex.read_texture(&g, resource, 0, 0).unwrap();
     ex.render_frame(&g, &ex.inputs(0.0)).unwrap();
     let second = ex.read_texture(&g, resource, 0, 0).unwrap();
@@ -589,15 +583,30 @@ fn over_frames(
     params: &[(&str, &str)],
     (raw, accumulated): (&str, &str),
 ) -> (Image, Image) {
+    let (g, ex) = rendered(scene, pipeline, (variants, params), 16);
+    let read = |name: &str| ex.read_texture(&g, name, 0, 0).unwrap();
+    (read(raw), read(accumulated))
+}
+
+/// `key=value` settings (variant choices or parameter texts).
+type Settings<'a> = &'a [(&'a str, &'a str)];
+
+/// A bundled pipeline with `variants` and `params` set, compiled for `scene` and rendered
+/// `frames` frames.
+fn rendered(
+    scene: &lightbench::scene::Scene,
+    pipeline: &str,
+    (variants, params): (Settings, Settings),
+    frames: u32,
+) -> (std::sync::MutexGuard<'static, lightbench::gpu::Gpu>, lightbench::gpu::Executor) {
     let g = gpu_common::gpu();
     let pipeline = gpu_common::root().join("pipelines").join(pipeline);
     let v: Vec<(String, String)> = variants.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let (exe, _) = lightbench::render::compile(&g, &pipeline, None, scene, &v).unwrap_or_else(|e| panic!("{e}"));
     let set: Vec<(String, String)> = params.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect();
     let params = lightbench::render::parse_params(&exe.plan, &set).unwrap();
-    let ex = lightbench::render::render_with(&g, &exe, scene, 16, &params).unwrap();
-    let read = |name: &str| ex.read_texture(&g, name, 0, 0).unwrap();
-    (read(raw), read(accumulated))
+    let ex = lightbench::render::render_with(&g, &exe, scene, frames, &params).unwrap();
+    (g, ex)
 }
 
 /// The verdict on one option over frames against the reference's `truth` (its first
