@@ -74,11 +74,11 @@ fn a_pass_choosing_by_light_kind_plans_as_its_passes_written_out() {
 }
 
 /// Each mistake is located where it is written: a pass without `per_light`, a kind the pass
-/// does not run for, a misspelt kind (with a suggestion), a kind served twice, a kind served
-/// by no arm.
+/// does not run for, a misspelt kind (with a suggestion), a kind served twice, two `_` arms, a
+/// kind served by no arm.
 #[test]
 fn light_choice_mistakes_are_located() {
-    let cases: [(&str, &str, &str, usize); 5] = [
+    let cases: [(&str, &str, &str, usize); 6] = [
         (
             "fullscreen light {\n    shader match light { Point: \"a.wgsl\" }\n    color out\n}\n",
             "light-choice",
@@ -101,6 +101,12 @@ fn light_choice_mistakes_are_located() {
             "fullscreen light {\n    per_light(Spot, Point)\n    shader match light { Spot: \"a.wgsl\", Spot | Point: \"b.wgsl\" }\n    color out\n}\n",
             "choice-overlap",
             "Spot lights are served by two arms",
+            3,
+        ),
+        (
+            "fullscreen light {\n    per_light(Spot, Point)\n    shader match light { _: \"a.wgsl\", _: \"b.wgsl\" }\n    color out\n}\n",
+            "choice-overlap",
+            "two catch-all arms `_`",
             3,
         ),
         (

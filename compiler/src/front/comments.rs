@@ -75,8 +75,12 @@ pub fn anchors(root: &Node) -> Vec<usize> {
 /// Hands out comments: `before(span)` takes every comment starting before the item that no
 /// other item's start (`anchors`) comes between, `rest()` whatever is left at the end.
 pub struct Comments {
+    /// In source order.
     list: Vec<Comment>,
     taken: Vec<bool>,
+    /// Every comment before this one is taken.
+    first: usize,
+    /// Sorted.
     anchors: Vec<usize>,
 }
 
@@ -86,20 +90,26 @@ impl Comments {
         Comments {
             taken: vec![false; list.len()],
             list,
+            first: 0,
             anchors,
         }
     }
 
     pub fn before(&mut self, span: Span) -> Vec<Comment> {
         let at = span.start as usize;
+        while self.taken.get(self.first) == Some(&true) {
+            self.first += 1;
+        }
         let mut out = vec![];
-        for (c, taken) in self.list.iter().zip(self.taken.iter_mut()) {
-            if *taken || c.start >= at {
-                continue;
+        for i in self.first..self.list.len() {
+            let c = &self.list[i];
+            if c.start >= at {
+                break;
             }
             // Another item starts between the comment and this one: the comment is that one's.
-            if !self.anchors.iter().any(|&a| c.start < a && a < at) {
-                *taken = true;
+            let next = self.anchors.partition_point(|&a| a <= c.start);
+            if !self.taken[i] && self.anchors.get(next).is_none_or(|&a| a >= at) {
+                self.taken[i] = true;
                 out.push(c.clone());
             }
         }

@@ -132,7 +132,10 @@ fn arms<'a>(choice: &'a Node, kinds: &[(String, Node)], diags: &mut Diagnostics)
         values.push(value);
         let text = key.text().unwrap_or("");
         if text.trim() == "_" {
-            default = Some(at);
+            if default.replace(at).is_some() {
+                let msg = "two catch-all arms `_`: the second is never chosen";
+                diags.push(Diagnostic::error(Code::ChoiceOverlap, msg, key.span));
+            }
             continue;
         }
         for kind in text.split('|').map(str::trim) {
