@@ -147,3 +147,26 @@ color out load blend Add\n}\n";
     assert!(expected.contains("\"light\""));
     assert_eq!(passes_json("light-one", "m.lbp", &format!("{HEAD}{one}{TAIL}")), expected);
 }
+
+/// A choice by variant may hold one by light kind in an arm (and the other way round, as the
+/// bundled pipelines' do): the pass splits by light kind under every option, each arm's
+/// choice taken where its option is chosen.
+#[test]
+fn a_variants_arm_may_choose_by_light_kind() {
+    let nested = "\nfullscreen light {\n    shader match(q) { a: match light { Directional | Spot: \"a.wgsl\", Point: \"b.wgsl\" }, _: \"b.wgsl\" }\n    \
+per_light(Directional, Spot, Point)\n    reads match(q) { a: match light { Directional | Spot: src_a, _: src_b }, _: src_b }\n    color out load blend Add\n}\n";
+    let variant = "\nvariant q = a {\n    option a\n    option b\n}\n";
+    let text = format!("{HEAD}{nested}{variant}{TAIL}");
+    let (a, b) = (reader("src_a"), reader("src_b"));
+    let dir = write_project("light-nested", &files("m.lbp", &text, &a, &b));
+    for (option, shader) in [("a", "a.wgsl"), ("b", "b.wgsl")] {
+        let mut s = Session::new();
+        let v = [("q".to_string(), option.to_string())];
+        let plan = s.plan_file(&dir.join("m.lbp"), Some(&dir), &Profile::vulkan(), &SceneFeatures::everything(), &v);
+        let plan = plan.unwrap_or_else(|| panic!("{}", s.render()));
+        let pass = plan.pass("light_directional_spot").expect("split by light kind");
+        let stages = serde_json::to_string(&pass.stages).unwrap();
+        assert!(stages.contains(shader), "q = {option}: {stages}");
+        assert!(plan.pass("light_point").is_some_and(|p| serde_json::to_string(&p.stages).unwrap().contains("b.wgsl")));
+    }
+}
