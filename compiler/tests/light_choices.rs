@@ -167,6 +167,8 @@ per_light(Directional, Spot, Point)\n    reads match(q) { a: match light { Direc
         let pass = plan.pass("light_directional_spot").expect("split by light kind");
         let stages = serde_json::to_string(&pass.stages).unwrap();
         assert!(stages.contains(shader), "q = {option}: {stages}");
-        assert!(plan.pass("light_point").is_some_and(|p| serde_json::to_string(&p.stages).unwrap().contains("b.wgsl")));
+        assert!(plan
+            .pass("light_point")
+            .is_some_and(|p| serde_json::to_string(&p.stages).unwrap().contains("b.wgsl")));
     }
 }
