@@ -323,11 +323,11 @@ impl Reloader {
         let scene_changed = self.scene_files.iter().any(|f| changed.contains(f));
         let mut models_kept = None;
         let scene = match self.scene_file.as_ref().filter(|_| scene_changed) {
-            Some(f) => match lightbench_scene::load::load_again(&f.display().to_string(), &mut self.models) {
-                Ok((mut s, kept)) => {
+            Some(f) => match lightbench_scene::load::load_with(&f.display().to_string(), &mut self.models) {
+                Ok(mut s) => {
                     s.size = self.size;
                     s.effects.extend(self.added_effects.iter().copied());
-                    models_kept = Some(kept);
+                    models_kept = Some(self.models.last());
                     Some(s)
                 }
                 Err(e) => return Some(self.failed(e.to_string(), files)),

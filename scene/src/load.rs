@@ -14,14 +14,26 @@ use lightbench_compiler::Session;
 /// A built-in scene by name, or a scene file; errors are the rendered diagnostics (warnings
 /// are dropped: `load_in` keeps them in the session).
 pub fn load(spec: &str) -> Result<Scene> {
+    load_with(spec, &mut ModelCache::default())
+}
+
+/// `load`, its models taken from `models` where their files did not change since its last
+/// load (`ModelCache::last` says how many).
+pub fn load_with(spec: &str, models: &mut ModelCache) -> Result<Scene> {
     let mut s = Session::new();
-    load_in(&mut s, spec).ok_or_else(|| Error::Scene(s.render()))
+    load_in_with(&mut s, spec, models).ok_or_else(|| Error::Scene(s.render()))
 }
 
 /// Load through a compilation session: diagnostics (syntax, values, models) go to it.
 pub fn load_in(s: &mut Session, spec: &str) -> Option<Scene> {
+    load_in_with(s, spec, &mut ModelCache::default())
+}
+
+/// `load_in`, its models taken from `models` where their files did not change since its last
+/// load (and kept there when it is `ModelCache::keeping`).
+pub fn load_in_with(s: &mut Session, spec: &str, models: &mut ModelCache) -> Option<Scene> {
     let desc = s.load_scene(spec)?;
-    instantiate(&desc, &mut s.diags)
+    instantiate_with(&desc, &mut s.diags, models)
 }
 
 /// What a command loads: the scene `spec` names (built-in name, scene file or glTF model) at
@@ -35,8 +47,7 @@ pub fn load_sized(spec: &str, size: Option<(u32, u32)>, effects: &[Effect]) -> R
 /// `load_sized`, its models kept in `models` (`ModelCache::keeping`) for loading it again.
 pub fn load_sized_with(spec: &str, size: Option<(u32, u32)>, effects: &[Effect], models: &mut ModelCache) -> Result<Scene> {
     let mut s = Session::new();
-    let loaded = s.load_scene(spec).and_then(|desc| instantiate_with(&desc, &mut s.diags, models));
-    models.end();
+    let loaded = load_in_with(&mut s, spec, models);
     eprint!("{}", s.render());
     let mut scene = loaded.ok_or_else(|| Error::Scene(String::new()))?;
     scene.effects.extend(effects.iter().copied());
@@ -122,15 +133,6 @@ pub fn instantiate(desc: &SceneDesc, diags: &mut Diagnostics) -> Option<Scene> {
     instantiate_with(desc, diags, &mut ModelCache::default())
 }
 
-/// A scene loaded again, keeping from `models` (the last load's) each model none of whose
-/// files changed; returns the scene and how many of its models were kept, of all.
-pub fn load_again(spec: &str, models: &mut ModelCache) -> Result<(Scene, (usize, usize))> {
-    let mut s = Session::new();
-    let desc = s.load_scene(spec).ok_or_else(|| Error::Scene(s.render()))?;
-    let scene = instantiate_with(&desc, &mut s.diags, models).ok_or_else(|| Error::Scene(s.render()))?;
-    Ok((scene, models.end()))
-}
-
 /// `instantiate`, its models taken from `models` where their files did not change.
 pub fn instantiate_with(desc: &SceneDesc, diags: &mut Diagnostics, models: &mut ModelCache) -> Option<Scene> {
     let mut scene = Scene::from_desc(desc);
@@ -145,6 +147,7 @@ pub fn instantiate_with(desc: &SceneDesc, diags: &mut Diagnostics, models: &mut 
             }
         }
     }
+    models.end();
     if desc.framed_model && diags.error_count() == before {
         scene.camera = framing::frame(&scene);
         if scene.lights.is_empty() {

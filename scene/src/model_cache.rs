@@ -23,6 +23,8 @@ pub struct ModelCache {
     /// The models the load under way asked for, and how many of them were kept.
     asked: Vec<PathBuf>,
     kept_now: usize,
+    /// Of the last load's models, how many were taken as they were, of all.
+    last: (usize, usize),
 }
 
 impl ModelCache {
@@ -34,14 +36,18 @@ impl ModelCache {
     }
 
     /// Start a load: its counts begin at zero.
-    pub fn begin(&mut self) {
+    pub(crate) fn begin(&mut self) {
         self.asked.clear();
         self.kept_now = 0;
     }
 
     /// The model at `file`: as loaded before if none of its files changed since, else loaded
     /// now (and kept).
-    pub fn model(&mut self, file: &Path) -> Result<Arc<Loaded>> {
+    pub(crate) fn model(&mut self, file: &Path) -> Result<Arc<Loaded>> {
+        if !self.keep {
+            self.asked.push(file.to_path_buf());
+            return Ok(Arc::new(gltf_load::load(file)?));
+        }
         // One model however its path is written (a scene file given relative or absolute).
         let key = std::fs::canonicalize(file).unwrap_or_else(|_| file.to_path_buf());
         self.asked.push(key.clone());
@@ -52,18 +58,21 @@ impl ModelCache {
         }
         // Stamped before loading: a file written while it was read counts as changed next time.
         let loaded = Arc::new(gltf_load::load(file)?);
-        if self.keep {
-            self.kept.insert(key, (now, loaded.clone()));
-        }
+        self.kept.insert(key, (now, loaded.clone()));
         Ok(loaded)
     }
 
-    /// End a load: the models it did not ask for are dropped. Returns how many of the models
-    /// it asked for were taken as they were, of all it asked for.
-    pub fn end(&mut self) -> (usize, usize) {
+    /// End a load: the models it did not ask for are dropped.
+    pub(crate) fn end(&mut self) {
         let asked = &self.asked;
         self.kept.retain(|f, _| asked.contains(f));
-        (self.kept_now, self.asked.len())
+        self.last = (self.kept_now, self.asked.len());
+    }
+
+    /// Of the last load's models: how many were taken as the load before left them (none of
+    /// their files changed), of all.
+    pub fn last(&self) -> (usize, usize) {
+        self.last
     }
 }
 
