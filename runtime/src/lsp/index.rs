@@ -63,6 +63,8 @@ pub struct Index {
     pub shaders: Vec<ShaderUse>,
     /// Each symbol's index by kind and name (lookups stay linear in the document's size).
     by_name: HashMap<(Kind, String), usize>,
+    /// The first symbol declared at each place (passes a choice by light kind makes share one).
+    by_decl: HashMap<(Kind, Span), usize>,
     /// Every texture format written (hover describes it).
     pub formats: Vec<Spanned<TextureFormat>>,
     /// The source map the spans point into.
@@ -77,6 +79,7 @@ impl Index {
             shaders: vec![],
             formats: vec![],
             by_name: HashMap::new(),
+            by_decl: HashMap::new(),
             sources,
         };
         p.params
@@ -121,9 +124,10 @@ impl Index {
         }
         // The passes one pass makes by choosing by light kind share its written name: the
         // first one's hover there shows each of them.
-        let sibling = self.symbols.iter().position(|s| s.kind == kind && s.decl == name.span);
-        if let Some(first) = sibling {
-            self.symbols[first].hover.push_str(&format!("\n\n---\n\n{hover}"));
+        let sibling = self.by_decl.get(&(kind, name.span)).copied();
+        match sibling {
+            Some(first) => self.symbols[first].hover.push_str(&format!("\n\n---\n\n{hover}")),
+            None => _ = self.by_decl.insert((kind, name.span), self.symbols.len()),
         }
         self.by_name.insert((kind, name.value.clone()), self.symbols.len());
         self.symbols.push(Symbol {
