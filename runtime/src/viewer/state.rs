@@ -69,6 +69,9 @@ pub struct Viewer {
     plan_params: ParamValues,
     /// Hot reload of the pipeline and shader files (not for the bundled pipeline).
     reloader: Option<crate::reload::Reloader>,
+    /// What the last reload of the scene kept: its models as they were, and meshes, textures
+    /// and BLAS resident on the GPU.
+    pub scene_kept: Option<crate::gpu::scene_gpu::Kept>,
     /// The path-traced view, while it is shown (`Action::Trace`).
     pub traced: Option<super::traced::Traced>,
 }
@@ -142,6 +145,7 @@ impl Viewer {
             options,
             plan_params: ParamValues::new(),
             reloader: None,
+            scene_kept: None,
             traced: None,
         })
     }
@@ -206,8 +210,9 @@ impl Viewer {
     pub fn poll_reload(&mut self, gpu: &Gpu) {
         let Some(r) = self.reloader.as_mut() else { return };
         match r.poll(gpu, &mut self.ex, std::time::Duration::ZERO) {
-            Some(crate::reload::Outcome::Reloaded { scene, .. }) => {
+            Some(crate::reload::Outcome::Reloaded { scene, report, .. }) => {
                 self.last_error = None;
+                self.scene_kept = report.scene_kept.or(self.scene_kept);
                 if let Some(s) = scene {
                     self.scene = *s;
                     self.light = self.light.min(self.scene.lights.len().saturating_sub(1));

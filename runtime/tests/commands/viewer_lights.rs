@@ -139,10 +139,13 @@ fn the_viewer_reloads_an_edited_model() {
     let _ = std::fs::remove_dir_all(&dir);
     lightbench::bundled::init(&dir).unwrap();
     let file = dir.join("scenes/sun_only.ron");
-    let scene = lightbench::scene::load::load_sized(file.to_str().unwrap(), Some((32, 32)), &[]).unwrap();
+    // As `view` loads it: keeping the models, for a reload to parse only what changed.
+    let mut models = lightbench::scene::model_cache::ModelCache::keeping();
+    let scene = lightbench::scene::load::load_sized_with(file.to_str().unwrap(), Some((32, 32)), &[], &mut models).unwrap();
     let pipeline = dir.join("pipelines/deferred.lbp");
     let mut v = Viewer::new(&g, (Workspace::disk(), &pipeline, None), scene, &[]).unwrap_or_else(|e| panic!("{e}"));
     v.watch(&g, (Some(&file), &[])).unwrap();
+    v.keep_models(models);
     v.camera.position.x += 0.25;
     let camera = v.camera.clone();
     v.frame(&g).unwrap();
@@ -163,4 +166,6 @@ fn the_viewer_reloads_an_edited_model() {
     assert_eq!(v.camera.position, camera.position, "the viewer's camera stays");
     let grey = v.scene.materials.iter().any(|m| m.base_color[..3] == [0.05, 0.05, 0.05]);
     assert!(grey, "the viewer's scene is the reloaded one");
+    let kept = v.scene_kept.expect("the scene reload says what it kept");
+    assert_eq!(kept.models, Some((1, 2)), "the chair taken as it was, the ground parsed again");
 }
