@@ -8,11 +8,9 @@
 //! and what the user wrote keeps its span.
 
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
+use crate::ir::LightKind;
 use crate::span::Span;
 use crate::tree::{Field, Node, Value};
-
-/// The light kinds a pass can run per light of, as `per_light` names them.
-const KINDS: [&str; 4] = ["Directional", "Spot", "Point", "Area"];
 
 /// Is `n` a choice by light kind (`Match(light: {...})`)?
 pub fn is_light_choice(n: &Node) -> bool {
@@ -171,7 +169,7 @@ fn arms<'a>(choice: &'a Node, kinds: &[(String, Node)], diags: &mut Diagnostics)
 
 /// An arm's key that names no light kind the pass runs for.
 fn unknown_kind(kind: &str, kinds: &[(String, Node)], at: Span) -> Diagnostic {
-    if KINDS.contains(&kind) {
+    if LightKind::NAMES.contains(&kind) {
         let runs: Vec<&str> = kinds.iter().map(|(k, _)| k.as_str()).collect();
         return Diagnostic::error(
             Code::LightChoice,
@@ -179,7 +177,7 @@ fn unknown_kind(kind: &str, kinds: &[(String, Node)], at: Span) -> Diagnostic {
             at,
         );
     }
-    Diagnostic::error(Code::UnknownValue, format!("unknown light kind `{kind}`"), at).with_note(suggestion_note(kind, &KINDS))
+    Diagnostic::error(Code::UnknownValue, format!("unknown light kind `{kind}`"), at).with_note(suggestion_note(kind, &LightKind::NAMES))
 }
 
 /// The pass's kinds (indices, in `per_light` order) in groups that every choice serves with
