@@ -11,6 +11,9 @@ use std::collections::HashMap;
 /// Keys only a pipeline that uses another may have (besides `use`), with what they do.
 const COMPOSING: [(&str, &str); 2] = [("remove", "remove its items"), ("fix", "fix its variants")];
 
+/// The maps of named items a pipeline declares (merged by name when one uses another).
+const ITEM_MAPS: [&str; 5] = ["params", "samplers", "resources", "variants", "lets"];
+
 /// Kinds `remove` takes, and the tree key holding each.
 const REMOVABLE: [(&str, &str); 6] = [
     ("Pass", "passes"),
@@ -92,10 +95,7 @@ pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
             ));
         }
     }
-    for (_, _, m) in fields(root)
-        .iter()
-        .filter(|f| matches!(f.0.as_str(), "params" | "samplers" | "resources" | "variants" | "lets"))
-    {
+    for (_, _, m) in fields(root).iter().filter(|f| ITEM_MAPS.contains(&f.0.as_str())) {
         for (k, v) in entries(m) {
             if replacement(v).is_some() {
                 diags.push(Diagnostic::error(
@@ -127,13 +127,12 @@ pub fn merge(base: &Node, own: &Node, diags: &mut Diagnostics) -> Node {
     let mut out: Vec<Field> = fields(base).iter().filter(|f| f.0 != "use").cloned().collect();
     removals(own, &mut out, diags);
     for (key, span, value) in fields(own) {
+        let map = key == "fix" || ITEM_MAPS.contains(&key.as_str());
         match key.as_str() {
             "use" | "remove" => {}
             // Not a map: left as written, for the lowering to say what it should be.
-            "params" | "samplers" | "resources" | "variants" | "lets" | "fix" if !matches!(&*value.value, Value::Map(_)) => {
-                set(&mut out, key, *span, value.clone())
-            }
-            "params" | "samplers" | "resources" | "variants" | "lets" | "fix" => merge_map(&mut out, key, *span, value, diags),
+            _ if map && !matches!(&*value.value, Value::Map(_)) => set(&mut out, key, *span, value.clone()),
+            _ if map => merge_map(&mut out, key, *span, value, diags),
             "passes" if !matches!(&*value.value, Value::List(_)) => set(&mut out, key, *span, value.clone()),
             "passes" => merge_passes(&mut out, *span, value, diags),
             _ => set(&mut out, key, *span, value.clone()),
