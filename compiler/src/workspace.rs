@@ -347,6 +347,7 @@ impl Session {
         // A pipeline that uses another, or groups passes, prints as written.
         let as_written = crate::syntax::compose::used(&tree).is_some()
             || crate::syntax::groups::has_groups(&tree)
+            || crate::syntax::templates::has_templates(&tree)
             || crate::syntax::light_choices::has_light_choices(&tree);
         if let Some(p) = p.as_mut().filter(|_| as_written) {
             p.written = Some(crate::ir::Source(tree));
@@ -378,8 +379,10 @@ impl Session {
     /// The pipeline a tree means: itself, or the pipeline it uses (composed in turn) with its
     /// items merged in. `chain`: the files being composed, for cycles and the depth limit.
     fn compose(&mut self, name: &str, tree: &Node, chain: &mut Vec<PathBuf>) -> Option<Node> {
-        // Each file's groups become their passes, and passes choosing by light kind one
-        // pass per kind they tell apart, before items merge by name.
+        // Each file's templates give their attributes, its groups become their passes, and
+        // passes choosing by light kind one pass per kind they tell apart, before items merge
+        // by name.
+        let tree = &crate::syntax::templates::expand(tree, &mut self.diags);
         let tree = &crate::syntax::groups::expand(tree, &mut self.diags);
         let tree = &crate::syntax::light_choices::expand(tree, &mut self.diags);
         crate::syntax::compose::reject_second_use(tree, &mut self.diags);

@@ -77,7 +77,7 @@ fn flatten(items: &[Node], inherited: &[Field], out: &mut Vec<Node>, diags: &mut
 
 /// `own` fields with the `outer` ones they lack; `when`s joined (both hold), `reads` the
 /// outer's first.
-fn with_inherited(own: &[Field], outer: &[Field]) -> Vec<Field> {
+pub(super) fn with_inherited(own: &[Field], outer: &[Field]) -> Vec<Field> {
     let mut out: Vec<Field> = own.to_vec();
     for (k, span, v) in outer {
         let Some(at) = out.iter().position(|f| f.0 == *k) else {

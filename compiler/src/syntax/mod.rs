@@ -7,6 +7,7 @@ pub mod groups;
 pub mod light_choices;
 pub mod lower;
 pub mod raise;
+pub mod templates;
 
 use crate::tree::{Node, Value};
 

@@ -94,12 +94,28 @@ impl Builder<'_> {
         }
     }
 
+    /// `$NAME`, a template's parameter: `Arg("NAME")` (the templates stage puts the
+    /// instance's argument in its place).
+    fn arg(&self, p: &P) -> Node {
+        let span = self.span(p);
+        Node::call("Arg", vec![Node::str(&p.as_str()[1..], span)], span)
+    }
+
+    /// A string, or a template's parameter standing for one.
+    fn string_or_arg(&mut self, p: P) -> Option<Node> {
+        match p.as_rule() {
+            Rule::arg => Some(self.arg(&p)),
+            _ => self.string(p),
+        }
+    }
+
     /// A `name`: dotted identifier or quoted string, as a string node.
     fn name(&mut self, p: P) -> Option<Node> {
         let span = self.span(&p);
         let inner = kids(p).next()?;
         match inner.as_rule() {
             Rule::string => self.string(inner),
+            Rule::arg => Some(self.arg(&inner)),
             _ => Some(Node::str(inner.as_str(), span)),
         }
     }
@@ -148,6 +164,7 @@ impl Builder<'_> {
             Rule::tuple => self.tuple(inner),
             Rule::number => self.number(&inner),
             Rule::string => self.string(inner),
+            Rule::arg => Some(self.arg(&inner)),
             _ => Some(Node::str(inner.as_str(), self.span(&inner))),
         }
     }
@@ -249,6 +266,7 @@ impl Builder<'_> {
             ("lets", vec![], span),
         ];
         let mut passes = vec![];
+        let mut templates = vec![];
         let mut outputs = Fields::default();
         let mut composing = Composing::default();
         for it in items {
@@ -263,6 +281,7 @@ impl Builder<'_> {
                 Rule::pass => {
                     passes.extend(self.pass(it));
                 }
+                Rule::template => templates.extend(self.template(it)),
                 Rule::group => {
                     passes.extend(self.group(it));
                 }
@@ -282,6 +301,10 @@ impl Builder<'_> {
             if !entries.is_empty() {
                 root.put(key, mspan, Node::map(entries, mspan));
             }
+        }
+        if let (Some(first), Some(last)) = (templates.first(), templates.last()) {
+            let at = first.1.span.to(last.1.span);
+            root.put("templates", at, Node::map(templates, at));
         }
         root.put("passes", span, Node::list(passes, span));
         let (key, entries, mspan) = variants;
@@ -505,6 +528,10 @@ impl Builder<'_> {
             let s = it.next()?;
             f.put("shader", self.span(&s), self.string(s)?);
         }
+        if it.peek().map(|n| n.as_rule()) == Some(Rule::like) {
+            let l = it.next()?;
+            f.put("like", self.span(&l), self.like(l)?);
+        }
         for item in it {
             let at = self.span(&item);
             let key = pass_key(item.as_rule());
@@ -534,6 +561,7 @@ impl Builder<'_> {
             match item.as_rule() {
                 Rule::pass => passes.push(self.pass(item)?),
                 Rule::group => passes.push(self.group(item)?),
+                Rule::like => f.put("like", at, self.like(item)?),
                 rule => {
                     let key = pass_key(rule);
                     let node = self.pass_item(item, at)?;
@@ -543,6 +571,43 @@ impl Builder<'_> {
         }
         f.put("passes", span, Node::list(passes, span));
         Some(Node::structure("Group", head, f.0, span))
+    }
+
+    /// `like NAME(ARGS)`: `Like("NAME", ARGS...)`.
+    fn like(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let mut it = kids(p).filter(|k| k.as_rule() != Rule::like_word);
+        let mut items = vec![self.name(it.next()?)?];
+        for v in it {
+            items.push(self.value(v)?);
+        }
+        Some(Node::call("Like", items, span))
+    }
+
+    /// `template NAME(PARAMS) like OTHER(ARGS) { … }`: the entry `NAME: Template(params:
+    /// [..], like: .., ATTRIBUTES)` of the pipeline's `templates`.
+    fn template(&mut self, p: P) -> Option<(Node, Node)> {
+        let span = self.span(&p);
+        let mut it = kids(p).peekable();
+        let name = self.name(it.next()?)?;
+        let mut f = Fields::default();
+        if it.peek().map(|n| n.as_rule()) == Some(Rule::template_params) {
+            let ps = it.next()?;
+            let at = self.span(&ps);
+            let names = kids(ps).map(|i| Node::str(i.as_str(), self.span(&i))).collect();
+            f.put("params", at, Node::list(names, at));
+        }
+        for item in it {
+            let at = self.span(&item);
+            if item.as_rule() == Rule::like {
+                f.put("like", at, self.like(item)?);
+                continue;
+            }
+            let key = pass_key(item.as_rule());
+            let node = self.pass_item(item, at)?;
+            f.put(key, at, node);
+        }
+        Some((name.clone(), Node::structure("Template", name.span, f.0, span)))
     }
 
     fn pass_item(&mut self, item: P, at: Span) -> Option<Node> {
@@ -560,7 +625,7 @@ impl Builder<'_> {
     fn pass_value(&mut self, rule: Rule, mut parts: Vec<P>, at: Span) -> Option<Node> {
         match rule {
             Rule::pass_per_light => Some(self.per_light(parts.pop()?)),
-            Rule::shader => self.string(parts.pop()?),
+            Rule::shader => self.string_or_arg(parts.pop()?),
             Rule::vertex | Rule::entry => self.stage_ref(parts.pop()?),
             Rule::fragment => {
                 let inner = parts.pop()?;
@@ -633,6 +698,7 @@ impl Builder<'_> {
         let inner = kids(p).next()?;
         match inner.as_rule() {
             Rule::string => self.string(inner),
+            Rule::arg => Some(self.arg(&inner)),
             _ => Some(Node::str(inner.as_str(), self.span(&inner))),
         }
     }
@@ -757,6 +823,7 @@ impl Builder<'_> {
                     let w = kids(o).next()?;
                     match w.as_rule() {
                         Rule::uint => Node::call("Index", vec![self.uint(&w)?], at),
+                        Rule::arg => Node::call("Index", vec![self.arg(&w)], at),
                         Rule::rep_sel => self.rep(&w)?,
                         _ => self.word(&w),
                     }

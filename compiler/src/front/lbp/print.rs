@@ -9,6 +9,7 @@ use crate::ir::Pipeline;
 use crate::span::Span;
 use crate::syntax::defaults;
 use crate::tree::{Field, Node, Value};
+use std::borrow::Cow;
 use std::fmt::Write;
 
 const RESERVED: [&str; 9] = ["none", "true", "false", "prev", "load", "nowrite", "in", "mip", "rep"];
@@ -19,7 +20,8 @@ pub fn name(s: &str) -> String {
         let mut c = p.chars();
         matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
     };
-    if !s.is_empty() && s.split('.').all(ident) && !RESERVED.contains(&s) {
+    let arg = s.strip_prefix('$').is_some_and(ident);
+    if arg || !s.is_empty() && s.split('.').all(ident) && !RESERVED.contains(&s) {
         s.to_string()
     } else {
         quote(s)
@@ -30,8 +32,20 @@ pub fn print(p: &Pipeline, source: Option<&str>) -> String {
     print_tree(&crate::syntax::raise::pipeline(p), source)
 }
 
-fn text(n: &Node) -> &str {
-    n.text().unwrap_or("")
+/// The text of a string or identifier; a template's parameter `Arg("x")` as written, `$x`.
+fn text(n: &Node) -> Cow<'_, str> {
+    match (&*n.value, n.name()) {
+        (Value::Tuple { items, .. }, Some("Arg")) => Cow::Owned(format!("${}", items.first().and_then(|i| i.text()).unwrap_or(""))),
+        _ => Cow::Borrowed(n.text().unwrap_or("")),
+    }
+}
+
+/// A string quoted, or a template's parameter standing for one.
+fn quoted(n: &Node) -> String {
+    match n.name() {
+        Some("Arg") => text(n).into_owned(),
+        _ => quote(&text(n)),
+    }
 }
 
 fn get<'a>(fields: &'a [Field], key: &str) -> Option<&'a Node> {
@@ -67,8 +81,9 @@ fn value(n: &Node) -> String {
         // `+ 0.0` turns -0.0 into 0.0: "-0" would read back as an integer, and `fmt` must
         // be idempotent.
         Value::Float(f) => format!("{}", f + 0.0),
+        Value::Tuple { .. } if n.name() == Some("Arg") => text(n).into_owned(),
         Value::Tuple { .. } => format!("({})", items(n).iter().map(value).collect::<Vec<_>>().join(", ")),
-        _ => name(text(n)),
+        _ => name(&text(n)),
     }
 }
 
@@ -92,7 +107,7 @@ impl Printer {
     fn root(&mut self, f: &[Field]) {
         if let Some(n) = get(f, "name") {
             self.out.comments_before(n.span, "");
-            let _ = writeln!(self.out.text, "pipeline {}", name(text(n)));
+            let _ = writeln!(self.out.text, "pipeline {}", name(&text(n)));
         }
         self.composing(f);
         for (key, line) in [
@@ -112,6 +127,9 @@ impl Printer {
                 let _ = writeln!(self.out.text, "{l}");
             }
         }
+        for (k, v) in get(f, "templates").map(entries).unwrap_or(&[]) {
+            self.template(k, v);
+        }
         for p in get(f, "passes").map(items).unwrap_or(&[]) {
             self.pass_or_group(p, "");
         }
@@ -124,7 +142,7 @@ impl Printer {
         for key in ["hdr_output", "output"] {
             if let Some(n) = get(f, key) {
                 self.out.comments_before(n.span, "");
-                let _ = writeln!(self.out.text, "{key} {}", name(text(n)));
+                let _ = writeln!(self.out.text, "{key} {}", name(&text(n)));
             }
         }
         for key in ["always", "jitter"] {
@@ -142,13 +160,26 @@ impl Printer {
         }
     }
 
+    /// `template NAME(PARAMS) like OTHER(ARGS) {`, its attributes, `}`.
+    fn template(&mut self, k: &Node, t: &Node) {
+        self.out.text.push('\n');
+        self.out.comments_before(item_start(k, t), "");
+        let params = get(fields(t), "params").map(|p| format!("({})", join(items(p), |n| text(n).into_owned())));
+        let _ = writeln!(self.out.text, "template {}{}{} {{", name(&text(k)), params.unwrap_or_default(), like(fields(t)));
+        for (k, _, v) in fields(t).iter().filter(|f| f.0 != "params" && f.0 != "like") {
+            self.out.comments_before(v.span, "    ");
+            let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
+        }
+        let _ = writeln!(self.out.text, "}}");
+    }
+
     /// `group {`, its attributes, its passes and groups, `}`.
     fn group(&mut self, g: &Node, indent: &str) {
         self.out.text.push('\n');
         self.out.comments_before(g.span, indent);
-        let _ = writeln!(self.out.text, "{indent}group {{");
+        let _ = writeln!(self.out.text, "{indent}group{} {{", like(fields(g)));
         let inner = format!("{indent}    ");
-        for (k, _, v) in fields(g).iter().filter(|f| f.0 != "passes") {
+        for (k, _, v) in fields(g).iter().filter(|f| f.0 != "passes" && f.0 != "like") {
             self.out.comments_before(v.span, &inner);
             let _ = writeln!(self.out.text, "{inner}{}", pass_line(k, v));
         }
@@ -168,20 +199,28 @@ impl Printer {
         let chosen_shader = get(f, "shader").is_some_and(is_match);
         let shader = get(f, "shader")
             .filter(|_| !chosen_shader)
-            .map(|s| format!(" {}", quote(text(s))))
+            .map(|s| format!(" {}", quoted(s)))
             .unwrap_or_default();
-        let _ = writeln!(
-            self.out.text,
-            "{indent}{replace}{kind} {}{shader} {{",
-            name(get(f, "name").map(text).unwrap_or(""))
+        let head = format!(
+            "{indent}{replace}{kind} {}{shader}{}",
+            name(&get(f, "name").map(text).unwrap_or_default()),
+            like(f)
         );
         // Comments inside the pass body come first in it.
         let inner = format!("{indent}    ");
-        self.out
-            .comments_before(Span::new(p.span.file, p.span.end as usize, p.span.end as usize), &inner);
-        let body = f
+        let end = Span::new(p.span.file, p.span.end as usize, p.span.end as usize);
+        let body: Vec<&Field> = f
             .iter()
-            .filter(|(k, _, _)| k != "name" && k != "replace" && (k != "shader" || chosen_shader));
+            .filter(|(k, _, _)| !matches!(k.as_str(), "name" | "replace" | "like") && (k != "shader" || chosen_shader))
+            .collect();
+        // A pass like a template may say nothing more (a comment in its empty body then
+        // goes before what follows it).
+        if body.is_empty() && get(f, "like").is_some() {
+            let _ = writeln!(self.out.text, "{head}");
+            return;
+        }
+        let _ = writeln!(self.out.text, "{head} {{");
+        self.out.comments_before(end, &inner);
         for (k, _, v) in body {
             let _ = writeln!(self.out.text, "{inner}{}", pass_line(k, v));
         }
@@ -193,16 +232,16 @@ impl Printer {
         if let Some(u) = get(f, "use") {
             self.out.text.push('\n');
             self.out.comments_before(u.span, "");
-            let _ = writeln!(self.out.text, "use {}", quote(text(u)));
+            let _ = writeln!(self.out.text, "use {}", quoted(u));
         }
         for (k, v) in get(f, "fix").map(entries).unwrap_or(&[]) {
             self.out.comments_before(item_start(k, v), "");
-            let _ = writeln!(self.out.text, "fix {} = {}", name(text(k)), name(text(v)));
+            let _ = writeln!(self.out.text, "fix {} = {}", name(&text(k)), name(&text(v)));
         }
         for r in get(f, "remove").map(items).unwrap_or(&[]) {
             self.out.comments_before(r.span, "");
             let what = r.name().unwrap_or("").to_lowercase();
-            let _ = writeln!(self.out.text, "remove {what} {}", name(items(r).first().map(text).unwrap_or("")));
+            let _ = writeln!(self.out.text, "remove {what} {}", name(&items(r).first().map(text).unwrap_or_default()));
         }
     }
 
@@ -214,12 +253,12 @@ impl Printer {
             None => (v, ""),
         };
         let f = fields(v);
-        let doc = get(f, "doc").map(|d| format!(" {}", quote(text(d)))).unwrap_or_default();
-        let default = get(f, "default").map(text).unwrap_or("");
-        let _ = writeln!(self.out.text, "{replace}variant {} = {}{doc} {{", name(text(k)), name(default));
+        let doc = get(f, "doc").map(|d| format!(" {}", quoted(d))).unwrap_or_default();
+        let default = get(f, "default").map(text).unwrap_or_default();
+        let _ = writeln!(self.out.text, "{replace}variant {} = {}{doc} {{", name(&text(k)), name(&default));
         for (ok, ov) in get(f, "options").map(entries).unwrap_or(&[]) {
             self.out.comments_before(item_start(ok, ov), "    ");
-            let _ = writeln!(self.out.text, "    option {}{}", name(text(ok)), option(fields(ov)));
+            let _ = writeln!(self.out.text, "    option {}{}", name(&text(ok)), option(fields(ov)));
         }
         self.out.text.push_str("}\n");
     }
@@ -228,12 +267,12 @@ impl Printer {
 fn param(k: &Node, v: &Node) -> String {
     let f = fields(v);
     let ty = match get(f, "options") {
-        Some(opts) => format!("enum({})", join(items(opts), |o| name(text(o)))),
+        Some(opts) => format!("enum({})", join(items(opts), |o| name(&text(o)))),
         None => v.name().unwrap_or("").to_string(),
     };
     let mut line = format!(
         "param {}: {ty} = {}",
-        name(text(k)),
+        name(&text(k)),
         get(f, "default").map(value).unwrap_or_default()
     );
     match (get(f, "min"), get(f, "max")) {
@@ -243,13 +282,13 @@ fn param(k: &Node, v: &Node) -> String {
         (None, None) => {}
     }
     if let Some(d) = get(f, "doc") {
-        line += &format!(" {}", quote(text(d)));
+        line += &format!(" {}", quoted(d));
     }
     line
 }
 
 fn sampler(k: &Node, v: &Node) -> String {
-    let mut line = format!("sampler {}:", name(text(k)));
+    let mut line = format!("sampler {}:", name(&text(k)));
     for (key, _, n) in fields(v) {
         match key.as_str() {
             "mipmap" | "compare" => line += &format!(" {key} {}", text(n)),
@@ -262,7 +301,7 @@ fn sampler(k: &Node, v: &Node) -> String {
 fn size(n: &Node) -> String {
     match n.name() {
         Some("Fixed") => format!("{}x{}", value(&items(n)[0]), value(&items(n)[1])),
-        Some("Param") => format!("param({})", name(items(n).first().map(text).unwrap_or(""))),
+        Some("Param") => format!("param({})", name(&items(n).first().map(text).unwrap_or_default())),
         _ if items(n).len() == 1 && items(n)[0].name() == Some("Param") => format!("viewport*{}", size(&items(n)[0])),
         _ if items(n).len() == 1 => format!("viewport*{}", value(&items(n)[0])),
         _ => "viewport".to_string(),
@@ -276,15 +315,15 @@ fn per_light(n: &Node) -> String {
 fn resource(k: &Node, v: &Node) -> String {
     let f = fields(v);
     if v.name() == Some("AccelerationStructure") {
-        return format!("acceleration_structure {}", name(text(k)));
+        return format!("acceleration_structure {}", name(&text(k)));
     }
     let mut line = if v.name() == Some("Buffer") {
-        format!("buffer {}: {} bytes", name(text(k)), get(f, "size").map(value).unwrap_or_default())
+        format!("buffer {}: {} bytes", name(&text(k)), get(f, "size").map(value).unwrap_or_default())
     } else {
         // LBP always writes the size; the tree leaves it out when it is the default.
         let default = defaults::get("Texture", "size").map(|d| d.node(v.span));
         let sz = get(f, "size").cloned().or(default).map(|n| size(&n)).unwrap_or_default();
-        format!("texture {}: {} {sz}", name(text(k)), get(f, "format").map(text).unwrap_or(""))
+        format!("texture {}: {} {sz}", name(&text(k)), get(f, "format").map(text).unwrap_or_default())
     };
     for (key, _, n) in f {
         match key.as_str() {
@@ -305,7 +344,7 @@ fn data(n: &Node) -> String {
     match n.name() {
         Some("F32") => format!("f32({})", join(list(), value)),
         Some("U32") => format!("u32({})", join(list(), value)),
-        _ => quote(items(n).first().map(text).unwrap_or("")),
+        _ => quote(&items(n).first().map(text).unwrap_or_default()),
     }
 }
 
@@ -324,10 +363,18 @@ fn mip(n: &Node) -> String {
 fn stage(n: &Node) -> String {
     let t = text(n);
     if t.contains('#') {
-        quote(t)
+        quote(&t)
     } else {
-        name(t)
+        name(&t)
     }
+}
+
+/// ` like NAME(ARGS)` for an item `like` a template, else nothing.
+fn like(f: &[Field]) -> String {
+    let Some(l) = get(f, "like") else { return String::new() };
+    let (template, args) = items(l).split_first().map_or((None, &[][..]), |(t, a)| (Some(t), a));
+    let args = if args.is_empty() { String::new() } else { format!("({})", join(args, value)) };
+    format!(" like {}{args}", name(&template.map(text).unwrap_or_default()))
 }
 
 fn pass_line(key: &str, v: &Node) -> String {
@@ -346,25 +393,25 @@ fn pass_line(key: &str, v: &Node) -> String {
         ),
         "cull" => format!("cull {}", text(v)),
         // A pass's shader is in its header; a group's is a line of its own.
-        "shader" => format!("shader {}", quote(text(v))),
+        "shader" => format!("shader {}", quoted(v)),
         "per_light" => per_light(v),
         "per_face" => "per_face".into(),
         "shadow_casters" => "shadow_casters".into(),
         "always" => "always".into(),
         "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
-        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
+        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name(&text(n))).unwrap_or_default()),
         "values" => format!("set {}", assignments(v, value)),
         "constants" => format!("constants {}", assignments(v, constant)),
         "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
-        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(text(n))))),
-        "param_block" => format!("param_block {}", name(text(v))),
-        "after" => format!("after {}", name(text(v))),
+        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(&text(n))))),
+        "param_block" => format!("param_block {}", name(&text(v))),
+        "after" => format!("after {}", name(&text(v))),
         "color" => format!("color {}", join(items(v), |n| element(n, target))),
         "depth" => format!("depth {}", target(v)),
-        "bind" => format!("bind {}", assignments(v, |b| name(text(b)))),
+        "bind" => format!("bind {}", assignments(v, |b| name(&text(b)))),
         "when" => format!("when {}", cond(v)),
         "dispatch" if v.name() == Some("Groups") => format!("dispatch groups({})", join(items(v), value)),
-        "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name(text(n))).unwrap_or_default()),
+        "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name(&text(n))).unwrap_or_default()),
         _ => format!("{key} {}", value(v)),
     }
 }
@@ -379,11 +426,11 @@ fn choice(n: &Node, value: impl Fn(&Node) -> String) -> String {
         .map(entries)
         .unwrap_or(&[])
         .iter()
-        .map(|(k, v)| format!("{}: {}", options(text(k)), value(v)))
+        .map(|(k, v)| format!("{}: {}", options(&text(k)), value(v)))
         .collect();
     let selector = match by_light {
         Some(_) => "light".to_string(),
-        None => format!("({})", name(get(f, "variant").map(text).unwrap_or(""))),
+        None => format!("({})", name(&get(f, "variant").map(text).unwrap_or_default())),
     };
     format!(
         "match{}{selector} {{ {} }}",
@@ -413,7 +460,7 @@ fn arm_value(key: &str, v: &Node) -> String {
     match key {
         "per_light" => line.trim_start_matches("per_light").to_string(),
         "values" | "bind" | "constants" => format!("({rest})"),
-        "shader" => quote(text(v)),
+        "shader" => quoted(v),
         _ => rest,
     }
 }
@@ -422,7 +469,7 @@ fn arm_value(key: &str, v: &Node) -> String {
 fn assignments(v: &Node, value: impl Fn(&Node) -> String) -> String {
     let each: Vec<String> = entries(v)
         .iter()
-        .map(|(a, b)| format!("{} = {}", name(text(a)), value(b)))
+        .map(|(a, b)| format!("{} = {}", name(&text(a)), value(b)))
         .collect();
     each.join(", ")
 }
@@ -440,7 +487,7 @@ fn is_match(n: &Node) -> bool {
 fn constant(n: &Node) -> String {
     match n.name() {
         Some(w @ ("Param" | "Variant")) if matches!(&*n.value, Value::Tuple { .. }) => {
-            format!("{}({})", w.to_lowercase(), join(items(n), |a| name(text(a))))
+            format!("{}({})", w.to_lowercase(), join(items(n), |a| name(&text(a))))
         }
         _ => value(n),
     }
@@ -448,10 +495,10 @@ fn constant(n: &Node) -> String {
 
 fn read(n: &Node) -> String {
     match n.name() {
-        Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => format!("prev({})", name(items(n).first().map(text).unwrap_or(""))),
+        Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => format!("prev({})", name(&items(n).first().map(text).unwrap_or_default())),
         Some("Layer") if matches!(&*n.value, Value::Tuple { .. }) => format!(
             "layer({}, {})",
-            name(items(n).first().map(text).unwrap_or("")),
+            name(&items(n).first().map(text).unwrap_or_default()),
             items(n)
                 .get(1)
                 .map(|l| if l.name() == Some("Rep") { mip(l) } else { value(l) })
@@ -459,19 +506,19 @@ fn read(n: &Node) -> String {
         ),
         Some("Mip") if matches!(&*n.value, Value::Tuple { .. }) => format!(
             "mip({}, {})",
-            name(items(n).first().map(text).unwrap_or("")),
+            name(&items(n).first().map(text).unwrap_or_default()),
             items(n).get(1).map(mip).unwrap_or_default()
         ),
-        _ => name(text(n)),
+        _ => name(&text(n)),
     }
 }
 
 fn target(n: &Node) -> String {
     let f = fields(n);
     if f.is_empty() {
-        return name(text(n));
+        return name(&text(n));
     }
-    let mut t = name(get(f, "resource").map(text).unwrap_or(""));
+    let mut t = name(&get(f, "resource").map(text).unwrap_or_default());
     for (key, _, v) in f {
         match key.as_str() {
             "load" => t += " load",
@@ -491,13 +538,13 @@ fn target(n: &Node) -> String {
 
 /// `let NAME = CONDITION`.
 fn let_line(k: &Node, v: &Node) -> String {
-    format!("let {} = {}", name(text(k)), cond(v))
+    format!("let {} = {}", name(&text(k)), cond(v))
 }
 
 fn cond(n: &Node) -> String {
     let args = items(n);
     match n.name().unwrap_or("") {
-        "Let" => args.first().map(|a| name(text(a))).unwrap_or_default(),
+        "Let" => args.first().map(|a| name(&text(a))).unwrap_or_default(),
         "Reflective" => "reflective".into(),
         "Blended" => "blended".into(),
         "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),
@@ -505,10 +552,10 @@ fn cond(n: &Node) -> String {
         w @ ("Light" | "Effect") => format!("{}({})", w.to_lowercase(), join(args, |a| text(a).to_string())),
         // A variant's option may be several: `a | b`, each a name.
         "Variant" => match args {
-            [v, o] => format!("variant({}, {})", name(text(v)), options(text(o))),
-            _ => format!("variant({})", join(args, |a| name(text(a)))),
+            [v, o] => format!("variant({}, {})", name(&text(v)), options(&text(o))),
+            _ => format!("variant({})", join(args, |a| name(&text(a)))),
         },
-        w => format!("{}({})", w.to_lowercase(), join(args, |a| name(text(a)))),
+        w => format!("{}({})", w.to_lowercase(), join(args, |a| name(&text(a)))),
     }
 }
 
@@ -526,18 +573,18 @@ fn option(f: &[Field]) -> String {
                 let ls: Vec<String> = entries(v).iter().map(|(k, n)| format!("{} = {}", text(k), value(n))).collect();
                 line += &format!(" limit({})", ls.join(", "));
             }
-            "fallback" => line += &format!(" fallback {}", name(text(v))),
+            "fallback" => line += &format!(" fallback {}", name(&text(v))),
             "shaders" => {
                 let ss: Vec<String> = entries(v)
                     .iter()
-                    .map(|(k, n)| format!("{} = {}", name(text(k)), quote(text(n))))
+                    .map(|(k, n)| format!("{} = {}", name(&text(k)), quoted(n)))
                     .collect();
                 line += &format!(" shader({})", ss.join(", "));
             }
             "params" => {
                 let ss: Vec<String> = entries(v)
                     .iter()
-                    .map(|(k, n)| format!("{} = {}", name(text(k)), value(n)))
+                    .map(|(k, n)| format!("{} = {}", name(&text(k)), value(n)))
                     .collect();
                 line += &format!(" set({})", ss.join(", "));
             }
@@ -546,7 +593,7 @@ fn option(f: &[Field]) -> String {
         }
     }
     if let Some(d) = get(f, "doc") {
-        line += &format!(" {}", quote(text(d)));
+        line += &format!(" {}", quoted(d));
     }
     line
 }

@@ -89,7 +89,7 @@ impl Printer {
         self.out.text.push_str(")\n");
     }
 
-    /// A top-level map: one entry per line; variants one key per line.
+    /// A top-level map: one entry per line; variants and templates one key per line.
     fn map(&mut self, key: &str, entries: &[(Node, Node)]) {
         let _ = writeln!(self.out.text, "    {key}: {{");
         for (k, v) in entries {
@@ -99,6 +99,14 @@ impl Printer {
                     let _ = writeln!(self.out.text, "        {}: Variant(", inline(k));
                     for (fk, _, fv) in fields {
                         self.variant_field(fk, fv);
+                    }
+                    self.out.text.push_str("        ),\n");
+                }
+                (Value::Struct { fields, .. }, Some("Template")) => {
+                    let _ = writeln!(self.out.text, "        {}: Template(", inline(k));
+                    for (fk, _, fv) in fields {
+                        self.out.comments_before(fv.span, "            ");
+                        let _ = writeln!(self.out.text, "            {fk}: {},", inline(fv));
                     }
                     self.out.text.push_str("        ),\n");
                 }
