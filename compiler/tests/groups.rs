@@ -80,7 +80,7 @@ fn a_group_plans_as_its_passes_written_out() {
 }
 
 /// A group attribute a pass of the group cannot take is an error at the group's line; a
-/// group naming itself is one at that name; an empty group is warned about.
+/// group replacing something is one at that key; an empty group is warned about.
 #[test]
 fn a_groups_problems_are_located_at_what_the_group_says() {
     let bad = format!(
@@ -103,13 +103,13 @@ fn a_groups_problems_are_located_at_what_the_group_says() {
     assert!(found.iter().any(|(c, _, _, l, _)| c == "empty-group" && *l == 23), "{}", out.dump());
 
     let ron = "Pipeline(name: \"m\", resources: {\"out\": Texture(format: Rgba8Unorm, size: Fixed(8, 8))}, \
-passes: [Group(name: \"g\", passes: [Fullscreen(name: \"base\", shader: \"clear.wgsl\", color: [\"out\"])])], output: \"out\")";
+passes: [Group(replace: true, passes: [Fullscreen(name: \"base\", shader: \"clear.wgsl\", color: [\"out\"])])], output: \"out\")";
     let dir = write_project("groups-bad-ron", &[("m.ron", ron), ("shaders/clear.wgsl", CLEAR)]);
     let out = check_project(&dir, "m.ron", &Profile::vulkan(), None);
     assert!(
         out.located()
             .iter()
-            .any(|(c, m, _, l, col)| c == "unknown-key" && m.contains("a group has no name") && *l == 1 && *col == 104),
+            .any(|(c, m, _, l, col)| c == "unknown-key" && m.contains("a group replaces nothing") && *l == 1 && *col == 104),
         "{}",
         out.dump()
     );

@@ -105,12 +105,12 @@ variant q = a {\n    option a\n    option b\n}\n\noutput out\n";
 fn comments_inside_a_pass_survive_conversion() {
     let src = std::fs::read_to_string(repo_root().join("pipelines/deferred.lbp")).unwrap();
     assert!(
-        src.contains("{\n    // Both faces: the material says which are seen"),
+        src.contains("{\n    // The normal in the layout's target, then albedo and emitted light."),
         "the bundled pipeline has a comment in a pass body"
     );
     let as_ron = ron::print::print(&parse_ok("p.lbp", &src), Some(&src));
     assert!(
-        as_ron.contains("        Raster(\n            // Both faces: the material says which are seen"),
+        as_ron.contains("        Raster(\n            // The normal in the layout's target, then albedo and emitted light."),
         "the comment is inside the RON pass:\n{as_ron}"
     );
     let back = lbp::print::print(&parse_ok("p.ron", &as_ron), Some(&as_ron));

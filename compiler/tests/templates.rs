@@ -28,7 +28,8 @@ color layers layer $layer\n    set value = $v\n}\n\ntemplate base {\n    shader 
 fullscreen front like fill(0, 0.25)\n\nfullscreen back like fill(1, 0.5) {\n    when variant(look, b)\n}\n\n\
 group like base {\n    color layers load blend Add layer 1\n\n    fullscreen more {\n        set value = 0.125\n    }\n}\n";
 
-const WRITTEN: &str = "\nfullscreen front \"fill.wgsl\" {\n    color layers layer 0\n    set value = 0.25\n    when variant(look, a | b)\n}\n\n\
+const WRITTEN: &str =
+    "\nfullscreen front \"fill.wgsl\" {\n    color layers layer 0\n    set value = 0.25\n    when variant(look, a | b)\n}\n\n\
 fullscreen back \"fill.wgsl\" {\n    color layers layer 1\n    set value = 0.5\n    when all(variant(look, a | b), variant(look, b))\n}\n\n\
 fullscreen more \"fill.wgsl\" {\n    color layers load blend Add layer 1\n    set value = 0.125\n    when variant(look, a | b)\n}\n";
 
@@ -55,8 +56,14 @@ fn a_template_plans_as_its_passes_written_out() {
     let p = s.load_pipeline(&dir.join("m.lbp")).unwrap_or_else(|| panic!("{}", s.render()));
     assert_eq!(s.diags.list.len(), 0, "{}", s.render());
     let ron = lightbench_compiler::front::ron::print::print(&p, Some(&templated));
-    assert!(ron.contains("        \"fill\": Template(\n            params: [\"layer\", \"v\"],\n            like: Like(\"base\"),"), "{ron}");
-    assert!(ron.contains("name: \"front\",\n            like: Like(\"fill\", 0, 0.25),"), "{ron}");
+    assert!(
+        ron.contains("        \"fill\": Template(\n            parameters: [\"layer\", \"v\"],\n            like: Like(\"base\"),"),
+        "{ron}"
+    );
+    assert!(
+        ron.contains("name: \"front\",\n            like: Like(\"fill\", 0, 0.25),"),
+        "{ron}"
+    );
     for (option, kept) in [("a", vec!["front", "more", "copy"]), ("b", vec!["front", "back", "more", "copy"])] {
         let t = plan("templates-t", "m.lbp", &templated, Some(option));
         let w = plan("templates-w", "m.lbp", &written, Some(option));
@@ -93,14 +100,16 @@ fullscreen four \"fill.wgsl\" like drawn {{\n    color layers layer $layer\n}}\n
     let found = out.located();
     let has = |code: &str, text: &str, line: usize, col: usize| {
         assert!(
-            found.iter().any(|(c, m, n, l, k)| c == code && (m.contains(text) || n.contains(text)) && *l == line && *k == col),
+            found
+                .iter()
+                .any(|(c, m, n, l, k)| c == code && (m.contains(text) || n.contains(text)) && *l == line && *k == col),
             "{code} `{text}` at {line}:{col}\n{found:?}"
         );
     };
     has("template-param", "template `fill` has no parameter `value`", 9, 17);
     has("duplicate-name", "template `idle` is declared twice", 26, 10);
     has("unknown-template", "no template `fil`", 29, 21);
-    has("template-arguments", "`fill` takes 2 arguments (layer, v), given 1", 31, 16);
+    has("template-arguments", "`fill` takes 2 arguments (layer, v), given 1", 31, 21);
     has("template-cycle", "templates are like each other: a -> b -> a", 16, 17);
     has("misplaced", "`draw` is not a property of fullscreen passes", 20, 5);
     has("template-param", "`$layer` outside a template", 38, 24);
@@ -112,19 +121,21 @@ fullscreen four \"fill.wgsl\" like drawn {{\n    color layers layer $layer\n}}\n
     assert!(!found.iter().any(|f| f.0 == "missing-key"), "{found:?}");
 }
 
-/// RON says the same with `Template(params: [..], ..)`, `like: Like(..)` and `Arg("NAME")`;
+/// RON says the same with `Template(parameters: [..], ..)`, `like: Like(..)` and `Arg("NAME")`;
 /// a template holding passes is an error at that key.
 #[test]
 fn ron_templates_take_arguments_and_hold_no_passes() {
     let ron = "Pipeline(name: \"m\", resources: {\"out\": Texture(format: Rgba8Unorm, size: Fixed(8, 8))}, \
-templates: {\"lit\": Template(params: [\"v\"], shader: \"fill.wgsl\", values: {\"value\": Arg(\"v\")}), \
+templates: {\"lit\": Template(parameters: [\"v\"], shader: \"fill.wgsl\", values: {\"value\": Arg(\"v\")}), \
 \"holder\": Template(passes: [])}, \
 passes: [Fullscreen(name: \"one\", like: Like(\"lit\", 0.5), color: [\"out\"])], output: \"out\")";
     let dir = write_project("templates-ron-bad", &[("m.ron", ron), ("shaders/fill.wgsl", FILL)]);
     let out = check_project(&dir, "m.ron", &Profile::vulkan(), None);
     let found = out.located();
     assert!(
-        found.iter().any(|(c, m, _, l, _)| c == "unknown-key" && m.contains("a template has no `passes`") && *l == 1),
+        found
+            .iter()
+            .any(|(c, m, _, l, _)| c == "unknown-key" && m.contains("a template has no `passes`") && *l == 1),
         "{}",
         out.dump()
     );
@@ -134,4 +145,77 @@ passes: [Fullscreen(name: \"one\", like: Like(\"lit\", 0.5), color: [\"out\"])],
     let written = "Pipeline(name: \"m\", resources: {\"out\": Texture(format: Rgba8Unorm, size: Fixed(8, 8))}, \
 passes: [Fullscreen(name: \"one\", shader: \"fill.wgsl\", values: {\"value\": 0.5}, color: [\"out\"])], output: \"out\")";
     assert_eq!(json(&p), json(&plan("templates-ron-written", "m.ron", written, None)));
+}
+
+/// The bundled pipelines say each thing once: no line of theirs (ignoring comments, blank
+/// lines and lines of braces only) repeats an earlier one — each lighting model is one pass
+/// per shadow technique, what passes share is a group's or a template's. Their Plans are the
+/// passes they replaced (`choices.rs` compares every configuration with the files before).
+#[test]
+fn no_line_of_a_bundled_pipeline_repeats_an_earlier_one() {
+    let dir = repo_root().join("pipelines");
+    let mut files = 0;
+    for f in lightbench_compiler::pipeline_files(&dir).unwrap() {
+        if f.extension().and_then(|e| e.to_str()) != Some("lbp") {
+            continue;
+        }
+        files += 1;
+        let text = std::fs::read_to_string(&f).unwrap();
+        let mut seen = std::collections::HashMap::new();
+        for (n, line) in text.lines().enumerate() {
+            let t = line.trim();
+            if t.is_empty() || t.starts_with("//") || t.chars().all(|c| matches!(c, '{' | '}' | ' ')) {
+                continue;
+            }
+            if let Some(first) = seen.insert(t, n + 1) {
+                panic!("{}:{}: `{t}` repeats line {first}", f.display(), n + 1);
+            }
+        }
+    }
+    assert!(files >= 3, "the bundled .lbp pipelines: {files}");
+}
+
+/// `like a, b`: both templates' attributes, `when`s together and `reads` in the order
+/// written; an attribute both give is `duplicate-key` at the second.
+#[test]
+fn several_templates_give_their_attributes_together() {
+    let head = "pipeline m\n\ntexture out: Rgba8Unorm 8x8\ntexture layers: Rgba8Unorm 8x8 layers 2 D2Array\n\n\
+template a {\n    shader \"fill.wgsl\"\n    when variant(look, a)\n}\n\ntemplate b {\n    color layers layer 0\n    when variant(look, a | b)\n}\n\n\
+template c {\n    shader \"copy.wgsl\"\n}\n";
+    let good = format!("{head}\nfullscreen one like a, b {{\n    set value = 0.5\n}}\n{TAIL}");
+    let written = format!(
+        "{}\nfullscreen one \"fill.wgsl\" {{\n    color layers layer 0\n    set value = 0.5\n    when all(variant(look, a | b), variant(look, a))\n}}\n{TAIL}",
+        "pipeline m\n\ntexture out: Rgba8Unorm 8x8\ntexture layers: Rgba8Unorm 8x8 layers 2 D2Array\n"
+    );
+    let dir = write_project("templates-two", &[("m.lbp", &good), ("fill.wgsl", FILL), ("copy.wgsl", COPY)]);
+    let mut s = Session::new();
+    s.load_pipeline(&dir.join("m.lbp")).unwrap_or_else(|| panic!("{}", s.render()));
+    // (With `look = b` nothing would write `layers` before `copy` reads it.)
+    for option in ["a"] {
+        let t = plan(
+            "templates-two-t",
+            "m.lbp",
+            &good.replace("template c {\n    shader \"copy.wgsl\"\n}\n", ""),
+            Some(option),
+        );
+        assert_eq!(
+            json(&t),
+            json(&plan("templates-two-w", "m.lbp", &written, Some(option))),
+            "look={option}"
+        );
+    }
+    let bad = format!("{head}\nfullscreen one like b, a, c {{\n    set value = 0.5\n}}\n{TAIL}");
+    let dir = write_project(
+        "templates-two-bad",
+        &[("m.lbp", &bad), ("shaders/fill.wgsl", FILL), ("shaders/copy.wgsl", COPY)],
+    );
+    let out = check_project(&dir, "m.lbp", &Profile::vulkan(), None);
+    assert!(
+        out.located().iter().any(|(c, m, _, l, col)| c == "duplicate-key"
+            && m.contains("`shader` is given by two templates, `a` and `c`")
+            && *l == 20
+            && *col == 27),
+        "{:?}",
+        out.located()
+    );
 }

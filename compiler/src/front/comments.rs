@@ -52,8 +52,8 @@ pub fn collect(src: &str) -> Vec<Comment> {
     out
 }
 
-/// Where each declaration and pass of a pipeline tree starts (the top-level maps' entries and
-/// lists' items): a comment before one of them is that item's, wherever the printer puts it (a
+/// Where each declaration and pass of a pipeline tree starts (the top-level maps' entries,
+/// lists' items and groups' passes): a comment before one of them is that item's, wherever the printer puts it (a
 /// `let` written before the parameters is printed after the resources, its comment with it).
 pub fn anchors(root: &Node) -> Vec<usize> {
     let Value::Struct { fields, .. } = &*root.value else {
@@ -63,13 +63,28 @@ pub fn anchors(root: &Node) -> Vec<usize> {
     for (_, _, v) in fields {
         match &*v.value {
             Value::Map(entries) => out.extend(entries.iter().map(|(k, v)| crate::front::item_start(k, v).start as usize)),
-            Value::List(items) => out.extend(items.iter().map(|i| i.span.start as usize)),
+            Value::List(items) => passes(items, &mut out),
             _ => {}
         }
     }
     out.sort_unstable();
     out.dedup();
     out
+}
+
+/// Where each item of a list starts, and each pass of a group in it (a comment inside a group
+/// stays there when a top-level item after the group is printed before it).
+fn passes(items: &[Node], out: &mut Vec<usize>) {
+    for i in items {
+        out.push(i.span.start as usize);
+        if let Value::Struct { fields, .. } = &*i.value {
+            for (_, _, v) in fields.iter().filter(|f| f.0 == "passes") {
+                if let Value::List(inner) = &*v.value {
+                    passes(inner, out);
+                }
+            }
+        }
+    }
 }
 
 /// Hands out comments: `before(span)` takes every comment starting before the item that no

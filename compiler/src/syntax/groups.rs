@@ -56,9 +56,10 @@ fn flatten(items: &[Node], inherited: &[Field], out: &mut Vec<Node>, diags: &mut
             ));
             continue;
         }
-        let own: Vec<Field> = fields.iter().filter(|f| f.0 != "passes").cloned().collect();
-        if let Some((_, span, _)) = own.iter().find(|f| f.0 == "name" || f.0 == "replace") {
-            let d = Diagnostic::error(Code::UnknownKey, "a group has no name and replaces nothing: its passes do", *span)
+        // A group's name is the reader's (and `plan --explain`'s): no attribute of its passes.
+        let own: Vec<Field> = fields.iter().filter(|f| f.0 != "passes" && f.0 != "name").cloned().collect();
+        if let Some((_, span, _)) = own.iter().find(|f| f.0 == "replace") {
+            let d = Diagnostic::error(Code::UnknownKey, "a group replaces nothing: its passes do", *span)
                 .with_note("a group gives its passes attributes they share (`when`, `cull`, `reads`, `per_light`, …)");
             diags.push(d);
             continue;

@@ -1,6 +1,6 @@
 //! Stage `templates`: attributes written once and given to several passes or groups — LBP
 //! `template lit(entry) like per_light_all { fragment $entry … }` and `raster a like lit(fs_a)`,
-//! RON `templates: {"lit": Template(params: ["entry"], like: Like("per_light_all"), fragment:
+//! RON `templates: {"lit": Template(parameters: ["entry"], like: Like("per_light_all"), fragment:
 //! Arg("entry"), …)}` and `like: Like("lit", "fs_a")`. A pass or group `like` a template takes
 //! the template's attributes, each `$PARAM` (`Arg`) replaced by the instance's argument, as
 //! from a group around it: its own attributes win, `when`s hold together, the template's
@@ -65,7 +65,11 @@ pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
         stray_args(v, table.diags);
     }
     for t in table.templates.iter().filter(|t| !table.used.contains(text(&t.name))) {
-        let d = Diagnostic::warning(Code::UnusedTemplate, format!("no pass or group is like `{}`", text(&t.name)), t.name.span);
+        let d = Diagnostic::warning(
+            Code::UnusedTemplate,
+            format!("no pass or group is like `{}`", text(&t.name)),
+            t.name.span,
+        );
         table.diags.push(d);
     }
     let value = Value::Struct {
@@ -79,12 +83,26 @@ fn text(n: &Node) -> &str {
     n.text().unwrap_or("")
 }
 
+/// The template a `Like("T", ..)` names.
+fn text_of(like: &Node) -> &str {
+    match &*like.value {
+        Value::Tuple { items, .. } => items.first().map(text).unwrap_or(""),
+        _ => "",
+    }
+}
+
 /// The declared templates, each checked once: its parameters distinct, every `$PARAM` in it
 /// one of them, no pass inside it.
 fn read(root: &[Field], diags: &mut Diagnostics) -> Vec<Template> {
-    let Some((_, _, map)) = root.iter().find(|f| f.0 == "templates") else { return vec![] };
+    let Some((_, _, map)) = root.iter().find(|f| f.0 == "templates") else {
+        return vec![];
+    };
     let Value::Map(entries) = &*map.value else {
-        diags.push(Diagnostic::error(Code::TypeMismatch, "`templates` is a map of names to `Template(..)`", map.span));
+        diags.push(Diagnostic::error(
+            Code::TypeMismatch,
+            "`templates` is a map of names to `Template(..)`",
+            map.span,
+        ));
         return vec![];
     };
     let mut out: Vec<Template> = vec![];
@@ -100,29 +118,49 @@ fn read(root: &[Field], diags: &mut Diagnostics) -> Vec<Template> {
     out
 }
 
-/// One `Template(params: [..], ..)` entry, or none (reported) when it is not one.
+/// One `Template(parameters: [..], ..)` entry, or none (reported) when it is not one.
 fn template(k: &Node, v: &Node, diags: &mut Diagnostics) -> Option<Template> {
-    let Value::Struct { name: Some((n, _)), fields } = &*v.value else {
-        diags.push(Diagnostic::error(Code::TypeMismatch, format!("expected `Template(..)`, found {}", v.value.kind_word()), v.span));
+    let Value::Struct {
+        name: Some((n, _)),
+        fields,
+    } = &*v.value
+    else {
+        diags.push(Diagnostic::error(
+            Code::TypeMismatch,
+            format!("expected `Template(..)`, found {}", v.value.kind_word()),
+            v.span,
+        ));
         return None;
     };
     if n != "Template" {
-        diags.push(Diagnostic::error(Code::TypeMismatch, format!("expected `Template(..)`, found `{n}(..)`"), v.span));
+        diags.push(Diagnostic::error(
+            Code::TypeMismatch,
+            format!("expected `Template(..)`, found `{n}(..)`"),
+            v.span,
+        ));
         return None;
     }
-    let params: Vec<Node> = match fields.iter().find(|f| f.0 == "params").map(|f| &*f.2.value) {
+    let params: Vec<Node> = match fields.iter().find(|f| f.0 == "parameters").map(|f| &*f.2.value) {
         Some(Value::List(ps)) => ps.clone(),
         _ => vec![],
     };
     for (i, p) in params.iter().enumerate() {
         if params[..i].iter().any(|q| text(q) == text(p)) {
-            diags.push(Diagnostic::error(Code::DuplicateName, format!("parameter `{}` twice", text(p)), p.span));
+            diags.push(Diagnostic::error(
+                Code::DuplicateName,
+                format!("parameter `{}` twice", text(p)),
+                p.span,
+            ));
         }
     }
-    let fields: Vec<Field> = fields.iter().filter(|f| f.0 != "params").cloned().collect();
+    let fields: Vec<Field> = fields.iter().filter(|f| f.0 != "parameters").cloned().collect();
     if let Some((key, span, _)) = fields.iter().find(|f| matches!(f.0.as_str(), "name" | "passes" | "replace")) {
-        let d = Diagnostic::error(Code::UnknownKey, format!("a template has no `{key}`: it gives attributes to the passes and groups like it"), *span)
-            .with_note("a pass or group names it: `raster NAME like TEMPLATE(ARGS)`");
+        let d = Diagnostic::error(
+            Code::UnknownKey,
+            format!("a template has no `{key}`: it gives attributes to the passes and groups like it"),
+            *span,
+        )
+        .with_note("a pass or group names it: `raster NAME like TEMPLATE(ARGS)`");
         diags.push(d);
         return None;
     }
@@ -194,7 +232,10 @@ fn substitute(n: &Node, params: &[Node], args: &[Node]) -> Node {
         ),
         Value::Struct { name, fields } => Value::Struct {
             name: name.clone(),
-            fields: fields.iter().map(|(k, s, v)| (k.clone(), *s, substitute(v, params, args))).collect(),
+            fields: fields
+                .iter()
+                .map(|(k, s, v)| (k.clone(), *s, substitute(v, params, args)))
+                .collect(),
         },
         Value::Tuple { name, items } => Value::Tuple {
             name: name.clone(),
@@ -221,7 +262,7 @@ impl Table<'_> {
         };
         let mut own: Vec<Field> = fields.iter().filter(|f| f.0 != "like").cloned().collect();
         if let Some((_, _, like)) = fields.iter().find(|f| f.0 == "like") {
-            own = super::groups::with_inherited(&own, &self.resolve(like, &mut vec![])?);
+            own = super::groups::with_inherited(&own, &self.resolve_all(like, &mut vec![])?);
         }
         for f in own.iter_mut().filter(|f| f.0 == "passes") {
             if let Value::List(items) = &*f.2.value {
@@ -233,6 +274,36 @@ impl Table<'_> {
             fields: own,
         };
         Some(Node::new(value, item.span))
+    }
+
+    /// The attributes a `like` gives: one template's, or (a list) several templates' together,
+    /// `when`s joined and `reads` in the order written; any other attribute from one of them.
+    fn resolve_all(&mut self, like: &Node, chain: &mut Vec<String>) -> Option<Vec<Field>> {
+        let Value::List(likes) = &*like.value else {
+            return self.resolve(like, chain);
+        };
+        let mut all: Option<Vec<Field>> = None;
+        let mut from: Vec<(String, &Node)> = vec![];
+        for l in likes {
+            let fields = self.resolve(l, chain)?;
+            let name = text_of(l);
+            for (k, _, _) in fields.iter().filter(|f| f.0 != "when" && f.0 != "reads") {
+                if let Some((_, other)) = from.iter().find(|(key, _)| key == k) {
+                    let msg = format!(
+                        "`{k}` is given by two templates, `{}` and `{name}`: each attribute comes from one",
+                        text_of(other)
+                    );
+                    self.diags.push(Diagnostic::error(Code::DuplicateKey, msg, l.span));
+                    return None;
+                }
+            }
+            from.extend(fields.iter().map(|f| (f.0.clone(), l)));
+            all = Some(match all {
+                None => fields,
+                Some(before) => super::groups::with_inherited(&fields, &before),
+            });
+        }
+        all
     }
 
     /// The attributes `Like("T", ARGS)` gives: T's, its parameters replaced by ARGS, over
@@ -281,11 +352,13 @@ impl Table<'_> {
             .iter()
             .map(|(k, s, v)| (k.clone(), *s, substitute(v, &t.params, args)))
             .collect();
-        let Some(at) = fields.iter().position(|f| f.0 == "like") else { return Some(fields) };
+        let Some(at) = fields.iter().position(|f| f.0 == "like") else {
+            return Some(fields);
+        };
         let mut own = fields;
         let (_, _, inner) = own.remove(at);
         chain.push(text(name).to_string());
-        let inherited = self.resolve(&inner, chain);
+        let inherited = self.resolve_all(&inner, chain);
         chain.pop();
         Some(super::groups::with_inherited(&own, &inherited?))
     }

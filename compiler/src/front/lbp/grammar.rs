@@ -104,6 +104,7 @@ mod tests {
                 "buffer",
                 "acceleration_structure",
                 "let",
+                "template",
                 "raster",
                 "fullscreen",
                 "compute",

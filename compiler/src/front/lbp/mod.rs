@@ -39,7 +39,7 @@ fn rule_word(r: &Rule) -> &'static str {
         Rule::pass => "a pass (`raster`, `fullscreen`, `compute`)",
         Rule::template => "`template`",
         Rule::template_params => "template parameters `(a, b)`",
-        Rule::like | Rule::like_word => "`like TEMPLATE`",
+        Rule::like | Rule::like_word | Rule::template_ref => "`like TEMPLATE`",
         Rule::arg => "a template parameter `$NAME`",
         Rule::pass_kind => "`raster`, `fullscreen` or `compute`",
         Rule::variant => "`variant`",

@@ -562,6 +562,7 @@ impl Builder<'_> {
                 Rule::pass => passes.push(self.pass(item)?),
                 Rule::group => passes.push(self.group(item)?),
                 Rule::like => f.put("like", at, self.like(item)?),
+                Rule::name => f.put("name", at, self.name(item)?),
                 rule => {
                     let key = pass_key(rule);
                     let node = self.pass_item(item, at)?;
@@ -573,13 +574,30 @@ impl Builder<'_> {
         Some(Node::structure("Group", head, f.0, span))
     }
 
-    /// `like NAME(ARGS)`: `Like("NAME", ARGS...)`.
+    /// `like NAME(ARGS)`: `Like("NAME", ARGS...)`; `like A, B(ARGS)` a list of them.
     fn like(&mut self, p: P) -> Option<Node> {
         let span = self.span(&p);
-        let mut it = kids(p).filter(|k| k.as_rule() != Rule::like_word);
+        let refs = kids(p).filter(|k| k.as_rule() == Rule::template_ref);
+        let mut likes = refs.map(|r| self.template_ref(r)).collect::<Option<Vec<_>>>()?;
+        match likes.len() {
+            1 => likes.pop(),
+            _ => Some(Node::list(likes, span)),
+        }
+    }
+
+    fn template_ref(&mut self, p: P) -> Option<Node> {
+        let span = self.span(&p);
+        let mut it = kids(p);
         let mut items = vec![self.name(it.next()?)?];
-        for v in it {
-            items.push(self.value(v)?);
+        for a in it {
+            let v = kids(a).next()?;
+            // A lone name is a value (a string, as `name` reads it); `a | b` options joined.
+            let arg = match v.as_rule() {
+                Rule::arm_key if kids(v.clone()).count() > 1 => self.option_list(v)?,
+                Rule::arm_key => self.name(kids(v).next()?)?,
+                _ => self.value(v)?,
+            };
+            items.push(arg);
         }
         Some(Node::call("Like", items, span))
     }
@@ -595,7 +613,7 @@ impl Builder<'_> {
             let ps = it.next()?;
             let at = self.span(&ps);
             let names = kids(ps).map(|i| Node::str(i.as_str(), self.span(&i))).collect();
-            f.put("params", at, Node::list(names, at));
+            f.put("parameters", at, Node::list(names, at));
         }
         for item in it {
             let at = self.span(&item);

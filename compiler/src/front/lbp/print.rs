@@ -20,8 +20,7 @@ pub fn name(s: &str) -> String {
         let mut c = p.chars();
         matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
     };
-    let arg = s.strip_prefix('$').is_some_and(ident);
-    if arg || !s.is_empty() && s.split('.').all(ident) && !RESERVED.contains(&s) {
+    if !s.is_empty() && s.split('.').all(ident) && !RESERVED.contains(&s) {
         s.to_string()
     } else {
         quote(s)
@@ -37,6 +36,22 @@ fn text(n: &Node) -> Cow<'_, str> {
     match (&*n.value, n.name()) {
         (Value::Tuple { items, .. }, Some("Arg")) => Cow::Owned(format!("${}", items.first().and_then(|i| i.text()).unwrap_or(""))),
         _ => Cow::Borrowed(n.text().unwrap_or("")),
+    }
+}
+
+/// A name as written (`name`), or a template's parameter standing for one.
+fn name_of(n: &Node) -> String {
+    match n.name() {
+        Some("Arg") => text(n).into_owned(),
+        _ => name(&text(n)),
+    }
+}
+
+/// Options `a | b` as written, or a template's parameter standing for them.
+fn options_of(n: &Node) -> String {
+    match n.name() {
+        Some("Arg") => text(n).into_owned(),
+        _ => options(&text(n)),
     }
 }
 
@@ -83,7 +98,7 @@ fn value(n: &Node) -> String {
         Value::Float(f) => format!("{}", f + 0.0),
         Value::Tuple { .. } if n.name() == Some("Arg") => text(n).into_owned(),
         Value::Tuple { .. } => format!("({})", items(n).iter().map(value).collect::<Vec<_>>().join(", ")),
-        _ => name(&text(n)),
+        _ => name_of(n),
     }
 }
 
@@ -107,7 +122,7 @@ impl Printer {
     fn root(&mut self, f: &[Field]) {
         if let Some(n) = get(f, "name") {
             self.out.comments_before(n.span, "");
-            let _ = writeln!(self.out.text, "pipeline {}", name(&text(n)));
+            let _ = writeln!(self.out.text, "pipeline {}", name_of(n));
         }
         self.composing(f);
         for (key, line) in [
@@ -142,7 +157,7 @@ impl Printer {
         for key in ["hdr_output", "output"] {
             if let Some(n) = get(f, key) {
                 self.out.comments_before(n.span, "");
-                let _ = writeln!(self.out.text, "{key} {}", name(&text(n)));
+                let _ = writeln!(self.out.text, "{key} {}", name_of(n));
             }
         }
         for key in ["always", "jitter"] {
@@ -164,9 +179,15 @@ impl Printer {
     fn template(&mut self, k: &Node, t: &Node) {
         self.out.text.push('\n');
         self.out.comments_before(item_start(k, t), "");
-        let params = get(fields(t), "params").map(|p| format!("({})", join(items(p), |n| text(n).into_owned())));
-        let _ = writeln!(self.out.text, "template {}{}{} {{", name(&text(k)), params.unwrap_or_default(), like(fields(t)));
-        for (k, _, v) in fields(t).iter().filter(|f| f.0 != "params" && f.0 != "like") {
+        let params = get(fields(t), "parameters").map(|p| format!("({})", join(items(p), |n| text(n).into_owned())));
+        let _ = writeln!(
+            self.out.text,
+            "template {}{}{} {{",
+            name_of(k),
+            params.unwrap_or_default(),
+            like(fields(t))
+        );
+        for (k, _, v) in fields(t).iter().filter(|f| f.0 != "parameters" && f.0 != "like") {
             self.out.comments_before(v.span, "    ");
             let _ = writeln!(self.out.text, "    {}", pass_line(k, v));
         }
@@ -177,9 +198,10 @@ impl Printer {
     fn group(&mut self, g: &Node, indent: &str) {
         self.out.text.push('\n');
         self.out.comments_before(g.span, indent);
-        let _ = writeln!(self.out.text, "{indent}group{} {{", like(fields(g)));
+        let named = get(fields(g), "name").map(|n| format!(" {}", name_of(n))).unwrap_or_default();
+        let _ = writeln!(self.out.text, "{indent}group{named}{} {{", like(fields(g)));
         let inner = format!("{indent}    ");
-        for (k, _, v) in fields(g).iter().filter(|f| f.0 != "passes" && f.0 != "like") {
+        for (k, _, v) in fields(g).iter().filter(|f| !matches!(f.0.as_str(), "passes" | "like" | "name")) {
             self.out.comments_before(v.span, &inner);
             let _ = writeln!(self.out.text, "{inner}{}", pass_line(k, v));
         }
@@ -236,12 +258,16 @@ impl Printer {
         }
         for (k, v) in get(f, "fix").map(entries).unwrap_or(&[]) {
             self.out.comments_before(item_start(k, v), "");
-            let _ = writeln!(self.out.text, "fix {} = {}", name(&text(k)), name(&text(v)));
+            let _ = writeln!(self.out.text, "fix {} = {}", name_of(k), name_of(v));
         }
         for r in get(f, "remove").map(items).unwrap_or(&[]) {
             self.out.comments_before(r.span, "");
             let what = r.name().unwrap_or("").to_lowercase();
-            let _ = writeln!(self.out.text, "remove {what} {}", name(&items(r).first().map(text).unwrap_or_default()));
+            let _ = writeln!(
+                self.out.text,
+                "remove {what} {}",
+                name(&items(r).first().map(text).unwrap_or_default())
+            );
         }
     }
 
@@ -255,10 +281,10 @@ impl Printer {
         let f = fields(v);
         let doc = get(f, "doc").map(|d| format!(" {}", quoted(d))).unwrap_or_default();
         let default = get(f, "default").map(text).unwrap_or_default();
-        let _ = writeln!(self.out.text, "{replace}variant {} = {}{doc} {{", name(&text(k)), name(&default));
+        let _ = writeln!(self.out.text, "{replace}variant {} = {}{doc} {{", name_of(k), name(&default));
         for (ok, ov) in get(f, "options").map(entries).unwrap_or(&[]) {
             self.out.comments_before(item_start(ok, ov), "    ");
-            let _ = writeln!(self.out.text, "    option {}{}", name(&text(ok)), option(fields(ov)));
+            let _ = writeln!(self.out.text, "    option {}{}", name_of(ok), option(fields(ov)));
         }
         self.out.text.push_str("}\n");
     }
@@ -267,14 +293,10 @@ impl Printer {
 fn param(k: &Node, v: &Node) -> String {
     let f = fields(v);
     let ty = match get(f, "options") {
-        Some(opts) => format!("enum({})", join(items(opts), |o| name(&text(o)))),
+        Some(opts) => format!("enum({})", join(items(opts), |o| name_of(o))),
         None => v.name().unwrap_or("").to_string(),
     };
-    let mut line = format!(
-        "param {}: {ty} = {}",
-        name(&text(k)),
-        get(f, "default").map(value).unwrap_or_default()
-    );
+    let mut line = format!("param {}: {ty} = {}", name_of(k), get(f, "default").map(value).unwrap_or_default());
     match (get(f, "min"), get(f, "max")) {
         (Some(lo), Some(hi)) => line += &format!(" in {}..{}", value(lo), value(hi)),
         (Some(lo), None) => line += &format!(" min {}", value(lo)),
@@ -288,7 +310,7 @@ fn param(k: &Node, v: &Node) -> String {
 }
 
 fn sampler(k: &Node, v: &Node) -> String {
-    let mut line = format!("sampler {}:", name(&text(k)));
+    let mut line = format!("sampler {}:", name_of(k));
     for (key, _, n) in fields(v) {
         match key.as_str() {
             "mipmap" | "compare" => line += &format!(" {key} {}", text(n)),
@@ -315,15 +337,15 @@ fn per_light(n: &Node) -> String {
 fn resource(k: &Node, v: &Node) -> String {
     let f = fields(v);
     if v.name() == Some("AccelerationStructure") {
-        return format!("acceleration_structure {}", name(&text(k)));
+        return format!("acceleration_structure {}", name_of(k));
     }
     let mut line = if v.name() == Some("Buffer") {
-        format!("buffer {}: {} bytes", name(&text(k)), get(f, "size").map(value).unwrap_or_default())
+        format!("buffer {}: {} bytes", name_of(k), get(f, "size").map(value).unwrap_or_default())
     } else {
         // LBP always writes the size; the tree leaves it out when it is the default.
         let default = defaults::get("Texture", "size").map(|d| d.node(v.span));
         let sz = get(f, "size").cloned().or(default).map(|n| size(&n)).unwrap_or_default();
-        format!("texture {}: {} {sz}", name(&text(k)), get(f, "format").map(text).unwrap_or_default())
+        format!("texture {}: {} {sz}", name_of(k), get(f, "format").map(text).unwrap_or_default())
     };
     for (key, _, n) in f {
         match key.as_str() {
@@ -361,6 +383,9 @@ fn mip(n: &Node) -> String {
 
 /// A stage reference: an entry name, or `"file#entry"` quoted.
 fn stage(n: &Node) -> String {
+    if n.name() == Some("Arg") {
+        return text(n).into_owned();
+    }
     let t = text(n);
     if t.contains('#') {
         quote(&t)
@@ -369,12 +394,30 @@ fn stage(n: &Node) -> String {
     }
 }
 
-/// ` like NAME(ARGS)` for an item `like` a template, else nothing.
+/// ` like NAME(ARGS), …` for an item `like` templates, else nothing.
 fn like(f: &[Field]) -> String {
     let Some(l) = get(f, "like") else { return String::new() };
-    let (template, args) = items(l).split_first().map_or((None, &[][..]), |(t, a)| (Some(t), a));
-    let args = if args.is_empty() { String::new() } else { format!("({})", join(args, value)) };
-    format!(" like {}{args}", name(&template.map(text).unwrap_or_default()))
+    let one = |l: &Node| {
+        let (template, args) = items(l).split_first().map_or((None, &[][..]), |(t, a)| (Some(t), a));
+        let args = if args.is_empty() {
+            String::new()
+        } else {
+            format!("({})", join(args, argument))
+        };
+        format!("{}{args}", name(&template.map(text).unwrap_or_default()))
+    };
+    match &*l.value {
+        Value::List(likes) => format!(" like {}", join(likes, one)),
+        _ => format!(" like {}", one(l)),
+    }
+}
+
+/// A template's argument: a value, or options `a | b` as a condition writes them.
+fn argument(n: &Node) -> String {
+    match &*n.value {
+        Value::Str(s) if s.contains('|') => options(s),
+        _ => value(n),
+    }
 }
 
 fn pass_line(key: &str, v: &Node) -> String {
@@ -399,19 +442,19 @@ fn pass_line(key: &str, v: &Node) -> String {
         "shadow_casters" => "shadow_casters".into(),
         "always" => "always".into(),
         "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
-        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name(&text(n))).unwrap_or_default()),
+        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name_of(n)).unwrap_or_default()),
         "values" => format!("set {}", assignments(v, value)),
         "constants" => format!("constants {}", assignments(v, constant)),
         "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
-        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name(&text(n))))),
-        "param_block" => format!("param_block {}", name(&text(v))),
-        "after" => format!("after {}", name(&text(v))),
+        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name_of(n)))),
+        "param_block" => format!("param_block {}", name_of(v)),
+        "after" => format!("after {}", name_of(v)),
         "color" => format!("color {}", join(items(v), |n| element(n, target))),
         "depth" => format!("depth {}", target(v)),
-        "bind" => format!("bind {}", assignments(v, |b| name(&text(b)))),
+        "bind" => format!("bind {}", assignments(v, |b| name_of(b))),
         "when" => format!("when {}", cond(v)),
         "dispatch" if v.name() == Some("Groups") => format!("dispatch groups({})", join(items(v), value)),
-        "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name(&text(n))).unwrap_or_default()),
+        "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name_of(n)).unwrap_or_default()),
         _ => format!("{key} {}", value(v)),
     }
 }
@@ -467,10 +510,7 @@ fn arm_value(key: &str, v: &Node) -> String {
 
 /// `NAME = VALUE, ...` of a map (`set`, `constants`, `bind`).
 fn assignments(v: &Node, value: impl Fn(&Node) -> String) -> String {
-    let each: Vec<String> = entries(v)
-        .iter()
-        .map(|(a, b)| format!("{} = {}", name(&text(a)), value(b)))
-        .collect();
+    let each: Vec<String> = entries(v).iter().map(|(a, b)| format!("{} = {}", name_of(a), value(b))).collect();
     each.join(", ")
 }
 
@@ -487,7 +527,7 @@ fn is_match(n: &Node) -> bool {
 fn constant(n: &Node) -> String {
     match n.name() {
         Some(w @ ("Param" | "Variant")) if matches!(&*n.value, Value::Tuple { .. }) => {
-            format!("{}({})", w.to_lowercase(), join(items(n), |a| name(&text(a))))
+            format!("{}({})", w.to_lowercase(), join(items(n), |a| name_of(a)))
         }
         _ => value(n),
     }
@@ -495,7 +535,9 @@ fn constant(n: &Node) -> String {
 
 fn read(n: &Node) -> String {
     match n.name() {
-        Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => format!("prev({})", name(&items(n).first().map(text).unwrap_or_default())),
+        Some("Prev") if matches!(&*n.value, Value::Tuple { .. }) => {
+            format!("prev({})", name(&items(n).first().map(text).unwrap_or_default()))
+        }
         Some("Layer") if matches!(&*n.value, Value::Tuple { .. }) => format!(
             "layer({}, {})",
             name(&items(n).first().map(text).unwrap_or_default()),
@@ -509,14 +551,14 @@ fn read(n: &Node) -> String {
             name(&items(n).first().map(text).unwrap_or_default()),
             items(n).get(1).map(mip).unwrap_or_default()
         ),
-        _ => name(&text(n)),
+        _ => name_of(n),
     }
 }
 
 fn target(n: &Node) -> String {
     let f = fields(n);
     if f.is_empty() {
-        return name(&text(n));
+        return name_of(n);
     }
     let mut t = name(&get(f, "resource").map(text).unwrap_or_default());
     for (key, _, v) in f {
@@ -538,13 +580,13 @@ fn target(n: &Node) -> String {
 
 /// `let NAME = CONDITION`.
 fn let_line(k: &Node, v: &Node) -> String {
-    format!("let {} = {}", name(&text(k)), cond(v))
+    format!("let {} = {}", name_of(k), cond(v))
 }
 
 fn cond(n: &Node) -> String {
     let args = items(n);
     match n.name().unwrap_or("") {
-        "Let" => args.first().map(|a| name(&text(a))).unwrap_or_default(),
+        "Let" => args.first().map(|a| name_of(a)).unwrap_or_default(),
         "Reflective" => "reflective".into(),
         "Blended" => "blended".into(),
         "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),
@@ -552,10 +594,10 @@ fn cond(n: &Node) -> String {
         w @ ("Light" | "Effect") => format!("{}({})", w.to_lowercase(), join(args, |a| text(a).to_string())),
         // A variant's option may be several: `a | b`, each a name.
         "Variant" => match args {
-            [v, o] => format!("variant({}, {})", name(&text(v)), options(&text(o))),
-            _ => format!("variant({})", join(args, |a| name(&text(a)))),
+            [v, o] => format!("variant({}, {})", name_of(v), options_of(o)),
+            _ => format!("variant({})", join(args, |a| name_of(a))),
         },
-        w => format!("{}({})", w.to_lowercase(), join(args, |a| name(&text(a)))),
+        w => format!("{}({})", w.to_lowercase(), join(args, |a| name_of(a))),
     }
 }
 
@@ -573,19 +615,13 @@ fn option(f: &[Field]) -> String {
                 let ls: Vec<String> = entries(v).iter().map(|(k, n)| format!("{} = {}", text(k), value(n))).collect();
                 line += &format!(" limit({})", ls.join(", "));
             }
-            "fallback" => line += &format!(" fallback {}", name(&text(v))),
+            "fallback" => line += &format!(" fallback {}", name_of(v)),
             "shaders" => {
-                let ss: Vec<String> = entries(v)
-                    .iter()
-                    .map(|(k, n)| format!("{} = {}", name(&text(k)), quoted(n)))
-                    .collect();
+                let ss: Vec<String> = entries(v).iter().map(|(k, n)| format!("{} = {}", name_of(k), quoted(n))).collect();
                 line += &format!(" shader({})", ss.join(", "));
             }
             "params" => {
-                let ss: Vec<String> = entries(v)
-                    .iter()
-                    .map(|(k, n)| format!("{} = {}", name(&text(k)), value(n)))
-                    .collect();
+                let ss: Vec<String> = entries(v).iter().map(|(k, n)| format!("{} = {}", name_of(k), value(n))).collect();
                 line += &format!(" set({})", ss.join(", "));
             }
             "jitter" if matches!(*v.value, Value::Bool(true)) => line += " jitter",
