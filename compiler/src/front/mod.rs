@@ -30,7 +30,7 @@ pub fn quote(s: &str) -> String {
 
 /// Where comments before an item go: the earliest of its key's and value's spans (RON
 /// writes the key first, LBP the keyword that starts the value).
-pub(crate) fn item_start(key: &crate::tree::Node, value: &crate::tree::Node) -> crate::span::Span {
+pub fn item_start(key: &crate::tree::Node, value: &crate::tree::Node) -> crate::span::Span {
     if key.span.start <= value.span.start {
         key.span
     } else {

@@ -7,7 +7,7 @@
 //! between items and the keys of a pass kind (the syntax tree's own list) inside one; in a
 //! scene file, effects and light kinds. Each item replaces the whole word at the cursor.
 
-use super::index::{Index, Kind};
+use super::index::{Index, Kind, ShaderUse};
 use super::shader::is_shader;
 use super::text::{name_char, offset, path_char, path_of, range, word_around};
 use super::words::key_of;
@@ -89,19 +89,30 @@ impl Server {
         Some((items, name_char))
     }
 
-    /// Entry points of the shader of the pass around the cursor.
+    /// Entry points of the shader of the pass around the cursor; in a template, of the
+    /// shaders its attributes name an entry of or a file for.
     fn entries_near(&self, path: &Path, ix: &Index, cursor: usize) -> Vec<Label> {
         let file = ix.sources.find(&path.display().to_string());
-        let pass = ix.symbols.iter().find(|s| {
-            s.kind == Kind::Pass && Some(s.extent.file) == file && (s.extent.start as usize) <= cursor && cursor <= s.extent.end as usize
-        });
-        let Some(pass) = pass else { return vec![] };
-        let files: BTreeSet<&str> = ix
-            .shaders
-            .iter()
-            .filter(|u| u.pass == pass.name)
-            .map(|u| u.file.value.as_str())
-            .collect();
+        let around = |kind: Kind| {
+            ix.symbols.iter().find(|s| {
+                s.kind == kind && Some(s.extent.file) == file && (s.extent.start as usize) <= cursor && cursor <= s.extent.end as usize
+            })
+        };
+        let files: BTreeSet<&str> = match (around(Kind::Pass), around(Kind::Template)) {
+            (Some(pass), _) => ix
+                .shaders
+                .iter()
+                .filter(|u| u.pass == pass.name)
+                .map(|u| u.file.value.as_str())
+                .collect(),
+            (None, Some(t)) => {
+                let inside =
+                    |s: &lightbench_compiler::span::Span| s.file == t.extent.file && t.extent.start <= s.start && s.end <= t.extent.end;
+                let named_here = |u: &&ShaderUse| inside(&u.file.span) || u.entry.as_ref().is_some_and(|e| inside(&e.span));
+                ix.shaders.iter().filter(named_here).map(|u| u.file.value.as_str()).collect()
+            }
+            _ => return vec![],
+        };
         files
             .into_iter()
             .flat_map(|f| self.shader_entries(path, f))

@@ -234,8 +234,14 @@ impl Server {
             return refuse("nothing to rename here");
         };
         let s = &ix.symbols[sym];
-        if !matches!(s.kind, Kind::Resource | Kind::Param | Kind::Sampler | Kind::Pass | Kind::Let) || s.decl.file != at.file {
-            return refuse("only resources, parameters, samplers, passes and named conditions declared in this file can be renamed");
+        if !matches!(
+            s.kind,
+            Kind::Resource | Kind::Param | Kind::Sampler | Kind::Pass | Kind::Let | Kind::Template
+        ) || s.decl.file != at.file
+        {
+            return refuse(
+                "only resources, parameters, samplers, passes, named conditions and templates declared in this file can be renamed",
+            );
         }
         let taken = |k: Kind| ix.find(k, &p.new_name).is_some_and(|other| other != sym);
         // Resources and samplers are bound by one namespace of names.
@@ -281,6 +287,7 @@ impl Server {
                 Kind::Pass => SymbolKind::FUNCTION,
                 Kind::Variant => SymbolKind::ENUM,
                 Kind::Let => SymbolKind::CONSTANT,
+                Kind::Template => SymbolKind::CLASS,
                 Kind::Option(_) => continue,
             };
             let children: Vec<DocumentSymbol> = ix

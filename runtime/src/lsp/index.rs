@@ -4,10 +4,12 @@
 //! definition, references, rename, symbols and completion read it.
 
 use lightbench_compiler::format::TextureFormat;
+use lightbench_compiler::front::item_start;
 use lightbench_compiler::ir::{
     Condition, Constant, Param, Pass, PassKind, Pipeline, Repeat, Resource, ResourceKind, SamplerDecl, SizeSpec, Variant,
 };
 use lightbench_compiler::span::{SourceMap, Span, Spanned};
+use lightbench_compiler::tree::{Field, Node, Value};
 use std::collections::{BTreeSet, HashMap};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -21,6 +23,8 @@ pub enum Kind {
     Option(usize),
     /// A named condition (`let`).
     Let,
+    /// Attributes written once (`template`), given to the passes and groups `like` it.
+    Template,
 }
 
 impl Kind {
@@ -33,6 +37,7 @@ impl Kind {
             Kind::Variant => "variant",
             Kind::Option(_) => "option",
             Kind::Let => "named condition",
+            Kind::Template => "template",
         }
     }
 }
@@ -111,6 +116,7 @@ impl Index {
             let hover = format!("**let** `{}` = `{}`", l.name.value, l.value.value.describe());
             ix.declare(Kind::Let, &l.name, l.name.span.to(l.value.span), hover);
         }
+        ix.templates(p);
         ix.name_uses(p);
         ix.uses.sort_by_key(|(s, i)| (s.file, s.start, s.end, *i));
         ix.uses.dedup();
@@ -139,6 +145,31 @@ impl Index {
         });
         if sibling.is_none() {
             self.uses.push((name.span, self.symbols.len() - 1));
+        }
+    }
+
+    /// Templates and the items `like` them: only the file as written holds them (they are
+    /// given before lowering).
+    fn templates(&mut self, p: &Pipeline) {
+        let Some(root) = p.written.as_ref().map(|w| &w.0) else { return };
+        let Value::Struct { fields, .. } = &*root.value else { return };
+        let mut likes = vec![];
+        for (key, _, v) in fields {
+            likes_under(key, v, &mut likes);
+        }
+        let entries = match fields.iter().find(|f| f.0 == "templates").map(|f| &*f.2.value) {
+            Some(Value::Map(entries)) => entries.as_slice(),
+            _ => &[],
+        };
+        for (k, v) in entries {
+            let name = k.text().unwrap_or("").to_string();
+            let users: Vec<&str> = likes.iter().filter(|l| l.0 == name).map(|l| l.2.as_str()).collect();
+            let hover = template_hover(&name, v, &users);
+            let extent = item_start(k, v).to(v.span);
+            self.declare(Kind::Template, &Spanned::new(name, k.span), extent, hover);
+        }
+        for (name, span, _) in likes {
+            self.name_use(Kind::Template, &Spanned::new(name, span));
         }
     }
 
@@ -470,4 +501,86 @@ pub fn entry_points(text: &str, path: &std::path::Path) -> Vec<(String, &'static
     }
     out.sort_by_key(|e| e.2);
     out
+}
+
+/// Each `like NAME` under a key of the written tree: (template, its span, what is like it).
+fn likes_under(key: &str, n: &Node, out: &mut Vec<(String, Span, String)>) {
+    match &*n.value {
+        Value::Map(entries) if key == "templates" => {
+            for (k, v) in entries {
+                likes_of(v, &format!("template `{}`", k.text().unwrap_or("")), out);
+            }
+        }
+        Value::List(items) if key == "passes" => {
+            for item in items {
+                let name = fields_of(item).iter().find(|f| f.0 == "name").and_then(|f| f.2.text());
+                let what = match (item.name(), name) {
+                    (Some("Group"), Some(n)) => format!("group `{n}`"),
+                    (Some("Group"), None) => "a group".to_string(),
+                    (_, n) => format!("pass `{}`", n.unwrap_or("")),
+                };
+                likes_of(item, &what, out);
+                for (k, _, v) in fields_of(item).iter().filter(|f| f.0 == "passes") {
+                    likes_under(k, v, out);
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
+fn fields_of(n: &Node) -> &[Field] {
+    match &*n.value {
+        Value::Struct { fields, .. } => fields,
+        _ => &[],
+    }
+}
+
+/// The templates an item's `like` names.
+fn likes_of(item: &Node, what: &str, out: &mut Vec<(String, Span, String)>) {
+    let Some((_, _, like)) = fields_of(item).iter().find(|f| f.0 == "like") else {
+        return;
+    };
+    let refs: Vec<&Node> = match &*like.value {
+        Value::List(items) => items.iter().collect(),
+        _ => vec![like],
+    };
+    for r in refs {
+        if let Value::Tuple { items, .. } = &*r.value {
+            if let Some(name) = items.first() {
+                out.push((name.text().unwrap_or("").to_string(), name.span, what.to_string()));
+            }
+        }
+    }
+}
+
+/// A template: its parameters, the attributes it gives, what is like it.
+fn template_hover(name: &str, t: &Node, users: &[&str]) -> String {
+    let f = fields_of(t);
+    let params = f
+        .iter()
+        .find(|x| x.0 == "parameters")
+        .map(|x| match &*x.2.value {
+            Value::List(ps) => format!("({})", ps.iter().filter_map(|p| p.text()).collect::<Vec<_>>().join(", ")),
+            _ => String::new(),
+        })
+        .unwrap_or_default();
+    let gives: Vec<String> = f
+        .iter()
+        .filter(|x| x.0 != "parameters")
+        .map(|x| format!("`{}`", if x.0 == "values" { "set" } else { x.0.as_str() }))
+        .collect();
+    let like = if users.is_empty() {
+        "nothing".to_string()
+    } else {
+        users.join(", ")
+    };
+    format!(
+        "**template** `{name}{params}`
+
+gives {}
+
+like it: {like}",
+        gives.join(", ")
+    )
 }

@@ -631,12 +631,21 @@ fn a_shader_global_leads_to_the_declaration_that_binds_it() {
     // `#include` leads to the file; `file#entry` in the pipeline to the entry point.
     let inc = c.request("textDocument/definition", at(&shader, &src, "#include \"lib/frame.wgsl\"", 12));
     assert_eq!(inc["uri"], json!(uri(&dir.join("shaders/lib/frame.wgsl"))), "{inc}");
-    let entry = c.request("textDocument/definition", at(&path, &text, "\"light_shadowed.wgsl#fs_main\"", 22));
-    // The entry points of light_shadowed.wgsl are written in the file it includes.
+    let entry = c.request(
+        "textDocument/definition",
+        at(&path, &text, "vertex \"light_volume.wgsl#vs_volume\"", 27),
+    );
+    let target = dir.join("shaders/light_volume.wgsl");
+    assert_eq!(entry["uri"], json!(uri(&target)), "{entry}");
+    let target_text = std::fs::read_to_string(&target).unwrap();
+    assert_eq!(entry["range"]["start"], pos(&target_text, "vs_volume(", 0), "{entry}");
+    // An entry point by name, of a pass whose shader (`light_shadowed.wgsl`, from a template)
+    // writes its entry points in the file it includes.
+    let entry = c.request("textDocument/definition", at(&path, &text, "fragment fs_forward", 12));
     let target = dir.join("shaders/lib/light_entries.wgsl");
     assert_eq!(entry["uri"], json!(uri(&target)), "{entry}");
     let target_text = std::fs::read_to_string(&target).unwrap();
-    assert_eq!(entry["range"]["start"], pos(&target_text, "fs_main(", 0), "{entry}");
+    assert_eq!(entry["range"]["start"], pos(&target_text, "fs_forward(", 0), "{entry}");
     let taa = dir.join("shaders/taa.wgsl");
     let taa_src = std::fs::read_to_string(&taa).unwrap();
     let f = c.request("textDocument/hover", at(&taa, &taa_src, "frame.resolution", 7));

@@ -57,8 +57,8 @@ fn completion_replaces_the_whole_dotted_word_in_every_context() {
     assert!(accept(&items, &text, "peel.layers").contains("\n    params peel.layers\n"));
     assert!(accept(&items, &text, "shadow.pcf").contains("\n    params shadow.pcf\n"));
 
-    // In a choice: an arm's value is the key's (entry points, resources), its options the
-    // variant's.
+    // In a choice: an arm's value is the key's (entry points — in a template, of the shaders
+    // of the passes like it — and resources), its options the variant's.
     let items = complete(&mut c, &path, &good, "fragment match(gbuffer) { packed: fs_main, fat: fs_");
     assert!(accept(&items, &good, "fs_fat_position").contains("{ packed: fs_main, fat: fs_fat_position }"));
     let items = complete(&mut c, &path, &good, "color match(gbuffer) { packed: gbuf.normal, fat: gbuf.f");
@@ -70,7 +70,7 @@ fn completion_replaces_the_whole_dotted_word_in_every_context() {
     assert!(accept(&items, &good, "Rgba16Float").contains("texture gbuf.albedo: Rgba16Float viewport\n"));
     // Shader files in a pass's quotes (below the shader folder, `lib/` too): the path.
     let items = complete(&mut c, &path, &good, "fullscreen ambient \"amb");
-    assert!(accept(&items, &good, "taa.wgsl").contains("fullscreen ambient \"taa.wgsl\" {"));
+    assert!(accept(&items, &good, "taa.wgsl").contains("fullscreen ambient \"taa.wgsl\" like deferred_only, first_light {"));
     assert!(items.iter().any(|i| i["label"] == "lib/material.wgsl"), "{items:?}");
 
     // Between items: the grammar's top-level keywords.
@@ -87,7 +87,7 @@ fn completion_replaces_the_whole_dotted_word_in_every_context() {
     let (gi, gi_text, mut c) = open_in(&dir, "pipelines/deferred_gi.lbp");
     let items = complete(&mut c, &gi, &gi_text, "    after amb");
     // (the AO passes' group says `after ambient` for them)
-    assert!(accept(&items, &gi_text, "light_point").contains("group {\n    after light_point\n\n    fullscreen ssao"));
+    assert!(accept(&items, &gi_text, "light_point").contains("group ambient_occlusion {\n    after light_point\n\n    fullscreen ssao"));
     let items = complete(&mut c, &gi, &gi_text, "use \"defe");
     assert!(accept(&items, &gi_text, "deferred.ron").contains("use \"deferred.ron\"\n"));
     assert!(!items.iter().any(|i| i["label"] == "deferred_gi.lbp"), "{items:?}");
@@ -128,7 +128,7 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
     assert_eq!(d["range"]["start"], pos(&text, "param peel.layers", 6));
     // A pass choosing by light kind: hover shows each pass it makes; it is not renamed alone
     // (its passes' names follow it).
-    let h = hover(&mut c, &path, &text, "fullscreen light {", 12);
+    let h = hover(&mut c, &path, &text, "fullscreen light like", 12);
     assert!(
         h.starts_with("**fullscreen pass** `light_directional_spot`") && h.contains("**fullscreen pass** `light_point`"),
         "{h}"
@@ -137,7 +137,7 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
         h.contains("runs per Directional or Spot light") && h.contains("runs per Point light"),
         "{h}"
     );
-    let mut rename = at(&path, &text, "fullscreen light {", 12);
+    let mut rename = at(&path, &text, "fullscreen light like", 12);
     rename["newName"] = json!("shade");
     let refused = c.call("textDocument/rename", rename);
     assert!(
@@ -147,6 +147,32 @@ fn hover_and_definition_reach_formats_entry_points_uses_after_and_param_names() 
             .contains("one pass per light kind"),
         "{refused}"
     );
+    // A template: hover says what it gives and what is like it; definition leads from a
+    // `like` to it; a rename renames every `like`.
+    let h = hover(&mut c, &path, &text, "like shadowed(maps)", 6);
+    assert!(
+        h.starts_with("**template** `shadowed(technique)`\n\ngives `per_light`, `when`")
+            && h.contains("like it: template `shadow_mapped`, template `shadow_traced`"),
+        "{h}"
+    );
+    let h = hover(&mut c, &path, &text, "template two_sided {", 10);
+    assert!(
+        h.contains("like it: template `blended_surfaces`, pass `gbuffer`, pass `gbuffer_fat_position`, group `shadow_maps`"),
+        "{h}"
+    );
+    let d = definition(&mut c, &path, &text, "like shadowed(rt)", 6);
+    assert_eq!(d["range"]["start"], pos(&text, "shadowed(technique) {", 0), "{d}");
+    let mut rename = at(&path, &text, "template two_sided {", 10);
+    rename["newName"] = json!("both_faces");
+    let edits = c.request("textDocument/rename", rename);
+    let edits = edits["changes"][uri(&path)].as_array().unwrap().clone();
+    let renamed = apply(&text, &edits);
+    assert_eq!(
+        renamed.matches("both_faces").count(),
+        text.matches("two_sided").count(),
+        "{renamed}"
+    );
+    assert!(!renamed.contains("two_sided") && renamed.contains("group forward_models like both_faces {"));
     assert_eq!(c.finish(), 0);
 
     let (gi, gi_text, mut c) = open_in(&dir, "pipelines/deferred_gi.lbp");
@@ -340,13 +366,11 @@ fn named_conditions_hover_define_complete_and_rename() {
         shown.starts_with("**let** `deferred` = `Any(Variant(\"lighting\", \"deferred_fullscreen\")"),
         "{shown}"
     );
-    let d = c.request(
-        "textDocument/definition",
-        at(&path, &text, "when all(deferred, variant(gbuffer, fat))", 12),
-    );
+    let area = "when all(variant(area_lights, ltc | ltc_shadowed), deferred)";
+    let d = c.request("textDocument/definition", at(&path, &text, area, area.len() - 4));
     assert_eq!(d["range"]["start"], pos(&text, "let deferred", 4), "{d}");
 
-    let typed = text.replacen("when all(deferred, variant(gbuffer, fat))", "when all(def", 1);
+    let typed = text.replacen(area, "when all(def", 1);
     c.change(&path, 2, &typed);
     let items = complete(&mut c, &path, &typed, "when all(def");
     assert!(accept(&items, &typed, "deferred").contains("when all(deferred\n"));
@@ -361,6 +385,10 @@ fn named_conditions_hover_define_complete_and_rename() {
     let uses = text.matches("deferred\n").count() + text.matches("deferred,").count() + text.matches("deferred)").count();
     assert_eq!(edits.len(), uses, "{r}");
     let renamed = apply(&text, &edits);
-    assert!(renamed.contains("let reads_gbuffer = variant(lighting") && renamed.contains("when all(reads_gbuffer, variant(gbuffer, fat))"));
+    assert!(
+        renamed.contains("let reads_gbuffer = variant(lighting")
+            && renamed.contains("when all(variant(area_lights, ltc | ltc_shadowed), reads_gbuffer)")
+            && renamed.contains("template deferred_only {\n    when reads_gbuffer\n")
+    );
     assert_eq!(c.finish(), 0);
 }
