@@ -83,6 +83,7 @@ impl Workspace {
             modules: self.modules.clone(),
             dependencies: BTreeSet::new(),
             run: None,
+            origins: vec![],
         }
     }
 
@@ -132,6 +133,8 @@ pub struct Session {
     dependencies: BTreeSet<PathBuf>,
     /// What the sessions of one run (`check_files`) share, if part of one.
     run: Option<Arc<Run>>,
+    /// Where the passes of the files being composed were written (stage `origins`).
+    origins: Vec<crate::syntax::origins::Origin>,
 }
 
 /// What the sessions of one run made of the files of its snapshot, for the others to take.
@@ -342,8 +345,18 @@ impl Session {
         };
         let Some(tree) = tree else { return (None, false) };
         let before = self.diags.error_count();
+        self.origins.clear();
         let merged = self.compose(name, &tree, &mut vec![]);
         let mut p = merged.and_then(|m| crate::syntax::lower::pipeline_partial(&m, &mut self.diags));
+        if let Some(p) = p.as_mut() {
+            let origins = std::mem::take(&mut self.origins);
+            for pass in &mut p.passes {
+                pass.origin = origins
+                    .iter()
+                    .find(|o| o.span == pass.span)
+                    .and_then(|o| o.describe(&pass.name.value));
+            }
+        }
         // A pipeline that uses another, or groups passes, prints as written.
         let as_written = crate::syntax::compose::used(&tree).is_some()
             || crate::syntax::groups::has_groups(&tree)
@@ -382,6 +395,7 @@ impl Session {
         // Each file's templates give their attributes, its groups become their passes, and
         // passes choosing by light kind one pass per kind they tell apart, before items merge
         // by name.
+        self.origins.extend(crate::syntax::origins::of(tree));
         let tree = &crate::syntax::templates::expand(tree, &mut self.diags);
         let tree = &crate::syntax::groups::expand(tree, &mut self.diags);
         let tree = &crate::syntax::light_choices::expand(tree, &mut self.diags);

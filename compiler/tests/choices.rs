@@ -46,6 +46,7 @@ fn essence(plan: &Plan, rename: bool) -> Value {
         let name = p["name"].as_str().unwrap().to_string();
         p["name"] = Value::from(if rename { new_name(&name) } else { &name });
         p.as_object_mut().unwrap().remove("arms");
+        p.as_object_mut().unwrap().remove("origin");
     }
     let keep = [
         "passes",
@@ -95,7 +96,7 @@ fn text_essence(plan: &Plan, rename: bool) -> String {
         let t = line.trim_start();
         match section {
             "variants" | "culled" => continue,
-            _ if t.starts_with("from: ") || t.starts_with("arms: ") => continue,
+            _ if t.starts_with("from: ") || t.starts_with("arms: ") || t.starts_with("written: ") => continue,
             "resources" => resources.push(line.to_string()),
             _ => out.push(line.to_string()),
         }

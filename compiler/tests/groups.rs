@@ -36,7 +36,7 @@ fn plan(tag: &str, file: &str, text: &str, option: &str, scene: &SceneFeatures) 
 }
 
 fn json(p: &Plan) -> String {
-    serde_json::to_string(&p.passes).unwrap()
+    plain_passes(p)
 }
 
 /// A grouped pipeline plans exactly as the pipeline written out, for every option and with

@@ -682,6 +682,7 @@ mod generated {
                 // Choices are lowered to copies: the round trip of their forms is tested on files.
                 choice: None,
                 from: None,
+                origin: None,
                 span: Span::default(),
             }
         })

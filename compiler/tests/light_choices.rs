@@ -43,7 +43,7 @@ fn passes_json(tag: &str, file: &str, text: &str) -> String {
     let mut s = Session::new();
     let plan = s.plan_file(&dir.join(file), Some(&dir), &Profile::vulkan(), &SceneFeatures::everything(), &[]);
     let plan = plan.unwrap_or_else(|| panic!("{}", s.render()));
-    serde_json::to_string(&plan.passes).unwrap()
+    plain_passes(&plan)
 }
 
 /// The pass choosing by light kind plans as the two passes written out — named by the kinds

@@ -42,7 +42,7 @@ fn plan(tag: &str, file: &str, text: &str, option: Option<&str>) -> Plan {
 }
 
 fn json(p: &Plan) -> String {
-    serde_json::to_string(&p.passes).unwrap()
+    plain_passes(p)
 }
 
 /// The templated pipeline plans exactly as the pipeline written out, for each option; its RON
@@ -74,6 +74,18 @@ fn a_template_plans_as_its_passes_written_out() {
         assert_eq!(names, kept, "look={option}");
     }
     assert_eq!(lightbench_compiler::front::lbp::print::print(&p, Some(&templated)), templated);
+    // `plan --explain` says where each pass was written; the written-out pipeline's passes
+    // say nothing of the kind.
+    let explained = lightbench_compiler::plan::to_text(&plan("templates-x", "m.lbp", &templated, Some("b")), true);
+    for line in [
+        "      written: like `fill(0, 0.25)`\n",
+        "      written: like `fill(1, 0.5)`\n",
+        "      written: in a group (like `base`)\n",
+    ] {
+        assert!(explained.contains(line), "{line}\n{explained}");
+    }
+    let plain = lightbench_compiler::plan::to_text(&plan("templates-y", "m.lbp", &written, Some("b")), true);
+    assert!(!plain.contains("written:"), "{plain}");
     std::fs::write(dir.join("m.ron"), &ron).unwrap();
     let back = s.load_pipeline(&dir.join("m.ron")).unwrap_or_else(|| panic!("{}", s.render()));
     assert_eq!(lightbench_compiler::front::lbp::print::print(&back, Some(&ron)), templated);

@@ -423,6 +423,10 @@ pub struct Pass {
     /// For a pass of a used pipeline: that pipeline's file (`plan --explain` says so).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub from: Option<String>,
+    /// Where it was written, when that says more than the pass: the groups around it, the
+    /// templates it is like, the pass a choice by light kind made it from (`plan --explain`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub origin: Option<String>,
     /// For one copy of a pass written with choices: which arms it is.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub choice: Option<Choice>,

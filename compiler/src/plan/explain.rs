@@ -156,6 +156,9 @@ pub fn to_text(plan: &Plan, explain: bool) -> String {
         if let Some(f) = p.from.as_ref().filter(|_| explain) {
             let _ = writeln!(s, "      from: {f}");
         }
+        if let Some(o) = p.origin.as_ref().filter(|_| explain) {
+            let _ = writeln!(s, "      written: {o}");
+        }
         if explain && p.continues && i > 0 {
             let _ = writeln!(s, "      continues the render pass of `{}`", plan.passes[i - 1].name);
         }

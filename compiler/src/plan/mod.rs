@@ -253,6 +253,9 @@ pub struct PlanPass {
     /// For a pass of a used pipeline: that pipeline's file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub from: Option<String>,
+    /// Where it was written: groups, templates, a choice by light kind (`plan --explain`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub origin: Option<String>,
     /// It may be recorded inside the previous pass's render pass (stage `merge`): it renders
     /// into the same attachments and loads them, and neither writes storage.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]

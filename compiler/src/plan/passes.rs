@@ -61,6 +61,7 @@ fn plan_pass(p: &Pipeline, cfg: &Config, schedule: &Schedule, i: usize, version:
         per_light: pass.per_light.as_ref().map(|k| k.value.clone()).unwrap_or_default(),
         arms: pass.choice.as_ref().map(|c| c.arms.clone()).unwrap_or_default(),
         from: pass.from.clone(),
+        origin: pass.origin.clone(),
         // Stage `merge`.
         continues: false,
         per_face: pass.per_face,

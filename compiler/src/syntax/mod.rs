@@ -6,6 +6,7 @@ pub mod defaults;
 pub mod groups;
 pub mod light_choices;
 pub mod lower;
+pub mod origins;
 pub mod raise;
 pub mod templates;
 

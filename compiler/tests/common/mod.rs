@@ -109,3 +109,13 @@ pub fn manual() -> String {
         .collect::<Vec<_>>()
         .join("\n")
 }
+
+/// A Plan's passes as JSON without where each was written (`origin`, which `plan --explain`
+/// shows): what a pipeline written with groups, templates or choices by light kind must plan
+/// exactly like, its passes written out.
+#[allow(dead_code)]
+pub fn plain_passes(plan: &lightbench_compiler::plan::Plan) -> String {
+    let mut passes = plan.passes.clone();
+    passes.iter_mut().for_each(|p| p.origin = None);
+    serde_json::to_string(&passes).unwrap()
+}

@@ -118,6 +118,7 @@ impl Lowerer<'_> {
             repeat,
             always: always?,
             from: None,
+            origin: None,
             choice: None,
             span: o.span,
         })
