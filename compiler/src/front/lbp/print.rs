@@ -293,7 +293,7 @@ impl Printer {
 fn param(k: &Node, v: &Node) -> String {
     let f = fields(v);
     let ty = match get(f, "options") {
-        Some(opts) => format!("enum({})", join(items(opts), |o| name_of(o))),
+        Some(opts) => format!("enum({})", join(items(opts), name_of)),
         None => v.name().unwrap_or("").to_string(),
     };
     let mut line = format!("param {}: {ty} = {}", name_of(k), get(f, "default").map(value).unwrap_or_default());
@@ -442,19 +442,19 @@ fn pass_line(key: &str, v: &Node) -> String {
         "shadow_casters" => "shadow_casters".into(),
         "always" => "always".into(),
         "per_mip" => format!("per_mip {}", join(items(v), value).replace(", ", "..")),
-        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(|n| name_of(n)).unwrap_or_default()),
+        "repeat" if v.name() == Some("Param") => format!("repeat param({})", items(v).first().map(name_of).unwrap_or_default()),
         "values" => format!("set {}", assignments(v, value)),
         "constants" => format!("constants {}", assignments(v, constant)),
         "reads" => format!("reads {}", join(items(v), |n| element(n, read))),
-        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, |n| name_of(n)))),
+        "writes" | "params" => format!("{key} {}", join(items(v), |n| element(n, name_of))),
         "param_block" => format!("param_block {}", name_of(v)),
         "after" => format!("after {}", name_of(v)),
         "color" => format!("color {}", join(items(v), |n| element(n, target))),
         "depth" => format!("depth {}", target(v)),
-        "bind" => format!("bind {}", assignments(v, |b| name_of(b))),
+        "bind" => format!("bind {}", assignments(v, name_of)),
         "when" => format!("when {}", cond(v)),
         "dispatch" if v.name() == Some("Groups") => format!("dispatch groups({})", join(items(v), value)),
-        "dispatch" => format!("dispatch size({})", items(v).first().map(|n| name_of(n)).unwrap_or_default()),
+        "dispatch" => format!("dispatch size({})", items(v).first().map(name_of).unwrap_or_default()),
         _ => format!("{key} {}", value(v)),
     }
 }
@@ -527,7 +527,7 @@ fn is_match(n: &Node) -> bool {
 fn constant(n: &Node) -> String {
     match n.name() {
         Some(w @ ("Param" | "Variant")) if matches!(&*n.value, Value::Tuple { .. }) => {
-            format!("{}({})", w.to_lowercase(), join(items(n), |a| name_of(a)))
+            format!("{}({})", w.to_lowercase(), join(items(n), name_of))
         }
         _ => value(n),
     }
@@ -586,7 +586,7 @@ fn let_line(k: &Node, v: &Node) -> String {
 fn cond(n: &Node) -> String {
     let args = items(n);
     match n.name().unwrap_or("") {
-        "Let" => args.first().map(|a| name_of(a)).unwrap_or_default(),
+        "Let" => args.first().map(name_of).unwrap_or_default(),
         "Reflective" => "reflective".into(),
         "Blended" => "blended".into(),
         "Not" => format!("not {}", args.first().map(cond).unwrap_or_default()),
@@ -595,9 +595,9 @@ fn cond(n: &Node) -> String {
         // A variant's option may be several: `a | b`, each a name.
         "Variant" => match args {
             [v, o] => format!("variant({}, {})", name_of(v), options_of(o)),
-            _ => format!("variant({})", join(args, |a| name_of(a))),
+            _ => format!("variant({})", join(args, name_of)),
         },
-        w => format!("{}({})", w.to_lowercase(), join(args, |a| name_of(a))),
+        w => format!("{}({})", w.to_lowercase(), join(args, name_of)),
     }
 }
 
