@@ -5,21 +5,22 @@
 //!
 //! The Cornell box at 128×128 runs seven passes: G-buffer, six cube-shadow faces, ambient,
 //! the point light, the luminance reduction (tiles, then the tiles) and the tone map. The
-//! hand-written renderer builds its own textures, layouts, pipelines, parameter blocks and bind
-//! groups and writes its own frame blocks; what it takes from lightbench is the WGSL as the
-//! compiler expanded it and the scene's meshes and materials as uploaded once (nothing
-//! per frame). It renders the same image, bit for bit (checked). Reported: the wall time of a
+//! hand-written renderer shares nothing with the executor: it reads the shader files and
+//! expands their `#include`s itself, draws the full-screen triangle with its own vertex shader,
+//! uploads the scene's meshes and writes their mesh and material blocks itself, and builds its
+//! own textures, layouts, pipelines, parameter blocks and bind groups; what it takes from
+//! lightbench is the scene (the input: meshes, materials, camera, and each light's block as the
+//! scene crate computes it, `Light::block`) and the block structs that mirror the shaders'
+//! declarations (`abi`, checked against the WGSL by naga). It renders the same image, bit for
+//! bit (checked). Reported: the wall time of a
 //! frame on each side, each waiting for its frame, in interleaved rounds: the median and
 //! quartiles of the per-round ratio (goal ≤ 1.05×), and the executor's CPU encode time per
 //! pass (goal ≤ 20 µs).
 
 use lightbench::blocks::{FrameBlock, InstanceBlock, LightBlock, Vertex};
-use lightbench::gpu::scene_gpu::SceneGpu;
 use lightbench::gpu::{DeviceOptions, Executor, Gpu};
 use lightbench::scene::{builtin, Scene};
-use lightbench_compiler::shader::ShaderModule;
-use std::path::Path;
-use std::sync::Arc;
+use std::path::{Path, PathBuf};
 use wgpu::util::DeviceExt;
 
 #[path = "common/mod.rs"]
@@ -67,11 +68,48 @@ fn view(t: &wgpu::Texture) -> wgpu::TextureView {
     t.create_view(&Default::default())
 }
 
-fn module(gpu: &Gpu, m: &ShaderModule) -> wgpu::ShaderModule {
+fn shader_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shaders")
+}
+
+/// A shader file's text with each `#include "path"` line (a path below the shader root)
+/// replaced by that file's, each file once — read and expanded here, not by the compiler.
+fn expanded(path: &str, seen: &mut Vec<String>) -> String {
+    let text = std::fs::read_to_string(shader_root().join(path)).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let mut out = String::new();
+    for line in text.lines() {
+        let Some(rest) = line.trim_start().strip_prefix("#include") else {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        };
+        let included = rest.trim().trim_matches('"').to_string();
+        if !seen.contains(&included) {
+            seen.push(included.clone());
+            out.push_str(&expanded(&included, seen));
+        }
+    }
+    out
+}
+
+fn module(gpu: &Gpu, path: &str) -> wgpu::ShaderModule {
     gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(&m.path),
-        source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(m.module.clone())),
+        label: Some(path),
+        source: wgpu::ShaderSource::Wgsl(expanded(path, &mut vec![path.to_string()]).into()),
     })
+}
+
+/// The full-screen passes' vertex stage: one triangle over the target.
+const FULLSCREEN_VS: &str = "@vertex\nfn fullscreen_vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {\n    \
+let x = f32((i << 1u) & 2u);\n    let y = f32(i & 2u);\n    return vec4<f32>(x * 2.0 - 1.0, 1.0 - y * 2.0, 0.0, 1.0);\n}\n";
+
+/// A full-screen pass's modules: the vertex stage's, then the fragment shader's.
+fn screen_modules(gpu: &Gpu, path: &str) -> [wgpu::ShaderModule; 2] {
+    let vs = gpu.device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("fullscreen_vs"),
+        source: wgpu::ShaderSource::Wgsl(FULLSCREEN_VS.into()),
+    });
+    [vs, module(gpu, path)]
 }
 
 /// Layout entries: (binding, type).
@@ -229,6 +267,7 @@ fn render_pipeline(gpu: &Gpu, p: RenderPipe) -> wgpu::RenderPipeline {
 struct Hand {
     frame: wgpu::Buffer,
     lights: wgpu::Buffer,
+    meshes: Vec<HandMesh>,
     pipes: [wgpu::RenderPipeline; 5],
     /// The luminance reduction: tiles, then the tiles in one workgroup.
     luminance: [wgpu::ComputePipeline; 2],
@@ -254,19 +293,90 @@ struct Views {
     ldr_texture: wgpu::Texture,
 }
 
-/// The compiled passes' shader modules by pass name (the same expanded WGSL the executor runs).
-fn modules_of(gpu: &Gpu, exe: &lightbench_compiler::workspace::Executable, pass: &str) -> Vec<wgpu::ShaderModule> {
-    let i = exe
-        .plan
-        .passes
-        .iter()
-        .position(|p| p.name == pass)
-        .unwrap_or_else(|| panic!("no pass {pass}"));
-    exe.modules[i].iter().map(|m: &Arc<ShaderModule>| module(gpu, m)).collect()
+/// A mesh as the hand-written renderer uploads it.
+struct HandMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    /// Its mesh block (`shaders/lib/mesh.wgsl`) and material block (`lib/material.wgsl`).
+    block: wgpu::Buffer,
+    material: wgpu::Buffer,
+}
+
+/// The scene's meshes uploaded, with their mesh and material blocks packed here. The bench
+/// scene has no textures: every map is a 1×1 default (checked).
+fn upload(gpu: &Gpu, scene: &Scene) -> Vec<HandMesh> {
+    let buffer = |contents: &[u8], usage| {
+        gpu.device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: None,
+            contents,
+            usage,
+        })
+    };
+    let drawn = scene.meshes.iter().filter(|m| !m.vertices.is_empty() && !m.indices.is_empty());
+    drawn
+        .map(|m| {
+            let mat = &scene.materials[m.material];
+            let maps = [
+                mat.base_color_texture,
+                mat.normal_texture,
+                mat.metallic_roughness_texture,
+                mat.emissive_texture,
+                mat.occlusion_texture,
+            ];
+            assert!(maps.iter().all(Option::is_none), "the bench scene has no textures");
+            // model, then the normal matrix (the inverse transpose), column by column.
+            let mut block = f32s(&m.transform.to_cols_array());
+            block.extend(f32s(&m.transform.inverse().transpose().to_cols_array()));
+            // base colour, emissive, the UV transform's rows, then the scalars.
+            let [r0, r1] = mat.uv_transform;
+            let mut material = f32s(&mat.base_color);
+            for v in [[mat.emissive[0], mat.emissive[1], mat.emissive[2]], r0, r1] {
+                material.extend(f32s(&[v[0], v[1], v[2], 0.0]));
+            }
+            material.extend(f32s(&[mat.metallic, mat.roughness, mat.normal_scale]));
+            material.extend(0u32.to_le_bytes()); // no normal map
+            let cutoff = match mat.alpha {
+                lightbench::scene::AlphaMode::Mask(c) => c,
+                _ => 0.0,
+            };
+            material.extend(f32s(&[cutoff, 0.0])); // no occlusion map: strength 0
+            material.extend(mat.uv_sets.to_le_bytes());
+            material.extend((mat.double_sided as u32).to_le_bytes());
+            HandMesh {
+                vertices: buffer(bytemuck::cast_slice(&m.vertices), wgpu::BufferUsages::VERTEX),
+                indices: buffer(bytemuck::cast_slice(&m.indices), wgpu::BufferUsages::INDEX),
+                index_count: m.drawn_indices(),
+                block: buffer(&block, wgpu::BufferUsages::UNIFORM),
+                material: buffer(&material, wgpu::BufferUsages::UNIFORM),
+            }
+        })
+        .collect()
+}
+
+/// A 1×1 texture of one texel (the default of a map a material does not have).
+fn texel(gpu: &Gpu, rgba: [u8; 4], format: wgpu::TextureFormat) -> wgpu::TextureView {
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+    let t = texture(gpu, "default map", (1, 1, 1), format, usage);
+    gpu.queue.write_texture(
+        t.as_image_copy(),
+        &rgba,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4),
+            rows_per_image: None,
+        },
+        wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+    );
+    view(&t)
 }
 
 impl Hand {
-    fn new(gpu: &Gpu, exe: &lightbench_compiler::workspace::Executable, scene: &Scene, sg: &SceneGpu) -> Hand {
+    fn new(gpu: &Gpu, scene: &Scene) -> Hand {
         use wgpu::TextureFormat as F;
         use wgpu::TextureUsages as U;
         let (w, h) = SIZE;
@@ -388,8 +498,13 @@ impl Hand {
         let l2_reduce = layout(gpu, &[(0, UNFILTERED), (1, storage(false)), (2, UNIFORM)]);
         let l2_tonemap = layout(gpu, &[(0, FLOAT), (1, storage(true))]);
 
-        let m = |pass: &str| modules_of(gpu, exe, pass);
-        let (gm, sm, am, pm, tm) = (m("gbuffer"), m("shadow_cube_classic"), m("ambient"), m("light_point"), m("tonemap"));
+        let gm = [module(gpu, "gbuffer.wgsl")];
+        let sm = [module(gpu, "shadow_cube_classic.wgsl")];
+        let (am, pm, tm) = (
+            screen_modules(gpu, "ambient.wgsl"),
+            screen_modules(gpu, "light_point.wgsl"),
+            screen_modules(gpu, "tonemap.wgsl"),
+        );
         let add = wgpu::BlendState {
             color: wgpu::BlendComponent {
                 src_factor: wgpu::BlendFactor::One,
@@ -449,7 +564,7 @@ impl Hand {
             screen(&pm, &[&l0_light, &l0_empty, &l2_point], F::Rgba16Float, Some(add)),
             screen(&tm, &[&l0_empty, &l0_empty, &l2_tonemap], F::Rgba8UnormSrgb, None),
         ];
-        let compute = |pass: &str, l2: &wgpu::BindGroupLayout| {
+        let compute = |file: &str, l2: &wgpu::BindGroupLayout| {
             let layout = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: None,
                 bind_group_layouts: &[Some(&l0_empty), Some(&l0_empty), Some(l2)],
@@ -458,32 +573,40 @@ impl Hand {
             gpu.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: None,
                 layout: Some(&layout),
-                module: &m(pass)[0],
+                module: &module(gpu, file),
                 entry_point: Some("cs_main"),
                 compilation_options: Default::default(),
                 cache: None,
             })
         };
-        let luminance = [compute("luminance_tiles", &l2_tiles), compute("luminance", &l2_reduce)];
+        let luminance = [
+            compute("luminance_tiles.wgsl", &l2_tiles),
+            compute("luminance_reduce.wgsl", &l2_reduce),
+        ];
 
-        let mesh_groups = sg
-            .meshes
+        // Every map at its default: base colour and emissive white (sRGB), the normal flat,
+        // metallic-roughness and occlusion white.
+        let (srgb, linear) = (F::Rgba8UnormSrgb, F::Rgba8Unorm);
+        let white = texel(gpu, [255; 4], srgb);
+        let flat = texel(gpu, [128, 128, 255, 255], linear);
+        let white_linear = texel(gpu, [255; 4], linear);
+        let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor::default());
+        let meshes = upload(gpu, scene);
+        let mesh_groups = meshes
             .iter()
             .map(|mesh| {
-                let mat = &sg.materials[mesh.material];
-                let t = &mat.textures;
                 let material = group(
                     gpu,
                     &l1_material,
                     &[
                         (0, mesh.block.as_entire_binding()),
-                        (1, mat.block.as_entire_binding()),
-                        (2, wgpu::BindingResource::TextureView(&t[0])),
-                        (3, wgpu::BindingResource::TextureView(&t[1])),
-                        (4, wgpu::BindingResource::TextureView(&t[2])),
-                        (5, wgpu::BindingResource::TextureView(&t[3])),
-                        (6, wgpu::BindingResource::Sampler(&sg.samplers[mat.sampler])),
-                        (7, wgpu::BindingResource::TextureView(&t[4])),
+                        (1, mesh.material.as_entire_binding()),
+                        (2, wgpu::BindingResource::TextureView(&white)),
+                        (3, wgpu::BindingResource::TextureView(&flat)),
+                        (4, wgpu::BindingResource::TextureView(&white_linear)),
+                        (5, wgpu::BindingResource::TextureView(&white)),
+                        (6, wgpu::BindingResource::Sampler(&sampler)),
+                        (7, wgpu::BindingResource::TextureView(&white_linear)),
                     ],
                 );
                 (material, group(gpu, &l1_mesh, &[(0, mesh.block.as_entire_binding())]))
@@ -565,6 +688,7 @@ impl Hand {
         Hand {
             frame,
             lights,
+            meshes,
             pipes,
             luminance,
             tiles,
@@ -653,14 +777,14 @@ impl Hand {
         gpu.queue.write_buffer(&self.lights, 0, bytemuck::cast_slice(&lights));
     }
 
-    fn frame(&self, gpu: &Gpu, scene: &Scene, sg: &SceneGpu, time: f32) {
+    fn frame(&self, gpu: &Gpu, scene: &Scene, time: f32) {
         self.write_blocks(gpu, scene, time);
         let v = &self.views;
         let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let meshes = |rp: &mut wgpu::RenderPass, material: bool| {
-            for (mesh, (mg, sg_)) in sg.meshes.iter().zip(&self.mesh_groups) {
-                rp.set_bind_group(1, if material { mg } else { sg_ }, &[]);
+            for (mesh, (mg, meshg)) in self.meshes.iter().zip(&self.mesh_groups) {
+                rp.set_bind_group(1, if material { mg } else { meshg }, &[]);
                 rp.set_vertex_buffer(0, mesh.vertices.slice(..));
                 rp.set_index_buffer(mesh.indices.slice(..), wgpu::IndexFormat::Uint32);
                 rp.draw_indexed(0..mesh.index_count, 0, 0..1);
@@ -731,13 +855,11 @@ fn main() {
     ex.set_reuse(false);
     // Serial: each frame waited for as it is submitted, as the hand-written side does.
     ex.set_frames_in_flight(0);
-    let mut uploaded = scene.clone();
-    let sg = SceneGpu::new(&gpu.device, &gpu.queue, &mut uploaded).expect("scene upload");
-    let hand = Hand::new(&gpu, &exe, &scene, &sg);
+    let hand = Hand::new(&gpu, &scene);
 
     // Both render the same image, bit for bit.
     ex.render_frame(&gpu, &ex.inputs(0.0)).expect("frame");
-    hand.frame(&gpu, &scene, &sg, 0.0);
+    hand.frame(&gpu, &scene, 0.0);
     let ours = ex.read_texture(&gpu, "ldr", 0, 0).expect("read");
     let theirs = lightbench::gpu::readback::read_texture(&gpu, &hand.views.ldr_texture, 0).expect("read");
     let e = lightbench::io::rmse(&ours, &theirs).expect("same size");
@@ -762,7 +884,7 @@ fn main() {
         let per_frame = |f: &mut dyn FnMut(f32)| ms(|| (0..frames).for_each(|i| f(i as f32 / 60.0))) / frames as f64;
         let p = interleaved(
             rounds,
-            || per_frame(&mut |t| hand.frame(&gpu, &scene, &sg, t)),
+            || per_frame(&mut |t| hand.frame(&gpu, &scene, t)),
             || per_frame(&mut executor),
         );
         if timing {

@@ -8,25 +8,49 @@
 use crate::span::Span;
 use crate::tree::{Field, Node, Value};
 
-/// Where one pass was written.
+/// Where one pass was written; the words are made only when asked (`describe`).
 pub struct Origin {
     /// The pass as written (the passes made of it keep it).
     pub span: Span,
-    /// Its name as written.
-    pub name: String,
-    /// The groups around it, the templates it is like.
-    parts: Vec<String>,
+    /// The pass as written, and the groups around it, outermost first.
+    pass: Node,
+    groups: std::sync::Arc<Vec<Node>>,
 }
 
 impl Origin {
-    /// What its writing says beyond the pass `planned` (its name in the Plan), if anything.
+    /// What its writing says beyond the pass `planned` (its name in the Plan), if anything:
+    /// the groups around it, the templates it is like, the pass a choice by light kind made
+    /// it of.
     pub fn describe(&self, planned: &str) -> Option<String> {
-        let mut parts = self.parts.clone();
-        if planned != self.name {
-            parts.push(format!("one of the passes `{}` makes by light kind", self.name));
+        let mut parts = vec![];
+        if !self.groups.is_empty() {
+            let groups: Vec<String> = self.groups.iter().map(group_words).collect();
+            parts.push(format!("in {}", groups.join(" › ")));
+        }
+        if let Some(l) = like(fields(&self.pass)) {
+            parts.push(format!("like {l}"));
+        }
+        let written = fields(&self.pass)
+            .iter()
+            .find(|x| x.0 == "name")
+            .and_then(|x| x.2.text())
+            .unwrap_or("");
+        if planned != written {
+            parts.push(format!("one of the passes `{written}` makes by light kind"));
         }
         (!parts.is_empty()).then(|| parts.join("; "))
     }
+}
+
+/// A group as `describe` names it: `group `name` (like …)`.
+fn group_words(g: &Node) -> String {
+    let f = fields(g);
+    let name = f.iter().find(|x| x.0 == "name").and_then(|x| x.2.text());
+    let mut here = name.map_or("a group".to_string(), |n| format!("group `{n}`"));
+    if let Some(l) = like(f) {
+        here += &format!(" (like {l})");
+    }
+    here
 }
 
 /// Where each pass of a file's tree was written.
@@ -34,7 +58,7 @@ pub fn of(root: &Node) -> Vec<Origin> {
     let mut out = vec![];
     if let Value::Struct { fields, .. } = &*root.value {
         for (_, _, v) in fields.iter().filter(|f| f.0 == "passes") {
-            walk(v, &[], &mut out);
+            walk(v, &std::sync::Arc::new(vec![]), &mut out);
         }
     }
     out
@@ -47,35 +71,21 @@ fn fields(n: &Node) -> &[Field] {
     }
 }
 
-fn walk(list: &Node, groups: &[String], out: &mut Vec<Origin>) {
+fn walk(list: &Node, groups: &std::sync::Arc<Vec<Node>>, out: &mut Vec<Origin>) {
     let Value::List(items) = &*list.value else { return };
     for item in items {
-        let f = fields(item);
-        if item.name() == Some("Group") {
-            let name = f.iter().find(|x| x.0 == "name").and_then(|x| x.2.text());
-            let mut here = name.map_or("a group".to_string(), |n| format!("group `{n}`"));
-            if let Some(l) = like(f) {
-                here += &format!(" (like {l})");
-            }
-            let inner: Vec<String> = groups.iter().cloned().chain([here]).collect();
-            for (_, _, v) in f.iter().filter(|x| x.0 == "passes") {
-                walk(v, &inner, out);
-            }
+        if item.name() != Some("Group") {
+            out.push(Origin {
+                span: item.span,
+                pass: item.clone(),
+                groups: groups.clone(),
+            });
             continue;
         }
-        let mut parts = vec![];
-        if !groups.is_empty() {
-            parts.push(format!("in {}", groups.join(" › ")));
+        let inner = std::sync::Arc::new(groups.iter().cloned().chain([item.clone()]).collect());
+        for (_, _, v) in fields(item).iter().filter(|x| x.0 == "passes") {
+            walk(v, &inner, out);
         }
-        if let Some(l) = like(f) {
-            parts.push(format!("like {l}"));
-        }
-        let name = f.iter().find(|x| x.0 == "name").and_then(|x| x.2.text()).unwrap_or("");
-        out.push(Origin {
-            span: item.span,
-            name: name.to_string(),
-            parts,
-        });
     }
 }
 

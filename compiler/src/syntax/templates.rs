@@ -10,7 +10,7 @@
 
 use crate::diag::{suggestion_note, Code, Diagnostic, Diagnostics};
 use crate::tree::{Field, Node, Value};
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// Does the tree declare or use a template, or name a parameter (then this stage runs, and
 /// `fmt` and `convert` print the file as written)?
@@ -48,6 +48,7 @@ pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
     let mut table = Table {
         templates: read(fields, diags),
         used: HashSet::new(),
+        resolved: HashMap::new(),
         diags,
     };
     let fields: Vec<Field> = fields
@@ -61,7 +62,9 @@ pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
             _ => (k.clone(), *span, v.clone()),
         })
         .collect();
-    for (_, _, v) in &fields {
+    // Where a `$NAME` outside a template is likely: in a pass (elsewhere the lowering says
+    // the value is of the wrong kind).
+    for (_, _, v) in fields.iter().filter(|f| f.0 == "passes") {
         stray_args(v, table.diags);
     }
     for t in table.templates.iter().filter(|t| !table.used.contains(text(&t.name))) {
@@ -214,41 +217,53 @@ fn children(n: &Node) -> Box<dyn Iterator<Item = &Node> + '_> {
     }
 }
 
-/// `n` with each `Arg("P")` of `params` replaced by the matching argument.
-fn substitute(n: &Node, params: &[Node], args: &[Node]) -> Node {
+/// `n` with each `Arg("P")` of `params` replaced by the matching argument; `None` when it
+/// holds none (nothing is rebuilt then: most of a template is not a parameter).
+fn substitute(n: &Node, params: &[Node], args: &[Node]) -> Option<Node> {
     if let Some(a) = arg(n) {
-        if let Some(i) = params.iter().position(|p| text(p) == text(a)) {
-            return args[i].clone();
-        }
-        return n.clone();
+        let i = params.iter().position(|p| text(p) == text(a))?;
+        return Some(args[i].clone());
     }
+    // Each child substituted, the node rebuilt only when one of them changed.
+    let changed = |items: &[Node]| -> Option<Vec<Node>> {
+        let new: Vec<Option<Node>> = items.iter().map(|i| substitute(i, params, args)).collect();
+        new.iter().any(Option::is_some).then(|| {
+            new.into_iter()
+                .zip(items)
+                .map(|(n, old)| n.unwrap_or_else(|| old.clone()))
+                .collect()
+        })
+    };
     let value = match &*n.value {
-        Value::List(items) => Value::List(items.iter().map(|i| substitute(i, params, args)).collect()),
-        Value::Map(entries) => Value::Map(
-            entries
-                .iter()
-                .map(|(k, v)| (substitute(k, params, args), substitute(v, params, args)))
-                .collect(),
-        ),
-        Value::Struct { name, fields } => Value::Struct {
-            name: name.clone(),
-            fields: fields
-                .iter()
-                .map(|(k, s, v)| (k.clone(), *s, substitute(v, params, args)))
-                .collect(),
-        },
+        Value::List(items) => Value::List(changed(items)?),
         Value::Tuple { name, items } => Value::Tuple {
             name: name.clone(),
-            items: items.iter().map(|i| substitute(i, params, args)).collect(),
+            items: changed(items)?,
         },
-        _ => return n.clone(),
+        Value::Struct { name, fields } => {
+            let values: Vec<Node> = fields.iter().map(|f| f.2.clone()).collect();
+            let values = changed(&values)?;
+            let fields = fields.iter().zip(values).map(|((k, s, _), v)| (k.clone(), *s, v)).collect();
+            Value::Struct {
+                name: name.clone(),
+                fields,
+            }
+        }
+        Value::Map(entries) => {
+            let flat: Vec<Node> = entries.iter().flat_map(|(k, v)| [k.clone(), v.clone()]).collect();
+            let flat = changed(&flat)?;
+            Value::Map(flat.chunks(2).map(|kv| (kv[0].clone(), kv[1].clone())).collect())
+        }
+        _ => return None,
     };
-    Node::new(value, n.span)
+    Some(Node::new(value, n.span))
 }
 
 struct Table<'d> {
     templates: Vec<Template>,
     used: HashSet<String>,
+    /// The attributes of each template given without arguments, once resolved (most are).
+    resolved: HashMap<String, Vec<Field>>,
     diags: &'d mut Diagnostics,
 }
 
@@ -260,6 +275,9 @@ impl Table<'_> {
         let Value::Struct { name, fields } = &*item.value else {
             return Some(item.clone());
         };
+        if !fields.iter().any(|f| f.0 == "like" || f.0 == "passes") {
+            return Some(item.clone());
+        }
         let mut own: Vec<Field> = fields.iter().filter(|f| f.0 != "like").cloned().collect();
         if let Some((_, _, like)) = fields.iter().find(|f| f.0 == "like") {
             own = super::groups::with_inherited(&own, &self.resolve_all(like, &mut vec![])?);
@@ -318,6 +336,9 @@ impl Table<'_> {
             }
         };
         let (name, args) = (&items[0], &items[1..]);
+        if let Some(done) = self.resolved.get(text(name)).filter(|_| args.is_empty()) {
+            return Some(done.clone());
+        }
         let Some(at) = self.templates.iter().position(|t| text(&t.name) == text(name)) else {
             let names: Vec<&str> = self.templates.iter().map(|t| text(&t.name)).collect();
             let d = Diagnostic::error(Code::UnknownTemplate, format!("no template `{}`", text(name)), name.span)
@@ -350,16 +371,22 @@ impl Table<'_> {
         let fields: Vec<Field> = t
             .fields
             .iter()
-            .map(|(k, s, v)| (k.clone(), *s, substitute(v, &t.params, args)))
+            .map(|(k, s, v)| (k.clone(), *s, substitute(v, &t.params, args).unwrap_or_else(|| v.clone())))
             .collect();
-        let Some(at) = fields.iter().position(|f| f.0 == "like") else {
-            return Some(fields);
+        let all = match fields.iter().position(|f| f.0 == "like") {
+            None => fields,
+            Some(at) => {
+                let mut own = fields;
+                let (_, _, inner) = own.remove(at);
+                chain.push(text(name).to_string());
+                let inherited = self.resolve_all(&inner, chain);
+                chain.pop();
+                super::groups::with_inherited(&own, &inherited?)
+            }
         };
-        let mut own = fields;
-        let (_, _, inner) = own.remove(at);
-        chain.push(text(name).to_string());
-        let inherited = self.resolve_all(&inner, chain);
-        chain.pop();
-        Some(super::groups::with_inherited(&own, &inherited?))
+        if args.is_empty() {
+            self.resolved.insert(text(name).to_string(), all.clone());
+        }
+        Some(all)
     }
 }
