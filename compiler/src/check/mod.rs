@@ -53,6 +53,9 @@ pub struct PassVersion {
 /// A pipeline whose passes have been checked; versions that failed are absent.
 pub struct Checked {
     pub pipeline: Pipeline,
+    /// Index-aligned with `pipeline.resources`: written by shadow-caster passes only
+    /// (`Pipeline::written_by_casters_only`, asked once rather than per configuration).
+    pub casters_only: Vec<bool>,
     /// Index-aligned with `pipeline.passes`.
     pub versions: Vec<Vec<PassVersion>>,
     /// Resources' initial content, decoded (`data:`).
@@ -105,6 +108,7 @@ pub fn check_pipeline(
         .collect();
     let versions = checked_versions(&pipeline, profile, loaded, diags);
     Checked {
+        casters_only: pipeline.resources.iter().map(|r| pipeline.written_by_casters_only(r)).collect(),
         pipeline,
         versions,
         data: Default::default(),

@@ -91,7 +91,7 @@ fn checked_stages<'c>(checked: &'c Checked, cfg: &Config, diags: &mut Diagnostic
     if cfg.scene_known {
         renderable(p, cfg, &kept, diags);
     }
-    let resources = resources::derive(p, cfg, &kept);
+    let resources = resources::derive(p, &checked.casters_only, cfg, &kept);
     resources::check_extents(p, cfg, &resources, diags);
     resources::check_buffer_sizes(p, cfg, &resources, diags);
     Some((schedule, kept, resources))

@@ -8,18 +8,20 @@ use crate::layout::BindingType;
 use std::collections::HashMap;
 
 /// Every resource a kept pass reads, writes, renders into or binds, in declaration order.
-pub(super) fn derive(p: &Pipeline, cfg: &Config, kept: &Kept) -> Vec<PlanResource> {
+/// `casters_only`: per resource, whether shadow-caster passes alone write it.
+pub(super) fn derive(p: &Pipeline, casters_only: &[bool], cfg: &Config, kept: &Kept) -> Vec<PlanResource> {
     let mut used = usages(p, kept);
     p.resources
         .iter()
-        .filter_map(|r| {
+        .zip(casters_only)
+        .filter_map(|(r, &casters_only)| {
             let (true, mut usage) = used.remove(r.name.value.as_str())? else {
                 return None;
             };
             if r.supplied() && !r.is_accel() {
                 usage.insert(Usage::CopyDst); // filled by the runtime
             }
-            let mut pr = plan_resource(p, r, cfg, usage);
+            let mut pr = plan_resource(p, r, casters_only, cfg, usage);
             if let ResourceShape::Buffer { words, .. } = &mut pr.shape {
                 *words = buffer_words(r, kept);
             }
@@ -82,11 +84,10 @@ fn usages<'p>(p: &'p Pipeline, kept: &'p Kept) -> HashMap<&'p str, (bool, BTreeS
     used
 }
 
-fn plan_resource(p: &Pipeline, r: &Resource, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
+fn plan_resource(p: &Pipeline, r: &Resource, casters_only: bool, cfg: &Config, usage: BTreeSet<Usage>) -> PlanResource {
     let per_light = r.per_light().map(|k| k.value.clone()).unwrap_or_default();
     // Maps only shadow passes write need an instance per casting light only (at least one,
     // which the lights that cast none bind and ignore).
-    let casters_only = p.written_by_casters_only(r);
     let instances = match (per_light.is_empty(), casters_only) {
         (true, _) => 1,
         (false, true) => cfg.scene.caster_count(&per_light).max(1),

@@ -20,22 +20,31 @@ pub fn is_light_choice(n: &Node) -> bool {
 /// Does the tree hold a choice by light kind anywhere (then `fmt` and `convert` print it as
 /// written)?
 pub fn has_light_choices(n: &Node) -> bool {
-    is_light_choice(n) || children(n).any(has_light_choices)
+    if is_light_choice(n) {
+        return true;
+    }
+    let mut found = false;
+    each_child(n, |c| found = found || has_light_choices(c));
+    found
 }
 
-fn children(n: &Node) -> Box<dyn Iterator<Item = &Node> + '_> {
+/// `n`'s children (a map's values), each to `f`: no allocation, as these walks cover whole files.
+fn each_child<'a>(n: &'a Node, mut f: impl FnMut(&'a Node)) {
     match &*n.value {
-        Value::List(items) => Box::new(items.iter()),
-        Value::Map(entries) => Box::new(entries.iter().map(|(_, v)| v)),
-        Value::Struct { fields, .. } => Box::new(fields.iter().map(|f| &f.2)),
-        Value::Tuple { items, .. } => Box::new(items.iter()),
-        _ => Box::new(std::iter::empty()),
+        Value::List(items) | Value::Tuple { items, .. } => items.iter().for_each(f),
+        Value::Map(entries) => entries.iter().for_each(|(_, v)| f(v)),
+        Value::Struct { fields, .. } => fields.iter().for_each(|x| f(&x.2)),
+        _ => {}
     }
 }
 
 /// The tree with every pass that chooses by light kind split into its passes, in place.
 pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
-    if !has_light_choices(root) {
+    // Only passes choose by light kind (the declarations need no walk).
+    let Value::Struct { fields, .. } = &*root.value else {
+        return root.clone();
+    };
+    if !fields.iter().any(|f| f.0 == "passes" && has_light_choices(&f.2)) {
         return root.clone();
     }
     super::with_passes(root, |items| items.iter().flat_map(|p| split(p, diags)).collect())
@@ -94,7 +103,7 @@ fn collect<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
         out.push(n);
     }
     // A choice in an arm is another choice (its arm is picked once that arm is).
-    children(n).for_each(|c| collect(c, out));
+    each_child(n, |c| collect(c, out));
 }
 
 /// The pass's `per_light` kinds with their nodes, if it lists them.

@@ -187,7 +187,7 @@ fn unknown_args(n: &Node, t: &Node, params: &[&str], diags: &mut Diagnostics) {
         }
         return;
     }
-    children(n).for_each(|c| unknown_args(c, t, params, diags));
+    each_child(n, |c| unknown_args(c, t, params, diags));
 }
 
 /// Report each `$X` left where no template gives it a value.
@@ -197,7 +197,7 @@ fn stray_args(n: &Node, diags: &mut Diagnostics) {
         diags.push(Diagnostic::error(Code::TemplateParam, msg, n.span));
         return;
     }
-    children(n).for_each(|c| stray_args(c, diags));
+    each_child(n, |c| stray_args(c, diags));
 }
 
 /// The name in `Arg("NAME")`.
@@ -208,12 +208,16 @@ fn arg(n: &Node) -> Option<&Node> {
     }
 }
 
-fn children(n: &Node) -> Box<dyn Iterator<Item = &Node> + '_> {
+/// Call `f` on each child of `n` (no allocation: these walks cover whole files).
+fn each_child(n: &Node, mut f: impl FnMut(&Node)) {
     match &*n.value {
-        Value::List(items) | Value::Tuple { items, .. } => Box::new(items.iter()),
-        Value::Map(entries) => Box::new(entries.iter().flat_map(|(k, v)| [k, v])),
-        Value::Struct { fields, .. } => Box::new(fields.iter().map(|f| &f.2)),
-        _ => Box::new(std::iter::empty()),
+        Value::List(items) | Value::Tuple { items, .. } => items.iter().for_each(f),
+        Value::Map(entries) => entries.iter().for_each(|(k, v)| {
+            f(k);
+            f(v)
+        }),
+        Value::Struct { fields, .. } => fields.iter().for_each(|x| f(&x.2)),
+        _ => {}
     }
 }
 
