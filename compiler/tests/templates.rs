@@ -221,3 +221,34 @@ template c {\n    shader \"copy.wgsl\"\n}\n";
         out.located()
     );
 }
+
+/// Templates like each other in a long chain are an error at the depth limit (no stack
+/// exhausted); RON's `like: []` is one at the list.
+#[test]
+fn a_chain_too_deep_and_an_empty_like_are_located() {
+    let mut text = String::from("pipeline m\n\ntexture out: Rgba8Unorm 8x8\n");
+    for i in 0..100 {
+        text += &format!("\ntemplate t{i} like t{} {{\n}}\n", i + 1);
+    }
+    text += "\ntemplate t100 {\n    shader \"fill.wgsl\"\n}\n\nfullscreen one like t0 {\n    color out\n}\n\noutput out\n";
+    let dir = write_project("templates-deep", &[("m.lbp", &text), ("shaders/fill.wgsl", FILL)]);
+    let out = check_project(&dir, "m.lbp", &Profile::vulkan(), None);
+    assert!(
+        out.located()
+            .iter()
+            .any(|(c, m, ..)| c == "nesting-too-deep" && m.contains("templates are like others more than 64 deep")),
+        "{}",
+        out.dump()
+    );
+    let ron = "Pipeline(name: \"m\", resources: {\"out\": Texture(format: Rgba8Unorm, size: Fixed(8, 8))}, \
+passes: [Fullscreen(name: \"one\", shader: \"fill.wgsl\", like: [], color: [\"out\"])], output: \"out\")";
+    let dir = write_project("templates-empty-like", &[("m.ron", ron), ("shaders/fill.wgsl", FILL)]);
+    let out = check_project(&dir, "m.ron", &Profile::vulkan(), None);
+    assert!(
+        out.located()
+            .iter()
+            .any(|(c, m, _, l, _)| c == "type-mismatch" && m.contains("found an empty list") && *l == 1),
+        "{}",
+        out.dump()
+    );
+}

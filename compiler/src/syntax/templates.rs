@@ -45,8 +45,11 @@ pub fn expand(root: &Node, diags: &mut Diagnostics) -> Node {
     let Value::Struct { name, fields } = &*root.value else {
         return root.clone();
     };
+    let templates = read(fields, diags);
+    let by_name = templates.iter().enumerate().map(|(i, t)| (text(&t.name).to_string(), i)).collect();
     let mut table = Table {
-        templates: read(fields, diags),
+        templates,
+        by_name,
         used: HashSet::new(),
         resolved: HashMap::new(),
         diags,
@@ -109,14 +112,18 @@ fn read(root: &[Field], diags: &mut Diagnostics) -> Vec<Template> {
         return vec![];
     };
     let mut out: Vec<Template> = vec![];
+    let mut seen: HashMap<&str, usize> = HashMap::new();
     for (k, v) in entries {
-        if let Some(first) = out.iter().find(|t| text(&t.name) == text(k)) {
+        if let Some(&first) = seen.get(text(k)) {
             let d = Diagnostic::error(Code::DuplicateName, format!("template `{}` is declared twice", text(k)), k.span)
-                .with_secondary(first.name.span, "first declared here");
+                .with_secondary(out[first].name.span, "first declared here");
             diags.push(d);
             continue;
         }
-        out.extend(template(k, v, diags));
+        if let Some(t) = template(k, v, diags) {
+            seen.insert(text(k), out.len());
+            out.push(t);
+        }
     }
     out
 }
@@ -263,8 +270,13 @@ fn substitute(n: &Node, params: &[Node], args: &[Node]) -> Option<Node> {
     Some(Node::new(value, n.span))
 }
 
+/// How many templates deep `like` may lead (each a recursion of `resolve`).
+const MAX_TEMPLATE_DEPTH: usize = 64;
+
 struct Table<'d> {
     templates: Vec<Template>,
+    /// Each template's index in `templates` by name.
+    by_name: HashMap<String, usize>,
     used: HashSet<String>,
     /// The attributes of each template given without arguments, once resolved (most are).
     resolved: HashMap<String, Vec<Field>>,
@@ -304,6 +316,11 @@ impl Table<'_> {
         let Value::List(likes) = &*like.value else {
             return self.resolve(like, chain);
         };
+        if likes.is_empty() {
+            let msg = "expected `Like(\"TEMPLATE\", ARGS...)` or a list of them, found an empty list";
+            self.diags.push(Diagnostic::error(Code::TypeMismatch, msg, like.span));
+            return None;
+        }
         let mut all: Option<Vec<Field>> = None;
         let mut from: Vec<(String, &Node)> = vec![];
         for l in likes {
@@ -343,13 +360,18 @@ impl Table<'_> {
         if let Some(done) = self.resolved.get(text(name)).filter(|_| args.is_empty()) {
             return Some(done.clone());
         }
-        let Some(at) = self.templates.iter().position(|t| text(&t.name) == text(name)) else {
+        let Some(&at) = self.by_name.get(text(name)) else {
             let names: Vec<&str> = self.templates.iter().map(|t| text(&t.name)).collect();
             let d = Diagnostic::error(Code::UnknownTemplate, format!("no template `{}`", text(name)), name.span)
                 .with_note(suggestion_note(text(name), &names));
             self.diags.push(d);
             return None;
         };
+        if chain.len() >= MAX_TEMPLATE_DEPTH {
+            let msg = format!("templates are like others more than {MAX_TEMPLATE_DEPTH} deep");
+            self.diags.push(Diagnostic::error(Code::NestingTooDeep, msg, name.span));
+            return None;
+        }
         if let Some(first) = chain.iter().position(|c| c == text(name)) {
             let mut names = chain[first..].to_vec();
             names.push(text(name).to_string());
