@@ -602,7 +602,7 @@ impl Builder<'_> {
         Some(Node::call("Like", items, span))
     }
 
-    /// `template NAME(PARAMS) like OTHER(ARGS) { … }`: the entry `NAME: Template(params:
+    /// `template NAME(PARAMS) like OTHER(ARGS) { … }`: the entry `NAME: Template(parameters:
     /// [..], like: .., ATTRIBUTES)` of the pipeline's `templates`.
     fn template(&mut self, p: P) -> Option<(Node, Node)> {
         let span = self.span(&p);
