@@ -301,6 +301,14 @@ fn bundled_pipeline_checks_clean_and_answers_hover_definition_completion() {
         names.contains(&"light_point") && names.contains(&"cube_shadow") && names.contains(&"gbuf.albedo"),
         "{names:?}"
     );
+    // A template is a class-like symbol (kind 5).
+    let template = syms
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["name"] == "two_sided")
+        .expect("the template");
+    assert_eq!(template["kind"], json!(5), "{template}");
     let edits = c.request(
         "textDocument/formatting",
         json!({"textDocument": {"uri": uri(&path)}, "options": {"tabSize": 4, "insertSpaces": true}}),
