@@ -100,6 +100,28 @@ impl Node {
         }
     }
 
+    /// A struct's fields (none for any other value).
+    pub fn fields(&self) -> &[Field] {
+        match &*self.value {
+            Value::Struct { fields, .. } => fields,
+            _ => &[],
+        }
+    }
+
+    /// Call `f` on each child: list and tuple items, map keys and values, field values. No
+    /// allocation: the stages that walk whole files call it per node.
+    pub fn each_child<'a>(&'a self, mut f: impl FnMut(&'a Node)) {
+        match &*self.value {
+            Value::List(items) | Value::Tuple { items, .. } => items.iter().for_each(f),
+            Value::Map(entries) => entries.iter().for_each(|(k, v)| {
+                f(k);
+                f(v)
+            }),
+            Value::Struct { fields, .. } => fields.iter().for_each(|x| f(&x.2)),
+            _ => {}
+        }
+    }
+
     /// The struct's or tuple's name, if it has one.
     pub fn name(&self) -> Option<&str> {
         match &*self.value {

@@ -13,7 +13,7 @@ use crate::span::SourceMap;
 use crate::tree::Node;
 use crate::vfs::{normalize, DiskVfs, Vfs};
 use rayon::prelude::*;
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -349,12 +349,10 @@ impl Session {
         let merged = self.compose(name, &tree, &mut vec![]);
         let mut p = merged.and_then(|m| crate::syntax::lower::pipeline_partial(&m, &mut self.diags));
         if let Some(p) = p.as_mut() {
-            let origins = std::mem::take(&mut self.origins);
+            // By the span the pass was written at (the expansion stages keep it).
+            let origins: HashMap<_, _> = std::mem::take(&mut self.origins).into_iter().map(|o| (o.span, o)).collect();
             for pass in &mut p.passes {
-                pass.origin = origins
-                    .iter()
-                    .find(|o| o.span == pass.span)
-                    .and_then(|o| o.describe(&pass.name.value));
+                pass.origin = origins.get(&pass.span).and_then(|o| o.describe(&pass.name.value));
             }
         }
         // A pipeline that uses another, or groups passes, prints as written.

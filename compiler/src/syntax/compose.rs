@@ -24,26 +24,19 @@ const REMOVABLE: [(&str, &str); 6] = [
     ("Let", "lets"),
 ];
 
-fn fields(n: &Node) -> &[Field] {
-    match &*n.value {
-        Value::Struct { fields, .. } => fields,
-        _ => &[],
-    }
-}
-
 fn get<'a>(f: &'a [Field], key: &str) -> Option<&'a Node> {
     f.iter().find(|x| x.0 == key).map(|x| &x.2)
 }
 
 /// The `use` of a pipeline tree: the used file as written, and where.
 pub fn used(root: &Node) -> Option<(String, Span)> {
-    get(fields(root), "use").and_then(|n| n.text().map(|t| (t.to_string(), n.span)))
+    get(root.fields(), "use").and_then(|n| n.text().map(|t| (t.to_string(), n.span)))
 }
 
 /// A second `use` (a pipeline builds on one other; a chain of `use`s composes more) is a
 /// located error, not a silent choice of one.
 pub fn reject_second_use(root: &Node, diags: &mut Diagnostics) {
-    let mut uses = fields(root).iter().filter(|f| f.0 == "use");
+    let mut uses = root.fields().iter().filter(|f| f.0 == "use");
     let Some((_, first, _)) = uses.next() else { return };
     for (_, again, _) in uses {
         diags.push(
@@ -56,7 +49,7 @@ pub fn reject_second_use(root: &Node, diags: &mut Diagnostics) {
 
 /// A pass node's name.
 fn pass_name(p: &Node) -> Option<&str> {
-    get(fields(p), "name").and_then(Node::text)
+    get(p.fields(), "name").and_then(Node::text)
 }
 
 /// `Replace(x)`: the replacement.
@@ -70,7 +63,7 @@ pub fn replacement(n: &Node) -> Option<&Node> {
 /// A file that uses none may not replace, remove or place passes: say so where it tries
 /// (and a `use` that names no file is a type error).
 pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
-    if let Some(u) = get(fields(root), "use") {
+    if let Some(u) = get(root.fields(), "use") {
         diags.push(
             Diagnostic::error(
                 Code::TypeMismatch,
@@ -81,13 +74,13 @@ pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
         );
     }
     let why = "only a pipeline that uses another (`use: \"file\"`) can";
-    for (k, span, _) in fields(root) {
+    for (k, span, _) in root.fields() {
         if let Some((_, does)) = COMPOSING.iter().find(|(c, _)| c == k) {
             diags.push(Diagnostic::error(Code::Misplaced, format!("`{k}`: {why} {does}"), *span));
         }
     }
-    for p in get(fields(root), "passes").map(list).unwrap_or(&[]) {
-        for (k, span, _) in fields(p).iter().filter(|f| f.0 == "after" || f.0 == "replace") {
+    for p in get(root.fields(), "passes").map(list).unwrap_or(&[]) {
+        for (k, span, _) in p.fields().iter().filter(|f| f.0 == "after" || f.0 == "replace") {
             diags.push(Diagnostic::error(
                 Code::Misplaced,
                 format!("`{k}`: {why} place or replace its passes"),
@@ -95,7 +88,7 @@ pub fn reject_composing(root: &Node, diags: &mut Diagnostics) {
             ));
         }
     }
-    for (_, _, m) in fields(root).iter().filter(|f| ITEM_MAPS.contains(&f.0.as_str())) {
+    for (_, _, m) in root.fields().iter().filter(|f| ITEM_MAPS.contains(&f.0.as_str())) {
         for (k, v) in entries(m) {
             if replacement(v).is_some() {
                 diags.push(Diagnostic::error(
@@ -124,9 +117,9 @@ fn entries(n: &Node) -> &[(Node, Node)] {
 
 /// `base` (the used pipeline, itself composed) with `own`'s items merged in.
 pub fn merge(base: &Node, own: &Node, diags: &mut Diagnostics) -> Node {
-    let mut out: Vec<Field> = fields(base).iter().filter(|f| f.0 != "use").cloned().collect();
+    let mut out: Vec<Field> = base.fields().iter().filter(|f| f.0 != "use").cloned().collect();
     removals(own, &mut out, diags);
-    for (key, span, value) in fields(own) {
+    for (key, span, value) in own.fields() {
         let map = key == "fix" || ITEM_MAPS.contains(&key.as_str());
         match key.as_str() {
             "use" | "remove" => {}
@@ -159,7 +152,7 @@ fn set(out: &mut Vec<Field>, key: &str, span: Span, value: Node) {
 
 /// Apply `remove: [Pass("x"), Resource("y"), ...]`.
 fn removals(own: &Node, out: &mut [Field], diags: &mut Diagnostics) {
-    let Some(remove) = get(fields(own), "remove") else { return };
+    let Some(remove) = get(own.fields(), "remove") else { return };
     if !matches!(&*remove.value, Value::List(_)) {
         diags.push(Diagnostic::error(
             Code::TypeMismatch,
@@ -271,7 +264,7 @@ fn merge_passes(out: &mut Vec<Field>, span: Span, own: &Node, diags: &mut Diagno
     let mut cursor: Vec<(String, usize)> = vec![];
     let own_names: Vec<&str> = list(own).iter().filter_map(pass_name).collect();
     for p in list(own) {
-        let f = fields(p);
+        let f = p.fields();
         let name = pass_name(p).unwrap_or("");
         let replace = matches!(get(f, "replace").map(|n| &*n.value), Some(Value::Bool(true)));
         let after = get(f, "after");

@@ -24,18 +24,8 @@ pub fn has_light_choices(n: &Node) -> bool {
         return true;
     }
     let mut found = false;
-    each_child(n, |c| found = found || has_light_choices(c));
+    n.each_child(|c| found = found || has_light_choices(c));
     found
-}
-
-/// `n`'s children (a map's values), each to `f`: no allocation, as these walks cover whole files.
-fn each_child<'a>(n: &'a Node, mut f: impl FnMut(&'a Node)) {
-    match &*n.value {
-        Value::List(items) | Value::Tuple { items, .. } => items.iter().for_each(f),
-        Value::Map(entries) => entries.iter().for_each(|(_, v)| f(v)),
-        Value::Struct { fields, .. } => fields.iter().for_each(|x| f(&x.2)),
-        _ => {}
-    }
 }
 
 /// The tree with every pass that chooses by light kind split into its passes, in place.
@@ -103,7 +93,7 @@ fn collect<'a>(n: &'a Node, out: &mut Vec<&'a Node>) {
         out.push(n);
     }
     // A choice in an arm is another choice (its arm is picked once that arm is).
-    each_child(n, |c| collect(c, out));
+    n.each_child(|c| collect(c, out));
 }
 
 /// The pass's `per_light` kinds with their nodes, if it lists them.

@@ -27,10 +27,12 @@ impl Origin {
             let groups: Vec<String> = self.groups.iter().map(group_words).collect();
             parts.push(format!("in {}", groups.join(" › ")));
         }
-        if let Some(l) = like(fields(&self.pass)) {
+        if let Some(l) = like(self.pass.fields()) {
             parts.push(format!("like {l}"));
         }
-        let written = fields(&self.pass)
+        let written = self
+            .pass
+            .fields()
             .iter()
             .find(|x| x.0 == "name")
             .and_then(|x| x.2.text())
@@ -44,7 +46,7 @@ impl Origin {
 
 /// A group as `describe` names it: `group `name` (like …)`.
 fn group_words(g: &Node) -> String {
-    let f = fields(g);
+    let f = g.fields();
     let name = f.iter().find(|x| x.0 == "name").and_then(|x| x.2.text());
     let mut here = name.map_or("a group".to_string(), |n| format!("group `{n}`"));
     if let Some(l) = like(f) {
@@ -64,13 +66,6 @@ pub fn of(root: &Node) -> Vec<Origin> {
     out
 }
 
-fn fields(n: &Node) -> &[Field] {
-    match &*n.value {
-        Value::Struct { fields, .. } => fields,
-        _ => &[],
-    }
-}
-
 fn walk(list: &Node, groups: &std::sync::Arc<Vec<Node>>, out: &mut Vec<Origin>) {
     let Value::List(items) = &*list.value else { return };
     for item in items {
@@ -83,7 +78,7 @@ fn walk(list: &Node, groups: &std::sync::Arc<Vec<Node>>, out: &mut Vec<Origin>) 
             continue;
         }
         let inner = std::sync::Arc::new(groups.iter().cloned().chain([item.clone()]).collect());
-        for (_, _, v) in fields(item).iter().filter(|x| x.0 == "passes") {
+        for (_, _, v) in item.fields().iter().filter(|x| x.0 == "passes") {
             walk(v, &inner, out);
         }
     }

@@ -194,7 +194,7 @@ fn unknown_args(n: &Node, t: &Node, params: &[&str], diags: &mut Diagnostics) {
         }
         return;
     }
-    each_child(n, |c| unknown_args(c, t, params, diags));
+    n.each_child(|c| unknown_args(c, t, params, diags));
 }
 
 /// Report each `$X` left where no template gives it a value.
@@ -204,7 +204,7 @@ fn stray_args(n: &Node, diags: &mut Diagnostics) {
         diags.push(Diagnostic::error(Code::TemplateParam, msg, n.span));
         return;
     }
-    each_child(n, |c| stray_args(c, diags));
+    n.each_child(|c| stray_args(c, diags));
 }
 
 /// The name in `Arg("NAME")`.
@@ -212,19 +212,6 @@ fn arg(n: &Node) -> Option<&Node> {
     match &*n.value {
         Value::Tuple { name: Some((k, _)), items } if k == "Arg" && items.len() == 1 => Some(&items[0]),
         _ => None,
-    }
-}
-
-/// Call `f` on each child of `n` (no allocation: these walks cover whole files).
-fn each_child(n: &Node, mut f: impl FnMut(&Node)) {
-    match &*n.value {
-        Value::List(items) | Value::Tuple { items, .. } => items.iter().for_each(f),
-        Value::Map(entries) => entries.iter().for_each(|(k, v)| {
-            f(k);
-            f(v)
-        }),
-        Value::Struct { fields, .. } => fields.iter().for_each(|x| f(&x.2)),
-        _ => {}
     }
 }
 

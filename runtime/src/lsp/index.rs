@@ -9,7 +9,7 @@ use lightbench_compiler::ir::{
     Condition, Constant, Param, Pass, PassKind, Pipeline, Repeat, Resource, ResourceKind, SamplerDecl, SizeSpec, Variant,
 };
 use lightbench_compiler::span::{SourceMap, Span, Spanned};
-use lightbench_compiler::tree::{Field, Node, Value};
+use lightbench_compiler::tree::{Node, Value};
 use std::collections::{BTreeSet, HashMap};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -513,14 +513,14 @@ fn likes_under(key: &str, n: &Node, out: &mut Vec<(String, Span, String)>) {
         }
         Value::List(items) if key == "passes" => {
             for item in items {
-                let name = fields_of(item).iter().find(|f| f.0 == "name").and_then(|f| f.2.text());
+                let name = item.fields().iter().find(|f| f.0 == "name").and_then(|f| f.2.text());
                 let what = match (item.name(), name) {
                     (Some("Group"), Some(n)) => format!("group `{n}`"),
                     (Some("Group"), None) => "a group".to_string(),
                     (_, n) => format!("pass `{}`", n.unwrap_or("")),
                 };
                 likes_of(item, &what, out);
-                for (k, _, v) in fields_of(item).iter().filter(|f| f.0 == "passes") {
+                for (k, _, v) in item.fields().iter().filter(|f| f.0 == "passes") {
                     likes_under(k, v, out);
                 }
             }
@@ -529,16 +529,9 @@ fn likes_under(key: &str, n: &Node, out: &mut Vec<(String, Span, String)>) {
     }
 }
 
-fn fields_of(n: &Node) -> &[Field] {
-    match &*n.value {
-        Value::Struct { fields, .. } => fields,
-        _ => &[],
-    }
-}
-
 /// The templates an item's `like` names.
 fn likes_of(item: &Node, what: &str, out: &mut Vec<(String, Span, String)>) {
-    let Some((_, _, like)) = fields_of(item).iter().find(|f| f.0 == "like") else {
+    let Some((_, _, like)) = item.fields().iter().find(|f| f.0 == "like") else {
         return;
     };
     let refs: Vec<&Node> = match &*like.value {
@@ -556,7 +549,7 @@ fn likes_of(item: &Node, what: &str, out: &mut Vec<(String, Span, String)>) {
 
 /// A template: its parameters, the attributes it gives, what is like it.
 fn template_hover(name: &str, t: &Node, users: &[&str]) -> String {
-    let f = fields_of(t);
+    let f = t.fields();
     let params = f
         .iter()
         .find(|x| x.0 == "parameters")
