@@ -252,3 +252,18 @@ passes: [Fullscreen(name: \"one\", shader: \"fill.wgsl\", like: [], color: [\"ou
         out.dump()
     );
 }
+
+/// A `$NAME` in a declaration is a value of the wrong kind there, located.
+#[test]
+fn a_parameter_in_a_declaration_is_a_type_mismatch() {
+    let text = "pipeline m\n\ntexture $x: Rgba8Unorm 8x8\n\noutput out\n";
+    let dir = write_project("templates-declaration", &[("m.lbp", text)]);
+    let out = check_project(&dir, "m.lbp", &Profile::vulkan(), None);
+    assert!(
+        out.located()
+            .iter()
+            .any(|(c, m, _, l, col)| c == "type-mismatch" && m.contains("found `Arg(...)`") && *l == 3 && *col == 9),
+        "{}",
+        out.dump()
+    );
+}

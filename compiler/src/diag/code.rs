@@ -78,7 +78,7 @@ codes! {
     UnknownTemplate = "unknown-template": "a pass or group `like` a template no `template` declares",
     TemplateArguments = "template-arguments": "a template given more or fewer arguments than it has parameters",
     TemplateCycle = "template-cycle": "templates that are `like` each other",
-    TemplateParam = "template-param": "a `$NAME` that is not a parameter of the template it is in, or outside any template",
+    TemplateParam = "template-param": "a `$NAME` that is not a parameter of the template it is in, or in a pass outside any template",
     UnusedTemplate = "unused-template": "warning: a template no pass or group is like",
     ChoiceIncomplete = "choice-incomplete": "a choice (`Match`) with no arm for some option of its variant (or, warned, a default arm that serves none)",
     ChoiceOverlap = "choice-overlap": "one option served by two arms of a choice",
