@@ -186,7 +186,11 @@ fn decode(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> s
     })?;
     let (format, width, height) = (img.format, img.width, img.height);
     let rgba = to_rgba8(img).ok_or(format!("has an unsupported pixel format {format:?}"))?;
-    Ok(Texels { width, height, rgba })
+    Ok(Texels {
+        width,
+        height,
+        rgba: rgba.into(),
+    })
 }
 
 /// How an error names an image: by its file where it has one.

@@ -22,6 +22,7 @@ pub mod texture_cache;
 pub use error::{Error, Result};
 pub use light::{Animation, Light};
 pub use load::{features_in, instantiate, load, load_in};
+pub use texture_cache::TexelBytes;
 
 use glam::{Mat4, Vec3};
 pub use lightbench_compiler::abi::Vertex;
@@ -116,7 +117,7 @@ fn path_at(keys: &[CameraKey], t: f32) -> CameraKey {
 pub struct ImageData {
     pub width: u32,
     pub height: u32,
-    pub rgba: Vec<u8>,
+    pub rgba: TexelBytes,
     pub srgb: bool,
 }
 

@@ -216,7 +216,7 @@ fn textured_cornell() -> Scene {
     scene.textures.push(lightbench::scene::ImageData {
         width: 4,
         height: 4,
-        rgba: texels,
+        rgba: texels.into(),
         srgb: true,
     });
     let tall = scene.meshes.iter().position(|m| m.name.contains("tall")).expect("a tall box");
@@ -269,7 +269,7 @@ fn a_new_scene_keeps_what_did_not_change_resident_and_renders_as_a_fresh_one() {
     let report = ex.replace_scene(&g, &exe, &after).unwrap();
     assert_eq!(report.scene_kept.unwrap().meshes, (meshes, meshes));
     let mut recoloured = after.clone();
-    recoloured.textures[0].rgba[0] = 255;
+    recoloured.textures[0].rgba.to_mut()[0] = 255;
     let report = ex.replace_scene(&g, &exe, &recoloured).unwrap();
     assert_eq!(report.scene_kept.unwrap().textures, (0, 1));
 }

@@ -190,7 +190,12 @@ fn textured_box(size: (u32, u32)) -> Scene {
         srgb,
     };
     s.textures.push(checker(8, [240, 240, 240, 255], [40, 60, 200, 255], true));
-    let image = |width, height, rgba: Vec<u8>, srgb| ImageData { width, height, rgba, srgb };
+    let image = |width, height, rgba: Vec<u8>, srgb| ImageData {
+        width,
+        height,
+        rgba: rgba.into(),
+        srgb,
+    };
     // Roughness (green) no sharper than 0.47: a sharp metal makes caustics of the lamp, whose
     // rare bright paths 128 samples' variance estimates miss.
     s.textures.push(image(

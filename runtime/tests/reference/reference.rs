@@ -258,7 +258,7 @@ fn every_light_kind_and_textures_agree_with_the_raster_pipeline() {
     let mr = ImageData {
         width: 1,
         height: 1,
-        rgba: vec![0, 102, 0, 255],
+        rgba: vec![0, 102, 0, 255].into(),
         srgb: false,
     };
     let box_mesh = Mesh {

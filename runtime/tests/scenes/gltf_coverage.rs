@@ -215,7 +215,7 @@ fn textures_are_decoded_once_and_a_damaged_entry_is_rebuilt() {
     let other = Texels {
         width: 2,
         height: 1,
-        rgba: vec![7; 8],
+        rgba: vec![7; 8].into(),
     };
     seeded.get(Key::of("png", &png), || Ok(other.clone())).unwrap();
     assert_eq!(texels(&load_with(&model, &seeded).unwrap())[0], other.rgba);
