@@ -285,7 +285,8 @@ pub fn outline(path: &Path) -> Result<Outline> {
 }
 
 /// Decoded images become textures on first use: each image's texels are moved into its
-/// first texture, and shared (copied) only by a texture of the other colour space.
+/// first texture, and shared only by a texture of the other colour space (a copy, or the same
+/// mapped cache entry).
 struct Textures {
     images: Vec<Option<Texels>>,
     out: Vec<ImageData>,

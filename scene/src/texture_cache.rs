@@ -186,11 +186,12 @@ impl TextureCache {
             return Ok((t, Got::Cached));
         }
         let t = decode()?;
-        let got = match crate::files::write_atomic(&entry, &encode_entry(&t)) {
-            Ok(()) => Got::Decoded,
-            Err(e) => Got::NotKept(e.to_string()),
-        };
-        Ok((t, got))
+        match crate::files::write_atomic(&entry, &encode_entry(&t)) {
+            // The kept entry mapped in place of the decoded texels: a copy a model cache or a
+            // second colour space shares, not one of its own (read back whole, else kept).
+            Ok(()) => Ok((read_entry(&entry).unwrap_or(t), Got::Decoded)),
+            Err(e) => Ok((t, Got::NotKept(e.to_string()))),
+        }
     }
 }
 
@@ -278,6 +279,7 @@ mod tests {
         };
         let (t, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
         assert!(matches!(got, Got::Decoded) && t == texels());
+        assert!(matches!(t.rgba, TexelBytes::Mapped(_)), "kept, then mapped: {:?}", t.rgba);
         let (mut t, got) = cache.get(Key::of("png", b"encoded"), decode).unwrap();
         assert!(matches!(got, Got::Cached) && t == texels() && decodes.get() == 1);
         // Read from the cache, the texels are the entry mapped; changed, a copy of their own.
