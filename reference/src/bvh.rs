@@ -157,6 +157,13 @@ impl Stack {
 /// 10–15% less: past 2–3 million rays such a scene's reference takes a few percent longer.
 const CLUSTER: usize = 1 << 19;
 
+/// One cluster's tree, the order its packets hold the scene's triangles in, and its box.
+struct Cluster {
+    bvh: Bvh,
+    order: Vec<usize>,
+    bounds: Aabb,
+}
+
 impl Bvh {
     /// The BVH over `tris`, and the order its packets hold them in: a hit's id is a position
     /// in that order.
@@ -171,13 +178,14 @@ impl Bvh {
         }
         // One cluster at a time (obvhs builds each on every core): a build's transient memory
         // is held for one cluster, not for one per core.
-        let clusters: Vec<(Bvh, Vec<usize>, Aabb)> = morton_order(tris)
+        let clusters: Vec<Cluster> = morton_order(tris)
             .chunks(cluster)
             .map(|ids| {
                 let own: Vec<Triangle> = ids.iter().map(|&i| tris[i as usize]).collect();
                 let bounds = own.iter().fold(Aabb::empty(), |b, t| b.union(&t.aabb()));
                 let (bvh, order) = Bvh::build_one(&own);
-                (bvh, order.into_iter().map(|k| ids[k] as usize).collect(), bounds)
+                let order = order.into_iter().map(|k| ids[k] as usize).collect();
+                Cluster { bvh, order, bounds }
             })
             .collect();
         Bvh::join(clusters)
@@ -204,19 +212,19 @@ impl Bvh {
 
     /// The clusters' trees as one, under a tree built over their boxes; hit ids (positions in
     /// the joined order) follow the clusters' order.
-    fn join(clusters: Vec<(Bvh, Vec<usize>, Aabb)>) -> (Bvh, Vec<usize>) {
-        let boxes: Vec<Aabb> = clusters.iter().map(|c| c.2).collect();
+    fn join(clusters: Vec<Cluster>) -> (Bvh, Vec<usize>) {
+        let boxes: Vec<Aabb> = clusters.iter().map(|c| c.bounds).collect();
         let mut bvh = Bvh {
             nodes: vec![],
             packets: vec![],
             root: NONE,
         };
         // Reserved whole: grown by doubling, each would for a moment be held twice.
-        let total = |f: &dyn Fn(&(Bvh, Vec<usize>, Aabb)) -> usize| clusters.iter().map(f).sum::<usize>();
-        bvh.nodes.reserve_exact(total(&|c| c.0.nodes.len()) + clusters.len());
-        bvh.packets.reserve_exact(total(&|c| c.0.packets.len()));
-        let (mut roots, mut order) = (vec![], Vec::with_capacity(total(&|c| c.1.len())));
-        for (c, ids, _) in clusters {
+        let total = |f: fn(&Cluster) -> usize| clusters.iter().map(f).sum::<usize>();
+        bvh.nodes.reserve_exact(total(|c| c.bvh.nodes.len()) + clusters.len());
+        bvh.packets.reserve_exact(total(|c| c.bvh.packets.len()));
+        let (mut roots, mut order) = (vec![], Vec::with_capacity(total(|c| c.order.len())));
+        for Cluster { bvh: c, order: ids, .. } in clusters {
             let (nodes, packets, ids_at) = (bvh.nodes.len() as u32, bvh.packets.len() as u32, order.len() as u32);
             let moved = |code: u32| match code {
                 NONE => NONE,
