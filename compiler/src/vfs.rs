@@ -106,7 +106,8 @@ pub fn read_bytes(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
-fn too_large(limit: u64) -> io::Error {
+/// The error of a file over `limit` bytes.
+pub fn too_large(limit: u64) -> io::Error {
     let msg = if limit >= 1 << 30 {
         format!("larger than the {} GiB limit", limit >> 30)
     } else {

@@ -96,14 +96,15 @@ pub fn content_key(parts: &[&[u8]]) -> u128 {
 
 /// A texture with its full mip chain, made on the CPU by 2×2 box filtering (in linear light
 /// for sRGB data, so that mips do not darken), and its mean in linear values (its 1×1 level:
-/// what ray hits read for the map). Takes the texels: no copy of level 0 is made.
+/// what ray hits read for the map). Takes the texels: a decoded level 0 is extended in place (a
+/// mapped cache entry's is copied once).
 fn texture_2d(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     label: &str,
     w: u32,
     h: u32,
-    rgba: &[u8],
+    rgba: Vec<u8>,
     srgb: bool,
 ) -> (wgpu::TextureView, [f32; 4]) {
     let (levels, data) = mip_chain(w, h, rgba, srgb);
@@ -144,8 +145,8 @@ fn texture_2d(
 }
 
 /// Every mip level down to 1×1, concatenated (level 0 first, as the upload wants them):
-/// the level count and the texels. Level 0 is the input, copied first.
-pub fn mip_chain(w: u32, h: u32, level0: &[u8], srgb: bool) -> (u32, Vec<u8>) {
+/// the level count and the texels. Level 0 is the input, extended in place.
+pub fn mip_chain(w: u32, h: u32, mut data: Vec<u8>, srgb: bool) -> (u32, Vec<u8>) {
     let decode = |v: u8, c: usize| {
         if srgb && c < 3 {
             srgb_to_linear(v as f32 / 255.0)
@@ -155,9 +156,8 @@ pub fn mip_chain(w: u32, h: u32, level0: &[u8], srgb: bool) -> (u32, Vec<u8>) {
     };
     let encode = |v: f32, c: usize| ((if srgb && c < 3 { linear_to_srgb(v) } else { v }).clamp(0.0, 1.0) * 255.0).round() as u8;
     let (mut pw, mut ph, mut start, mut levels) = (w as usize, h as usize, 0usize, 1u32);
-    // The whole chain is at most 4/3 of level 0: reserved once instead of growing.
-    let mut data = Vec::with_capacity(level0.len() / 3 * 4 + 64);
-    data.extend_from_slice(level0);
+    // The whole chain is at most 4/3 of level 0: reserve it once instead of growing.
+    data.reserve(data.len() / 3 + 64);
     while pw > 1 || ph > 1 {
         let (nw, nh) = ((pw / 2).max(1), (ph / 2).max(1));
         let next_start = data.len();
@@ -245,7 +245,15 @@ fn upload_textures(
             up.kept += 1;
             continue;
         }
-        let (view, mean) = texture_2d(device, queue, &format!("scene_texture_{i}"), t.width, t.height, &t.rgba, t.srgb);
+        let (view, mean) = texture_2d(
+            device,
+            queue,
+            &format!("scene_texture_{i}"),
+            t.width,
+            t.height,
+            t.rgba.into_vec(),
+            t.srgb,
+        );
         up.views.push(view);
         up.means.push(mean);
         // Flush the upload's staging copy before the next texture, so that staging for every
@@ -266,9 +274,9 @@ fn materials(
     list: &[Material],
     textures: &[wgpu::TextureView],
 ) -> (Vec<MaterialGpu>, Vec<SamplerDesc>) {
-    let white = texture_2d(device, queue, "white", 1, 1, &[255, 255, 255, 255], true).0;
-    let white_linear = texture_2d(device, queue, "white_linear", 1, 1, &[255, 255, 255, 255], false).0;
-    let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, &[128, 128, 255, 255], false).0;
+    let white = texture_2d(device, queue, "white", 1, 1, vec![255, 255, 255, 255], true).0;
+    let white_linear = texture_2d(device, queue, "white_linear", 1, 1, vec![255, 255, 255, 255], false).0;
+    let flat_normal = texture_2d(device, queue, "flat_normal", 1, 1, vec![128, 128, 255, 255], false).0;
     let pick = |i: Option<usize>, default: &wgpu::TextureView| i.and_then(|i| textures.get(i)).unwrap_or(default).clone();
     let mut descs: Vec<SamplerDesc> = vec![];
     let out = list
@@ -750,13 +758,13 @@ mod tests {
     #[test]
     fn mips_average_in_linear_light_down_to_one_texel() {
         // Black and white sRGB texels average to 50% linear grey, which is sRGB 188, not 128.
-        let (levels, data) = mip_chain(2, 1, &[0, 0, 0, 255, 255, 255, 255, 255], true);
+        let (levels, data) = mip_chain(2, 1, vec![0, 0, 0, 255, 255, 255, 255, 255], true);
         assert_eq!(levels, 2);
         assert_eq!(data[8..], [188, 188, 188, 255]);
-        let (_, linear) = mip_chain(2, 1, &[0, 0, 0, 255, 255, 255, 255, 255], false);
+        let (_, linear) = mip_chain(2, 1, vec![0, 0, 0, 255, 255, 255, 255, 255], false);
         assert_eq!(linear[8..], [128, 128, 128, 255]);
         // 5×3, 2×1, 1×1: 15 + 2 + 1 texels.
-        let (levels, data) = mip_chain(5, 3, &[9; 60], false);
+        let (levels, data) = mip_chain(5, 3, vec![9; 60], false);
         assert_eq!((levels, data.len()), (3, 18 * 4));
         assert!(data.iter().all(|v| *v == 9), "a flat image stays flat");
     }

@@ -56,16 +56,22 @@ pub fn replaceable(path: &Path) -> std::result::Result<(), &'static str> {
 
 /// Write `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    write(path, bytes, None)
+    write(path, &[bytes], None)
+}
+
+/// `write_atomic` of `parts` one after another, without joining them in memory first (a
+/// header and a large body).
+pub fn write_atomic_parts(path: &Path, parts: &[&[u8]]) -> Result<()> {
+    write(path, parts, None)
 }
 
 /// Replace `path`, which was read as `before`: refused if it changed since.
 pub fn replace(path: &Path, bytes: &[u8], before: &Snapshot) -> Result<()> {
-    write(path, bytes, Some(before))
+    write(path, &[bytes], Some(before))
 }
 
-fn write(path: &Path, bytes: &[u8], before: Option<&Snapshot>) -> Result<()> {
-    let staged = stage(path, bytes)?;
+fn write(path: &Path, parts: &[&[u8]], before: Option<&Snapshot>) -> Result<()> {
+    let staged = stage(path, parts)?;
     staged.commit(before)
 }
 
@@ -76,7 +82,7 @@ pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<()> {
     let mut staged = Vec::with_capacity(files.len());
     for (path, bytes) in files {
         // A failure drops (removes) the temporaries staged so far.
-        staged.push(stage(path, bytes)?);
+        staged.push(stage(path, &[bytes])?);
     }
     staged.into_iter().try_for_each(|s| s.commit(None))
 }
@@ -89,7 +95,7 @@ struct Staged {
     tmp: PathBuf,
 }
 
-fn stage(path: &Path, bytes: &[u8]) -> Result<Staged> {
+fn stage(path: &Path, parts: &[&[u8]]) -> Result<Staged> {
     let target = resolve_links(path)?;
     let dir = target.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
@@ -111,7 +117,7 @@ fn stage(path: &Path, bytes: &[u8]) -> Result<Staged> {
     let mode = std::fs::metadata(&staged.target).ok().map(|m| m.permissions());
     let written = (|| {
         let mut f = std::fs::File::create(&staged.tmp)?;
-        f.write_all(bytes)?;
+        parts.iter().try_for_each(|p| f.write_all(p))?;
         f.sync_all()?;
         if let Some(p) = mode {
             std::fs::set_permissions(&staged.tmp, p)?;

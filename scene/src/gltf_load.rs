@@ -68,8 +68,8 @@ fn open(path: &Path, cache: &TextureCache) -> std::result::Result<Opened, String
 
 /// Every image of the document as RGBA8 texels: read from `cache`, else decoded and kept
 /// there; on rayon's threads, each distinct encoding once (two images of the same bytes share
-/// the work and the texels are copied). The encoded bytes are held only while they are
-/// hashed. An entry that could not be written is a warning, once.
+/// the work and the texels are copied). The encoded bytes are not held to be hashed: a file's
+/// are hashed as they are read. An entry that could not be written is a warning, once.
 fn decode_images(
     doc: &gltf::Document,
     base: &Path,
@@ -80,7 +80,7 @@ fn decode_images(
     let images: Vec<gltf::Image> = doc.images().collect();
     let keys = images
         .par_iter()
-        .map(|i| encoded(i, base, buffers).map(|(kind, bytes)| Key::of(&kind, &bytes)))
+        .map(|i| key_of(i, base, buffers))
         .collect::<std::result::Result<Vec<_>, _>>()?;
     let mut first = std::collections::HashMap::new();
     let firsts: Vec<usize> = keys.iter().enumerate().map(|(i, k)| *first.entry(*k).or_insert(i)).collect();
@@ -156,22 +156,26 @@ impl Counted {
     }
 }
 
-/// An image's encoded bytes and what chooses its decoder (its declared MIME type, else its
-/// URI): a buffer view's slice, a file's contents, or a `data:` URI itself.
-fn encoded(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> std::result::Result<(String, Vec<u8>), String> {
+/// An image's key in the texture cache: of its encoded bytes and what chooses its decoder (its
+/// declared MIME type, else its URI) — a buffer view's slice, a file's contents (hashed as they
+/// are read, not held), or a `data:` URI itself.
+fn key_of(image: &gltf::Image, base: &Path, buffers: &[gltf::buffer::Data]) -> std::result::Result<Key, String> {
     match image.source() {
         gltf::image::Source::View { view, mime_type } => {
             let data = &buffers[view.buffer().index()].0;
-            Ok((mime_type.to_string(), data[view.offset()..view.offset() + view.length()].to_vec()))
+            Ok(Key::of(mime_type, &data[view.offset()..view.offset() + view.length()]))
         }
         gltf::image::Source::Uri { uri, mime_type } => {
-            let kind = mime_type.unwrap_or(uri.rsplit('.').next().unwrap_or_default()).to_string();
+            let kind = mime_type.unwrap_or(uri.rsplit('.').next().unwrap_or_default());
             if uri.starts_with("data:") {
-                return Ok((kind, uri.as_bytes().to_vec()));
+                return Ok(Key::of(kind, uri.as_bytes()));
             }
             let file = base.join(percent_decode(uri));
-            let bytes = lightbench_compiler::vfs::read_bytes(&file, MAX_MODEL_FILE_BYTES).map_err(|e| unreadable(&file, e))?;
-            Ok((kind, bytes))
+            let read = || {
+                lightbench_compiler::vfs::regular_file(&file, MAX_MODEL_FILE_BYTES)?;
+                Key::of_read(kind, std::fs::File::open(&file)?, MAX_MODEL_FILE_BYTES)
+            };
+            read().map_err(|e| unreadable(&file, e))
         }
     }
 }
