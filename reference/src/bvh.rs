@@ -151,7 +151,7 @@ impl Stack {
 /// of the Morton order), each its own tree, under a tree over the clusters' boxes.
 /// Reinsertion's search for where a node fits best costs more per node the larger the tree
 /// (1.2× per triangle from 2.5 M to 10 M), so one tree over everything grew faster than the
-/// scene: CPU time's exponent 1.09–1.16 from 640 k to 16 M triangles, about 1.0 with clusters.
+/// scene: CPU time's exponent 1.09–1.16 from 640 k to 16 M triangles, 1.035 with clusters.
 /// What it costs: rays took 3–10% longer on 1–2 M-triangle scenes built as clusters of this
 /// size (a bumpy height field, a soup of small triangles; one thread), while their build took
 /// 10–15% less: past 2–3 million rays such a scene's reference takes a few percent longer.

@@ -10,13 +10,13 @@
 //! and rewritten, atomically.
 //!
 //! A cached image's texels are the entry file mapped into memory, not read into a buffer of
-//! their own: a fresh buffer's pages are zeroed by the kernel and then copied into, which cost
-//! twice what the read saved (24 ms against 6 ms for four 2048² images in a fresh process).
-//! Entries are only ever replaced by renaming a whole new file over them (`files::write_atomic`),
+//! their own: a fresh buffer's pages are zeroed by the kernel and then copied into, four times
+//! what mapping costs (24 ms against 6 ms for four 2048² images in a fresh process). Entries
+//! are only ever replaced by renaming a whole new file over them (`files::write_atomic_parts`),
 //! never written in place, so a mapped entry does not change under the texels that use it.
 //! Texels decoded now stay the decoded buffer: mapping their new entry back in its place
-//! doubled a first render's peak (the freed buffers stay with the allocator; `--bench assets`
-//! 2.1× the GPU-resident bytes against 1.0×).
+//! raised a first render's peak (the assets benchmark: 2.1× the GPU-resident bytes against
+//! 1.0–1.3×).
 
 use std::path::{Path, PathBuf};
 
@@ -71,9 +71,7 @@ impl TexelBytes {
             TexelBytes::Mapped(_) => unreachable!("made owned above"),
         }
     }
-}
 
-impl TexelBytes {
     /// The texels as a buffer of their own: a decoded one's as it is, a mapped one's copied.
     pub fn into_vec(self) -> Vec<u8> {
         match self {
