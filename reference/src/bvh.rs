@@ -504,7 +504,8 @@ fn widest_children(tree: &Bvh2, n: usize, opens: impl Fn(usize) -> bool) -> Vec<
 }
 
 /// The triangles' indices in the order of their centres' Morton codes (21 bits an axis, in the
-/// scene's box): runs of it are clusters of neighbours.
+/// scene's box; obvhs's encoding, the one its own build sorts by): runs of it are clusters of
+/// neighbours.
 fn morton_order(tris: &[Triangle]) -> Vec<u32> {
     use rayon::prelude::*;
     let bounds = tris.iter().fold(Aabb::empty(), |b, t| b.union(&t.aabb()));
@@ -515,21 +516,13 @@ fn morton_order(tris: &[Triangle]) -> Vec<u32> {
         Vec3A::splat(((1u32 << 21) - 1) as f32) / extent,
         Vec3A::ZERO,
     );
-    let spread = |v: u64| {
-        let mut x = v & 0x1f_ffff;
-        x = (x | x << 32) & 0x1f_0000_0000_ffff;
-        x = (x | x << 16) & 0x1f_0000_ff00_00ff;
-        x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
-        x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
-        (x | x << 2) & 0x1249_2492_4924_9249
-    };
     let mut keyed: Vec<(u64, u32)> = tris
         .par_iter()
         .enumerate()
         .map(|(i, t)| {
             let c = ((t.v0 + t.v1 + t.v2) / 3.0 - bounds.min) * scale;
-            let q = |x: f32| x.clamp(0.0, ((1u32 << 21) - 1) as f32) as u64;
-            (spread(q(c.x)) | spread(q(c.y)) << 1 | spread(q(c.z)) << 2, i as u32)
+            let q = |x: f32| x.clamp(0.0, ((1u32 << 21) - 1) as f32) as u32;
+            (obvhs::ploc::morton::morton_encode_u64(q(c.x), q(c.y), q(c.z)), i as u32)
         })
         .collect();
     keyed.par_sort_unstable();

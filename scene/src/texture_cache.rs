@@ -63,8 +63,9 @@ impl std::ops::Deref for TexelBytes {
 impl TexelBytes {
     /// The texels to change: a mapped entry's are copied first (the entry is never written).
     pub fn to_mut(&mut self) -> &mut Vec<u8> {
-        if let TexelBytes::Mapped(m) = self {
-            *self = TexelBytes::Owned(m.map[m.start..].to_vec());
+        if let TexelBytes::Mapped(_) = self {
+            let mapped = std::mem::replace(self, TexelBytes::Owned(vec![]));
+            *self = TexelBytes::Owned(mapped.into_vec());
         }
         match self {
             TexelBytes::Owned(v) => v,
