@@ -1,6 +1,6 @@
 // Ambient occlusion volumes (seed 003 §4.6.4, §5.7; McGuire 2010) without a geometry shader:
 // a `draw: Triangles(24)` pass pulls scene triangle `instance_index` from the standard
-// `triangles` buffer and emits its volume, a prism of 8 triangles: the triangle grown by
+// `triangles` table (lib/table.wgsl) and emits its volume, a prism of 8 triangles: the triangle grown by
 // `radius` within its plane (base) and pushed `radius` along its normal (top). The volume
 // covers every point the triangle can occlude within `radius`. When the camera is inside
 // (or within the near plane of) a volume, the volume becomes a full-screen triangle instead,
@@ -12,6 +12,7 @@
 // triangle leaves 1 - occlusion), which needs no blur: there is no sampling noise.
 #include "lib/frame.wgsl"
 #include "lib/gbuffer.wgsl"
+#include "lib/table.wgsl"
 
 const PI: f32 = 3.14159265;
 
@@ -27,7 +28,12 @@ fn radius() -> f32 {
     return params.radius * length_unit(params.world);
 }
 
-@group(2) @binding(3) var<storage, read> triangles: array<vec4<f32>>;
+@group(2) @binding(3) var triangles: texture_2d_array<u32>;
+
+// Corner `k` of scene triangle `i` (world).
+fn corner(i: u32, k: u32) -> vec3<f32> {
+    return bitcast<vec4<f32>>(table_texel(triangles, 3u * i + k)).xyz;
+}
 @group(2) @binding(4) var<uniform> params: Params;
 
 struct VsOut {
@@ -46,9 +52,9 @@ struct Tri {
 
 fn load_tri(i: u32) -> Tri {
     var t: Tri;
-    t.a = triangles[3u * i].xyz;
-    t.b = triangles[3u * i + 1u].xyz;
-    t.c = triangles[3u * i + 2u].xyz;
+    t.a = corner(i, 0u);
+    t.b = corner(i, 1u);
+    t.c = corner(i, 2u);
     let cr = cross(t.b - t.a, t.c - t.a);
     t.ok = dot(cr, cr) > 1e-20;
     t.n = safe_normalize(cr, vec3<f32>(0.0, 1.0, 0.0));

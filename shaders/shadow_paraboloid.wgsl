@@ -3,7 +3,7 @@
 // The tessellation caveat: the paraboloid projection bends straight lines, but the rasterizer
 // joins projected corners with straight edges, so a large triangle's interpolated depth is
 // wrong inside it and its true (bent) outline is not what gets rasterized. Here each scene
-// triangle is pulled whole from the standard `triangles` buffer (`draw: Triangles(6)`),
+// triangle is pulled whole from the standard `triangles` table (`draw: Triangles(6)`),
 // clipped to the hemisphere (a fan of up to two triangles) and drawn grown around its centre
 // by how far its edges bow on the map; each fragment computes its depth exactly — the ray
 // from the light through its map point meets the triangle's plane — and fragments whose ray
@@ -12,6 +12,7 @@
 // leaks; the growth and the exact depth (no early depth test) cost fragment work.
 #include "lib/frame.wgsl"
 #include "lib/math.wgsl"
+#include "lib/table.wgsl"
 #include "lib/paraboloid.wgsl"
 
 struct Params {
@@ -20,7 +21,12 @@ struct Params {
 };
 
 @group(2) @binding(0) var<uniform> params: Params;
-@group(2) @binding(1) var<storage, read> triangles: array<vec4<f32>>;
+@group(2) @binding(1) var triangles: texture_2d_array<u32>;
+
+// Corner `k` of scene triangle `i` (world).
+fn corner(i: u32, k: u32) -> vec3<f32> {
+    return bitcast<vec4<f32>>(table_texel(triangles, 3u * i + k)).xyz;
+}
 
 struct VsOut {
     @builtin(position) pos: vec4<f32>,
@@ -92,9 +98,9 @@ fn clip_to_hemisphere(d: array<vec3<f32>, 3>) -> Clipped {
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) t: u32) -> VsOut {
     let l = lights[instance.light];
     var out: VsOut;
-    out.a = triangles[3u * t].xyz;
-    out.b = triangles[3u * t + 1u].xyz;
-    out.c = triangles[3u * t + 2u].xyz;
+    out.a = corner(t, 0u);
+    out.b = corner(t, 1u);
+    out.c = corner(t, 2u);
     let f = paraboloid_frame(l, params.side);
     let part = clip_to_hemisphere(array<vec3<f32>, 3>(f * (out.a - l.position.xyz), f * (out.b - l.position.xyz), f * (out.c - l.position.xyz)));
     let fan = v / 3u;

@@ -6,6 +6,7 @@
 //! own).
 
 use super::scene_gpu::{check_buffer, MeshGpu};
+use super::texel_table::texel_table;
 use crate::error::{Error, Result};
 use bytemuck::Zeroable;
 use lightbench_compiler::abi::{HitCorners, HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
@@ -45,8 +46,8 @@ pub struct BlasKey {
 
 /// The standard bindings hits are shaded with, in the order the TLAS's custom indices address.
 pub struct HitData {
-    /// `hit_triangles`: every traced triangle, mesh after mesh.
-    pub triangles: wgpu::Buffer,
+    /// `hit_triangles`: every traced triangle, mesh after mesh (a table of texels).
+    pub triangles: wgpu::TextureView,
     /// `hit_materials`: every material of the scene.
     pub materials: wgpu::Buffer,
     /// `hit_emitters`: the traced triangles that emit, with their choice probabilities.
@@ -56,8 +57,9 @@ pub struct HitData {
 /// What maps are looked up at hits with, built apart (only passes that look maps up bind it:
 /// the scene's textures at full resolution need not be copied for the others).
 pub struct HitMaps {
-    /// `hit_corners`: every traced triangle's corners' texture coordinates and tangents.
-    pub corners: wgpu::Buffer,
+    /// `hit_corners`: every traced triangle's corners' texture coordinates and tangents (a
+    /// table of texels).
+    pub corners: wgpu::TextureView,
     /// `hit_maps`: the scene's maps at full resolution.
     pub maps: wgpu::Buffer,
 }
@@ -325,17 +327,21 @@ fn storage<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, items: &[T]) ->
 }
 
 impl HitData {
-    /// The traced meshes' triangles and the scene's materials as hits read them, within the
-    /// device's storage-binding size.
-    pub fn build(device: &wgpu::Device, scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitData> {
+    /// The traced meshes' triangles and the scene's materials as hits read them: the
+    /// triangles as a table within the device's texture limits, the emitters within its
+    /// storage-binding size.
+    pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitData> {
+        let device = gpu.0;
         let (meshes, materials) = (&scene_gpu.meshes[..], &scene_gpu.hit_materials[..]);
         let (mut hits, corners) = hit_data(meshes, &traced(meshes), scene);
         let emitters = emitters(&mut hits, &corners, materials);
-        let bytes = std::mem::size_of_val(&hits[..]).max(std::mem::size_of_val(&emitters[..])) as u64;
-        let what = || format!("scene `{}`: the ray-hit data of its {} traced triangles", scene.name, hits.len());
+        drop(corners);
+        let bytes = std::mem::size_of_val(&emitters[..]) as u64;
+        let what = || format!("scene `{}`: its {} emissive traced triangles", scene.name, emitters.len());
         check_buffer(device, what, bytes, true)?;
+        let what = || format!("scene `{}`: the ray-hit data of its {} traced triangles", scene.name, hits.len());
         Ok(HitData {
-            triangles: storage(device, "hit triangles", &hits),
+            triangles: texel_table(gpu, "hit triangles", what, &hits)?,
             materials: storage(device, "hit materials", materials),
             emitters: storage(device, "hit emitters", &emitters),
         })
@@ -343,15 +349,14 @@ impl HitData {
 }
 
 impl HitMaps {
-    /// The traced triangles' corners (in the hit data's order) and the scene's maps, within
-    /// the device's storage-binding size.
+    /// The traced triangles' corners (in the hit data's order) as a table within the
+    /// device's texture limits, and the scene's maps within its storage-binding size.
     pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitMaps> {
         let (device, queue) = gpu;
         let mut corners = vec![];
         for i in traced(&scene_gpu.meshes) {
             hit_corners(&scene.meshes[scene_gpu.meshes[i].source], &mut corners);
         }
-        let bytes = std::mem::size_of_val(&corners[..]) as u64;
         let what = || {
             format!(
                 "scene `{}`: the texture coordinates of its {} traced triangles",
@@ -359,9 +364,8 @@ impl HitMaps {
                 corners.len()
             )
         };
-        check_buffer(device, what, bytes, true)?;
         Ok(HitMaps {
-            corners: storage(device, "hit corners", &corners),
+            corners: texel_table(gpu, "hit corners", what, &corners)?,
             maps: maps(device, queue, &scene_gpu.textures)?,
         })
     }

@@ -50,7 +50,7 @@ pub struct Binder<'a> {
     pub frame: &'a wgpu::Buffer,
     pub lights_buf: &'a wgpu::Buffer,
     /// The scene's triangles (standard binding `triangles`), where the Plan binds them.
-    pub triangles: Option<&'a wgpu::Buffer>,
+    pub triangles: Option<&'a wgpu::TextureView>,
     /// The scene's emissive triangles (standard binding `area_lights`).
     pub area_lights: &'a wgpu::Buffer,
     /// The light-volume meshes (standard binding `light_volumes`) and their ranges.
@@ -88,7 +88,7 @@ impl Binder<'_> {
             .ok_or_else(|| Error::Plan("the maps looked up at ray hits were not built for this Plan".into()))
     }
 
-    fn triangles(&self) -> Result<&wgpu::Buffer> {
+    fn triangles(&self) -> Result<&wgpu::TextureView> {
         self.triangles
             .ok_or_else(|| Error::Plan("the scene's triangles were not built for this Plan".into()))
     }
@@ -249,13 +249,13 @@ impl Binder<'_> {
             let r = match &e.source {
                 BindSource::Frame => Held::Buf(self.frame.as_entire_buffer_binding()),
                 BindSource::Lights => Held::Buf(self.lights_buf.as_entire_buffer_binding()),
-                BindSource::Triangles => Held::Buf(self.triangles()?.as_entire_buffer_binding()),
+                BindSource::Triangles => Held::View(self.triangles()?.clone()),
                 BindSource::LightVolumes => Held::Buf(self.volumes.0.as_entire_buffer_binding()),
                 BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
-                BindSource::HitTriangles => Held::Buf(self.hits()?.triangles.as_entire_buffer_binding()),
+                BindSource::HitTriangles => Held::View(self.hits()?.triangles.clone()),
                 BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
                 BindSource::HitEmitters => Held::Buf(self.hits()?.emitters.as_entire_buffer_binding()),
-                BindSource::HitCorners => Held::Buf(self.maps()?.corners.as_entire_buffer_binding()),
+                BindSource::HitCorners => Held::View(self.maps()?.corners.clone()),
                 BindSource::HitMaps => Held::Buf(self.maps()?.maps.as_entire_buffer_binding()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,

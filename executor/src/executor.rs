@@ -132,7 +132,7 @@ struct Shared {
     /// What maps are looked up at hits with, built the first time a Plan binds it.
     hit_maps: std::sync::OnceLock<HitMaps>,
     /// The standard `triangles` binding, built the first time a Plan binds it.
-    triangles: std::sync::OnceLock<wgpu::Buffer>,
+    triangles: std::sync::OnceLock<wgpu::TextureView>,
     scene: Scene,
     lights: Vec<Light>,
     bounds: (glam::Vec3, glam::Vec3),
@@ -265,7 +265,7 @@ impl Shared {
         if let Some(h) = self.hits.get() {
             return Ok(h);
         }
-        let built = HitData::build(&gpu.device, &self.scene_gpu, &self.scene)?;
+        let built = HitData::build((&gpu.device, &gpu.queue), &self.scene_gpu, &self.scene)?;
         Ok(self.hits.get_or_init(|| built))
     }
 
@@ -279,11 +279,11 @@ impl Shared {
     }
 
     /// The scene's drawn triangles in world space, built on first use.
-    fn triangles(&self, gpu: &Gpu) -> Result<&wgpu::Buffer> {
+    fn triangles(&self, gpu: &Gpu) -> Result<&wgpu::TextureView> {
         if let Some(t) = self.triangles.get() {
             return Ok(t);
         }
-        let built = super::scene_gpu::triangles(&gpu.device, &self.scene)?;
+        let built = super::scene_gpu::triangles((&gpu.device, &gpu.queue), &self.scene)?;
         Ok(self.triangles.get_or_init(|| built))
     }
 }

@@ -57,6 +57,7 @@ pub mod render;
 /// The reuse rule lives with the Plan it depends on (GPU-free).
 pub use lightbench_compiler::plan::reuse;
 pub mod scene_gpu;
+mod texel_table;
 mod timing;
 
 pub use device::{DeviceOptions, Gpu, HostOptions};

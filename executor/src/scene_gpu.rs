@@ -379,7 +379,7 @@ fn drawn_triangles(scene: &Scene) -> impl Iterator<Item = (&lightbench_scene::Me
 }
 
 /// How many triangles the standard `triangles` binding holds.
-fn triangle_count(scene: &Scene) -> u64 {
+pub fn triangle_count(scene: &Scene) -> u64 {
     drawn_triangles(scene).map(|(_, drawn)| drawn.len() as u64 / 3).sum()
 }
 
@@ -405,12 +405,10 @@ pub fn check_buffer(device: &wgpu::Device, what: impl FnOnce() -> String, bytes:
 }
 
 /// The standard `triangles` binding: world-space corners of the triangles `draw: Scene` draws,
-/// 3 `vec4` (w: 1) each; one zeroed triangle when there are none (a binding cannot be empty).
-/// Within the device's storage-binding size, or an error naming it.
-pub fn triangles(device: &wgpu::Device, scene: &Scene) -> Result<wgpu::Buffer> {
+/// 3 `vec4` (w: 1) each, as a table of texels (`shaders/lib/table.wgsl`); one zeroed triangle
+/// when there are none. Within the device's texture limits, or an error naming them.
+pub fn triangles(gpu: (&wgpu::Device, &wgpu::Queue), scene: &Scene) -> Result<wgpu::TextureView> {
     let count = triangle_count(scene);
-    let what = || format!("scene `{}`: the `triangles` binding of its {count} drawn triangles", scene.name);
-    check_buffer(device, what, count * 48, true)?;
     let mut corners: Vec<[f32; 4]> = Vec::with_capacity(count as usize * 3);
     for (m, drawn) in drawn_triangles(scene) {
         for t in drawn.chunks_exact(3) {
@@ -428,11 +426,8 @@ pub fn triangles(device: &wgpu::Device, scene: &Scene) -> Result<wgpu::Buffer> {
     if corners.is_empty() {
         corners = vec![[0.0; 4]; 3];
     }
-    Ok(device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("scene triangles"),
-        contents: bytemuck::cast_slice(&corners),
-        usage: wgpu::BufferUsages::STORAGE,
-    }))
+    let what = || format!("scene `{}`: the `triangles` binding of its {count} drawn triangles", scene.name);
+    super::texel_table::texel_table(gpu, "scene triangles", what, &corners)
 }
 
 /// Area lights past this many emissive triangles are left out (the least powerful): each

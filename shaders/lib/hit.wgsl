@@ -1,10 +1,12 @@
 // Shading a ray's hit with the definitions the G-buffer and the reference use: the traced
 // triangle's interpolated shading normal, its front, and its material (standard bindings
-// `hit_triangles` and `hit_materials`, built with the acceleration structure). Included by
+// `hit_triangles`, a table of lib/table.wgsl, and `hit_materials`, built with the
+// acceleration structure). Included by
 // lib/hit_maps.wgsl, which looks the maps up where a ray met a surface (here each map stands
 // in by its mean), and through it by lib/ray.wgsl.
 #include "lib/math.wgsl"
 #include "lib/surface.wgsl"
+#include "lib/table.wgsl"
 
 struct HitTriangle {
     // The corners' shading normals (world, unit).
@@ -45,7 +47,8 @@ struct HitMaterial {
     uv_row1: vec4<f32>,
 };
 
-@group(0) @binding(5) var<storage, read> hit_triangles: array<HitTriangle>;
+// 4 texels per triangle (its `HitTriangle`'s words).
+@group(0) @binding(5) var hit_triangles: texture_2d_array<u32>;
 @group(0) @binding(6) var<storage, read> hit_materials: array<HitMaterial>;
 
 const NO_EMITTER: u32 = 0xffffffffu;
@@ -67,13 +70,22 @@ struct RayHit {
     front: bool,
     emitter: u32,
     shadowed: bool,
-    // The triangle met (an index into `hit_triangles`) and where on it.
+    // The triangle met (an index into the `hit_triangles` table) and where on it.
     triangle: u32,
     bary: vec2<f32>,
 };
 
+// Traced triangle `index`'s hit data.
+fn hit_triangle_at(index: u32) -> HitTriangle {
+    let a = table_texel(hit_triangles, 4u * index);
+    let b = table_texel(hit_triangles, 4u * index + 1u);
+    let c = table_texel(hit_triangles, 4u * index + 2u);
+    let d = table_texel(hit_triangles, 4u * index + 3u);
+    return HitTriangle(bitcast<vec3<f32>>(a.xyz), a.w, bitcast<vec3<f32>>(b.xyz), b.w, bitcast<vec3<f32>>(c.xyz), c.w, bitcast<vec3<f32>>(d.xyz), d.w);
+}
+
 fn hit_triangle(i: RayIntersection) -> HitTriangle {
-    return hit_triangles[i.instance_custom_data + i.primitive_index];
+    return hit_triangle_at(i.instance_custom_data + i.primitive_index);
 }
 
 // Camera and bounce rays see the front of a single-sided surface and both sides of a

@@ -15,7 +15,7 @@ struct HitEmitter {
     // Cumulative probability of this emitter and those before it (the last is 1).
     cdf: f32,
     p2: vec3<f32>,
-    // Its triangle (an index into `hit_triangles`: its front, sidedness and material).
+    // Its triangle (an index into the `hit_triangles` table: its front, sidedness and material).
     triangle: u32,
     // Radiance with the emissive map's mean: what its power, and so its choice, is weighed by.
     radiance: vec3<f32>,
@@ -57,7 +57,7 @@ fn emitter_pick(u: f32) -> u32 {
 // The cosine at emitter `e` towards a point in direction `-l` from it, if it emits that way
 // (else 0): from its front, or from both sides when it is double-sided.
 fn emitter_facing(e: HitEmitter, l: vec3<f32>) -> f32 {
-    let tri = hit_triangles[e.triangle];
+    let tri = hit_triangle_at(e.triangle);
     let c = -dot(tri.ng, l);
     let facing = select(c, abs(c), tri.double_sided != 0u);
     return select(0.0, facing, facing > 1e-7);

@@ -1,6 +1,7 @@
 // A material's maps looked up where a ray met it, as the reference looks them up (level 0,
 // bilinear, the material's wrap modes, sRGB colour decoded per texel): standard bindings
-// `hit_corners` (per traced triangle its corners' texture coordinates) and `hit_maps` (the
+// `hit_corners` (per traced triangle its corners' texture coordinates, 6 texels of a table of
+// lib/table.wgsl) and `hit_maps` (the
 // scene's maps as one array: a table of (first texel, width, height, row pitch | sRGB bit)
 // per map, then RGBA8 texels). Alpha-masked surfaces are cut out where their alpha is below
 // the cutoff, blended ones where it is below a coin tossed per ray and triangle (stochastic
@@ -22,10 +23,20 @@ struct HitCorners {
 // What the coins of the next ray's blended surfaces are drawn from.
 var<private> ray_coin: u32;
 
-@group(0) @binding(8) var<storage, read> hit_corners: array<HitCorners>;
+@group(0) @binding(8) var hit_corners: texture_2d_array<u32>;
 @group(0) @binding(9) var<storage, read> hit_maps: array<u32>;
 
 const NO_MAP: u32 = 0xffffffffu;
+
+// Traced triangle `index`'s corners.
+fn hit_corners_at(index: u32) -> HitCorners {
+    var c: HitCorners;
+    for (var k = 0u; k < 3u; k++) {
+        c.uv[k] = bitcast<vec4<f32>>(table_texel(hit_corners, 6u * index + k));
+        c.tangent[k] = bitcast<vec4<f32>>(table_texel(hit_corners, 6u * index + 3u + k));
+    }
+    return c;
+}
 
 fn srgb_decode(c: f32) -> f32 {
     return select(pow((c + 0.055) / 1.055, 2.4), c / 12.92, c <= 0.04045);
@@ -78,7 +89,7 @@ fn sample_map(map: u32, uv: vec2<f32>, wrap: u32) -> vec4<f32> {
 // Map `k` of material `m`'s texture coordinates at barycentrics `b` of triangle `index`,
 // through the material's UV transform.
 fn map_uv(m: HitMaterial, index: u32, b: vec2<f32>, k: u32) -> vec2<f32> {
-    let c = hit_corners[index];
+    let c = hit_corners_at(index);
     let w = vec3<f32>(1.0 - b.x - b.y, b.x, b.y);
     let second = ((m.uv_sets >> k) & 1u) != 0u;
     let uv4 = c.uv[0] * w.x + c.uv[1] * w.y + c.uv[2] * w.z;
@@ -108,9 +119,9 @@ fn normal_mapped(n: vec3<f32>, tangent: vec4<f32>, texel: vec3<f32>, scale: f32)
 // The shading normal at a hit along `dir` with the material's normal map applied, turned as
 // lib/hit.wgsl's `ray_hit` turns it.
 fn mapped_normal(h: RayHit, m: HitMaterial, dir: vec3<f32>) -> vec3<f32> {
-    let tri = hit_triangles[h.triangle];
+    let tri = hit_triangle_at(h.triangle);
     let w = vec3<f32>(1.0 - h.bary.x - h.bary.y, h.bary.x, h.bary.y);
-    let c = hit_corners[h.triangle];
+    let c = hit_corners_at(h.triangle);
     let tangent = c.tangent[0] * w.x + c.tangent[1] * w.y + c.tangent[2] * w.z;
     let texel = material_map(m, h.triangle, h.bary, MAP_NORMAL).xyz;
     let n = normal_mapped(safe_normalize(tri.n0 * w.x + tri.n1 * w.y + tri.n2 * w.z, tri.ng), tangent, texel, m.normal_scale);
@@ -121,7 +132,7 @@ fn mapped_normal(h: RayHit, m: HitMaterial, dir: vec3<f32>) -> vec3<f32> {
 // from the factors times the maps (lib/material.wgsl's definitions) in place of the maps'
 // means, and the normal map applied.
 fn look_up_maps(h: ptr<function, RayHit>, dir: vec3<f32>) {
-    let m = hit_materials[hit_triangles[(*h).triangle].material];
+    let m = hit_materials[hit_triangle_at((*h).triangle).material];
     if m.maps[MAP_NORMAL] != NO_MAP {
         (*h).n = mapped_normal(*h, m, dir);
     }
@@ -130,21 +141,21 @@ fn look_up_maps(h: ptr<function, RayHit>, dir: vec3<f32>) {
     (*h).albedo = base.rgb;
     (*h).metallic = clamp(m.metallic_factor * mr.z, 0.0, 1.0);
     (*h).roughness = clamp(m.roughness_factor * mr.y, 0.03, 1.0);
-    let emits = (*h).front || hit_triangles[(*h).triangle].double_sided != 0u;
+    let emits = (*h).front || hit_triangle_at((*h).triangle).double_sided != 0u;
     let e = m.emissive_factor * material_map(m, (*h).triangle, (*h).bary, MAP_EMISSIVE).rgb;
     (*h).emissive = select(vec3<f32>(0.0), e, emits);
 }
 
 // What emitter triangle `index` emits at barycentrics `b` (its map looked up).
 fn emission_at(index: u32, b: vec2<f32>) -> vec3<f32> {
-    let m = hit_materials[hit_triangles[index].material];
+    let m = hit_materials[hit_triangle_at(index).material];
     return m.emissive_factor * material_map(m, index, b, MAP_EMISSIVE).rgb;
 }
 
 // How much of the light triangle `index` stops at barycentrics `b`: 1 where it is opaque, 0
 // or 1 where it is masked (its alpha against the cutoff), its alpha where it is blended.
 fn coverage(index: u32, b: vec2<f32>) -> f32 {
-    let m = hit_materials[hit_triangles[index].material];
+    let m = hit_materials[hit_triangle_at(index).material];
     if m.cutoff == 0.0 {
         return 1.0;
     }
@@ -179,7 +190,7 @@ fn trace_seen_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) 
         if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE {
             let index = c.instance_custom_data + c.primitive_index;
             if !ray_passes(index, c.barycentrics, c.t) {
-                if seen_along(hit_triangles[index], dir) {
+                if seen_along(hit_triangle_at(index), dir) {
                     rayQueryConfirmIntersection(&rq);
                 } else {
                     back = min(back, c.t);

@@ -8,21 +8,31 @@ const LIMIT: u64 = 1 << 20;
 
 /// A device whose buffers hold at most 2 MiB and storage bindings 1 MiB, as a host may open it.
 fn small_device() -> Gpu {
+    device_with(|l| {
+        l.max_buffer_size = 2 * LIMIT;
+        l.max_storage_buffer_binding_size = LIMIT;
+    })
+}
+
+/// A device opened as lightbench opens it, its limits then changed by `limit`.
+fn device_with(limit: impl Fn(&mut wgpu::Limits)) -> Gpu {
     let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
     let adapter =
         pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).expect("an adapter (CI installs lavapipe)");
     let mut desc = device::device_descriptor(&adapter);
-    desc.required_limits.max_buffer_size = 2 * LIMIT;
-    desc.required_limits.max_storage_buffer_binding_size = LIMIT;
+    limit(&mut desc.required_limits);
     let (dev, queue) = pollster::block_on(adapter.request_device(&desc)).unwrap();
     Gpu::from_host(adapter, dev, queue, HostOptions { probe: false }).unwrap()
 }
 
-/// A flat n × n grid of vertices (2 (n − 1)² triangles) on the Cornell box's floor.
+/// A flat n × n grid of vertices (2 (n − 1)² triangles) on the Cornell box's floor, its
+/// shading normals leaning outwards (so each triangle shades apart).
 fn grid(n: u32) -> lightbench::scene::Mesh {
     let vertex = |i: u32| lightbench::blocks::Vertex {
         position: [(i % n) as f32 / n as f32 - 0.5, 0.01, (i / n) as f32 / n as f32 - 0.5],
-        normal: [0.0, 1.0, 0.0],
+        normal: glam::Vec3::new((i % n) as f32 / n as f32 - 0.5, 1.0, (i / n) as f32 / n as f32 - 0.5)
+            .normalize()
+            .to_array(),
         uv: [0.0; 2],
         tangent: [1.0, 0.0, 0.0, 1.0],
         uv1: [0.0; 2],
@@ -47,11 +57,11 @@ fn executor(gpu: &Gpu, pipeline: &str, variants: &[(&str, &str)], s: &lightbench
     Executor::new(gpu, &exe, s)
 }
 
-/// A 120² grid in the Cornell box: its vertex buffer (0.8 MiB) fits, the `triangles` binding
-/// (28,356 triangles, 1.3 MiB) does not. The default pipeline reads no `triangles` and renders; ambient occlusion
-/// volumes (`ao = aov`) read them and are refused with the figure and the limit, and so are
-/// ray-traced shadows, whose ray-hit data does not fit. A 200² grid's vertex buffer (2.1 MiB)
-/// is refused by the mesh's name.
+/// A 120² grid in the Cornell box: its vertex buffer (0.8 MiB) fits. The default pipeline
+/// renders; ambient occlusion volumes (`ao = aov`) read the `triangles` binding (28,356
+/// triangles, 1.3 MiB, over the storage-binding size), a table of texels, and render as on a
+/// device as lightbench opens it. A 200² grid's vertex buffer (2.1 MiB) is refused by the
+/// mesh's name.
 #[test]
 fn buffers_over_the_device_limits_are_refused_by_name() {
     let gpu = small_device();
@@ -61,16 +71,14 @@ fn buffers_over_the_device_limits_are_refused_by_name() {
     let img = ex.read_texture(&gpu, "hdr", 0, 0).unwrap();
     assert!(img.rgba.iter().all(|v| v.is_finite()) && img.rgba.iter().any(|v| *v > 0.0));
 
-    let err = executor(&gpu, "deferred_gi.lbp", &[("ao", "aov")], &s)
-        .err()
-        .expect("the triangles do not fit")
-        .to_string();
-    for want in [
-        "`triangles` binding of its 28356 drawn triangles",
-        "max_storage_buffer_binding_size of 1.0 MiB",
-    ] {
-        assert!(err.contains(want), "{err}");
-    }
+    let aov = |gpu: &Gpu| {
+        let mut ex = executor(gpu, "deferred_gi.lbp", &[("ao", "aov")], &s).unwrap_or_else(|e| panic!("{e}"));
+        ex.render_frame(gpu, &ex.inputs(0.0)).unwrap();
+        ex.read_texture(gpu, "hdr", 0, 0).unwrap().rgba
+    };
+    let small = aov(&gpu);
+    assert!(small.iter().all(|v| v.is_finite()));
+    assert!(small == aov(&device_with(|_| {})), "the same volumes from the table");
 
     let err = executor(&gpu, "deferred.lbp", &[], &cornell_with(grid(200)))
         .err()
@@ -79,16 +87,47 @@ fn buffers_over_the_device_limits_are_refused_by_name() {
     for want in ["mesh `grid` of scene `cornell`: its vertex buffer", "max_buffer_size of 2.0 MiB"] {
         assert!(err.contains(want), "{err}");
     }
-    // Ray-traced shadows bind the scene's ray-hit data (64 B per triangle: 1.7 MiB here).
-    let err = executor(&gpu, "deferred.lbp", &[("shadows", "rt")], &s)
+    assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
+}
+
+/// The path tracer on the small device: the grid's ray-hit data (1.7 MiB) exceeds its storage
+/// bindings but is a table of texels (`shaders/lib/hit.wgsl`), so the pass renders — and
+/// renders the same where the device's 256-texel side splits the tables into layers (113,424
+/// texels of triangles: 2 layers of 256 rows; 170,136 of corners: 3), and on a device as
+/// lightbench opens it (one layer of 2048-texel rows). A device of two layers refuses the
+/// corners' table, naming the figure and the limit.
+#[test]
+fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
+    let s = cornell_with(grid(120));
+    let render = |gpu: &Gpu| {
+        let mut ex = executor(gpu, "pathtrace.lbp", &[("term", "direct")], &s).unwrap_or_else(|e| panic!("{e}"));
+        ex.render_frame(gpu, &ex.inputs(0.0)).unwrap();
+        assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
+        ex.read_texture(gpu, "hdr", 0, 0).unwrap().rgba
+    };
+    let rows = render(&small_device());
+    let layers = render(&device_with(|l| {
+        l.max_storage_buffer_binding_size = LIMIT;
+        l.max_texture_dimension_2d = 256;
+    }));
+    assert!(rows.iter().all(|v| v.is_finite()) && rows.iter().any(|v| *v > 0.0));
+    let differ = |a: &[f32], b: &[f32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+    assert_eq!(differ(&rows, &layers), 0, "the same hits, whatever the table's shape");
+    assert_eq!(differ(&rows, &render(&device_with(|_| {}))), 0);
+
+    // Two layers of 256² texels hold the triangles' table but not the corners' (3 layers).
+    let few_layers = device_with(|l| {
+        l.max_texture_dimension_2d = 256;
+        l.max_texture_array_layers = 2;
+    });
+    let err = executor(&few_layers, "pathtrace.lbp", &[("term", "direct")], &s)
         .err()
-        .expect("the hit data does not fit")
+        .expect("the corners' table does not fit")
         .to_string();
     for want in [
-        "scene `cornell`: the ray-hit data of its 28356 traced triangles",
-        "max_storage_buffer_binding_size of 1.0 MiB",
+        "scene `cornell`: the texture coordinates of its 28356 traced triangles needs 3 layers of 256×256 texels",
+        "over this device's max_texture_array_layers of 2",
     ] {
         assert!(err.contains(want), "{err}");
     }
-    assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
 }

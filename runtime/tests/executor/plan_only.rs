@@ -59,7 +59,9 @@ struct Small<'a> {
     /// The scene's emissive triangles (`area_lights`), at least one entry.
     area_lights: wgpu::Buffer,
     /// The scene's drawn triangles in world space (`triangles`).
-    triangles: wgpu::Buffer,
+    triangles: wgpu::TextureView,
+    /// How many triangles `triangles` holds (what `draw: Triangles(n)` instances).
+    triangle_count: u32,
     /// The scene's light array (the lights that are on, in scene order, then the emitter
     /// lights: what the Plan's runs index), and
     /// the volumes a light-volume draw takes for them (`light_volumes`).
@@ -95,7 +97,7 @@ impl Traced {
         let scene_gpu = scene_gpu::SceneGpu::new(d, q, &mut scene.clone()).map_err(|e| e.to_string())?;
         Ok(Some(Traced {
             accel: accel::Accel::build(d, q, &scene_gpu.meshes, scene, &[]).map_err(|e| e.to_string())?,
-            hits: accel::HitData::build(d, &scene_gpu, scene).map_err(|e| e.to_string())?,
+            hits: accel::HitData::build((d, q), &scene_gpu, scene).map_err(|e| e.to_string())?,
             maps: accel::HitMaps::build((d, q), &scene_gpu, scene).map_err(|e| e.to_string())?,
         }))
     }
@@ -155,7 +157,8 @@ impl<'a> Small<'a> {
             frame: init(d, bytemuck::bytes_of(&frame), wgpu::BufferUsages::UNIFORM),
             lights_buf: init(d, bytemuck::cast_slice(&blocks), wgpu::BufferUsages::STORAGE),
             area_lights: init(d, bytemuck::cast_slice(&area_lights), wgpu::BufferUsages::STORAGE),
-            triangles: scene_gpu::triangles(d, scene).map_err(|e| e.to_string())?,
+            triangles: scene_gpu::triangles((d, &gpu.queue), scene).map_err(|e| e.to_string())?,
+            triangle_count: scene_gpu::triangle_count(scene) as u32,
             volumes_buf: init(d, bytemuck::cast_slice(&volumes.corners), wgpu::BufferUsages::STORAGE),
             volumes,
             lights,
@@ -305,17 +308,17 @@ impl<'a> Small<'a> {
                     (BindSource::Frame, _) => self.frame.as_entire_binding(),
                     (BindSource::Lights, _) => self.lights_buf.as_entire_binding(),
                     (BindSource::AreaLights, _) => self.area_lights.as_entire_binding(),
-                    (BindSource::Triangles, _) => self.triangles.as_entire_binding(),
+                    (BindSource::Triangles, _) => wgpu::BindingResource::TextureView(&self.triangles),
                     (BindSource::LightVolumes, _) => self.volumes_buf.as_entire_binding(),
                     (hit @ (BindSource::HitTriangles | BindSource::HitMaterials | BindSource::HitEmitters), _) => {
                         let h = &self.traced()?.hits;
                         match hit {
-                            BindSource::HitTriangles => h.triangles.as_entire_binding(),
+                            BindSource::HitTriangles => wgpu::BindingResource::TextureView(&h.triangles),
                             BindSource::HitMaterials => h.materials.as_entire_binding(),
                             _ => h.emitters.as_entire_binding(),
                         }
                     }
-                    (BindSource::HitCorners, _) => self.traced()?.maps.corners.as_entire_binding(),
+                    (BindSource::HitCorners, _) => wgpu::BindingResource::TextureView(&self.traced()?.maps.corners),
                     (BindSource::HitMaps, _) => self.traced()?.maps.maps.as_entire_binding(),
                     (BindSource::Instance, _) => instance.as_entire_binding(),
                     (BindSource::Params, _) => match pass.uniform_blocks.iter().position(|b| b.global == e.name) {
@@ -444,7 +447,7 @@ impl<'a> Small<'a> {
             // Vertex pulling: the vertices of a volume per triangle, one instance per triangle.
             Work::Raster {
                 draw: Draw::Triangles(n), ..
-            } => rp.draw(0..*n, 0..(self.triangles.size() / 48) as u32),
+            } => rp.draw(0..*n, 0..self.triangle_count),
             // The bounding volume of the repetition's light.
             Work::Raster {
                 draw: Draw::LightVolume, ..

@@ -11,21 +11,24 @@ use crate::layout::{
 use crate::shader::reflect::{BindingTy, TexKind};
 
 /// The standard blocks and buffers, bound by their global's name: the two uniform blocks,
-/// then the read-only storage buffers (`STORAGE`).
+/// the read-only storage buffers (`STORAGE`), then the per-triangle tables (`TABLES`).
 const STANDARD: [&str; 11] = [
     FRAME,
     INSTANCE,
     LIGHTS,
-    TRIANGLES,
     LIGHT_VOLUMES,
     AREA_LIGHTS,
-    HIT_TRIANGLES,
     HIT_MATERIALS,
     HIT_EMITTERS,
-    HIT_CORNERS,
     HIT_MAPS,
+    TRIANGLES,
+    HIT_TRIANGLES,
+    HIT_CORNERS,
 ];
-const STORAGE: &[&str] = STANDARD.split_at(2).1;
+const STORAGE: &[&str] = STANDARD.split_at(2).1.split_at(6).0;
+/// Per-triangle records as the texels of a `texture_2d_array<u32>` (`shaders/lib/table.wgsl`):
+/// a texture holds what a storage binding's size limit would cut off.
+const TABLES: &[&str] = STANDARD.split_at(8).1;
 
 impl Ctx<'_> {
     pub(super) fn bind(&mut self, u: &Used, diags: &mut Diagnostics) {
@@ -71,12 +74,9 @@ impl Ctx<'_> {
             (BindingTy::Storage { read_only: true, size }, name) if STORAGE.contains(&name) => (
                 match name {
                     LIGHTS => BindSource::Lights,
-                    TRIANGLES => BindSource::Triangles,
                     AREA_LIGHTS => BindSource::AreaLights,
-                    HIT_TRIANGLES => BindSource::HitTriangles,
                     HIT_MATERIALS => BindSource::HitMaterials,
                     HIT_EMITTERS => BindSource::HitEmitters,
-                    HIT_CORNERS => BindSource::HitCorners,
                     HIT_MAPS => BindSource::HitMaps,
                     _ => BindSource::LightVolumes,
                 },
@@ -85,9 +85,32 @@ impl Ctx<'_> {
                     min_binding_size: *size,
                 },
             ),
+            (
+                BindingTy::Texture {
+                    kind: TexKind::Uint,
+                    dim: ShaderDim::D2Array,
+                    multisampled: false,
+                },
+                name,
+            ) if TABLES.contains(&name) => {
+                let source = match name {
+                    TRIANGLES => BindSource::Triangles,
+                    HIT_TRIANGLES => BindSource::HitTriangles,
+                    _ => BindSource::HitCorners,
+                };
+                let ty = BindingType::Texture {
+                    sample_type: SampleType::Uint,
+                    view_dimension: ShaderDim::D2Array,
+                    multisampled: false,
+                };
+                (source, ty)
+            }
             (_, name) => {
-                let storage = STORAGE.contains(&name);
-                let want = if storage { "`var<storage, read>`" } else { "`var<uniform>`" };
+                let want = match name {
+                    _ if STORAGE.contains(&name) => "`var<storage, read>`",
+                    _ if TABLES.contains(&name) => "a `texture_2d_array<u32>`, a table of texels (`shaders/lib/table.wgsl`)",
+                    _ => "`var<uniform>`",
+                };
                 let what = match name {
                     LIGHTS => "the light array",
                     TRIANGLES => "the scene's triangle array",
