@@ -11,16 +11,16 @@ use crate::error::{Error, Result};
 const SIDE: u32 = 2048;
 const TEXEL: u64 = 16;
 
-/// A table's width, rows per layer and layers for `texels` texels within the device's
-/// `max_texture_dimension_2d` (`max_side`); the layers may exceed the device's count (the
-/// caller refuses that, naming the limit).
-fn shape(texels: u64, max_side: u32) -> (u32, u32, u64) {
+/// A table's width, rows per layer and layers (at least `min_layers`) for `texels` texels
+/// within the device's `max_texture_dimension_2d` (`max_side`); the layers may exceed the
+/// device's count (the caller refuses that, naming the limit).
+fn shape(texels: u64, max_side: u32, min_layers: u64) -> (u32, u32, u64) {
     let side = SIDE.min(max_side).max(1) as u64;
     let texels = texels.max(1);
     let width = side.min(texels);
     let rows = texels.div_ceil(width);
     let height = rows.min(side);
-    (width as u32, height as u32, rows.div_ceil(height))
+    (width as u32, height as u32, rows.div_ceil(height).max(min_layers))
 }
 
 /// `records` (each a whole number of texels) as a table texture, labelled `label`; `what`
@@ -36,7 +36,10 @@ pub fn texel_table<T: bytemuck::Pod>(
     let bytes: &[u8] = bytemuck::cast_slice(records);
     let limits = device.limits();
     let texels = bytes.len() as u64 / TEXEL;
-    let (width, height, layers) = shape(texels, limits.max_texture_dimension_2d);
+    // wgpu's GL backend makes a texture of one layer a `TEXTURE_2D`, which no array view can
+    // read: there a second (empty) layer makes it an array.
+    let min_layers = if device.adapter_info().backend == wgpu::Backend::Gl { 2 } else { 1 };
+    let (width, height, layers) = shape(texels, limits.max_texture_dimension_2d, min_layers);
     if layers > limits.max_texture_array_layers as u64 {
         return Err(Error::scene(format!(
             "{} needs {layers} layers of {width}×{height} texels ({:.1} MiB), over this device's max_texture_array_layers of {}",
@@ -122,14 +125,17 @@ mod tests {
     /// then layers of as many rows.
     #[test]
     fn tables_are_shaped_in_rows_then_layers() {
-        assert_eq!(shape(0, 8192), (1, 1, 1));
-        assert_eq!(shape(12, 8192), (12, 1, 1));
-        assert_eq!(shape(2049, 8192), (2048, 2, 1));
-        assert_eq!(shape(2048 * 2048, 8192), (2048, 2048, 1));
-        assert_eq!(shape(2048 * 2048 + 1, 8192), (2048, 2048, 2));
+        assert_eq!(shape(0, 8192, 1), (1, 1, 1));
+        assert_eq!(shape(12, 8192, 1), (12, 1, 1));
+        assert_eq!(shape(2049, 8192, 1), (2048, 2, 1));
+        assert_eq!(shape(2048 * 2048, 8192, 1), (2048, 2048, 1));
+        assert_eq!(shape(2048 * 2048 + 1, 8192, 1), (2048, 2048, 2));
         // 16 M triangles of 4 texels: 16 layers of 64 MiB.
-        assert_eq!(shape(4 << 24, 16384), (2048, 2048, 16));
+        assert_eq!(shape(4 << 24, 16384, 1), (2048, 2048, 16));
         // A device of 64-texel sides: layers of 64 × 64.
-        assert_eq!(shape(64 * 64 * 3 + 5, 64), (64, 64, 4));
+        assert_eq!(shape(64 * 64 * 3 + 5, 64, 1), (64, 64, 4));
+        // GL's at least two layers.
+        assert_eq!(shape(12, 8192, 2), (12, 1, 2));
+        assert_eq!(shape(64 * 64 * 3 + 5, 64, 2), (64, 64, 4));
     }
 }

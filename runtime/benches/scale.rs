@@ -7,8 +7,10 @@
 //! beyond a two-triangle scene's, with the growth exponent fitted over the sizes from 640 k
 //! (log-log least squares: 1.0 is linear). `render` splits its time into the scene's load and
 //! the rest; `reference` into its BVH build with tracing (what it reports) and the rest (loading).
+//! On the largest one-mesh grid, calling for every effect under a sun and a point light,
+//! `verify` runs the bundled pipelines (every option once) and its configurations are printed.
 //! Goals: render ≤ 150 B and reference ≤ 300 B per triangle, exponents ≤ 1.05, plan flat (its
-//! memory does not grow with triangles). Linux only (wait4, /proc). Needs an adapter (lavapipe
+//! memory does not grow with triangles), verify without problems. Linux only (wait4, /proc). Needs an adapter (lavapipe
 //! is enough); `cargo test` runs it at its smallest (`Size::Smoke`).
 
 use std::io::Write;
@@ -133,6 +135,13 @@ fn write_scene(dir: &Path, triangles: u64, meshes: u32) -> (PathBuf, u64) {
     let scene = dir.join("scene.ron");
     let text = "Scene(\n    size: (64, 64),\n    models: [(path: \"grid.gltf\")],\n    lights: [Directional(direction: (0.3, -1.0, 0.2), intensity: 2.0)],\n)\n";
     std::fs::write(&scene, text).expect("write scene");
+    // The same grid calling for every effect, under a point light too: what `verify` runs.
+    let every = text.replace(
+        "    lights: [",
+        "    effects: [Shadows, AmbientOcclusion, MultiViewAo, Ssr, IndirectDiffuse, IndirectSpecular, Bloom],\n    \
+         lights: [Point(position: (0.5, 0.5, 0.5), intensity: 4.0, range: 3.0), ",
+    );
+    std::fs::write(dir.join("every_effect.ron"), every).expect("write scene");
     (scene, g as u64 * g as u64 * 2 * meshes as u64)
 }
 
@@ -147,9 +156,26 @@ struct Figures {
     reference: Child,
     /// The reference's BVH build and tracing, in seconds, as it prints them.
     reference_trace: f64,
+    /// `verify` of the bundled pipelines on the grid calling for every effect, where run.
+    verify: Option<Child>,
 }
 
-fn measure(dir: &Path, triangles: u64, meshes: u32) -> Figures {
+/// `verify` of the bundled pipelines (every option once; at `Size::Smoke` deferred.lbp's
+/// shadow and cube-shadow options) on `dir`'s grid calling for every effect: every pass that
+/// reads the scene's per-triangle tables (ray-traced options, AO volumes, paraboloid shadows).
+fn verify(dir: &Path, size: Size) -> Child {
+    let scene = dir.join("every_effect.ron");
+    let mut args = vec!["verify"];
+    args.extend(match size {
+        Size::Full => ["pipelines/deferred.lbp", "pipelines/deferred_gi.lbp"].as_slice(),
+        Size::Smoke => ["pipelines/deferred.lbp", "--vary", "shadows,cube_shadow"].as_slice(),
+    });
+    let scene = scene.to_str().expect("utf-8 path");
+    args.extend(["--scenes", scene, "--frames", "1", "--size", "64x64", "--format", "json"]);
+    lightbench(&args, dir)
+}
+
+fn measure(dir: &Path, (triangles, meshes): (u64, u32), verify_at: Option<Size>) -> Figures {
     let (scene, triangles) = write_scene(dir, triangles, meshes);
     let scene = scene.to_str().expect("utf-8 path");
     let image = dir.join("frame.png");
@@ -188,6 +214,7 @@ fn measure(dir: &Path, triangles: u64, meshes: u32) -> Figures {
         dir,
     );
     let reference_trace = number_before(&reference.out, " s\n");
+    let verify = verify_at.map(|size| verify(dir, size));
     Figures {
         triangles,
         meshes,
@@ -196,6 +223,7 @@ fn measure(dir: &Path, triangles: u64, meshes: u32) -> Figures {
         render_load,
         reference,
         reference_trace,
+        verify,
     }
 }
 
@@ -228,7 +256,11 @@ fn exponent(points: &[(f64, f64)]) -> f64 {
 fn run(size: Size) {
     let dir = std::env::temp_dir().join(format!("lightbench-bench-scale-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let figures: Vec<Figures> = size.points().into_iter().map(|(t, m)| measure(&dir, t, m)).collect();
+    let points = size.points();
+    let largest = points.iter().rposition(|p| p.1 == 1);
+    let figures: Vec<Figures> = (points.iter().enumerate())
+        .map(|(i, &p)| measure(&dir, p, (Some(i) == largest).then_some(size)))
+        .collect();
     let _ = std::fs::remove_dir_all(&dir);
     let base = &figures[0];
     let mib = |b: u64| b as f64 / (1 << 20) as f64;
@@ -292,6 +324,23 @@ fn run(size: Size) {
             per(largest.reference.peak as f64, base.reference.peak as f64, largest.triangles),
             plan.clone().fold(f64::INFINITY, f64::min),
             plan.fold(0.0, f64::max),
+        );
+    }
+    print_verify(&figures);
+}
+
+/// What `verify` found on the largest grid: its configurations, those with problems (it exits
+/// 0 only with none, or the bench stops with its output), its time and peak memory.
+fn print_verify(figures: &[Figures]) {
+    for f in figures {
+        let Some(v) = &f.verify else { continue };
+        println!(
+            "verify at {} triangles, every effect, a sun and a point light: {} configurations, {} with problems; {:.1} s, peak {:.0} MiB",
+            f.triangles,
+            number_after(&v.out, "\"configurations\":"),
+            number_after(&v.out, "\"problems\":"),
+            v.wall,
+            v.peak as f64 / (1 << 20) as f64
         );
     }
 }

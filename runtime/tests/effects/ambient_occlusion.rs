@@ -363,8 +363,9 @@ fn ao_volumes_darken_corners_like_ssao_without_noise() {
 }
 
 /// The AOV presets of seed 003 Table 6.5 size the accessibility buffer w, w/2, w/4; the
-/// upsampled result keeps the corner darkening. On the GL backend (llvmpipe), which has
-/// storage buffers in vertex shaders, the volumes render alike.
+/// upsampled result keeps the corner darkening. On the GL backend (llvmpipe), whose vertex shaders read
+/// the `triangles` table (given a second layer there: GL makes a texture of one layer a plain
+/// 2D texture, which no array view reads), the volumes render alike.
 #[test]
 fn ao_volume_presets_and_the_gl_backend() {
     let vk = gpu();
