@@ -6,7 +6,7 @@
 //! own).
 
 use super::scene_gpu::{check_buffer, MeshGpu};
-use super::texel_table::texel_table;
+use super::texel_table::{texel_table, texel_table_from_gpu};
 use crate::error::{Error, Result};
 use bytemuck::Zeroable;
 use lightbench_compiler::abi::{HitCorners, HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
@@ -60,8 +60,8 @@ pub struct HitMaps {
     /// `hit_corners`: every traced triangle's corners' texture coordinates and tangents (a
     /// table of texels).
     pub corners: wgpu::TextureView,
-    /// `hit_maps`: the scene's maps at full resolution.
-    pub maps: wgpu::Buffer,
+    /// `hit_maps`: the scene's maps at full resolution (a table of texels).
+    pub maps: wgpu::TextureView,
 }
 
 /// A traced triangle's world corners, in its own order (its front is its hit data's `ng`).
@@ -219,9 +219,10 @@ fn hit_data(meshes: &[MeshGpu], list: &[usize], scene: &Scene) -> (Vec<HitTriang
 }
 
 /// Where each map's texels begin in `hit_maps` (bytes, 256-aligned as copies want them), its
-/// row pitch in bytes, and the whole buffer's size.
+/// row pitch in bytes, and the whole table's size: the count and an entry per map (a texel
+/// each), then the maps.
 fn map_layout(textures: &[wgpu::Texture]) -> (Vec<(u64, u64)>, u64) {
-    let header = 4 * (1 + 4 * textures.len() as u64);
+    let header = 16 * (1 + textures.len() as u64);
     let mut at = header.next_multiple_of(256);
     let mut places = vec![];
     for t in textures {
@@ -229,50 +230,42 @@ fn map_layout(textures: &[wgpu::Texture]) -> (Vec<(u64, u64)>, u64) {
         places.push((at, pitch));
         at += pitch * t.height() as u64;
     }
-    (places, at.max(16))
+    (places, at)
 }
 
-/// The scene's maps for lookups at ray hits (`hit_maps`): a table — the count, then per map
-/// (first texel's index, width, height, row pitch in texels | 1 << 31 for sRGB) — then each
-/// map's level 0 as RGBA8 texels, copied on the GPU from the uploaded textures (the scene
+/// The scene's maps for lookups at ray hits (`hit_maps`), a table of texels: the count, then
+/// per map (first texel's word, width, height, row pitch in words | 1 << 31 for sRGB), then
+/// each map's level 0 as RGBA8 texels, copied on the GPU from the uploaded textures (the scene
 /// keeps no CPU copy).
-fn maps(device: &wgpu::Device, queue: &wgpu::Queue, textures: &[wgpu::Texture]) -> Result<wgpu::Buffer> {
+fn maps(gpu: (&wgpu::Device, &wgpu::Queue), textures: &[wgpu::Texture]) -> Result<wgpu::TextureView> {
     let (places, size) = map_layout(textures);
     let what = || format!("the scene's {} maps at full resolution, looked up at ray hits,", textures.len());
-    check_buffer(device, what, size, true)?;
-    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("hit maps"),
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut table = vec![textures.len() as u32];
+    let mut table = vec![[textures.len() as u32, 0, 0, 0]];
     for (t, (at, pitch)) in textures.iter().zip(&places) {
         let srgb = (t.format() == wgpu::TextureFormat::Rgba8UnormSrgb) as u32;
-        table.extend([(at / 4) as u32, t.width(), t.height(), (pitch / 4) as u32 | srgb << 31]);
+        table.push([(at / 4) as u32, t.width(), t.height(), (pitch / 4) as u32 | srgb << 31]);
     }
-    queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&table));
-    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("hit maps") });
-    for (t, (at, pitch)) in textures.iter().zip(&places) {
-        enc.copy_texture_to_buffer(
-            t.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: *at,
-                    bytes_per_row: Some(*pitch as u32),
-                    rows_per_image: Some(t.height()),
+    texel_table_from_gpu(gpu, "hit maps", what, size, |enc, staging| {
+        gpu.1.write_buffer(staging, 0, bytemuck::cast_slice(&table));
+        for (t, (at, pitch)) in textures.iter().zip(&places) {
+            enc.copy_texture_to_buffer(
+                t.as_image_copy(),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: staging,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: *at,
+                        bytes_per_row: Some(*pitch as u32),
+                        rows_per_image: Some(t.height()),
+                    },
                 },
-            },
-            wgpu::Extent3d {
-                width: t.width(),
-                height: t.height(),
-                depth_or_array_layers: 1,
-            },
-        );
-    }
-    queue.submit([enc.finish()]);
-    Ok(buffer)
+                wgpu::Extent3d {
+                    width: t.width(),
+                    height: t.height(),
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+    })
 }
 
 /// The traced triangles that emit as lights, chosen in proportion to their power (area ×
@@ -349,10 +342,9 @@ impl HitData {
 }
 
 impl HitMaps {
-    /// The traced triangles' corners (in the hit data's order) as a table within the
-    /// device's texture limits, and the scene's maps within its storage-binding size.
+    /// The traced triangles' corners (in the hit data's order) and the scene's maps, as
+    /// tables within the device's texture limits.
     pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitMaps> {
-        let (device, queue) = gpu;
         let mut corners = vec![];
         for i in traced(&scene_gpu.meshes) {
             hit_corners(&scene.meshes[scene_gpu.meshes[i].source], &mut corners);
@@ -366,7 +358,7 @@ impl HitMaps {
         };
         Ok(HitMaps {
             corners: texel_table(gpu, "hit corners", what, &corners)?,
-            maps: maps(device, queue, &scene_gpu.textures)?,
+            maps: maps(gpu, &scene_gpu.textures)?,
         })
     }
 }

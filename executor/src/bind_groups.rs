@@ -256,7 +256,7 @@ impl Binder<'_> {
                 BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
                 BindSource::HitEmitters => Held::Buf(self.hits()?.emitters.as_entire_buffer_binding()),
                 BindSource::HitCorners => Held::View(self.maps()?.corners.clone()),
-                BindSource::HitMaps => Held::Buf(self.maps()?.maps.as_entire_buffer_binding()),
+                BindSource::HitMaps => Held::View(self.maps()?.maps.clone()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {
                     buffer: self.instance,
                     offset: slot * SLOT,

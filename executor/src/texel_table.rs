@@ -5,6 +5,7 @@
 //! which hold tens of millions of triangles.
 
 use crate::error::{Error, Result};
+use crate::scene_gpu::check_buffer;
 
 /// Texels per row and rows per layer at most: a layer is then 64 MiB, so a table's last,
 /// partly filled layer wastes little.
@@ -17,7 +18,8 @@ const TEXEL: u64 = 16;
 fn shape(texels: u64, max_side: u32, min_layers: u64) -> (u32, u32, u64) {
     let side = SIDE.min(max_side).max(1) as u64;
     let texels = texels.max(1);
-    let width = side.min(texels);
+    // Whole multiples of 16 texels (256 bytes, as buffer-to-texture copies want rows).
+    let width = side.min(texels.next_multiple_of(16));
     let rows = texels.div_ceil(width);
     let height = rows.min(side);
     (width as u32, height as u32, rows.div_ceil(height).max(min_layers))
@@ -31,20 +33,75 @@ pub fn texel_table<T: bytemuck::Pod>(
     what: impl Fn() -> String,
     records: &[T],
 ) -> Result<wgpu::TextureView> {
-    let (device, queue) = gpu;
     debug_assert_eq!(std::mem::size_of::<T>() as u64 % TEXEL, 0);
     let bytes: &[u8] = bytemuck::cast_slice(records);
+    let (texture, shape) = new_table(gpu.0, label, &what, bytes.len() as u64)?;
+    upload(gpu.1, &texture, bytes, shape);
+    Ok(array_view(&texture))
+}
+
+/// A table of `bytes` filled on the GPU: `fill` records its copies into a buffer of the
+/// table's whole rows (`COPY_DST`, its bytes past `bytes` unused), which is then copied in.
+pub fn texel_table_from_gpu(
+    gpu: (&wgpu::Device, &wgpu::Queue),
+    label: &str,
+    what: impl Fn() -> String,
+    bytes: u64,
+    fill: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Buffer),
+) -> Result<wgpu::TextureView> {
+    let (device, queue) = gpu;
+    let (texture, (width, height)) = new_table(device, label, &what, bytes)?;
+    let row = width as u64 * TEXEL;
+    let rows = (bytes / TEXEL).max(1).div_ceil(width as u64);
+    check_buffer(device, || format!("{} (staged for the copy)", what()), rows * row, false)?;
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: rows * row,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) });
+    fill(&mut enc, &staging);
+    for (z, first) in (0..rows).step_by(height as usize).enumerate() {
+        let layer_rows = (rows - first).min(height as u64) as u32;
+        enc.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &staging,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: first * row,
+                    bytes_per_row: Some(row as u32),
+                    rows_per_image: Some(layer_rows),
+                },
+            },
+            wgpu::TexelCopyTextureInfo {
+                texture: &texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d { x: 0, y: 0, z: z as u32 },
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::Extent3d {
+                width,
+                height: layer_rows,
+                depth_or_array_layers: 1,
+            },
+        );
+    }
+    queue.submit([enc.finish()]);
+    Ok(array_view(&texture))
+}
+
+/// An empty table for `bytes` and its width and rows per layer, within the device's limits.
+fn new_table(device: &wgpu::Device, label: &str, what: &dyn Fn() -> String, bytes: u64) -> Result<(wgpu::Texture, (u32, u32))> {
     let limits = device.limits();
-    let texels = bytes.len() as u64 / TEXEL;
     // wgpu's GL backend makes a texture of one layer a `TEXTURE_2D`, which no array view can
     // read: there a second (empty) layer makes it an array.
     let min_layers = if device.adapter_info().backend == wgpu::Backend::Gl { 2 } else { 1 };
-    let (width, height, layers) = shape(texels, limits.max_texture_dimension_2d, min_layers);
+    let (width, height, layers) = shape(bytes / TEXEL, limits.max_texture_dimension_2d, min_layers);
+    let mib = bytes as f64 / (1024.0 * 1024.0);
     if layers > limits.max_texture_array_layers as u64 {
         return Err(Error::scene(format!(
-            "{} needs {layers} layers of {width}×{height} texels ({:.1} MiB), over this device's max_texture_array_layers of {}",
+            "{} needs {layers} layers of {width}×{height} texels ({mib:.1} MiB), over this device's max_texture_array_layers of {}",
             what(),
-            bytes.len() as f64 / (1024.0 * 1024.0),
             limits.max_texture_array_layers
         )));
     }
@@ -65,16 +122,18 @@ pub fn texel_table<T: bytemuck::Pod>(
     });
     if let Some(e) = pollster::block_on(scope.pop()) {
         return Err(Error::scene(format!(
-            "{} needs a texture of {:.1} MiB, which this device could not allocate: {e}",
-            what(),
-            bytes.len() as f64 / (1024.0 * 1024.0)
+            "{} needs a texture of {mib:.1} MiB, which this device could not allocate: {e}",
+            what()
         )));
     }
-    upload(queue, &texture, bytes, (width, height));
-    Ok(texture.create_view(&wgpu::TextureViewDescriptor {
+    Ok((texture, (width, height)))
+}
+
+fn array_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
-    }))
+    })
 }
 
 /// Write `bytes` into the table: each layer's whole rows, then the last row's texels. Each
@@ -121,12 +180,13 @@ fn upload(queue: &wgpu::Queue, texture: &wgpu::Texture, bytes: &[u8], (width, he
 mod tests {
     use super::shape;
 
-    /// Small tables are one row; larger ones whole rows of 2048 texels (or the device's side),
-    /// then layers of as many rows.
+    /// Small tables are one row (of a multiple of 16 texels); larger ones whole rows of 2048
+    /// texels (or the device's side), then layers of as many rows.
     #[test]
     fn tables_are_shaped_in_rows_then_layers() {
-        assert_eq!(shape(0, 8192, 1), (1, 1, 1));
-        assert_eq!(shape(12, 8192, 1), (12, 1, 1));
+        assert_eq!(shape(0, 8192, 1), (16, 1, 1));
+        assert_eq!(shape(12, 8192, 1), (16, 1, 1));
+        assert_eq!(shape(17, 8192, 1), (32, 1, 1));
         assert_eq!(shape(2049, 8192, 1), (2048, 2, 1));
         assert_eq!(shape(2048 * 2048, 8192, 1), (2048, 2048, 1));
         assert_eq!(shape(2048 * 2048 + 1, 8192, 1), (2048, 2048, 2));
@@ -135,7 +195,7 @@ mod tests {
         // A device of 64-texel sides: layers of 64 × 64.
         assert_eq!(shape(64 * 64 * 3 + 5, 64, 1), (64, 64, 4));
         // GL's at least two layers.
-        assert_eq!(shape(12, 8192, 2), (12, 1, 2));
+        assert_eq!(shape(12, 8192, 2), (16, 1, 2));
         assert_eq!(shape(64 * 64 * 3 + 5, 64, 2), (64, 64, 4));
     }
 }

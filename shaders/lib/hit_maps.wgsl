@@ -1,9 +1,8 @@
 // A material's maps looked up where a ray met it, as the reference looks them up (level 0,
 // bilinear, the material's wrap modes, sRGB colour decoded per texel): standard bindings
-// `hit_corners` (per traced triangle its corners' texture coordinates, 6 texels of a table of
-// lib/table.wgsl) and `hit_maps` (the
-// scene's maps as one array: a table of (first texel, width, height, row pitch | sRGB bit)
-// per map, then RGBA8 texels). Alpha-masked surfaces are cut out where their alpha is below
+// `hit_corners` (per traced triangle its corners' texture coordinates) and `hit_maps` (the
+// scene's maps: the count, an entry per map, then RGBA8 texels), both tables of
+// lib/table.wgsl. Alpha-masked surfaces are cut out where their alpha is below
 // the cutoff, blended ones where it is below a coin tossed per ray and triangle (stochastic
 // transparency, as the reference's), for camera, bounce and shadow rays alike; normal maps
 // bend the shading normal. The including file sets `ray_coin` before each ray that may meet
@@ -24,7 +23,7 @@ struct HitCorners {
 var<private> ray_coin: u32;
 
 @group(0) @binding(8) var hit_corners: texture_2d_array<u32>;
-@group(0) @binding(9) var<storage, read> hit_maps: array<u32>;
+@group(0) @binding(9) var hit_maps: texture_2d_array<u32>;
 
 const NO_MAP: u32 = 0xffffffffu;
 
@@ -36,6 +35,17 @@ fn hit_corners_at(index: u32) -> HitCorners {
         c.tangent[k] = bitcast<vec4<f32>>(table_texel(hit_corners, 6u * index + 3u + k));
     }
     return c;
+}
+
+// Map `map`'s entry in the `hit_maps` table: its first texel's word, width, height and row
+// pitch in words (| 1 << 31 where it is sRGB colour). Texel 0 holds the count of maps.
+fn map_entry(map: u32) -> vec4<u32> {
+    return table_texel(hit_maps, 1u + map);
+}
+
+// Word `i` of the `hit_maps` table: one RGBA8 texel of a map.
+fn map_word(i: u32) -> u32 {
+    return table_texel(hit_maps, i / 4u)[i % 4u];
 }
 
 fn srgb_decode(c: f32) -> f32 {
@@ -56,14 +66,14 @@ fn wrap_texel(i: i32, n: i32, mode: u32) -> i32 {
 
 // Map `map`'s texel (x, y), wrapped, decoded to linear where it is sRGB colour.
 fn map_texel(map: u32, x: i32, y: i32, wrap: u32) -> vec4<f32> {
-    let entry = 1u + 4u * map;
-    let first = hit_maps[entry];
-    let size = vec2<i32>(i32(hit_maps[entry + 1u]), i32(hit_maps[entry + 2u]));
-    let pitch = hit_maps[entry + 3u] & 0x7fffffffu;
-    let srgb = (hit_maps[entry + 3u] >> 31u) != 0u;
+    let entry = map_entry(map);
+    let first = entry.x;
+    let size = vec2<i32>(entry.yz);
+    let pitch = entry.w & 0x7fffffffu;
+    let srgb = (entry.w >> 31u) != 0u;
     let xi = u32(wrap_texel(x, size.x, wrap & 3u));
     let yi = u32(wrap_texel(y, size.y, (wrap >> 2u) & 3u));
-    let v = unpack4x8unorm(hit_maps[first + yi * pitch + xi]);
+    let v = unpack4x8unorm(map_word(first + yi * pitch + xi));
     if srgb {
         return vec4<f32>(srgb_decode(v.r), srgb_decode(v.g), srgb_decode(v.b), v.a);
     }
@@ -72,11 +82,10 @@ fn map_texel(map: u32, x: i32, y: i32, wrap: u32) -> vec4<f32> {
 
 // Bilinear lookup of map `map` at `uv` (1 where there is no map).
 fn sample_map(map: u32, uv: vec2<f32>, wrap: u32) -> vec4<f32> {
-    if map == NO_MAP || map >= hit_maps[0] {
+    if map == NO_MAP || map >= table_texel(hit_maps, 0u).x {
         return vec4<f32>(1.0);
     }
-    let entry = 1u + 4u * map;
-    let size = vec2<f32>(f32(hit_maps[entry + 1u]), f32(hit_maps[entry + 2u]));
+    let size = vec2<f32>(map_entry(map).yz);
     let p = uv * size - 0.5;
     let p0 = floor(p);
     let f = p - p0;

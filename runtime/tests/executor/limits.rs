@@ -33,7 +33,7 @@ fn grid(n: u32) -> lightbench::scene::Mesh {
         normal: glam::Vec3::new((i % n) as f32 / n as f32 - 0.5, 1.0, (i / n) as f32 / n as f32 - 0.5)
             .normalize()
             .to_array(),
-        uv: [0.0; 2],
+        uv: [(i % n) as f32 / n as f32, (i / n) as f32 / n as f32],
         tangent: [1.0, 0.0, 0.0, 1.0],
         uv1: [0.0; 2],
     };
@@ -90,15 +90,36 @@ fn buffers_over_the_device_limits_are_refused_by_name() {
     assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
 }
 
-/// The path tracer on the small device: the grid's ray-hit data (1.7 MiB) exceeds its storage
-/// bindings but is a table of texels (`shaders/lib/hit.wgsl`), so the pass renders — and
-/// renders the same where the device's 256-texel side splits the tables into layers (113,424
-/// texels of triangles: 2 layers of 256 rows; 170,136 of corners: 3), and on a device as
-/// lightbench opens it (one layer of 2048-texel rows). A device of two layers refuses the
-/// corners' table, naming the figure and the limit.
+/// The path tracer on the small device: the grid's ray-hit data (1.7 MiB) and the scene's
+/// five 256² maps (1.25 MiB) exceed its storage bindings but are tables of texels
+/// (`shaders/lib/table.wgsl`), so the pass renders — and renders the same where the device's
+/// 256-texel side splits the tables into layers (113,424 texels of triangles: 2 layers of 256
+/// rows; 170,136 of corners: 3; 81,936 of maps: 2), and on a device as lightbench opens it
+/// (one layer of 2048-texel rows). A device of two layers refuses the corners' table, naming the figure
+/// and the limit.
 #[test]
 fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
-    let s = cornell_with(grid(120));
+    let mut s = cornell_with(grid(120));
+    // Five 256² maps of stripes, the last on the grid, seen by the camera's rays.
+    for width in [4, 6, 8, 10, 12] {
+        let stripes = (0..256 * 256u32).flat_map(|i| {
+            if (i % 256 / width) % 2 == 0 {
+                [230, 60, 40, 255]
+            } else {
+                [40, 200, 90, 255]
+            }
+        });
+        s.textures.push(lightbench::scene::ImageData {
+            width: 256,
+            height: 256,
+            rgba: stripes.collect(),
+            srgb: true,
+        });
+    }
+    let mut material = lightbench::scene::Material::color("stripes", [1.0; 3], 0.6);
+    material.base_color_texture = Some(s.textures.len() - 1);
+    s.materials.push(material);
+    s.meshes.last_mut().unwrap().material = s.materials.len() - 1;
     let render = |gpu: &Gpu| {
         let mut ex = executor(gpu, "pathtrace.lbp", &[("term", "direct")], &s).unwrap_or_else(|e| panic!("{e}"));
         ex.render_frame(gpu, &ex.inputs(0.0)).unwrap();

@@ -319,7 +319,7 @@ impl<'a> Small<'a> {
                         }
                     }
                     (BindSource::HitCorners, _) => wgpu::BindingResource::TextureView(&self.traced()?.maps.corners),
-                    (BindSource::HitMaps, _) => self.traced()?.maps.maps.as_entire_binding(),
+                    (BindSource::HitMaps, _) => wgpu::BindingResource::TextureView(&self.traced()?.maps.maps),
                     (BindSource::Instance, _) => instance.as_entire_binding(),
                     (BindSource::Params, _) => match pass.uniform_blocks.iter().position(|b| b.global == e.name) {
                         Some(i) => params[i].as_entire_binding(),

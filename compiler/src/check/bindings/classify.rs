@@ -20,15 +20,15 @@ const STANDARD: [&str; 11] = [
     AREA_LIGHTS,
     HIT_MATERIALS,
     HIT_EMITTERS,
-    HIT_MAPS,
     TRIANGLES,
     HIT_TRIANGLES,
     HIT_CORNERS,
+    HIT_MAPS,
 ];
-const STORAGE: &[&str] = STANDARD.split_at(2).1.split_at(6).0;
+const STORAGE: &[&str] = STANDARD.split_at(2).1.split_at(5).0;
 /// Per-triangle records as the texels of a `texture_2d_array<u32>` (`shaders/lib/table.wgsl`):
 /// a texture holds what a storage binding's size limit would cut off.
-const TABLES: &[&str] = STANDARD.split_at(8).1;
+const TABLES: &[&str] = STANDARD.split_at(7).1;
 
 impl Ctx<'_> {
     pub(super) fn bind(&mut self, u: &Used, diags: &mut Diagnostics) {
@@ -77,7 +77,6 @@ impl Ctx<'_> {
                     AREA_LIGHTS => BindSource::AreaLights,
                     HIT_MATERIALS => BindSource::HitMaterials,
                     HIT_EMITTERS => BindSource::HitEmitters,
-                    HIT_MAPS => BindSource::HitMaps,
                     _ => BindSource::LightVolumes,
                 },
                 BindingType::Storage {
@@ -96,7 +95,8 @@ impl Ctx<'_> {
                 let source = match name {
                     TRIANGLES => BindSource::Triangles,
                     HIT_TRIANGLES => BindSource::HitTriangles,
-                    _ => BindSource::HitCorners,
+                    HIT_CORNERS => BindSource::HitCorners,
+                    _ => BindSource::HitMaps,
                 };
                 let ty = BindingType::Texture {
                     sample_type: SampleType::Uint,
