@@ -194,7 +194,7 @@ pub struct AreaLightBlock {
     pub radiance: [f32; 4],
 }
 
-/// One traced triangle of the standard `hit_triangles` binding (`shaders/lib/hit.wgsl`): its
+/// One traced triangle of the standard `hit_triangles` table (4 texels, `shaders/lib/hit.wgsl`): its
 /// corners' shading normals in world space (unit), the front's geometric normal (the side
 /// its counter-clockwise winding faces, swapped under a mirroring transform), its material's
 /// index into `hit_materials`, whether both sides are seen, and its index into `hit_emitters`
@@ -273,7 +273,7 @@ pub struct HitMaterial {
     pub uv_row1: [f32; 4],
 }
 
-/// One traced triangle's corners in the standard `hit_corners` binding: per corner (u, v) of
+/// One traced triangle's corners in the standard `hit_corners` table (6 texels): per corner (u, v) of
 /// TEXCOORD_0 and of TEXCOORD_1, and its tangent in world space (w: the bitangent's sign).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]

@@ -124,8 +124,8 @@ pub enum BindSource<R, S> {
     Instance,
     /// The scene's light array (storage, read-only).
     Lights,
-    /// The scene's opaque and masked triangles in world space, 3 `vec4` (w: 1) each
-    /// (storage, read-only), for vertex pulling and ray queries.
+    /// The scene's opaque and masked triangles in world space, 3 `vec4` (w: 1) each, as a
+    /// table of texels (`texture_2d_array<u32>`, `shaders/lib/table.wgsl`), for vertex pulling.
     Triangles,
     /// The runtime's light-volume meshes, non-indexed triangle lists of `vec4` corners (w: the
     /// shape, see `shaders/lib/light_volume.wgsl`), drawn by `draw: LightVolume` passes.
@@ -135,18 +135,20 @@ pub enum BindSource<R, S> {
     AreaLights,
     /// What a ray query's hit needs to shade it: per traced triangle its corners' shading
     /// normals, front normal and material, indexed by the hit's instance custom data plus its
-    /// primitive index (see `shaders/lib/hit.wgsl`); built with the acceleration structure.
+    /// primitive index (a table of texels, see `shaders/lib/hit.wgsl`); built with the
+    /// acceleration structure.
     HitTriangles,
     /// The traced meshes' materials (`HitMaterial`, `shaders/lib/hit.wgsl`).
     HitMaterials,
     /// The traced emissive triangles as lights, each with its probability of being chosen
     /// (in proportion to its power; `HitEmitter`, `shaders/lib/hit_emitters.wgsl`).
     HitEmitters,
-    /// Per traced triangle its corners' texture coordinates, both sets (`HitCorners`,
-    /// `shaders/lib/hit_maps.wgsl`): where a hit's maps are looked up.
+    /// Per traced triangle its corners' texture coordinates, both sets, and tangents
+    /// (`HitCorners`, a table of texels, `shaders/lib/hit_maps.wgsl`): where a hit's maps are
+    /// looked up.
     HitCorners,
-    /// The scene's texture maps at full resolution as one array of `u32` (a table of
-    /// offset, size and row pitch per map, then RGBA8 texels), for lookups at ray hits.
+    /// The scene's texture maps at full resolution as one table of texels (the count, an
+    /// entry of offset, size and row pitch per map, then RGBA8 texels), for lookups at ray hits.
     HitMaps,
     /// A per-draw slot of the mesh being drawn.
     Draw(DrawSlot),
