@@ -194,11 +194,11 @@ pub struct AreaLightBlock {
     pub radiance: [f32; 4],
 }
 
-/// One traced triangle of the standard `hit_triangles` table (4 texels, `shaders/lib/hit.wgsl`): its
-/// corners' shading normals in world space (unit), the front's geometric normal (the side
-/// its counter-clockwise winding faces, swapped under a mirroring transform), its material's
-/// index into `hit_materials`, whether both sides are seen, and its index into `hit_emitters`
-/// (`NO_EMITTER` when it emits nothing).
+/// One traced triangle of the standard `hit_triangles` table (4 texels,
+/// `shaders/lib/hit.wgsl`): its corners' shading normals in world space (unit), the front's
+/// geometric normal (the side its counter-clockwise winding faces, swapped under a mirroring
+/// transform), its material's index into `hit_materials`, whether both sides are seen, and its
+/// index into `hit_emitters` (`NO_EMITTER` when it emits nothing).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct HitTriangle {
@@ -273,8 +273,9 @@ pub struct HitMaterial {
     pub uv_row1: [f32; 4],
 }
 
-/// One traced triangle's corners in the standard `hit_corners` table (6 texels): per corner (u, v) of
-/// TEXCOORD_0 and of TEXCOORD_1, and its tangent in world space (w: the bitangent's sign).
+/// One traced triangle's corners in the standard `hit_corners` table (6 texels): per corner
+/// (u, v) of TEXCOORD_0 and of TEXCOORD_1, and its tangent in world space (w: the bitangent's
+/// sign).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct HitCorners {
