@@ -1,6 +1,8 @@
 //! Scene upload, tables: per-triangle records as the texels of a `texture_2d_array<u32>`
-//! (16 bytes each), row after row, layer after layer, as `shaders/lib/hit.wgsl`'s
-//! `table_texel` reads them. A texture is not bounded by the storage-binding size (128 MiB
+//! (16 bytes each), row after row, layer after layer, as `shaders/lib/table.wgsl`'s
+//! `table_texel` reads them: its width and rows per layer are powers of two, so that a texel's
+//! place is found by shifts and masks (integer division is slow where a driver runs shaders
+//! in SIMD lanes on a CPU). A texture is not bounded by the storage-binding size (128 MiB
 //! on many devices, 2 M triangles of ray-hit data) but by its dimensions and layer count,
 //! which hold tens of millions of triangles.
 
@@ -8,20 +10,20 @@ use crate::error::{Error, Result};
 use crate::scene_gpu::check_buffer;
 
 /// Texels per row and rows per layer at most: a layer is then 64 MiB, so a table's last,
-/// partly filled layer wastes little.
+/// partly filled layer (or rows up to a power of two) waste little.
 const SIDE: u32 = 2048;
 const TEXEL: u64 = 16;
 
-/// A table's width, rows per layer and layers (at least `min_layers`) for `texels` texels
-/// within the device's `max_texture_dimension_2d` (`max_side`); the layers may exceed the
-/// device's count (the caller refuses that, naming the limit).
+/// A table's width, rows per layer (both powers of two) and layers (at least `min_layers`)
+/// for `texels` texels within the device's `max_texture_dimension_2d` (`max_side`); the
+/// layers may exceed the device's count (the caller refuses that, naming the limit).
 fn shape(texels: u64, max_side: u32, min_layers: u64) -> (u32, u32, u64) {
-    let side = SIDE.min(max_side).max(1) as u64;
+    let side = 1u64 << SIDE.min(max_side).max(16).ilog2();
     let texels = texels.max(1);
-    // Whole multiples of 16 texels (256 bytes, as buffer-to-texture copies want rows).
-    let width = side.min(texels.next_multiple_of(16));
+    // At least 16 texels (256 bytes, as buffer-to-texture copies want rows).
+    let width = side.min(texels.next_power_of_two().max(16));
     let rows = texels.div_ceil(width);
-    let height = rows.min(side);
+    let height = side.min(rows.next_power_of_two());
     (width as u32, height as u32, rows.div_ceil(height).max(min_layers))
 }
 
@@ -180,20 +182,23 @@ fn upload(queue: &wgpu::Queue, texture: &wgpu::Texture, bytes: &[u8], (width, he
 mod tests {
     use super::shape;
 
-    /// Small tables are one row (of a multiple of 16 texels); larger ones whole rows of 2048
-    /// texels (or the device's side), then layers of as many rows.
+    /// Small tables are one row (of a power of two, at least 16 texels); larger ones rows of
+    /// 2048 texels (or the device's side, down to a power of two), as many as a power of two
+    /// holds in one layer, then layers of 2048 rows.
     #[test]
     fn tables_are_shaped_in_rows_then_layers() {
         assert_eq!(shape(0, 8192, 1), (16, 1, 1));
         assert_eq!(shape(12, 8192, 1), (16, 1, 1));
         assert_eq!(shape(17, 8192, 1), (32, 1, 1));
         assert_eq!(shape(2049, 8192, 1), (2048, 2, 1));
+        assert_eq!(shape(2048 * 5, 8192, 1), (2048, 8, 1));
         assert_eq!(shape(2048 * 2048, 8192, 1), (2048, 2048, 1));
         assert_eq!(shape(2048 * 2048 + 1, 8192, 1), (2048, 2048, 2));
         // 16 M triangles of 4 texels: 16 layers of 64 MiB.
         assert_eq!(shape(4 << 24, 16384, 1), (2048, 2048, 16));
-        // A device of 64-texel sides: layers of 64 × 64.
+        // A device of 64-texel sides: layers of 64 × 64; of 1000: 512 × 512.
         assert_eq!(shape(64 * 64 * 3 + 5, 64, 1), (64, 64, 4));
+        assert_eq!(shape(512 * 512 + 1, 1000, 1), (512, 512, 2));
         // GL's at least two layers.
         assert_eq!(shape(12, 8192, 2), (16, 1, 2));
         assert_eq!(shape(64 * 64 * 3 + 5, 64, 2), (64, 64, 4));

@@ -88,9 +88,26 @@ fn hit_triangle(i: RayIntersection) -> HitTriangle {
     return hit_triangle_at(i.instance_custom_data + i.primitive_index);
 }
 
+// A traced triangle's sides: its front's normal and whether both sides are seen — two of the
+// four texels `hit_triangle_at` reads, for the loops that test every candidate a ray meets.
+struct HitSides {
+    ng: vec3<f32>,
+    double_sided: u32,
+};
+
+fn hit_sides_at(index: u32) -> HitSides {
+    let ng = bitcast<vec3<f32>>(table_texel(hit_triangles, 4u * index + 3u).xyz);
+    return HitSides(ng, table_texel(hit_triangles, 4u * index + 1u).w);
+}
+
+// Traced triangle `index`'s material: one texel's word, an index into `hit_materials`.
+fn hit_material_at(index: u32) -> HitMaterial {
+    return hit_materials[table_texel(hit_triangles, 4u * index).w];
+}
+
 // Camera and bounce rays see the front of a single-sided surface and both sides of a
 // double-sided one (the sidedness rule of docs/scenes.md).
-fn seen_along(tri: HitTriangle, dir: vec3<f32>) -> bool {
+fn seen_along(tri: HitSides, dir: vec3<f32>) -> bool {
     return tri.double_sided != 0u || dot(tri.ng, dir) < 0.0;
 }
 

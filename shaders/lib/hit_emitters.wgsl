@@ -57,7 +57,7 @@ fn emitter_pick(u: f32) -> u32 {
 // The cosine at emitter `e` towards a point in direction `-l` from it, if it emits that way
 // (else 0): from its front, or from both sides when it is double-sided.
 fn emitter_facing(e: HitEmitter, l: vec3<f32>) -> f32 {
-    let tri = hit_triangle_at(e.triangle);
+    let tri = hit_sides_at(e.triangle);
     let c = -dot(tri.ng, l);
     let facing = select(c, abs(c), tri.double_sided != 0u);
     return select(0.0, facing, facing > 1e-7);

@@ -141,7 +141,7 @@ fn mapped_normal(h: RayHit, m: HitMaterial, dir: vec3<f32>) -> vec3<f32> {
 // from the factors times the maps (lib/material.wgsl's definitions) in place of the maps'
 // means, and the normal map applied.
 fn look_up_maps(h: ptr<function, RayHit>, dir: vec3<f32>) {
-    let m = hit_materials[hit_triangle_at((*h).triangle).material];
+    let m = hit_material_at((*h).triangle);
     if m.maps[MAP_NORMAL] != NO_MAP {
         (*h).n = mapped_normal(*h, m, dir);
     }
@@ -150,21 +150,21 @@ fn look_up_maps(h: ptr<function, RayHit>, dir: vec3<f32>) {
     (*h).albedo = base.rgb;
     (*h).metallic = clamp(m.metallic_factor * mr.z, 0.0, 1.0);
     (*h).roughness = clamp(m.roughness_factor * mr.y, 0.03, 1.0);
-    let emits = (*h).front || hit_triangle_at((*h).triangle).double_sided != 0u;
+    let emits = (*h).front || hit_sides_at((*h).triangle).double_sided != 0u;
     let e = m.emissive_factor * material_map(m, (*h).triangle, (*h).bary, MAP_EMISSIVE).rgb;
     (*h).emissive = select(vec3<f32>(0.0), e, emits);
 }
 
 // What emitter triangle `index` emits at barycentrics `b` (its map looked up).
 fn emission_at(index: u32, b: vec2<f32>) -> vec3<f32> {
-    let m = hit_materials[hit_triangle_at(index).material];
+    let m = hit_material_at(index);
     return m.emissive_factor * material_map(m, index, b, MAP_EMISSIVE).rgb;
 }
 
 // How much of the light triangle `index` stops at barycentrics `b`: 1 where it is opaque, 0
 // or 1 where it is masked (its alpha against the cutoff), its alpha where it is blended.
 fn coverage(index: u32, b: vec2<f32>) -> f32 {
-    let m = hit_materials[hit_triangle_at(index).material];
+    let m = hit_material_at(index);
     if m.cutoff == 0.0 {
         return 1.0;
     }
@@ -199,7 +199,7 @@ fn trace_seen_mapped(origin: vec3<f32>, dir: vec3<f32>, t_min: f32, t_max: f32) 
         if c.kind == RAY_QUERY_INTERSECTION_TRIANGLE {
             let index = c.instance_custom_data + c.primitive_index;
             if !ray_passes(index, c.barycentrics, c.t) {
-                if seen_along(hit_triangle_at(index), dir) {
+                if seen_along(hit_sides_at(index), dir) {
                     rayQueryConfirmIntersection(&rq);
                 } else {
                     back = min(back, c.t);
