@@ -6,7 +6,7 @@
 //! own).
 
 use super::scene_gpu::{check_buffer, MeshGpu};
-use super::texel_table::{texel_table, texel_table_from_gpu};
+use super::texel_table::{staged_size, texel_table, texel_table_from_gpu};
 use crate::error::{Error, Result};
 use bytemuck::Zeroable;
 use lightbench_compiler::abi::{HitCorners, HitEmitter, HitMaterial, HitTriangle, Vertex, NO_EMITTER};
@@ -240,6 +240,8 @@ fn map_layout(textures: &[wgpu::Texture]) -> (Vec<(u64, u64)>, u64) {
 fn maps(gpu: (&wgpu::Device, &wgpu::Queue), textures: &[wgpu::Texture]) -> Result<wgpu::TextureView> {
     let (places, size) = map_layout(textures);
     let what = || format!("the scene's {} maps at full resolution, looked up at ray hits,", textures.len());
+    let staged = || format!("{} staged for their table", what());
+    check_buffer(gpu.0, staged, staged_size(gpu.0, size), false)?;
     let mut table = vec![[textures.len() as u32, 0, 0, 0]];
     for (t, (at, pitch)) in textures.iter().zip(&places) {
         let srgb = (t.format() == wgpu::TextureFormat::Rgba8UnormSrgb) as u32;

@@ -7,7 +7,6 @@
 //! which hold tens of millions of triangles.
 
 use crate::error::{Error, Result};
-use crate::scene_gpu::check_buffer;
 
 /// Texels per row and rows per layer at most: a layer is then 64 MiB, so a table's last,
 /// partly filled layer (or rows up to a power of two) waste little.
@@ -42,8 +41,16 @@ pub fn texel_table<T: bytemuck::Pod>(
     Ok(array_view(&texture))
 }
 
+/// The bytes of the buffer `texel_table_from_gpu` stages a table of `bytes` in: its whole rows
+/// (which the caller checks against the device's `max_buffer_size`).
+pub fn staged_size(device: &wgpu::Device, bytes: u64) -> u64 {
+    let (width, _, _) = shape(bytes / TEXEL, device.limits().max_texture_dimension_2d, 1);
+    (bytes / TEXEL).max(1).div_ceil(width as u64) * width as u64 * TEXEL
+}
+
 /// A table of `bytes` filled on the GPU: `fill` records its copies into a buffer of the
-/// table's whole rows (`COPY_DST`, its bytes past `bytes` unused), which is then copied in.
+/// table's whole rows (`staged_size`; `COPY_DST`, its bytes past `bytes` unused), which is
+/// then copied in.
 pub fn texel_table_from_gpu(
     gpu: (&wgpu::Device, &wgpu::Queue),
     label: &str,
@@ -55,7 +62,6 @@ pub fn texel_table_from_gpu(
     let (texture, (width, height)) = new_table(device, label, &what, bytes)?;
     let row = width as u64 * TEXEL;
     let rows = (bytes / TEXEL).max(1).div_ceil(width as u64);
-    check_buffer(device, || format!("{} (staged for the copy)", what()), rows * row, false)?;
     let staging = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: rows * row,
