@@ -29,11 +29,6 @@ fn radius() -> f32 {
 }
 
 @group(2) @binding(3) var triangles: texture_2d_array<u32>;
-
-// Corner `k` of scene triangle `i` (world).
-fn corner(i: u32, k: u32) -> vec3<f32> {
-    return bitcast<vec4<f32>>(table_texel(triangles, 3u * i + k)).xyz;
-}
 @group(2) @binding(4) var<uniform> params: Params;
 
 struct VsOut {
@@ -52,9 +47,9 @@ struct Tri {
 
 fn load_tri(i: u32) -> Tri {
     var t: Tri;
-    t.a = corner(i, 0u);
-    t.b = corner(i, 1u);
-    t.c = corner(i, 2u);
+    t.a = table_corner(triangles, i, 0u);
+    t.b = table_corner(triangles, i, 1u);
+    t.c = table_corner(triangles, i, 2u);
     let cr = cross(t.b - t.a, t.c - t.a);
     t.ok = dot(cr, cr) > 1e-20;
     t.n = safe_normalize(cr, vec3<f32>(0.0, 1.0, 0.0));

@@ -23,11 +23,6 @@ struct Params {
 @group(2) @binding(0) var<uniform> params: Params;
 @group(2) @binding(1) var triangles: texture_2d_array<u32>;
 
-// Corner `k` of scene triangle `i` (world).
-fn corner(i: u32, k: u32) -> vec3<f32> {
-    return bitcast<vec4<f32>>(table_texel(triangles, 3u * i + k)).xyz;
-}
-
 struct VsOut {
     @builtin(position) pos: vec4<f32>,
     @location(0) @interpolate(flat) a: vec3<f32>,
@@ -98,9 +93,9 @@ fn clip_to_hemisphere(d: array<vec3<f32>, 3>) -> Clipped {
 fn vs_main(@builtin(vertex_index) v: u32, @builtin(instance_index) t: u32) -> VsOut {
     let l = lights[instance.light];
     var out: VsOut;
-    out.a = corner(t, 0u);
-    out.b = corner(t, 1u);
-    out.c = corner(t, 2u);
+    out.a = table_corner(triangles, t, 0u);
+    out.b = table_corner(triangles, t, 1u);
+    out.c = table_corner(triangles, t, 2u);
     let f = paraboloid_frame(l, params.side);
     let part = clip_to_hemisphere(array<vec3<f32>, 3>(f * (out.a - l.position.xyz), f * (out.b - l.position.xyz), f * (out.c - l.position.xyz)));
     let fan = v / 3u;

@@ -12,3 +12,9 @@ fn table_texel(table: texture_2d_array<u32>, t: u32) -> vec4<u32> {
     let at = vec2<u32>(t & (size.x - 1u), (t >> row_bits) & (size.y - 1u));
     return textureLoad(table, at, t >> layer_bits, 0);
 }
+
+// Corner `k` of triangle `i` of a table of world-space corners, 3 texels (`vec4`, w = 1) per
+// triangle: the standard `triangles`, for vertex pulling.
+fn table_corner(table: texture_2d_array<u32>, i: u32, k: u32) -> vec3<f32> {
+    return bitcast<vec4<f32>>(table_texel(table, 3u * i + k)).xyz;
+}
