@@ -113,6 +113,19 @@ fn new_table(device: &wgpu::Device, label: &str, what: &dyn Fn() -> String, byte
             limits.max_texture_array_layers
         )));
     }
+    // A texture is one allocation, bounded by the device's largest (Vulkan's
+    // `maxMemoryAllocationSize`, which wgpu's `max_buffer_size` does not exceed; 2 GiB on
+    // Mesa's drivers). wgpu has no limit of its own on a texture's bytes, and what a driver
+    // does past its largest allocation is not for a user's scene to find out.
+    let texture_bytes = width as u64 * height as u64 * layers * TEXEL;
+    if texture_bytes > limits.max_buffer_size {
+        return Err(Error::scene(format!(
+            "{} needs a texture of {:.1} MiB ({width}×{height}×{layers} texels), over this device's largest allocation (max_buffer_size) of {:.1} MiB",
+            what(),
+            texture_bytes as f64 / (1024.0 * 1024.0),
+            limits.max_buffer_size as f64 / (1024.0 * 1024.0)
+        )));
+    }
     let scope = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
     let texture = device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),

@@ -90,13 +90,13 @@ fn buffers_over_the_device_limits_are_refused_by_name() {
     assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
 }
 
-/// The path tracer on the small device: the grid's ray-hit data (1.7 MiB) and the scene's
+/// The path tracer on a device of 1 MiB storage bindings: the grid's ray-hit data (1.7 MiB) and the scene's
 /// five 256² maps (1.25 MiB) exceed its storage bindings but are tables of texels
 /// (`shaders/lib/table.wgsl`), so the pass renders — and renders the same where the device's
 /// 256-texel side splits the tables into layers (113,424 texels of triangles: 2 layers of 256
 /// rows; 170,136 of corners: 3; 81,936 of maps: 2), and on a device as lightbench opens it
 /// (one layer of 2048-texel rows). A device of two layers refuses the corners' table, naming the figure
-/// and the limit.
+/// and the limit, and so does a device whose largest allocation is smaller than that table.
 #[test]
 fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
     let mut s = cornell_with(grid(120));
@@ -126,7 +126,7 @@ fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
         assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
         ex.read_texture(gpu, "hdr", 0, 0).unwrap().rgba
     };
-    let rows = render(&small_device());
+    let rows = render(&device_with(|l| l.max_storage_buffer_binding_size = LIMIT));
     let layers = render(&device_with(|l| {
         l.max_storage_buffer_binding_size = LIMIT;
         l.max_texture_dimension_2d = 256;
@@ -148,6 +148,19 @@ fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
     for want in [
         "scene `cornell`: the texture coordinates of its 28356 traced triangles needs 3 layers of 256×256 texels",
         "over this device's max_texture_array_layers of 2",
+    ] {
+        assert!(err.contains(want), "{err}");
+    }
+
+    // A table is one allocation: the corners' 84 rows of 2048 texels pad to 128 (4 MiB), over
+    // the small device's largest (2 MiB); the triangles' 56 rows pad to 64 (2 MiB) and fit.
+    let err = executor(&small_device(), "pathtrace.lbp", &[("term", "direct")], &s)
+        .err()
+        .expect("the corners' table is over the largest allocation")
+        .to_string();
+    for want in [
+        "the texture coordinates of its 28356 traced triangles needs a texture of 4.0 MiB (2048×128×1 texels)",
+        "over this device's largest allocation (max_buffer_size) of 2.0 MiB",
     ] {
         assert!(err.contains(want), "{err}");
     }
