@@ -215,8 +215,8 @@ pub struct HitTriangle {
 /// `HitTriangle::emitter` of a triangle that emits nothing.
 pub const NO_EMITTER: u32 = u32::MAX;
 
-/// One emissive traced triangle of the standard `hit_emitters` binding
-/// (`shaders/lib/hit_emitters.wgsl`): its world corners in its own order, its index among the
+/// One emissive traced triangle of the standard `hit_emitters` table (4 texels after the
+/// one holding their count, `shaders/lib/hit_emitters.wgsl`): its world corners in its own order, its index among the
 /// traced triangles (its front, sidedness and material: a point's emission is looked up
 /// there); its radiance with its emissive map's mean (what its power is weighed with); its
 /// area; its probability of being chosen

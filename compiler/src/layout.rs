@@ -141,7 +141,8 @@ pub enum BindSource<R, S> {
     /// The traced meshes' materials (`HitMaterial`, `shaders/lib/hit.wgsl`).
     HitMaterials,
     /// The traced emissive triangles as lights, each with its probability of being chosen
-    /// (in proportion to its power; `HitEmitter`, `shaders/lib/hit_emitters.wgsl`).
+    /// (in proportion to its power; `HitEmitter`, a table of texels after one holding the
+    /// count, `shaders/lib/hit_emitters.wgsl`).
     HitEmitters,
     /// Per traced triangle its corners' texture coordinates, both sets, and tangents
     /// (`HitCorners`, a table of texels, `shaders/lib/hit_maps.wgsl`): where a hit's maps are

@@ -50,8 +50,9 @@ pub struct HitData {
     pub triangles: wgpu::TextureView,
     /// `hit_materials`: every material of the scene.
     pub materials: wgpu::Buffer,
-    /// `hit_emitters`: the traced triangles that emit, with their choice probabilities.
-    pub emitters: wgpu::Buffer,
+    /// `hit_emitters`: the traced triangles that emit, with their choice probabilities (a
+    /// table of texels: the count, then the emitters).
+    pub emitters: wgpu::TextureView,
 }
 
 /// What maps are looked up at hits with, built apart (only passes that look maps up bind it:
@@ -310,6 +311,16 @@ fn emitters(hits: &mut [HitTriangle], corners: &[Corners], materials: &[HitMater
     out
 }
 
+/// The emitters as `shaders/lib/hit_emitters.wgsl` reads them: a texel holding their count,
+/// then each one's 4 texels; with none, one of probability 0 (the search needs an entry).
+fn emitter_table(emitters: &[HitEmitter]) -> Vec<[u32; 4]> {
+    let none = [HitEmitter::default()];
+    let emitters = if emitters.is_empty() { &none[..] } else { emitters };
+    let mut texels = vec![[emitters.len() as u32, 0, 0, 0]];
+    texels.extend_from_slice(bytemuck::cast_slice(emitters));
+    texels
+}
+
 /// A storage buffer of `items`; a binding cannot be empty, so one zeroed item stands in for none.
 fn storage<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
     let zero = [T::zeroed()];
@@ -323,22 +334,20 @@ fn storage<T: bytemuck::Pod>(device: &wgpu::Device, label: &str, items: &[T]) ->
 
 impl HitData {
     /// The traced meshes' triangles and the scene's materials as hits read them: the
-    /// triangles as a table within the device's texture limits, the emitters within its
-    /// storage-binding size.
+    /// triangles and the emitters as tables within the device's texture limits.
     pub fn build(gpu: (&wgpu::Device, &wgpu::Queue), scene_gpu: &super::scene_gpu::SceneGpu, scene: &Scene) -> Result<HitData> {
         let device = gpu.0;
         let (meshes, materials) = (&scene_gpu.meshes[..], &scene_gpu.hit_materials[..]);
         let (mut hits, corners) = hit_data(meshes, &traced(meshes), scene);
         let emitters = emitters(&mut hits, &corners, materials);
         drop(corners);
-        let bytes = std::mem::size_of_val(&emitters[..]) as u64;
         let what = || format!("scene `{}`: its {} emissive traced triangles", scene.name, emitters.len());
-        check_buffer(device, what, bytes, true)?;
+        let emitters = texel_table(gpu, "hit emitters", what, &emitter_table(&emitters))?;
         let what = || format!("scene `{}`: the ray-hit data of its {} traced triangles", scene.name, hits.len());
         Ok(HitData {
             triangles: texel_table(gpu, "hit triangles", what, &hits)?,
             materials: storage(device, "hit materials", materials),
-            emitters: storage(device, "hit emitters", &emitters),
+            emitters,
         })
     }
 }

@@ -254,7 +254,7 @@ impl Binder<'_> {
                 BindSource::AreaLights => Held::Buf(self.area_lights.as_entire_buffer_binding()),
                 BindSource::HitTriangles => Held::View(self.hits()?.triangles.clone()),
                 BindSource::HitMaterials => Held::Buf(self.hits()?.materials.as_entire_buffer_binding()),
-                BindSource::HitEmitters => Held::Buf(self.hits()?.emitters.as_entire_buffer_binding()),
+                BindSource::HitEmitters => Held::View(self.hits()?.emitters.clone()),
                 BindSource::HitCorners => Held::View(self.maps()?.corners.clone()),
                 BindSource::HitMaps => Held::View(self.maps()?.maps.clone()),
                 BindSource::Instance => Held::Buf(wgpu::BufferBinding {

@@ -4,7 +4,9 @@
 // cumulative probabilities, then a point uniformly on it (next-event estimation);
 // `emitter_pdf` gives the density of having drawn the point a bounce ray found, so that the
 // two ways of reaching an emitter are weighed by multiple importance sampling. The including
-// file includes lib/hit.wgsl and lib/hit_maps.wgsl (a point's emission).
+// file includes lib/hit.wgsl and lib/hit_maps.wgsl (a point's emission) — and so
+// lib/table.wgsl: `hit_emitters` is a table of texels, texel 0 holding the count, then 4
+// texels per emitter (the words of a `HitEmitter`).
 
 struct HitEmitter {
     // Corners (world), as the triangle's are (its front is `hit_triangles`' `ng`).
@@ -22,7 +24,24 @@ struct HitEmitter {
     area: f32,
 };
 
-@group(0) @binding(7) var<storage, read> hit_emitters: array<HitEmitter>;
+@group(0) @binding(7) var hit_emitters: texture_2d_array<u32>;
+
+fn emitter_count() -> u32 {
+    return table_texel(hit_emitters, 0u).x;
+}
+
+fn emitter_at(index: u32) -> HitEmitter {
+    let a = table_texel(hit_emitters, 4u * index + 1u);
+    let b = table_texel(hit_emitters, 4u * index + 2u);
+    let c = table_texel(hit_emitters, 4u * index + 3u);
+    let d = bitcast<vec4<f32>>(table_texel(hit_emitters, 4u * index + 4u));
+    return HitEmitter(bitcast<vec3<f32>>(a.xyz), bitcast<f32>(a.w), bitcast<vec3<f32>>(b.xyz), bitcast<f32>(b.w), bitcast<vec3<f32>>(c.xyz), c.w, d.xyz, d.w);
+}
+
+// Emitter `index`'s cumulative probability: the one word of its record the search reads.
+fn emitter_cdf(index: u32) -> f32 {
+    return bitcast<f32>(table_texel(hit_emitters, 4u * index + 2u).w);
+}
 
 // A point drawn on an emitter as seen from the point lit: the unit direction towards it,
 // its distance, what it emits that way, and the density of having drawn it per unit solid
@@ -36,16 +55,16 @@ struct EmitterSample {
 
 // Whether anything emits (the last cumulative probability is 1, else the one entry is 0).
 fn any_emitter() -> bool {
-    return hit_emitters[arrayLength(&hit_emitters) - 1u].cdf > 0.0;
+    return emitter_cdf(emitter_count() - 1u) > 0.0;
 }
 
 // The first emitter whose cumulative probability exceeds `u` (binary search).
 fn emitter_pick(u: f32) -> u32 {
     var lo = 0u;
-    var hi = arrayLength(&hit_emitters) - 1u;
+    var hi = emitter_count() - 1u;
     while lo < hi {
         let mid = (lo + hi) / 2u;
-        if hit_emitters[mid].cdf > u {
+        if emitter_cdf(mid) > u {
             hi = mid;
         } else {
             lo = mid + 1u;
@@ -66,7 +85,7 @@ fn emitter_facing(e: HitEmitter, l: vec3<f32>) -> f32 {
 // A point on an emitter for the surface point `x`, from three uniform numbers.
 fn emitter_sample(x: vec3<f32>, u: vec3<f32>) -> EmitterSample {
     var s: EmitterSample;
-    let e = hit_emitters[emitter_pick(u.x)];
+    let e = emitter_at(emitter_pick(u.x));
     if e.prob <= 0.0 {
         return s;
     }
@@ -94,7 +113,7 @@ fn emitter_pdf(index: u32, dir: vec3<f32>, dist: f32) -> f32 {
     if index == NO_EMITTER {
         return 0.0;
     }
-    let e = hit_emitters[index];
+    let e = emitter_at(index);
     let cos_e = emitter_facing(e, dir);
     return select(0.0, e.prob / e.area * dist * dist / max(cos_e, 1e-30), cos_e > 0.0);
 }

@@ -19,16 +19,16 @@ const STANDARD: [&str; 11] = [
     LIGHT_VOLUMES,
     AREA_LIGHTS,
     HIT_MATERIALS,
-    HIT_EMITTERS,
     TRIANGLES,
     HIT_TRIANGLES,
+    HIT_EMITTERS,
     HIT_CORNERS,
     HIT_MAPS,
 ];
-const STORAGE: &[&str] = STANDARD.split_at(2).1.split_at(5).0;
+const STORAGE: &[&str] = STANDARD.split_at(2).1.split_at(4).0;
 /// Per-triangle records as the texels of a `texture_2d_array<u32>` (`shaders/lib/table.wgsl`):
 /// a texture holds what a storage binding's size limit would cut off.
-const TABLES: &[&str] = STANDARD.split_at(7).1;
+const TABLES: &[&str] = STANDARD.split_at(6).1;
 
 impl Ctx<'_> {
     pub(super) fn bind(&mut self, u: &Used, diags: &mut Diagnostics) {
@@ -76,7 +76,6 @@ impl Ctx<'_> {
                     LIGHTS => BindSource::Lights,
                     AREA_LIGHTS => BindSource::AreaLights,
                     HIT_MATERIALS => BindSource::HitMaterials,
-                    HIT_EMITTERS => BindSource::HitEmitters,
                     _ => BindSource::LightVolumes,
                 },
                 BindingType::Storage {
@@ -95,6 +94,7 @@ impl Ctx<'_> {
                 let source = match name {
                     TRIANGLES => BindSource::Triangles,
                     HIT_TRIANGLES => BindSource::HitTriangles,
+                    HIT_EMITTERS => BindSource::HitEmitters,
                     HIT_CORNERS => BindSource::HitCorners,
                     _ => BindSource::HitMaps,
                 };
