@@ -315,7 +315,7 @@ impl<'a> Small<'a> {
                         match hit {
                             BindSource::HitTriangles => wgpu::BindingResource::TextureView(&h.triangles),
                             BindSource::HitMaterials => h.materials.as_entire_binding(),
-                            _ => h.emitters.as_entire_binding(),
+                            _ => wgpu::BindingResource::TextureView(&h.emitters),
                         }
                     }
                     (BindSource::HitCorners, _) => wgpu::BindingResource::TextureView(&self.traced()?.maps.corners),
