@@ -216,13 +216,12 @@ pub struct HitTriangle {
 pub const NO_EMITTER: u32 = u32::MAX;
 
 /// One emissive traced triangle of the standard `hit_emitters` table (4 texels after the
-/// one holding their count, `shaders/lib/hit_emitters.wgsl`): its world corners in its own order, its index among the
-/// traced triangles (its front, sidedness and material: a point's emission is looked up
-/// there); its radiance with its emissive map's mean (what its power is weighed with); its
-/// area; its probability of being chosen
-/// (its power, area × brightest channel, over all of theirs) and the cumulative probability
-/// of it and those before it (what a uniform number is searched in). With none, one entry of
-/// probability 0.
+/// one holding their count, `shaders/lib/hit_emitters.wgsl`): its world corners in its own
+/// order, its index among the traced triangles (its front, sidedness and material: a point's
+/// emission is looked up there); its radiance with its emissive map's mean (what its power
+/// is weighed with); its area; its probability of being chosen (its power, area × brightest
+/// channel, over all of theirs) and the cumulative probability of it and those before it
+/// (what a uniform number is searched in). With none, one entry of probability 0.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable, PartialEq)]
 pub struct HitEmitter {
