@@ -136,32 +136,33 @@ fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
     assert_eq!(differ(&rows, &layers), 0, "the same hits, whatever the table's shape");
     assert_eq!(differ(&rows, &render(&device_with(|_| {}))), 0);
 
+    // The path tracer refused on `gpu`, its error holding each of `want`.
+    let refused = |gpu: &Gpu, want: [&str; 2]| {
+        let err = executor(gpu, "pathtrace.lbp", &[("term", "direct")], &s)
+            .err()
+            .expect("refused")
+            .to_string();
+        assert!(want.iter().all(|w| err.contains(w)), "{err}");
+    };
     // Two layers of 256² texels hold the triangles' table but not the corners' (3 layers).
     let few_layers = device_with(|l| {
         l.max_texture_dimension_2d = 256;
         l.max_texture_array_layers = 2;
     });
-    let err = executor(&few_layers, "pathtrace.lbp", &[("term", "direct")], &s)
-        .err()
-        .expect("the corners' table does not fit")
-        .to_string();
-    for want in [
-        "scene `cornell`: the texture coordinates of its 28356 traced triangles needs 3 layers of 256×256 texels",
-        "over this device's max_texture_array_layers of 2",
-    ] {
-        assert!(err.contains(want), "{err}");
-    }
-
+    refused(
+        &few_layers,
+        [
+            "scene `cornell`: the texture coordinates of its 28356 traced triangles needs 3 layers of 256×256 texels",
+            "over this device's max_texture_array_layers of 2",
+        ],
+    );
     // A table is one allocation: the corners' 84 rows of 2048 texels pad to 128 (4 MiB), over
     // the small device's largest (2 MiB); the triangles' 56 rows pad to 64 (2 MiB) and fit.
-    let err = executor(&small_device(), "pathtrace.lbp", &[("term", "direct")], &s)
-        .err()
-        .expect("the corners' table is over the largest allocation")
-        .to_string();
-    for want in [
-        "the texture coordinates of its 28356 traced triangles needs a texture of 4.0 MiB (2048×128×1 texels)",
-        "over this device's largest allocation (max_buffer_size) of 2.0 MiB",
-    ] {
-        assert!(err.contains(want), "{err}");
-    }
+    refused(
+        &small_device(),
+        [
+            "the texture coordinates of its 28356 traced triangles needs a texture of 4.0 MiB (2048×128×1 texels)",
+            "over this device's largest allocation (max_buffer_size) of 2.0 MiB",
+        ],
+    );
 }
