@@ -1,7 +1,7 @@
 // Per-triangle tables: records of 16-byte texels in a `texture_2d_array<u32>`, row after row,
-// layer after layer (the runtime's standard `triangles`, `hit_triangles`, `hit_corners` and
-// `hit_maps`). A texture holds tens of millions of triangles where a storage binding stops at
-// the device's binding size (128 MiB on many).
+// layer after layer (the runtime's standard `triangles`, `hit_triangles`, `hit_emitters`,
+// `hit_corners` and `hit_maps`). A texture holds tens of millions of triangles where a storage
+// binding stops at the device's binding size (128 MiB on many).
 
 // Texel `t` of `table`, whose width and rows per layer are powers of two: its place by shifts
 // and masks (integer division costs most where shaders run in SIMD lanes on a CPU).

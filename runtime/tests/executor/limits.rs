@@ -90,13 +90,14 @@ fn buffers_over_the_device_limits_are_refused_by_name() {
     assert!(gpu.take_uncaptured().is_empty(), "no error escaped: {:?}", gpu.take_uncaptured());
 }
 
-/// The path tracer on a device of 1 MiB storage bindings: the grid's ray-hit data (1.7 MiB) and the scene's
-/// five 256² maps (1.25 MiB) exceed its storage bindings but are tables of texels
-/// (`shaders/lib/table.wgsl`), so the pass renders — and renders the same where the device's
-/// 256-texel side splits the tables into layers (113,424 texels of triangles: 2 layers of 256
-/// rows; 170,136 of corners: 3; 81,936 of maps: 2), and on a device as lightbench opens it
-/// (one layer of 2048-texel rows). A device of two layers refuses the corners' table, naming the figure
-/// and the limit, and so does a device whose largest allocation is smaller than that table.
+/// The path tracer on a device of 1 MiB storage bindings: the grid's ray-hit data (1.7 MiB)
+/// and the scene's five 256² maps (1.25 MiB) exceed its storage bindings but are tables of
+/// texels (`shaders/lib/table.wgsl`), so the pass renders — and renders the same where the
+/// device's 256-texel side splits the tables into layers (113,424 texels of triangles: 2
+/// layers of 256 rows; 170,136 of corners: 3; 81,936 of maps: 2), and on a device as
+/// lightbench opens it (one layer of 2048-texel rows). A device of two layers refuses the
+/// corners' table, naming the figure and the limit, and so does a device whose largest
+/// allocation is smaller than that table.
 #[test]
 fn ray_hit_data_past_the_storage_binding_size_renders_in_layers() {
     let mut s = cornell_with(grid(120));
