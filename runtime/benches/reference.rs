@@ -10,11 +10,15 @@
 //! the emitter-lit Cornell box (`builtin::cornell_lamp`): a 64-spp pilot with emitters sampled
 //! and a 1024-spp one with BRDF sampling alone (the same run's baseline), each predicting from its worst,
 //! 99th-percentile and median pixel the time to a 2% relative standard error, and the 99th
-//! percentile rendered to 2% with `Budget::Error` to check the prediction. `-- speed` runs the
-//! third alone. `cargo test` runs it at its smallest (16², a few samples).
+//! percentile rendered to 2% with `Budget::Error` to check the prediction. Fifth, `full` on
+//! the three scenes issue 60 names (the Cornell box, the emitter-lit box, and the Cornell box
+//! with a sphere of a million triangles in it): paths per second of the render loop alone
+//! and, where valgrind is installed, instructions per path — the figures a SIMD integrator
+//! is to be measured against. `-- speed` runs the third alone, `-- paths` the fifth.
+//! `cargo test` runs it at its smallest (16², a few samples, no callgrind).
 
 use lightbench::reference::{self, Budget, Reference, Settings, Term};
-use lightbench::scene::builtin;
+use lightbench::scene::{builtin, geometry, Mesh, Scene};
 use std::time::Instant;
 
 #[path = "common/mod.rs"]
@@ -133,7 +137,114 @@ fn emitters() {
     );
 }
 
+/// The scenes `-- paths` measures, by name: the Cornell box, the emitter-lit box, and the
+/// Cornell box with a sphere of `rings` × 2`rings` × 2 triangles floating in it (a million in
+/// the bench, whose tree a ray goes deeper into than the box's few nodes).
+fn path_scene(name: &str, rings: u32) -> Option<Scene> {
+    match name {
+        "cornell" => Some(builtin::cornell()),
+        "cornell_lamp" => Some(builtin::cornell_lamp()),
+        "million" => {
+            let mut scene = builtin::cornell();
+            let (vertices, indices) = geometry::sphere(0.35, rings, 2 * rings);
+            let at = glam::Mat4::from_translation(glam::Vec3::new(0.3, 1.2, 0.1));
+            scene.meshes.push(Mesh::new("ball", vertices, indices, 0, at));
+            Some(scene)
+        }
+        _ => None,
+    }
+}
+
+const PATH_SCENES: [&str; 3] = ["cornell", "cornell_lamp", "million"];
+
+/// Seconds of one `full` render of `scene` at `side`² and `spp`, its BVH's build included.
+fn full_seconds(scene: &Scene, side: u32, spp: u32) -> f64 {
+    let mut scene = scene.clone();
+    scene.size = (side, side);
+    reference::render(&scene, &settings(&[Term::Full], spp), false).seconds
+}
+
+/// Paths per second of the render loop alone: a round renders `spp` and 3 × `spp` samples,
+/// and the second's extra time is what its extra paths took (the BVH's build, the same in
+/// both, cancels).
+fn loop_rate(scene: &Scene, side: u32, spp: u32) -> f64 {
+    let (one, three) = (full_seconds(scene, side, spp), full_seconds(scene, side, 3 * spp));
+    (side * side * 2 * spp) as f64 / (three - one).max(1e-9)
+}
+
+/// Instructions callgrind counts in a child process running this bench in its
+/// `LB_PATHS_SCENE` mode: one `full` render of that scene at 32² and `spp`.
+fn counted(name: &str, rings: u32, spp: u32) -> Result<u64, String> {
+    let out = std::process::Command::new("valgrind")
+        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
+        .arg(std::env::current_exe().map_err(|e| e.to_string())?)
+        .env("LB_PATHS_SCENE", name)
+        .env("LB_PATHS_RINGS", rings.to_string())
+        .env("LB_PATHS_SPP", spp.to_string())
+        .output()
+        .map_err(|e| format!("valgrind: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stderr);
+    text.lines()
+        .find_map(|l| l.split("Collected :").nth(1))
+        .and_then(|n| n.trim().parse().ok())
+        .ok_or_else(|| format!("no count in callgrind's output ({})", out.status))
+}
+
+/// The child's side of `counted`: whether this process is one (it has rendered, or exited
+/// with an error on settings it cannot read).
+fn counted_child() -> bool {
+    let Ok(name) = std::env::var("LB_PATHS_SCENE") else {
+        return false;
+    };
+    let number = |key: &str| std::env::var(key).ok().and_then(|v| v.parse::<u32>().ok());
+    match (path_scene(&name, number("LB_PATHS_RINGS").unwrap_or(0)), number("LB_PATHS_SPP")) {
+        (Some(scene), Some(spp)) => {
+            full_seconds(&scene, 32, spp);
+        }
+        _ => {
+            eprintln!("LB_PATHS_SCENE={name}: not a scene of `-- paths`, or LB_PATHS_SPP unset");
+            std::process::exit(2);
+        }
+    }
+    true
+}
+
+/// `full` on the three scenes: paths per second (median and quartiles of rounds) and
+/// instructions per path (3 × `spp` less `spp` at 32², so the build and the process's start
+/// cancel).
+fn paths() {
+    let size = Size::from_args();
+    let (side, spp, rounds, rings) = (pick(128, 16), pick(16, 1), pick(7, 1), pick(500, 16));
+    println!(
+        "full, render loop alone ({side}x{side}, {spp} and {} spp per round; {})",
+        3 * spp,
+        common::load_line()
+    );
+    for name in PATH_SCENES {
+        let scene = path_scene(name, rings).expect("a path scene");
+        let triangles = reference::world::World::new(&scene).triangles();
+        let rates: Vec<f64> = (0..rounds).map(|_| loop_rate(&scene, side, spp) / 1e6).collect();
+        let (q1, m, q3) = common::quartiles(rates);
+        let per_path = match size {
+            Size::Smoke => "instructions not counted in the smoke run".to_string(),
+            Size::Full => match (counted(name, rings, 8), counted(name, rings, 24)) {
+                (Ok(a), Ok(b)) => format!("{:.0} instructions per path (callgrind)", (b - a) as f64 / (32.0 * 32.0 * 16.0)),
+                (Err(e), _) | (_, Err(e)) => format!("instructions not counted: {e}"),
+            },
+        };
+        println!("  {name:<13} {triangles:>8} triangles: {m:.2} M paths/s (quartiles {q1:.2}–{q3:.2}, {rounds} rounds); {per_path}");
+    }
+}
+
 fn main() {
+    if counted_child() {
+        return;
+    }
+    // `-- paths`: the three scenes' paths per second and instructions alone.
+    if std::env::args().skip(1).any(|a| a == "paths") {
+        paths();
+        return;
+    }
     full_speed();
     // `-- speed`: the paths per second alone (a minute, not ten).
     if std::env::args().skip(1).any(|a| a == "speed") {
@@ -203,4 +314,5 @@ fn main() {
         total / GOAL_SECONDS,
         if total < GOAL_SECONDS { "met" } else { "NOT met" }
     );
+    paths();
 }
