@@ -9,8 +9,8 @@ use super::world::{Faces, Hit, World};
 use glam::Vec3A;
 
 /// Bounces after which Russian roulette may end a `full` path, and the hard cap.
-const ROULETTE_FROM: u32 = 3;
-const MAX_BOUNCES: u32 = 256;
+pub(crate) const ROULETTE_FROM: u32 = 3;
+pub(crate) const MAX_BOUNCES: u32 = 256;
 
 pub struct Context<'a> {
     pub world: &'a World,
@@ -43,7 +43,7 @@ fn power_heuristic(p: f32, other: f32) -> f32 {
 /// either way).
 pub struct Primary {
     pub hit: Hit,
-    lobes: Lobes,
+    pub(crate) lobes: Lobes,
     lights: Option<Vec3A>,
 }
 
@@ -60,7 +60,7 @@ impl Context<'_> {
     }
 
     /// The lights' light at a pixel's surface, seen from `v`: kept, or worked out now.
-    fn primary_lights(&self, p: &Primary, v: Vec3A) -> Vec3A {
+    pub(crate) fn primary_lights(&self, p: &Primary, v: Vec3A) -> Vec3A {
         p.lights.unwrap_or_else(|| self.lights(&p.hit, &p.lobes, v, 0))
     }
 
@@ -72,7 +72,7 @@ impl Context<'_> {
     /// a surface (here and in the shadow rays) pass what lies nearer than the offset: at a
     /// corner the offset origin can round onto or just behind the other surface, which
     /// shadows nothing of the corner itself.
-    fn trace_from(&self, h: &Hit, dir: Vec3A, tmax: f32, faces: Faces) -> Option<Hit> {
+    pub(crate) fn trace_from(&self, h: &Hit, dir: Vec3A, tmax: f32, faces: Faces) -> Option<Hit> {
         self.world.trace(self.origin(h), dir, (self.eps, tmax), faces)
     }
 
@@ -153,7 +153,7 @@ impl Context<'_> {
     /// What a surface `y` that a BRDF-sampled ray (direction `l`, density `pdf`) met emits
     /// towards it, weighed against next-event estimation. Nothing where the ray passed the
     /// back of a single-sided surface first: light is shadowed by every surface.
-    fn emission_found(&self, y: &Hit, l: Vec3A, pdf: f32) -> Vec3A {
+    pub(crate) fn emission_found(&self, y: &Hit, l: Vec3A, pdf: f32) -> Vec3A {
         if y.emissive.max_element() <= 0.0 || y.shadowed {
             return Vec3A::ZERO;
         }

@@ -10,6 +10,7 @@ pub mod emitters;
 pub mod error;
 pub use error::{Error, Result};
 pub mod integrate;
+pub mod lanes;
 pub mod ltc;
 pub mod sample;
 pub mod shading;
@@ -94,6 +95,22 @@ pub struct Settings {
     /// finds them — slower to converge to the same image, kept to check that it is the same.
     #[serde(default = "yes")]
     pub sample_emitters: bool,
+    /// How the `full` term's paths are computed: one at a time, or a pixel's 8 at once.
+    #[serde(default)]
+    pub integrator: Integrator,
+}
+
+/// The `full` term's integrator: `lanes` (a pixel's paths 8 side by side, their BRDF draws in
+/// SIMD lanes; the same image within noise) or `scalar` (one path at a time: the oracle). The
+/// other terms, and scenes with blended surfaces (whose samples' camera rays differ), are
+/// computed one path at a time either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum Integrator {
+    Scalar,
+    #[default]
+    Lanes,
 }
 
 fn yes() -> bool {
@@ -110,6 +127,7 @@ impl Default for Settings {
             seed: 0,
             brdf: Brdf::BlinnPhong,
             sample_emitters: true,
+            integrator: Integrator::default(),
         }
     }
 }
@@ -370,7 +388,7 @@ pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
         sums.par_chunks_mut(w as usize * terms.len() * SLOTS)
             .enumerate()
             .for_each(|(y, row)| {
-                pass_row(&ctx, &cam, (&terms, s.seed), (y as u32, done..done + n), row);
+                pass_row(&ctx, &cam, (&terms, s.seed, s.integrator), (y as u32, done..done + n), row);
                 if !matches!(s.budget, Budget::Seconds(_)) {
                     bar.inc(1);
                 }
@@ -456,7 +474,7 @@ fn progress_bar(budget: Budget, rows: u32, visible: bool) -> indicatif::Progress
 fn pass_row(
     ctx: &integrate::Context,
     cam: &Camera,
-    (terms, seed): (&[Term], u64),
+    (terms, seed, integrator): (&[Term], u64, Integrator),
     (y, range): (u32, std::ops::Range<u32>),
     row: &mut [f64],
 ) {
@@ -473,6 +491,10 @@ fn pass_row(
         };
         let shared = (!blended).then(|| first(0));
         let pixel = (y * w + x) as u64;
+        let in_lanes = match (&shared, integrator, terms.contains(&Term::Full)) {
+            (Some(Some(p)), Integrator::Lanes, true) => full_in_lanes(ctx, p, -dir, (seed, pixel), range.clone()),
+            _ => vec![],
+        };
         for i in range.clone() {
             // Worked out once per sample for all the terms.
             let own = blended.then(|| first(sample::coin(seed, pixel, i as u64)));
@@ -482,8 +504,10 @@ fn pass_row(
                     continue;
                 }
                 let slot = &mut row[(x as usize * terms.len() + k) * SLOTS..][..SLOTS];
-                let mut rng = sample::Rng::new(seed, pixel, i as u64, term as u64);
-                let v = estimate(ctx, term, primary, -dir, &mut rng);
+                let v = match in_lanes.get((i - range.start) as usize) {
+                    Some(&v) if term == Term::Full => v,
+                    _ => estimate(ctx, term, primary, -dir, &mut sample::Rng::new(seed, pixel, i as u64, term as u64)),
+                };
                 debug_assert!(v.is_finite(), "{term:?} at ({x}, {y}) sample {i}: {v}");
                 for c in 0..3 {
                     slot[c] += v[c] as f64;
@@ -492,6 +516,20 @@ fn pass_row(
             }
         }
     }
+}
+
+/// `full` for samples `range` of the pixel whose camera ray found `p`, their paths in lanes.
+fn full_in_lanes(
+    ctx: &integrate::Context,
+    p: &integrate::Primary,
+    v: Vec3A,
+    (seed, pixel): (u64, u64),
+    range: std::ops::Range<u32>,
+) -> Vec<Vec3A> {
+    let mut out = vec![Vec3A::ZERO; range.len()];
+    let rng = |i: u32| sample::Rng::new(seed, pixel, i as u64, Term::Full as u64);
+    ctx.full_lanes(p, v, range, rng, lanes::Draws::Simd, &mut out);
+    out
 }
 
 fn estimate(ctx: &integrate::Context, term: Term, primary: Option<&integrate::Primary>, v: Vec3A, rng: &mut sample::Rng) -> Vec3A {

@@ -129,11 +129,11 @@ impl Brdf {
 /// exponent and density constant, and the probability of sampling the specular lobe.
 #[derive(Clone, Copy, Debug)]
 pub struct Lobes {
-    diffuse: Vec3A,
-    specular: Vec3A,
-    exponent: f32,
-    density: f32,
-    specular_share: f32,
+    pub(crate) diffuse: Vec3A,
+    pub(crate) specular: Vec3A,
+    pub(crate) exponent: f32,
+    pub(crate) density: f32,
+    pub(crate) specular_share: f32,
 }
 
 /// Whether a surface reflects light from `l` towards `v` at all: both must lie above the

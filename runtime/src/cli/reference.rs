@@ -4,7 +4,7 @@
 use super::plan::parse_size;
 use super::{failed, EXIT_ERRORS, EXIT_OK};
 use crate::error::{Error, Result};
-use crate::reference::{store, Brdf, Budget, Settings, Term};
+use crate::reference::{store, Brdf, Budget, Integrator, Settings, Term};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
@@ -49,6 +49,10 @@ pub struct Args {
     /// Reflectance model: the shaders' Blinn-Phong, or Lambert for transport checks.
     #[arg(long, value_enum, default_value = "blinn-phong")]
     pub brdf: Brdf,
+    /// The `full` term's integrator: a pixel's paths 8 at a time in SIMD lanes, or one at a
+    /// time (the scalar oracle: the same image within noise).
+    #[arg(long, value_enum, default_value = "lanes")]
+    pub integrator: Integrator,
     /// Folder for TERM.exr, TERM.variance.exr and reference.json.
     #[arg(long)]
     pub out: PathBuf,
@@ -127,6 +131,7 @@ fn settings(a: &Args) -> Result<Settings> {
         seed: a.seed,
         brdf: a.brdf,
         sample_emitters: !a.no_emitter_sampling,
+        integrator: a.integrator,
     })
 }
 

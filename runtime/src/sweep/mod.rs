@@ -170,6 +170,7 @@ fn reference_for(gpu: &Gpu, inputs: &mut Inputs, l: &Loaded, p: &Point, opts: &O
         seed: r.seed,
         brdf: reference::Brdf::BlinnPhong,
         sample_emitters: true,
+        integrator: reference::Integrator::default(),
     };
     let device = match r.device {
         spec::ReferenceDevice::Cpu => reference::store::Device::Cpu,

@@ -1,0 +1,210 @@
+//! Stage `integrate` in lanes: the `full` term's paths of one pixel 8 side by side. Each lane
+//! follows one sample's path with that sample's own random numbers (so a seed's image does not
+//! depend on how samples share lanes or threads); at every vertex the lanes' BRDF draws are made
+//! at once in SIMD lanes (`brdf`), while the rays — one at a time through the 4-wide tree:
+//! packets of 8 bounce rays visit 0.3–0.5 of the nodes 8 single rays do past the first bounce,
+//! too many to pay — the lights' and emitters' light and the hits' surfaces stay as
+//! `integrate` does them. A path that ends hands its lane to the pixel's next sample (lane
+//! compaction), so lanes stay full until the pixel's last samples.
+//!
+//! `Context::full` stays as the oracle: with libm's draw in place of the lanes' (`Exact`) the
+//! images are bit-identical to it (tested), with the lanes' draw they agree within noise.
+
+mod brdf;
+mod lights;
+pub mod math;
+pub mod simd;
+
+use crate::integrate::{Context, Primary, MAX_BOUNCES, ROULETTE_FROM};
+use crate::sample::Rng;
+use crate::shading::Lobes;
+use crate::world::{Faces, Hit};
+use glam::Vec3A;
+use std::ops::Range;
+
+pub use simd::LANES;
+
+/// Which draw the lanes make: SIMD arithmetic, or libm's one lane at a time (`Lobes::sample`,
+/// the scalar integrator's own, for checking the rest of the lanes' integrator against it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Draws {
+    Simd,
+    Exact,
+}
+
+/// One sample's path: where it is, what it has gathered and its random numbers.
+struct Path {
+    sample: u32,
+    rng: Rng,
+    h: Hit,
+    v: Vec3A,
+    b: Lobes,
+    lit: Vec3A,
+    sum: Vec3A,
+    throughput: Vec3A,
+    bounce: u32,
+    /// The numbers of the vertex's BRDF draw.
+    u: ((f32, f32), f32),
+}
+
+impl Context<'_> {
+    /// `full` for `samples` of the pixel whose camera ray found `p` (seen from `v`), each sample
+    /// drawing from `rng(sample)`: sample `s`'s value is `out[s - samples.start]`.
+    pub fn full_lanes(&self, p: &Primary, v: Vec3A, samples: Range<u32>, rng: impl Fn(u32) -> Rng, draws: Draws, out: &mut [Vec3A]) {
+        let lit = self.primary_lights(p, v);
+        let begin = |sample| Path {
+            sample,
+            rng: rng(sample),
+            h: p.hit,
+            v,
+            b: p.lobes,
+            lit,
+            sum: p.hit.emissive,
+            throughput: Vec3A::ONE,
+            bounce: 1,
+            u: ((0.0, 0.0), 0.0),
+        };
+        let mut pending = samples.clone();
+        let mut lanes: [Option<Path>; LANES] = std::array::from_fn(|_| pending.next().map(begin));
+        let (mut draw, mut vertices) = (brdf::Draw::default(), lights::Vertices::default());
+        while lanes.iter().any(Option::is_some) {
+            for (i, path) in lanes.iter_mut().enumerate().filter_map(|(i, l)| Some((i, l.as_mut()?))) {
+                self.before_draw(path);
+                draw.set(i, &path.h, &path.b, path.v, path.u.0, path.u.1);
+            }
+            let drawn = match draws {
+                Draws::Simd => Some(brdf::sample(&draw)),
+                Draws::Exact => None,
+            };
+            let mut moved = [false; LANES];
+            for (i, lane) in lanes.iter_mut().enumerate() {
+                let Some(path) = lane else { continue };
+                let (l, w, pdf) = match &drawn {
+                    Some(d) => d.at(i),
+                    None => path.b.sample(&path.h, path.v, path.u.0, path.u.1),
+                };
+                moved[i] = self.bounce(path, l, w, pdf);
+                if moved[i] {
+                    vertices.set(i, &path.h, &path.b, path.v);
+                } else {
+                    out[(path.sample - samples.start) as usize] = path.sum;
+                    *lane = pending.next().map(begin);
+                }
+            }
+            self.lit(&mut lanes, &vertices, moved, draws);
+        }
+    }
+
+    /// A vertex up to its BRDF draw: the light arriving from the lights and emitters, and the
+    /// draw's random numbers (in `Context::full`'s order).
+    fn before_draw(&self, path: &mut Path) {
+        let emitted = self.emitted_light(&path.h, &path.b, path.v, &mut path.rng, true);
+        path.sum += path.throughput * (path.lit + emitted);
+        path.u = (path.rng.pair(), path.rng.uniform());
+    }
+
+    /// A vertex after its draw: Russian roulette, the bounce ray and what it finds emitting;
+    /// whether the path goes on (to the vertex it found, its lights' light not yet known).
+    fn bounce(&self, path: &mut Path, l: Vec3A, w: Vec3A, pdf: f32) -> bool {
+        path.throughput *= w;
+        if path.throughput.max_element() <= 0.0 {
+            return false;
+        }
+        if path.bounce > ROULETTE_FROM {
+            let survive = path.throughput.max_element().min(0.95);
+            if path.rng.uniform() >= survive {
+                return false;
+            }
+            path.throughput /= survive;
+        }
+        let Some(y) = self.trace_from(&path.h, l, f32::INFINITY, Faces::Seen) else {
+            return false;
+        };
+        path.sum += path.throughput * self.emission_found(&y, l, pdf);
+        if path.bounce == MAX_BOUNCES {
+            return false;
+        }
+        (path.h, path.v, path.bounce) = (y, -l, path.bounce + 1);
+        path.b = self.brdf.at(&y);
+        true
+    }
+
+    /// The lights' light at the vertices the `moved` lanes' paths have reached
+    /// (`Context::lights`, the lights evaluated in lanes, or one lane at a time for `Exact`).
+    fn lit(&self, lanes: &mut [Option<Path>; LANES], vertices: &lights::Vertices, moved: [bool; LANES], draws: Draws) {
+        if !moved.contains(&true) {
+            return;
+        }
+        for (i, lane) in lanes.iter_mut().enumerate() {
+            if let Some(path) = lane.as_mut().filter(|_| moved[i]) {
+                path.lit = match draws {
+                    Draws::Exact => self.lights(&path.h, &path.b, path.v, 0),
+                    Draws::Simd => Vec3A::ZERO,
+                };
+            }
+        }
+        if draws == Draws::Exact {
+            return;
+        }
+        for light in &self.lights {
+            let lit = lights::light(light, vertices);
+            for (i, lane) in lanes.iter_mut().enumerate() {
+                let (Some(path), Some((reflected, l, dist))) = (lane.as_mut().filter(|_| moved[i]), lit.at(i)) else {
+                    continue;
+                };
+                let origin = path.h.position + path.h.ng * self.eps;
+                let tmax = dist - self.eps;
+                if tmax <= 0.0 || !self.world.occluded_with_coin(origin, l, (self.eps, tmax), 0) {
+                    path.lit += reflected;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{context, world::World, Camera, Settings, Term};
+    use lightbench_scene::builtin;
+
+    /// With libm's draw the lanes compute each sample's path exactly as `Context::full` does
+    /// (the same numbers in the same order), whichever lane and whenever it starts: bit for
+    /// bit, over pixels of the point-lit and the emitter-lit box (paths that end early hand
+    /// their lanes on; 21 samples leave the last group part-full). With the lanes' own draw
+    /// the values differ in the last bits, and often after a few bounces' divergence — the
+    /// images agree within noise (`tests/reference`'s z-scores).
+    #[test]
+    fn exact_draws_give_the_scalar_paths_bit_for_bit() {
+        for mut scene in [builtin::cornell(), builtin::cornell_lamp()] {
+            scene.size = (16, 16);
+            let world = World::new(&scene);
+            let ctx = context(&scene, &world, &Settings::default());
+            let cam = Camera::new(&scene);
+            let (mut compared, mut differ) = (0, 0);
+            for (x, y) in [(3, 3), (8, 8), (12, 4), (5, 13), (15, 15)] {
+                let (origin, dir, len) = cam.ray(x, y);
+                let Some(hit) = world.trace(origin, dir, (0.0, len), crate::world::Faces::Seen) else {
+                    continue;
+                };
+                let p = ctx.primary(&hit, -dir, true, 0);
+                let rng = |i: u32| Rng::new(7, (y * 16 + x) as u64, i as u64, Term::Full as u64);
+                let scalar: Vec<Vec3A> = (0..21).map(|i| ctx.full(&p, -dir, &mut rng(i))).collect();
+                for (draws, same) in [(Draws::Exact, true), (Draws::Simd, false)] {
+                    let mut lanes = vec![Vec3A::NAN; 21];
+                    ctx.full_lanes(&p, -dir, 0..21, rng, draws, &mut lanes);
+                    let bits = |v: &[Vec3A]| v.iter().map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+                    if same {
+                        assert_eq!(bits(&lanes), bits(&scalar), "{} ({x}, {y})", scene.name);
+                        compared += 1;
+                    } else {
+                        assert!(lanes.iter().all(|v| v.is_finite()));
+                        differ += (bits(&lanes) != bits(&scalar)) as u32;
+                    }
+                }
+            }
+            assert!(compared >= 4, "{}: {compared} pixels hit", scene.name);
+            assert!(differ > 0, "the SIMD draw is not libm's: some path differs");
+        }
+    }
+}
