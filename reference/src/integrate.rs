@@ -2,7 +2,7 @@
 //! surface a camera ray found. Each term is the exact quantity a raster effect approximates
 //! (see `Term` for the definitions).
 
-use super::emitters::Emitters;
+use super::emitters::{Emitters, LightSample};
 use super::sample::{cosine_hemisphere, power_lobe, Rng};
 use super::shading::{shininess, Brdf, Lobes, PunctualLight};
 use super::world::{Faces, Hit, World};
@@ -116,22 +116,27 @@ impl Context<'_> {
     /// estimation), weighed against BRDF sampling by the power heuristic when `mis`. Draws
     /// no random numbers when nothing emits (point-lit images stay as they were).
     pub fn emitted_light(&self, h: &Hit, b: &Lobes, v: Vec3A, rng: &mut Rng, mis: bool) -> Vec3A {
+        match self.emitter_point(h, rng) {
+            Some(s) => self.emitter_light(h, &s, b.eval_pdf(h, s.l, v), mis),
+            None => Vec3A::ZERO,
+        }
+    }
+
+    /// `emitted_light`'s point on an emitter, drawn for `h`: none where nothing emits, or
+    /// where the point lies below the geometric surface (BRDF sampling never goes there) or
+    /// sends no light.
+    pub(crate) fn emitter_point(&self, h: &Hit, rng: &mut Rng) -> Option<LightSample> {
         if !self.emits() {
-            return Vec3A::ZERO;
+            return None;
         }
         let u = (rng.uniform(), rng.uniform(), rng.uniform());
-        let Some(s) = self.emitters.sample(self.world, h.position, u) else {
-            return Vec3A::ZERO;
-        };
-        // Below the geometric surface BRDF sampling never goes: neither does this.
-        if h.ng.dot(s.l) <= 0.0 || s.radiance.max_element() <= 0.0 {
-            return Vec3A::ZERO;
-        }
-        let (f, brdf_pdf) = b.eval_pdf(h, s.l, v);
-        if f.max_element() <= 0.0 {
-            return Vec3A::ZERO;
-        }
-        if !self.visible(h, h.position + s.l * s.dist) {
+        let s = self.emitters.sample(self.world, h.position, u)?;
+        (h.ng.dot(s.l) > 0.0 && s.radiance.max_element() > 0.0).then_some(s)
+    }
+
+    /// `emitted_light` from point `s`, given the BRDF × cos and the BRDF's density towards it.
+    pub(crate) fn emitter_light(&self, h: &Hit, s: &LightSample, (f, brdf_pdf): (Vec3A, f32), mis: bool) -> Vec3A {
+        if f.max_element() <= 0.0 || !self.visible(h, h.position + s.l * s.dist) {
             return Vec3A::ZERO;
         }
         let w = if mis { power_heuristic(s.pdf, brdf_pdf) } else { 1.0 };

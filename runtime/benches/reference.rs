@@ -12,12 +12,13 @@
 //! 99th-percentile and median pixel the time to a 2% relative standard error, and the 99th
 //! percentile rendered to 2% with `Budget::Error` to check the prediction. Fifth, `full` on
 //! the three scenes issue 60 names (the Cornell box, the emitter-lit box, and the Cornell box
-//! with a sphere of a million triangles in it): paths per second of the render loop alone
-//! and, where valgrind is installed, instructions per path — the figures a SIMD integrator
-//! is to be measured against. `-- speed` runs the third alone, `-- paths` the fifth.
+//! with a sphere of a million triangles in it), the integrator of paths in SIMD lanes against
+//! the scalar one: paths per second of the render loop alone in interleaved rounds and, where
+//! valgrind is installed, instructions per path. `-- speed` runs the third alone, `-- paths`
+//! the fifth.
 //! `cargo test` runs it at its smallest (16², a few samples, no callgrind).
 
-use lightbench::reference::{self, Budget, Reference, Settings, Term};
+use lightbench::reference::{self, Budget, Integrator, Reference, Settings, Term};
 use lightbench::scene::{builtin, geometry, Mesh, Scene};
 use std::time::Instant;
 
@@ -157,30 +158,39 @@ fn path_scene(name: &str, rings: u32) -> Option<Scene> {
 
 const PATH_SCENES: [&str; 3] = ["cornell", "cornell_lamp", "million"];
 
-/// Seconds of one `full` render of `scene` at `side`² and `spp`, its BVH's build included.
-fn full_seconds(scene: &Scene, side: u32, spp: u32) -> f64 {
+/// Seconds of one `full` render of `scene` at `side`² and `spp` by `integrator`, its BVH's
+/// build included.
+fn full_seconds(scene: &Scene, side: u32, spp: u32, integrator: Integrator) -> f64 {
     let mut scene = scene.clone();
     scene.size = (side, side);
-    reference::render(&scene, &settings(&[Term::Full], spp), false).seconds
+    let s = Settings {
+        integrator,
+        ..settings(&[Term::Full], spp)
+    };
+    reference::render(&scene, &s, false).seconds
 }
 
-/// Paths per second of the render loop alone: a round renders `spp` and 3 × `spp` samples,
-/// and the second's extra time is what its extra paths took (the BVH's build, the same in
-/// both, cancels).
-fn loop_rate(scene: &Scene, side: u32, spp: u32) -> f64 {
-    let (one, three) = (full_seconds(scene, side, spp), full_seconds(scene, side, 3 * spp));
-    (side * side * 2 * spp) as f64 / (three - one).max(1e-9)
+/// Paths per second (millions) of the render loop alone: a round renders `spp` and 3 × `spp`
+/// samples, and the second's extra time is what its extra paths took (the BVH's build, the
+/// same in both, cancels).
+fn loop_rate(scene: &Scene, side: u32, spp: u32, integrator: Integrator) -> f64 {
+    let one = full_seconds(scene, side, spp, integrator);
+    let three = full_seconds(scene, side, 3 * spp, integrator);
+    (side * side * 2 * spp) as f64 / (three - one).max(1e-9) / 1e6
 }
+
+const INTEGRATORS: [(Integrator, &str); 2] = [(Integrator::Scalar, "scalar"), (Integrator::Lanes, "lanes")];
 
 /// Instructions callgrind counts in a child process running this bench in its
-/// `LB_PATHS_SCENE` mode: one `full` render of that scene at 32² and `spp`.
-fn counted(name: &str, rings: u32, spp: u32) -> Result<u64, String> {
+/// `LB_PATHS_SCENE` mode: one `full` render of that scene at 32² and `spp` by `integrator`.
+fn counted(name: &str, rings: u32, spp: u32, integrator: usize) -> Result<u64, String> {
     let out = std::process::Command::new("valgrind")
         .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
         .arg(std::env::current_exe().map_err(|e| e.to_string())?)
         .env("LB_PATHS_SCENE", name)
         .env("LB_PATHS_RINGS", rings.to_string())
         .env("LB_PATHS_SPP", spp.to_string())
+        .env("LB_PATHS_INTEGRATOR", INTEGRATORS[integrator].1)
         .output()
         .map_err(|e| format!("valgrind: {e}"))?;
     let text = String::from_utf8_lossy(&out.stderr);
@@ -197,42 +207,58 @@ fn counted_child() -> bool {
         return false;
     };
     let number = |key: &str| std::env::var(key).ok().and_then(|v| v.parse::<u32>().ok());
-    match (path_scene(&name, number("LB_PATHS_RINGS").unwrap_or(0)), number("LB_PATHS_SPP")) {
-        (Some(scene), Some(spp)) => {
-            full_seconds(&scene, 32, spp);
+    let integrator = std::env::var("LB_PATHS_INTEGRATOR").ok();
+    let integrator = INTEGRATORS.iter().find(|(_, n)| Some(*n) == integrator.as_deref());
+    match (
+        path_scene(&name, number("LB_PATHS_RINGS").unwrap_or(0)),
+        number("LB_PATHS_SPP"),
+        integrator,
+    ) {
+        (Some(scene), Some(spp), Some(&(integrator, _))) => {
+            full_seconds(&scene, 32, spp, integrator);
         }
         _ => {
-            eprintln!("LB_PATHS_SCENE={name}: not a scene of `-- paths`, or LB_PATHS_SPP unset");
+            eprintln!("LB_PATHS_SCENE={name}: not a scene of `-- paths`, or LB_PATHS_SPP or LB_PATHS_INTEGRATOR unset");
             std::process::exit(2);
         }
     }
     true
 }
 
-/// `full` on the three scenes: paths per second (median and quartiles of rounds) and
-/// instructions per path (3 × `spp` less `spp` at 32², so the build and the process's start
-/// cancel).
+/// Instructions per path of integrator `k` on scene `name`: 24 spp less 8 at 32², so that the
+/// build and the process's start cancel.
+fn per_path(name: &str, rings: u32, k: usize) -> Result<f64, String> {
+    Ok((counted(name, rings, 24, k)? as f64 - counted(name, rings, 8, k)? as f64) / (32.0 * 32.0 * 16.0))
+}
+
+/// `full` on the three scenes by both integrators: paths per second in interleaved rounds
+/// (each side's median and quartiles, and those of the per-round ratio) and instructions per
+/// path.
 fn paths() {
     let size = Size::from_args();
-    let (side, spp, rounds, rings) = (pick(128, 16), pick(16, 1), pick(7, 1), pick(500, 16));
+    let (side, spp, rounds, rings) = (pick(128, 16), pick(16, 1), pick(9, 1), pick(500, 16));
     println!(
-        "full, render loop alone ({side}x{side}, {spp} and {} spp per round; {})",
-        3 * spp,
-        common::load_line()
+        "full, render loop alone, lanes against scalar ({side}x{side}, {spp} and {} spp per round; goal: lanes >= 1.5x scalar)",
+        3 * spp
     );
     for name in PATH_SCENES {
         let scene = path_scene(name, rings).expect("a path scene");
         let triangles = reference::world::World::new(&scene).triangles();
-        let rates: Vec<f64> = (0..rounds).map(|_| loop_rate(&scene, side, spp) / 1e6).collect();
-        let (q1, m, q3) = common::quartiles(rates);
-        let per_path = match size {
-            Size::Smoke => "instructions not counted in the smoke run".to_string(),
-            Size::Full => match (counted(name, rings, 8), counted(name, rings, 24)) {
-                (Ok(a), Ok(b)) => format!("{:.0} instructions per path (callgrind)", (b - a) as f64 / (32.0 * 32.0 * 16.0)),
-                (Err(e), _) | (_, Err(e)) => format!("instructions not counted: {e}"),
-            },
-        };
-        println!("  {name:<13} {triangles:>8} triangles: {m:.2} M paths/s (quartiles {q1:.2}–{q3:.2}, {rounds} rounds); {per_path}");
+        let rate = |k: usize| loop_rate(&scene, side, spp, INTEGRATORS[k].0);
+        let paired = common::interleaved(rounds, || rate(0), || rate(1));
+        println!("{name} ({triangles} triangles):");
+        println!("{}", paired.report(("scalar", "lanes"), "M paths/s"));
+        if size == Size::Smoke {
+            println!("  instructions not counted in the smoke run");
+            continue;
+        }
+        match (per_path(name, rings, 0), per_path(name, rings, 1)) {
+            (Ok(a), Ok(b)) => println!(
+                "  instructions per path (callgrind): scalar {a:.0}, lanes {b:.0}, ratio {:.3}x",
+                a / b
+            ),
+            (Err(e), _) | (_, Err(e)) => println!("  instructions not counted: {e}"),
+        }
     }
 }
 

@@ -62,6 +62,17 @@ simd_dispatch! {
     pub fn sample(d: &Draw) -> Drawn = sample_lanes
 }
 
+simd_dispatch! {
+    /// `Lobes::eval_pdf` towards `l` in every lane of `d` (the points drawn on emitters):
+    /// BRDF × cos and the BRDF draw's density.
+    pub fn eval_pdf_towards(d: &Draw, l: &V8) -> (V8, F8) = eval_pdf_at
+}
+
+#[inline(always)]
+fn eval_pdf_at(d: &Draw, l: &V8) -> (V8, F8) {
+    eval_pdf(d, *l)
+}
+
 #[inline(always)]
 fn sample_lanes(d: &Draw) -> Drawn {
     let specular = d.choose.lt(d.share);

@@ -15,11 +15,13 @@ mod lights;
 pub mod math;
 pub mod simd;
 
+use crate::emitters::LightSample;
 use crate::integrate::{Context, Primary, MAX_BOUNCES, ROULETTE_FROM};
 use crate::sample::Rng;
 use crate::shading::Lobes;
 use crate::world::{Faces, Hit};
 use glam::Vec3A;
+use simd::V8;
 use std::ops::Range;
 
 pub use simd::LANES;
@@ -68,10 +70,7 @@ impl Context<'_> {
         let mut lanes: [Option<Path>; LANES] = std::array::from_fn(|_| pending.next().map(begin));
         let (mut draw, mut vertices) = (brdf::Draw::default(), lights::Vertices::default());
         while lanes.iter().any(Option::is_some) {
-            for (i, path) in lanes.iter_mut().enumerate().filter_map(|(i, l)| Some((i, l.as_mut()?))) {
-                self.before_draw(path);
-                draw.set(i, &path.h, &path.b, path.v, path.u.0, path.u.1);
-            }
+            self.vertex_light(&mut lanes, &mut draw, draws);
             let drawn = match draws {
                 Draws::Simd => Some(brdf::sample(&draw)),
                 Draws::Exact => None,
@@ -95,12 +94,32 @@ impl Context<'_> {
         }
     }
 
-    /// A vertex up to its BRDF draw: the light arriving from the lights and emitters, and the
-    /// draw's random numbers (in `Context::full`'s order).
-    fn before_draw(&self, path: &mut Path) {
-        let emitted = self.emitted_light(&path.h, &path.b, path.v, &mut path.rng, true);
-        path.sum += path.throughput * (path.lit + emitted);
-        path.u = (path.rng.pair(), path.rng.uniform());
+    /// Every path's vertex up to its BRDF draw: a point drawn on an emitter (next-event
+    /// estimation, its BRDF evaluated in lanes), the light arriving from it and from the
+    /// lights, and the draw's random numbers (in `Context::full`'s order) set in `draw`.
+    fn vertex_light(&self, lanes: &mut [Option<Path>; LANES], draw: &mut brdf::Draw, draws: Draws) {
+        let mut points: [Option<LightSample>; LANES] = std::array::from_fn(|_| None);
+        let mut towards = V8::default();
+        for (i, lane) in lanes.iter_mut().enumerate() {
+            let Some(path) = lane else { continue };
+            points[i] = self.emitter_point(&path.h, &mut path.rng);
+            if let Some(s) = &points[i] {
+                towards.set(i, s.l);
+            }
+            path.u = (path.rng.pair(), path.rng.uniform());
+            draw.set(i, &path.h, &path.b, path.v, path.u.0, path.u.1);
+        }
+        let in_lanes = draws == Draws::Simd && points.iter().any(Option::is_some);
+        let evaluated = in_lanes.then(|| brdf::eval_pdf_towards(draw, &towards));
+        for (i, lane) in lanes.iter_mut().enumerate() {
+            let Some(path) = lane else { continue };
+            let emitted = match (&points[i], &evaluated) {
+                (None, _) => Vec3A::ZERO,
+                (Some(s), Some((f, pdf))) => self.emitter_light(&path.h, s, (f.at(i), pdf.0[i]), true),
+                (Some(s), None) => self.emitter_light(&path.h, s, path.b.eval_pdf(&path.h, s.l, path.v), true),
+            };
+            path.sum += path.throughput * (path.lit + emitted);
+        }
     }
 
     /// A vertex after its draw: Russian roulette, the bounce ray and what it finds emitting;

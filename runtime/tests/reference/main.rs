@@ -7,8 +7,10 @@ mod cli_common;
 #[path = "../gpu_common/mod.rs"]
 mod gpu_common;
 
+mod agreement;
 mod gpu_reference;
 mod gpu_reference_cli;
 mod gpu_reference_viewer;
+mod integrators;
 mod reference;
 mod reference_emitters;
