@@ -49,10 +49,10 @@ pub struct Args {
     /// Reflectance model: the shaders' Blinn-Phong, or Lambert for transport checks.
     #[arg(long, value_enum, default_value = "blinn-phong")]
     pub brdf: Brdf,
-    /// The `full` term's integrator: a pixel's paths 8 at a time in SIMD lanes, or one at a
-    /// time (the scalar oracle: the same image within noise).
-    #[arg(long, value_enum, default_value = "lanes")]
-    pub integrator: Integrator,
+    /// The CPU reference's integrator for `full`: a pixel's paths 8 at a time in SIMD lanes
+    /// (the default), or one at a time (the scalar oracle: the same image within noise).
+    #[arg(long, value_enum)]
+    pub integrator: Option<Integrator>,
     /// Folder for TERM.exr, TERM.variance.exr and reference.json.
     #[arg(long)]
     pub out: PathBuf,
@@ -131,7 +131,7 @@ fn settings(a: &Args) -> Result<Settings> {
         seed: a.seed,
         brdf: a.brdf,
         sample_emitters: !a.no_emitter_sampling,
-        integrator: a.integrator,
+        integrator: a.integrator.unwrap_or_default(),
     })
 }
 
@@ -146,6 +146,11 @@ fn execute(a: &Args) -> Result<()> {
         return Err(Error::Usage(format!(
             "{flag} chooses how the GPU reference renders: it needs --device gpu"
         )));
+    }
+    if a.device == Device::Gpu && a.integrator.is_some() {
+        return Err(Error::Usage(
+            "--integrator chooses how the CPU reference renders: the GPU path tracer has one integrator".into(),
+        ));
     }
     let size = a.size.as_deref().map(parse_size).transpose()?;
     let scene = crate::scene::load::load_sized(&a.scene, size, &[])?;

@@ -691,14 +691,14 @@ fn reference_command_writes_exr_terms_and_reuses_them() {
 }
 
 /// The manual's spec example is `sweeps/shadows.ron` without its leading comment, and the
-/// reference page's commands run as written: the plain one, and the noise-targeted one, which
-/// reports and records the error it reached.
+/// reference page's commands run as written: the plain one, the noise-targeted one, which
+/// reports and records the error it reached, and the scalar integrator's, which records it.
 #[test]
 fn readme_examples_are_the_bundled_spec_and_run() {
     cli_common::assert_readme_block_is("Sweep(", "sweeps/shadows.ron");
     let readme = std::fs::read_to_string(root().join("docs/reference.md")).unwrap();
     let lines: Vec<&str> = readme.lines().filter(|l| l.starts_with("lightbench reference --scene")).collect();
-    assert_eq!(lines.len(), 2, "{lines:?}");
+    assert_eq!(lines.len(), 3, "{lines:?}");
     let dir = scratch("readme");
     for line in &lines {
         let args: Vec<&str> = line.split_whitespace().skip(1).collect();
@@ -715,6 +715,11 @@ fn readme_examples_are_the_bundled_spec_and_run() {
     for t in ["direct", "ao", "full"] {
         assert!(dir.join("ref").join(format!("{t}.exr")).is_file(), "{t}");
     }
+    let recorded = |out: &str| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(dir.join(out).join("reference.json")).unwrap()).unwrap()
+    };
+    assert_eq!(recorded("ref-scalar")["settings"]["integrator"], "scalar");
+    assert_eq!(recorded("ref")["settings"]["integrator"], "lanes");
 }
 
 /// A project written by `init` holds the sweep specs, and they run there as the README says.

@@ -227,6 +227,11 @@ fn bad_gpu_reference_inputs_are_refused_and_write_nothing() {
             "--pipeline chooses how the GPU reference renders: it needs --device gpu",
         ),
         (vec!["--adapter", "llvmpipe"], 2, "--adapter chooses how the GPU reference renders"),
+        (
+            vec!["--device", "gpu", "--integrator", "scalar"],
+            2,
+            "--integrator chooses how the CPU reference renders",
+        ),
         (vec!["--device", "tpu"], 2, "invalid value 'tpu'"),
     ] {
         let mut all = vec!["reference", "--scene", "cornell", "--size", "8x8", "--spp", "1", "--out", o];
