@@ -108,9 +108,9 @@ fn direction(d: &Draw, specular: M8) -> V8 {
         y: s + n.y * n.y * a,
         z: -n.y,
     };
-    let dir = t.scale(sin_t * cos_p).add(bt.scale(sin_t * sin_p)).add(n.scale(cos_t));
+    let dir = t.scale(sin_t * cos_p).plus(bt.scale(sin_t * sin_p)).plus(n.scale(cos_t));
     let dir = dir.scale(one / dir.dot(dir).sqrt());
-    let reflected = dir.scale(F8::splat(2.0) * d.v.dot(dir)).add(d.v.scale(-one));
+    let reflected = dir.scale(F8::splat(2.0) * d.v.dot(dir)).plus(d.v.scale(-one));
     V8::select(specular, reflected.normalize_or(V8::default()), dir)
 }
 
@@ -132,9 +132,9 @@ fn eval_pdf(d: &Draw, l: V8) -> (V8, F8) {
 pub fn eval(n: V8, v: V8, l: V8, (diffuse, specular, exponent): (V8, V8, F8)) -> (V8, F8, V8) {
     let zero = F8::splat(0.0);
     let ndl = n.dot(l);
-    let half = l.add(v).normalize_or(n);
+    let half = l.plus(v).normalize_or(n);
     let lobe = pow(n.dot(half).max(zero), exponent);
     let reflects = ndl.gt(zero) & n.dot(v).gt(zero);
-    let f = V8::select(reflects, diffuse.add(specular.scale(lobe)).scale(ndl), V8::default());
+    let f = V8::select(reflects, diffuse.plus(specular.scale(lobe)).scale(ndl), V8::default());
     (f, lobe, half)
 }

@@ -87,7 +87,7 @@ fn arriving(light: &PunctualLight, p: V8) -> (V8, V8, F8) {
     if light.kind == LightKind::Directional {
         return (splat(light.radiance), splat(-light.direction), F8::splat(f32::INFINITY));
     }
-    let d = splat(light.position).add(p.scale(F8::splat(-1.0)));
+    let d = splat(light.position).plus(p.scale(F8::splat(-1.0)));
     let dist = d.dot(d).sqrt();
     let to_light = d.scale(F8::splat(1.0) / dist.max(F8::splat(1e-6)));
     let mut strength = attenuation(dist, light.range);

@@ -30,7 +30,7 @@ fn log2(x: F8) -> F8 {
     let m = F8::from_bits((bits & M8::splat(0x007f_ffff)) | M8::splat(0x3f80_0000));
     let big = m.gt(F8::splat(SQRT_2));
     let m = big.select(m * F8::splat(0.5), m);
-    let e = (bits.shr(23) & M8::splat(0xff)).as_i8() + I8::splat(-127);
+    let e = (bits.shifted_right(23) & M8::splat(0xff)).as_i8() + I8::splat(-127);
     let e = e.to_f8() + big.select(F8::splat(1.0), F8::splat(0.0));
     let one = F8::splat(1.0);
     let s = (m - one) / (m + one);
@@ -50,7 +50,7 @@ fn exp2(y: F8) -> F8 {
     let c = |k: f32| F8::splat(1.0 / k);
     let p = F8::splat(1.0)
         + f * (F8::splat(1.0) + f * (c(2.0) + f * (c(6.0) + f * (c(24.0) + f * (c(120.0) + f * (c(720.0) + f * c(5040.0)))))));
-    p * F8::from_bits((bits + I8::splat(127)).shl(23))
+    p * F8::from_bits((bits + I8::splat(127)).shifted_left(23))
 }
 
 /// x^e for x ≥ 0 and e > 0 (what the BRDF raises: n · h and a uniform number): 0 for x = 0

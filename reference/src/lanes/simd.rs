@@ -161,7 +161,7 @@ impl M8 {
     }
 
     #[inline(always)]
-    pub fn shr(self, n: u32) -> M8 {
+    pub fn shifted_right(self, n: u32) -> M8 {
         M8(self.0.map(|x| x >> n))
     }
 
@@ -178,7 +178,7 @@ impl I8 {
     }
 
     #[inline(always)]
-    pub fn shl(self, n: u32) -> M8 {
+    pub fn shifted_left(self, n: u32) -> M8 {
         M8(self.0.map(|x| (x << n) as u32))
     }
 
@@ -213,7 +213,7 @@ impl V8 {
     }
 
     #[inline(always)]
-    pub fn add(self, o: V8) -> V8 {
+    pub fn plus(self, o: V8) -> V8 {
         V8 {
             x: self.x + o.x,
             y: self.y + o.y,
