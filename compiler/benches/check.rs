@@ -236,21 +236,9 @@ fn growth(root: &Path, counts: &[usize]) {
 
 /// Instructions of `rounds` rounds of one side, counted by callgrind in a child process
 /// running this bench in that side's mode (`LB_CHECK_ONLY` or `LB_NAGA_ONLY`); with `inside`,
-/// only those executed within the functions it names (callgrind's `--toggle-collect`).
+/// only those executed within the functions it names.
 fn counted(mode: &str, rounds: u32, inside: Option<&str>) -> Result<u64, String> {
-    let out = std::process::Command::new("valgrind")
-        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
-        .args(inside.map(|f| format!("--toggle-collect={f}")))
-        .arg(std::env::current_exe().map_err(|e| e.to_string())?)
-        .env(mode, "1")
-        .env("LB_CHECK_ROUNDS", rounds.to_string())
-        .output()
-        .map_err(|e| format!("valgrind: {e}"))?;
-    let text = String::from_utf8_lossy(&out.stderr);
-    text.lines()
-        .find_map(|l| l.split("Collected :").nth(1))
-        .and_then(|n| n.trim().parse().ok())
-        .ok_or_else(|| format!("no count in callgrind's output ({})", out.status))
+    common::count_self(&[(mode, "1".into()), ("LB_CHECK_ROUNDS", rounds.to_string())], inside)
 }
 
 /// Instructions per round of each side: the count of 3 rounds less that of 1, halved, so

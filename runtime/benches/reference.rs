@@ -184,20 +184,13 @@ const INTEGRATORS: [(Integrator, &str); 2] = [(Integrator::Scalar, "scalar"), (I
 /// Instructions callgrind counts in a child process running this bench in its
 /// `LB_PATHS_SCENE` mode: one `full` render of that scene at 32² and `spp` by `integrator`.
 fn counted(name: &str, rings: u32, spp: u32, integrator: usize) -> Result<u64, String> {
-    let out = std::process::Command::new("valgrind")
-        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
-        .arg(std::env::current_exe().map_err(|e| e.to_string())?)
-        .env("LB_PATHS_SCENE", name)
-        .env("LB_PATHS_RINGS", rings.to_string())
-        .env("LB_PATHS_SPP", spp.to_string())
-        .env("LB_PATHS_INTEGRATOR", INTEGRATORS[integrator].1)
-        .output()
-        .map_err(|e| format!("valgrind: {e}"))?;
-    let text = String::from_utf8_lossy(&out.stderr);
-    text.lines()
-        .find_map(|l| l.split("Collected :").nth(1))
-        .and_then(|n| n.trim().parse().ok())
-        .ok_or_else(|| format!("no count in callgrind's output ({})", out.status))
+    let env = [
+        ("LB_PATHS_SCENE", name.to_string()),
+        ("LB_PATHS_RINGS", rings.to_string()),
+        ("LB_PATHS_SPP", spp.to_string()),
+        ("LB_PATHS_INTEGRATOR", INTEGRATORS[integrator].1.to_string()),
+    ];
+    common::count_self(&env, None)
 }
 
 /// The child's side of `counted`: whether this process is one (it has rendered, or exited

@@ -1,6 +1,7 @@
 //! What the benches share: how much to measure (the full bench under `cargo bench`, or its
 //! smoke run under `cargo test`), and the A-against-B harness whose figure is the median and
-//! quartiles of per-round ratios from interleaved rounds, with the machine's load beside it.
+//! quartiles of per-round ratios from interleaved rounds, with the machine's load beside it;
+//! and instruction counts by callgrind, of the bench run again in a child process.
 
 /// How much to measure: the full bench, or one small round of everything (the tests' run).
 #[derive(Clone, Copy, PartialEq)]
@@ -102,4 +103,22 @@ pub fn ms(f: impl FnOnce()) -> f64 {
     let t = std::time::Instant::now();
     f();
     t.elapsed().as_secs_f64() * 1e3
+}
+
+/// Instructions callgrind counts in a child process running this bench with `env` set (which
+/// puts it in the mode to be counted); with `inside`, only those executed within the
+/// functions it names (callgrind's `--toggle-collect`).
+pub fn count_self(env: &[(&str, String)], inside: Option<&str>) -> Result<u64, String> {
+    let out = std::process::Command::new("valgrind")
+        .args(["--tool=callgrind", "--callgrind-out-file=/dev/null"])
+        .args(inside.map(|f| format!("--toggle-collect={f}")))
+        .arg(std::env::current_exe().map_err(|e| e.to_string())?)
+        .envs(env.iter().map(|(k, v)| (k, v)))
+        .output()
+        .map_err(|e| format!("valgrind: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stderr);
+    text.lines()
+        .find_map(|l| l.split("Collected :").nth(1))
+        .and_then(|n| n.trim().parse().ok())
+        .ok_or_else(|| format!("no count in callgrind's output ({})", out.status))
 }

@@ -3,7 +3,8 @@
 //! path tracer is (`agreement`), on scenes that take every part of the lanes' arithmetic.
 
 use super::agreement::{agreement, judge, load, settings};
-use lightbench::reference::{self, Integrator, Settings, Term};
+use lightbench::reference::{self, Integrator, Reference, Settings, Term};
+use lightbench::scene::Scene;
 
 /// Point-lit, sun-lit, spot-lit and emitter-lit boxes, a mirror floor (the sharpest lobes:
 /// the largest powers), and a scene a millimetre across (the offsets' and lights' ranges
@@ -43,23 +44,22 @@ fn the_lanes_integrator_equals_the_scalar_one_within_noise() {
     assert!(bad.is_empty(), "the lanes' integrator differs from the scalar one: {bad:?}");
 }
 
+/// `scene` rendered with `s` (the default integrator) and with the scalar one.
+fn both(scene: &Scene, s: Settings) -> (Reference, Reference) {
+    let scalar = Settings {
+        integrator: Integrator::Scalar,
+        ..s.clone()
+    };
+    (reference::render(scene, &s, false), reference::render(scene, &scalar, false))
+}
+
 /// The default is the lanes' integrator, and it is what `render` runs: its image is not the
 /// scalar one's bit for bit (their draws round differently), while the other terms are.
 #[test]
 fn the_default_integrator_is_the_lanes_one_and_only_full_uses_it() {
     assert_eq!(Settings::default().integrator, Integrator::Lanes);
-    let scene = load("cornell", (16, 16));
-    let s = settings(&[Term::Ao, Term::Full], 8);
-    let lanes = reference::render(&scene, &s, false);
-    let scalar = reference::render(
-        &scene,
-        &Settings {
-            integrator: Integrator::Scalar,
-            ..s
-        },
-        false,
-    );
-    let mean = |r: &reference::Reference, t| r.term(t).unwrap().mean.rgba.clone();
+    let (lanes, scalar) = both(&load("cornell", (16, 16)), settings(&[Term::Ao, Term::Full], 8));
+    let mean = |r: &Reference, t| r.term(t).unwrap().mean.rgba.clone();
     assert_eq!(mean(&lanes, Term::Ao), mean(&scalar, Term::Ao));
     assert_ne!(mean(&lanes, Term::Full), mean(&scalar, Term::Full));
 }
@@ -72,16 +72,7 @@ fn the_default_integrator_is_the_lanes_one_and_only_full_uses_it() {
 fn from_one_seed_the_two_integrators_differ_by_rounding_alone() {
     for spec in ["cornell", "cornell_lamp", "scenes/cornell_spot.ron"] {
         let scene = load(spec, (32, 32));
-        let s = settings(&[Term::Full], 64);
-        let lanes = reference::render(&scene, &s, false);
-        let scalar = reference::render(
-            &scene,
-            &Settings {
-                integrator: Integrator::Scalar,
-                ..s
-            },
-            false,
-        );
+        let (lanes, scalar) = both(&scene, settings(&[Term::Full], 64));
         let (a, b) = (scalar.term(Term::Full).unwrap(), lanes.term(Term::Full).unwrap());
         let z = agreement(a, b, &reference::edge_pixels(&scene));
         eprintln!("{spec}: from one seed z mean {:+.4}, RMS {:.4}", z.mean, z.rms);
