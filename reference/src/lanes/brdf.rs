@@ -138,3 +138,39 @@ pub fn eval(n: V8, v: V8, l: V8, (diffuse, specular, exponent): (V8, V8, F8)) ->
     let f = V8::select(reflects, diffuse.plus(specular.scale(lobe)).scale(ndl), V8::default());
     (f, lobe, half)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The kernels compiled for AVX2 (what `sample` and `eval_pdf_towards` run on this
+    /// processor, if it has AVX2) and for the target's baseline (SSE2: what a processor
+    /// without it runs) give the same bits: the same operations in the same order, no fused
+    /// multiply-add, so a machine's instruction set does not change an image.
+    #[test]
+    fn the_avx2_and_baseline_kernels_agree_bit_for_bit() {
+        let mut rng = crate::sample::Rng::new(3, 1, 4, 1);
+        let mut u = || rng.uniform();
+        for _ in 0..200 {
+            let mut d = Draw::default();
+            let mut towards = V8::default();
+            for i in 0..super::super::LANES {
+                let n = Vec3A::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize();
+                let v = (n + Vec3A::new(u() - 0.5, u() - 0.5, u() - 0.5)).normalize();
+                towards.set(i, (n + Vec3A::new(u() - 0.5, u() - 0.5, u() - 0.5)).normalize());
+                (d.exponent.0[i], d.density.0[i], d.share.0[i]) = (1.0 + 2000.0 * u() * u(), 1.0 + 300.0 * u(), u());
+                d.n.set(i, n);
+                d.ng.set(i, n);
+                d.v.set(i, v);
+                d.diffuse.set(i, Vec3A::splat(u() / 3.2));
+                d.specular.set(i, Vec3A::splat(u()));
+                (d.u1.0[i], d.u2.0[i], d.choose.0[i]) = (u(), u(), u());
+            }
+            let (a, b) = (sample(&d), sample_lanes(&d));
+            let bits = |v: &V8| [v.x, v.y, v.z].map(|f| f.0.map(f32::to_bits));
+            assert_eq!((bits(&a.l), bits(&a.w), a.pdf.0.map(f32::to_bits)), (bits(&b.l), bits(&b.w), b.pdf.0.map(f32::to_bits)));
+            let ((f, pdf), (g, qdf)) = (eval_pdf_towards(&d, &towards), eval_pdf_at(&d, &towards));
+            assert_eq!((bits(&f), pdf.0.map(f32::to_bits)), (bits(&g), qdf.0.map(f32::to_bits)));
+        }
+    }
+}
