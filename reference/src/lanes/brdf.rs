@@ -168,7 +168,10 @@ mod tests {
             }
             let (a, b) = (sample(&d), sample_lanes(&d));
             let bits = |v: &V8| [v.x, v.y, v.z].map(|f| f.0.map(f32::to_bits));
-            assert_eq!((bits(&a.l), bits(&a.w), a.pdf.0.map(f32::to_bits)), (bits(&b.l), bits(&b.w), b.pdf.0.map(f32::to_bits)));
+            assert_eq!(
+                (bits(&a.l), bits(&a.w), a.pdf.0.map(f32::to_bits)),
+                (bits(&b.l), bits(&b.w), b.pdf.0.map(f32::to_bits))
+            );
             let ((f, pdf), (g, qdf)) = (eval_pdf_towards(&d, &towards), eval_pdf_at(&d, &towards));
             assert_eq!((bits(&f), pdf.0.map(f32::to_bits)), (bits(&g), qdf.0.map(f32::to_bits)));
         }
