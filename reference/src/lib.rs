@@ -100,8 +100,9 @@ pub struct Settings {
     pub integrator: Integrator,
 }
 
-/// The `full` term's integrator: `lanes` (a pixel's paths 8 side by side, their BRDF draws in
-/// SIMD lanes; the same image within noise) or `scalar` (one path at a time: the oracle). The
+/// The `full` term's integrator: `lanes` (a pixel's paths 8 side by side, their BRDF draws,
+/// emitters' BRDF and lights' light in SIMD lanes; the same image within noise) or `scalar`
+/// (one path at a time: the oracle). The
 /// other terms, and scenes with blended surfaces (whose samples' camera rays differ), are
 /// computed one path at a time either way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -11,15 +11,18 @@ use crate::world::Hit;
 use glam::Vec3A;
 use std::f32::consts::PI;
 
-/// What the draw reads, lane by lane (structure of arrays).
+/// The lanes' vertices (structure of arrays): where each path is — position, shading and
+/// geometric normal, towards the viewer — its BRDF's constants, and the numbers of its draw.
+/// What the draw reads, and what the lights are evaluated at (`lights`).
 #[derive(Default)]
-pub struct Draw {
-    n: V8,
+pub struct Vertices {
+    pub(super) p: V8,
+    pub(super) n: V8,
     ng: V8,
-    v: V8,
-    diffuse: V8,
-    specular: V8,
-    exponent: F8,
+    pub(super) v: V8,
+    pub(super) diffuse: V8,
+    pub(super) specular: V8,
+    pub(super) exponent: F8,
     density: F8,
     share: F8,
     u1: F8,
@@ -36,15 +39,20 @@ pub struct Drawn {
     pdf: F8,
 }
 
-impl Draw {
-    /// Lane `i`: the path at `h` (BRDF `b`) seen from `v`, with its random numbers.
-    pub fn set(&mut self, i: usize, h: &Hit, b: &Lobes, v: Vec3A, (u1, u2): (f32, f32), choose: f32) {
+impl Vertices {
+    /// Lane `i`: the path at `h` (BRDF `b`) seen from `v`.
+    pub fn set(&mut self, i: usize, h: &Hit, b: &Lobes, v: Vec3A) {
+        self.p.set(i, h.position);
         self.n.set(i, h.n);
         self.ng.set(i, h.ng);
         self.v.set(i, v);
         self.diffuse.set(i, b.diffuse);
         self.specular.set(i, b.specular);
         (self.exponent.0[i], self.density.0[i], self.share.0[i]) = (b.exponent, b.density, b.specular_share);
+    }
+
+    /// Lane `i`'s random numbers for its draw.
+    pub fn set_numbers(&mut self, i: usize, (u1, u2): (f32, f32), choose: f32) {
         (self.u1.0[i], self.u2.0[i], self.choose.0[i]) = (u1, u2, choose);
     }
 }
@@ -59,22 +67,22 @@ impl Drawn {
 simd_dispatch! {
     /// Every lane's draw (lanes holding no path draw from whatever they hold: their results are
     /// not read).
-    pub fn sample(d: &Draw) -> Drawn = sample_lanes
+    pub fn sample(d: &Vertices) -> Drawn = sample_lanes
 }
 
 simd_dispatch! {
     /// `Lobes::eval_pdf` towards `l` in every lane of `d` (the points drawn on emitters):
     /// BRDF × cos and the BRDF draw's density.
-    pub fn eval_pdf_towards(d: &Draw, l: &V8) -> (V8, F8) = eval_pdf_at
+    pub fn eval_pdf_towards(d: &Vertices, l: &V8) -> (V8, F8) = eval_pdf_at
 }
 
 #[inline(always)]
-fn eval_pdf_at(d: &Draw, l: &V8) -> (V8, F8) {
+fn eval_pdf_at(d: &Vertices, l: &V8) -> (V8, F8) {
     eval_pdf(d, *l)
 }
 
 #[inline(always)]
-fn sample_lanes(d: &Draw) -> Drawn {
+fn sample_lanes(d: &Vertices) -> Drawn {
     let specular = d.choose.lt(d.share);
     let l = direction(d, specular);
     let (f, pdf) = eval_pdf(d, l);
@@ -88,7 +96,7 @@ fn sample_lanes(d: &Draw) -> Drawn {
 /// (`specular` lanes), or a cosine-weighted direction — `sample::power_lobe` and
 /// `sample::cosine_hemisphere` in one, about the frame of `sample::frame`.
 #[inline(always)]
-fn direction(d: &Draw, specular: M8) -> V8 {
+fn direction(d: &Vertices, specular: M8) -> V8 {
     let (one, zero) = (F8::splat(1.0), F8::splat(0.0));
     let (n, u1) = (d.n, d.u1);
     let lobe_cos = pow(u1, one / (d.exponent + one));
@@ -116,7 +124,7 @@ fn direction(d: &Draw, specular: M8) -> V8 {
 
 /// `Lobes::eval_pdf`: BRDF × cos for light from `l`, and the draw's density.
 #[inline(always)]
-fn eval_pdf(d: &Draw, l: V8) -> (V8, F8) {
+fn eval_pdf(d: &Vertices, l: V8) -> (V8, F8) {
     let zero = F8::splat(0.0);
     let (n, v) = (d.n, d.v);
     let (f, lobe, half) = eval(n, v, l, (d.diffuse, d.specular, d.exponent));
@@ -152,7 +160,7 @@ mod tests {
         let mut rng = crate::sample::Rng::new(3, 1, 4, 1);
         let mut u = || rng.uniform();
         for _ in 0..200 {
-            let mut d = Draw::default();
+            let mut d = Vertices::default();
             let mut towards = V8::default();
             for i in 0..super::super::LANES {
                 let n = Vec3A::new(u() - 0.5, u() - 0.5, u() - 0.5).normalize();

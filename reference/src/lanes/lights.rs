@@ -3,34 +3,11 @@
 //! lanes take the same light, so its kind is one branch, not one per lane). The shadow rays
 //! stay one per lane (`lanes::Context::lit`).
 
-use super::brdf::eval;
+use super::brdf::{eval, Vertices};
 use super::simd::{simd_dispatch, F8, M8, V8};
-use crate::shading::{Lobes, PunctualLight, ATTENUATION_SOFTNESS};
-use crate::world::Hit;
+use crate::shading::{PunctualLight, ATTENUATION_SOFTNESS};
 use glam::Vec3A;
 use lightbench_compiler::ir::LightKind;
-
-/// The vertices, lane by lane: position, shading normal, towards the viewer, and the BRDF.
-#[derive(Default)]
-pub struct Vertices {
-    p: V8,
-    n: V8,
-    v: V8,
-    diffuse: V8,
-    specular: V8,
-    exponent: F8,
-}
-
-impl Vertices {
-    pub fn set(&mut self, i: usize, h: &Hit, b: &Lobes, v: Vec3A) {
-        self.p.set(i, h.position);
-        self.n.set(i, h.n);
-        self.v.set(i, v);
-        self.diffuse.set(i, b.diffuse);
-        self.specular.set(i, b.specular);
-        self.exponent.0[i] = b.exponent;
-    }
-}
 
 /// One light at every lane's vertex: the light it reflects towards the viewer if nothing is
 /// in the way (BRDF × cos × radiance), the unit vector towards the light and its distance, and

@@ -1,19 +1,22 @@
 //! Stage `integrate` in lanes: the `full` term's paths of one pixel 8 side by side. Each lane
 //! follows one sample's path with that sample's own random numbers (so a seed's image does not
-//! depend on how samples share lanes or threads); at every vertex the lanes' BRDF draws are made
-//! at once in SIMD lanes (`brdf`), while the rays — one at a time through the 4-wide tree:
-//! packets of 8 bounce rays visit 0.3–0.5 of the nodes 8 single rays do past the first bounce,
-//! too many to pay — the lights' and emitters' light and the hits' surfaces stay as
-//! `integrate` does them. A path that ends hands its lane to the pixel's next sample (lane
-//! compaction), so lanes stay full until the pixel's last samples.
+//! depend on how samples share lanes or threads). At every vertex the 8 paths' BRDF draws
+//! (`brdf`), the BRDF towards the points drawn on emitters, and each light's light at the
+//! vertices just reached (`lights`) are computed at once in SIMD lanes. The rays are traced one
+//! at a time through the 4-wide tree (8 bounce rays visit together 0.25–0.5 of the nodes they
+//! visit one by one past the first bounce, measured for issue 60: too many for packets to pay);
+//! the points on emitters, the hits' surfaces and the BRDF's constants stay as `integrate` does
+//! them. A path that ends hands its lane to the pixel's next sample (lane compaction), so lanes
+//! stay full until the pixel's last samples.
 //!
-//! `Context::full` stays as the oracle: with libm's draw in place of the lanes' (`Exact`) the
-//! images are bit-identical to it (tested), with the lanes' draw they agree within noise.
+//! `Context::full` stays as the oracle: with `Draws::Exact` (the scalar integrator's own
+//! arithmetic in every lane) the values are bit-identical to it (tested); with the lanes'
+//! arithmetic they agree within noise.
 
 mod brdf;
 mod lights;
-pub mod math;
-pub mod simd;
+mod math;
+mod simd;
 
 use crate::emitters::LightSample;
 use crate::integrate::{Context, Primary, MAX_BOUNCES, ROULETTE_FROM};
@@ -26,8 +29,9 @@ use std::ops::Range;
 
 pub use simd::LANES;
 
-/// Which draw the lanes make: SIMD arithmetic, or libm's one lane at a time (`Lobes::sample`,
-/// the scalar integrator's own, for checking the rest of the lanes' integrator against it).
+/// The lanes' arithmetic: SIMD, or the scalar integrator's own one lane at a time
+/// (`Lobes::sample`, `Lobes::eval_pdf` and `Context::lights`, with libm), for checking the rest
+/// of the lanes' integrator against `Context::full` bit for bit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Draws {
     Simd,
@@ -68,7 +72,7 @@ impl Context<'_> {
         };
         let mut pending = samples.clone();
         let mut lanes: [Option<Path>; LANES] = std::array::from_fn(|_| pending.next().map(begin));
-        let (mut draw, mut vertices) = (brdf::Draw::default(), lights::Vertices::default());
+        let (mut draw, mut vertices) = (brdf::Vertices::default(), brdf::Vertices::default());
         while lanes.iter().any(Option::is_some) {
             self.vertex_light(&mut lanes, &mut draw, draws);
             let drawn = match draws {
@@ -97,7 +101,7 @@ impl Context<'_> {
     /// Every path's vertex up to its BRDF draw: a point drawn on an emitter (next-event
     /// estimation, its BRDF evaluated in lanes), the light arriving from it and from the
     /// lights, and the draw's random numbers (in `Context::full`'s order) set in `draw`.
-    fn vertex_light(&self, lanes: &mut [Option<Path>; LANES], draw: &mut brdf::Draw, draws: Draws) {
+    fn vertex_light(&self, lanes: &mut [Option<Path>; LANES], draw: &mut brdf::Vertices, draws: Draws) {
         let mut points: [Option<LightSample>; LANES] = std::array::from_fn(|_| None);
         let mut towards = V8::default();
         for (i, lane) in lanes.iter_mut().enumerate() {
@@ -107,7 +111,8 @@ impl Context<'_> {
                 towards.set(i, s.l);
             }
             path.u = (path.rng.pair(), path.rng.uniform());
-            draw.set(i, &path.h, &path.b, path.v, path.u.0, path.u.1);
+            draw.set(i, &path.h, &path.b, path.v);
+            draw.set_numbers(i, path.u.0, path.u.1);
         }
         let in_lanes = draws == Draws::Simd && points.iter().any(Option::is_some);
         let evaluated = in_lanes.then(|| brdf::eval_pdf_towards(draw, &towards));
@@ -150,7 +155,7 @@ impl Context<'_> {
 
     /// The lights' light at the vertices the `moved` lanes' paths have reached
     /// (`Context::lights`, the lights evaluated in lanes, or one lane at a time for `Exact`).
-    fn lit(&self, lanes: &mut [Option<Path>; LANES], vertices: &lights::Vertices, moved: [bool; LANES], draws: Draws) {
+    fn lit(&self, lanes: &mut [Option<Path>; LANES], vertices: &brdf::Vertices, moved: [bool; LANES], draws: Draws) {
         if !moved.contains(&true) {
             return;
         }

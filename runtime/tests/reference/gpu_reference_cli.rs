@@ -232,6 +232,7 @@ fn bad_gpu_reference_inputs_are_refused_and_write_nothing() {
             2,
             "--integrator chooses how the CPU reference renders",
         ),
+        (vec!["--integrator", "vector"], 2, "invalid value 'vector' for '--integrator"),
         (vec!["--device", "tpu"], 2, "invalid value 'tpu'"),
     ] {
         let mut all = vec!["reference", "--scene", "cornell", "--size", "8x8", "--spp", "1", "--out", o];
