@@ -72,11 +72,14 @@ impl Context<'_> {
         };
         let mut pending = samples.clone();
         let mut lanes: [Option<Path>; LANES] = std::array::from_fn(|_| pending.next().map(begin));
-        let (mut draw, mut vertices) = (brdf::Vertices::default(), brdf::Vertices::default());
+        // Each lane's vertex, set where its path starts (the pixel's first vertex) and where it
+        // moves to: what the draw, the emitters' BRDF and the lights read.
+        let mut vertices = brdf::Vertices::default();
+        (0..LANES).for_each(|i| vertices.set(i, &p.hit, &p.lobes, v));
         while lanes.iter().any(Option::is_some) {
-            self.vertex_light(&mut lanes, &mut draw, draws);
+            self.vertex_light(&mut lanes, &mut vertices, draws);
             let drawn = match draws {
-                Draws::Simd => Some(brdf::sample(&draw)),
+                Draws::Simd => Some(brdf::sample(&vertices)),
                 Draws::Exact => None,
             };
             let mut moved = [false; LANES];
@@ -92,6 +95,7 @@ impl Context<'_> {
                 } else {
                     out[(path.sample - samples.start) as usize] = path.sum;
                     *lane = pending.next().map(begin);
+                    vertices.set(i, &p.hit, &p.lobes, v);
                 }
             }
             self.lit(&mut lanes, &vertices, moved, draws);
@@ -100,7 +104,8 @@ impl Context<'_> {
 
     /// Every path's vertex up to its BRDF draw: a point drawn on an emitter (next-event
     /// estimation, its BRDF evaluated in lanes), the light arriving from it and from the
-    /// lights, and the draw's random numbers (in `Context::full`'s order) set in `draw`.
+    /// lights, and the draw's random numbers (in `Context::full`'s order) set in `draw` (which
+    /// holds the paths' vertices).
     fn vertex_light(&self, lanes: &mut [Option<Path>; LANES], draw: &mut brdf::Vertices, draws: Draws) {
         let mut points: [Option<LightSample>; LANES] = std::array::from_fn(|_| None);
         let mut towards = V8::default();
@@ -111,7 +116,6 @@ impl Context<'_> {
                 towards.set(i, s.l);
             }
             path.u = (path.rng.pair(), path.rng.uniform());
-            draw.set(i, &path.h, &path.b, path.v);
             draw.set_numbers(i, path.u.0, path.u.1);
         }
         let in_lanes = draws == Draws::Simd && points.iter().any(Option::is_some);
