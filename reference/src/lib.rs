@@ -102,9 +102,8 @@ pub struct Settings {
 
 /// The `full` term's integrator: `lanes` (a pixel's paths 8 side by side, their BRDF draws,
 /// emitters' BRDF and lights' light in SIMD lanes; the same image within noise) or `scalar`
-/// (one path at a time: the oracle). The
-/// other terms, and scenes with blended surfaces (whose samples' camera rays differ), are
-/// computed one path at a time either way.
+/// (one path at a time: the oracle). The other terms, and scenes with blended surfaces (whose
+/// samples' camera rays differ), are computed one path at a time either way.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 #[cfg_attr(feature = "clap", derive(clap::ValueEnum))]

@@ -104,9 +104,8 @@ impl Context<'_> {
 
     /// Every path's vertex up to its BRDF draw: a point drawn on an emitter (next-event
     /// estimation, its BRDF evaluated in lanes), the light arriving from it and from the
-    /// lights, and the draw's random numbers (in `Context::full`'s order) set in `draw` (which
-    /// holds the paths' vertices).
-    fn vertex_light(&self, lanes: &mut [Option<Path>; LANES], draw: &mut brdf::Vertices, draws: Draws) {
+    /// lights, and the draw's random numbers (in `Context::full`'s order) set in `vertices`.
+    fn vertex_light(&self, lanes: &mut [Option<Path>; LANES], vertices: &mut brdf::Vertices, draws: Draws) {
         let mut points: [Option<LightSample>; LANES] = std::array::from_fn(|_| None);
         let mut towards = V8::default();
         for (i, lane) in lanes.iter_mut().enumerate() {
@@ -116,10 +115,10 @@ impl Context<'_> {
                 towards.set(i, s.l);
             }
             path.u = (path.rng.pair(), path.rng.uniform());
-            draw.set_numbers(i, path.u.0, path.u.1);
+            vertices.set_numbers(i, path.u.0, path.u.1);
         }
         let in_lanes = draws == Draws::Simd && points.iter().any(Option::is_some);
-        let evaluated = in_lanes.then(|| brdf::eval_pdf_towards(draw, &towards));
+        let evaluated = in_lanes.then(|| brdf::eval_pdf_towards(vertices, &towards));
         for (i, lane) in lanes.iter_mut().enumerate() {
             let Some(path) = lane else { continue };
             let emitted = match (&points[i], &evaluated) {
