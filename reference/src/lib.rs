@@ -343,7 +343,20 @@ fn context<'a>(scene: &Scene, world: &'a world::World, s: &Settings) -> integrat
 pub fn render(scene: &Scene, s: &Settings, progress: bool) -> Reference {
     let start = Instant::now();
     let world = world::World::new(scene);
-    let ctx = context(scene, &world, s);
+    render_from(&world, scene, s, progress, start)
+}
+
+/// `render` in a `world` already built from `scene` (`World::new(scene)`; the scene's size may
+/// differ since): the same image bit for bit, its `seconds` (and a `Budget::Seconds`) counted
+/// from this call, the BVH's build left out — for timing the paths alone, or rendering one
+/// scene many times over, without building its world each time.
+pub fn render_in(world: &world::World, scene: &Scene, s: &Settings, progress: bool) -> Reference {
+    render_from(world, scene, s, progress, Instant::now())
+}
+
+/// `render`'s passes over the image, timed from `start`.
+fn render_from(world: &world::World, scene: &Scene, s: &Settings, progress: bool, start: Instant) -> Reference {
+    let ctx = context(scene, world, s);
     let cam = Camera::new(scene);
     let (w, h) = scene.size;
     let mut terms = s.terms.clone();

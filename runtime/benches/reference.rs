@@ -18,7 +18,7 @@
 //! the fifth.
 //! `cargo test` runs it at its smallest (16², a few samples, no callgrind).
 
-use lightbench::reference::{self, Budget, Integrator, Reference, Settings, Term};
+use lightbench::reference::{self, world::World, Budget, Integrator, Reference, Settings, Term};
 use lightbench::scene::{builtin, geometry, Mesh, Scene};
 use std::time::Instant;
 
@@ -158,24 +158,24 @@ fn path_scene(name: &str, rings: u32) -> Option<Scene> {
 
 const PATH_SCENES: [&str; 3] = ["cornell", "cornell_lamp", "million"];
 
-/// Seconds of one `full` render of `scene` at `side`² and `spp` by `integrator`, its BVH's
-/// build included.
-fn full_seconds(scene: &Scene, side: u32, spp: u32, integrator: Integrator) -> f64 {
+/// Seconds of one `full` render of `scene` (in `world`, built from it) at `side`² and `spp` by
+/// `integrator`, the BVH's build left out.
+fn full_seconds(scene: &Scene, world: &World, side: u32, spp: u32, integrator: Integrator) -> f64 {
     let mut scene = scene.clone();
     scene.size = (side, side);
     let s = Settings {
         integrator,
         ..settings(&[Term::Full], spp)
     };
-    reference::render(&scene, &s, false).seconds
+    reference::render_in(world, &scene, &s, false).seconds
 }
 
 /// Paths per second (millions) of the render loop alone: a round renders `spp` and 3 × `spp`
-/// samples, and the second's extra time is what its extra paths took (the BVH's build, the
-/// same in both, cancels).
-fn loop_rate(scene: &Scene, side: u32, spp: u32, integrator: Integrator) -> f64 {
-    let one = full_seconds(scene, side, spp, integrator);
-    let three = full_seconds(scene, side, 3 * spp, integrator);
+/// samples in a world built once, and the second's extra time is what its extra paths took
+/// (what each render spends before its first path cancels).
+fn loop_rate(scene: &Scene, world: &World, side: u32, spp: u32, integrator: Integrator) -> f64 {
+    let one = full_seconds(scene, world, side, spp, integrator);
+    let three = full_seconds(scene, world, side, 3 * spp, integrator);
     (side * side * 2 * spp) as f64 / (three - one).max(1e-9) / 1e6
 }
 
@@ -208,7 +208,7 @@ fn counted_child() -> bool {
         integrator,
     ) {
         (Some(scene), Some(spp), Some(&(integrator, _))) => {
-            full_seconds(&scene, 32, spp, integrator);
+            full_seconds(&scene, &World::new(&scene), 32, spp, integrator);
         }
         _ => {
             eprintln!("LB_PATHS_SCENE={name}: not a scene of `-- paths`, or LB_PATHS_SPP or LB_PATHS_INTEGRATOR unset");
@@ -236,10 +236,10 @@ fn paths() {
     );
     for name in PATH_SCENES {
         let scene = path_scene(name, rings).expect("a path scene");
-        let triangles = reference::world::World::new(&scene).triangles();
-        let rate = |k: usize| loop_rate(&scene, side, spp, INTEGRATORS[k].0);
+        let world = World::new(&scene);
+        let rate = |k: usize| loop_rate(&scene, &world, side, spp, INTEGRATORS[k].0);
         let paired = common::interleaved(rounds, || rate(0), || rate(1));
-        println!("{name} ({triangles} triangles):");
+        println!("{name} ({} triangles):", world.triangles());
         println!("{}", paired.report(("scalar", "lanes"), "M paths/s"));
         if size == Size::Smoke {
             println!("  instructions not counted in the smoke run");
