@@ -15,7 +15,7 @@ use lightbench::reference::{
     world::{Faces, World},
     Brdf, Budget, Integrator, Settings, Term,
 };
-use lightbench::scene::geometry::{cuboid, quad};
+use lightbench::scene::geometry::{cuboid, quad, sphere};
 use lightbench::scene::{builtin, Camera, Material, Mesh, Scene};
 use std::collections::BTreeSet;
 
@@ -192,7 +192,7 @@ fn render_in_a_world_built_once_gives_renders_images() {
         assert_eq!((prebuilt.spp, prebuilt.triangles), (8, built.triangles));
     }
     let mut ball = s.clone();
-    let (vertices, indices) = lightbench::scene::geometry::sphere(0.35, 100, 200);
+    let (vertices, indices) = sphere(0.35, 100, 200);
     ball.meshes.push(Mesh::new("ball", vertices, indices, 0, Mat4::IDENTITY));
     ball.size = (4, 4);
     let world = World::new(&ball);
